@@ -1,0 +1,12 @@
+"""Contact elements for friction-damped structures: each gives f_s, f_c of its force.
+
+See ``contact_models.base.ContactElement`` for the interface.
+"""
+
+from .bar import Bar
+from .base import ContactElement
+from .loads import QuadraticLoad, UniformLoad
+from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
+
+__all__ = ["Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
+           "ThreeRegionMicroslip"]

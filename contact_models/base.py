@@ -1,0 +1,128 @@
+"""The contact-element interface every model implements.
+
+An element answers the first-harmonic question: for the steady displacement
+``x = a sin(theta)``, ``theta = omega t`` at its attachment point, what are
+
+    f_s = (1/pi) * integral_0^{2 pi} f(theta) sin(theta) dtheta   (in phase, "spring")
+    f_c = (1/pi) * integral_0^{2 pi} f(theta) cos(theta) dtheta   (quadrature, "damping")
+
+with ``f`` the force the element needs at that point.  ``pi * a * f_c`` is the
+energy dissipated per cycle, so a passive element has ``f_c >= 0``.
+
+Public methods validate and broadcast, then call the private ``_fourier`` and
+friends on flat float arrays (the scipy ``OdeSolver.step``/``_step_impl`` split).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+
+import numpy as np
+
+from ._validation import nonnegative, nonnegative_array, positive
+
+#: Default relative tolerance of ``fourier`` on f_s and f_c.
+DEFAULT_RTOL = 1e-6
+
+#: Relative step of the central difference used by the default ``fourier_derivatives``.
+FD_REL_STEP = 1e-6
+
+
+class ContactElement(ABC):
+    """Abstract contact element: f_s, f_c as functions of amplitude and frequency."""
+
+    # ------------------------------------------------------------------ public
+    def fourier(self, a, omega=0.0, *, rtol: float = DEFAULT_RTOL):
+        """First-harmonic coefficients ``(f_s, f_c)`` in N for amplitude ``a`` (m) and ``omega`` (rad/s).
+
+        ``a`` and ``omega`` broadcast against each other; both must be finite and >= 0.
+        ``rtol`` is the relative accuracy asked of f_s and f_c.
+        """
+        a_b, w_b, shape = self._prepare(a, omega)
+        rtol = positive("rtol", rtol)
+        fs, fc = self._fourier(a_b, w_b, rtol)
+        return _shaped(fs, shape), _shaped(fc, shape)
+
+    def fourier_derivatives(self, a, omega=0.0, *, rtol: float = DEFAULT_RTOL):
+        """``(f_s, f_c, df_s/da, df_c/da)``, broadcasting like :meth:`fourier`.
+
+        Elements override ``_fourier_derivatives`` with analytic derivatives; the
+        fallback is a central difference of relative step ``FD_REL_STEP`` in ``a``.
+        """
+        a_b, w_b, shape = self._prepare(a, omega)
+        rtol = positive("rtol", rtol)
+        out = self._fourier_derivatives(a_b, w_b, rtol)
+        return tuple(_shaped(v, shape) for v in out)
+
+    def stuck_stiffness(self, omega=0.0) -> float:
+        """Dynamic stiffness (N/m) while nothing slips; ``k* = stuck_stiffness(0)``."""
+        return self._stuck_stiffness(nonnegative("omega", omega))
+
+    def slip_amplitude(self, omega=0.0) -> float:
+        """``a_min`` (m): the amplitude at which slip begins."""
+        return self._slip_amplitude(nonnegative("omega", omega))
+
+    def hysteresis(self, a, omega=0.0, *, n: int = 401):
+        """One closed loop ``(x, f)`` of the steady response to ``x = a sin(theta)``.
+
+        ``n`` points, theta from -pi/2 to 3 pi/2 (the loop starts and ends at x = -a).
+        """
+        a = nonnegative("a", a)
+        omega = nonnegative("omega", omega)
+        if int(n) != n or n < 5:
+            raise ValueError(f"n must be an integer >= 5, got n={n!r}")
+        return self._hysteresis(a, omega, int(n))
+
+    # ----------------------------------------------------------------- private
+    @abstractmethod
+    def _fourier(self, a: np.ndarray, omega: np.ndarray, rtol: float):
+        """Flat float arrays in, ``(f_s, f_c)`` flat arrays out."""
+
+    @abstractmethod
+    def _stuck_stiffness(self, omega: float) -> float: ...
+
+    @abstractmethod
+    def _slip_amplitude(self, omega: float) -> float: ...
+
+    @abstractmethod
+    def _hysteresis(self, a: float, omega: float, n: int): ...
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        fs, fc = self._fourier(a, omega, rtol)
+        h = FD_REL_STEP * np.maximum(a, 1e-300)
+        lo = np.maximum(a - h, 0.0)
+        hi = a + h
+        fs_hi, fc_hi = self._fourier(hi, omega, rtol)
+        fs_lo, fc_lo = self._fourier(lo, omega, rtol)
+        return fs, fc, (fs_hi - fs_lo) / (hi - lo), (fc_hi - fc_lo) / (hi - lo)
+
+    @staticmethod
+    def _prepare(a, omega):
+        a = nonnegative_array("a", a)
+        omega = nonnegative_array("omega", omega)
+        a_b, w_b = np.broadcast_arrays(a, omega)
+        shape = a_b.shape
+        return a_b.ravel().astype(float), w_b.ravel().astype(float), shape
+
+
+def masing_loop(loading, a: float, n: int):
+    """Closed loop from a loading curve by the Masing rule.
+
+    ``loading(x)`` is the virgin loading curve F(x) for x >= 0 (vectorised).  The
+    branch from x = -a upwards is ``-F(a) + 2 F((a + x)/2)``, the branch down from
+    x = +a is ``F(a) - 2 F((a - x)/2)``.  Returns ``(x, f)`` for theta from -pi/2
+    to 3 pi/2 with ``x = a sin(theta)``.
+    """
+    theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)
+    x = a * np.sin(theta)
+    fa = float(np.asarray(loading(np.array([a])))[0])
+    up = theta <= 0.5 * np.pi
+    f = np.empty_like(x)
+    f[up] = -fa + 2.0 * loading(0.5 * (a + x[up]))
+    f[~up] = fa - 2.0 * loading(0.5 * (a - x[~up]))
+    return x, f
+
+
+def _shaped(v, shape):
+    v = np.asarray(v, dtype=float).reshape(shape)
+    return v[()] if v.ndim == 0 else v

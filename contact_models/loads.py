@@ -1,0 +1,155 @@
+"""Normal load distributions q(x) (N/m) along the contact, 0 <= x <= L.
+
+A load may be created without the bar's length (``UniformLoad(N)``,
+``QuadraticLoad.from_ratio(N, ratio)``); the element binds it to its bar with
+:meth:`on`.  Besides q, a load gives the running integrals used in Eq. 15,
+
+    I1(x) = int_0^x q,      I2(x) = int_0^x I1,
+
+so that Q'(x) = mu I1(x)/(EA) and Q(x) = mu I2(x)/(EA) exactly, in closed form.
+All functions accept complex x (the microslip elements differentiate by complex step).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from ._validation import finite, nonnegative, positive
+
+
+class _Load:
+    N: float
+    L: float | None
+
+    def on(self, L: float):
+        """This load on a contact of length ``L`` (checks an explicit length agrees)."""
+        L = positive("L", L)
+        if self.L is not None and not math.isclose(self.L, L, rel_tol=1e-12):
+            raise ValueError(f"load length L={self.L!r} differs from the bar's length L={L!r}")
+        return replace(self, L=L)
+
+    def _length(self) -> float:
+        if self.L is None:
+            raise ValueError(f"{type(self).__name__} has no length yet: use load.on(L) or give L")
+        return self.L
+
+    def minimum(self) -> float:
+        """Smallest value of q over [0, L]."""
+        x = np.linspace(0.0, self._length(), 2001)
+        return float(np.min(self.q(x)))
+
+
+@dataclass(frozen=True)
+class UniformLoad(_Load):
+    """Constant normal load q = N/L (the paper's two-region case, Section 3)."""
+
+    N: float
+    L: float | None = None
+
+    def __post_init__(self):
+        object.__setattr__(self, "N", nonnegative("N", self.N))
+        if self.L is not None:
+            object.__setattr__(self, "L", positive("L", self.L))
+
+    def q(self, x):
+        return self.N / self._length() + 0.0 * np.asarray(x)
+
+    def dq(self, x):
+        return 0.0 * np.asarray(x)
+
+    def I1(self, x):
+        return self.N / self._length() * np.asarray(x)
+
+    def I2(self, x):
+        x = np.asarray(x)
+        return 0.5 * self.N / self._length() * x * x
+
+
+@dataclass(frozen=True)
+class QuadraticLoad(_Load):
+    """Eq. 29: q(x) = q0 + q2 * 4 x (x - L) / L^2, total N = (q0 - 2 q2/3) L.
+
+    q2 > 0: concave (largest at the ends, q0 - q2 in the middle; three regions);
+    q2 < 0: convex, hump-shaped (two regions).  q must be >= 0 everywhere.
+    ``from_ratio(N, ratio)`` without L keeps (q0 L, q2 L) until :meth:`on` gives L.
+    """
+
+    q0: float | None
+    q2: float | None
+    L: float | None = None
+    _per_length: tuple | None = field(default=None, repr=False, compare=False)
+
+    def __post_init__(self):
+        if self._per_length is not None:  # from_ratio without a length
+            return
+        q0 = nonnegative("q0", self.q0)
+        q2 = finite("q2", self.q2)
+        if q0 - q2 < 0.0:
+            raise ValueError(
+                "q2 must not exceed q0 (the load q0 - q2 at mid-length would be negative), "
+                f"got q0={q0!r}, q2={q2!r}"
+            )
+        object.__setattr__(self, "q0", q0)
+        object.__setattr__(self, "q2", q2)
+        if self.L is not None:
+            object.__setattr__(self, "L", positive("L", self.L))
+
+    @classmethod
+    def from_ratio(cls, N: float, ratio: float, L: float | None = None) -> "QuadraticLoad":
+        """Load with q0/(q0 - q2) = ``ratio`` and total ``N``; ``ratio=inf`` unloads mid-length."""
+        N = nonnegative("N", N)
+        try:
+            r = float(ratio)
+        except (TypeError, ValueError):
+            raise ValueError(f"ratio must be a number, got ratio={ratio!r}") from None
+        if not r > 0.0:
+            raise ValueError(f"ratio must be > 0 (q0/(q0 - q2) with q >= 0), got ratio={ratio!r}")
+        # q0 - q2 = q0/r and N = (q0 - 2 q2/3) L  =>  q0 L = 3 N / (1 + 2/r).
+        frac = 0.0 if math.isinf(r) else 1.0 / r  # (q0 - q2)/q0
+        q0L = 3.0 * N / (1.0 + 2.0 * frac)
+        q2L = q0L * (1.0 - frac)
+        if L is None:
+            return cls(q0=None, q2=None, L=None, _per_length=(q0L, q2L))
+        L = positive("L", L)
+        return cls(q0=q0L / L, q2=q2L / L, L=L)
+
+    def on(self, L: float) -> "QuadraticLoad":
+        if self._per_length is None:
+            return super().on(L)
+        L = positive("L", L)
+        q0L, q2L = self._per_length
+        return QuadraticLoad(q0=q0L / L, q2=q2L / L, L=L)
+
+    @property
+    def N(self) -> float:
+        if self._per_length is not None:
+            q0L, q2L = self._per_length
+            return q0L - 2.0 * q2L / 3.0
+        return (self.q0 - 2.0 * self.q2 / 3.0) * self._length()
+
+    @property
+    def ratio(self) -> float:
+        q0, q2 = self._per_length if self._per_length is not None else (self.q0, self.q2)
+        return math.inf if q0 == q2 else q0 / (q0 - q2)
+
+    def q(self, x):
+        L = self._length()
+        x = np.asarray(x)
+        return self.q0 + self.q2 * 4.0 * x * (x - L) / L**2
+
+    def dq(self, x):
+        L = self._length()
+        return self.q2 * 4.0 * (2.0 * np.asarray(x) - L) / L**2
+
+    def I1(self, x):
+        L = self._length()
+        x = np.asarray(x)
+        return self.q0 * x + 4.0 * self.q2 / L**2 * (x**3 / 3.0 - L * x**2 / 2.0)
+
+    def I2(self, x):
+        L = self._length()
+        x = np.asarray(x)
+        return self.q0 * x**2 / 2.0 + 4.0 * self.q2 / L**2 * (x**4 / 12.0 - L * x**3 / 6.0)

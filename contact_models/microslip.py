@@ -1,0 +1,528 @@
+"""The one-dimensional dynamic microslip bar (Cigeroglu, Lu & Menq 2006), as contact elements.
+
+``TwoRegionMicroslip`` (Section 2.2, Eq. 3-15): stuck on [0, L1], slipping on [L1, L];
+uniform and convex loads.  ``ThreeRegionMicroslip`` (Section 2.3, Eq. 16-28, Appendix A):
+stuck, slipping on [L1, L2], stuck; concave loads.  When its right stuck region vanishes
+(L2 = L) it continues as two regions up to gross slip (Fig. 7), and past gross slip the
+bar slides as a whole.
+
+Single-mode solution (the paper's approximation): on each region the displacement is a
+friction-driven part independent of theta plus a part proportional to the tip motion
+``x = a sin(theta)``; see ``docs/theory.md`` for every coefficient.  So each slip
+condition (Eq. 7, 21) is linear in x, and the virgin loading curve F(x) is parametrised
+by the region boundaries.  The closed loop follows by the Masing rule, and
+
+    f_s = 8/(pi a) int_0^a sqrt(s (a - s)) dF(s),    f_c = 4/(pi a) int_0^a (a - 2 s) dF(s),
+
+Stieltjes integrals along the loading curve (``docs/theory.md``, "From the loading curve
+to f_s, f_c").  The stuck and gross-slip stretches are linear and integrate in closed
+form; the microslip stretch is integrated by Gauss-Legendre quadrature in its boundary
+parameter, refined until two successive rules agree to ``rtol``.
+
+Near a true resonance of the bar (stuck_stiffness infinite or the slip stiffness
+singular) the returned values are those of the formulas, large and of either sign; the
+elements do not hide resonances of the damper itself.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+from numpy.polynomial import chebyshev as cheb
+from scipy.optimize import minimize_scalar
+
+from .bar import Bar, end_impedance, transmission
+from .base import ContactElement, masing_loop
+from ._validation import nonnegative
+
+#: Complex-step size for derivatives along the loading curve (relative to a unit parameter).
+CSTEP = 1e-30
+#: Gauss-Legendre nodes of the first rule; doubled until two rules agree to rtol.
+GAUSS_START = 12
+#: Largest Gauss-Legendre rule tried before giving up refining.
+GAUSS_MAX = 384
+#: A piece ending this close below a (relative) is integrated on geometrically graded cells.
+GRADE_BELOW = 0.05
+#: Number of geometric cells (ratio 1/4) used for a near-singular piece.
+GRADE_CELLS = 14
+#: Largest relative dip of the loading curve below its onset value accepted as an onset fold.
+MAX_ONSET_DIP = 1e-3
+#: Points of the per-frequency table used to start the inversion s(t) = a.
+TABLE_POINTS = 65
+
+
+@lru_cache(maxsize=None)
+def _gauss(n: int):
+    x, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (x + 1.0), 0.5 * w
+
+
+def region_solution(bar: Bar, load, L1, L2, omega):
+    """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
+
+    Returns ``(x1, x2, F_fric, K_tip)``: the tip displacements at which the shear force
+    at L1 resp. L2 equals mu q (Eq. 7, 21), and the tip force F = F_fric + K_tip x.
+    Two regions are L2 = L.  Accepts complex L1, L2 (complex-step differentiation).
+    """
+    S, L, lam, mu, k = bar.EA, bar.L, bar.lam, bar.mu, bar.k
+    ell_m = L2 - L1  # slipping length
+    ell_2 = L - L2  # right stuck length
+    # --- friction-driven part (independent of theta, no inertia): u'' = lam^2 u stuck, u'' = mu q/EA slipping
+    k0 = end_impedance(bar.beta, lam * lam, L1, S)  # static stiffness of [0, L1] seen from L1
+    e = np.exp(-lam * ell_2)
+    sech2 = 2.0 * e / (1.0 + e * e)
+    cR = np.tanh(lam * ell_2) / (S * lam)  # compliance u/(-EA u') of the right stuck part at L2
+    # D2 = Q(L2) - Q(L1) - Q'(L1) ell_m and dQ = Q'(L2) - Q'(L1), Eq. 15, by Taylor at L1 (exact, no cancellation)
+    q1, dq1, ddq = load.q(L1), load.dq(L1), load_curvature(load)
+    D2 = mu / S * (q1 * ell_m**2 / 2 + dq1 * ell_m**3 / 6 + ddq * ell_m**4 / 24)
+    dQ = mu / S * (q1 * ell_m + dq1 * ell_m**2 / 2 + ddq * ell_m**3 / 6)
+    d0 = -(D2 + cR * S * dQ) / (1.0 + k0 * (ell_m + cR * S) / S)  # friction part of u(L1)
+    uf1 = d0
+    uf2 = D2 + d0 * (1.0 + k0 * ell_m / S)  # friction part of u(L2)
+    F_fric = (S * dQ + k0 * d0) * sech2  # EA u_x(L) of the friction part
+    # --- part proportional to x = a sin(theta): u'' = gamma^2 u stuck, u'' = -alpha^2 u slipping
+    g2, a2 = bar.gamma2(omega), bar.alpha2(omega)
+    kap = end_impedance(bar.beta, g2, L1, S)  # Eq. 14, beta'(L1)
+    k_mid = end_impedance(kap, -a2, ell_m, S)
+    t1 = transmission(kap, -a2, ell_m, S)  # u(L1)/u(L2)
+    K_tip = end_impedance(k_mid, g2, ell_2, S)
+    t2 = transmission(k_mid, g2, ell_2, S)  # u(L2)/u(L)
+    # --- slip conditions k u(L_i) = mu q(L_i), linear in x
+    x1 = (mu * q1 / k - uf1) / (t1 * t2)
+    x2 = (mu * load.q(L2) / k - uf2) / t2
+    return x1, x2, F_fric, K_tip
+
+
+def load_curvature(load) -> float:
+    """q'' (constant for the loads here)."""
+    q2 = getattr(load, "q2", 0.0) or 0.0
+    return 8.0 * q2 / load.L**2
+
+
+class _Piece:
+    """One stretch of the virgin loading curve, parameter t in [0, 1], s increasing with t.
+
+    Subclasses give ``_boundaries(t)`` -> (L1, L2) (complex t allowed).
+    """
+
+    def __init__(self, element, omega):
+        self.el = element
+        self.omega = omega
+        self.t0 = 0.0
+        tt = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, TABLE_POINTS)))
+        s = self.evaluate(tt)[0]
+        i = int(np.argmin(s))
+        if i > 0:
+            # With inertia the single-mode curve can dip just after an interior slip onset
+            # (a fold of relative depth ~1e-6 at 0.3 omega_c): start at its minimum instead.
+            if s[0] - s[i] > MAX_ONSET_DIP * abs(s[0]) or i == TABLE_POINTS - 1:
+                raise FloatingPointError(
+                    f"the loading curve folds back at omega={omega!r} (near a resonance of the damper bar)")
+            res = minimize_scalar(lambda t: float(self.evaluate(np.array([t]))[0][0]),
+                                  bounds=(tt[i - 1], tt[i + 1]), method="bounded", options={"xatol": 1e-13})
+            self.t0 = float(res.x)
+            s = self.evaluate(tt)[0]
+        s, F = self.evaluate(tt)[:2]
+        self.t_tab, self.s_tab = tt, s
+        self.s0, self.s1 = float(s[0]), float(s[-1])
+        self.F0, self.F1 = float(F[0]), float(F[-1])
+        if np.any(np.diff(s) <= 0.0) or not np.all(np.isfinite(s)):
+            raise FloatingPointError(
+                f"the loading curve is not monotone at omega={omega!r} (near a resonance of the damper bar)"
+            )
+
+    def boundaries(self, t):
+        """(L1, L2) at parameter t in [0, 1] (t = 0 at the piece's start)."""
+        return self._boundaries(self.t0 + (1.0 - self.t0) * t)
+
+    def evaluate(self, t):
+        """s, F and their derivatives in t (complex step), for real array t."""
+        t = np.asarray(t, dtype=float)
+        xc, Fc = self._xF(t + 1j * CSTEP)
+        return xc.real, Fc.real, xc.imag / CSTEP, Fc.imag / CSTEP
+
+    def _xF(self, t):
+        L1, L2 = self.boundaries(t)
+        x1, _, F_fric, K_tip = region_solution(self.el.bar, self.el.load, L1, L2, self.omega)
+        return x1, F_fric + K_tip * x1
+
+    def invert(self, a):
+        """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""
+        a = np.asarray(a, dtype=float)
+        j = np.clip(np.searchsorted(self.s_tab, a), 1, TABLE_POINTS - 1)
+        lo, hi = self.t_tab[j - 1], self.t_tab[j]
+        slo, shi = self.s_tab[j - 1], self.s_tab[j]
+        t = lo + (hi - lo) * np.clip((a - slo) / (shi - slo), 0.0, 1.0)
+        for _ in range(60):
+            s, _, ds, _ = self.evaluate(t)
+            r = s - a
+            lo = np.where(r < 0, t, lo)
+            hi = np.where(r > 0, t, hi)
+            with np.errstate(all="ignore"):
+                tn = t - r / ds
+            bad = ~np.isfinite(tn) | (tn <= lo) | (tn >= hi)
+            tn = np.where(bad, 0.5 * (lo + hi), tn)
+            done = np.abs(tn - t) <= 4e-16 * np.maximum(1.0, np.abs(t))
+            t = tn
+            if np.all(done | (hi - lo <= 1e-16)):
+                break
+        return t
+
+
+class _TwoRegionPiece(_Piece):
+    """L1 from L1_start down to 0, L2 = L (t = 0 at L1_start)."""
+
+    def __init__(self, element, omega, L1_start):
+        self.L1_start = L1_start
+        super().__init__(element, omega)
+
+    def _boundaries(self, t):
+        return self.L1_start * (1.0 - t), self.el.bar.L + 0.0 * t
+
+
+class _ThreeRegionPiece(_Piece):
+    """L2 from the slip-onset point x* up to L, L1 = L1(L2) (a Chebyshev interpolant)."""
+
+    def __init__(self, element, omega, x_star):
+        self.x_star = x_star
+        self.coef = self._fit_L1(element, omega, x_star)
+        super().__init__(element, omega)
+
+    def _boundaries(self, t):
+        L = self.el.bar.L
+        L2 = self.x_star + (L - self.x_star) * t
+        L1 = cheb.chebval(2.0 * t - 1.0, self.coef)
+        return L1, L2
+
+    @staticmethod
+    def _fit_L1(el, omega, x_star, tol=1e-13):
+        """Chebyshev coefficients of L1(L2) on the three-region curve x1(L1, L2) = x2(L1, L2)."""
+        bar, load = el.bar, el.load
+        L = bar.L
+        for deg in (16, 32, 64, 128):
+            u = np.cos(np.pi * (np.arange(deg + 1) + 0.5) / (deg + 1))  # Chebyshev points in (-1, 1)
+            L2 = x_star + (L - x_star) * 0.5 * (u + 1.0)
+            L1 = _solve_L1(bar, load, L2, x_star, omega)
+            coef = cheb.chebfit(u, L1, deg)
+            if np.max(np.abs(coef[-4:])) <= tol * L:
+                return coef
+        return coef
+
+
+def _solve_L1(bar, load, L2, x_star, omega):
+    """Root L1 in [0, x*) of x1(L1, L2) - x2(L1, L2) for each L2 > x* (vectorised bisection + secant)."""
+
+    def G(L1):
+        x1, x2, _, _ = region_solution(bar, load, L1, L2, omega)
+        return x1 - x2
+
+    lo = np.zeros_like(L2)
+    hi = np.minimum(np.full_like(L2, x_star), L2)
+    glo, ghi = G(lo), G(hi)
+    # Nucleation limit L2 -> x*: L1 -> x*.  Otherwise G(0) > 0 > G(x*) brackets the root.
+    at_start = (L2 - x_star) <= 1e-14 * bar.L
+    if np.any(~at_start & ~(glo * ghi <= 0.0)):
+        raise FloatingPointError("three-region curve: no stick-slip boundary L1 found (load or frequency "
+                                 "outside the three-region model's range)")
+    for _ in range(200):  # Illinois false position, guarded
+        with np.errstate(all="ignore"):
+            m = (lo * ghi - hi * glo) / (ghi - glo)
+        m = np.where(np.isfinite(m) & (m > lo) & (m < hi), m, 0.5 * (lo + hi))
+        gm = G(m)
+        left = gm * glo > 0.0
+        lo_new = np.where(left, m, lo)
+        hi_new = np.where(left, hi, m)
+        glo = np.where(left, gm, glo * np.where(left, 1.0, 0.5))
+        ghi = np.where(left, ghi * 0.5, gm)
+        lo, hi = lo_new, hi_new
+        if np.all(hi - lo <= 1e-15 * bar.L):
+            break
+    return np.where(at_start, x_star, 0.5 * (lo + hi))
+
+
+class _MicroslipBar(ContactElement):
+    """Common machinery: the loading path, quadrature, Masing loop."""
+
+    frequency_dependent = True
+
+    def __init__(self, bar: Bar, load):
+        if not isinstance(bar, Bar):
+            raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
+        self.bar = bar
+        self.load = load.on(bar.L)
+        if self.load.minimum() < 0.0:
+            raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
+        self._paths: dict = {}
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.bar!r}, {self.load!r})"
+
+    # ------------------------------------------------------------ the path
+    def _path(self, omega: float):
+        """(a_min, pieces, a_gross, F_gross, K_slip, K_stuck) at omega, cached."""
+        key = float(omega)
+        hit = self._paths.get(key)
+        if hit is None:
+            hit = self._build_path(key)
+            if len(self._paths) > 256:
+                self._paths.clear()
+            self._paths[key] = hit
+        return hit
+
+    def _build_path(self, omega):
+        bar = self.bar
+        K = float(bar.stuck_stiffness(omega))
+        _, _, F0, Ks = region_solution(bar, self.load, 0.0, bar.L, omega)
+        K_slip = float(Ks)
+        if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
+            return 0.0, [], 0.0, 0.0, K_slip, K
+        pieces = self._pieces(omega)
+        a_min = pieces[0].s0
+        return a_min, pieces, pieces[-1].s1, pieces[-1].F1, K_slip, K
+
+    # ------------------------------------------------------------ public extras
+    def slip_stiffness(self, omega=0.0) -> float:
+        """Slope of the loading curve past gross slip: the fully slipping bar's dynamic stiffness."""
+        return self._path(nonnegative("omega", omega))[4]
+
+    def gross_slip_amplitude(self, omega=0.0) -> float:
+        """Amplitude at which the whole interface slips (L1 = 0)."""
+        return self._path(nonnegative("omega", omega))[2]
+
+    def loading_curve(self, x, omega=0.0):
+        """Virgin loading force F(x) for tip displacement x >= 0 (Eq. 13 solved for theta)."""
+        x = np.asarray(x, dtype=float)
+        omega = nonnegative("omega", omega)
+        a_min, pieces, a_g, F_g, K_slip, K = self._path(omega)
+        F = np.where(x <= a_min, K * x, F_g + K_slip * (x - a_g))
+        for p in pieces:
+            inside = (x > p.s0) & (x < p.s1)
+            if np.any(inside):
+                F[inside] = p.evaluate(p.invert(x[inside]))[1]
+        return F
+
+    def boundaries(self, x, omega=0.0):
+        """(L1, L2) on the virgin loading curve at tip displacement x (L1 = L2 = L while stuck
+        for two regions; for three regions both equal the onset point x* while stuck)."""
+        x = np.asarray(x, dtype=float)
+        omega = nonnegative("omega", omega)
+        a_min, pieces, a_g, *_ = self._path(omega)
+        L = self.bar.L
+        L1 = np.where(x <= a_min, pieces[0].boundaries(0.0)[0] if pieces else 0.0, 0.0)
+        L2 = np.where(x <= a_min, pieces[0].boundaries(0.0)[1] if pieces else L, L)
+        for p in pieces:
+            inside = (x > p.s0) & (x < p.s1)
+            if np.any(inside):
+                b1, b2 = p.boundaries(p.invert(x[inside]))
+                L1[inside], L2[inside] = np.real(b1), np.real(b2)
+        return L1, L2
+
+    def stick_slip_history(self, a, omega=0.0, *, n: int = 361):
+        """Steady-state boundaries over one cycle (Figs. 6, 7, 19): ``(theta, L1, L2)``.
+
+        By the Masing rule the state at theta on the branch up from x = -a is the virgin
+        state at (a + x)/2 (and (a - x)/2 on the way down); theta in [-pi/2, 3 pi/2].
+        """
+        a = nonnegative("a", a)
+        theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, int(n))
+        x = a * np.sin(theta)
+        up = theta <= 0.5 * np.pi
+        s = np.where(up, 0.5 * (a + x), 0.5 * (a - x))
+        L1, L2 = self.boundaries(s, omega)
+        return theta, L1, L2
+
+    # ------------------------------------------------------------ interface
+    def _stuck_stiffness(self, omega):
+        return float(self.bar.stuck_stiffness(omega))
+
+    def _slip_amplitude(self, omega):
+        return self._path(omega)[0]
+
+    def _hysteresis(self, a, omega, n):
+        return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
+
+    def _fourier(self, a, omega, rtol):
+        out = self._fourier_derivatives(a, omega, rtol, derivatives=False)
+        return out[0], out[1]
+
+    def _fourier_derivatives(self, a, omega, rtol, derivatives=True):
+        fs = np.empty_like(a)
+        fc = np.empty_like(a)
+        dfs = np.empty_like(a)
+        dfc = np.empty_like(a)
+        for w in np.unique(omega):
+            sel = omega == w
+            r = _fourier_one_omega(self._path(float(w)), a[sel], rtol)
+            fs[sel], fc[sel], dfs[sel], dfc[sel] = r
+        return fs, fc, dfs, dfc
+
+
+def _isq(a, s1, s2):
+    """int_{s1}^{s2} sqrt(s (a - s)) ds, closed form (s = a (1 + sin th)/2)."""
+
+    def prim(s):
+        u = np.clip(2.0 * s / a - 1.0, -1.0, 1.0)
+        return a * a / 8.0 * (np.arcsin(u) + u * np.sqrt(1.0 - u * u))
+
+    return prim(s2) - prim(s1)
+
+
+def _idsq(a, s1, s2):
+    """int_{s1}^{s2} sqrt(s / (a - s)) / 2 ds, closed form (the a-derivative weight of f_s)."""
+
+    def prim(s):
+        u = np.clip(2.0 * s / a - 1.0, -1.0, 1.0)
+        return a / 4.0 * (np.arcsin(u) - np.sqrt(1.0 - u * u))
+
+    return prim(s2) - prim(s1)
+
+
+def _fourier_one_omega(path, a, rtol):
+    """f_s, f_c, df_s/da, df_c/da for amplitudes ``a`` at one frequency (see module docstring)."""
+    a_min, pieces, a_g, F_g, K_slip, K = path
+    a = np.asarray(a, dtype=float)
+    fs = K * a
+    fc = np.zeros_like(a)
+    dfs = np.full_like(a, K)
+    dfc = np.zeros_like(a)
+    slip = a > a_min
+    if not np.any(slip):
+        return fs, fc, dfs, dfc
+    A = a[slip]
+    # Stieltjes integrals J_s = int sqrt(s(a-s)) dF, J_c = int (a - 2s) dF, Jd = int sqrt(s/(a-s))/2 dF
+    m = np.minimum(A, a_min)
+    Js = K * _isq(A, 0.0, m)
+    Jc = K * (A * m - m * m)
+    Jd = K * _idsq(A, 0.0, m)
+    Fa = np.where(A > a_g, F_g + K_slip * (A - a_g), 0.0)
+    dFa = np.where(A > a_g, K_slip, 0.0)
+    # A trimmed onset fold leaves F(s0) - K s0 as a jump of the loading curve: a point mass of dF.
+    if pieces:
+        s0, jump = pieces[0].s0, pieces[0].F0 - K * pieces[0].s0
+        Js += jump * np.sqrt(s0 * np.maximum(A - s0, 0.0))
+        Jc += jump * (A - 2.0 * s0)
+        Jd += jump * 0.5 * np.sqrt(s0 / np.maximum(A - s0, np.finfo(float).tiny))
+    for p in pieces:
+        act = A > p.s0
+        if not np.any(act):
+            continue
+        Aa = A[act]
+        inside = Aa < p.s1
+        t_end = np.ones_like(Aa)
+        if np.any(inside):
+            t_end[inside] = p.invert(Aa[inside])
+        js, jc, jd = _piece_integrals(p, Aa, t_end, inside, rtol)
+        Js[act] += js
+        Jc[act] += jc
+        Jd[act] += jd
+        if np.any(inside):
+            _, Fi, dsi, dFi = p.evaluate(t_end[inside])
+            idx = np.flatnonzero(act)[inside]
+            Fa[idx] = Fi
+            dFa[idx] = dFi / dsi
+    gross = A > a_g
+    if np.any(gross):
+        G = A[gross]
+        Js[gross] += K_slip * _isq(G, a_g, G)
+        Jc[gross] += K_slip * (G * (G - a_g) - (G * G - a_g * a_g))
+        Jd[gross] += K_slip * _idsq(G, a_g, G)
+    fs_s = 8.0 / (np.pi * A) * Js
+    fc_s = 4.0 / (np.pi * A) * Jc
+    fs[slip] = fs_s
+    # J_c cancels exactly on linear stretches; clear rounding-level negatives (|.| <= 64 eps K a).
+    fc[slip] = np.where((fc_s < 0.0) & (fc_s > -64 * np.finfo(float).eps * abs(K) * A), 0.0, fc_s)
+    dfs[slip] = -fs_s / A + 8.0 / (np.pi * A) * Jd
+    dfc[slip] = -fc_s / A + 4.0 / (np.pi * A) * (Fa - A * dFa)
+    return fs, fc, dfs, dfc
+
+
+def _piece_integrals(p, a, t_end, exact_end, rtol):
+    """Integrals of one piece from t = 0 to t_end for each amplitude, to relative ``rtol``.
+
+    With t = t_end (1 - tau^2) the square-root end (s = a) becomes smooth in tau.  A piece
+    that ends just below a (near-singular) is split into geometrically graded cells in tau.
+    """
+    near = ~exact_end & ((a - p.s1) < GRADE_BELOW * (p.s1 - p.s0))
+    out = [np.zeros_like(a) for _ in range(3)]
+    for mask, graded in ((~near, False), (near, True)):
+        if not np.any(mask):
+            continue
+        aa, te = a[mask], t_end[mask]
+        if graded:
+            # cells [r^(j+1), r^j] in tau, the innermost [0, r^GRADE_CELLS]
+            edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
+        else:
+            edges = np.array([0.0, 1.0])
+        n = GAUSS_START
+        prev = _graded_rule(p, aa, te, edges, n)
+        while True:
+            n *= 2
+            cur = _graded_rule(p, aa, te, edges, n)
+            scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
+            err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
+            if np.all(err <= 0.1 * rtol) or n >= GAUSS_MAX:
+                break
+            prev = cur
+        for k in range(3):
+            out[k][mask] = cur[k]
+    return out
+
+
+def _graded_rule(p, a, t_end, edges, n):
+    x, w = _gauss(n)
+    lo, hi = edges[:-1], edges[1:]
+    tau = (lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel()  # nodes in (0, 1)
+    wt = ((hi - lo)[:, None] * w[None, :]).ravel()
+    tt = t_end[:, None] * (1.0 - tau[None, :] ** 2)
+    s, _, _, dF = p.evaluate(tt)
+    jac = 2.0 * t_end[:, None] * tau[None, :]  # |dt/dtau|
+    A = a[:, None]
+    gap = np.maximum(A - s, 0.0)
+    sq = np.sqrt(np.maximum(s, 0.0))
+    dFw = dF * jac * wt[None, :]
+    Js = np.sum(sq * np.sqrt(gap) * dFw, axis=1)
+    Jc = np.sum((A - 2.0 * s) * dFw, axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Jd = np.sum(np.where(gap > 0.0, 0.5 * sq / np.sqrt(gap), 0.0) * dFw, axis=1)
+    return Js, Jc, Jd
+
+
+class TwoRegionMicroslip(_MicroslipBar):
+    """Two-region microslip bar (Section 2.2): slip starts at the excited end and the stuck
+    region [0, L1] shrinks to gross slip.  For uniform and convex loads (Eq. 3-15).
+
+    ``TwoRegionMicroslip(bar, UniformLoad(N=100.0))``; a_min = mu q(L)/k.
+    """
+
+    def __init__(self, bar: Bar, load):
+        super().__init__(bar, load)
+        x_star, _ = bar.slip_onset(self.load, 0.0)
+        if x_star < bar.L * (1.0 - 1e-9):
+            raise ValueError(
+                f"load: slip starts inside the bar (x = {x_star:.4g} of L = {bar.L:.4g}) at low frequency, "
+                "so the interface has three regions; use ThreeRegionMicroslip"
+            )
+
+    def _pieces(self, omega):
+        return [_TwoRegionPiece(self, omega, self.bar.L)]
+
+
+class ThreeRegionMicroslip(_MicroslipBar):
+    """Three-region microslip bar (Section 2.3): slip starts inside at x*, the slip region
+    [L1, L2] grows both ways; when L2 reaches L the bar continues as two regions to gross
+    slip (Fig. 7).  For concave loads, e.g. ``QuadraticLoad.from_ratio(N, 12)``.
+
+    With a load that slips first at the excited end it reduces to the two-region path.
+    """
+
+    def _pieces(self, omega):
+        L = self.bar.L
+        x_star, _ = self.bar.slip_onset(self.load, omega)
+        if x_star >= L * (1.0 - 1e-9):
+            return [_TwoRegionPiece(self, omega, L)]
+        three = _ThreeRegionPiece(self, omega, x_star)
+        L1_end = float(np.real(three.boundaries(1.0)[0]))
+        two = _TwoRegionPiece(self, omega, L1_end)
+        return [three, two]
