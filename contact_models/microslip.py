@@ -31,7 +31,7 @@ from functools import lru_cache
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
-from scipy.optimize import minimize_scalar
+from scipy.optimize import brentq
 
 from .bar import Bar, end_impedance, transmission
 from .base import ContactElement, masing_loop
@@ -116,13 +116,14 @@ class _Piece:
         i = int(np.argmin(s))
         if i > 0:
             # With inertia the single-mode curve can dip just after an interior slip onset
-            # (a fold of relative depth ~1e-6 at 0.3 omega_c): start at its minimum instead.
-            if s[0] - s[i] > MAX_ONSET_DIP * abs(s[0]) or i == TABLE_POINTS - 1:
+            # (a fold of relative depth ~1e-6 at 0.3 omega_c).  The interface stays stuck up
+            # to the stuck onset s(0) and then snaps to the rising branch where s = s(0) again.
+            if s[0] - s[i] > MAX_ONSET_DIP * abs(s[0]) or s[-1] <= s[0]:
                 raise FloatingPointError(
                     f"the loading curve folds back at omega={omega!r} (near a resonance of the damper bar)")
-            res = minimize_scalar(lambda t: float(self.evaluate(np.array([t]))[0][0]),
-                                  bounds=(tt[i - 1], tt[i + 1]), method="bounded", options={"xatol": 1e-13})
-            self.t0 = float(res.x)
+            j = i + int(np.argmax(s[i:] >= s[0]))
+            self.t0 = brentq(lambda t: float(self.evaluate(np.array([t]))[0][0]) - s[0], tt[i], tt[j],
+                             xtol=1e-15, rtol=1e-15)
             s = self.evaluate(tt)[0]
         s, F = self.evaluate(tt)[:2]
         self.t_tab, self.s_tab = tt, s
@@ -398,7 +399,7 @@ def _fourier_one_omega(path, a, rtol):
     Jd = K * _idsq(A, 0.0, m)
     Fa = np.where(A > a_g, F_g + K_slip * (A - a_g), 0.0)
     dFa = np.where(A > a_g, K_slip, 0.0)
-    # A trimmed onset fold leaves F(s0) - K s0 as a jump of the loading curve: a point mass of dF.
+    # A skipped onset fold leaves F(s0) - K s0 as a jump of the loading curve: a point mass of dF.
     if pieces:
         s0, jump = pieces[0].s0, pieces[0].F0 - K * pieces[0].s0
         Js += jump * np.sqrt(s0 * np.maximum(A - s0, 0.0))
@@ -498,7 +499,7 @@ class TwoRegionMicroslip(_MicroslipBar):
 
     def __init__(self, bar: Bar, load):
         super().__init__(bar, load)
-        x_star, _ = bar.slip_onset(self.load, 0.0)
+        x_star = bar.slip_onset(self.load, 0.0)[0] if bar.mu * self.load.N > 0.0 else bar.L
         if x_star < bar.L * (1.0 - 1e-9):
             raise ValueError(
                 f"load: slip starts inside the bar (x = {x_star:.4g} of L = {bar.L:.4g}) at low frequency, "

@@ -1,0 +1,28 @@
+import os
+
+import pytest
+from hypothesis import settings
+
+from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
+
+settings.register_profile("ci", max_examples=25, deadline=None)
+settings.register_profile("long", max_examples=400, deadline=None)
+settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+
+#: The DESIGN.md bar.
+BAR = dict(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+
+
+@pytest.fixture(scope="session")
+def bar():
+    return Bar(**BAR)
+
+
+@pytest.fixture(scope="session")
+def two(bar):
+    return TwoRegionMicroslip(bar, UniformLoad(N=100.0))
+
+
+@pytest.fixture(scope="session")
+def three(bar):
+    return ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=100.0, ratio=12.0))

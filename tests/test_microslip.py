@@ -1,0 +1,249 @@
+"""Two- and three-region microslip elements: limits, properties, hard cases, paper findings."""
+
+import math
+
+import numpy as np
+import pytest
+
+from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
+from conftest import BAR
+
+FREQS = [0.0, 0.01, 0.2, 0.3, 0.5]  # in omega_c
+
+
+def loop_energy(el, a, omega, n=40001):
+    """Closed-loop integral of f dx = int f(theta) a cos(theta) dtheta (periodic trapezoid)."""
+    x, f = el.hysteresis(a, omega, n=n)
+    theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)
+    g = f * a * np.cos(theta)
+    return np.sum(g[:-1]) * (theta[1] - theta[0])
+
+
+@pytest.fixture(params=["two", "three"])
+def element(request, two, three):
+    return {"two": two, "three": three}[request.param]
+
+
+@pytest.mark.parametrize("w", FREQS)
+def test_stuck_below_a_min_exactly(element, bar, w):
+    omega = w * bar.omega_c
+    am = element.slip_amplitude(omega)
+    a = np.array([0.0, 1e-3, 0.5, 0.999999, 1.0]) * am
+    fs, fc = element.fourier(a, omega)
+    assert np.array_equal(fs, element.stuck_stiffness(omega) * a)
+    assert np.array_equal(fc, np.zeros_like(a))
+
+
+@pytest.mark.parametrize("w", FREQS)
+def test_fc_nonnegative_and_energy_is_loop_area(element, bar, w):
+    omega = w * bar.omega_c
+    am = element.slip_amplitude(omega)
+    a = np.logspace(-1, 4, 400) * am
+    fs, fc = element.fourier(a, omega)
+    assert np.all(fc >= 0.0) and np.all(np.isfinite(fs))
+    for r in (1.5, 3.0, 10.0):
+        e = loop_energy(element, r * am, omega)
+        fc1 = float(element.fourier(r * am, omega, rtol=1e-10)[1])
+        assert math.pi * r * am * fc1 == pytest.approx(e, rel=1e-6)
+
+
+@pytest.mark.parametrize("w", [0.0, 0.3])
+def test_continuity_at_region_changes(element, bar, w):
+    omega = w * bar.omega_c
+    K = element.stuck_stiffness(omega)
+    pieces = element._path(omega)[1]
+    marks = [element.slip_amplitude(omega), element.gross_slip_amplitude(omega)]
+    marks += [p.s1 for p in pieces[:-1]]  # three -> two regions
+    # An interior onset under inertia can fold (docs/theory.md): the interface then snaps
+    # from the stuck line to the branch past the fold, F jumps by dF = F(s0) - K s0 and
+    # f_c by exactly 4|dF|/pi at a_min; nowhere else.
+    dF = pieces[0].F0 - K * pieces[0].s0
+    for i, m in enumerate(marks):
+        lo = element.fourier(m * (1 - 1e-9), omega, rtol=1e-10)
+        hi = element.fourier(m * (1 + 1e-9), omega, rtol=1e-10)
+        scale = K * m
+        assert abs(hi[0] - lo[0]) < 1e-7 * scale
+        expected = 4 * abs(dF) / math.pi if i == 0 else 0.0
+        assert abs(hi[1] - lo[1] - expected) < 1e-7 * scale
+    assert abs(dF) < 1e-5 * K * marks[0]
+    if element is not None and w == 0.0:
+        assert dF == pytest.approx(0.0, abs=1e-12 * K * marks[0])
+
+
+def test_three_region_has_the_three_to_two_change(three, bar):
+    pieces = three._path(0.0)[1]
+    assert len(pieces) == 2
+    a_switch = pieces[0].s1
+    L1, L2 = three.boundaries(np.array([0.999, 1.001]) * a_switch)
+    assert L2[0] < bar.L and L2[1] == bar.L  # right stuck region has vanished
+    assert 0.0 < L1[1] < L1[0] < bar.L
+
+
+@pytest.mark.parametrize("w", [0.0, 0.3])
+def test_analytic_derivatives(element, bar, w):
+    omega = w * bar.omega_c
+    am = 7.5e-7
+    a = np.array([0.5, 1.2, 2.4, 5.0, 7.0, 40.0]) * am
+    fs, fc, dfs, dfc = element.fourier_derivatives(a, omega, rtol=1e-11)
+    h = 1e-6 * a
+    p = element.fourier(a + h, omega, rtol=1e-12)
+    m = element.fourier(a - h, omega, rtol=1e-12)
+    np.testing.assert_allclose(dfs, (p[0] - m[0]) / (2 * h), rtol=1e-6)
+    np.testing.assert_allclose(dfc, (p[1] - m[1]) / (2 * h), rtol=1e-6, atol=1e-6 * element.stuck_stiffness(omega))
+
+
+def test_rtol_controls_accuracy(element, bar):
+    omega = 0.3 * bar.omega_c
+    a = np.array([1.3, 2.7, 6.0, 25.0]) * 7.5e-7
+    ref = element.fourier(a, omega, rtol=1e-13)
+    for rtol in (1e-3, 1e-6, 1e-9):
+        got = element.fourier(a, omega, rtol=rtol)
+        for g, r in zip(got, ref):
+            assert np.all(np.abs(g - r) <= rtol * np.abs(r))
+
+
+def test_gross_slip_limits(element, bar):
+    for omega in (0.0, 0.3 * bar.omega_c):
+        ag = element.gross_slip_amplitude(omega)
+        a = 1e4 * ag
+        fs, fc = element.fourier(a, omega)
+        K_slip = element.slip_stiffness(omega)
+        F_int = element.loading_curve(2 * ag, omega) - 2 * ag * K_slip  # loading-curve intercept past gross slip
+        # the loop becomes a parallelogram: f_s -> K_slip a, f_c -> 4 F_int / pi
+        assert fs / (K_slip * a) == pytest.approx(1.0, rel=1e-3)
+        assert fc == pytest.approx(4 * F_int / math.pi, rel=1e-3)
+
+
+def test_gross_slip_static_closed_form(two, bar):
+    """omega = 0: slip stiffness is beta in series with the bar; past gross slip
+    F = mu N + beta u(0) with x = u(0)(1 + beta L/EA) + mu N L/(2 EA)."""
+    S, b, L, muN = bar.EA, bar.beta, bar.L, 30.0
+    K_slip = 1.0 / (1.0 / b + L / S)
+    assert two.slip_stiffness(0.0) == pytest.approx(K_slip, rel=1e-13)
+    x = 10 * two.gross_slip_amplitude(0.0)
+    u0 = (x - muN * L / (2 * S)) / (1 + b * L / S)
+    assert two.loading_curve(x, 0.0) == pytest.approx(muN + b * u0, rel=1e-12)
+
+
+def test_two_region_onset_and_stick_slip_history(two, bar):
+    am = two.slip_amplitude(0.0)
+    assert am == pytest.approx(bar.mu * 100.0 / (bar.k * bar.L), rel=1e-14)
+    a = 2.0 * am  # below gross slip (2.5 a_min)
+    theta, L1, L2 = two.stick_slip_history(a, 0.0, n=721)
+    assert np.all(L2 == bar.L)
+    # everything sticks at a reversal, then the slip front runs in from x = L to L1(a)
+    assert L1[0] == bar.L and L1[361] == bar.L
+    L1a = float(two.boundaries(a, 0.0)[0])
+    assert L1[360] == pytest.approx(L1a, rel=1e-9) and L1[-1] == pytest.approx(L1a, rel=1e-9)
+    assert np.all(np.diff(L1[:361]) <= 0) and np.all(np.diff(L1[361:]) <= 0)
+    assert 0.0 < L1a < bar.L
+
+
+def test_paper_findings(two, three, bar):
+    # uniform load: slip starts at the excited end; concave ratio-12: inside, and earlier (Fig. 14)
+    assert float(two.boundaries(1.0001 * two.slip_amplitude(0.0))[0]) > 0.99 * bar.L
+    L1, L2 = three.boundaries(1.0001 * three.slip_amplitude(0.0))
+    assert 0.2 * bar.L < L1 < L2 < 0.8 * bar.L
+    assert three.slip_amplitude(0.0) < two.slip_amplitude(0.0)
+    am = two.slip_amplitude(0.0)
+    for el in (two, three):
+        # Figs. 9-10, 12-13: just past slip F_s falls and F_c rises as omega goes 0.01 -> 0.5 omega_c
+        a = 1.5 * am
+        w = np.array([0.01, 0.2, 0.3, 0.5]) * bar.omega_c
+        fs, fc = el.fourier(a, w)
+        assert np.all(np.diff(fs) < 0.0) and np.all(np.diff(fc) > 0.0)
+    # Fig. 14: the three-region interface damps below the two-region a_min
+    assert float(three.fourier(0.8 * am, 0.3 * bar.omega_c)[1]) > 0.0
+    assert float(two.fourier(0.8 * am, 0.3 * bar.omega_c)[1]) == 0.0
+
+
+# ------------------------------------------------------------------ hard cases
+def test_omega_zero_limit_is_smooth(element):
+    am = 7.5e-7
+    a = np.array([1.5, 3.0, 10.0, 30.0]) * am
+    f0 = element.fourier(a, 0.0, rtol=1e-10)
+    for eps in (1e-8, 1e-3, 1.0):
+        f1 = element.fourier(a, eps, rtol=1e-10)
+        np.testing.assert_allclose(f1[0], f0[0], rtol=1e-8)
+        np.testing.assert_allclose(f1[1], f0[1], rtol=1e-8)
+
+
+def test_gamma_zero_and_imaginary(element, bar):
+    w0 = math.sqrt(bar.k / (bar.rho * bar.A))
+    a = np.array([1.5, 3.0, 10.0]) * 7.5e-7
+    f = [element.fourier(a, w, rtol=1e-10) for w in (w0 * (1 - 1e-7), w0, w0 * (1 + 1e-7))]
+    for fs, fc in f:
+        assert np.all(np.isfinite(fs)) and np.all(np.isfinite(fc)) and np.all(fc >= 0)
+    scale = bar.k_star * a  # f_s crosses zero near a = 3 a_min here: compare on the force scale
+    for (fs0, fc0), (fs1, fc1) in zip(f[:-1], f[1:]):
+        np.testing.assert_allclose(fs1, fs0, rtol=0, atol=1e-6 * scale.max())
+        np.testing.assert_allclose(fc1, fc0, rtol=0, atol=1e-6 * scale.max())
+    fs, fc = element.fourier(a, 1.1 * w0)  # imaginary gamma, below omega_c
+    assert np.all(np.isfinite(fs)) and np.all(fc >= 0)
+
+
+def test_large_gamma_L():
+    b = Bar(**{**BAR, "k": 8.0e8 * 1e8})  # lam L = 1e4
+    el = TwoRegionMicroslip(b, UniformLoad(100.0))
+    am = el.slip_amplitude(0.0)
+    fs, fc = el.fourier(np.array([0.5, 1.5, 3, 1e3]) * am, 1e3)
+    assert np.all(np.isfinite(fs)) and np.all(np.isfinite(fc)) and np.all(fc >= 0)
+    assert fs[0] == pytest.approx(b.EA * b.lam * 0.5 * am, rel=1e-6)
+
+
+def test_just_above_a_min(element, bar):
+    omega = 0.3 * bar.omega_c
+    am = element.slip_amplitude(omega)
+    fs, fc = element.fourier(np.array([am, am * (1 + 1e-9)]), omega)
+    K = element.stuck_stiffness(omega)
+    first = element._path(omega)[1][0]
+    fold = 4 * abs(first.F0 - K * first.s0) / math.pi  # 0 without an onset fold
+    _, _, ds, dF = first.evaluate(np.array([0.0]))
+    tangent = abs(float(dF[0] / ds[0])) if fold > 0 else K  # past a fold F(s) starts falling
+    # df_c/da = -f_c/a + 4/(pi a) (F(a) - a F'(a)) with F(a) ~ K a: f_c grows from the jump by
+    # at most (4/pi) (K + |F'|) (a - a_min)
+    assert fc[0] == 0.0 and 0.0 <= fc[1] - fold <= 4 / math.pi * (K + tangent) * 1e-9 * am
+    assert fs[1] == pytest.approx(K * am, rel=1e-8)
+
+
+def test_boundaries_reach_both_ends(two, bar):
+    ag = two.gross_slip_amplitude(0.0)
+    L1, _ = two.boundaries(np.array([ag * (1 - 1e-12), ag * 1e-12 + two.slip_amplitude(0.0)]))
+    assert L1[0] < 1e-5 * bar.L and L1[1] > bar.L * (1 - 1e-4)
+
+
+def test_large_load_ratio(bar):
+    el = ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 1e3))
+    am = el.slip_amplitude(0.0)
+    a = np.logspace(0, 3, 50) * am * 1.0001
+    fs, fc = el.fourier(a, 0.2 * bar.omega_c)
+    assert np.all(np.isfinite(fs)) and np.all(fc >= 0.0)
+    assert np.all(np.diff(fs / a) < 0)  # secant stiffness decreases with amplitude
+
+
+def test_zero_normal_load_is_the_slipping_bar(bar):
+    el = TwoRegionMicroslip(bar, UniformLoad(0.0))
+    fs, fc = el.fourier([1e-9, 1e-6], 0.0)
+    np.testing.assert_allclose(fs, el.slip_stiffness(0.0) * np.array([1e-9, 1e-6]), rtol=1e-14)
+    assert np.all(fc == 0.0)
+
+
+def test_vectorised_speed(two, bar):
+    import time
+
+    a = np.logspace(-1, 2, 1000) * 7.5e-7
+    two.fourier(a, 0.3 * bar.omega_c)  # path cached after the first call
+    t = time.perf_counter()
+    two.fourier(a, 0.3 * bar.omega_c)
+    assert time.perf_counter() - t < 0.5  # generous for a shared CI machine; docs/performance.md has medians
+
+
+def test_bad_input(two):
+    with pytest.raises(ValueError, match="a"):
+        two.fourier(-1.0, 0.0)
+    with pytest.raises(ValueError, match="omega"):
+        two.fourier(1e-6, float("nan"))
+    with pytest.raises(ValueError, match="rtol"):
+        two.fourier(1e-6, 0.0, rtol=0.0)
+    with pytest.raises(ValueError, match="ThreeRegion"):
+        TwoRegionMicroslip(Bar(**BAR), QuadraticLoad.from_ratio(100.0, 12.0))
