@@ -31,8 +31,19 @@ def segment_cs(s2, ell):
 
     ``scale`` = 1/cosh(sqrt(s2) ell) for s2 > 0 (so C = 1), and 1 otherwise.
     """
-    s2 = np.asarray(s2, dtype=float)
     ell = np.asarray(ell)
+    if np.ndim(s2) == 0:  # one frequency: compute only the branch that applies
+        s2 = float(s2)
+        if s2 > 0.0:
+            g = math.sqrt(s2)
+            z = g * ell
+            e = np.exp(-z)
+            return 1.0, np.tanh(z) / g, 2.0 * e / (1.0 + e * e)
+        if s2 < 0.0:
+            z = math.sqrt(-s2) * ell
+            return np.cos(z), ell * np.sinc(z / np.pi), 1.0
+        return 1.0, ell, 1.0
+    s2 = np.asarray(s2, dtype=float)
     pos = s2 > 0.0
     g = np.sqrt(np.abs(s2))
     with np.errstate(all="ignore"):

@@ -64,33 +64,38 @@ def region_solution(bar: Bar, load, L1, L2, omega):
 
     Returns ``(x1, x2, F_fric, K_tip)``: the tip displacements at which the shear force
     at L1 resp. L2 equals mu q (Eq. 7, 21), and the tip force F = F_fric + K_tip x.
-    Two regions are L2 = L.  Accepts complex L1, L2 (complex-step differentiation).
+    ``L2=None`` is the two-region case (L2 = L; then x2 is None).  Accepts complex L1, L2
+    (complex-step differentiation).  docs/theory.md, sections 3 and 4, derive every line.
     """
     S, L, lam, mu, k = bar.EA, bar.L, bar.lam, bar.mu, bar.k
-    ell_m = L2 - L1  # slipping length
-    ell_2 = L - L2  # right stuck length
+    two = L2 is None
+    ell_m = (L if two else L2) - L1  # slipping length
     # --- friction-driven part (independent of theta, no inertia): u'' = lam^2 u stuck, u'' = mu q/EA slipping
     k0 = end_impedance(bar.beta, lam * lam, L1, S)  # static stiffness of [0, L1] seen from L1
-    e = np.exp(-lam * ell_2)
-    sech2 = 2.0 * e / (1.0 + e * e)
-    cR = np.tanh(lam * ell_2) / (S * lam)  # compliance u/(-EA u') of the right stuck part at L2
     # D2 = Q(L2) - Q(L1) - Q'(L1) ell_m and dQ = Q'(L2) - Q'(L1), Eq. 15, by Taylor at L1 (exact, no cancellation)
     q1, dq1, ddq = load.q(L1), load.dq(L1), load_curvature(load)
     D2 = mu / S * (q1 * ell_m**2 / 2 + dq1 * ell_m**3 / 6 + ddq * ell_m**4 / 24)
     dQ = mu / S * (q1 * ell_m + dq1 * ell_m**2 / 2 + ddq * ell_m**3 / 6)
-    d0 = -(D2 + cR * S * dQ) / (1.0 + k0 * (ell_m + cR * S) / S)  # friction part of u(L1)
-    uf1 = d0
-    uf2 = D2 + d0 * (1.0 + k0 * ell_m / S)  # friction part of u(L2)
-    F_fric = (S * dQ + k0 * d0) * sech2  # EA u_x(L) of the friction part
     # --- part proportional to x = a sin(theta): u'' = gamma^2 u stuck, u'' = -alpha^2 u slipping
     g2, a2 = bar.gamma2(omega), bar.alpha2(omega)
     kap = end_impedance(bar.beta, g2, L1, S)  # Eq. 14, beta'(L1)
     k_mid = end_impedance(kap, -a2, ell_m, S)
     t1 = transmission(kap, -a2, ell_m, S)  # u(L1)/u(L2)
+    if two:
+        d0 = -D2 / (1.0 + k0 * ell_m / S)  # friction part of u(L1)
+        x1 = (mu * q1 / k - d0) / t1
+        return x1, None, S * dQ + k0 * d0, k_mid
+    ell_2 = L - L2  # right stuck length
+    e = np.exp(-lam * ell_2)
+    sech2 = 2.0 * e / (1.0 + e * e)
+    cR = np.tanh(lam * ell_2) / (S * lam)  # compliance u/(-EA u') of the right stuck part at L2
+    d0 = -(D2 + cR * S * dQ) / (1.0 + k0 * (ell_m + cR * S) / S)
+    uf2 = D2 + d0 * (1.0 + k0 * ell_m / S)  # friction part of u(L2)
+    F_fric = (S * dQ + k0 * d0) * sech2  # EA u_x(L) of the friction part
     K_tip = end_impedance(k_mid, g2, ell_2, S)
     t2 = transmission(k_mid, g2, ell_2, S)  # u(L2)/u(L)
     # --- slip conditions k u(L_i) = mu q(L_i), linear in x
-    x1 = (mu * q1 / k - uf1) / (t1 * t2)
+    x1 = (mu * q1 / k - d0) / (t1 * t2)
     x2 = (mu * load.q(L2) / k - uf2) / t2
     return x1, x2, F_fric, K_tip
 
@@ -124,7 +129,6 @@ class _Piece:
             j = i + int(np.argmax(s[i:] >= s[0]))
             self.t0 = brentq(lambda t: float(self.evaluate(np.array([t]))[0][0]) - s[0], tt[i], tt[j],
                              xtol=1e-15, rtol=1e-15)
-            s = self.evaluate(tt)[0]
         s, F = self.evaluate(tt)[:2]
         self.t_tab, self.s_tab = tt, s
         self.s0, self.s1 = float(s[0]), float(s[-1])
@@ -180,7 +184,7 @@ class _TwoRegionPiece(_Piece):
         super().__init__(element, omega)
 
     def _boundaries(self, t):
-        return self.L1_start * (1.0 - t), self.el.bar.L + 0.0 * t
+        return self.L1_start * (1.0 - t), None
 
 
 class _ThreeRegionPiece(_Piece):
@@ -275,7 +279,7 @@ class _MicroslipBar(ContactElement):
     def _build_path(self, omega):
         bar = self.bar
         K = float(bar.stuck_stiffness(omega))
-        _, _, F0, Ks = region_solution(bar, self.load, 0.0, bar.L, omega)
+        _, _, F0, Ks = region_solution(bar, self.load, 0.0, None, omega)
         K_slip = float(Ks)
         if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
             return 0.0, [], 0.0, 0.0, K_slip, K
@@ -311,13 +315,18 @@ class _MicroslipBar(ContactElement):
         omega = nonnegative("omega", omega)
         a_min, pieces, a_g, *_ = self._path(omega)
         L = self.bar.L
-        L1 = np.where(x <= a_min, pieces[0].boundaries(0.0)[0] if pieces else 0.0, 0.0)
-        L2 = np.where(x <= a_min, pieces[0].boundaries(0.0)[1] if pieces else L, L)
+
+        def at(p, t):
+            b1, b2 = p.boundaries(t)
+            return np.real(b1), (L if b2 is None else np.real(b2))
+
+        start = at(pieces[0], 0.0) if pieces else (0.0, L)
+        L1 = np.where(x <= a_min, start[0], 0.0)
+        L2 = np.where(x <= a_min, start[1], L)
         for p in pieces:
             inside = (x > p.s0) & (x < p.s1)
             if np.any(inside):
-                b1, b2 = p.boundaries(p.invert(x[inside]))
-                L1[inside], L2[inside] = np.real(b1), np.real(b2)
+                L1[inside], L2[inside] = at(p, p.invert(x[inside]))
         return L1, L2
 
     def stick_slip_history(self, a, omega=0.0, *, n: int = 361):
