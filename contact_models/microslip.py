@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
@@ -59,12 +60,21 @@ def _gauss(n: int):
     return 0.5 * (x + 1.0), 0.5 * w
 
 
+class Regions(NamedTuple):
+    x1: np.ndarray
+    x2: np.ndarray | None
+    F_fric: np.ndarray
+    K_tip: np.ndarray
+    u1_fric: np.ndarray
+    u1_unit: np.ndarray
+
+
 def region_solution(bar: Bar, load, L1, L2, omega):
     """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
 
-    Returns ``(x1, x2, F_fric, K_tip)``: the tip displacements at which the shear force
-    at L1 resp. L2 equals mu q (Eq. 7, 21), and the tip force F = F_fric + K_tip x.
-    ``L2=None`` is the two-region case (L2 = L; then x2 is None).  Accepts complex L1, L2
+    Returns a ``Regions`` tuple: ``x1, x2`` the tip displacements at which the shear
+    force at L1 resp. L2 equals mu q (Eq. 7, 21); the tip force is F = F_fric + K_tip x;
+    u(L1) = u1_fric + u1_unit x.  ``L2=None`` is the two-region case (L2 = L; x2 None).  Accepts complex L1, L2
     (complex-step differentiation).  docs/theory.md, sections 3 and 4, derive every line.
     """
     S, L, lam, mu, k = bar.EA, bar.L, bar.lam, bar.mu, bar.k
@@ -84,7 +94,7 @@ def region_solution(bar: Bar, load, L1, L2, omega):
     if two:
         d0 = -D2 / (1.0 + k0 * ell_m / S)  # friction part of u(L1)
         x1 = (mu * q1 / k - d0) / t1
-        return x1, None, S * dQ + k0 * d0, k_mid
+        return Regions(x1, None, S * dQ + k0 * d0, k_mid, d0, t1)
     ell_2 = L - L2  # right stuck length
     e = np.exp(-lam * ell_2)
     sech2 = 2.0 * e / (1.0 + e * e)
@@ -97,7 +107,7 @@ def region_solution(bar: Bar, load, L1, L2, omega):
     # --- slip conditions k u(L_i) = mu q(L_i), linear in x
     x1 = (mu * q1 / k - d0) / (t1 * t2)
     x2 = (mu * load.q(L2) / k - uf2) / t2
-    return x1, x2, F_fric, K_tip
+    return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2)
 
 
 def load_curvature(load) -> float:
@@ -130,6 +140,7 @@ class _Piece:
             self.t0 = brentq(lambda t: float(self.evaluate(np.array([t]))[0][0]) - s[0], tt[i], tt[j],
                              xtol=1e-15, rtol=1e-15)
         s, F = self.evaluate(tt)[:2]
+        self._check_left_end(tt, s)
         self.t_tab, self.s_tab = tt, s
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
@@ -137,6 +148,28 @@ class _Piece:
             raise FloatingPointError(
                 f"the loading curve is not monotone at omega={omega!r} (near a resonance of the damper bar)"
             )
+
+    def _check_left_end(self, t, s):
+        """The stuck region [0, L1] must stay stuck: k |u(0)| <= mu q(0) along the path.
+
+        A lightly loaded left end (strongly convex loads) would start a second slip zone
+        there, which neither the two- nor the three-region model describes.
+        """
+        bar, load = self.el.bar, self.el.load
+        L1 = np.real(self.boundaries(t)[0])
+        L2 = self.boundaries(t)[1]
+        r = region_solution(bar, load, L1, None if L2 is None else np.real(L2), self.omega)
+        fric = r.u1_fric * transmission(bar.beta, bar.lam**2, L1, bar.EA)
+        unit = s * r.u1_unit * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
+        rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 the two cancel to mu q / k
+        over = bar.k * np.abs(fric + unit) > bar.mu * load.q(0.0) * (1.0 + 1e-9) + rounding
+        if np.any(over):
+            i = int(np.argmax(over))
+            raise ValueError(
+                f"load: the end x = 0 starts slipping too, at tip amplitude {s[i]:.4g} m (stuck length "
+                f"L1 = {L1[i] / bar.L:.3f} L) at omega={self.omega!r}, before gross slip; the interface then "
+                "has slip zones at both ends, which the two- and three-region models do not describe "
+                f"(q(0) = {float(load.q(0.0)):.4g} N/m is too small)")
 
     def boundaries(self, t):
         """(L1, L2) at parameter t in [0, 1] (t = 0 at the piece's start)."""
@@ -150,8 +183,8 @@ class _Piece:
 
     def _xF(self, t):
         L1, L2 = self.boundaries(t)
-        x1, _, F_fric, K_tip = region_solution(self.el.bar, self.el.load, L1, L2, self.omega)
-        return x1, F_fric + K_tip * x1
+        r = region_solution(self.el.bar, self.el.load, L1, L2, self.omega)
+        return r.x1, r.F_fric + r.K_tip * r.x1
 
     def invert(self, a):
         """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""
@@ -220,8 +253,8 @@ def _solve_L1(bar, load, L2, x_star, omega):
     """Root L1 in [0, x*) of x1(L1, L2) - x2(L1, L2) for each L2 > x* (vectorised bisection + secant)."""
 
     def G(L1):
-        x1, x2, _, _ = region_solution(bar, load, L1, L2, omega)
-        return x1 - x2
+        r = region_solution(bar, load, L1, L2, omega)
+        return r.x1 - r.x2
 
     lo = np.zeros_like(L2)
     hi = np.minimum(np.full_like(L2, x_star), L2)
@@ -279,8 +312,7 @@ class _MicroslipBar(ContactElement):
     def _build_path(self, omega):
         bar = self.bar
         K = float(bar.stuck_stiffness(omega))
-        _, _, F0, Ks = region_solution(bar, self.load, 0.0, None, omega)
-        K_slip = float(Ks)
+        K_slip = float(region_solution(bar, self.load, 0.0, None, omega).K_tip)
         if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
             return 0.0, [], 0.0, 0.0, K_slip, K
         pieces = self._pieces(omega)

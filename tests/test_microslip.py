@@ -247,3 +247,12 @@ def test_bad_input(two):
         two.fourier(1e-6, 0.0, rtol=0.0)
     with pytest.raises(ValueError, match="ThreeRegion"):
         TwoRegionMicroslip(Bar(**BAR), QuadraticLoad.from_ratio(100.0, 12.0))
+
+
+def test_convex_load_whose_left_end_slips_is_refused(bar):
+    # ratio 0.5: at omega = 0 the stuck part is u(L1) exp(lam (x - L1)), so k u(0) exceeds mu q(0)
+    # once L1 < 0.645 L: slip zones at both ends, which neither model describes.
+    with pytest.raises(ValueError, match=r"x = 0 starts slipping .*L1 = 0\.64"):
+        TwoRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 0.5)).slip_amplitude(0.0)
+    mild = TwoRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 0.8))  # stays two-region to gross slip
+    assert mild.slip_amplitude(0.0) == pytest.approx(bar.mu * mild.load.q(bar.L) / bar.k, rel=1e-14)
