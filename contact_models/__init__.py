@@ -6,7 +6,9 @@ See ``contact_models.base.ContactElement`` for the interface.
 from .bar import Bar
 from .base import ContactElement
 from .loads import QuadraticLoad, UniformLoad
+from .macroslip import Macroslip
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
+from .point_contact import PointContact
 
 __all__ = ["Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
-           "ThreeRegionMicroslip"]
+           "ThreeRegionMicroslip", "Macroslip", "PointContact"]

@@ -1,0 +1,173 @@
+"""The macroslip element: a Coulomb slider behind a tangential spring (Jenkins element).
+
+The classic macroslip model of the paper's introduction (refs. [1-5] there): the contact
+is a rigid body that is either stuck (force ``stiffness * (x - w)``, w the slider
+position) or slipping at ``|f| = slip_force``.  It holds when the whole interface slips
+at once (light normal load); it predicts no dissipation below ``slip_force/stiffness``.
+
+``fourier`` is the describing function (``docs/point_contact.md``, "Jenkins element"):
+stuck, ``f_s = k a, f_c = 0``, for ``a <= y = slip_force/k``; above, with
+``psi = arccos(1 - 2 y/a) = 2 arcsin(sqrt(y/a))``,
+
+    f_s = k a (psi - sin(2 psi)/2) / pi,      f_c = 4 slip_force (1 - y/a) / pi.
+
+``stiffness=math.inf`` is the rigid Coulomb slider: ``f_s = 0``, ``f_c = 4 slip_force/pi``
+for ``a > 0``.  The time-domain law (``step``, ``force_history``) is the exact return map
+of the slider for a displacement that is monotone between samples.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._validation import positive
+from .base import ContactElement, masing_loop
+
+#: Below this value of z = 2 psi, z - sin z is summed as its Taylor series (no cancellation).
+SERIES_BELOW = 0.5
+
+
+def z_minus_sin(z):
+    """``z - sin(z)`` for z >= 0, accurate to rounding also for small z (f_s at large amplitude)."""
+    z = np.asarray(z, dtype=float)
+    z2 = z * z
+    # z^3/3! - z^5/5! + ... - z^13/13!; the next term is < 2e-16 of the sum for z < 0.5
+    series = z * z2 / 6.0 * (1.0 - z2 / 20.0 * (1.0 - z2 / 42.0 * (1.0 - z2 / 72.0 * (
+        1.0 - z2 / 110.0 * (1.0 - z2 / 156.0)))))
+    return np.where(z < SERIES_BELOW, series, z - np.sin(z))
+
+
+def jenkins_fourier(k: float, y: float, a):
+    """``(f_s, f_c, df_s/da, df_c/da)`` of a Jenkins element (spring k, slip displacement y > 0).
+
+    The slip force is ``k y``.  ``a`` is a flat float array of amplitudes >= 0.  f_s is
+    continuously differentiable; df_c/da jumps from 0 to 4 k/pi at ``a = y``, where the
+    stuck (left) value is returned.
+    """
+    a = np.asarray(a, dtype=float)
+    fs = k * a
+    fc = np.zeros_like(a)
+    dfs = np.full_like(a, k)
+    dfc = np.zeros_like(a)
+    slip = a > y
+    if np.any(slip):
+        A = a[slip]
+        r = y / A  # in (0, 1)
+        psi = 2.0 * np.arcsin(np.sqrt(r))  # = arccos(1 - 2 y/a), stable for small y/a
+        sin_psi = 2.0 * np.sqrt(r * (1.0 - r))
+        fs_slip = k * A * z_minus_sin(2.0 * psi) / (2.0 * np.pi)
+        fs[slip] = fs_slip
+        fc[slip] = 4.0 * k * y * (1.0 - r) / np.pi
+        # d/da [k a (psi - sin 2psi/2)/pi] = f_s/a + (k a/pi) 2 sin^2 psi dpsi/da,
+        # dpsi/da = -(2 y/a^2)/sin psi  ->  f_s/a - 4 k (y/a) sin psi / pi
+        dfs[slip] = fs_slip / A - 4.0 * k * r * sin_psi / np.pi
+        dfc[slip] = 4.0 * k * r * r / np.pi
+    return fs, fc, dfs, dfc
+
+
+class Macroslip(ContactElement):
+    """Jenkins element: spring ``stiffness`` (N/m, may be ``math.inf``) behind a Coulomb
+    slider of force ``slip_force`` (N).  Frequency independent."""
+
+    frequency_dependent = False
+
+    def __init__(self, stiffness, slip_force):
+        if _is_inf(stiffness):
+            self.stiffness = math.inf
+        else:
+            self.stiffness = positive("stiffness", stiffness)
+        self.slip_force = positive("slip_force", slip_force)
+
+    def __repr__(self):
+        return f"Macroslip(stiffness={self.stiffness!r}, slip_force={self.slip_force!r})"
+
+    @property
+    def rigid(self) -> bool:
+        """True for the rigid Coulomb slider (infinite stiffness)."""
+        return self.stiffness == math.inf
+
+    # ------------------------------------------------------------ time domain
+    def step(self, x_old, f_old, x_new):
+        """Force after moving monotonically from ``x_old`` (force ``f_old``) to ``x_new``.
+
+        The state is the last pair (x, f); the slider sits at ``x - f/stiffness``.  Exact
+        return map: ``f = clip(f_old + k (x_new - x_old), -slip_force, slip_force)``;
+        for the rigid slider ``f = slip_force * sign(x_new - x_old)`` (``f_old`` at rest).
+        Broadcasts over arrays.
+        """
+        dx = np.asarray(x_new, dtype=float) - np.asarray(x_old, dtype=float)
+        F = self.slip_force
+        if self.rigid:
+            return np.where(dx > 0.0, F, np.where(dx < 0.0, -F, f_old))
+        return np.clip(f_old + self.stiffness * dx, -F, F)
+
+    def slider_position(self, x, f):
+        """Slider position ``w = x - f/stiffness`` for the state (x, f)."""
+        return np.asarray(x, dtype=float) - np.asarray(f, dtype=float) / self.stiffness
+
+    def force_history(self, x, *, x0=0.0, f0=0.0):
+        """Force for the displacement history ``x`` (time along the last axis).
+
+        The element starts in the state (x0, f0) (default: relaxed at rest) and moves
+        monotonically between successive samples; leading axes are independent histories.
+        """
+        return _history(self.step, x, x0, f0)
+
+    # ------------------------------------------------------------ frequency domain
+    def loading_curve(self, x, omega=0.0):
+        """Virgin loading force ``F(x) = min(k x, slip_force)`` for x >= 0."""
+        x = np.asarray(x, dtype=float)
+        if self.rigid:
+            return np.where(x > 0.0, self.slip_force, 0.0)
+        return np.minimum(self.stiffness * x, self.slip_force)
+
+    def _stuck_stiffness(self, omega):
+        return self.stiffness
+
+    def _slip_amplitude(self, omega):
+        return self.slip_force / self.stiffness
+
+    def _hysteresis(self, a, omega, n):
+        return masing_loop(self.loading_curve, a, n)
+
+    def _fourier(self, a, omega, rtol):
+        fs, fc, _, _ = self._fourier_derivatives(a, omega, rtol)
+        return fs, fc
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        if self.rigid:  # Coulomb: a square wave in phase with the velocity
+            fc = np.where(a > 0.0, 4.0 * self.slip_force / np.pi, 0.0)
+            zero = np.zeros_like(a)
+            return zero, fc, zero.copy(), zero.copy()
+        return jenkins_fourier(self.stiffness, self.slip_force / self.stiffness, a)
+
+
+def _is_inf(v) -> bool:
+    """True for +inf given as a Python or numpy float (an allowed 'rigid' stiffness)."""
+    return isinstance(v, (int, float)) and not isinstance(v, bool) and v == math.inf
+
+
+def _history(step, x, x0, f0):
+    """Apply ``step(x_old, f_old, x_new)`` along the last axis of ``x``."""
+    x = np.asarray(x, dtype=float)
+    if x.ndim == 0:
+        raise ValueError(f"x must be an array of displacements in time, got x={x!r}")
+    if not np.all(np.isfinite(x)):
+        raise ValueError("x must be finite, got a non-finite displacement")
+    lead = x.shape[:-1]
+    x_old = np.broadcast_to(np.asarray(x0, dtype=float), lead).copy()
+    f_old = np.broadcast_to(np.asarray(f0, dtype=float), lead).copy()
+    if not (np.all(np.isfinite(x_old)) and np.all(np.isfinite(f_old))):
+        raise ValueError(f"x0 and f0 must be finite, got x0={x0!r}, f0={f0!r}")
+    f = np.empty_like(x)
+    for j in range(x.shape[-1]):
+        x_new = x[..., j]
+        f_old = step(x_old, f_old, x_new)
+        f[..., j] = f_old
+        x_old = x_new
+    return f
+
+
+__all__ = ["Macroslip", "jenkins_fourier", "z_minus_sin"]

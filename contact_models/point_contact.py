@@ -1,0 +1,229 @@
+"""The equivalent point contact of Section 3.4 (Fig. 16), and its fit to a microslip element.
+
+Layout (``docs/point_contact.md``): input x -> spring ``k_s`` -> node y; the node is tied
+to ground by a spring ``beta_p`` in parallel with a Jenkins element (spring ``k_p`` behind
+a Coulomb slider of force ``slip_force``).  One slider, so the contact is either fully
+stuck or in gross slip: it cannot represent partial slip, which is the point of the
+paper's comparison (Figs. 17-18).
+
+Eliminating the node (``docs/point_contact.md``, "Eliminating the node") shows that for
+*any* displacement history the input force is ``f = K2 x + g`` with ``g`` the force of a
+Jenkins element of stiffness ``K1 - K2`` and slip force ``F0 = slip_force k_s/(k_s + beta_p)``:
+
+    K1 = series(k_s, beta_p + k_p)     stuck stiffness
+    K2 = series(k_s, beta_p)           slipping stiffness
+    a_y = F0 / (K1 - K2)               slip (= gross-slip) amplitude
+
+so the loop is the bilinear Masing loop and f_s, f_c are ``K2 a`` plus the Jenkins
+describing function (``contact_models.macroslip.jenkins_fourier``).  Frequency independent.
+
+``PointContact.fit(element)`` matches conditions (1)-(3) of Section 3.4 (equal stuck
+stiffness, fully-slipping stiffness and gross-slip amplitude).  These fix K1, K2, a_y and
+hence f_s, f_c; the layout has a fourth unknown, fixed here by ``k_p = k L`` (the
+interface's shear-layer stiffness) unless ``k_p`` or ``slip_force`` is given.  The slider
+cannot be at mu N for the uniform bar: that needs ``(K1 - K2) a_g <= mu N``, which fails
+for every uniform-load bar (proof in ``docs/point_contact.md``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._validation import nonnegative, positive
+from .base import ContactElement, masing_loop
+from .macroslip import _history, _is_inf, jenkins_fourier
+
+#: A slip_force this close (relative) to the intercept (K1 - K2) a_g is taken as equal: k_s = inf.
+INTERCEPT_RTOL = 1e-12
+
+
+class PointContact(ContactElement):
+    """Point contact of Fig. 16: ``k_s`` (N/m, may be ``math.inf``) in series with
+    ``beta_p`` (N/m, >= 0) parallel to a Jenkins element (``k_p`` N/m, ``slip_force`` N)."""
+
+    frequency_dependent = False
+
+    def __init__(self, k_s, beta_p, k_p, slip_force):
+        if _is_inf(k_s):
+            self.k_s = math.inf
+        else:
+            self.k_s = positive("k_s", k_s)
+        self.beta_p = nonnegative("beta_p", beta_p)
+        self.k_p = positive("k_p", k_p)
+        self.slip_force = positive("slip_force", slip_force)
+        cs = 1.0 / self.k_s  # compliance of k_s (0 when rigid)
+        bp, kp = self.beta_p, self.k_p
+        self._cs = cs
+        self._K1 = (bp + kp) / (1.0 + cs * (bp + kp))
+        self._K2 = bp / (1.0 + cs * bp)
+        # K1 - K2 = k_s^2 k_p / ((k_s + beta_p + k_p)(k_s + beta_p)), without cancellation
+        self._D = kp / ((1.0 + cs * (bp + kp)) * (1.0 + cs * bp))
+        # slider force seen at the input: F0 = slip_force k_s/(k_s + beta_p)
+        self._F0 = self.slip_force / (1.0 + cs * bp)
+        self._a_y = self._F0 / self._D
+
+    def __repr__(self):
+        return (f"PointContact(k_s={self.k_s!r}, beta_p={self.beta_p!r}, k_p={self.k_p!r}, "
+                f"slip_force={self.slip_force!r})")
+
+    # ------------------------------------------------------------ the fit (Section 3.4)
+    @classmethod
+    def fit(cls, element, omega=0.0, *, k_p=None, slip_force=None):
+        """Point contact with the stuck stiffness, fully-slipping stiffness and gross-slip
+        amplitude of the microslip ``element`` at ``omega`` (Section 3.4, conditions 1-3).
+
+        Fourth condition (it does not change f_s, f_c): ``k_p`` if given, else
+        ``slip_force`` if given, else ``k_p = element.bar.k * element.bar.L``, the total
+        shear-layer stiffness, which is always admissible at omega = 0.  A positive layout
+        needs ``(K1 - K2) a_g <= slip_force < K1 a_g`` (equality: ``k_s = inf``), so the
+        slider cannot sit at mu N for the uniform bar.  Raises ``ValueError`` naming the
+        condition that no all-positive layout can meet.
+        """
+        omega = nonnegative("omega", omega)
+        K1 = float(element.stuck_stiffness(omega))
+        K2 = float(element.slip_stiffness(omega))
+        a_g = float(element.gross_slip_amplitude(omega))
+        if k_p is None and slip_force is None:
+            bar = getattr(element, "bar", None)
+            if bar is None or not hasattr(bar, "k"):
+                raise ValueError(f"k_p: element={element!r} has no bar.k for the default k_p = k L; "
+                                 "give k_p or slip_force")
+            k_p = bar.k * bar.L
+        return cls.from_bilinear(K1, K2, a_g, k_p=k_p, slip_force=slip_force)
+
+    @classmethod
+    def from_bilinear(cls, stuck_stiffness, slip_stiffness, gross_slip_amplitude, *,
+                      k_p=None, slip_force=None):
+        """Point contact whose bilinear loading curve has slopes ``stuck_stiffness`` (K1) and
+        ``slip_stiffness`` (K2) with the kink at ``gross_slip_amplitude`` (a_g), and the given
+        ``k_p`` or ``slip_force`` (exactly one).  ``docs/point_contact.md``, "The fit"."""
+        K1, K2, a_g = (_finite_target(n, v) for n, v in (
+            ("stuck_stiffness", stuck_stiffness), ("slip_stiffness", slip_stiffness),
+            ("gross_slip_amplitude", gross_slip_amplitude)))
+        if (k_p is None) == (slip_force is None):
+            raise ValueError(f"give exactly one of k_p and slip_force, got k_p={k_p!r}, slip_force={slip_force!r}")
+        if not K2 > 0.0:
+            raise ValueError(
+                f"condition (2), equal fully-slipping stiffness, cannot be met with positive stiffnesses: "
+                f"the point contact slips with series(k_s, beta_p) > 0, got slip_stiffness={K2!r}")
+        if not K1 > K2:
+            raise ValueError(
+                f"condition (1), equal stuck stiffness, cannot be met with positive stiffnesses: "
+                f"it needs stuck_stiffness > slip_stiffness, got stuck_stiffness={K1!r}, slip_stiffness={K2!r}")
+        if not a_g > 0.0:
+            raise ValueError(
+                f"condition (3), equal gross-slip amplitude, cannot be met: a point contact with a slider "
+                f"slips at a > 0, got gross_slip_amplitude={a_g!r}")
+        D = K1 - K2
+        F0 = D * a_g  # force intercept of the slipping branch, fixed by (1)-(3)
+        if slip_force is not None:
+            Fs = positive("slip_force", slip_force)
+            # c = F0/Fs = k_s/(k_s + beta_p) must lie in (1 - K2/K1, 1]; c = 1 is k_s = inf
+            if Fs < F0 * (1.0 - INTERCEPT_RTOL):
+                raise ValueError(
+                    f"condition (3), equal gross-slip amplitude, cannot be met with slip_force={Fs!r} and "
+                    f"positive stiffnesses: with (1) and (2) it needs slip_force >= (K1 - K2) a_g = {F0!r} N "
+                    f"(it would take k_s = {K2 * Fs / (Fs - F0)!r} N/m)")
+            if not Fs < K1 * a_g:
+                raise ValueError(
+                    f"condition (3), equal gross-slip amplitude, cannot be met with slip_force={Fs!r} and "
+                    f"positive stiffnesses: with (1) and (2) it needs slip_force < K1 a_g = {K1 * a_g!r} N")
+            Fs = max(Fs, F0)
+            c = F0 / Fs
+            one_minus_c = (Fs - F0) / Fs
+            kp = K2 * Fs * Fs / (F0 * (K1 * a_g - Fs))
+        else:
+            kp = positive("k_p", k_p)
+            if not kp >= D:
+                raise ValueError(
+                    f"condition (1), equal stuck stiffness, cannot be met with k_p={kp!r} and positive "
+                    f"stiffnesses: with (2) and (3) it needs k_p >= K1 - K2 = {D!r} N/m")
+            # c solves k_p K1 c^2 - k_p D c - K2 D = 0 (positive root); 1 - c without cancellation
+            root = math.sqrt(D * D + 4.0 * K1 * K2 * D / kp)
+            c = (D + root) / (2.0 * K1)
+            one_minus_c = 2.0 * K2 * (1.0 - D / kp) / (K1 + K2 + root)
+            Fs = F0 / c
+        k_s = K2 / one_minus_c if one_minus_c > 0.0 else math.inf
+        return cls(k_s=k_s, beta_p=K2 / c, k_p=kp, slip_force=Fs)
+
+    # ------------------------------------------------------------ bilinear loading curve
+    def slip_stiffness(self, omega=0.0) -> float:
+        """K2 = series(k_s, beta_p): the slope while the slider slips."""
+        nonnegative("omega", omega)
+        return self._K2
+
+    def gross_slip_amplitude(self, omega=0.0) -> float:
+        """Amplitude at which the slider starts to slip (one slider: slip is gross slip)."""
+        nonnegative("omega", omega)
+        return self._a_y
+
+    def loading_curve(self, x, omega=0.0):
+        """Virgin loading force ``F(x) = K2 x + (K1 - K2) min(x, a_y)`` for x >= 0."""
+        x = np.asarray(x, dtype=float)
+        return self._K2 * x + self._D * np.minimum(x, self._a_y)
+
+    # ------------------------------------------------------------ time domain (the layout itself)
+    def internal_state(self, x, f):
+        """``(y, z)``: node displacement and slider position for the state (x, f)."""
+        x = np.asarray(x, dtype=float)
+        f = np.asarray(f, dtype=float)
+        y = x - f * self._cs  # k_s (x - y) = f
+        f_jenkins = f - self.beta_p * y  # node equilibrium
+        return y, y - f_jenkins / self.k_p
+
+    def step(self, x_old, f_old, x_new):
+        """Force after moving monotonically from ``x_old`` (force ``f_old``) to ``x_new``.
+
+        Solves the node equilibrium ``k_s (x - y) = beta_p y + f_J`` of the layout with the
+        Jenkins force ``f_J = k_p (y - z)`` stuck, or ``+-slip_force`` slipping (exact return
+        map: one slider, linear springs).  The state is the pair (x, f).  Broadcasts.
+        """
+        cs, bp, kp, Fs = self._cs, self.beta_p, self.k_p, self.slip_force
+        x_new = np.asarray(x_new, dtype=float)
+        _, z = self.internal_state(x_old, f_old)
+        y = (x_new + cs * kp * z) / (1.0 + cs * (bp + kp))  # trial: slider stuck
+        f_jenkins = kp * (y - z)
+        slipping = np.abs(f_jenkins) > Fs
+        f_jenkins = np.where(slipping, np.sign(f_jenkins) * Fs, f_jenkins)
+        y = np.where(slipping, (x_new - cs * f_jenkins) / (1.0 + cs * bp), y)
+        return bp * y + f_jenkins
+
+    def force_history(self, x, *, x0=0.0, f0=0.0):
+        """Force for the displacement history ``x`` (time along the last axis), starting in
+        the state (x0, f0) (default: relaxed at rest), monotone between samples."""
+        return _history(self.step, x, x0, f0)
+
+    # ------------------------------------------------------------ interface
+    def _stuck_stiffness(self, omega):
+        return self._K1
+
+    def _slip_amplitude(self, omega):
+        return self._a_y
+
+    def _hysteresis(self, a, omega, n):
+        return masing_loop(self.loading_curve, a, n)
+
+    def _fourier(self, a, omega, rtol):
+        fs, fc, _, _ = self._fourier_derivatives(a, omega, rtol)
+        return fs, fc
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        # f = K2 x + Jenkins(K1 - K2, slip displacement a_y): docs/point_contact.md
+        fs, fc, dfs, dfc = jenkins_fourier(self._D, self._a_y, a)
+        fs = np.where(a <= self._a_y, self._K1 * a, fs + self._K2 * a)  # stuck: exactly K1 a
+        return fs, fc, dfs + self._K2, dfc
+
+
+def _finite_target(name, value) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {name}={value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {name}={value!r}")
+    return v
+
+
+__all__ = ["PointContact"]
