@@ -32,7 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 from .bar import Bar, end_impedance, transmission
 from .base import ContactElement, masing_loop
@@ -50,6 +50,8 @@ GRADE_BELOW = 0.05
 GRADE_CELLS = 14
 #: Largest relative dip of the loading curve below its onset value accepted as an onset fold.
 MAX_ONSET_DIP = 1e-3
+#: Largest relative overshoot of the loading curve before gross slip accepted as a gross-slip fold.
+MAX_GROSS_DIP = 0.5
 #: Points of the per-frequency table used to start the inversion s(t) = a.
 TABLE_POINTS = 65
 
@@ -122,32 +124,52 @@ class _Piece:
     Subclasses give ``_boundaries(t)`` -> (L1, L2) (complex t allowed).
     """
 
-    def __init__(self, element, omega):
+    def __init__(self, element, omega, *, last: bool = True):
         self.el = element
         self.omega = omega
-        self.t0 = 0.0
+        self.t0, self.t1 = 0.0, 1.0
         tt = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, TABLE_POINTS)))
         s = self.evaluate(tt)[0]
+        if not np.all(np.isfinite(s)):
+            raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
+                                     "(at a resonance of the damper bar)")
+        t0, t1 = 0.0, 1.0
         i = int(np.argmin(s))
         if i > 0:
-            # With inertia the single-mode curve can dip just after an interior slip onset
-            # (a fold of relative depth ~1e-6 at 0.3 omega_c).  The interface stays stuck up
-            # to the stuck onset s(0) and then snaps to the rising branch where s = s(0) again.
+            # Onset fold: with inertia the single-mode curve can dip just after an interior
+            # slip onset (relative depth ~1e-6 at 0.3 omega_c).  The interface stays stuck up
+            # to the stuck onset s(0), then snaps to the rising branch where s = s(0) again.
             if s[0] - s[i] > MAX_ONSET_DIP * abs(s[0]) or s[-1] <= s[0]:
                 raise FloatingPointError(
-                    f"the loading curve folds back at omega={omega!r} (near a resonance of the damper bar)")
+                    f"the loading curve folds back after slip onset at omega={omega!r} by "
+                    f"{(s[0] - s[i]) / abs(s[0]):.2g} (relative): outside the single-mode model's range")
             j = i + int(np.argmax(s[i:] >= s[0]))
-            self.t0 = brentq(lambda t: float(self.evaluate(np.array([t]))[0][0]) - s[0], tt[i], tt[j],
-                             xtol=1e-15, rtol=1e-15)
+            t0 = brentq(lambda t: self._s(t) - s[0], tt[i], tt[j], xtol=1e-15, rtol=1e-15)
+        j = int(np.argmax(s))
+        if j < TABLE_POINTS - 1:
+            # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
+            # L1 = 0 (relative overshoot 4e-7 at 0.06 omega_c, 4e-4 at 0.3 omega_c for beta = 0).
+            # Past the peak the last stuck zone cannot hold: gross slip starts at the peak.
+            if not last or s[j] - s[-1] > MAX_GROSS_DIP * abs(s[j]):
+                raise FloatingPointError(
+                    f"the loading curve folds back before gross slip at omega={omega!r} by "
+                    f"{(s[j] - s[-1]) / abs(s[j]):.2g} (relative): outside the single-mode model's range")
+            res = minimize_scalar(lambda t: -self._s(t), bounds=(tt[j - 1], tt[j + 1]), method="bounded",
+                                  options={"xatol": 1e-14})
+            t1 = float(res.x)
+        self.t0, self.t1 = t0, t1
         s, F = self.evaluate(tt)[:2]
         self._check_left_end(tt, s)
         self.t_tab, self.s_tab = tt, s
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
-        if np.any(np.diff(s) <= 0.0) or not np.all(np.isfinite(s)):
+        if np.any(np.diff(s) <= 0.0):
             raise FloatingPointError(
-                f"the loading curve is not monotone at omega={omega!r} (near a resonance of the damper bar)"
-            )
+                f"the loading curve is not monotone at omega={omega!r}: outside the single-mode model's range "
+                "(near a resonance of the damper bar)")
+
+    def _s(self, t):
+        return float(self.evaluate(np.array([t]))[0][0])
 
     def _check_left_end(self, t, s):
         """The stuck region [0, L1] must stay stuck: k |u(0)| <= mu q(0) along the path.
@@ -156,24 +178,34 @@ class _Piece:
         there, which neither the two- nor the three-region model describes.
         """
         bar, load = self.el.bar, self.el.load
-        L1 = np.real(self.boundaries(t)[0])
-        L2 = self.boundaries(t)[1]
-        r = region_solution(bar, load, L1, None if L2 is None else np.real(L2), self.omega)
-        fric = r.u1_fric * transmission(bar.beta, bar.lam**2, L1, bar.EA)
-        unit = s * r.u1_unit * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
-        rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 the two cancel to mu q / k
-        over = bar.k * np.abs(fric + unit) > bar.mu * load.q(0.0) * (1.0 + 1e-9) + rounding
-        if np.any(over):
-            i = int(np.argmax(over))
+        limit = bar.mu * float(load.q(0.0))
+
+        def excess(t, s):
+            L1, L2 = self.boundaries(t)
+            L1 = np.real(L1)
+            r = region_solution(bar, load, L1, None if L2 is None else np.real(L2), self.omega)
+            fric = r.u1_fric * transmission(bar.beta, bar.lam**2, L1, bar.EA)
+            unit = s * r.u1_unit * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
+            rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
+            return np.real(bar.k * np.abs(fric + unit) - limit * (1.0 + 1e-9) - rounding), L1
+
+        over, L1 = excess(t, s)
+        if np.any(over > 0.0):
+            i = int(np.argmax(over > 0.0))
+            if i > 0:  # locate the crossing between two table points
+                tc = brentq(lambda u: float(excess(np.array([u]), self._s(u))[0][0]), t[i - 1], t[i], xtol=1e-14)
+                xc, L1c = self._s(tc), float(excess(np.array([tc]), self._s(tc))[1][0])
+            else:
+                xc, L1c = s[0], L1[0]
             raise ValueError(
-                f"load: the end x = 0 starts slipping too, at tip amplitude {s[i]:.4g} m (stuck length "
-                f"L1 = {L1[i] / bar.L:.3f} L) at omega={self.omega!r}, before gross slip; the interface then "
+                f"load: the end x = 0 starts slipping too, at tip amplitude {xc:.4g} m (stuck length "
+                f"L1 = {L1c / bar.L:.3f} L) at omega={self.omega!r}, before gross slip; the interface then "
                 "has slip zones at both ends, which the two- and three-region models do not describe "
                 f"(q(0) = {float(load.q(0.0)):.4g} N/m is too small)")
 
     def boundaries(self, t):
         """(L1, L2) at parameter t in [0, 1] (t = 0 at the piece's start)."""
-        return self._boundaries(self.t0 + (1.0 - self.t0) * t)
+        return self._boundaries(self.t0 + (self.t1 - self.t0) * t)
 
     def evaluate(self, t):
         """s, F and their derivatives in t (complex step), for real array t."""
@@ -226,7 +258,7 @@ class _ThreeRegionPiece(_Piece):
     def __init__(self, element, omega, x_star):
         self.x_star = x_star
         self.coef = self._fit_L1(element, omega, x_star)
-        super().__init__(element, omega)
+        super().__init__(element, omega, last=False)
 
     def _boundaries(self, t):
         L = self.el.bar.L
@@ -312,12 +344,15 @@ class _MicroslipBar(ContactElement):
     def _build_path(self, omega):
         bar = self.bar
         K = float(bar.stuck_stiffness(omega))
-        K_slip = float(region_solution(bar, self.load, 0.0, None, omega).K_tip)
+        sliding = region_solution(bar, self.load, 0.0, None, omega)  # the whole bar slips: F = F_int + K_slip x
+        K_slip = float(sliding.K_tip)
         if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
             return 0.0, [], 0.0, 0.0, K_slip, K
         pieces = self._pieces(omega)
-        a_min = pieces[0].s0
-        return a_min, pieces, pieces[-1].s1, pieces[-1].F1, K_slip, K
+        a_min, a_g = pieces[0].s0, pieces[-1].s1
+        # on the sliding line at a_g; differs from pieces[-1].F1 only after a gross-slip fold
+        F_g = float(sliding.F_fric) + K_slip * a_g
+        return a_min, pieces, a_g, F_g, K_slip, K
 
     # ------------------------------------------------------------ public extras
     def slip_stiffness(self, omega=0.0) -> float:
@@ -446,6 +481,14 @@ def _fourier_one_omega(path, a, rtol):
         Js += jump * np.sqrt(s0 * np.maximum(A - s0, 0.0))
         Jc += jump * (A - 2.0 * s0)
         Jd += jump * 0.5 * np.sqrt(s0 / np.maximum(A - s0, np.finfo(float).tiny))
+    # Likewise a gross-slip fold: the curve snaps from the piece's end onto the sliding line at a_g.
+    gross = A > a_g
+    if np.any(gross) and pieces:
+        jump = F_g - pieces[-1].F1
+        G = A[gross]
+        Js[gross] += jump * np.sqrt(a_g * (G - a_g))
+        Jc[gross] += jump * (G - 2.0 * a_g)
+        Jd[gross] += jump * 0.5 * np.sqrt(a_g / (G - a_g))
     for p in pieces:
         act = A > p.s0
         if not np.any(act):
@@ -464,7 +507,6 @@ def _fourier_one_omega(path, a, rtol):
             idx = np.flatnonzero(act)[inside]
             Fa[idx] = Fi
             dFa[idx] = dFi / dsi
-    gross = A > a_g
     if np.any(gross):
         G = A[gross]
         Js[gross] += K_slip * _isq(G, a_g, G)
@@ -565,6 +607,8 @@ class ThreeRegionMicroslip(_MicroslipBar):
         if x_star >= L * (1.0 - 1e-9):
             return [_TwoRegionPiece(self, omega, L)]
         three = _ThreeRegionPiece(self, omega, x_star)
+        if three.t1 != 1.0:
+            raise FloatingPointError(f"three-region curve ends before L2 = L at omega={omega!r}")
         L1_end = float(np.real(three.boundaries(1.0)[0]))
         two = _TwoRegionPiece(self, omega, L1_end)
         return [three, two]
