@@ -1,0 +1,99 @@
+"""Command line: ``python -m hbm`` (or ``frictiondamp``) runs the default case.
+
+With no arguments it computes the frequency response of the built-in default case
+(``hbm.cases.default_case``) and writes ``frf.csv`` and ``frf.png`` to the current folder
+(``--out DIR`` elsewhere), printing where they went and the peak.  Subcommands are registered
+in ``COMMANDS`` (``default`` is the same job, named).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+
+def _default(args) -> int:
+    from .cases import default_case
+    from .frf import frequency_response
+
+    case = default_case()
+    t0 = time.perf_counter()
+    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=args.rtol)
+    pk = frf.peak()
+    elapsed = time.perf_counter() - t0
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    csv_path = frf.to_csv(out / "frf.csv")
+    png_path = _figure(frf, case, out / "frf.png")
+    a_min = case.element.slip_amplitude(pk.omega)
+    print(f"case: {case.description}")
+    print(f"{len(frf)} points in {elapsed:.2f} s ({frf.nsteps} steps, {frf.nit} Newton iterations, "
+          f"{frf.nfev} element evaluations): {frf.message}")
+    print(f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m (= {pk.amplitude / a_min:.4g} a_min)")
+    print(f"wrote {csv_path.resolve()}")
+    print(f"wrote {png_path.resolve()}")
+    return 0 if frf.success else 1
+
+
+def _figure(frf, case, path):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    from .residual import linear_response
+
+    el, blade = case.element, case.blade
+    w = np.linspace(*case.omega_range, 600)
+    stuck = np.abs(linear_response(blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
+    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    ax.plot(w, stuck, "--", color="0.6", lw=1, label="damper stuck (linear)")
+    frf.plot(ax, label="microslip damper (harmonic balance)", color="C0")
+    ax.axhline(el.slip_amplitude(0.0), color="C3", lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)")
+    ax.set_yscale("log")
+    ax.set_title("Blade with a two-region microslip damper")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
+
+
+#: Subcommands: name -> (help, handler).  ``None`` (no subcommand) runs ``default``.
+COMMANDS = {"default": ("run the built-in default case (the same as no subcommand)", _default)}
+
+
+def _common(parser, suppress=False):
+    """Options accepted before and after the subcommand (after it they override)."""
+    default = (lambda v: argparse.SUPPRESS) if suppress else (lambda v: v)
+    parser.add_argument("--out", default=default("."), help="output folder (default: the current folder)")
+    parser.add_argument("--rtol", type=float, default=default(1e-6), help="relative accuracy (default 1e-6)")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="python -m hbm", description=__doc__.splitlines()[0])
+    _common(parser)
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name, (text, handler) in COMMANDS.items():
+        p = sub.add_parser(name, help=text)
+        _common(p, suppress=True)
+        p.set_defaults(handler=handler)
+    parser.set_defaults(handler=_default)
+    return parser
+
+
+def main(argv=None) -> int:
+    """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
+    args = build_parser().parse_args(argv)
+    try:
+        return args.handler(args)
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,515 @@
+"""Pseudo-arclength continuation of a curve ``R(y) = 0``, ``R: R^n -> R^(n-1)``.
+
+The core knows nothing of friction or harmonic balance: it sees ``residual(y) -> (R, J)``
+with ``J = dR/dy`` of shape ``(n-1, n)``.  Keller's method (H. B. Keller 1977; E. L.
+Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003, ch. 2, 6):
+
+1. tangent ``t``: ``J t = 0``, ``|t| = 1``, oriented so that ``t . t_prev > 0`` (at the start:
+   the parameter component has the sign of ``direction``);
+2. predictor ``y_p = y_i + h t + h^2 c_2 + h^3 c_3``: the cubic Hermite extrapolation through
+   ``y_{i-1}``, ``y_i`` and their tangents (the tangent predictor at the start and after a corner);
+3. corrector: Newton on ``[R(y); t . (y - y_p)] = 0`` (the pseudo-arclength constraint);
+4. step control: ``h <- h * min(NEWTON_TARGET / iterations, MAX_TURN / turn)``, the factor kept
+   in ``[MIN_FACTOR, MAX_FACTOR]`` and ``h`` in ``[min_step, max_step]``; ``turn`` is the angle
+   between successive tangents.  A failed corrector, or a turn above ``REJECT_TURN`` (a likely
+   jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
+   the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
+   tangent at a failed predictor has turned that much, the retry's corrector works on the
+   hyperplane normal to the bisector of the two tangents (it crosses both pieces);
+5. folds (turning points in the parameter): the parameter component of ``t`` changes sign;
+   each is then located by :func:`locate` on the stretch between the two points.
+
+Optional scaling: ``scale(y)`` returns positive weights ``s``; the geometry of step ``i``
+(tangent, step length, turn, constraint) is measured in ``u = y / s(y_i)``.
+
+A failure (step below ``min_step``, the first point not converging) ends the branch with a
+``message`` and every point computed so far; reaching the end of the parameter range puts the
+last point exactly on the bound.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+from scipy.optimize import brentq
+
+#: Newton iterations (updates) per corrector before the step counts as failed.
+NEWTON_MAX_ITER = 8
+#: Corrector iterations the step-size control aims at.
+NEWTON_TARGET = 3.0
+#: Largest accepted ratio ``|R_{k+1}| / |R_k|`` from the second Newton update on (|.| Euclidean).
+MAX_CONTRACTION = 0.5
+#: Target angle (rad) between successive tangents (curvature control).
+MAX_TURN = 0.12
+#: A step whose tangent turns by more than this (rad) is rejected and retried shorter.
+REJECT_TURN = 0.5
+#: A large turn that shrinks by less than this factor when the step is halved is a corner of a
+#: piecewise-smooth branch (e.g. the onset of slip), not a jump: the step is then accepted.
+CORNER_RATIO = 0.8
+#: Bounds of the step-size factor after an accepted step.
+MIN_FACTOR = 0.3
+MAX_FACTOR = 2.0
+#: Step-size factor after a rejected step.
+FAIL_FACTOR = 0.5
+#: Largest curvature correction of the predictor, relative to the step (at one chord ahead).
+MAX_BEND = 0.25
+#: Exceptions of the residual that count as a failed corrector instead of ending the run.
+RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError)
+#: Default first step as a fraction of ``max_step``.
+FIRST_STEP = 0.25
+
+
+class Status(IntEnum):
+    """How a branch ended (``success`` is ``status == REACHED_END``)."""
+
+    REACHED_END = 0
+    MAX_STEPS = 1
+    STEP_TOO_SMALL = -1
+    START_FAILED = -2
+
+
+MESSAGES = {
+    Status.REACHED_END: "the branch reached the end of the parameter range",
+    Status.MAX_STEPS: "the step budget (max_steps) was used up before the end of the parameter range",
+    Status.STEP_TOO_SMALL: "the step fell below min_step: the corrector kept failing",
+    Status.START_FAILED: "Newton's method did not converge at the starting point",
+}
+
+
+@dataclass
+class ContinuationResult:
+    """Points of one branch, in continuation order, with how the run went."""
+
+    y: np.ndarray  #: (npoints, n) points on the curve
+    tangent: np.ndarray  #: (npoints, n) unit tangents (scaled coordinates of each point)
+    residual_norm: np.ndarray  #: Euclidean norm of R at each point
+    iterations: np.ndarray  #: Newton updates spent on each point
+    fold_after: np.ndarray  #: index i: a fold lies between points i and i + 1
+    corners: np.ndarray  #: indices of points where the tangent jumps (piecewise-smooth residual)
+    folds: np.ndarray  #: (nfolds, n) located folds (NaN rows where locating failed)
+    status: Status
+    message: str
+    nsteps: int = 0  #: accepted steps
+    nrejected: int = 0  #: rejected step attempts
+    nit: int = 0  #: Newton updates in total (including fold location)
+    nfev: int = 0  #: residual evaluations in total
+    last_step: float = 0.0  #: step length at the end (scaled units)
+
+    @property
+    def success(self) -> bool:
+        return self.status == Status.REACHED_END
+
+
+@dataclass
+class _Count:
+    nfev: int = 0
+    nit: int = 0
+
+
+@dataclass
+class _Newton:
+    y: np.ndarray
+    R: np.ndarray
+    J: np.ndarray
+    rnorm: float
+    iterations: int
+    converged: bool
+    reason: str = ""
+    J0: np.ndarray | None = None  # Jacobian at the first point (the predictor)
+
+
+def continuation(residual, y0, *, parameter: int = -1, bounds=(-math.inf, math.inf),
+                 direction: int = 1, step: float | None = None, min_step: float = 1e-9,
+                 max_step: float = 0.1, max_steps: int = 1000, tol: float = 1e-10,
+                 max_iter: int = NEWTON_MAX_ITER, scale=None, locate_folds: bool = True,
+                 fold_xtol: float = 1e-10) -> ContinuationResult:
+    """Trace the branch of ``residual(y) = 0`` through ``y0`` in the direction of ``parameter``.
+
+    ``residual(y) -> (R, J)``; ``y0`` is corrected with the parameter held fixed first.  The
+    run stops when the parameter leaves ``bounds`` (last point put on the bound), after
+    ``max_steps`` accepted steps, or when the step falls below ``min_step``.  ``tol`` bounds
+    ``|R|`` (Euclidean) at every returned point.  ``scale(y)``: optional positive weights (see module).
+    Folds are located to ``fold_xtol`` (relative arclength) when ``locate_folds``.
+    """
+    y0 = np.array(y0, dtype=float).ravel()
+    n = y0.size
+    if n < 2:
+        raise ValueError(f"y0 must have at least 2 components, got y0={y0!r}")
+    p = int(parameter) % n
+    lo, hi = float(bounds[0]), float(bounds[1])
+    if not lo <= y0[p] <= hi:
+        raise ValueError(f"y0's parameter y0[{p}]={y0[p]!r} is outside bounds=({lo!r}, {hi!r})")
+    if direction not in (1, -1):
+        raise ValueError(f"direction must be +1 or -1, got direction={direction!r}")
+    if not 0.0 < min_step <= max_step:
+        raise ValueError(f"need 0 < min_step <= max_step, got min_step={min_step!r}, max_step={max_step!r}")
+    scale = scale if scale is not None else (lambda y: np.ones(n))
+    count = _Count()
+    fun = _counted(residual, count)
+
+    # ---- starting point: Newton with the parameter held at y0[p]
+    e_p = np.zeros(n)
+    e_p[p] = 1.0
+    start = _newton(fun, y0, e_p, y0[p], tol, max_iter, count)
+    if not start.converged:
+        return _result([], [], [], [], [], [], Status.START_FAILED,
+                       f"{MESSAGES[Status.START_FAILED]} ({start.reason}; |R|={start.rnorm:.3e}, "
+                       f"tol={tol:.3e})", 0, 0, count, 0.0)
+    y = start.y
+    s = _scale(scale, y)
+    try:
+        t = _tangent(start.J, s, None)
+    except np.linalg.LinAlgError as exc:
+        return _result([], [], [], [], [], [], Status.START_FAILED,
+                       f"{MESSAGES[Status.START_FAILED]} ({exc})", 0, 0, count, 0.0)
+    if t[p] * direction < 0.0:
+        t = -t
+    ys, ts, rn, its = [y], [t], [start.rnorm], [start.iterations]
+    fold_after = []
+    h = min(max(step if step is not None else FIRST_STEP * max_step, min_step), max_step)
+    zero = np.zeros(n)
+    c2 = c3 = zero  # curvature terms of the predictor
+    normal = t  # normal of the corrector's hyperplane
+    nsteps = nrejected = 0
+    corners = []
+    rejected = None  # (turn, step) of the last step rejected for turning
+    status = None
+    detail = ""
+
+    while status is None:
+        if nsteps >= max_steps:
+            status = Status.MAX_STEPS
+            break
+        # ---- predictor along the tangent (+ curvature), in the coordinates scaled at y
+        y_pred = y + h * s * (t + h * (c2 + h * c3))
+        w = normal / s  # the constraint normal . (u - u_p) = 0 in physical coordinates
+        new = _newton(fun, y_pred, w, float(w @ y_pred), tol, max_iter, count)
+        ok, reason = new.converged, new.reason
+        if ok:
+            try:
+                t_new = _tangent(new.J, s, t)
+            except np.linalg.LinAlgError:
+                t_new = None
+                ok, reason = False, "the Jacobian has no one-dimensional null space"
+        if ok:
+            turn = math.acos(min(1.0, abs(float(t_new @ t))))
+            if turn > REJECT_TURN:
+                if rejected is not None and turn > CORNER_RATIO * rejected[0]:
+                    corners.append(len(ys))
+                    rejected = None
+                else:
+                    ok, reason = False, f"tangent turned by {turn:.3g} rad"
+                    rejected = (turn, h)
+        if not ok:
+            normal = _corner_normal(new.J0, s, t)
+            nrejected += 1
+            h *= FAIL_FACTOR
+            if h < min_step:
+                status = Status.STEP_TOO_SMALL
+                detail = (f" (last failure: {reason}; near y={np.array2string(y, precision=8)}, "
+                          f"step {h / FAIL_FACTOR:.3g})")
+            continue
+        nsteps += 1
+        if rejected is not None and h >= rejected[1]:
+            rejected = None  # back at the step that turned too much: not approaching a corner
+        y_prev = y
+        y, s_old = new.y, s
+        s = _scale(scale, y)
+        t = _rescale(t_new, s_old, s)
+        if ts[-1][p] * t[p] < 0.0:  # the parameter turned back: a fold
+            fold_after.append(len(ys) - 1)
+        # ---- end of the parameter range: the last point goes on the bound
+        if not lo <= y[p] <= hi:
+            bound = hi if y[p] > hi else lo
+            frac = (bound - y_prev[p]) / (y[p] - y_prev[p])
+            guess = y_prev + frac * (y - y_prev)
+            end = _newton(fun, guess, e_p, bound, tol, max_iter, count)
+            if end.converged:
+                s_end = _scale(scale, end.y)
+                ys.append(end.y)
+                ts.append(_tangent(end.J, s_end, _rescale(t, s, s_end)))
+                rn.append(end.rnorm)
+                its.append(end.iterations)
+                detail = f" (at its {'upper' if bound == hi else 'lower'} end)"
+            else:
+                detail = f" (the point on the bound {bound!r} did not converge: {end.reason}; kept the last inside)"
+                if fold_after and fold_after[-1] == len(ys) - 1:
+                    fold_after.pop()
+            status = Status.REACHED_END
+            break
+        ys.append(y)
+        ts.append(t)
+        rn.append(new.rnorm)
+        its.append(new.iterations)
+        normal = t
+        if corners and corners[-1] == len(ys) - 1:
+            c2 = c3 = zero
+        else:
+            c2, c3 = _hermite(y_prev, _rescale(ts[-2], _scale(scale, y_prev), s), y, t, s)
+        # ---- step control from corrector effort and curvature
+        f_newton = NEWTON_TARGET / max(new.iterations, 1)
+        f_turn = MAX_TURN / max(turn, 1e-12) if not (corners and corners[-1] == len(ys) - 1) else 1.0
+        h = min(max(h * min(max(min(f_newton, f_turn), MIN_FACTOR), MAX_FACTOR), min_step), max_step)
+
+    # ---- locate the folds between their neighbouring points
+    folds = []
+    if locate_folds:
+        for i in fold_after:
+            loc = locate(residual, ys[i], ys[i + 1], lambda yy, tt: tt[p], tol=tol, scale=scale,
+                         xtol=fold_xtol, max_iter=max_iter, count=count)
+            folds.append(loc.y if loc is not None else np.full(n, np.nan))
+    return _result(ys, ts, rn, its, fold_after, folds, status, MESSAGES[status] + detail,
+                   nsteps, nrejected, count, h, corners)
+
+
+@dataclass
+class Located:
+    """A point on the branch where ``g`` vanishes."""
+
+    y: np.ndarray
+    tangent: np.ndarray  #: tangent in physical coordinates, oriented from ya to yb
+    residual_norm: float
+    nfev: int
+
+
+def locate(residual, ya, yb, g, *, tol: float = 1e-10, scale=None, xtol: float = 1e-10,
+           max_iter: int = NEWTON_MAX_ITER, count: _Count | None = None) -> Located | None:
+    """The point between ``ya`` and ``yb`` (both on the branch) where ``g(y, t) = 0``.
+
+    ``t`` is the tangent at ``y`` in physical coordinates, oriented from ``ya`` to ``yb``.  The
+    branch between them is parametrised by the distance ``sigma`` along their chord (in
+    coordinates scaled at ``ya``); Brent's method finds the root in ``sigma`` to ``xtol``
+    times the chord length.  Returns None when ``g`` has the same sign at both ends.
+    """
+    ya = np.asarray(ya, dtype=float)
+    yb = np.asarray(yb, dtype=float)
+    n = ya.size
+    count = count if count is not None else _Count()
+    fun = _counted(residual, count)
+    s = _scale(scale if scale is not None else (lambda y: np.ones(n)), ya)
+    d = (yb - ya) / s
+    ell = float(np.linalg.norm(d))
+    if ell == 0.0:
+        return None
+    d /= ell
+    w = d / s
+    c_a = float(w @ ya)
+    n0 = count.nfev
+    cache = {}
+
+    def point(sigma):
+        if sigma not in cache:
+            guess = ya + sigma * s * d
+            sol = _newton(fun, guess, w, c_a + sigma, tol, max_iter, count)
+            if not sol.converged:
+                raise _LocateFailed(sol.reason)
+            try:
+                t = _tangent(sol.J, s, d) * s
+            except np.linalg.LinAlgError as exc:
+                raise _LocateFailed(str(exc)) from None
+            cache[sigma] = (sol, t)
+        return cache[sigma]
+
+    def G(sigma):
+        sol, t = point(sigma)
+        return float(g(sol.y, t))
+
+    try:
+        ga, gb = G(0.0), G(ell)
+        if ga == 0.0:
+            root = 0.0
+        elif gb == 0.0:
+            root = ell
+        elif ga * gb > 0.0:
+            return None
+        else:
+            root = brentq(G, 0.0, ell, xtol=xtol * ell, rtol=4 * np.finfo(float).eps, maxiter=100)
+        sol, t = point(root)
+    except _LocateFailed:
+        return None
+    return Located(sol.y, t, sol.rnorm, count.nfev - n0)
+
+
+class _LocateFailed(Exception):
+    pass
+
+
+# ---------------------------------------------------------------------- helpers
+def _counted(residual, count):
+    def fun(y):
+        count.nfev += 1
+        return residual(y)
+
+    return fun
+
+
+def _scale(scale, y):
+    s = np.asarray(scale(y), dtype=float)
+    if s.shape != y.shape or np.any(~(s > 0.0)) or np.any(~np.isfinite(s)):
+        raise ValueError(f"scale(y) must return finite positive weights of shape {y.shape}, got {s!r}")
+    return s
+
+
+def _rescale(t, s_old, s_new):
+    """The same direction as ``t`` (scaled by ``s_old``) in coordinates scaled by ``s_new``."""
+    v = t * (s_old / s_new)
+    return v / math.sqrt(float(v @ v))
+
+
+def _corner_normal(J0, s, t):
+    """Corrector normal for a retry: ``t``, or, when the tangent at the failed predictor turned
+    by more than ``REJECT_TURN`` (a corner ahead), the bisector of the two tangents, which
+    crosses both smooth pieces (the hyperplane normal to ``t`` may be parallel to the next one)."""
+    if J0 is None:
+        return t
+    try:
+        t0 = _tangent(J0, s, t)
+    except np.linalg.LinAlgError:
+        return t
+    if math.acos(min(1.0, abs(float(t0 @ t)))) <= REJECT_TURN:
+        return t
+    b = t + t0
+    return b / math.sqrt(float(b @ b))
+
+
+def _hermite(y_prev, t_prev, y, t, s):
+    """``(c2, c3)`` of the cubic ``u(h) = u + h t + h^2 c2 + h^3 c3`` (u = y/s) that also passes
+    through ``u_prev`` with slope ``t_prev`` at ``h = -|u - u_prev|`` (Hermite, chord length as
+    arclength); the cubic terms are scaled down so that one chord ahead they bend the
+    predictor by at most ``MAX_BEND`` of the step."""
+    d = (y_prev - y) / s
+    ell2 = float(d @ d)
+    if not ell2 > 0.0:
+        return np.zeros_like(t), np.zeros_like(t)
+    ell = math.sqrt(ell2)
+    g = d + ell * t
+    c3 = (t_prev - t + 2.0 * g / ell) / ell2
+    c2 = g / ell2 + ell * c3
+    bend_vec = ell * (c2 + ell * c3)  # (h^2 c2 + h^3 c3) / h at h = ell
+    bend = math.sqrt(float(bend_vec @ bend_vec))
+    if bend > MAX_BEND:
+        c2, c3 = c2 * (MAX_BEND / bend), c3 * (MAX_BEND / bend)
+    return c2, c3
+
+
+def _tangent(J, s, prev):
+    """Unit null vector of ``J diag(s)`` (the tangent in scaled coordinates), along ``prev``."""
+    Js = J * s
+    if Js.shape == (2, 3):  # fast path: the cross product of the two rows
+        (a0, a1, a2), (b0, b1, b2) = Js.tolist()
+        t = np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+    else:
+        n = Js.shape[1]
+        rhs = np.zeros(n)
+        rhs[-1] = 1.0
+        try:
+            if prev is None:
+                raise np.linalg.LinAlgError
+            t = np.linalg.solve(np.vstack([Js, prev]), rhs)
+        except np.linalg.LinAlgError:  # no reference, or the null space is orthogonal to it
+            t = _smallest_direction(Js)
+    nrm = math.sqrt(float(t @ t))
+    if not nrm > 0.0 or not math.isfinite(nrm):
+        raise np.linalg.LinAlgError("the Jacobian has no one-dimensional null space here")
+    t = t / nrm
+    if prev is not None and float(t @ prev) < 0.0:
+        t = -t
+    return t
+
+
+def _smallest_direction(Js):
+    """A vector not orthogonal to the null space of ``Js``: its last right-singular vector."""
+    return np.linalg.svd(Js)[2][-1]
+
+
+def _solve(A, b):
+    """Solve the small square system ``A x = b`` (pure-Python elimination for n <= 3)."""
+    n = len(b)
+    if n > 3:
+        return np.linalg.solve(A, b)
+    M = A.tolist()
+    v = b.tolist()
+    for k in range(n):  # Gaussian elimination with partial pivoting
+        piv = max(range(k, n), key=lambda r: abs(M[r][k]))
+        if M[piv][k] == 0.0:
+            raise np.linalg.LinAlgError("singular corrector matrix")
+        if piv != k:
+            M[k], M[piv] = M[piv], M[k]
+            v[k], v[piv] = v[piv], v[k]
+        for r in range(k + 1, n):
+            f = M[r][k] / M[k][k]
+            if f != 0.0:
+                Mr, Mk = M[r], M[k]
+                for c in range(k, n):
+                    Mr[c] -= f * Mk[c]
+                v[r] -= f * v[k]
+    x = [0.0] * n
+    for k in range(n - 1, -1, -1):
+        acc = v[k]
+        for c in range(k + 1, n):
+            acc -= M[k][c] * x[c]
+        x[k] = acc / M[k][k]
+    return np.array(x)
+
+
+def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
+    """Newton on ``[R(y); w . y - c] = 0`` from ``y`` until ``|R| <= tol``.
+
+    An arithmetic error raised by the residual counts as a failed corrector (its message is
+    kept as the reason), so that the branch computed so far survives it.
+    """
+    y = np.array(y, dtype=float)
+    try:
+        R, J = fun(y)
+    except RESIDUAL_ERRORS as exc:
+        return _Newton(y, None, None, math.inf, 0, False, f"the residual failed: {exc}")
+    rnorm = _norm(R)
+    J0 = J
+    for k in range(max_iter + 1):
+        if not math.isfinite(rnorm):
+            return _Newton(y, R, J, rnorm, k, False, "non-finite residual", J0)
+        if rnorm <= tol:
+            return _Newton(y, R, J, rnorm, k, True)
+        if k == max_iter:
+            break
+        A = np.vstack([J, w])
+        b = np.append(R, float(w @ y) - c)
+        try:
+            dy = _solve(A, -b)
+        except np.linalg.LinAlgError:
+            return _Newton(y, R, J, rnorm, k, False, "singular corrector matrix", J0)
+        y = y + dy
+        count.nit += 1
+        try:
+            R, J = fun(y)
+        except RESIDUAL_ERRORS as exc:
+            return _Newton(y, R, J, math.inf, k + 1, False, f"the residual failed: {exc}", J0)
+        r_new = _norm(R)
+        if k >= 1 and r_new > MAX_CONTRACTION * rnorm:
+            return _Newton(y, R, J, r_new, k + 1, False,
+                           f"Newton stopped contracting (|R| {rnorm:.3e} -> {r_new:.3e})", J0)
+        rnorm = r_new
+    return _Newton(y, R, J, rnorm, max_iter, False, f"no convergence in {max_iter} Newton iterations", J0)
+
+
+def _norm(R) -> float:
+    """Euclidean norm of a short residual vector."""
+    return math.sqrt(sum(v * v for v in R.tolist()))
+
+
+def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nrejected, count, h, corners=()):
+    n = len(ys[0]) if ys else 0
+    return ContinuationResult(
+        y=np.array(ys, dtype=float).reshape(-1, n) if ys else np.empty((0, 0)),
+        tangent=np.array(ts, dtype=float).reshape(-1, n) if ts else np.empty((0, 0)),
+        residual_norm=np.array(rn, dtype=float),
+        iterations=np.array(its, dtype=int),
+        fold_after=np.array(fold_after, dtype=int),
+        corners=np.array(corners, dtype=int),
+        folds=np.array(folds, dtype=float).reshape(-1, n) if folds else np.empty((0, n)),
+        status=status, message=message, nsteps=nsteps, nrejected=nrejected,
+        nit=count.nit, nfev=count.nfev, last_step=h,
+    )

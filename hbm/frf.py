@@ -1,0 +1,234 @@
+"""Frequency response of the blade with a damper: continuation of the single-harmonic balance.
+
+``frequency_response(blade, element, omega_range=(w0, w1))`` traces the branch of
+``hbm.residual.HarmonicBalance`` from ``w0`` to ``w1`` with ``hbm.continuation`` and returns a
+:class:`FrequencyResponse`.  The continuation measures arclength in
+``(x_c/a, x_s/a, omega/|w1 - w0|)`` at each point (``a`` the current amplitude), so the number
+of points depends on the logarithm of the resonant amplification, not on the amplification.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+
+from . import continuation as cont  # the module (hbm.continuation)
+from ._validation import count, nonnegative, positive
+from .blade import Blade
+from .residual import HarmonicBalance
+
+#: Newton tolerance on |R|/F (Euclidean, R = (R_c, R_s)) as a fraction of ``rtol``.
+NEWTON_TOL_FACTOR = 5e-3
+#: Default largest step (scaled arclength, see module docstring).
+DEFAULT_MAX_STEP = 0.03
+#: Default smallest step.
+DEFAULT_MIN_STEP = 1e-9
+#: Default step budget.
+DEFAULT_MAX_STEPS = 5000
+#: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
+#: amplitude error is quadratic in that distance.
+PEAK_XTOL_FACTOR = 1e-3
+
+
+class Peak(NamedTuple):
+    """The largest first-harmonic amplitude on the branch and its frequency."""
+
+    omega: float
+    amplitude: float
+
+
+class FrequencyResponse:
+    """The FRF: arrays along the branch, in continuation order, and how the run went.
+
+    ``omega`` (rad/s), ``amplitude`` (m, first harmonic), ``phase`` (rad, lag of the displacement
+    behind the force, ``x = a cos(omega t - phase)``), ``x_c``, ``x_s``, ``residual_norm``
+    (|R|/F at each point, R = (R_c, R_s)), ``folds_omega``/``folds_amplitude`` (located turning points),
+    ``success``, ``status``, ``message``, counters ``nsteps`` (accepted steps), ``nit`` (Newton
+    iterations), ``nfev`` (element evaluations), ``nstuck`` (evaluations answered by the
+    stuck stiffness); the counters include the work of :meth:`peak` once it has been called.
+    """
+
+    def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol, tol, scale):
+        self._problem = problem
+        self._run = run
+        self._scale = scale
+        self.rtol = rtol
+        self.tol = tol
+        self.blade = problem.blade
+        self.element = problem.element
+        xc, xs, w = problem.to_physical(run.y) if len(run.y) else (np.empty(0),) * 3
+        self.x_c, self.x_s, self.omega = xc, xs, w
+        self.amplitude = np.hypot(xc, xs)
+        self.phase = np.arctan2(xs, xc)
+        self.residual_norm = run.residual_norm
+        fx, fs_, fw = problem.to_physical(run.folds) if len(run.folds) else (np.empty(0),) * 3
+        self.folds_omega = fw
+        self.folds_amplitude = np.hypot(fx, fs_)
+        self.status = run.status
+        self.message = run.message
+        if not run.success and len(w):
+            self.message += f"; the branch stops at omega = {w[-1]:.9g} rad/s, amplitude {self.amplitude[-1]:.6g} m"
+        self.nsteps = run.nsteps
+        self._nit0 = run.nit
+        self._peak = None
+        self._peak_nit = 0
+        self.peak_refined = False  #: whether peak() located the maximum between samples
+
+    # ------------------------------------------------------------------ counters
+    @property
+    def success(self) -> bool:
+        return self._run.success
+
+    @property
+    def nit(self) -> int:
+        return self._nit0 + self._peak_nit
+
+    @property
+    def nfev(self) -> int:
+        return self._problem.nfev
+
+    @property
+    def nstuck(self) -> int:
+        return self._problem.nstuck
+
+    def __len__(self):
+        return len(self.omega)
+
+    def __repr__(self):
+        return (f"FrequencyResponse({len(self)} points, omega {self.omega[0]:.6g}..{self.omega[-1]:.6g} rad/s, "
+                f"success={self.success}, message={self.message!r})" if len(self) else
+                f"FrequencyResponse(0 points, success=False, message={self.message!r})")
+
+    # ------------------------------------------------------------------ peak
+    def peak(self) -> Peak:
+        """``(omega, amplitude)`` of the largest response, located on the branch.
+
+        Between the neighbours of the largest sampled point the branch is parametrised by its
+        chord and the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a
+        fresh omega-derivative) is found by Brent's method; every trial point is a converged
+        Newton point.  A maximum at an end of the branch is returned as sampled.
+        """
+        if self._peak is not None:
+            return self._peak
+        if len(self) == 0:
+            raise ValueError("the frequency response has no points")
+        i = int(np.argmax(self.amplitude))
+        best = Peak(float(self.omega[i]), float(self.amplitude[i]))
+        if 0 < i < len(self) - 1:
+            pr = self._problem
+            pr.fresh_omega_derivative = True
+            counter = cont._Count()
+            y = self._run.y
+
+            def slope(u, t):  # proportional to d(a^2)/ds along the branch
+                return u[0] * t[0] + u[1] * t[1]
+
+            try:
+                xtol = PEAK_XTOL_FACTOR * math.sqrt(self.rtol)
+                loc = None
+                for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
+                    loc = cont.locate(pr, y[ja], y[jb], slope, tol=self.tol, scale=self._scale,
+                                      xtol=xtol, count=counter)
+                    if loc is not None:
+                        break
+            finally:
+                pr.fresh_omega_derivative = False
+                self._peak_nit += counter.nit
+            if loc is not None:
+                xc, xs, w = pr.to_physical(loc.y)
+                a = float(math.hypot(xc, xs))
+                if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
+                    best = Peak(float(w), a)
+                    self.peak_refined = True
+        self._peak = best
+        return best
+
+    # ------------------------------------------------------------------ output
+    def to_csv(self, path) -> Path:
+        """Write omega, amplitude, phase, x_c, x_s, residual per point; returns the path."""
+        path = Path(path)
+        with path.open("w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["omega_rad_s", "amplitude_m", "phase_rad", "x_c_m", "x_s_m", "residual"])
+            for row in zip(self.omega, self.amplitude, self.phase, self.x_c, self.x_s, self.residual_norm):
+                w.writerow([repr(float(v)) for v in row])
+        return path
+
+    def plot(self, ax=None, *, label=None, peak=True, **kwargs):
+        """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax."""
+        import matplotlib.pyplot as plt  # only when plotting
+
+        if ax is None:
+            _, ax = plt.subplots(figsize=(6.4, 4.2))
+        line, = ax.plot(self.omega, self.amplitude, label=label, **kwargs)
+        if peak and len(self):
+            pk = self.peak()
+            ax.plot([pk.omega], [pk.amplitude], "o", color=line.get_color(), ms=4)
+        ax.set_xlabel(r"$\omega$ (rad/s)")
+        ax.set_ylabel("amplitude (m)")
+        return ax
+
+
+def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: float = 1e-6,
+                       max_step: float = DEFAULT_MAX_STEP, min_step: float = DEFAULT_MIN_STEP,
+                       max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True) -> FrequencyResponse:
+    """FRF of ``blade`` with the contact element ``element`` (None: the bare blade) over
+    ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
+
+    ``rtol``: relative accuracy; the element is evaluated to ``rtol`` and every point solves
+    the balance to ``|R|/F <= NEWTON_TOL_FACTOR * rtol``.  ``max_step``/``min_step``: step
+    limits in scaled arclength (module docstring); ``max_steps``: step budget.
+    """
+    if not isinstance(blade, Blade):
+        raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
+    if omega_range is None:
+        raise ValueError("omega_range must be given as (w0, w1), got omega_range=None")
+    try:
+        w0, w1 = omega_range
+    except (TypeError, ValueError):
+        raise ValueError(f"omega_range must be a pair (w0, w1), got omega_range={omega_range!r}") from None
+    w0 = nonnegative("omega_range[0]", w0)
+    w1 = nonnegative("omega_range[1]", w1)
+    if w0 == w1:
+        raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
+    rtol = positive("rtol", rtol)
+    if rtol >= 0.1:
+        raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
+    max_step = positive("max_step", max_step)
+    min_step = positive("min_step", min_step)
+    max_steps = count("max_steps", max_steps)
+    if element is not None and not callable(getattr(element, "fourier", None)):
+        raise ValueError(f"element must be a contact element (with fourier(a, omega)), got element={element!r}")
+
+    # ---- scales: x by the static deflection, omega by the range width
+    k0 = blade.stiffness + _finite_or_zero(element.stuck_stiffness(0.0) if element is not None else 0.0)
+    k_ref = k0 if k0 > 0.0 else blade.mass * max(w0, w1) ** 2
+    x_ref = blade.force / k_ref
+    w_ref = abs(w1 - w0)
+    problem = HarmonicBalance(blade, element, rtol=rtol, x_ref=x_ref, omega_ref=w_ref)
+
+    # ---- start: the stuck (linear) solution at w0, corrected by the continuation
+    kd = _finite_or_zero(element.stuck_stiffness(w0)) if element is not None else 0.0
+    z = blade.force / (blade.stiffness + kd - blade.mass * w0 * w0 + 1j * blade.damping * w0)
+    u0 = np.array([z.real / x_ref, -z.imag / x_ref, w0 / w_ref])
+    tol = NEWTON_TOL_FACTOR * rtol
+
+    def scale(u):
+        a = max(math.hypot(u[0], u[1]), 1e-300)
+        return np.array([a, a, 1.0])
+
+    run = cont.continuation(problem, u0, parameter=2, bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
+                            direction=1 if w1 > w0 else -1, max_step=max_step, min_step=min_step,
+                            max_steps=max_steps, tol=tol, scale=scale, locate_folds=locate_folds,
+                            fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol))
+    return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale)
+
+
+def _finite_or_zero(k) -> float:
+    """A stuck stiffness for scales and the first guess (a rigid stuck contact gives none: 0)."""
+    k = float(k)
+    return k if math.isfinite(k) else 0.0

@@ -1,0 +1,147 @@
+"""The continuation core on curves with known answers (it knows nothing of friction)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from hbm.continuation import Status, continuation, locate
+
+TOL = 1e-12
+
+
+def circle(y):
+    x, z = y
+    return np.array([x * x + z * z - 1.0]), np.array([[2.0 * x, 2.0 * z]])
+
+
+def sine(y):
+    """sin(u) = lam: folds at u = pi/2 + k pi, lam = +-1."""
+    u, lam = y
+    return np.array([math.sin(u) - lam]), np.array([[math.cos(u), -1.0]])
+
+
+def test_circle_points_on_curve_and_folds_located():
+    r = continuation(circle, [0.0, -1.0], parameter=0, max_step=0.1, max_steps=80, tol=TOL)
+    assert r.status == Status.MAX_STEPS and not r.success  # a closed curve never leaves the range
+    assert len(r.y) == 81 and r.nsteps == 80
+    assert np.all(np.abs(np.hypot(r.y[:, 0], r.y[:, 1]) - 1.0) <= TOL)
+    assert np.all(r.residual_norm <= TOL)
+    # one full turn: folds of x at (1, 0), then (-1, 0), in that order
+    assert len(r.folds) >= 2
+    assert np.allclose(r.folds[0], [1.0, 0.0], atol=1e-9)
+    assert np.allclose(r.folds[1], [-1.0, 0.0], atol=1e-9)
+    # orientation kept: the angle always increases (counter-clockwise from (0, -1))
+    theta = np.unwrap(np.arctan2(r.y[:, 1], r.y[:, 0]))
+    assert np.all(np.diff(theta) > 0)
+    assert theta[-1] - theta[0] > 2 * math.pi
+    # steps respect max_step (chord <= arc <= max_step)
+    assert np.max(np.linalg.norm(np.diff(r.y, axis=0), axis=1)) <= 0.1 * 1.01
+    # cost: the quadratic predictor leaves about two Newton updates per step at tol 1e-12
+    assert r.nit <= 2.5 * r.nsteps
+    assert r.nfev <= r.nit + r.nsteps + 20
+
+
+def test_circle_stops_on_the_bound():
+    r = continuation(circle, [0.0, -1.0], parameter=0, bounds=(-0.5, 0.5), max_step=0.1, tol=TOL)
+    assert r.success and r.status == Status.REACHED_END
+    assert r.y[-1, 0] == pytest.approx(0.5, abs=1e-15)
+    assert r.y[-1, 1] == pytest.approx(-math.sqrt(0.75), abs=1e-12)
+    assert np.all(np.abs(r.y[:, 0]) <= 0.5)
+    assert len(r.folds) == 0
+
+
+def test_sine_folds_found_where_they_are():
+    r = continuation(sine, [0.0, 0.0], parameter=1, max_step=0.1, max_steps=400, tol=TOL)
+    assert np.all(np.abs(np.sin(r.y[:, 0]) - r.y[:, 1]) <= TOL)
+    u_end = r.y[-1, 0]
+    k_max = int((u_end - math.pi / 2) // math.pi)
+    assert len(r.folds) == k_max + 1 >= 5  # every fold passed, none invented
+    for k, (u, lam) in enumerate(r.folds):
+        assert u == pytest.approx(math.pi / 2 + k * math.pi, abs=1e-7)
+        assert lam == pytest.approx((-1) ** k, abs=1e-12)
+    # u increases monotonically through the folds (orientation kept)
+    assert np.all(np.diff(r.y[:, 0]) > 0)
+    # the parameter direction reverses at each fold and nowhere else
+    turns = np.flatnonzero(np.diff(np.sign(np.diff(r.y[:, 1]))) != 0)
+    assert len(turns) == len(r.folds)
+
+
+def test_sine_backwards_direction():
+    r = continuation(sine, [0.0, 0.0], parameter=1, direction=-1, bounds=(-0.5, 2.0), max_step=0.1, tol=TOL)
+    assert r.success
+    assert r.y[-1, 1] == pytest.approx(-0.5, abs=1e-15)
+    assert r.y[-1, 0] == pytest.approx(math.asin(-0.5), abs=1e-12)
+
+
+def curve_in_r4(y):
+    """A circle lifted into R^4 (three equations): exercises the general tangent path."""
+    a, b, c, d = y
+    R = np.array([a * a + b * b - 1.0, c - a, d - a * b])
+    J = np.array([[2 * a, 2 * b, 0, 0], [-1.0, 0, 1, 0], [-b, -a, 0, 1]])
+    return R, J
+
+
+def test_general_dimension():
+    r = continuation(curve_in_r4, [0.0, -1.0, 0.0, 0.0], parameter=0, bounds=(-0.9, 0.9), max_step=0.1, tol=TOL)
+    assert r.success
+    assert np.all(r.residual_norm <= TOL)
+    assert r.y[-1, 0] == pytest.approx(0.9)
+    assert r.y[-1, 3] == pytest.approx(0.9 * -math.sqrt(1 - 0.81), abs=1e-12)
+
+
+def test_corner_of_a_piecewise_smooth_curve_is_passed():
+    """u = |lam - 0.5|: the tangent turns by 90 degrees at lam = 0.5."""
+    def vee(y):
+        u, lam = y
+        s = 1.0 if lam >= 0.5 else -1.0
+        return np.array([u - abs(lam - 0.5)]), np.array([[1.0, -s]])
+
+    r = continuation(vee, [0.5, 0.0], parameter=1, bounds=(0.0, 1.0), max_step=0.05, tol=TOL)
+    assert r.success
+    assert len(r.corners) == 1
+    assert np.all(np.abs(r.y[:, 0] - np.abs(r.y[:, 1] - 0.5)) <= TOL)
+    assert r.y[-1, 1] == 1.0
+
+
+def test_failure_keeps_points_and_says_why():
+    def breaks(y):
+        if y[1] > 0.5:
+            raise FloatingPointError("beyond the model's range")
+        return sine(y)
+
+    r = continuation(breaks, [0.0, 0.0], parameter=1, bounds=(-2.0, 2.0), max_step=0.1, tol=TOL)
+    assert r.status == Status.STEP_TOO_SMALL and not r.success
+    assert "min_step" in r.message and "beyond the model's range" in r.message
+    assert len(r.y) > 3
+    assert np.all(r.y[:, 1] <= 0.5)
+    assert r.y[-1, 1] > 0.5 - 1e-6  # it went as far as it could
+    assert np.all(np.abs(np.sin(r.y[:, 0]) - r.y[:, 1]) <= TOL)
+
+
+def test_newton_divergence_at_the_start():
+    def no_solution(y):
+        u, lam = y
+        return np.array([u * u + 1.0]), np.array([[2 * u, 0.0]])
+
+    r = continuation(no_solution, [0.3, 0.0], parameter=1)
+    assert r.status == Status.START_FAILED and not r.success
+    assert "starting point" in r.message
+    assert len(r.y) == 0
+
+
+def test_locate_a_level_on_the_branch():
+    ya, yb = np.array([0.1, math.sin(0.1)]), np.array([0.4, math.sin(0.4)])
+    loc = locate(sine, ya, yb, lambda y, t: y[1] - 0.25, tol=TOL, xtol=1e-14)
+    assert loc.y[0] == pytest.approx(math.asin(0.25), abs=1e-12)
+    assert locate(sine, ya, yb, lambda y, t: y[1] - 0.9, tol=TOL) is None
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"direction": 0}, "direction"),
+    ({"bounds": (1.0, 2.0)}, "bounds"),
+    ({"min_step": 1.0, "max_step": 0.1}, "min_step"),
+])
+def test_bad_options(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        continuation(sine, [0.0, 0.0], parameter=1, **kwargs)
