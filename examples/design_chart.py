@@ -37,10 +37,7 @@ from hbm import frequency_response  # noqa: E402
 from hbm.cases import default_case  # noqa: E402
 from hbm.residual import linear_response  # noqa: E402
 
-try:
-    from contact_models import Macroslip  # noqa: E402
-except ImportError:  # exported later
-    from contact_models.macroslip import Macroslip  # noqa: E402
+from contact_models import Macroslip  # noqa: E402
 
 DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
 #: Normal loads (N) of the chart: log-spaced.

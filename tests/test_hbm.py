@@ -14,10 +14,8 @@ from hbm.residual import linear_response
 
 
 def macroslip(stiffness, slip_force):
-    try:
-        from contact_models import Macroslip
-    except ImportError:  # not exported yet
-        from contact_models.macroslip import Macroslip
+    from contact_models import Macroslip
+
     return Macroslip(stiffness=stiffness, slip_force=slip_force)
 
 

@@ -16,10 +16,8 @@ FORCE = 0.5  # below 4 SLIP / pi: the friction bounds the response even without 
 
 
 def macroslip(stiffness, slip_force):
-    try:
-        from contact_models import Macroslip
-    except ImportError:  # not exported yet
-        from contact_models.macroslip import Macroslip
+    from contact_models import Macroslip
+
     return Macroslip(stiffness=stiffness, slip_force=slip_force)
 
 
