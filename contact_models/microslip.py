@@ -144,7 +144,7 @@ class _Piece:
                     f"the loading curve folds back after slip onset at omega={omega!r} by "
                     f"{(s[0] - s[i]) / abs(s[0]):.2g} (relative): outside the single-mode model's range")
             j = i + int(np.argmax(s[i:] >= s[0]))
-            t0 = brentq(lambda t: self._s(t) - s[0], tt[i], tt[j], xtol=1e-15, rtol=1e-15)
+            t0 = self._rising_root(s[0], tt[i], tt[j])
         j = int(np.argmax(s))
         if j < TABLE_POINTS - 1:
             # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
@@ -170,6 +170,25 @@ class _Piece:
 
     def _s(self, t):
         return float(self.evaluate(np.array([t]))[0][0])
+
+    def _rising_root(self, target, lo, hi):
+        """t in [lo, hi] with s(t) = target, s increasing there: Newton on s' (complex step), bisection guard."""
+        t = 0.5 * (lo + hi)
+        for _ in range(60):
+            s, _, ds, _ = (float(v[0]) for v in self.evaluate(np.array([t])))
+            if abs(s - target) <= 8 * np.finfo(float).eps * abs(target):  # s is known to rounding only
+                return t
+            if s < target:
+                lo = t
+            else:
+                hi = t
+            tn = t - (s - target) / ds if ds > 0.0 else 0.5 * (lo + hi)
+            if not lo <= tn <= hi:
+                tn = 0.5 * (lo + hi)
+            if abs(tn - t) <= 1e-15 or hi - lo <= 1e-15:
+                return tn
+            t = tn
+        return t
 
     def _check_left_end(self, t, s):
         """The stuck region [0, L1] must stay stuck: k |u(0)| <= mu q(0) along the path.
@@ -268,48 +287,75 @@ class _ThreeRegionPiece(_Piece):
 
     @staticmethod
     def _fit_L1(el, omega, x_star, tol=1e-13):
-        """Chebyshev coefficients of L1(L2) on the three-region curve x1(L1, L2) = x2(L1, L2)."""
+        """Chebyshev coefficients of L1(L2) on the three-region curve x1(L1, L2) = x2(L1, L2).
+
+        The previous frequency's interpolant (kept on the element) starts the root solves,
+        so consecutive frequencies of a continuation converge in a few Newton steps.
+        """
         bar, load = el.bar, el.load
         L = bar.L
-        for deg in (16, 32, 64, 128):
+        previous = getattr(el, "_last_L1_fit", None)
+        for deg in (24, 48, 96):
             u = np.cos(np.pi * (np.arange(deg + 1) + 0.5) / (deg + 1))  # Chebyshev points in (-1, 1)
             L2 = x_star + (L - x_star) * 0.5 * (u + 1.0)
-            L1 = _solve_L1(bar, load, L2, x_star, omega)
+            guess = None
+            if previous is not None:
+                xs_prev, coef_prev = previous
+                t_prev = np.clip((L2 - xs_prev) / (L - xs_prev), 0.0, 1.0)
+                guess = cheb.chebval(2.0 * t_prev - 1.0, coef_prev)
+            L1 = _solve_L1(bar, load, L2, x_star, omega, guess)
             coef = cheb.chebfit(u, L1, deg)
             if np.max(np.abs(coef[-4:])) <= tol * L:
-                return coef
+                break
+        el._last_L1_fit = (x_star, coef)
         return coef
 
 
-def _solve_L1(bar, load, L2, x_star, omega):
-    """Root L1 in [0, x*) of x1(L1, L2) - x2(L1, L2) for each L2 > x* (vectorised bisection + secant)."""
+def _solve_L1(bar, load, L2, x_star, omega, guess=None):
+    """Root L1 in [0, x*) of G = x1(L1, L2) - x2(L1, L2) for each L2 > x* (vectorised).
+
+    G(0) > 0 > G(x*) brackets the physical root (L1 = L2 is the trivial one, outside the
+    bracket, and divided out).  Newton with the complex-step derivative dG/dL1, bisection when a step leaves
+    the bracket.
+    """
 
     def G(L1):
-        r = region_solution(bar, load, L1, L2, omega)
-        return r.x1 - r.x2
+        # divided by (L2 - L1) > 0: removes the trivial root, which otherwise makes the
+        # physical one nearly double next to the nucleation point (slow Newton)
+        z = L1 + 1j * CSTEP * bar.L
+        r = region_solution(bar, load, z, L2, omega)
+        with np.errstate(all="ignore"):
+            g = (r.x1 - r.x2) / (L2 - z)
+        return g.real, g.imag / (CSTEP * bar.L)
 
+    at_start = (L2 - x_star) <= 1e-14 * bar.L  # nucleation limit: L1 -> x*
     lo = np.zeros_like(L2)
     hi = np.minimum(np.full_like(L2, x_star), L2)
-    glo, ghi = G(lo), G(hi)
-    # Nucleation limit L2 -> x*: L1 -> x*.  Otherwise G(0) > 0 > G(x*) brackets the root.
-    at_start = (L2 - x_star) <= 1e-14 * bar.L
-    if np.any(~at_start & ~(glo * ghi <= 0.0)):
+    glo, _ = G(lo)
+    ghi, _ = G(hi)
+    if np.any(~at_start & ~((glo >= 0.0) & (ghi <= 0.0))):
         raise FloatingPointError("three-region curve: no stick-slip boundary L1 found (load or frequency "
                                  "outside the three-region model's range)")
-    for _ in range(200):  # Illinois false position, guarded
+    if guess is None:
         with np.errstate(all="ignore"):
-            m = (lo * ghi - hi * glo) / (ghi - glo)
-        m = np.where(np.isfinite(m) & (m > lo) & (m < hi), m, 0.5 * (lo + hi))
-        gm = G(m)
-        left = gm * glo > 0.0
-        lo_new = np.where(left, m, lo)
-        hi_new = np.where(left, hi, m)
-        glo = np.where(left, gm, glo * np.where(left, 1.0, 0.5))
-        ghi = np.where(left, ghi * 0.5, gm)
-        lo, hi = lo_new, hi_new
-        if np.all(hi - lo <= 1e-15 * bar.L):
+            L1 = np.where(glo != ghi, (lo * ghi - hi * glo) / (ghi - glo), 0.5 * (lo + hi))
+    else:
+        L1 = np.asarray(guess, dtype=float).copy()
+    L1 = np.where((L1 > lo) & (L1 < hi), L1, 0.5 * (lo + hi))
+    done = at_start.copy()
+    for _ in range(100):
+        g, dg = G(L1)
+        lo = np.where(g > 0.0, L1, lo)
+        hi = np.where(g <= 0.0, L1, hi)
+        with np.errstate(all="ignore"):
+            new = L1 - g / dg
+        # a converged point is itself a bracket end: accept steps onto the ends
+        new = np.where(np.isfinite(new) & (new >= lo) & (new <= hi), new, 0.5 * (lo + hi))
+        done |= (np.abs(new - L1) <= 1e-14 * bar.L) | (hi - lo <= 1e-14 * bar.L)  # interpolant needs 1e-13 L
+        L1 = np.where(done, L1, new)
+        if np.all(done):
             break
-    return np.where(at_start, x_star, 0.5 * (lo + hi))
+    return np.where(at_start, x_star, L1)
 
 
 class _MicroslipBar(ContactElement):
