@@ -187,7 +187,7 @@ class Bar:
             with np.errstate(divide="ignore"):
                 return np.where(phi > 0.0, self.mu * load.q(x) / (self.k * np.maximum(phi, 1e-300)), np.inf)
 
-        r = ratio(xs)
+        r = np.maximum(ratio(xs), 0.0)
         i = int(np.argmin(r))
         if i == grid - 1:
             return self.L, float(r[-1])
@@ -204,4 +204,4 @@ class Bar:
         if i == 0 or not dlog(lo) < 0.0 < dlog(hi):
             return float(xs[i]), float(r[i])
         x_star = brentq(dlog, lo, hi, xtol=1e-15 * self.L, rtol=1e-15)
-        return x_star, float(ratio(np.array(x_star)))
+        return x_star, max(float(ratio(np.array(x_star))), 0.0)  # q(x*) = 0 may round below 0

@@ -136,9 +136,10 @@ class QuadraticLoad(_Load):
         return math.inf if q0 == q2 else q0 / (q0 - q2)
 
     def q(self, x):
+        # q0 + q2 4x(x-L)/L^2 written as (q0 - q2) + q2 (2x/L - 1)^2: never below q0 - q2 by rounding
         L = self._length()
-        x = np.asarray(x)
-        return self.q0 + self.q2 * 4.0 * x * (x - L) / L**2
+        u = 2.0 * np.asarray(x) / L - 1.0
+        return (self.q0 - self.q2) + self.q2 * u * u
 
     def dq(self, x):
         L = self._length()
