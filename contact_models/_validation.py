@@ -28,6 +28,18 @@ def finite(name: str, value) -> float:
     return _scalar(name, value)
 
 
+def count(name: str, value, minimum: int = 1) -> int:
+    """Return ``value`` as an int >= ``minimum``, else raise ValueError."""
+    ok = not isinstance(value, bool)
+    try:
+        ok = ok and float(value) == int(value) and int(value) >= minimum
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {name}={value!r}")
+    return int(value)
+
+
 def nonnegative_array(name: str, value) -> np.ndarray:
     """Return ``value`` as a float array whose entries are finite and >= 0."""
     try:

@@ -31,7 +31,7 @@ import math
 
 import numpy as np
 
-from ._validation import nonnegative, positive
+from ._validation import finite, nonnegative, positive
 from .base import ContactElement, masing_loop
 from .macroslip import _history, _is_inf, jenkins_fourier
 
@@ -99,7 +99,7 @@ class PointContact(ContactElement):
         """Point contact whose bilinear loading curve has slopes ``stuck_stiffness`` (K1) and
         ``slip_stiffness`` (K2) with the kink at ``gross_slip_amplitude`` (a_g), and the given
         ``k_p`` or ``slip_force`` (exactly one).  ``docs/point_contact.md``, "The fit"."""
-        K1, K2, a_g = (_finite_target(n, v) for n, v in (
+        K1, K2, a_g = (finite(n, v) for n, v in (
             ("stuck_stiffness", stuck_stiffness), ("slip_stiffness", slip_stiffness),
             ("gross_slip_amplitude", gross_slip_amplitude)))
         if (k_p is None) == (slip_force is None):
@@ -214,16 +214,6 @@ class PointContact(ContactElement):
         fs, fc, dfs, dfc = jenkins_fourier(self._D, self._a_y, a)
         fs = np.where(a <= self._a_y, self._K1 * a, fs + self._K2 * a)  # stuck: exactly K1 a
         return fs, fc, dfs + self._K2, dfc
-
-
-def _finite_target(name, value) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number, got {name}={value!r}") from None
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite, got {name}={value!r}")
-    return v
 
 
 __all__ = ["PointContact"]
