@@ -9,6 +9,7 @@ from .loads import QuadraticLoad, UniformLoad
 from .macroslip import Macroslip
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
 from .point_contact import PointContact
+from .quasi_static import QuasiStatic
 
 __all__ = ["Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
-           "ThreeRegionMicroslip", "Macroslip", "PointContact"]
+           "ThreeRegionMicroslip", "Macroslip", "PointContact", "QuasiStatic"]

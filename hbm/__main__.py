@@ -3,7 +3,8 @@
 With no arguments it computes the frequency response of the built-in default case
 (``hbm.cases.default_case``) and writes ``frf.csv`` and ``frf.png`` to the current folder
 (``--out DIR`` elsewhere), printing where they went and the peak.  Subcommands are registered
-in ``COMMANDS`` (``default`` is the same job, named).
+in ``COMMANDS`` (``default`` is the same job, named; ``run SCENE.toml`` runs a scene,
+``docs/scenes.md``: exit code 0 on success, 1 on a failed computation, 2 on an invalid scene).
 """
 
 from __future__ import annotations
@@ -20,10 +21,11 @@ def _default(args) -> int:
 
     case = default_case()
     t0 = time.perf_counter()
-    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=args.rtol)
+    rtol = args.rtol if args.rtol is not None else DEFAULT_RTOL
+    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=rtol)
     pk = frf.peak()
     elapsed = time.perf_counter() - t0
-    out = Path(args.out)
+    out = Path(args.out if args.out is not None else ".")
     out.mkdir(parents=True, exist_ok=True)
     csv_path = frf.to_csv(out / "frf.csv")
     png_path = _figure(frf, case, out / "frf.png")
@@ -62,24 +64,77 @@ def _figure(frf, case, path):
     return path
 
 
-#: Subcommands: name -> (help, handler).  ``None`` (no subcommand) runs ``default``.
-COMMANDS = {"default": ("run the built-in default case (the same as no subcommand)", _default)}
+def _run(args) -> int:
+    from .progress import ProgressLine
+    from .scene import SceneError, effect_lines, load_scene, output_names, parse_override, plan_scene, run_scene
+    from .scene import summary_lines
+
+    try:
+        overrides = dict(parse_override(text) for text in args.set)
+        if args.rtol is not None:
+            overrides["sweep.tolerance"] = args.rtol
+        scene = load_scene(args.scene, overrides=overrides)
+        plan = plan_scene(scene)
+    except SceneError as exc:
+        print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
+        return 2
+    if args.check:
+        print(f"scene {scene.path} is valid: {len(plan.runs)} run(s)")
+        print("\n".join(effect_lines(plan)))
+        return 0
+    line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
+    try:
+        result = run_scene(scene, args.out, plan=plan, progress=line)
+    except KeyboardInterrupt:
+        line.clear()
+        folder = Path(args.out if args.out is not None else scene.output["folder"])
+        kept = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
+        print(f"interrupted: kept {line.points} finished points; files: "
+              f"{', '.join(str(p) for p in kept) or 'none'}", file=sys.stderr)
+        return 130
+    except OSError as exc:
+        line.clear()
+        print(f"error: cannot write the outputs: {exc}", file=sys.stderr)
+        return 1
+    line.clear()
+    print("\n".join(summary_lines(result)))
+    return result.exit_code
+
+
+def _run_arguments(parser):
+    parser.add_argument("scene", help="the scene file (TOML, docs/scenes.md)")
+    parser.add_argument("--set", action="append", default=[], metavar="TABLE.KEY=VALUE",
+                        help="override a key of the scene (VALUE in TOML syntax), e.g. --set sweep.max_step=0.1")
+    parser.add_argument("--quiet", action="store_true", help="no progress line")
+    parser.add_argument("--check", action="store_true", help="validate and print the effects; compute nothing")
+
+
+DEFAULT_RTOL = 1e-6
+
+#: Subcommands: name -> (help, handler[, add_arguments]).  No subcommand runs ``default``.
+COMMANDS = {"default": ("run the built-in default case (the same as no subcommand)", _default),
+            "run": ("run a scene file: python -m hbm run SCENE.toml [--out DIR] [--quiet]", _run,
+                    _run_arguments)}
 
 
 def _common(parser, suppress=False):
     """Options accepted before and after the subcommand (after it they override)."""
     default = (lambda v: argparse.SUPPRESS) if suppress else (lambda v: v)
-    parser.add_argument("--out", default=default("."), help="output folder (default: the current folder)")
-    parser.add_argument("--rtol", type=float, default=default(1e-6), help="relative accuracy (default 1e-6)")
+    parser.add_argument("--out", default=default(None),
+                        help="output folder (default: the current folder; for run, the scene's output.folder)")
+    parser.add_argument("--rtol", type=float, default=default(None),
+                        help="relative accuracy (default 1e-6; for run, overrides sweep.tolerance)")
 
 
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="python -m hbm", description=__doc__.splitlines()[0])
     _common(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name, (text, handler) in COMMANDS.items():
+    for name, (text, handler, *arguments) in COMMANDS.items():
         p = sub.add_parser(name, help=text)
         _common(p, suppress=True)
+        for add in arguments:
+            add(p)
         p.set_defaults(handler=handler)
     parser.set_defaults(handler=_default)
     return parser

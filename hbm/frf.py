@@ -175,13 +175,18 @@ class FrequencyResponse:
 
 def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: float = 1e-6,
                        max_step: float = DEFAULT_MAX_STEP, min_step: float = DEFAULT_MIN_STEP,
-                       max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True) -> FrequencyResponse:
+                       max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True,
+                       on_point=None, accuracy=None) -> FrequencyResponse:
     """FRF of ``blade`` with the contact element ``element`` (None: the bare blade) over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
     ``rtol``: relative accuracy; the element is evaluated to ``rtol`` and every point solves
     the balance to ``|R|/F <= NEWTON_TOL_FACTOR * rtol``.  ``max_step``/``min_step``: step
     limits in scaled arclength (module docstring); ``max_steps``: step budget.
+    ``on_point(omega, x_c, x_s)``: called with each accepted point as soon as it is accepted,
+    in continuation order (the same points as the result's), so a caller can stream them.
+    ``accuracy``: "fast", "default", "precise" or an rtol; sets rtol, max_step, min_step and
+    max_steps together (``hbm.presets``; not combined with them).
     """
     if not isinstance(blade, Blade):
         raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
@@ -195,6 +200,11 @@ def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: fl
     w1 = nonnegative("omega_range[1]", w1)
     if w0 == w1:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
+    if accuracy is not None:
+        from .presets import apply  # here: hbm.presets reads this module's defaults
+
+        rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step,
+                                                    min_step=min_step, max_steps=max_steps)
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
@@ -224,8 +234,19 @@ def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: fl
     run = cont.continuation(problem, u0, parameter=2, bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
                             direction=1 if w1 > w0 else -1, max_step=max_step, min_step=min_step,
                             max_steps=max_steps, tol=tol, scale=scale, locate_folds=locate_folds,
-                            fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol))
+                            fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
+                            on_point=None if on_point is None else _physical(on_point, problem))
     return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale)
+
+
+def _physical(on_point, problem):
+    """``on_point(omega, x_c, x_s)`` for the continuation's ``on_point(y)`` in scaled unknowns."""
+
+    def report(y):
+        xc, xs, w = problem.to_physical(y)
+        on_point(float(w), float(xc), float(xs))
+
+    return report
 
 
 def _finite_or_zero(k) -> float:

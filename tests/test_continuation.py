@@ -51,6 +51,14 @@ def test_circle_stops_on_the_bound():
     assert len(r.folds) == 0
 
 
+def test_on_point_streams_exactly_the_returned_points():
+    seen = []
+    r = continuation(sine, [0.0, 0.0], parameter=1, bounds=(-2.0, 2.0), max_step=0.1, max_steps=400,
+                     tol=TOL, on_point=lambda y: seen.append(np.array(y)))
+    assert len(r.folds) >= 2  # through folds, and onto the bound at the end
+    np.testing.assert_array_equal(np.array(seen), r.y)
+
+
 def test_sine_folds_found_where_they_are():
     r = continuation(sine, [0.0, 0.0], parameter=1, max_step=0.1, max_steps=400, tol=TOL)
     assert np.all(np.abs(np.sin(r.y[:, 0]) - r.y[:, 1]) <= TOL)

@@ -1,0 +1,125 @@
+"""Wrappers that switch one physical effect of a contact element off.
+
+``QuasiStatic(element)``: the element without damper inertia.  It answers every question at
+omega = 0 whatever omega is asked: the quasi-static limit of the dynamic bar (Eq. 12 with
+alpha = 0, gamma = lambda), which holds while the excitation frequency is far below the bar's
+omega_c (``docs/scenes.md``, "Effects").  The wrapped element is never evaluated at another
+frequency, so its dynamic coefficients (alpha, gamma(omega), the dynamic stiffness K*(omega))
+are never computed; ``calls`` counts the evaluations passed on.  Because the microslip
+elements cache their loading path per frequency, a quasi-static sweep builds one path in all.
+
+``StuckContact(element)``: the element held stuck, a linear spring of the element's stuck
+(dynamic) stiffness: ``f_s = K*(omega) a``, ``f_c = 0`` at every amplitude.  It is the
+element's exact response while ``a <= slip_amplitude(omega)``; a scene uses it when the
+sweep never reaches the slip amplitude (``docs/scenes.md``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ._validation import nonnegative
+from .base import ContactElement
+
+
+class QuasiStatic(ContactElement):
+    """``element`` evaluated at omega = 0 for every omega (no damper inertia).
+
+    ``calls`` counts the evaluations of the wrapped element (all at omega = 0).
+    """
+
+    frequency_dependent = False
+
+    def __init__(self, element):
+        if not isinstance(element, ContactElement):
+            raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
+        self.element = element
+        self.calls = 0
+
+    def __repr__(self):
+        return f"QuasiStatic({self.element!r})"
+
+    # ------------------------------------------------------------ extras of the wrapped element
+    def slip_stiffness(self, omega=0.0) -> float:
+        """The wrapped element's fully slipping stiffness at omega = 0."""
+        self._check(omega)
+        self.calls += 1
+        return self.element.slip_stiffness(0.0)
+
+    def gross_slip_amplitude(self, omega=0.0) -> float:
+        """The wrapped element's gross-slip amplitude at omega = 0."""
+        self._check(omega)
+        self.calls += 1
+        return self.element.gross_slip_amplitude(0.0)
+
+    def loading_curve(self, x, omega=0.0):
+        """The wrapped element's virgin loading curve at omega = 0."""
+        self._check(omega)
+        self.calls += 1
+        return self.element.loading_curve(x, 0.0)
+
+    # ------------------------------------------------------------ interface
+    def _stuck_stiffness(self, omega):
+        self.calls += 1
+        return float(self.element.stuck_stiffness(0.0))
+
+    def _slip_amplitude(self, omega):
+        self.calls += 1
+        return float(self.element.slip_amplitude(0.0))
+
+    def _hysteresis(self, a, omega, n):
+        self.calls += 1
+        return self.element.hysteresis(a, 0.0, n=n)
+
+    def _fourier(self, a, omega, rtol):
+        self.calls += 1
+        return self.element._fourier(a, np.zeros_like(omega), rtol)
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        self.calls += 1
+        return self.element._fourier_derivatives(a, np.zeros_like(omega), rtol)
+
+    @staticmethod
+    def _check(omega):
+        nonnegative("omega", omega)
+
+
+class StuckContact(ContactElement):
+    """``element`` held stuck: a linear spring of stiffness ``element.stuck_stiffness(omega)``.
+
+    ``slip_amplitude`` is infinite (it never slips); ``f_c = 0``.
+    """
+
+    def __init__(self, element):
+        if not isinstance(element, ContactElement):
+            raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
+        self.element = element
+        self.frequency_dependent = bool(getattr(element, "frequency_dependent", True))
+
+    def __repr__(self):
+        return f"StuckContact({self.element!r})"
+
+    def _stuck_stiffness(self, omega):
+        return float(self.element.stuck_stiffness(omega))
+
+    def _slip_amplitude(self, omega):
+        return math.inf
+
+    def _hysteresis(self, a, omega, n):
+        theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)
+        x = a * np.sin(theta)
+        return x, self._stuck_stiffness(omega) * x
+
+    def _fourier(self, a, omega, rtol):
+        fs, fc, _, _ = self._fourier_derivatives(a, omega, rtol)
+        return fs, fc
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        K = np.array([self._stuck_stiffness(float(w)) for w in omega]) if omega.size else np.empty(0)
+        zero = np.zeros_like(a)
+        return K * a, zero, K, zero.copy()
+
+
+__all__ = ["QuasiStatic", "StuckContact"]

@@ -1,0 +1,47 @@
+"""The command line's progress line for a running scene (``python -m hbm run``).
+
+One line on a terminal, rewritten in place (carriage return), once the run has taken longer than
+``SHOW_AFTER`` seconds and at most every ``INTERVAL`` seconds; nothing at all when disabled (not a
+terminal, or ``--quiet``).  It is a callback for ``hbm.scene.run_scene(progress=...)``.
+"""
+
+from __future__ import annotations
+
+import time
+
+#: Seconds after which the line appears (shorter sweeps print nothing).
+SHOW_AFTER = 1.0
+#: Least seconds between two redraws.
+INTERVAL = 0.1
+
+
+class ProgressLine:
+    """``line(progress)`` redraws ``run i/n label: omega ... rad/s (xx %), N points, t s`` on ``stream``."""
+
+    def __init__(self, stream, *, enabled: bool):
+        self.stream = stream
+        self.enabled = enabled
+        self.points = 0  #: points written so far (also counted when disabled)
+        self._last = -1.0
+        self._width = 0
+
+    def __call__(self, p) -> None:
+        self.points = p.points
+        if not self.enabled or p.elapsed < SHOW_AFTER:
+            return
+        now = time.monotonic()
+        if now - self._last < INTERVAL:
+            return
+        self._last = now
+        text = (f"run {p.run + 1}/{p.runs} {p.label}: omega {p.omega:.6g} rad/s "
+                f"({100.0 * min(max(p.fraction, 0.0), 1.0):.0f} %), {p.points} points, {p.elapsed:.1f} s")
+        self.stream.write("\r" + text.ljust(self._width))
+        self.stream.flush()
+        self._width = len(text)
+
+    def clear(self) -> None:
+        """Erase the line (before the summary is printed)."""
+        if self._width:
+            self.stream.write("\r" + " " * self._width + "\r")
+            self.stream.flush()
+            self._width = 0

@@ -1,0 +1,122 @@
+"""Malformed scenes: exit code 2, a message naming the file and the key, and no output at all.
+
+Each case edits the default scene's text (``examples/scenes/default_microslip_frf.toml``) and runs
+``python -m hbm run`` in-process (one case also as a real subprocess).
+"""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from hbm.__main__ import main
+from hbm.scene import SCHEMA, SceneError, all_keys, load_scene
+
+SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
+DEFAULT = (SCENES / "default_microslip_frf.toml").read_text()
+
+UNIFORM = 'kind = "uniform"\nN = 100.0'
+
+#: (id, old text, new text, substrings the message must hold)
+CASES = [
+    # unknown names, with the closest valid one suggested
+    ("unknown key", "mass = ", "mas = ", ["blade.mas = 0.0877", "did you mean blade.mass?"]),
+    ("unknown table", "[sweep]", "[sweeep]", ["[sweeep]", "did you mean sweep?"]),
+    ("key in the wrong table", "[effects]", "[effects]\nbeta = 3.0", ["effects.beta", "damper.beta"]),
+    ("unknown choice", 'model = "two-region"', 'model = "two_region"',
+     ['damper.model = "two_region"', 'did you mean "two-region"?']),
+    # wrong types
+    ("string for a number", "force = 8.0", 'force = "eight"', ['blade.force = "eight"', "must be a number > 0"]),
+    ("bool for a choice", 'inertia = "on"', "inertia = true", ["effects.inertia = true", '"on", "off", "auto"']),
+    ("string for a bool", "strain_hardening = true", 'strain_hardening = "yes"',
+     ["effects.strain_hardening", "true or false"]),
+    ("scalar for a range", "omega = [0.24, 0.33]", "omega = 0.3", ["sweep.omega = 0.3", "list of 2"]),
+    ("table expected", ('[damper.load]\nkind = "uniform"\nN = 100.0\n', "mu = 0.3\n"), ("", "mu = 0.3\nload = 100.0\n"),
+     ["damper.load = 100.0", "must be a table"]),
+    ("formats", 'formats = ["csv", "png", "json"]', 'formats = ["csv", "pdf"]', ["output.formats", '"png"']),
+    ("not TOML", "force = 8.0", "force = = 8", ["not valid TOML"]),
+    # missing values
+    ("missing key", "force = 8.0", "", ["blade.force is missing"]),
+    ("missing table", ("[sweep]\n", "omega = [0.24, 0.33]", 'unit = "omega_c"\n', "tolerance = 1e-6\n"),
+     ("", "", "", ""), ["[sweep] is missing: required (at least sweep.omega)"]),
+    ("missing bar parameter", "mu = 0.3\n", "", ["damper.mu is missing"]),
+    ("missing beta with the spring on", "beta = 4.0e7\n", "", ["damper.beta is missing", "strain_hardening"]),
+    ("neither damping nor ratio", "damping_ratio = 2.0e-3\n", "", ["blade.damping is missing", "damping_ratio"]),
+    ("ratio without quadratic", UNIFORM, UNIFORM + "\nratio = 12.0", ["damper.load.ratio = 12.0", "quadratic"]),
+    ("quadratic without ratio", UNIFORM, 'kind = "quadratic"\nN = 100.0', ["damper.load.ratio is missing"]),
+    # values out of range, or conflicting
+    ("negative mass", "mass = 0.0877", "mass = -0.0877", ["blade.mass = -0.0877", "> 0"]),
+    ("zero load", "N = 100.0", "N = 0.0", ["damper.load.N = 0.0", "> 0"]),
+    ("tolerance too large", "tolerance = 1e-6", "tolerance = 0.5", ["sweep.tolerance = 0.5", "< 0.1"]),
+    ("empty range", "omega = [0.24, 0.33]", "omega = [0.3, 0.3]", ["sweep.omega = [0.3, 0.3]", "different"]),
+    ("two ways to give stiffness", "stiffness = 1.0e8", "stiffness = 1.0e8\nfrequency = 3.0e4",
+     ["blade.frequency = 30000.0", "together with blade.stiffness"]),
+    ("tolerance and accuracy", "tolerance = 1e-6", 'tolerance = 1e-6\naccuracy = "fine"',
+     ['sweep.accuracy = "fine"', "one of them"]),
+    ("multi-harmonic", "harmonics = 1", "harmonics = 3",
+     ["effects.harmonics = 3", "multi-harmonic balance is not available"]),
+    ("negative q", UNIFORM, 'kind = "quadratic"\nq0 = 1000.0\nq2 = 2000.0', ["damper.load.q2 = 2000.0", "q0"]),
+    ("macroslip key on a microslip model", "mu = 0.3", "mu = 0.3\nslip_force = 30.0",
+     ["damper.slip_force = 30.0", "macroslip"]),
+    # physically impossible for the model
+    ("concave load on two regions", UNIFORM, 'kind = "quadratic"\nN = 100.0\nratio = 12.0',
+     ['damper.model = "two-region"', "slip starts inside the bar", '"three-region" or "auto"']),
+    ("convex load whose end slips", UNIFORM, 'kind = "quadratic"\nN = 100.0\nratio = 0.5',
+     ["damper.load", "the end x = 0 starts slipping too"]),
+]
+
+
+@pytest.mark.parametrize("old, new, expected", [c[1:] for c in CASES], ids=[c[0] for c in CASES])
+def test_malformed_scene_exits_2_names_the_key_and_writes_nothing(tmp_path, capsys, old, new, expected):
+    text = DEFAULT
+    for o, n in zip(*((old, new) if isinstance(old, tuple) else ((old,), (new,)))):
+        assert text.count(o) >= 1, o
+        text = text.replace(o, n, 1)
+    scene = tmp_path / "bad_scene.toml"
+    scene.write_text(text)
+    out = tmp_path / "out"
+    assert main(["run", str(scene), "--out", str(out)]) == 2
+    cap = capsys.readouterr()
+    assert cap.out == ""
+    assert "bad_scene.toml" in cap.err
+    for text in expected:
+        assert text in cap.err
+    assert not out.exists()  # nothing written, not even the folder
+
+
+def test_at_least_fifteen_malformed_cases():
+    assert len(CASES) >= 15
+
+
+def test_every_problem_is_reported_at_once(tmp_path):
+    scene = tmp_path / "s.toml"
+    scene.write_text(DEFAULT.replace("mass = ", "mas = ").replace("harmonics = 1", "harmonics = 2")
+                     .replace("force = 8.0", "force = -8.0"))
+    with pytest.raises(SceneError) as err:
+        load_scene(scene)
+    keys = " ".join(err.value.problems)
+    assert len(err.value.problems) >= 3 and "blade.mas " in keys and "blade.force" in keys
+
+
+def test_bad_override_on_the_command_line_exits_2(tmp_path, capsys):
+    scene = tmp_path / "s.toml"
+    scene.write_text(DEFAULT)
+    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--set", "sweep.max_step=-1"]) == 2
+    assert "sweep.max_step = -1" in capsys.readouterr().err and not (tmp_path / "o").exists()
+
+
+def test_invalid_scene_exit_code_from_a_real_process(tmp_path):
+    scene = tmp_path / "bad.toml"
+    scene.write_text(DEFAULT.replace("harmonics = 1", "harmonics = 5"))
+    proc = subprocess.run([sys.executable, "-m", "hbm", "run", str(scene), "--out", str(tmp_path / "o")],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2
+    assert "effects.harmonics = 5" in proc.stderr and not (tmp_path / "o").exists()
+
+
+def test_docs_list_every_key():
+    doc = (Path(__file__).resolve().parent.parent / "docs" / "scenes.md").read_text()
+    missing = [k for k in all_keys() if f"`{k}`" not in doc]
+    assert not missing, missing
+    assert set(SCHEMA) == {"", "blade", "damper", "damper.load", "effects", "sweep", "output"}
