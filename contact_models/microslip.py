@@ -124,11 +124,13 @@ class _Piece:
     Subclasses give ``_boundaries(t)`` -> (L1, L2) (complex t allowed).
     """
 
+    table_points = TABLE_POINTS
+
     def __init__(self, element, omega, *, last: bool = True):
         self.el = element
         self.omega = omega
         self.t0, self.t1 = 0.0, 1.0
-        tt = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, TABLE_POINTS)))
+        tt = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, self.table_points)))
         s = self.evaluate(tt)[0]
         if not np.all(np.isfinite(s)):
             raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
@@ -146,7 +148,7 @@ class _Piece:
             j = i + int(np.argmax(s[i:] >= s[0]))
             t0 = self._rising_root(s[0], tt[i], tt[j])
         j = int(np.argmax(s))
-        if j < TABLE_POINTS - 1:
+        if j < self.table_points - 1:
             # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
             # L1 = 0 (relative overshoot 4e-7 at 0.06 omega_c, 4e-4 at 0.3 omega_c for beta = 0).
             # Past the peak the last stuck zone cannot hold: gross slip starts at the peak.
@@ -240,7 +242,7 @@ class _Piece:
     def invert(self, a):
         """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""
         a = np.asarray(a, dtype=float)
-        j = np.clip(np.searchsorted(self.s_tab, a), 1, TABLE_POINTS - 1)
+        j = np.clip(np.searchsorted(self.s_tab, a), 1, self.table_points - 1)
         lo, hi = self.t_tab[j - 1], self.t_tab[j]
         slo, shi = self.s_tab[j - 1], self.s_tab[j]
         t = lo + (hi - lo) * np.clip((a - slo) / (shi - slo), 0.0, 1.0)
@@ -273,6 +275,10 @@ class _TwoRegionPiece(_Piece):
 
 class _ThreeRegionPiece(_Piece):
     """L2 from the slip-onset point x* up to L, L1 = L1(L2) (a Chebyshev interpolant)."""
+
+    #: a finer table: its onset dip (docs/theory.md, section 6) is shallow and short, and a
+    #: 65-point table misses it at some frequencies (f_s, f_c then off by ~1e-9; 129: ~1e-11)
+    table_points = 2 * TABLE_POINTS - 1
 
     def __init__(self, element, omega, x_star):
         self.x_star = x_star
