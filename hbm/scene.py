@@ -37,8 +37,11 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
-#: Accuracy presets of ``[sweep] accuracy``: (tolerance, max_step).
-ACCURACY_PRESETS = {"coarse": (1e-4, 0.1), "default": (1e-6, 0.03), "fine": (1e-9, 0.01)}
+from . import presets
+
+#: Accuracy presets of ``[sweep] accuracy``: (tolerance, max_step), those of ``hbm.presets``.
+ACCURACY_PRESETS = {name: (acc.rtol, acc.max_step)
+                    for name, acc in ((n, presets.from_rtol(r)) for n, r in presets.NAMED.items())}
 #: Slip starts at the excited end when Bar.slip_onset's x* lies within this fraction of L of L.
 ONSET_AT_END = 1e-9
 #: Grid of the stuck-response check (points over the sweep) before the peak is refined.
@@ -271,8 +274,8 @@ SCHEMA: dict[str, dict[str, Key]] = {
                     '"rad/s", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
         "tolerance": Key(_number(gt=0, lt=0.1), OPTIONAL, "relative accuracy (rtol); default 1e-6"),
         "accuracy": Key(_choice(*ACCURACY_PRESETS), OPTIONAL,
-                        'a preset instead of tolerance: "coarse" (1e-4, max_step 0.1), "default" (1e-6, '
-                        '0.03), "fine" (1e-9, 0.01)'),
+'a preset of hbm.presets instead of tolerance: "fast" (1e-3), "default" (1e-6), '
+                        '"precise" (1e-9)'),
         "max_step": Key(_number(gt=0), OPTIONAL, "largest continuation step (scaled arclength); default 0.03"),
         "min_step": Key(_number(gt=0), 1e-9, "smallest continuation step"),
         "max_steps": Key(_integer(1), 5000, "step budget of the continuation"),
