@@ -274,7 +274,7 @@ SCHEMA: dict[str, dict[str, Key]] = {
                     '"rad/s", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
         "tolerance": Key(_number(gt=0, lt=0.1), OPTIONAL, "relative accuracy (rtol); default 1e-6"),
         "accuracy": Key(_choice(*ACCURACY_PRESETS), OPTIONAL,
-'a preset of hbm.presets instead of tolerance: "fast" (1e-3), "default" (1e-6), '
+                        'a preset of hbm.presets instead of tolerance: "fast" (1e-3), "default" (1e-6), '
                         '"precise" (1e-9)'),
         "max_step": Key(_number(gt=0), OPTIONAL, "largest continuation step (scaled arclength); default 0.03"),
         "min_step": Key(_number(gt=0), 1e-9, "smallest continuation step"),
