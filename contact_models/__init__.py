@@ -8,8 +8,9 @@ from .base import ContactElement
 from .loads import QuadraticLoad, UniformLoad
 from .macroslip import Macroslip
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
+from .numerical import NumericalMicroslip
 from .point_contact import PointContact
 from .quasi_static import QuasiStatic
 
 __all__ = ["Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
-           "ThreeRegionMicroslip", "Macroslip", "PointContact", "QuasiStatic"]
+           "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic"]
