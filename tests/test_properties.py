@@ -151,3 +151,16 @@ def test_continuous_in_amplitude_and_frequency(case, r):
     w1 = omega * (1 + 1e-6) + 1e-9 * el.bar.omega_c
     fw = np.array(el.fourier(a, w1, rtol=1e-10))
     assert np.all(np.abs(fw - f0) <= 1e-4 * scale)
+
+
+@pytest.mark.slow
+def test_properties_long_profile():
+    """The same properties with 400 examples each (about 75 s): ``pytest -m slow``."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "HYPOTHESIS_PROFILE": "long"}
+    done = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", __file__, "-m", "not slow"],
+                          env=env, capture_output=True, text=True, timeout=1800)
+    assert done.returncode == 0, done.stdout[-3000:]
