@@ -41,8 +41,8 @@ STEADY_TOL = getattr(nm, "STEADY_TOL", 1e-6)
 #: A first run slower than this (s) is not repeated.
 SLOW_RUN = 15.0
 #: Dynamic sweeps: (knob, values, fixed settings).  The library's defaults (200 cells, 512 steps)
-#: cost 30-130 s per pair at 0.01 omega_c here (the shooting needs up to 30 cycles), too slow to
-#: repeat within the runner's budget; the sweeps run at coarser fixed settings.
+#: cost 6-7 s per pair at 0.01 omega_c here, too slow to repeat five times within the runner's
+#: budget; the sweeps run at coarser fixed settings.
 DYNAMIC = (
     ("cells", (25, 50, 100, 200), {"steps_per_cycle": 128}),
     ("steps_per_cycle", tuple(sorted({64, 128, 256, STEPS_DYNAMIC})), {"cells": 50}),

@@ -201,9 +201,10 @@ where the analytic solution is exact) converge at second order in the cells
 ({qs_cells[min(qs_cells)]['error']:.1e} at {min(qs_cells)} cells to {qs_cells[max(qs_cells)]['error']:.1e} at {max(qs_cells)}); their step count does not
 change the error (rate independence: {rng([r['error'] for r in qs_steps.values()])} for {min(qs_steps)} to {max(qs_steps)} steps at 100 cells)
 but sets the time ({qs_steps[min(qs_steps)]['cpu']:.3f} s to {qs_steps[max(qs_steps)]['cpu']:.3f} s per pair). The library's dynamic defaults
-(200 cells, 512 steps) are not in the sweep: measured once while preparing it (2026-11-21, same
-machine), a pair at 0.01 omega_c cost 36 s with 256 steps and 127 s with 512 (the shooting ran
-its 30 cycles without reaching steady_tol), beyond this runner's budget.
+(200 cells, 512 steps) are not in the sweep. Measured once while preparing it (2026-11-21, same machine), a pair at 0.01
+omega_c cost 36 s with 256 steps and 127 s with 512: the shooting then scaled its residual
+by omega, which at low frequency never met steady_tol. Since the scale is max(omega, omega_c),
+the same pair takes 6-7 s in 4 cycles (docs/validation.md), still beyond this runner's budget.
 
 {bench_numerical.tables(nu)}
 
