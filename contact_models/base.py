@@ -47,7 +47,8 @@ class ContactElement(ABC):
         """``(f_s, f_c, df_s/da, df_c/da)``, broadcasting like :meth:`fourier`.
 
         Elements override ``_fourier_derivatives`` with analytic derivatives; the
-        fallback is a central difference of relative step ``FD_REL_STEP`` in ``a``.
+        fallback (for elements that implement only ``_fourier``) is a central difference
+        of relative step ``FD_REL_STEP`` in ``a``.
         """
         a_b, w_b, shape = self._prepare(a, omega)
         rtol = positive("rtol", rtol)
@@ -74,9 +75,19 @@ class ContactElement(ABC):
         return self._hysteresis(a, omega, int(n))
 
     # ----------------------------------------------------------------- private
-    @abstractmethod
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if (cls._fourier is ContactElement._fourier
+                and cls._fourier_derivatives is ContactElement._fourier_derivatives):
+            raise TypeError(f"{cls.__name__} must implement _fourier or _fourier_derivatives")
+
     def _fourier(self, a: np.ndarray, omega: np.ndarray, rtol: float):
-        """Flat float arrays in, ``(f_s, f_c)`` flat arrays out."""
+        """Flat float arrays in, ``(f_s, f_c)`` flat arrays out.
+
+        Elements with analytic derivatives implement only ``_fourier_derivatives``; the values
+        are its first two outputs.  Elements without implement this instead.
+        """
+        return self._fourier_derivatives(a, omega, rtol)[:2]
 
     @abstractmethod
     def _stuck_stiffness(self, omega: float) -> float: ...

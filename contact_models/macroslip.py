@@ -132,10 +132,6 @@ class Macroslip(ContactElement):
     def _hysteresis(self, a, omega, n):
         return masing_loop(self.loading_curve, a, n)
 
-    def _fourier(self, a, omega, rtol):
-        fs, fc, _, _ = self._fourier_derivatives(a, omega, rtol)
-        return fs, fc
-
     def _fourier_derivatives(self, a, omega, rtol):
         if self.rigid:  # Coulomb: a square wave in phase with the velocity
             fc = np.where(a > 0.0, 4.0 * self.slip_force / np.pi, 0.0)

@@ -472,10 +472,6 @@ class _MicroslipBar(ContactElement):
     def _hysteresis(self, a, omega, n):
         return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
 
-    def _fourier(self, a, omega, rtol):
-        # the a-derivatives come from the same quadrature nodes at almost no extra cost
-        return self._fourier_derivatives(a, omega, rtol)[:2]
-
     def _fourier_derivatives(self, a, omega, rtol):
         fs = np.empty_like(a)
         fc = np.empty_like(a)

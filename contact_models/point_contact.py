@@ -205,10 +205,6 @@ class PointContact(ContactElement):
     def _hysteresis(self, a, omega, n):
         return masing_loop(self.loading_curve, a, n)
 
-    def _fourier(self, a, omega, rtol):
-        fs, fc, _, _ = self._fourier_derivatives(a, omega, rtol)
-        return fs, fc
-
     def _fourier_derivatives(self, a, omega, rtol):
         # f = K2 x + Jenkins(K1 - K2, slip displacement a_y): docs/point_contact.md
         fs, fc, dfs, dfc = jenkins_fourier(self._D, self._a_y, a)

@@ -112,10 +112,6 @@ class StuckContact(ContactElement):
         x = a * np.sin(theta)
         return x, self._stuck_stiffness(omega) * x
 
-    def _fourier(self, a, omega, rtol):
-        fs, fc, _, _ = self._fourier_derivatives(a, omega, rtol)
-        return fs, fc
-
     def _fourier_derivatives(self, a, omega, rtol):
         K = np.array([self._stuck_stiffness(float(w)) for w in omega]) if omega.size else np.empty(0)
         zero = np.zeros_like(a)

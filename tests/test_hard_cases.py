@@ -216,9 +216,6 @@ class CubicSpring(ContactElement):
     def __init__(self, k3):
         self.k3 = k3
 
-    def _fourier(self, a, omega, rtol):
-        return 0.75 * self.k3 * a**3, 0.0 * a
-
     def _fourier_derivatives(self, a, omega, rtol):
         return 0.75 * self.k3 * a**3, 0.0 * a, 2.25 * self.k3 * a**2, 0.0 * a
 

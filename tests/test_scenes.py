@@ -245,9 +245,6 @@ class Cubic(ContactElement):
 
     frequency_dependent = False
 
-    def _fourier(self, a, omega, rtol):
-        return self._fourier_derivatives(a, omega, rtol)[:2]
-
     def _fourier_derivatives(self, a, omega, rtol):
         z = np.zeros_like(a)
         return 0.1 * a + 0.75 * a**3, z, 0.1 + 2.25 * a**2, z.copy()
