@@ -34,7 +34,7 @@ import numpy as np
 import contact_models.microslip as ms
 from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
 
-from common import FIGURES, REPEATS, interleaved, machine, machine_line, ms as fmt_ms, once, plot_curves, sci, table
+from common import FIGURES, REPEATS, interleaved, machine, machine_line, ms as fmt_ms, once, plot_curves, save_figure, sci, table
 
 BAR = dict(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 #: Frequencies of the error set, as fractions of omega_c.
@@ -205,10 +205,7 @@ def plot(res, path=None):
         ax.text(0.02, 0.02, "rounding level", transform=ax.transAxes, fontsize=7, color="0.4")
     fig.suptitle(f"Analytic elements: error vs time (errors below 1e-16 drawn at 1e-16); {res['machine']['date']}",
                  fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def main(argv=None):

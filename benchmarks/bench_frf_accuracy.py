@@ -37,7 +37,7 @@ from hbm import presets
 from hbm.cases import default_case
 
 from bench_frf import jenkins_peak, macroslip
-from common import FIGURES, REPEATS, interleaved, machine, machine_line, once, plot_curves, sci, table
+from common import FIGURES, REPEATS, interleaved, machine, machine_line, once, plot_curves, save_figure, sci, table
 
 #: The reference branch (peak of the default case, curve of both).
 REFERENCE = {"rtol": 1e-11, "max_step": 0.005}
@@ -209,10 +209,7 @@ def plot(res, path=None):
             plot_curves(axes[i, j], curves, xlabel="CPU time of FRF + peak (s, median)", ylabel=label, title=name)
     fig.suptitle(f"frequency_response: error vs time, one curve per knob (others at defaults); {res['machine']['date']}",
                  fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def main(argv=None):

@@ -28,7 +28,7 @@ from contact_models import Bar, TwoRegionMicroslip, UniformLoad
 from contact_models import numerical as nm
 from contact_models.numerical import NumericalMicroslip
 
-from common import FIGURES, REPEATS, machine, machine_line, once, plot_curves, sci, table
+from common import FIGURES, REPEATS, machine, machine_line, once, plot_curves, save_figure, sci, table
 
 BAR = dict(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 RATIOS = (1.5, 3.0, 10.0)
@@ -215,10 +215,7 @@ def plot(res, path=None):
         ax.set_xlim(left=t_an / 2)
     fig.suptitle(f"Numerical bar: error vs time per pair; dashed: the analytic element's time; {res['machine']['date']}",
                  fontsize=9)
-    fig.tight_layout()
-    fig.savefig(path, dpi=130)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def main(argv=None):

@@ -143,3 +143,13 @@ def plot_curves(ax, curves, *, xlabel, ylabel, title):
     ax.set_title(title, fontsize=9)
     ax.grid(True, which="major", alpha=0.3)
     ax.legend(fontsize=7)
+
+
+def save_figure(fig, path):
+    """Lay out, write (dpi 130) and close a benchmark figure; returns ``path``."""
+    import matplotlib.pyplot as plt
+
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+    return path
