@@ -63,6 +63,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from scipy.linalg import eigh_tridiagonal, solve_banded
@@ -155,6 +156,23 @@ class SimulationResult:
         ax.set_xlabel("x (m)")
         ax.set_ylabel("f (N)")
         return ax
+
+
+class NodalData(NamedTuple):
+    """Nodal arrays of the discretised bar (n + 1 nodes, node n the driven end).
+
+    ``mass``: lumped masses rho A c_i (kg); ``stiffness_diag``, ``stiffness_off``: the
+    tridiagonal axial stiffness (N/m; the beta spring in entry 0, the driven node's diagonal
+    S/h); ``shear_stiffness``, ``slip_force``: each node's Jenkins element k c_i (N/m) and
+    mu q(x_i) c_i (N).
+    """
+
+    x: np.ndarray
+    mass: np.ndarray
+    stiffness_diag: np.ndarray
+    stiffness_off: float
+    shear_stiffness: np.ndarray
+    slip_force: np.ndarray
 
 
 class _Discretisation:
@@ -314,7 +332,7 @@ class _Batch:
         u = self._solve(guess, rhs, ut)
         # commit: return mapping on every node (tip node explicit)
         full = np.concatenate([u, ut[:, None]], axis=1)
-        tau, slip = _return_map(full, self.z, d.kc, d.p)
+        tau, slip = return_map(full, self.z, d.kc, d.p)
         self.z = np.where(slip, full - tau / d.kc, self.z)
         self.slip = slip
         if self.qs:
@@ -363,7 +381,7 @@ class _Batch:
         R = self.base * u - rhs
         R[:, 1:] += d.off * u[:, :-1]
         R[:, :-1] += d.off * u[:, 1:]
-        tau, slip = _return_map(u, self.z[:, :n], d.kc[:n], d.p[:n])
+        tau, slip = return_map(u, self.z[:, :n], d.kc[:n], d.p[:n])
         return R + tau, ~slip
 
     def _energy(self, u, rhs):
@@ -434,8 +452,10 @@ def _unit_tangent(d: _Discretisation, zset):
     return np.eye(n, m), np.eye(n, m, n), np.eye(n, m, 2 * n), dZ
 
 
-def _return_map(u, z, kc, p):
-    """Exact return mapping of Jenkins elements: (nodal shear force, slipping mask)."""
+def return_map(u, z, kc, p):
+    """Exact return mapping of Jenkins elements of stiffness ``kc`` and slip force ``p``, sliders
+    at ``z`` before the step, ends at ``u``: (force, slipping mask).  The slider's new position is
+    ``u - force / kc`` where the mask is set."""
     t = kc * (u - z)
     slip = np.abs(t) > p
     return np.clip(t, -p, p), slip
@@ -545,6 +565,13 @@ class NumericalMicroslip(ContactElement):
         off = d.off * s[:-1] * s[1:]
         w2 = eigh_tridiagonal(diag, off, eigvals_only=True, select="i", select_range=(0, count - 1))
         return np.sqrt(w2)
+
+    def nodal_data(self) -> NodalData:
+        """Copies of the discretisation's nodal arrays, for integrators that couple the bar to
+        other degrees of freedom (``hbm.transient``)."""
+        d = self._disc
+        return NodalData(x=d.x.copy(), mass=d.m.copy(), stiffness_diag=d.kdiag.copy(),
+                         stiffness_off=float(d.off), shear_stiffness=d.kc.copy(), slip_force=d.p.copy())
 
     @property
     def omega_c(self) -> float:
