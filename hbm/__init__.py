@@ -2,12 +2,15 @@
 
 ``Blade`` and ``frequency_response`` are the entry points; ``hbm.continuation`` is the generic
 continuation core (it knows nothing of friction); ``hbm.residual`` states the balance.
+``response_at`` solves the balance at one frequency; ``simulate_blade`` (``hbm.transient``)
+integrates the blade with the discretised bar in time, the balance's independent check.
 """
 
 from .blade import Blade
 from . import continuation
-from .frf import FrequencyResponse, Peak, frequency_response
+from .frf import FrequencyResponse, Peak, Response, frequency_response, response_at
+from .transient import BladeSimulation, simulate_blade
 from .residual import HarmonicBalance
 
 __all__ = ["Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
-           "continuation"]
+           "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]

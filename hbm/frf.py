@@ -41,6 +41,16 @@ class Peak(NamedTuple):
     amplitude: float
 
 
+class Response(NamedTuple):
+    """The single-harmonic response at one frequency (``response_at``)."""
+
+    omega: float
+    x_c: float
+    x_s: float
+    amplitude: float
+    phase: float  #: lag of the displacement behind the force, x = a cos(omega t - phase)
+
+
 class FrequencyResponse:
     """The FRF: arrays along the branch, in continuation order, and how the run went.
 
@@ -237,6 +247,49 @@ def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: fl
                             fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
                             on_point=None if on_point is None else _physical(on_point, problem))
     return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale)
+
+
+def response_at(blade: Blade, element, omega, amplitude_bracket, *, rtol: float = 1e-8) -> Response:
+    """The single-harmonic balance at one frequency ``omega``, for one amplitude in
+    ``amplitude_bracket = (a_lo, a_hi)`` (m).
+
+    The balance's modulus gives one equation in the amplitude a,
+    ``|(k - m omega^2 + i c omega) a + f_s(a) + i f_c(a)| = F``, solved by Brent's method in the
+    bracket (it must change sign there: near a fold there are several solutions, and the bracket
+    picks one); its argument gives the phase.  ``rtol`` is passed to the element and is the
+    relative tolerance on a.  For any contact element, including ``NumericalMicroslip``, whose
+    f_s, f_c carry no derivatives: the check of a time integration at a few frequencies
+    (``docs/validation.md``), where a continuation would cost too much.
+    """
+    from scipy.optimize import brentq
+
+    if not isinstance(blade, Blade):
+        raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
+    if element is None or not callable(getattr(element, "fourier", None)):
+        raise ValueError(f"element must be a contact element (with fourier(a, omega)), got element={element!r}")
+    omega = nonnegative("omega", omega)
+    rtol = positive("rtol", rtol)
+    try:
+        lo, hi = (positive("amplitude_bracket", v) for v in amplitude_bracket)
+    except (TypeError, ValueError):
+        raise ValueError(f"amplitude_bracket must be a pair 0 < a_lo < a_hi, got "
+                         f"amplitude_bracket={amplitude_bracket!r}") from None
+    if not lo < hi:
+        raise ValueError(f"amplitude_bracket must have a_lo < a_hi, got amplitude_bracket={amplitude_bracket!r}")
+    lin = complex(blade.stiffness - blade.mass * omega * omega, blade.damping * omega)
+
+    def force(a):
+        fs, fc = element.fourier(a, omega, rtol=rtol)
+        return lin * a + complex(float(fs), float(fc))
+
+    g_lo, g_hi = abs(force(lo)) - blade.force, abs(force(hi)) - blade.force
+    if g_lo * g_hi > 0.0:
+        raise ValueError(f"amplitude_bracket={amplitude_bracket!r} does not bracket a solution at omega={omega!r}: "
+                         f"|balance force| - F is {g_lo:.4g} N and {g_hi:.4g} N at its ends")
+    a = brentq(lambda a: abs(force(a)) - blade.force, lo, hi, xtol=1e-300, rtol=max(rtol, 4e-16))
+    z = blade.force * a / force(a)  # x_c - i x_s = F / (k - m w^2 + p + i (c w + q))
+    return Response(omega=omega, x_c=z.real, x_s=-z.imag, amplitude=math.hypot(z.real, z.imag),
+                    phase=math.atan2(-z.imag, z.real))
 
 
 def _physical(on_point, problem):

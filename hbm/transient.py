@@ -1,0 +1,285 @@
+"""The blade and the discretised microslip bar integrated together in time.
+
+The independent check of the harmonic-balance FRF: no harmonic truncation, no single-mode
+assumption on the damper.  ``simulate_blade(blade, damper, omega)`` integrates
+
+    m x'' + c x' + k x + f_d = F cos(omega t),
+
+with ``f_d`` the force of a ``contact_models.NumericalMicroslip`` bar whose driven end x = L
+moves with the blade (u(L, t) = x(t)), from rest to the periodic steady state, and returns the
+last cycle with the first-harmonic coefficients ``x_c``, ``x_s`` in the layout of ``hbm``
+(x ~ x_c cos(omega t) + x_s sin(omega t)).
+
+Model.  The bar's finite-element nodes 0 .. n (``NumericalMicroslip.nodal_data``) plus the
+blade lumped onto node n: node n carries mass m_n + m, stiffness S/h + k, the blade's dashpot
+c and the force F cos(omega t); every node carries its Jenkins element.  Node n's equation is
+the blade's, with f_d = (S/h)(u_n - u_{n-1}) + tau_n + m_n u_n'' (the driven-end reaction of
+``NumericalMicroslip``).  All n + 1 nodes are free.
+
+Time: the same generalized-alpha scheme as ``NumericalMicroslip`` (spectral radius
+``damper.rho_inf``), with the damping term C v at the alpha_f point, and each step's piecewise
+linear system A u + tau(u) = r (A = K + c_m M + c_c C, tridiagonal) solved exactly by
+semismooth Newton with the exact return mapping of every Jenkins element, guarded by an Armijo
+line search on its convex potential.  The force is raised from 0 by a quintic smooth step over
+``ramp_cycles`` cycles.
+
+Steady state: the run stops at the first cycle whose blade displacement differs from the
+previous cycle's by at most ``steady_tol`` times its peak,
+
+    max_theta |x_j(theta) - x_{j-1}(theta)| <= steady_tol * max_theta |x_j(theta)|,
+
+or after ``max_cycles`` (``converged`` False, ``message`` says so).  The blade's transient
+decays geometrically by a factor r per cycle; with r estimated from the last two changes the
+distance of the last cycle from the periodic orbit is about change r / (1 - r), reported as
+``distance``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import solve_banded
+
+from contact_models.numerical import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, NumericalMicroslip, return_map
+
+from ._validation import positive
+from .blade import Blade
+
+#: Default theta steps per cycle (a multiple of 4), steady tolerance, cycle budget and ramp.
+STEPS = 256
+STEADY_TOL = 1e-6
+MAX_CYCLES = 1000
+RAMP_CYCLES = 2
+
+
+@dataclass
+class BladeSimulation:
+    """Last (steady) cycle of a blade + bar run, theta = omega t in [0, 2 pi) on ``steps`` points.
+
+    ``x``: blade displacement (m); ``f``: damper force on the blade (N); ``x_c``, ``x_s``: first
+    harmonic of x in cos/sin(omega t); ``amplitude = hypot(x_c, x_s)`` (the FRF's quantity);
+    ``cycles``: cycles after the ramp; ``change``: the last relative cycle-to-cycle change of x
+    (``history`` per cycle); ``distance``: the estimated relative distance of the last cycle
+    from the periodic orbit (``change r / (1 - r)``, r the last ratio of changes; inf when r
+    >= 1).
+    """
+
+    omega: float
+    theta: np.ndarray
+    x: np.ndarray
+    f: np.ndarray
+    x_c: float
+    x_s: float
+    cycles: int
+    converged: bool
+    change: float
+    distance: float
+    newton_iterations: int
+    steps: int
+    message: str = ""
+    history: np.ndarray = field(default=None, repr=False)
+
+    @property
+    def amplitude(self) -> float:
+        return math.hypot(self.x_c, self.x_s)
+
+    @property
+    def phase(self) -> float:
+        """phi with x ~ a cos(omega t - phi) (hbm's convention)."""
+        return math.atan2(self.x_s, self.x_c)
+
+    @property
+    def success(self) -> bool:
+        return self.converged
+
+    def harmonic(self, h: int) -> float:
+        """Amplitude of the h-th harmonic of x (h >= 1)."""
+        if isinstance(h, bool) or int(h) != h or h < 1:
+            raise ValueError(f"h must be an integer >= 1, got h={h!r}")
+        return 2.0 / self.steps * float(abs(np.sum(self.x * np.exp(-1j * h * self.theta))))
+
+    def to_csv(self, path):
+        """Write theta, x, f of the steady cycle."""
+        np.savetxt(path, np.column_stack([self.theta, self.x, self.f]), delimiter=",", header="theta,x,f",
+                   comments="")
+
+
+def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega, *, steps_per_cycle: int = STEPS,
+                   steady_tol: float = STEADY_TOL, max_cycles: int = MAX_CYCLES,
+                   ramp_cycles: int = RAMP_CYCLES) -> BladeSimulation:
+    """Integrate blade + discretised bar at ``omega`` (rad/s) from rest to the steady state.
+
+    ``damper`` is a ``NumericalMicroslip`` (its ``cells`` and ``rho_inf`` are used; its own
+    run settings are not).  See the module docstring for the scheme and the criterion.
+    """
+    if not isinstance(blade, Blade):
+        raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
+    if not isinstance(damper, NumericalMicroslip):
+        raise ValueError("damper must be a contact_models.NumericalMicroslip (an element with a state to "
+                         f"integrate), got damper={damper!r}")
+    omega = positive("omega", omega)
+    if isinstance(steps_per_cycle, bool) or int(steps_per_cycle) != steps_per_cycle or steps_per_cycle < 8 \
+            or steps_per_cycle % 4:
+        raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")
+    steady_tol = positive("steady_tol", steady_tol)
+    if isinstance(max_cycles, bool) or int(max_cycles) != max_cycles or max_cycles < 2:
+        raise ValueError(f"max_cycles must be an integer >= 2, got max_cycles={max_cycles!r}")
+    if isinstance(ramp_cycles, bool) or int(ramp_cycles) != ramp_cycles or ramp_cycles < 0:
+        raise ValueError(f"ramp_cycles must be an integer >= 0, got ramp_cycles={ramp_cycles!r}")
+    run = _Coupled(blade, damper, omega, int(steps_per_cycle), int(ramp_cycles))
+    return run.to_steady_state(steady_tol, int(max_cycles))
+
+
+class _Coupled:
+    """State and step of the blade + bar system (nodes 0 .. n free, the blade on node n)."""
+
+    def __init__(self, blade: Blade, damper: NumericalMicroslip, omega: float, steps: int, ramp_cycles: int):
+        d = damper.nodal_data()
+        n1 = d.x.size
+        self.n1 = n1
+        self.omega = omega
+        self.steps = steps
+        self.ramp = 2.0 * math.pi * ramp_cycles
+        self.force = blade.force
+        self.m_tip = float(d.mass[-1])  # the bar's own lumped mass at the driven node
+        self.off = d.stiffness_off
+        self.kdiag = d.stiffness_diag.copy()
+        self.kdiag[-1] += blade.stiffness
+        self.mass = d.mass.copy()
+        self.mass[-1] += blade.mass
+        self.damping = np.zeros(n1)
+        self.damping[-1] = blade.damping
+        self.kc, self.p = d.shear_stiffness, d.slip_force
+        rho = damper.rho_inf
+        if rho >= 1.0:
+            self.am = self.af = 0.0
+        else:
+            self.am = (2.0 * rho - 1.0) / (rho + 1.0)
+            self.af = rho / (rho + 1.0)
+        self.gamma = 0.5 - self.am + self.af
+        self.beta = 0.25 * (1.0 - self.am + self.af) ** 2
+        self.dtheta = 2.0 * math.pi / steps
+        self.dt = self.dtheta / omega
+        self.cm = (1.0 - self.am) / ((1.0 - self.af) * self.beta * self.dt**2)
+        self.cc = self.gamma / (self.beta * self.dt)
+        self.A = self.kdiag + self.cm * self.mass + self.cc * self.damping  # diagonal of the step matrix
+        self.ab = np.zeros((3, n1))
+        self.ab[0, 1:] = self.off
+        self.ab[2, :-1] = self.off
+        self.u = np.zeros(n1)
+        self.v = np.zeros(n1)
+        self.acc = np.zeros(n1)
+        self.z = np.zeros(n1)
+        self.tau = np.zeros(n1)
+        self.count = 0
+        self.newton = 0
+        self.f_old = 0.0
+        self.tol_force = NEWTON_RTOL * (self.force + float(np.max(self.p)))
+
+    def load(self, theta):
+        if self.ramp > 0.0 and theta < self.ramp:
+            r = theta / self.ramp
+            return self.force * r**3 * (10.0 - 15.0 * r + 6.0 * r * r) * math.cos(theta)
+        return self.force * math.cos(theta)
+
+    def _matvec(self, u):
+        g = self.kdiag * u
+        g[1:] += self.off * u[:-1]
+        g[:-1] += self.off * u[1:]
+        return g
+
+    def step(self):
+        """One theta step; returns (blade displacement, damper force on the blade)."""
+        self.count += 1
+        dt = self.dt
+        f_new = self.load(self.count * self.dtheta)
+        pred = self.u + dt * self.v + (0.5 - self.beta) * dt * dt * self.acc
+        vpred = self.v + dt * (1.0 - self.gamma) * self.acc
+        rhs = self.cm * self.mass * pred + self.damping * (self.cc * pred - vpred)
+        if self.af > 0.0:
+            old = self.am * self.mass * self.acc + self.af * (self.damping * self.v + self._matvec(self.u) + self.tau)
+            rhs -= old / (1.0 - self.af)
+        rhs[-1] += f_new + self.af / (1.0 - self.af) * self.f_old
+        self.f_old = f_new
+        u = self._solve(pred + 0.0, rhs)
+        tau, slip = return_map(u, self.z, self.kc, self.p)
+        self.z = np.where(slip, u - tau / self.kc, self.z)
+        acc = (u - pred) / (self.beta * dt * dt)
+        self.v = vpred + self.gamma * dt * acc
+        self.acc, self.u, self.tau = acc, u, tau
+        fd = -self.off * (u[-1] - u[-2]) + tau[-1] + self.m_tip * acc[-1]
+        return u[-1], fd
+
+    def _residual(self, u, rhs):
+        R = self.A * u - rhs
+        R[1:] += self.off * u[:-1]
+        R[:-1] += self.off * u[1:]
+        tau, slip = return_map(u, self.z, self.kc, self.p)
+        return R + tau, ~slip
+
+    def _energy(self, u, rhs):
+        E = 0.5 * np.sum(self.A * u * u) + self.off * np.sum(u[:-1] * u[1:]) - np.sum(rhs * u)
+        e = u - self.z
+        lim = self.p / self.kc
+        return E + np.sum(np.where(np.abs(e) <= lim, 0.5 * self.kc * e * e, self.p * np.abs(e) - 0.5 * self.p * lim))
+
+    def _solve(self, u, rhs):
+        """Semismooth Newton on the step's piecewise linear system (as ``NumericalMicroslip``)."""
+        R, stuck = self._residual(u, rhs)
+        scale = self.tol_force + NEWTON_RTOL * float(np.max(np.abs(rhs)))
+        assumed = None
+        for it in range(NEWTON_MAX):
+            if np.all(np.abs(R) <= scale) or (assumed is not None and np.array_equal(stuck, assumed)):
+                return u
+            self.ab[1] = self.A + self.kc * stuck
+            delta = solve_banded((1, 1), self.ab, -R, check_finite=False)
+            self.newton += 1
+            assumed = stuck
+            if it >= NEWTON_PLAIN:  # guarded: Armijo backtracking on the convex potential
+                E0, slope, t = self._energy(u, rhs), float(R @ delta), 1.0
+                for _ in range(40):
+                    if self._energy(u + t * delta, rhs) <= E0 + 1e-4 * t * slope:
+                        break
+                    t *= 0.5
+                delta = t * delta
+            u = u + delta
+            R, stuck = self._residual(u, rhs)
+        raise FloatingPointError(f"simulate_blade: Newton did not converge in a step at omega={self.omega!r}")
+
+    def cycle(self):
+        x = np.empty(self.steps)
+        f = np.empty(self.steps)
+        for k in range(self.steps):
+            x[k], f[k] = self.step()
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(f))):
+            raise FloatingPointError(f"simulate_blade: non-finite state at omega={self.omega!r}")
+        return x, f
+
+    def to_steady_state(self, tol: float, max_cycles: int) -> BladeSimulation:
+        for _ in range(int(round(self.ramp / (2.0 * math.pi)))):
+            self.cycle()
+        history: list = []
+        prev = None
+        for cycle in range(max_cycles):
+            x, f = self.cycle()
+            if prev is not None:
+                history.append(float(np.max(np.abs(x - prev)) / max(np.max(np.abs(x)), 1e-300)))
+                if history[-1] <= tol:
+                    break
+            prev = x
+        converged = bool(history) and history[-1] <= tol
+        change = history[-1] if history else math.inf
+        r = history[-1] / history[-2] if len(history) >= 2 and history[-2] > 0 else math.inf
+        distance = change * r / (1.0 - r) if r < 1.0 else math.inf
+        # the cycle's samples sit at theta = (k + 1) dtheta: roll onto theta = 2 pi k / steps
+        x, f = np.roll(x, 1), np.roll(f, 1)
+        theta = np.arange(self.steps) * self.dtheta
+        xc = 2.0 / self.steps * float(np.sum(x * np.cos(theta)))
+        xs = 2.0 / self.steps * float(np.sum(x * np.sin(theta)))
+        msg = "steady" if converged else f"not steady after {cycle + 1} cycles: change {change:.3g} > tolerance"
+        return BladeSimulation(omega=self.omega, theta=theta, x=x, f=f, x_c=xc, x_s=xs, cycles=cycle + 1,
+                               converged=converged, change=change, distance=distance,
+                               newton_iterations=self.newton, steps=self.steps, message=msg,
+                               history=np.array(history))
