@@ -286,7 +286,8 @@ def response_at(blade: Blade, element, omega, amplitude_bracket, *, rtol: float 
     if g_lo * g_hi > 0.0:
         raise ValueError(f"amplitude_bracket={amplitude_bracket!r} does not bracket a solution at omega={omega!r}: "
                          f"|balance force| - F is {g_lo:.4g} N and {g_hi:.4g} N at its ends")
-    a = brentq(lambda a: abs(force(a)) - blade.force, lo, hi, xtol=1e-300, rtol=max(rtol, 4e-16))
+    a = brentq(lambda a: abs(force(a)) - blade.force, lo, hi, xtol=1e-300,
+               rtol=max(rtol, 4.0 * np.finfo(float).eps))  # brentq's floor
     z = blade.force * a / force(a)  # x_c - i x_s = F / (k - m w^2 + p + i (c w + q))
     return Response(omega=omega, x_c=z.real, x_s=-z.imag, amplitude=math.hypot(z.real, z.imag),
                     phase=math.atan2(-z.imag, z.real))

@@ -138,7 +138,6 @@ class _Coupled:
     def __init__(self, blade: Blade, damper: NumericalMicroslip, omega: float, steps: int, ramp_cycles: int):
         d = damper.nodal_data()
         n1 = d.x.size
-        self.n1 = n1
         self.omega = omega
         self.steps = steps
         self.ramp = 2.0 * math.pi * ramp_cycles
@@ -175,7 +174,9 @@ class _Coupled:
         self.tau = np.zeros(n1)
         self.count = 0
         self.newton = 0
-        self.f_old = 0.0
+        # at rest at t = 0 under the force's initial value (0 with a ramp): M a_0 = F_0 e_n
+        self.f_old = self.load(0.0)
+        self.acc[-1] = self.f_old / self.mass[-1]
         self.tol_force = NEWTON_RTOL * (self.force + float(np.max(self.p)))
 
     def load(self, theta):
@@ -203,7 +204,7 @@ class _Coupled:
             rhs -= old / (1.0 - self.af)
         rhs[-1] += f_new + self.af / (1.0 - self.af) * self.f_old
         self.f_old = f_new
-        u = self._solve(pred + 0.0, rhs)
+        u = self._solve(pred, rhs)  # the predictor as the Newton start
         tau, slip = return_map(u, self.z, self.kc, self.p)
         self.z = np.where(slip, u - tau / self.kc, self.z)
         acc = (u - pred) / (self.beta * dt * dt)
