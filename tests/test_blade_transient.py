@@ -187,6 +187,10 @@ def test_response_at_rejects_bad_input(case):
         response_at(b, el, -1.0, (1e-7, 1e-5))
     with pytest.raises(ValueError, match="element"):
         response_at(b, None, 38768.0, (1e-7, 1e-5))
+    with pytest.raises(ValueError, match="blade"):
+        response_at(None, el, 38768.0, (1e-7, 1e-5))
+    with pytest.raises(ValueError, match="rtol"):
+        response_at(b, el, 38768.0, (1e-7, 1e-5), rtol=0.0)
 
 
 # ------------------------------------------------------------------ the study's script
