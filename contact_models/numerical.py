@@ -376,62 +376,73 @@ class _Batch:
             dZ[n] = 0.0  # the tip slider follows the prescribed tip
         return dU_new, dV_new, dA_new, dZ
 
-    def _residual(self, u, rhs):
-        d, n = self.d, self.d.n
-        R = self.base * u - rhs
-        R[:, 1:] += d.off * u[:, :-1]
-        R[:, :-1] += d.off * u[:, 1:]
-        tau, slip = return_map(u, self.z[:, :n], d.kc[:n], d.p[:n])
-        return R + tau, ~slip
-
-    def _energy(self, u, rhs):
-        """The convex potential whose gradient is the residual (for the line search)."""
-        d, n = self.d, self.d.n
-        E = 0.5 * np.sum(self.base * u * u, axis=1) + d.off * np.sum(u[:, :-1] * u[:, 1:], axis=1)
-        E -= np.sum(rhs * u, axis=1)
-        e = u - self.z[:, :n]
-        kc, p = d.kc[:n], d.p[:n]
-        lim = p / kc
-        quad = 0.5 * kc * e * e
-        lin = p * np.abs(e) - 0.5 * p * lim
-        return E + np.sum(np.where(np.abs(e) <= lim, quad, lin), axis=1)
-
     def _solve(self, u, rhs, ut):
-        """Semismooth Newton on the step's piecewise linear system, all pairs at once."""
+        """The step's system on the free nodes, all pairs at once (``solve_step``)."""
         d, n = self.d, self.d.n
-        P = u.shape[0]
-        R, stuck = self._residual(u, rhs)
         scale = NEWTON_RTOL * (np.abs(ut) * (abs(d.off) + d.kc[-1]) + np.max(d.p) + 1e-300)[:, None]
-        assumed = None
-        for it in range(NEWTON_MAX):
-            small = np.all(np.abs(R) <= scale, axis=1)
-            same = np.all(stuck == assumed, axis=1) if assumed is not None else np.zeros(P, bool)
-            if np.all(small | same):
-                break
-            self.ab[1] = (self.base + d.kc[None, :n] * stuck).ravel()
-            delta = solve_banded((1, 1), self.ab, -R.ravel(), overwrite_b=True, check_finite=False)
-            delta = delta.reshape(P, n)
-            self.newton += 1
-            assumed = stuck
-            if it < NEWTON_PLAIN:
-                u = u + delta
-                R, stuck = self._residual(u, rhs)
-                continue
-            # guarded: Armijo backtracking on the convex potential, per pair
-            E0 = self._energy(u, rhs)
+        try:
+            u, iterations = solve_step(self.ab, self.base, d.off, d.kc[:n], d.p[:n], self.z[:, :n], rhs, u, scale)
+        except FloatingPointError as exc:
+            raise FloatingPointError(f"NumericalMicroslip: {exc}") from None
+        self.newton += iterations
+        return u
+
+
+def _step_residual(base, off, kc, p, z, u, rhs):
+    R = base * u - rhs
+    R[:, 1:] += off * u[:, :-1]
+    R[:, :-1] += off * u[:, 1:]
+    tau, slip = return_map(u, z, kc, p)
+    return R + tau, ~slip
+
+
+def _step_energy(base, off, kc, p, z, u, rhs):
+    """The convex potential whose gradient is the step's residual (for the line search)."""
+    E = 0.5 * np.sum(base * u * u, axis=1) + off * np.sum(u[:, :-1] * u[:, 1:], axis=1) - np.sum(rhs * u, axis=1)
+    e = u - z
+    lim = p / kc
+    quad = 0.5 * kc * e * e
+    lin = p * np.abs(e) - 0.5 * p * lim
+    return E + np.sum(np.where(np.abs(e) <= lim, quad, lin), axis=1)
+
+
+def solve_step(ab, base, off, kc, p, z, rhs, u, scale):
+    """One implicit step's piecewise linear system for P independent chains of m nodes,
+    ``base * u + off * (neighbours) + tau(u) = rhs`` row by row, tau the Jenkins forces of
+    stiffness ``kc``, slip force ``p`` and sliders ``z`` (return mapping), by semismooth Newton
+    from ``u`` (P, m).
+
+    The system is piecewise linear, so a pair stops when the stick/slip set it assumed is
+    reproduced (then solved exactly) or its residual is below ``scale`` (P, 1); after
+    ``NEWTON_PLAIN`` iterations an Armijo line search on the step's convex potential guards
+    against cycling.  ``ab`` is the (3, P m) banded work matrix with the off-diagonals set
+    (zero between chains); its diagonal is overwritten.  Returns (u, Newton iterations).
+    """
+    P, m = u.shape
+    args = (base, off, kc, p, z)
+    R, stuck = _step_residual(*args, u, rhs)
+    assumed = None
+    for it in range(NEWTON_MAX):
+        small = np.all(np.abs(R) <= scale, axis=1)
+        same = np.all(stuck == assumed, axis=1) if assumed is not None else np.zeros(P, bool)
+        if np.all(small | same):
+            return u, it
+        ab[1] = (base + kc * stuck).ravel()
+        delta = solve_banded((1, 1), ab, -R.ravel(), overwrite_b=True, check_finite=False).reshape(P, m)
+        assumed = stuck
+        if it >= NEWTON_PLAIN:  # guarded: Armijo backtracking on the convex potential, per pair
+            E0 = _step_energy(*args, u, rhs)
             slope = np.sum(R * delta, axis=1)
             t = np.ones(P)
             for _ in range(40):
-                trial = u + t[:, None] * delta
-                bad = self._energy(trial, rhs) > E0 + 1e-4 * t * slope
+                bad = _step_energy(*args, u + t[:, None] * delta, rhs) > E0 + 1e-4 * t * slope
                 if not np.any(bad):
                     break
                 t = np.where(bad, 0.5 * t, t)
-            u = trial
-            R, stuck = self._residual(u, rhs)
-        else:
-            raise FloatingPointError("NumericalMicroslip: Newton did not converge in a step")
-        return u
+            delta = t[:, None] * delta
+        u = u + delta
+        R, stuck = _step_residual(*args, u, rhs)
+    raise FloatingPointError("Newton did not converge in a step")
 
 
 def _change(f, prev):

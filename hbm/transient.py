@@ -40,9 +40,8 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.linalg import solve_banded
 
-from contact_models.numerical import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, NumericalMicroslip, return_map
+from contact_models.numerical import NEWTON_RTOL, NumericalMicroslip, return_map, solve_step
 
 from ._validation import positive
 from .blade import Blade
@@ -213,41 +212,16 @@ class _Coupled:
         fd = -self.off * (u[-1] - u[-2]) + tau[-1] + self.m_tip * acc[-1]
         return u[-1], fd
 
-    def _residual(self, u, rhs):
-        R = self.A * u - rhs
-        R[1:] += self.off * u[:-1]
-        R[:-1] += self.off * u[1:]
-        tau, slip = return_map(u, self.z, self.kc, self.p)
-        return R + tau, ~slip
-
-    def _energy(self, u, rhs):
-        E = 0.5 * np.sum(self.A * u * u) + self.off * np.sum(u[:-1] * u[1:]) - np.sum(rhs * u)
-        e = u - self.z
-        lim = self.p / self.kc
-        return E + np.sum(np.where(np.abs(e) <= lim, 0.5 * self.kc * e * e, self.p * np.abs(e) - 0.5 * self.p * lim))
-
     def _solve(self, u, rhs):
-        """Semismooth Newton on the step's piecewise linear system (as ``NumericalMicroslip``)."""
-        R, stuck = self._residual(u, rhs)
-        scale = self.tol_force + NEWTON_RTOL * float(np.max(np.abs(rhs)))
-        assumed = None
-        for it in range(NEWTON_MAX):
-            if np.all(np.abs(R) <= scale) or (assumed is not None and np.array_equal(stuck, assumed)):
-                return u
-            self.ab[1] = self.A + self.kc * stuck
-            delta = solve_banded((1, 1), self.ab, -R, check_finite=False)
-            self.newton += 1
-            assumed = stuck
-            if it >= NEWTON_PLAIN:  # guarded: Armijo backtracking on the convex potential
-                E0, slope, t = self._energy(u, rhs), float(R @ delta), 1.0
-                for _ in range(40):
-                    if self._energy(u + t * delta, rhs) <= E0 + 1e-4 * t * slope:
-                        break
-                    t *= 0.5
-                delta = t * delta
-            u = u + delta
-            R, stuck = self._residual(u, rhs)
-        raise FloatingPointError(f"simulate_blade: Newton did not converge in a step at omega={self.omega!r}")
+        """The step's system over all n + 1 nodes (``contact_models.numerical.solve_step``)."""
+        scale = np.array([[self.tol_force + NEWTON_RTOL * float(np.max(np.abs(rhs)))]])
+        try:
+            u, iterations = solve_step(self.ab, self.A[None], self.off, self.kc, self.p, self.z[None], rhs[None],
+                                       u[None], scale)
+        except FloatingPointError as exc:
+            raise FloatingPointError(f"simulate_blade: {exc} at omega={self.omega!r}") from None
+        self.newton += iterations
+        return u[0]
 
     def cycle(self):
         x = np.empty(self.steps)
