@@ -11,6 +11,37 @@ energy dissipated per cycle, so a passive element has ``f_c >= 0``.
 
 Public methods validate and broadcast, then call the private ``_fourier`` and
 friends on flat float arrays (the scipy ``OdeSolver.step``/``_step_impl`` split).
+
+The contract: everything a solver or a scene reads of an element
+------------------------------------------------------------------
+A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,
+``_slip_amplitude`` and ``_hysteresis``, and may override the documented defaults below.
+Nothing else of an element is read by ``hbm``:
+
+===============================  ==========================================================
+``frequency_dependent``          class attribute, default True.  False tells the solver that
+                                 f_s, f_c do not depend on omega (no omega-derivative taken).
+``fourier(a, omega)``            f_s, f_c (N); validated, broadcasting.
+``fourier_derivatives(a, omega)``  f_s, f_c, df_s/da, df_c/da; validated, broadcasting.
+``fourier_derivatives_unchecked``  the same on flat float64 arrays, no validation: the
+                                 solver's fast path (its Newton loop calls it per point).
+``stuck_stiffness(omega)``       dynamic stiffness while nothing slips (N/m); k* at 0.
+``slip_amplitude(omega)``        a_min (m): the physical amplitude at which slip begins;
+                                 0 for an element that slips at any amplitude (Iwan).
+``linear_amplitude(omega)``      the amplitude (m) up to which the element is linear, so
+                                 that ``f_s + i f_c = (k_s + i k_c) a`` with
+                                 ``(k_s, k_c) = linear_coefficients(omega)``; the solver
+                                 answers amplitudes up to it without calling ``fourier``.
+                                 Default ``slip_amplitude(omega)``; 0 means "never linear".
+``linear_coefficients(omega)``   ``(k_s, k_c)`` (N/m) of that linear range; default
+                                 ``(stuck_stiffness(omega), 0)``.  An element with damping
+                                 while stuck returns its k_c here.
+``reference_amplitude(omega)``   an amplitude (m) at which the element is clearly
+                                 nonlinear: the unit of amplitude sweeps and of property
+                                 tests.  Default ``slip_amplitude(omega)``; an element with
+                                 a_min = 0 must override it.
+``hysteresis(a, omega)``         one closed loop (x, f) of the steady response.
+===============================  ==========================================================
 """
 
 from __future__ import annotations
@@ -29,7 +60,20 @@ FD_REL_STEP = 1e-6
 
 
 class ContactElement(ABC):
-    """Abstract contact element: f_s, f_c as functions of amplitude and frequency."""
+    """Abstract contact element: f_s, f_c as functions of amplitude and frequency.
+
+    See the module docstring for the whole contract.
+
+    Examples
+    --------
+    >>> from contact_models import Macroslip
+    >>> jen = Macroslip(stiffness=2.0, slip_force=1.0)
+    >>> jen.linear_amplitude(), jen.linear_coefficients()
+    (0.5, (2.0, 0.0))
+    """
+
+    #: True when f_s, f_c depend on omega; False lets the solver skip the omega-derivative.
+    frequency_dependent: bool = True
 
     # ------------------------------------------------------------------ public
     def fourier(self, a, omega=0.0, *, rtol: float = DEFAULT_RTOL):
@@ -54,6 +98,35 @@ class ContactElement(ABC):
         rtol = positive("rtol", rtol)
         out = self._fourier_derivatives(a_b, w_b, rtol)
         return tuple(_shaped(v, shape) for v in out)
+
+    def fourier_derivatives_unchecked(self, a: np.ndarray, omega: np.ndarray, rtol: float):
+        """``(f_s, f_c, df_s/da, df_c/da)`` on flat float64 arrays ``a``, ``omega`` of one size.
+
+        The solver's fast path: no validation and no broadcasting, so the caller guarantees
+        finite ``a >= 0``, ``omega >= 0`` and ``rtol > 0``.  Returns four flat arrays.
+        """
+        return self._fourier_derivatives(a, omega, rtol)
+
+    def linear_amplitude(self, omega=0.0) -> float:
+        """Amplitude (m) up to which ``f_s + i f_c = (k_s + i k_c) a`` (see ``linear_coefficients``).
+
+        Default: ``slip_amplitude(omega)``.  0 for an element that is nonlinear at any amplitude.
+        """
+        return self._linear_amplitude(nonnegative("omega", omega))
+
+    def linear_coefficients(self, omega=0.0) -> tuple[float, float]:
+        """``(k_s, k_c)`` (N/m): ``f_s = k_s a``, ``f_c = k_c a`` for ``a <= linear_amplitude(omega)``.
+
+        Default: ``(stuck_stiffness(omega), 0.0)``.
+        """
+        return self._linear_coefficients(nonnegative("omega", omega))
+
+    def reference_amplitude(self, omega=0.0) -> float:
+        """An amplitude (m) at which the element is clearly nonlinear (default ``slip_amplitude``).
+
+        Amplitude sweeps are measured in it, and property tests sample amplitudes around it.
+        """
+        return self._reference_amplitude(nonnegative("omega", omega))
 
     def stuck_stiffness(self, omega=0.0) -> float:
         """Dynamic stiffness (N/m) while nothing slips; ``k* = stuck_stiffness(0)``."""
@@ -97,6 +170,15 @@ class ContactElement(ABC):
 
     @abstractmethod
     def _hysteresis(self, a: float, omega: float, n: int): ...
+
+    def _linear_amplitude(self, omega: float) -> float:
+        return float(self._slip_amplitude(omega))
+
+    def _linear_coefficients(self, omega: float) -> tuple[float, float]:
+        return float(self._stuck_stiffness(omega)), 0.0
+
+    def _reference_amplitude(self, omega: float) -> float:
+        return float(self._slip_amplitude(omega))
 
     def _fourier_derivatives(self, a, omega, rtol):
         fs, fc = self._fourier(a, omega, rtol)

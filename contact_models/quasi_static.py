@@ -73,13 +73,25 @@ class QuasiStatic(ContactElement):
         self.calls += 1
         return self.element.hysteresis(a, 0.0, n=n)
 
+    def _linear_amplitude(self, omega):
+        self.calls += 1
+        return float(self.element.linear_amplitude(0.0))
+
+    def _linear_coefficients(self, omega):
+        self.calls += 1
+        return self.element.linear_coefficients(0.0)
+
+    def _reference_amplitude(self, omega):
+        self.calls += 1
+        return float(self.element.reference_amplitude(0.0))
+
     def _fourier(self, a, omega, rtol):
         self.calls += 1
         return self.element._fourier(a, np.zeros_like(omega), rtol)
 
     def _fourier_derivatives(self, a, omega, rtol):
         self.calls += 1
-        return self.element._fourier_derivatives(a, np.zeros_like(omega), rtol)
+        return self.element.fourier_derivatives_unchecked(a, np.zeros_like(omega), rtol)
 
     @staticmethod
     def _check(omega):
@@ -106,6 +118,9 @@ class StuckContact(ContactElement):
 
     def _slip_amplitude(self, omega):
         return math.inf
+
+    def _reference_amplitude(self, omega):
+        return float(self.element.reference_amplitude(omega))
 
     def _hysteresis(self, a, omega, n):
         theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)

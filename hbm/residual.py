@@ -35,8 +35,10 @@ default case) slows Newton's convergence a little but does not move the converge
 ``fresh_omega_derivative = True`` takes it anew at every call (used to locate peaks and folds).
 The stuck stiffness's omega-derivative (below a_min) is a central difference, reused likewise.
 
-Below the element's slip amplitude ``a_min(omega)`` the element is linear, ``p = k*(omega)``,
-``q = 0``: the stuck stiffness is used directly and the element's Fourier routine is not called.
+Up to the element's ``linear_amplitude(omega)`` (its slip amplitude for the bars and the Jenkins
+element, 0 for an element that is never linear) the element is linear,
+``(p, q) = linear_coefficients(omega)`` (``(k*(omega), 0)`` for a stuck bar): these are used
+directly and the element's Fourier routine is not called.
 """
 
 from __future__ import annotations
@@ -61,8 +63,8 @@ class HarmonicBalance:
     element.  The scaled form used by the continuation is ``u = (x_c/x_ref, x_s/x_ref,
     omega/omega_ref)``, ``R/F``.
 
-    The element is called through its private ``_fourier_derivatives`` on 1-element float
-    arrays: the public method's validation and broadcasting would cost more than the balance
+    The element is called through its fast path ``fourier_derivatives_unchecked`` on 1-element
+    float arrays: the public method's validation and broadcasting would cost more than the balance
     itself in the Newton loop; (a, omega) are finite and >= 0 here by construction.
     """
 
@@ -80,9 +82,7 @@ class HarmonicBalance:
         self.ncalls = 0  #: balance evaluations
         el = element
         self._freq_dep = el is not None and bool(getattr(el, "frequency_dependent", True))
-        self._derivs = getattr(el, "_fourier_derivatives", None) if el is not None else None
-        if el is not None and self._derivs is None:  # an element without the private split
-            self._derivs = lambda a, w, rtol: el.fourier_derivatives(a, w, rtol=rtol)
+        self._derivs = el.fourier_derivatives_unchecked if el is not None else None
         self._dw = None  # (omega, a, dp/domega, dq/domega) of the last omega difference
         self._stuck_dw_cache = None  # (omega, dk*/domega)
         self.omega_fd_step = math.sqrt(max(self.rtol, 1e-14))
@@ -93,9 +93,11 @@ class HarmonicBalance:
         el = self.element
         if el is None:
             return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-        if a == 0.0 or a <= el.slip_amplitude(omega):
+        if a == 0.0 or a <= el.linear_amplitude(omega):
             self.nstuck += 1
-            return (self._stuck(omega), 0.0, 0.0, 0.0, self._stuck_dw(omega), 0.0)
+            p, q = self._linear(omega)
+            dpw, dqw = self._linear_dw(omega)
+            return p, q, 0.0, 0.0, dpw, dqw
         p, q, dp, dq = self._pq(a, omega)
         if not self._freq_dep:
             return p, q, dp, dq, 0.0, 0.0
@@ -115,21 +117,22 @@ class HarmonicBalance:
         p, q = fs / a, fc / a
         return p, q, (dfs - p) / a, (dfc - q) / a
 
-    def _stuck(self, omega):
-        return float(self.element.stuck_stiffness(omega))
+    def _linear(self, omega):
+        k_s, k_c = self.element.linear_coefficients(omega)
+        return float(k_s), float(k_c)
 
-    def _stuck_dw(self, omega):
-        """dk*/domega: central difference, retaken after a relative change OMEGA_REFRESH of omega."""
+    def _linear_dw(self, omega):
+        """d(k_s, k_c)/domega of the linear range: central difference, retaken after a relative
+        change OMEGA_REFRESH of omega."""
         if not self._freq_dep:
-            return 0.0
+            return 0.0, 0.0
         c = self._stuck_dw_cache
         if c is not None and not self.fresh_omega_derivative and abs(omega - c[0]) <= OMEGA_REFRESH * omega:
             return c[1]
         h = STUCK_FD_STEP * max(omega, 1e-3 * self.omega_ref)
-        if omega >= h:
-            d = (self._stuck(omega + h) - self._stuck(omega - h)) / (2.0 * h)
-        else:
-            d = (self._stuck(omega + h) - self._stuck(omega)) / h
+        lo = omega - h if omega >= h else omega
+        (ps_hi, pc_hi), (ps_lo, pc_lo) = self._linear(omega + h), self._linear(lo)
+        d = ((ps_hi - ps_lo) / (omega + h - lo), (pc_hi - pc_lo) / (omega + h - lo))
         self._stuck_dw_cache = (omega, d)
         return d
 
