@@ -66,8 +66,8 @@ def _figure(frf, case, path):
 
 def _run(args) -> int:
     from .progress import ProgressLine
-    from .scene import SceneError, effect_lines, load_scene, output_names, parse_override, plan_scene, run_scene
-    from .scene import summary_lines
+    from .scenes import SceneError, effect_lines, load_scene, output_names, parse_override, plan_scene, run_scene
+    from .scenes import summary_lines
 
     try:
         overrides = dict(parse_override(text) for text in args.set)

@@ -133,7 +133,8 @@ def continuation(residual, y0, *, parameter: int = -1, bounds=(-math.inf, math.i
     ``max_steps`` accepted steps, or when the step falls below ``min_step``.  ``tol`` bounds
     ``|R|`` (Euclidean) at every returned point.  ``scale(y)``: optional positive weights (see module).
     Folds are located to ``fold_xtol`` (relative arclength) when ``locate_folds``.
-    ``on_point(y)``: called with each point as soon as it is accepted, in order (streaming).
+    ``on_point(y, residual_norm)``: called with each point and its |R| as soon as it is accepted,
+    in order (streaming).
     """
     y0 = np.array(y0, dtype=float).ravel()
     n = y0.size
@@ -169,8 +170,8 @@ def continuation(residual, y0, *, parameter: int = -1, bounds=(-math.inf, math.i
     if t[p] * direction < 0.0:
         t = -t
     ys, ts, rn, its = [y], [t], [start.rnorm], [start.iterations]
-    report = on_point if on_point is not None else (lambda y: None)
-    report(y)
+    report = on_point if on_point is not None else (lambda y, rnorm: None)
+    report(y, start.rnorm)
     fold_after = []
     h = min(max(step if step is not None else FIRST_STEP * max_step, min_step), max_step)
     zero = np.zeros(n)
@@ -236,7 +237,7 @@ def continuation(residual, y0, *, parameter: int = -1, bounds=(-math.inf, math.i
                 ts.append(_tangent(end.J, s_end, _rescale(t, s, s_end)))
                 rn.append(end.rnorm)
                 its.append(end.iterations)
-                report(end.y)
+                report(end.y, end.rnorm)
                 detail = f" (at its {'upper' if bound == hi else 'lower'} end)"
             else:
                 detail = f" (the point on the bound {bound!r} did not converge: {end.reason}; kept the last inside)"
@@ -248,7 +249,7 @@ def continuation(residual, y0, *, parameter: int = -1, bounds=(-math.inf, math.i
         ts.append(t)
         rn.append(new.rnorm)
         its.append(new.iterations)
-        report(y)
+        report(y, new.rnorm)
         normal = t
         if corners and corners[-1] == len(ys) - 1:
             c2 = c3 = zero

@@ -9,7 +9,6 @@ of points depends on the logarithm of the resonant amplification, not on the amp
 
 from __future__ import annotations
 
-import csv
 import math
 from pathlib import Path
 from typing import NamedTuple
@@ -19,16 +18,12 @@ import numpy as np
 from . import continuation as cont  # the module (hbm.continuation)
 from ._validation import count, nonnegative, positive
 from .blade import Blade
+from .output import write_frf_csv
+from .presets import DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply
 from .residual import HarmonicBalance
 
 #: Newton tolerance on |R|/F (Euclidean, R = (R_c, R_s)) as a fraction of ``rtol``.
 NEWTON_TOL_FACTOR = 5e-3
-#: Default largest step (scaled arclength, see module docstring).
-DEFAULT_MAX_STEP = 0.03
-#: Default smallest step.
-DEFAULT_MIN_STEP = 1e-9
-#: Default step budget.
-DEFAULT_MAX_STEPS = 5000
 #: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
 #: amplitude error is quadratic in that distance.
 PEAK_XTOL_FACTOR = 1e-3
@@ -159,14 +154,9 @@ class FrequencyResponse:
 
     # ------------------------------------------------------------------ output
     def to_csv(self, path) -> Path:
-        """Write omega, amplitude, phase, x_c, x_s, residual per point; returns the path."""
-        path = Path(path)
-        with path.open("w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["omega_rad_s", "amplitude_m", "phase_rad", "x_c_m", "x_s_m", "residual"])
-            for row in zip(self.omega, self.amplitude, self.phase, self.x_c, self.x_s, self.residual_norm):
-                w.writerow([repr(float(v)) for v in row])
-        return path
+        """Write the points as ``hbm.output.FRF_COLUMNS`` (omega, amplitude, phase, x_c, x_s,
+        residual, units in the header); returns the path."""
+        return write_frf_csv(path, self)
 
     def plot(self, ax=None, *, label=None, peak=True, **kwargs):
         """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax."""
@@ -183,7 +173,7 @@ class FrequencyResponse:
         return ax
 
 
-def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: float = 1e-6,
+def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: float = DEFAULT_RTOL,
                        max_step: float = DEFAULT_MAX_STEP, min_step: float = DEFAULT_MIN_STEP,
                        max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True,
                        on_point=None, accuracy=None) -> FrequencyResponse:
@@ -193,8 +183,9 @@ def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: fl
     ``rtol``: relative accuracy; the element is evaluated to ``rtol`` and every point solves
     the balance to ``|R|/F <= NEWTON_TOL_FACTOR * rtol``.  ``max_step``/``min_step``: step
     limits in scaled arclength (module docstring); ``max_steps``: step budget.
-    ``on_point(omega, x_c, x_s)``: called with each accepted point as soon as it is accepted,
-    in continuation order (the same points as the result's), so a caller can stream them.
+    ``on_point(omega, x_c, x_s, residual)``: called with each accepted point and its |R|/F as soon
+    as it is accepted, in continuation order (the same points as the result's), so a caller can
+    stream them.
     ``accuracy``: "fast", "default", "precise" or an rtol; sets rtol, max_step, min_step and
     max_steps together (``hbm.presets``; not combined with them).
     """
@@ -211,8 +202,6 @@ def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: fl
     if w0 == w1:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     if accuracy is not None:
-        from .presets import apply  # here: hbm.presets reads this module's defaults
-
         rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step,
                                                     min_step=min_step, max_steps=max_steps)
     rtol = positive("rtol", rtol)
@@ -294,11 +283,11 @@ def response_at(blade: Blade, element, omega, amplitude_bracket, *, rtol: float 
 
 
 def _physical(on_point, problem):
-    """``on_point(omega, x_c, x_s)`` for the continuation's ``on_point(y)`` in scaled unknowns."""
+    """``on_point(omega, x_c, x_s, residual)`` for the continuation's ``on_point(y, rnorm)`` in scaled unknowns."""
 
-    def report(y):
+    def report(y, rnorm):
         xc, xs, w = problem.to_physical(y)
-        on_point(float(w), float(xc), float(xs))
+        on_point(float(w), float(xc), float(xs), float(rnorm))
 
     return report
 

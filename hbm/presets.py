@@ -1,4 +1,7 @@
-"""Accuracy presets of :func:`hbm.frequency_response`: one name, or one ``rtol``, sets every knob.
+"""Defaults and accuracy presets of :func:`hbm.frequency_response`: the one source of both.
+
+``hbm.frf`` and the scenes read their defaults here; this module imports neither.
+One name, or one ``rtol``, sets every knob:
 
 ``frequency_response(blade, element, omega_range, accuracy="fast" | "default" | "precise")``
 or ``accuracy=1e-5`` (a relative tolerance).  Chosen from the measurements of
@@ -34,10 +37,14 @@ import math
 import numbers
 from dataclasses import asdict, dataclass
 
-from . import frf
+from contact_models.base import DEFAULT_RTOL  # the elements' default rtol is the FRF's too
 
-#: The rtol of ``frequency_response``'s defaults (the "default" preset).
-DEFAULT_RTOL = 1e-6
+#: Default largest step (scaled arclength, ``hbm.frf``'s module docstring).
+DEFAULT_MAX_STEP = 0.03
+#: Default smallest step.
+DEFAULT_MIN_STEP = 1e-9
+#: Default step budget.
+DEFAULT_MAX_STEPS = 5000
 #: max_step grows like rtol ** STEP_EXPONENT (0.03 at 1e-6, 0.095 at 1e-3, 0.0095 at 1e-9).
 STEP_EXPONENT = 1.0 / 6.0
 #: Limits of the preset max_step.
@@ -65,22 +72,29 @@ class Accuracy:
     max_steps: int
 
     def options(self) -> dict:
-        """Keyword arguments for ``frequency_response``."""
+        """Keyword arguments for ``frequency_response``.
+
+        Examples
+        --------
+        >>> from hbm.presets import resolve
+        >>> resolve("default").options()
+        {'rtol': 1e-06, 'max_step': 0.03, 'min_step': 1e-09, 'max_steps': 5000}
+        """
         return asdict(self)
 
 
 def from_rtol(rtol: float) -> Accuracy:
     """The knobs for a relative tolerance ``rtol`` (0 < rtol < 0.1)."""
     max_step = max_step_for(rtol)
-    max_steps = math.ceil(frf.DEFAULT_MAX_STEPS * frf.DEFAULT_MAX_STEP / max_step * (1.0 - 1e-12))
-    return Accuracy(rtol=float(rtol), max_step=max_step, min_step=frf.DEFAULT_MIN_STEP, max_steps=max_steps)
+    max_steps = math.ceil(DEFAULT_MAX_STEPS * DEFAULT_MAX_STEP / max_step * (1.0 - 1e-12))
+    return Accuracy(rtol=float(rtol), max_step=max_step, min_step=DEFAULT_MIN_STEP, max_steps=max_steps)
 
 
 def max_step_for(rtol: float) -> float:
     """``DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT``, clipped; the default at 1e-6."""
     if rtol == DEFAULT_RTOL:
-        return frf.DEFAULT_MAX_STEP  # exactly the default, not a rounding of it
-    step = frf.DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT
+        return DEFAULT_MAX_STEP  # exactly the default, not a rounding of it
+    step = DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT
     return min(max(step, MIN_PRESET_STEP), MAX_PRESET_STEP)
 
 
@@ -108,8 +122,8 @@ def apply(accuracy, *, rtol, max_step, min_step, max_steps):
     ``resolve(accuracy).options()`` and pass the knobs themselves.
     """
     preset = resolve(accuracy)
-    given = {"rtol": (rtol, DEFAULT_RTOL), "max_step": (max_step, frf.DEFAULT_MAX_STEP),
-             "min_step": (min_step, frf.DEFAULT_MIN_STEP), "max_steps": (max_steps, frf.DEFAULT_MAX_STEPS)}
+    given = {"rtol": (rtol, DEFAULT_RTOL), "max_step": (max_step, DEFAULT_MAX_STEP),
+             "min_step": (min_step, DEFAULT_MIN_STEP), "max_steps": (max_steps, DEFAULT_MAX_STEPS)}
     clash = [f"{k}={v!r}" for k, (v, d) in given.items() if v != d]
     if clash:
         raise ValueError(f"accuracy={accuracy!r} sets rtol, max_step, min_step and max_steps; got also "

@@ -2,7 +2,7 @@
 
 One line on a terminal, rewritten in place (carriage return), once the run has taken longer than
 ``SHOW_AFTER`` seconds and at most every ``INTERVAL`` seconds; nothing at all when disabled (not a
-terminal, or ``--quiet``).  It is a callback for ``hbm.scene.run_scene(progress=...)``.
+terminal, or ``--quiet``).  It is a callback for ``hbm.scenes.run_scene(progress=...)``.
 """
 
 from __future__ import annotations

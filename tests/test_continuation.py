@@ -54,7 +54,7 @@ def test_circle_stops_on_the_bound():
 def test_on_point_streams_exactly_the_returned_points():
     seen = []
     r = continuation(sine, [0.0, 0.0], parameter=1, bounds=(-2.0, 2.0), max_step=0.1, max_steps=400,
-                     tol=TOL, on_point=lambda y: seen.append(np.array(y)))
+                     tol=TOL, on_point=lambda y, rnorm: seen.append(np.array(y)))
     assert len(r.folds) >= 2  # through folds, and onto the bound at the end
     np.testing.assert_array_equal(np.array(seen), r.y)
 

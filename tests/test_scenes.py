@@ -23,7 +23,7 @@ from hbm import Blade, frequency_response
 from hbm.__main__ import main
 from hbm.progress import ProgressLine
 from hbm.residual import HarmonicBalance, linear_response
-from hbm.scene import FRF_COLUMNS, Progress, load_scene, plan_scene, run_scene, scene_from_dict, summary_lines
+from hbm.scenes import EFFECTS, Progress, columns, load_scene, plan_scene, run_scene, scene_from_dict, summary_lines
 
 from conftest import BAR
 
@@ -230,8 +230,9 @@ def test_summary_lists_every_effect_with_a_reason(tmp_path):
     assert summary["status"] == "success"
     run = summary["runs"][0]
     names = [e["effect"] for e in run["effects"]]
-    assert names == ["strain-hardening spring", "damper inertia", "interior slip onset (three regions)",
-                     "damper slip", "higher harmonics"]
+    assert names == [e.name for e in EFFECTS]  # every registered effect, in order, decided for the bar
+    assert {"strain-hardening spring", "damper inertia", "interior slip onset (three regions)", "damper slip",
+            "higher harmonics"} <= set(names)
     assert all(isinstance(e["simulated"], bool) and e["reason"] for e in run["effects"])
     assert run["peak"]["amplitude_m"] == pytest.approx(DEFAULT_PEAK, rel=1e-6)
     assert run["counters"]["nsteps"] == run["points"] - 1 and run["time_s"] > 0
@@ -275,7 +276,7 @@ def test_on_point_streams_exactly_the_points_of_the_result(case):
     seen = np.array(seen)
     assert len(seen) == len(frf)
     assert np.array_equal(seen[:, 0], frf.omega) and np.array_equal(seen[:, 1], frf.x_c)
-    assert np.array_equal(seen[:, 2], frf.x_s)
+    assert np.array_equal(seen[:, 2], frf.x_s) and np.array_equal(seen[:, 3], frf.residual_norm)
 
 
 def test_csv_is_renamed_complete_only_after_success(tmp_path):
@@ -316,9 +317,9 @@ def test_killed_run_leaves_a_parseable_csv_of_finished_points(tmp_path):
             proc.kill()
     assert proc.returncode == -signal.SIGKILL
     rows = list(csv.reader(partial.open()))
-    assert tuple(rows[0]) == FRF_COLUMNS and len(rows) > 40
+    assert tuple(rows[0]) == columns(load_scene(DEFAULT)) and len(rows) > 40
     data = np.array([[float(v) for v in r[3:]] for r in rows[1:]])  # every row complete and numeric
-    assert all(len(r) == len(FRF_COLUMNS) for r in rows)
+    assert all(len(r) == len(rows[0]) for r in rows)
     omega, amp = data[:, 0], data[:, 1]
     assert omega[0] == pytest.approx(0.24 * Bar(**BAR).omega_c, rel=1e-12) and np.all(np.diff(omega) > 0)
     assert np.all(amp > 0)

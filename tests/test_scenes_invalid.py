@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from hbm.__main__ import main
-from hbm.scene import SCHEMA, SceneError, all_keys, load_scene
+from hbm.scenes import SceneError, all_keys, load_scene, schema
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 DEFAULT = (SCENES / "default_microslip_frf.toml").read_text()
@@ -119,4 +119,4 @@ def test_docs_list_every_key():
     doc = (Path(__file__).resolve().parent.parent / "docs" / "scenes.md").read_text()
     missing = [k for k in all_keys() if f"`{k}`" not in doc]
     assert not missing, missing
-    assert set(SCHEMA) == {"", "blade", "damper", "damper.load", "effects", "sweep", "output"}
+    assert set(schema()) == {"", "blade", "damper", "damper.load", "effects", "sweep", "output"}

@@ -1,0 +1,166 @@
+"""Building blocks of the scene schema: a key's check, its default and its doc.
+
+A check is a callable ``check(value) -> converted value`` that raises :class:`Invalid` with what
+is allowed.  The constructors below (:func:`number`, :func:`integer`, :func:`choice`, ...) make
+the checks of every built-in key; a user's model registered with
+:func:`hbm.scenes.register_model` declares its own keys with them.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+from typing import Any, Callable, NamedTuple
+
+class SceneError(ValueError):
+    """An invalid scene: ``problems`` lists every message (file, table.key, value, what is allowed)."""
+
+    def __init__(self, problems):
+        self.problems = list(problems)
+        super().__init__("\n".join(self.problems))
+
+
+class Invalid(Exception):
+    """A value check failed; the argument says what is allowed."""
+
+
+#: Marker: the key must be given.
+REQUIRED = object()  # marker: the key must be given (whatever else the scene says)
+OPTIONAL = None  # the key may be left out; its meaning then depends on other keys (see doc)
+
+
+class Key(NamedTuple):
+    """One key of a table: ``check(value) -> converted`` (raises :class:`Invalid`), default, doc.
+
+    ``default`` is a value, :data:`REQUIRED` (the key must be given) or :data:`OPTIONAL` (it may
+    be left out; its meaning then depends on other keys).
+    """
+
+    check: Callable[[Any], Any]
+    default: Any
+    doc: str
+
+
+def show(v) -> str:
+    """A value as it would be written in TOML."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, str):
+        return json.dumps(v)
+    if isinstance(v, float) and math.isinf(v):
+        return "inf" if v > 0 else "-inf"
+    if isinstance(v, float) and math.isnan(v):
+        return "nan"
+    if isinstance(v, list):
+        return "[" + ", ".join(show(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{k} = {show(x)}" for k, x in v.items()) + "}"
+    return repr(v)
+
+
+def number(*, gt=None, ge=None, lt=None, unit="", allow_inf=False):
+    parts = [p for p in (f"> {gt:g}" if gt is not None else None, f">= {ge:g}" if ge is not None else None,
+                         f"< {lt:g}" if lt is not None else None) if p]
+    what = "a number" + (" " + " and ".join(parts) if parts else "") + (f" ({unit})" if unit else "")
+    if allow_inf:
+        what += " or inf"
+
+    def check(v):
+        if isinstance(v, bool) or not isinstance(v, (int, float)):
+            raise Invalid(f"must be {what}")
+        v = float(v)
+        if math.isnan(v) or (math.isinf(v) and not (allow_inf and v > 0)):
+            raise Invalid(f"must be {what} (finite)" if not allow_inf else f"must be {what}")
+        if ((gt is not None and not v > gt) or (ge is not None and not v >= ge)
+                or (lt is not None and not v < lt)):
+            raise Invalid(f"must be {what}")
+        return v
+
+    check.what = what
+    return check
+
+
+def integer(minimum):
+    def check(v):
+        if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
+            raise Invalid(f"must be an integer >= {minimum}")
+        return int(v)
+
+    return check
+
+
+def boolean(v):
+    if not isinstance(v, bool):
+        raise Invalid("must be true or false")
+    return v
+
+
+def text(v):
+    if not isinstance(v, str):
+        raise Invalid("must be a string")
+    return v
+
+
+def choice(*names):
+    allowed = ", ".join(json.dumps(n) for n in names)
+
+    def check(v):
+        if not isinstance(v, str) or v not in names:
+            hint = ""
+            if isinstance(v, str):
+                close = difflib.get_close_matches(v, names, n=1)
+                hint = f" (did you mean {json.dumps(close[0])}?)" if close else ""
+            raise Invalid(f"must be one of {allowed}{hint}")
+        return v
+
+    check.names = names
+    return check
+
+
+def one_or_list(item, what):
+    """A single value or a non-empty list of distinct values (a study over them); returns a tuple."""
+
+    def check(v):
+        values = v if isinstance(v, list) else [v]
+        if not values:
+            raise Invalid(f"must be {what}, or a non-empty list of them")
+        try:
+            out = tuple(item(x) for x in values)
+        except Invalid as exc:
+            raise Invalid(f"{exc} (or a list of such values)") from None
+        if len(set(out)) != len(out):
+            raise Invalid("must not repeat a value")
+        return out
+
+    return check
+
+
+def number_list(item, *, length=None, minimum=1):
+    def check(v):
+        if not isinstance(v, list) or (length is not None and len(v) != length) or len(v) < minimum:
+            n = f"{length}" if length is not None else f"at least {minimum}"
+            raise Invalid(f"must be a list of {n} numbers, each {item.what}")
+        try:
+            return tuple(item(x) for x in v)
+        except Invalid as exc:
+            raise Invalid(f"must be a list of {len(v)} numbers, each {item.what}") from exc
+
+    return check
+
+
+def formats(v):
+    """A list of distinct output names out of "csv", "png", "json"."""
+    names = ("csv", "png", "json")
+    if not isinstance(v, list) or any(x not in names for x in v) or len(set(v)) != len(v):
+        raise Invalid('must be a list of distinct names out of "csv", "png", "json"')
+    return tuple(v)
+
+
+def dot(table: str, key: str) -> str:
+    """``table.key`` (a top-level key bare)."""
+    return f"{table}.{key}" if table else key
+
+
+positive = number(gt=0)
+nonnegative = number(ge=0)

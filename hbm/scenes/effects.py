@@ -1,0 +1,301 @@
+"""The physical effects of a scene: a sequence of small deciders, each returning its decision and why.
+
+A scene simulates only the effects it calls for.  Each entry of :data:`EFFECTS` is an
+:class:`EffectSpec`: its name, the ``[effects]`` key that sets it (if any) and a decider
+``decide(run) -> Effect | None`` that looks at one planned run (an
+:class:`hbm.scenes.planning.RunContext`), may change it (switch the damper's inertia off, pick
+the microslip topology, hold a damper stuck) and says what it decided and why; None means the
+effect does not concern this run's model.  The deciders run in the order of :data:`EFFECTS`;
+adding an effect is one :func:`register_effect` call (``docs/extending.md``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, Callable
+
+import numpy as np
+
+from .checks import Key, SceneError, boolean, choice, integer, Invalid, show
+
+#: Slip starts at the excited end when Bar.slip_onset's x* lies within this fraction of L of L.
+ONSET_AT_END = 1e-9
+#: Grid of the stuck-response check (points over the sweep) before the peak is refined.
+STUCK_GRID = 4001
+#: Frequencies at which the linear amplitude of a dynamic damper is sampled for the stuck check.
+AMIN_SAMPLES = 65
+#: The stuck response must stay below the linear amplitude by this relative margin to call the damper stuck.
+STUCK_MARGIN = 1e-6
+
+
+@dataclass
+class Effect:
+    """One physical effect of a run: simulated or not, and why."""
+
+    name: str
+    simulated: bool
+    reason: str
+
+    def as_dict(self) -> dict:
+        return {"effect": self.name, "simulated": self.simulated, "reason": self.reason}
+
+
+@dataclass(frozen=True)
+class EffectSpec:
+    """An effect: ``name``, the ``[effects]`` key that sets it (``key_name``, ``key``) and its decider."""
+
+    name: str
+    decide: Callable[[Any], Effect | None]
+    key_name: str | None = None
+    key: Key | None = None
+
+
+EFFECTS: list[EffectSpec] = []
+
+
+def register_effect(name: str, decide: Callable[[Any], Effect | None], *, key_name: str | None = None,
+                    key: Key | None = None, before: str | None = None) -> EffectSpec:
+    """Add an effect decided by ``decide(run)``; ``key_name``/``key`` add ``effects.<key_name>``.
+
+    The decider runs after the effects already registered, or just before the one named
+    ``before``.  Returns the :class:`EffectSpec`.
+    """
+    if not isinstance(name, str) or not name:
+        raise ValueError(f"name must be a non-empty string, got name={name!r}")
+    if any(e.name == name for e in EFFECTS):
+        raise ValueError(f"name={name!r}: an effect of that name is registered already")
+    if not callable(decide):
+        raise ValueError(f"decide must be callable as decide(run) -> Effect | None, got decide={decide!r}")
+    if (key_name is None) != (key is None):
+        raise ValueError(f"key_name and key go together, got key_name={key_name!r}, key={key!r}")
+    if key_name is not None and any(e.key_name == key_name for e in EFFECTS):
+        raise ValueError(f"key_name={key_name!r}: effects.{key_name} is set by another effect already")
+    spec = EffectSpec(name, decide, key_name, key)
+    names = [e.name for e in EFFECTS]
+    if before is not None and before not in names:
+        raise ValueError(f"before={before!r} is not a registered effect; registered: {', '.join(names)}")
+    EFFECTS.insert(names.index(before) if before is not None else len(EFFECTS), spec)
+    return spec
+
+
+def unregister_effect(name: str) -> None:
+    """Remove the effect ``name``."""
+    for i, e in enumerate(EFFECTS):
+        if e.name == name:
+            del EFFECTS[i]
+            return
+    raise ValueError(f"name={name!r} is not a registered effect")
+
+
+# ====================================================================== the deciders
+def strain_hardening(run) -> Effect | None:
+    """The spring beta at the bar's end x = 0: off sets beta = 0 in the bar of this run."""
+    if run.bar is None:
+        return None
+    beta = run.bar.beta
+    if not run.scene.effects["strain_hardening"]:
+        from contact_models import Bar
+
+        b = run.bar
+        run.bar = Bar(E=b.E, rho=b.rho, A=b.A, L=b.L, k=b.k, beta=0.0, mu=b.mu)
+        return Effect("strain-hardening spring", False, "effects.strain_hardening = false: beta = 0" +
+                      (f" (damper.beta = {beta:g} N/m left out)" if beta else ""))
+    if beta == 0.0:
+        return Effect("strain-hardening spring", False, "damper.beta = 0")
+    return Effect("strain-hardening spring", True, f"beta = {beta:g} N/m")
+
+
+def inertia(run) -> Effect:
+    """Damper inertia: from the stuck dynamic stiffness at the top of the sweep (``auto``).
+
+    A model on the microslip bar decides from the bar before its element is built; any other
+    model from its element's ``stuck_stiffness`` (a frequency-independent element is massless).
+    Off, the element is wrapped in ``contact_models.QuasiStatic`` (omega = 0 in the damper).
+    """
+    tol = run.scene.effects["tolerance"]
+    setting = run.scene.effects["inertia"]
+    w_hi = max(run.omega)
+    if run.spec.microslip is not None:
+        bar = run.bar
+        K0 = float(bar.stuck_stiffness(0.0))
+        change = abs(float(bar.stuck_stiffness(w_hi)) / K0 - 1.0)
+        at = (f"|K*(omega_max)/k* - 1| = {change:.3g} at omega_max = {w_hi:.6g} rad/s "
+              f"({w_hi / bar.omega_c:.4g} omega_c)")
+        slide = _sliding_change(bar, run.load, w_hi)
+        info = "" if slide is None else f" (for information: the fully slipping bar's stiffness changes by {slide:.3g} there)"
+    else:
+        element = run.element
+        if not element.frequency_dependent:
+            run.inertia = False
+            note = f" ({run.note})" if run.note else ""
+            return Effect("damper inertia", False, f"{run.label} element: massless, frequency independent{note}")
+        K0 = float(element.stuck_stiffness(0.0))
+        change = abs(float(element.stuck_stiffness(w_hi)) / K0 - 1.0) if K0 else math.inf
+        at = f"|K*(omega_max)/K*(0) - 1| = {change:.3g} at omega_max = {w_hi:.6g} rad/s"
+        info = ""
+    if setting == "auto":
+        run.inertia = change > tol
+        reason = f"auto: {at}, {'above' if run.inertia else 'not above'} the tolerance {tol:g}"
+    else:
+        run.inertia = setting == "on"
+        reason = f"effects.inertia = {show(setting)} ({at})"
+    if not run.inertia:
+        reason += ": quasi-static damper (omega = 0 in the damper)"
+    reason += info
+    if run.spec.name == "point-contact":
+        reason += "; the point contact itself is massless: inertia enters through its fit"
+    return Effect("damper inertia", run.inertia, reason)
+
+
+def topology(run) -> Effect | None:
+    """Two or three regions, from where slip starts on the bar (Section 2.1); builds ``run.micro``."""
+    if run.spec.microslip is None:
+        return None
+    from contact_models import ThreeRegionMicroslip, TwoRegionMicroslip
+
+    asked = run.spec.microslip(run.params)
+    key = "damper.fit_to" if "fit_to" in run.spec.keys else "damper.model"
+    bar, load = run.bar, run.load
+    lo, hi = min(run.omega), max(run.omega)
+    if not run.inertia:
+        probe = (0.0,)
+    elif run.blade is not None:
+        probe = (lo, 0.5 * (lo + hi), hi)
+    else:
+        probe = tuple(sorted(set(run.omega)))
+    onsets = [(w, bar.slip_onset(load, w)[0] / bar.L) for w in probe]
+    interior = [w for w, x in onsets if x < 1.0 - ONSET_AT_END]
+    where = ", ".join(f"x*/L = {x:.4g} at {w:.6g} rad/s" for w, x in onsets)
+    if asked == "auto":
+        name = "three-region" if interior else "two-region"
+        why = (f"auto: slip starts inside the bar ({where}): three regions" if interior else
+               f"auto: slip starts at the excited end ({where}): two regions")
+    else:
+        name = asked
+        why = f"{key} = {show(asked)} ({where})"
+        if name == "three-region" and not interior:
+            why += "; slip starts at the excited end, so the element follows its two-region path"
+    cls = ThreeRegionMicroslip if name == "three-region" else TwoRegionMicroslip
+    text = run.load_text
+    try:
+        run.micro = cls(bar, load)
+    except ValueError as exc:
+        raise SceneError([f"{run.where(key)} = {show(asked)} with the {text}: {exc}; "
+                          'allowed here: "three-region" or "auto"']) from None
+    run.topology = name
+    for w in probe:  # the damper frequencies the element will see: its path must exist there
+        try:
+            run.micro.slip_amplitude(w)
+            run.micro.gross_slip_amplitude(w)
+        except (ValueError, FloatingPointError) as exc:
+            where_key = "damper.load" if isinstance(exc, ValueError) else "sweep.omega"
+            raise SceneError([f"{run.where(where_key)}: {exc} (damper.model = {show(run.spec.name)}, {text})"]) from None
+    return Effect("interior slip onset (three regions)", name == "three-region", f"{why}; {text}")
+
+
+def slip(run) -> Effect:
+    """A damper whose stuck (linear) response never reaches its linear amplitude is a linear spring."""
+    from contact_models.quasi_static import StuckContact
+
+    if run.blade is None:
+        return Effect("damper slip", True, "amplitude sweep: the amplitudes are given")
+    peak, smallest = stuck_peak(run.blade, run.element, run.omega)
+    if smallest == 0.0:
+        return Effect("damper slip", True, "the element is nonlinear at every amplitude (linear_amplitude = 0)")
+    ratio = peak / smallest
+    if ratio < 1.0 - STUCK_MARGIN:
+        run.element = StuckContact(run.element)
+        return Effect("damper slip", False,
+                      f"damper stayed stuck: linear spring (the stuck response peaks at {peak:.4g} m = "
+                      f"{ratio:.4g} of the smallest slip amplitude {smallest:.4g} m in the sweep)")
+    return Effect("damper slip", True, f"the stuck response reaches {ratio:.4g} times the slip amplitude "
+                                       f"({peak:.4g} m against {smallest:.4g} m)")
+
+
+def harmonics_key(v):
+    """``effects.harmonics``: only 1 until the multi-harmonic balance is wired into scenes."""
+    v = integer(1)(v)
+    if v != 1:
+        raise Invalid("must be 1: multi-harmonic balance is not available in scenes (they solve the "
+                      "single-harmonic balance)")
+    return v
+
+
+def harmonics(run) -> Effect:
+    """Higher harmonics of the balance."""
+    return Effect("higher harmonics", False, "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c)")
+
+
+# ====================================================================== helpers
+def _sliding_change(bar, load, omega):
+    """|K_slip(omega)/K_slip(0) - 1| of the bar sliding as a whole (the slope of the loading curve
+    past gross slip, which F_s tends to at large amplitude), or None where it is not defined."""
+    from contact_models.microslip import region_solution
+
+    try:
+        with np.errstate(all="ignore"):
+            k0 = float(region_solution(bar, load.on(bar.L), 0.0, None, 0.0).K_tip)
+            kw = float(region_solution(bar, load.on(bar.L), 0.0, None, omega).K_tip)
+        v = abs(kw / k0 - 1.0)
+    except (ArithmeticError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def linear_amplitude(element, omega: float) -> float:
+    """The element's linear amplitude at ``omega``; for a dynamic bar from ``Bar.slip_onset``
+    (no loading path built)."""
+    bar, load = getattr(element, "bar", None), getattr(element, "load", None)
+    if bar is not None and load is not None and element.frequency_dependent:
+        return float(bar.slip_onset(load, omega)[1])
+    return float(element.linear_amplitude(omega))
+
+
+def stuck_peak(blade, element, omega) -> tuple[float, float]:
+    """(largest amplitude of the blade with the damper linear over the range, smallest linear
+    amplitude there)."""
+    from scipy.optimize import minimize_scalar
+
+    from ..residual import linear_response
+
+    w0, w1 = min(omega), max(omega)
+    lins = [linear_amplitude(element, w) for w in np.linspace(w0, w1, AMIN_SAMPLES)]
+    smallest = min(lins)
+    if smallest == 0.0:
+        return math.nan, 0.0
+    bar = getattr(element, "bar", None)
+    if not element.frequency_dependent:
+        ks, kc = element.linear_coefficients(0.0)
+        K = lambda om: np.full_like(om, ks + 1j * kc, dtype=complex)  # noqa: E731
+    elif bar is not None:
+        K = bar.stuck_stiffness  # vectorised
+    else:
+        K = lambda om: np.array([complex(*element.linear_coefficients(x)) for x in om])  # noqa: E731
+
+    def amp(w):
+        w = np.atleast_1d(np.asarray(w, dtype=float))
+        return np.abs(linear_response(blade, w, K))
+
+    grid = np.linspace(w0, w1, STUCK_GRID)
+    a = amp(grid)
+    i = int(np.argmax(a))
+    best = float(a[i])
+    if 0 < i < STUCK_GRID - 1 and np.isfinite(best):
+        res = minimize_scalar(lambda w: -float(amp(w)[0]), bounds=(grid[i - 1], grid[i + 1]), method="bounded",
+                              options={"xatol": 1e-12 * w1})
+        best = max(best, -float(res.fun))
+    if not np.isfinite(best):
+        best = math.inf
+    return best, smallest
+
+
+register_effect("strain-hardening spring", strain_hardening, key_name="strain_hardening",
+                key=Key(boolean, True, "the spring beta at x = 0: true, or false (beta = 0)"))
+register_effect("damper inertia", inertia, key_name="inertia",
+                key=Key(choice("on", "off", "auto"), "auto",
+                        'damper inertia: "on", "off" (quasi-static damper, omega = 0 in it) or "auto"'))
+register_effect("interior slip onset (three regions)", topology)
+register_effect("damper slip", slip)
+register_effect("higher harmonics", harmonics, key_name="harmonics",
+                key=Key(harmonics_key, 1, "harmonics of the balance; only 1 is available in scenes"))

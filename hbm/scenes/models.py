@@ -1,0 +1,278 @@
+"""The damper models a scene can name: a name -> :class:`ModelSpec` mapping (scipy's ``METHODS`` habit).
+
+A spec says which ``[damper]`` keys the model owns, what it needs from the rest of the scene (the
+bar, the normal load), how it builds its contact element from a planned run, which microslip
+topology it rests on, its amplitude unit and an example element for the property tests.  The
+scene machinery reads only the spec, never the model's name, so adding a model is one call:
+
+>>> from contact_models import Macroslip
+>>> from hbm.scenes import Key, register_model, number, unregister_model
+>>> spec = register_model(
+...     "soft-jenkins", lambda run: Macroslip(stiffness=run.params["k_soft"], slip_force=1.0),
+...     keys={"k_soft": Key(number(gt=0, unit="N/m"), 1.0e6, "spring of the soft Jenkins element (N/m)")},
+...     doc="a Jenkins element of its own spring and a 1 N slider",
+...     example=lambda: Macroslip(stiffness=1.0e6, slip_force=1.0))
+>>> spec.keys["k_soft"].default
+1000000.0
+>>> unregister_model("soft-jenkins")
+
+``docs/extending.md`` walks through it with the Iwan element.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from types import MappingProxyType
+from typing import Any, Callable, Mapping, NamedTuple
+
+from .checks import Key, choice, number
+
+#: The bar's keys in ``[damper]`` (E, rho, A, L, k, mu; beta for the strain-hardening spring).
+BAR_KEYS = ("E", "rho", "A", "L", "k", "mu")
+
+
+class Built(NamedTuple):
+    """What a spec's ``build`` may return instead of a bare element."""
+
+    element: Any
+    label: str  #: the run's name in the CSV, the summary and the figure
+    note: str = ""  #: one line on how the element was made (shown in the effects' reasons)
+
+
+@dataclass(frozen=True)
+class ModelSpec:
+    """Everything the scene machinery knows of a damper model.
+
+    Attributes
+    ----------
+    name : str
+        The value of ``damper.model``.
+    build : callable
+        ``build(run) -> element`` or :class:`Built`; ``run`` is the
+        :class:`hbm.scenes.planning.RunContext` (``run.params`` holds this spec's keys, ``run.bar``,
+        ``run.load``, ``run.N``, ``run.micro`` (the microslip element, for a spec with
+        ``microslip``), ``run.inertia``, ``run.blade``, ``run.omega``).
+    doc : str
+        One line for ``python -m hbm models`` and the docs.
+    keys : mapping
+        ``[damper]`` keys the model owns: name -> :class:`hbm.scenes.Key`.
+    needs : callable
+        ``needs(given) -> set`` of ``"bar"``, ``"load"``: what the model needs, given the
+        ``[damper]`` keys the scene sets.
+    microslip : callable or None
+        ``microslip(damper) -> "two-region" | "three-region" | "auto"``: the microslip element
+        the model rests on (the topology effect decides and builds it), or None.
+    unit : callable or None
+        ``unit(run) -> (metres, name)``: the amplitude unit of amplitude sweeps.  None: the
+        element's ``reference_amplitude`` at the lowest frequency, named "reference amplitude".
+    example : callable or None
+        ``example() -> element``: a representative element, for the property tests.
+    validate : callable or None
+        ``validate(given) -> list of str``: rules between this model's keys (``given``: the
+        ``[damper]`` keys the scene sets); each message starts with the key it is about.
+    """
+
+    name: str
+    build: Callable[[Any], Any]
+    doc: str = ""
+    keys: Mapping[str, Key] = field(default_factory=dict)
+    needs: Callable[[Mapping[str, Any]], set] = lambda given: set()
+    microslip: Callable[[Mapping[str, Any]], str | None] | None = None
+    unit: Callable[[Any], tuple[float, str]] | None = None
+    example: Callable[[], Any] | None = None
+    validate: Callable[[Mapping[str, Any]], list] | None = None
+
+
+_MODELS: dict[str, ModelSpec] = {}
+#: The registered models, name -> ModelSpec (read-only view; register with :func:`register_model`).
+MODELS: Mapping[str, ModelSpec] = MappingProxyType(_MODELS)
+
+
+def register_model(name: str, build: Callable[[Any], Any], *, keys: Mapping[str, Key] | None = None,
+                   needs: Callable[[Mapping[str, Any]], set] | set | tuple = (),
+                   microslip: Callable[[Mapping[str, Any]], str | None] | None = None,
+                   unit: Callable[[Any], tuple[float, str]] | None = None, doc: str = "",
+                   example: Callable[[], Any] | None = None,
+                   validate: Callable[[Mapping[str, Any]], list] | None = None,
+                   replace: bool = False) -> ModelSpec:
+    """Make ``damper.model = name`` build ``build(run)``; returns the :class:`ModelSpec`.
+
+    ``needs`` is a set (``{"bar"}``, ``{"bar", "load"}``) or ``needs(given) -> set``.  A key name
+    may be owned by several models only as the same :class:`Key` object.  ``replace=True``
+    replaces a registered model of that name.  See :class:`ModelSpec` for the rest.
+
+    Examples
+    --------
+    >>> from contact_models import Macroslip
+    >>> from hbm.scenes import MODELS, register_model, unregister_model
+    >>> _ = register_model("unit-jenkins", lambda run: Macroslip(stiffness=1.0, slip_force=1.0))
+    >>> "unit-jenkins" in MODELS
+    True
+    >>> unregister_model("unit-jenkins")
+    """
+    if not isinstance(name, str) or not name or name != name.strip():
+        raise ValueError(f"name must be a non-empty string without surrounding spaces, got name={name!r}")
+    if name in _MODELS and not replace:
+        raise ValueError(f"name={name!r} is registered already (pass replace=True to replace it)")
+    if not callable(build):
+        raise ValueError(f"build must be callable as build(run) -> element, got build={build!r}")
+    keys = dict(keys or {})
+    from .schema import BASE_DAMPER_KEYS  # the bar's and the shared keys
+
+    for key, spec in keys.items():
+        if not isinstance(spec, Key):
+            raise ValueError(f"keys[{key!r}] must be an hbm.scenes.Key, got {spec!r}")
+        if key in BASE_DAMPER_KEYS or key == "load":
+            raise ValueError(f"keys: {key!r} is a key of every damper ([damper].{key}); choose another name")
+        for other in _MODELS.values():
+            if other.name != name and key in other.keys and other.keys[key] is not spec:
+                raise ValueError(f"keys: damper.{key} belongs to model {other.name!r} already with another "
+                                 "meaning; choose another name (or share its Key object)")
+    if not callable(needs):
+        fixed = set(needs)
+        bad = fixed - {"bar", "load"}
+        if bad:
+            raise ValueError(f"needs must name 'bar' and/or 'load', got needs={needs!r}")
+        needs = lambda given, fixed=frozenset(fixed): set(fixed)  # noqa: E731
+    spec = ModelSpec(name=name, build=build, doc=doc, keys=MappingProxyType(keys), needs=needs,
+                     microslip=microslip, unit=unit, example=example, validate=validate)
+    _MODELS[name] = spec
+    return spec
+
+
+def unregister_model(name: str) -> None:
+    """Remove the model ``name`` registered with :func:`register_model`."""
+    if name not in _MODELS:
+        raise ValueError(f"name={name!r} is not a registered model; registered: {', '.join(_MODELS)}")
+    del _MODELS[name]
+
+
+# ====================================================================== the built-in models
+def _bar_a_min(run) -> tuple[float, str]:
+    """``mu N/(k L)``: the paper's amplitude unit (a_min of the uniformly loaded bar)."""
+    bar = run.bar
+    return bar.mu * run.N / (bar.k * bar.L), "a_min"
+
+
+def _example_bar():
+    from contact_models import Bar
+
+    return Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+
+
+def _microslip_model(topology: str):
+    """A spec's build and microslip functions for the bar with the given topology."""
+
+    def build(run):
+        label = run.topology if topology != "auto" else f"{run.topology} (auto)"
+        return Built(run.micro, label)
+
+    return build, (lambda damper: topology)
+
+
+def _example_two():
+    from contact_models import TwoRegionMicroslip, UniformLoad
+
+    return TwoRegionMicroslip(_example_bar(), UniformLoad(N=100.0))
+
+
+def _example_three():
+    from contact_models import QuadraticLoad, ThreeRegionMicroslip
+
+    return ThreeRegionMicroslip(_example_bar(), QuadraticLoad.from_ratio(N=100.0, ratio=12.0))
+
+
+FIT_TO = Key(choice("two-region", "three-region", "auto"), "auto",
+             'point-contact only: the microslip model it is fitted to ("auto", "two-region", "three-region")')
+FIT_OMEGA = Key(number(ge=0, unit="rad/s"), None,
+                "point-contact only: frequency of the fit (rad/s); default the stuck resonance "
+                "sqrt((k + k*)/m) of a frequency sweep, 0 for an amplitude sweep")
+
+
+def _build_point_contact(run):
+    from contact_models import PointContact
+
+    from .checks import SceneError
+
+    if run.params.get("fit_omega") is not None:
+        w_fit = run.params["fit_omega"]
+    elif run.blade is not None:
+        w_fit = math.sqrt((run.blade.stiffness + run.bar.k_star) / run.blade.mass)
+    else:
+        w_fit = 0.0
+    w_fit = w_fit if run.inertia else 0.0
+    try:
+        element = PointContact.fit(run.micro, w_fit)
+    except (ValueError, FloatingPointError) as exc:
+        raise SceneError([f"{run.where('damper.fit_omega')} = {w_fit!r}: {exc}"]) from None
+    return Built(element, f"point-contact (fitted to {run.topology} at {w_fit:.6g} rad/s)")
+
+
+def _example_point_contact():
+    from contact_models import PointContact
+
+    return PointContact.fit(_example_two())
+
+
+STIFFNESS = Key(number(gt=0, unit="N/m"), None,
+                "macroslip only: spring of the Jenkins element (N/m); default k* of the bar")
+SLIP_FORCE = Key(number(gt=0, unit="N"), None,
+                 "macroslip only: slip force of the Jenkins element (N); default mu N")
+
+
+def _macroslip_own(params) -> bool:
+    return params.get("stiffness") is not None and params.get("slip_force") is not None
+
+
+def _macroslip_pair(given) -> list:
+    """damper.stiffness and damper.slip_force go together."""
+    if ("stiffness" in given) == ("slip_force" in given):
+        return []
+    have = "stiffness" if "stiffness" in given else "slip_force"
+    other = "slip_force" if have == "stiffness" else "stiffness"
+    return [f"damper.{other} is missing: required with damper.{have} (give both, or neither to take k* and "
+            "mu N of the bar)"]
+
+
+def _build_macroslip(run):
+    from contact_models import Macroslip
+
+    if _macroslip_own(run.params):
+        return Built(Macroslip(stiffness=run.params["stiffness"], slip_force=run.params["slip_force"]),
+                     "macroslip", "damper.stiffness and damper.slip_force")
+    return Built(Macroslip(stiffness=run.bar.k_star, slip_force=run.bar.mu * run.N), "macroslip",
+                 "k* of the bar at omega = 0 and mu N")
+
+
+def _macroslip_unit(run) -> tuple[float, str]:
+    if run.bar is not None and run.N is not None:
+        return _bar_a_min(run)
+    return run.params["slip_force"] / run.params["stiffness"], "a_min"
+
+
+def _example_macroslip():
+    from contact_models import Macroslip
+
+    return Macroslip(stiffness=1.0e7, slip_force=30.0)
+
+
+def _register_builtins():
+    bar_and_load = {"bar", "load"}
+    for name, doc, example in (
+            ("auto", "the microslip bar, two or three regions from where slip starts (Section 2.1)", None),
+            ("two-region", "the dynamic microslip bar, slip from the excited end (Eqs. 5-15)", _example_two),
+            ("three-region", "the dynamic microslip bar, slip starting inside it (Eqs. 16-28)", _example_three)):
+        build, micro = _microslip_model(name)
+        register_model(name, build, needs=bar_and_load, microslip=micro, unit=_bar_a_min, doc=doc,
+                       example=example)
+    register_model("point-contact", _build_point_contact, keys={"fit_to": FIT_TO, "fit_omega": FIT_OMEGA},
+                   needs=bar_and_load, microslip=lambda damper: damper.get("fit_to") or "auto", unit=_bar_a_min,
+                   doc="the point contact fitted to the microslip bar (Fig. 16)", example=_example_point_contact)
+    register_model("macroslip", _build_macroslip, keys={"stiffness": STIFFNESS, "slip_force": SLIP_FORCE},
+                   needs=lambda given: set() if _macroslip_own(given) else {"bar", "load"},
+                   unit=_macroslip_unit, doc="the Jenkins element: a spring behind a Coulomb slider",
+                   example=_example_macroslip, validate=_macroslip_pair)
+
+
+_register_builtins()

@@ -1,0 +1,221 @@
+"""Planning a scene: one run per model and load, its effects decided and its element built.
+
+:func:`plan_scene` makes a :class:`RunContext` for every model at every normal load, passes it
+through the deciders of :data:`hbm.scenes.effects.EFFECTS` in order, and freezes it into a
+:class:`RunPlan`.  Physically impossible scenes raise :class:`SceneError` naming the key, every
+run's problems at once.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+from .checks import SceneError, show
+from .effects import EFFECTS, Effect, linear_amplitude
+from .models import BAR_KEYS, Built, MODELS, ModelSpec
+from .validation import Scene
+
+
+@dataclass
+class RunContext:
+    """One run while it is planned: what the deciders and the model's ``build`` read and set.
+
+    The element is built by the model's spec on first use of :attr:`element` (after the deciders
+    that shape it: inertia, topology); without damper inertia a frequency-dependent element is
+    wrapped in ``contact_models.QuasiStatic``.
+    """
+
+    scene: Scene
+    spec: ModelSpec
+    index: int
+    N: float | None
+    bar: Any  #: the bar of the scene (``contact_models.Bar``) or None
+    blade: Any  #: ``hbm.Blade`` of a frequency sweep, None for an amplitude sweep
+    omega: tuple  #: the sweep's range (frequency) or frequencies (amplitude), rad/s
+    params: dict  #: the [damper] keys of this model (validated, defaults filled in)
+    inertia: bool | None = None  #: set by the inertia decider
+    topology: str | None = None  #: "two-region" or "three-region", set by the topology decider
+    micro: Any = None  #: the microslip element of a model on the bar, set by the topology decider
+    effects: list = field(default_factory=list)
+    _built: Built | None = None
+    _element: Any = None
+    _load: Any = None
+
+    def where(self, dotted: str) -> str:
+        """``file: table.key`` for messages."""
+        return self.scene.where(dotted)
+
+    @property
+    def load(self):
+        """The normal load of this run (``contact_models`` load object), or None without [damper.load]."""
+        if self._load is None and self.scene.load is not None:
+            from contact_models import QuadraticLoad, UniformLoad
+
+            ld = self.scene.load
+            if ld["kind"] == "uniform":
+                self._load = UniformLoad(N=self.N)
+            elif ld.get("q0") is not None:
+                self._load = QuadraticLoad(q0=ld["q0"], q2=ld["q2"], L=self.scene.damper["L"])
+            else:
+                self._load = QuadraticLoad.from_ratio(N=self.N, ratio=ld["ratio"])
+        return self._load
+
+    @property
+    def load_text(self) -> str:
+        """The load in words, for the reasons."""
+        load = self.load
+        if self.scene.load["kind"] == "uniform":
+            return f"uniform load N = {load.N:g} N"
+        r = load.ratio
+        shape = "concave" if r > 1 else ("convex" if r < 1 else "uniform")
+        return f"quadratic load N = {load.N:g} N, ratio q0/(q0 - q2) = {r:g} ({shape})"
+
+    def _build(self) -> Built:
+        if self._built is None:
+            out = self.spec.build(self)
+            self._built = out if isinstance(out, Built) else Built(out, self.spec.name)
+            from contact_models import ContactElement, QuasiStatic
+
+            element = self._built.element
+            if not isinstance(element, ContactElement):
+                raise SceneError([f"{self.where('damper.model')} = {show(self.spec.name)}: its build returned "
+                                  f"{element!r}, not a contact_models.ContactElement"])
+            if self.inertia is False and element.frequency_dependent:
+                element = QuasiStatic(element)
+            self._element = element
+        return self._built
+
+    @property
+    def element(self):
+        """The contact element of this run (built on first use)."""
+        self._build()
+        return self._element
+
+    @element.setter
+    def element(self, value):
+        self._build()
+        self._element = value
+
+    @property
+    def label(self) -> str:
+        return self._build().label
+
+    @property
+    def note(self) -> str:
+        return self._build().note
+
+
+@dataclass
+class RunPlan:
+    """One computation of a scene: a model at a normal load."""
+
+    index: int
+    model: str  #: the run's label ("auto" resolved: "two-region (auto)")
+    N: float | None
+    element: Any
+    effects: list
+    omega: tuple  #: the sweep's range (frequency) or frequencies (amplitude), rad/s
+    a_ref: float | None = None  #: amplitude unit of an amplitude sweep (m)
+    a_min: float | None = None  #: the damper's linear amplitude at the sweep's lowest frequency (m)
+    unit_name: str = "a_min"  #: name of the amplitude unit
+
+    @property
+    def label(self) -> str:
+        return self.model + (f", N = {self.N:g} N" if self.N is not None else "")
+
+
+@dataclass
+class Plan:
+    """The runs of a scene, with its blade (None for an amplitude sweep)."""
+
+    scene: Scene
+    blade: Any
+    runs: list
+
+
+def plan_scene(scene: Scene) -> Plan:
+    """Decide every effect and build the element of each run.
+
+    Raises :class:`SceneError` for physically impossible scenes (the message names the key).
+    """
+    from contact_models import Bar
+
+    problems = []
+    blade = _blade(scene)
+    d = scene.damper
+    bar = None
+    if all(k in d for k in BAR_KEYS):
+        bar = Bar(E=d["E"], rho=d["rho"], A=d["A"], L=d["L"], k=d["k"], beta=d.get("beta", 0.0), mu=d["mu"])
+    unit = {"rad/s": 1.0, "Hz": 2.0 * math.pi, "omega_c": bar.omega_c if bar is not None else math.nan}
+    omega = tuple(unit[scene.sweep["unit"]] * w for w in scene.sweep["omega"])
+    loads = (scene.load.get("N") or (None,)) if scene.load is not None else (None,)
+    runs = []
+    for model in d["model"]:
+        spec = MODELS[model]
+        needs = spec.needs({k: v for k, v in d.items() if k in spec.keys})
+        params = {k: d.get(k) for k in spec.keys}
+        for N in (loads if "load" in needs else (None,)):
+            ctx = RunContext(scene, spec, len(runs), N, bar if "bar" in needs or bar is not None else None,
+                             blade, omega, params)
+            try:
+                runs.append(_decide(ctx, "load" in needs))
+            except SceneError as exc:
+                problems.extend(exc.problems)
+    if problems:
+        raise SceneError(list(dict.fromkeys(problems)))
+    return Plan(scene, blade, runs)
+
+
+def _blade(scene):
+    from ..blade import Blade
+
+    if scene.sweep["kind"] != "frequency":
+        return None
+    b = scene.blade
+    try:
+        stiffness = b["mass"] * b["frequency"] ** 2 if "frequency" in b else b["stiffness"]
+        damping = b.get("damping")
+        if damping is None:
+            damping = 2.0 * b["damping_ratio"] * math.sqrt(stiffness * b["mass"])
+        return Blade(mass=b["mass"], stiffness=stiffness, damping=damping, force=b["force"])
+    except ValueError as exc:
+        raise SceneError([scene.where(f"[blade]: {exc}")]) from None
+
+
+def _decide(ctx: RunContext, with_load: bool) -> RunPlan:
+    for effect in EFFECTS:
+        decision = effect.decide(ctx)
+        if decision is not None:
+            if not isinstance(decision, Effect):
+                raise SceneError([f"effect {effect.name!r}: its decider returned {decision!r}, not an Effect"])
+            ctx.effects.append(decision)
+    from contact_models.quasi_static import StuckContact
+
+    element = ctx.element
+    inner = element.element if isinstance(element, StuckContact) else element
+    a_ref, unit_name = None, "a_min"
+    if ctx.blade is None:
+        a_ref, unit_name = _amplitude_unit(ctx)
+    return RunPlan(index=ctx.index, model=ctx.label, N=ctx.N if with_load else None, element=element,
+                   effects=ctx.effects, omega=ctx.omega, a_ref=a_ref,
+                   a_min=linear_amplitude(inner, min(ctx.omega)), unit_name=unit_name)
+
+
+def _amplitude_unit(ctx: RunContext) -> tuple[float, str]:
+    """(metres, name) of the amplitude unit of an amplitude sweep."""
+    asked = ctx.scene.sweep["amplitude_unit"]
+    if asked == "m":
+        return 1.0, "m"
+    if ctx.spec.unit is not None:
+        value, name = ctx.spec.unit(ctx)
+    else:
+        value, name = float(ctx.element.reference_amplitude(min(ctx.omega))), "reference amplitude"
+    if asked == "a_min" and name != "a_min":
+        raise SceneError([f"{ctx.where('sweep.amplitude_unit')} = \"a_min\": damper.model = {show(ctx.spec.name)} "
+                          f"has no slip amplitude as its unit (its unit is the {name}); use \"model\" or \"m\""])
+    if not (value > 0.0 and math.isfinite(value)):
+        raise SceneError([f"{ctx.where('sweep.amplitude_unit')}: the {name} of damper.model = "
+                          f"{show(ctx.spec.name)} is {value!r}; use \"m\""])
+    return value, name

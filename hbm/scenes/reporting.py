@@ -1,0 +1,172 @@
+"""Reporting a scene: the per-run summary, ``summary.json``, the figure and the text of the command line.
+
+Nothing here prints: the functions return dicts and lines, and ``hbm.__main__`` prints them.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from .effects import linear_amplitude
+from .planning import Plan
+
+
+def run_summary(res) -> dict:
+    """The summary.json entry of one :class:`hbm.scenes.running.RunResult`."""
+    from contact_models import QuasiStatic
+    from contact_models.quasi_static import StuckContact
+
+    from .running import thin
+
+    p = res.plan
+    out = {"run": res.number, "model": p.model, "normal_load_N": p.N, "element": repr(p.element),
+           "success": res.success, "message": res.message, "points": res.points, "time_s": res.seconds}
+    el = p.element
+    inner = el.element if isinstance(el, StuckContact) else el
+    if res.frf is not None:
+        frf = res.frf
+        out["counters"] = {"nsteps": frf.nsteps, "nit": frf.nit, "nfev": frf.nfev, "nstuck": frf.nstuck}
+        if res.peak is not None:
+            a_min = p.a_min
+            out["peak"] = {"omega_rad_s": res.peak.omega, "amplitude_m": res.peak.amplitude,
+                           "amplitude_over_a_min": res.peak.amplitude / a_min if a_min else None}
+            slip = next((e for e in p.effects if e.name == "damper slip"), None)
+            if slip is not None and slip.simulated and "computed:" not in slip.reason:
+                smallest = min(linear_amplitude(el, w) for w in thin(frf.omega))
+                if smallest > 0.0:
+                    top = float(np.max(frf.amplitude)) / smallest
+                    slip.reason += (f"; computed: the largest amplitude is {top:.4g} a_min" if top >= 1.0 else
+                                    f"; computed: every amplitude stayed below a_min (largest {top:.4g} a_min)")
+    if res.table is not None:
+        out["omega_rad_s"] = list(map(float, res.table["omega"]))
+        out["amplitude_unit"] = {"name": p.unit_name, "m": p.a_ref}
+    out["effects"] = [e.as_dict() for e in p.effects]
+    if isinstance(inner, QuasiStatic):
+        out["quasi_static_calls"] = inner.calls  # every one at omega = 0
+    return out
+
+
+def jsonable(v):
+    """``v`` with numpy scalars as Python numbers and non-finite floats as strings."""
+    if isinstance(v, dict):
+        return {k: jsonable(x) for k, x in v.items()}
+    if isinstance(v, (list, tuple)):
+        return [jsonable(x) for x in v]
+    if isinstance(v, (np.floating, float)):
+        v = float(v)
+        return v if math.isfinite(v) else str(v)
+    if isinstance(v, np.integer):
+        return int(v)
+    return v
+
+
+def _model_of(label: str) -> str:
+    return label.split(" (")[0]
+
+
+def figure(scene, results, path) -> Path:
+    """The scene's figure: FRFs (and peaks against the load for several loads), or F_s, F_c tables."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from ..output import plot_frfs
+
+    title = scene.title or scene.name
+    if scene.sweep["kind"] == "frequency":
+        loads = sorted({r.plan.N for r in results if r.plan.N is not None})
+        chart = len(loads) > 1
+        fig, axes = plt.subplots(1, 2 if chart else 1, figsize=(11.0 if chart else 6.4, 4.4), squeeze=False)
+        plot_frfs([(r.frf, r.plan.label, _model_of(r.plan.model), r.plan.N) for r in results], axes[0][0],
+                  parameter="normal load N (N)")
+        if chart:
+            bx = axes[0][1]
+            for m in dict.fromkeys(_model_of(r.plan.model) for r in results):
+                rs = [r for r in results if _model_of(r.plan.model) == m and r.plan.N is not None]
+                bx.loglog([r.plan.N for r in rs], [r.peak.amplitude for r in rs], "o-", ms=3, label=m)
+            bx.set_xlabel("normal load N (N)")
+            bx.set_ylabel("resonant amplitude (m)")
+            bx.legend(fontsize=8)
+    else:
+        fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.4), squeeze=False)
+        for r in results:
+            over = r.table["a"] / r.plan.a_ref
+            for w, Fs, Fc in zip(r.table["omega"], r.table["F_s"], r.table["F_c"]):
+                lab = f"{r.plan.label}, {w:.4g} rad/s"
+                axes[0][0].semilogx(over, Fs, label=lab)
+                axes[0][1].semilogx(over, Fc, label=lab)
+        unit = "a (m)" if scene.sweep["amplitude_unit"] == "m" else f"a / {results[0].plan.unit_name}"
+        for ax, name in zip(axes[0], ("F_s", "F_c")):
+            ax.set_xlabel(unit)
+            ax.set_ylabel(f"${name}$ = f/(k* a)")
+            ax.grid(True, which="both", alpha=0.3)
+        axes[0][1].legend(fontsize=6)
+    fig.suptitle(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)
+
+
+def effect_lines(plan: Plan) -> list:
+    """Per effect: simulated or not, in which runs, and why (the first run's reason when the runs'
+    reasons differ; every run's is in summary.json)."""
+    n = len(plan.runs)
+    groups = {}
+    for r in plan.runs:
+        for e in r.effects:
+            groups.setdefault(e.name, {}).setdefault(e.simulated, []).append((r.index + 1, e.reason))
+    lines = []
+    for name, by_sim in groups.items():
+        for sim, items in by_sim.items():
+            reasons = list(dict.fromkeys(reason for _, reason in items))
+            which = "" if len(items) == n else f" [runs {_ranges([i for i, _ in items])}]"
+            text = reasons[0] if len(reasons) == 1 else (
+                f"{reasons[0]} (run {items[0][0]}; {len(reasons) - 1} other reason{'s' if len(reasons) > 2 else ''}: "
+                "see summary.json)")
+            lines.append(f"  {name}: {'simulated' if sim else 'not simulated'}{which} - {text}")
+    return lines
+
+
+def _ranges(numbers) -> str:
+    """[1, 2, 3, 6] -> '1-3, 6'."""
+    out, start = [], None
+    for k, i in enumerate(numbers):
+        if start is None:
+            start = i
+        if k + 1 == len(numbers) or numbers[k + 1] != i + 1:
+            out.append(f"{start}" if start == i else f"{start}-{i}")
+            start = None
+    return ", ".join(out)
+
+
+def summary_lines(result) -> list:
+    """The end-of-run summary of a :class:`hbm.scenes.running.SceneResult` as lines of text."""
+    lines = []
+    scene = result.plan.scene
+    lines.append(f"scene: {scene.path}" + (f" ({scene.title})" if scene.title else ""))
+    lines.append("effects:")
+    lines += effect_lines(result.plan)
+    for r in result.runs:
+        s = r.summary
+        head = f"run {r.number}: {r.plan.label}: {s['points']} points in {s['time_s']:.2f} s"
+        if "counters" in s:
+            c = s["counters"]
+            head += f" ({c['nsteps']} steps, {c['nit']} Newton iterations, {c['nfev']} element evaluations)"
+        lines.append(head + ("" if r.success else f": FAILED: {r.message}"))
+        if "peak" in s:
+            pk = s["peak"]
+            lines.append(f"  peak: omega = {pk['omega_rad_s']:.9g} rad/s, amplitude = {pk['amplitude_m']:.9g} m"
+                         + (f" (= {pk['amplitude_over_a_min']:.4g} a_min)" if pk["amplitude_over_a_min"] else ""))
+    for path in result.files.values():
+        lines.append(f"wrote {Path(path).resolve()}" + ("  (partial: failed run)" if path.name.endswith(".partial.csv")
+                                                       else ""))
+    if not result.success:
+        lines.append(f"failed: {result.message}")
+        lines.append(f"kept: {result.points} finished points" +
+                     (f" in {Path(result.files['csv']).resolve()}" if "csv" in result.files else ""))
+    return lines

@@ -1,0 +1,222 @@
+"""Running a planned scene: every run computed, its points written as they come.
+
+Each accepted point is appended to ``frf.partial.csv`` (``coefficients.partial.csv`` for an
+amplitude sweep) and flushed; the file is renamed ``frf.csv`` once every run succeeded.
+``summary.json`` (written last, atomically) lists each effect, simulated or not and why, the peaks,
+counters and timing.  Runs are numbered from 1 in every output.
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ..output import FRF_COLUMNS, RUN_COLUMNS, TABLE_COLUMNS, CsvStream, frf_row
+from .planning import Plan, RunPlan, plan_scene
+from .validation import Scene
+
+
+@dataclass
+class Progress:
+    """Passed to the ``progress`` callback of :func:`run_scene` after each point."""
+
+    run: int  #: number of the run, from 1
+    runs: int
+    label: str
+    omega: float
+    fraction: float  #: how far along the run's sweep (0..1)
+    points: int  #: points written so far (all runs)
+    elapsed: float  #: seconds since the scene started
+
+    @property
+    def overall(self) -> float:
+        """How far along the whole scene (0..1), counting runs as equal."""
+        return (self.run - 1 + min(max(self.fraction, 0.0), 1.0)) / self.runs
+
+    @property
+    def eta(self) -> float | None:
+        """Seconds left, estimated from the time so far (None before there is a basis)."""
+        f = self.overall
+        return self.elapsed * (1.0 - f) / f if f > 1e-3 else None
+
+
+@dataclass
+class RunResult:
+    """What one run computed: its FRF or table, success, message, points and time."""
+
+    plan: RunPlan
+    success: bool = False
+    message: str = ""
+    frf: Any = None
+    table: dict | None = None
+    points: int = 0
+    seconds: float = 0.0
+    peak: Any = None
+    summary: dict = field(default_factory=dict)
+
+    @property
+    def number(self) -> int:
+        """The run's number in the outputs (from 1)."""
+        return self.plan.index + 1
+
+
+@dataclass
+class SceneResult:
+    """What :func:`run_scene` did: ``success``, ``message``, per-run results, files, summary."""
+
+    plan: Plan
+    runs: list
+    success: bool
+    message: str
+    files: dict  #: kind ("csv", "png", "json") -> Path written
+    summary: dict
+    points: int  #: rows written to the CSV
+
+    @property
+    def exit_code(self) -> int:
+        """0 when every run succeeded, else 1."""
+        return 0 if self.success else 1
+
+
+def output_names(scene: Scene) -> dict:
+    """File names of a scene's outputs: ``{"csv", "partial", "png", "json"}``."""
+    stem = "frf" if scene.sweep["kind"] == "frequency" else "coefficients"
+    return {"csv": f"{stem}.csv", "partial": f"{stem}.partial.csv", "png": f"{stem}.png", "json": "summary.json"}
+
+
+def columns(scene: Scene) -> tuple:
+    """The CSV columns of ``scene``: the run's columns, then the FRF's or the table's."""
+    return RUN_COLUMNS + (FRF_COLUMNS if scene.sweep["kind"] == "frequency" else TABLE_COLUMNS)
+
+
+def run_scene(scene: Scene, out=None, *, plan: Plan | None = None,
+              progress: Callable[[Progress], None] | None = None) -> SceneResult:
+    """Run every computation of ``scene``, writing its outputs to ``out`` (default
+    ``scene.output["folder"]``) as they are computed; see the module docstring.
+
+    ``progress(Progress)`` is called after each point.  A run that fails (the continuation stops
+    short, or the element raises) is recorded and the next run goes on; the result's
+    ``success`` is False and the CSV keeps its ``.partial.csv`` name.
+    """
+    from .reporting import figure, run_summary, jsonable
+
+    plan = plan if plan is not None else plan_scene(scene)
+    folder = Path(out if out is not None else scene.output["folder"])
+    formats = scene.output["formats"]
+    names = output_names(scene)
+    folder.mkdir(parents=True, exist_ok=True)
+    for key in ("csv", "partial", "png", "json"):  # stale outputs of an earlier run of this scene
+        (folder / names[key]).unlink(missing_ok=True)
+    t_start = time.perf_counter()
+    files = {}
+    results = [RunResult(p) for p in plan.runs]
+    written = 0
+    partial = folder / names["partial"]
+    freq = scene.sweep["kind"] == "frequency"
+    stream = CsvStream(partial, columns(scene)) if "csv" in formats else None
+    try:
+        for res in results:
+            head = [res.number, res.plan.model, "" if res.plan.N is None else repr(float(res.plan.N))]
+
+            def emit(row, omega, fraction, res=res, head=head):
+                nonlocal written
+                if stream is not None:
+                    stream.write(head + row)
+                written += 1
+                res.points += 1
+                if progress is not None:
+                    progress(Progress(res.number, len(results), res.plan.label, omega, fraction, written,
+                                      time.perf_counter() - t_start))
+
+            t0 = time.perf_counter()
+            try:
+                (_run_frequency if freq else _run_amplitude)(scene, plan, res, emit)
+            except (ArithmeticError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
+                res.success = False
+                res.message = f"{type(exc).__name__}: {exc}"
+            res.seconds = time.perf_counter() - t0
+            res.summary = run_summary(res)
+    finally:
+        if stream is not None:
+            stream.close()
+    success = all(r.success for r in results)
+    if "csv" in formats:
+        files["csv"] = partial.replace(folder / names["csv"]) if success else partial
+    if success and "png" in formats:
+        files["png"] = figure(scene, results, folder / names["png"])
+    message = ("every run succeeded" if success else
+               "; ".join(f"run {r.number} ({r.plan.label}) failed: {r.message}" for r in results if not r.success))
+    summary = {
+        "scene": str(scene.path),
+        "title": scene.title,
+        "status": "success" if success else "failed",
+        "message": message,
+        "kind": scene.sweep["kind"],
+        "settings": {k: v for k, v in scene.sweep.items() if v is not None},
+        "effects_tolerance": scene.effects["tolerance"],
+        "runs": [r.summary for r in results],
+        "points_written": written,
+        "elapsed_s": time.perf_counter() - t_start,
+        "outputs": {k: str(v) for k, v in files.items()},
+    }
+    if "json" in formats:
+        files["json"] = folder / names["json"]
+        summary["outputs"]["json"] = str(files["json"])
+        tmp = folder / (names["json"] + ".tmp")
+        tmp.write_text(json.dumps(jsonable(summary), indent=2) + "\n")
+        tmp.replace(files["json"])
+    return SceneResult(plan, results, success, message, files, summary, written)
+
+
+def _run_frequency(scene, plan, res, emit):
+    from ..frf import frequency_response
+
+    p = res.plan
+    w0, w1 = p.omega
+
+    def on_point(omega, xc, xs, residual):
+        emit(frf_row(omega, xc, xs, residual), omega, (omega - w0) / (w1 - w0))
+
+    frf = frequency_response(plan.blade, p.element, omega_range=(w0, w1), on_point=on_point,
+                             **scene.sweep["options"])
+    res.frf = frf
+    res.success = frf.success
+    res.message = frf.message
+    if len(frf):
+        res.peak = frf.peak()
+
+
+def _run_amplitude(scene, plan, res, emit):
+    p = res.plan
+    a0, a1 = scene.sweep["amplitude"]
+    over = np.geomspace(a0, a1, scene.sweep["points"])
+    a = over * p.a_ref
+    el = p.element
+    k_star = float(el.stuck_stiffness(0.0))
+    table = {"omega": [], "a": a, "F_s": [], "F_c": []}
+    for j, w in enumerate(p.omega):
+        fs, fc = el.fourier(a, w, rtol=scene.sweep["tolerance"])
+        Fs, Fc = fs / (k_star * a), fc / (k_star * a)
+        for i in range(len(a)):
+            emit([repr(float(v)) for v in (w, a[i], over[i], fs[i], fc[i], Fs[i], Fc[i])],
+                 w, (j + (i + 1) / len(a)) / len(p.omega))
+        table["omega"].append(w)
+        table["F_s"].append(Fs)
+        table["F_c"].append(Fc)
+    res.table = table
+    res.success = True
+    res.message = "table complete"
+
+
+def thin(omega, n: int = 33):
+    """A few frequencies of the branch (the linear amplitude varies slowly with omega)."""
+    omega = np.asarray(omega)
+    return omega[np.unique(np.linspace(0, len(omega) - 1, min(n, len(omega))).astype(int))]
+
+
+__all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns"]

@@ -1,0 +1,126 @@
+"""Every table and key of a scene, assembled from the fixed tables, the models and the effects.
+
+:func:`schema` returns ``{table: {key: Key}}`` (``""`` the top level, ``damper.load`` a sub-table of
+``damper``).  The ``[damper]`` table holds the bar's keys plus every registered model's own keys
+(``hbm.scenes.models``); the ``[effects]`` table the keys of the registered effects
+(``hbm.scenes.effects``) plus ``tolerance``.  ``python -m hbm keys`` prints it.
+"""
+
+from __future__ import annotations
+
+from .. import presets
+from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
+                     one_or_list, positive, text, choice)
+
+#: Sweep units of ``sweep.omega``: name -> factor to rad/s (``omega_c`` is the bar's, set per scene).
+OMEGA_UNITS = ("rad/s", "Hz", "omega_c")
+
+#: Keys of ``[damper]`` that every model shares: the bar (Eq. 1-2) and its strain-hardening spring.
+BASE_DAMPER_KEYS: dict[str, Key] = {
+    "E": Key(number(gt=0, unit="Pa"), OPTIONAL, "Young's modulus of the bar (Pa)"),
+    "rho": Key(number(gt=0, unit="kg/m^3"), OPTIONAL, "density of the bar (kg/m^3)"),
+    "A": Key(number(gt=0, unit="m^2"), OPTIONAL, "cross-section of the bar (m^2)"),
+    "L": Key(number(gt=0, unit="m"), OPTIONAL, "length of the bar and the contact (m)"),
+    "k": Key(number(gt=0, unit="N/m^2"), OPTIONAL, "shear-layer stiffness per length (N/m^2)"),
+    "beta": Key(number(ge=0, unit="N/m"), OPTIONAL,
+                "strain-hardening spring at x = 0 (N/m); needed while effects.strain_hardening = true"),
+    "mu": Key(number(ge=0), OPTIONAL, "friction coefficient"),
+}
+
+_FIXED: dict[str, dict[str, Key]] = {
+    "": {
+        "title": Key(text, "", "a one-line description, copied to the summary"),
+    },
+    "blade": {
+        "mass": Key(number(gt=0, unit="kg"), REQUIRED, "modal mass m (kg)"),
+        "stiffness": Key(number(ge=0, unit="N/m"), OPTIONAL, "stiffness k (N/m); give this or `frequency`"),
+        "frequency": Key(number(gt=0, unit="rad/s"), OPTIONAL,
+                         "natural frequency of the blade alone, sqrt(k/m) (rad/s); give this or `stiffness`"),
+        "damping": Key(number(ge=0, unit="N s/m"), OPTIONAL,
+                       "viscous damping c (N s/m); give this or `damping_ratio`"),
+        "damping_ratio": Key(number(ge=0), OPTIONAL,
+                             "viscous damping ratio zeta, c = 2 zeta sqrt(k m); give this or `damping`"),
+        "force": Key(number(gt=0, unit="N"), REQUIRED, "force amplitude F of F cos(omega t) (N)"),
+    },
+    "damper.load": {
+        "kind": Key(choice("uniform", "quadratic"), "uniform",
+                    '"uniform" (q = N/L) or "quadratic" (Eq. 29: q0 + q2 4x(x - L)/L^2)'),
+        "N": Key(one_or_list(number(gt=0, unit="N"), "a number > 0 (N)"), OPTIONAL,
+                 "total normal load (N), or a list of loads (one run each: a design chart)"),
+        "ratio": Key(number(gt=0, allow_inf=True), OPTIONAL,
+                     "quadratic only: q0/(q0 - q2); > 1 concave (three regions), < 1 convex"),
+        "q0": Key(nonnegative, OPTIONAL, "quadratic only, instead of N and ratio: q0 (N/m)"),
+        "q2": Key(number(unit="N/m"), OPTIONAL, "quadratic only, instead of N and ratio: q2 (N/m)"),
+    },
+    "sweep": {
+        "kind": Key(choice("frequency", "amplitude"), "frequency",
+                    '"frequency" (an FRF of the blade) or "amplitude" (a table of F_s, F_c of the damper)'),
+        "omega": Key(lambda v: v, REQUIRED,
+                     "frequency: [w0, w1], the range traced from w0 to w1; amplitude: the list of "
+                     "frequencies of the table"),
+        "unit": Key(choice(*OMEGA_UNITS), "rad/s",
+                    '"rad/s", "Hz", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
+        "tolerance": Key(number(gt=0, lt=presets.MAX_RTOL), OPTIONAL,
+                         f"relative accuracy (rtol); default {presets.DEFAULT_RTOL:g}"),
+        "accuracy": Key(choice(*presets.NAMED), OPTIONAL,
+                        "a preset of hbm.presets instead of tolerance and the step settings: " +
+                        ", ".join(f'"{n}" ({r:g})' for n, r in presets.NAMED.items())),
+        "max_step": Key(positive, OPTIONAL,
+                        f"largest continuation step (scaled arclength); default {presets.DEFAULT_MAX_STEP:g}"),
+        "min_step": Key(positive, OPTIONAL, f"smallest continuation step; default {presets.DEFAULT_MIN_STEP:g}"),
+        "max_steps": Key(integer(1), OPTIONAL, f"step budget of the continuation; default {presets.DEFAULT_MAX_STEPS}"),
+        "amplitude": Key(number_list(positive, length=2), OPTIONAL,
+                         "amplitude sweep: [a0, a1], log-spaced (in sweep.amplitude_unit)"),
+        "amplitude_unit": Key(choice("model", "a_min", "m"), "model",
+                              'amplitude sweep: "model" (the model\'s unit: a_min = mu N/(k L) for the bar, '
+                              'the paper\'s normalisation), "a_min" (the same, refused for a model without a '
+                              'slip amplitude) or "m"'),
+        "points": Key(integer(2), 50, "amplitude sweep: amplitudes per frequency"),
+    },
+    "output": {
+        "folder": Key(text, OPTIONAL, "output folder; default the scene file's name without .toml"),
+        "formats": Key(formats, ("csv", "png", "json"), 'which outputs: any of "csv", "png", "json"'),
+    },
+}
+
+#: Sub-tables (parent table -> child key).
+SUBTABLES = {"damper": "load"}
+#: Tables a scene must have, and what they hold at least.
+REQUIRED_TABLES = {"damper": "the damper: model, bar parameters, [damper.load]",
+                   "sweep": "at least sweep.omega"}
+
+
+def _model_names(v):
+    from .models import MODELS
+
+    return choice(*MODELS)(v)
+
+
+def schema() -> dict[str, dict[str, Key]]:
+    """Every table and key of a scene as registered now: ``{table: {key: Key}}``."""
+    from .effects import EFFECTS
+    from .models import MODELS
+
+    damper = {"model": Key(one_or_list(_model_names, "a model name"), ("auto",),
+                           "contact model: " + ", ".join(f'"{m}"' for m in MODELS) +
+                           ", or a list of them (one run each)")}
+    damper.update(BASE_DAMPER_KEYS)
+    for spec in MODELS.values():
+        for key, k in spec.keys.items():
+            damper.setdefault(key, k)
+    effects = {e.key_name: e.key for e in EFFECTS if e.key_name is not None}
+    effects["tolerance"] = Key(number(gt=0, lt=1), OPTIONAL,
+                               "relative change below which `auto` leaves an effect out; default sweep.tolerance")
+    out = {"": _FIXED[""], "blade": _FIXED["blade"], "damper": damper, "damper.load": _FIXED["damper.load"],
+           "effects": effects, "sweep": _FIXED["sweep"], "output": _FIXED["output"]}
+    return out
+
+
+def all_keys():
+    """Every ``table.key`` of the schema (top-level keys bare)."""
+    for table, keys in schema().items():
+        for key in keys:
+            yield dot(table, key)
+
+
+__all__ = ["schema", "all_keys", "SUBTABLES", "REQUIRED_TABLES", "BASE_DAMPER_KEYS", "OMEGA_UNITS", "Invalid"]

@@ -1,0 +1,349 @@
+"""Reading and validating a scene: every problem of a file in one pass.
+
+:func:`load_scene` reads the TOML file with ``tomllib``; :func:`scene_from_dict` checks it against
+:func:`hbm.scenes.schema.schema`: unknown names (with the closest valid one), wrong types, values
+out of range, missing keys and the rules between keys (which keys a model needs, mutually
+exclusive keys).  A key whose value is invalid counts as given, so one pass reports every
+problem once: fixing them all yields a valid scene, with no second round of new messages.
+"""
+
+from __future__ import annotations
+
+import difflib
+import tomllib
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+from .. import presets
+from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
+from .models import BAR_KEYS, MODELS
+from .schema import REQUIRED_TABLES, SUBTABLES, schema
+
+
+@dataclass(frozen=True)
+class Scene:
+    """A validated scene: each table as a dict with every default filled in.
+
+    ``sweep["options"]`` holds exactly the accuracy keyword arguments of
+    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``).
+    """
+
+    path: Path
+    title: str
+    blade: dict | None
+    damper: dict
+    load: dict | None
+    effects: dict
+    sweep: dict
+    output: dict
+
+    @property
+    def name(self) -> str:
+        """The file name without ``.toml``."""
+        return self.path.stem
+
+    def where(self, dotted: str) -> str:
+        """``file: table.key`` for messages."""
+        return f"{self.path}: {dotted}"
+
+
+def load_scene(path, *, overrides: Mapping[str, Any] | None = None) -> Scene:
+    """Read and validate the scene file ``path``.
+
+    ``overrides`` maps ``"table.key"`` to a value that replaces the file's (as
+    ``python -m hbm run --set table.key=value``).  Raises :class:`SceneError` listing every problem.
+    """
+    path = Path(path)
+    try:
+        with path.open("rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise SceneError([f"{path}: no such file"]) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError([f"{path}: not valid TOML: {exc}"]) from None
+    return scene_from_dict(data, path, overrides=overrides)
+
+
+def parse_override(text: str) -> tuple[str, Any]:
+    """``"table.key=value"`` -> ``("table.key", value)``, the value read as TOML (a bare word as a string).
+
+    Examples
+    --------
+    >>> parse_override("sweep.max_step=0.1")
+    ('sweep.max_step', 0.1)
+    """
+    name, sep, raw = text.partition("=")
+    name = name.strip()
+    if not sep or not name:
+        raise SceneError([f"--set {text!r}: must be table.key=value, e.g. sweep.max_step=0.1"])
+    try:
+        value = tomllib.loads(f"v = {raw.strip()}")["v"]
+    except tomllib.TOMLDecodeError:
+        value = raw.strip()
+    return name, value
+
+
+def scene_from_dict(data: dict, path="<scene>", *, overrides: Mapping[str, Any] | None = None) -> Scene:
+    """Validate the parsed TOML ``data`` (file name ``path`` for messages); see :func:`load_scene`."""
+    path = Path(path)
+    data = _copy(data)
+    for dotted, value in (overrides or {}).items():
+        *tables, key = dotted.split(".")
+        node = data
+        for t in tables:
+            node = node.setdefault(t, {})
+            if not isinstance(node, dict):
+                break
+        if isinstance(node, dict):
+            node[key] = value
+    problems: list[str] = []
+    tables = schema()
+    values, given, present = _check_keys(tables, data, path, problems)
+    scene = _Rules(tables, values, given, present, path, problems).scene()
+    if problems:
+        raise SceneError(list(dict.fromkeys(problems)))
+    return scene
+
+
+def _copy(d):
+    return {k: _copy(v) for k, v in d.items()} if isinstance(d, dict) else d
+
+
+def _suggest(tables, name, valid, table):
+    """' (did you mean X?)' from the closest valid name here, or the same key in another table."""
+    close = difflib.get_close_matches(name, list(valid), n=1, cutoff=0.6)
+    if close:
+        return f" (did you mean {dot(table, close[0])}?)"
+    elsewhere = [t for t, keys in tables.items() if name in keys and t != table]
+    if elsewhere:
+        return f" (it belongs in [{elsewhere[0]}]: {dot(elsewhere[0], name)})"
+    return ""
+
+
+def _node(data, dotted):
+    node = data
+    for part in dotted.split(".") if dotted else ():
+        if not isinstance(node, dict):
+            return None
+        node = node.get(part)
+    return node
+
+
+def _check_keys(tables, data, path, problems):
+    """Unknown names, tables that are not tables, per-key types and ranges, required keys.
+
+    Returns ``{table: {key: converted value}}`` (valid keys only), ``{table: set of keys given}``
+    (valid or not) and the set of tables present.
+    """
+    values = {t: {} for t in tables}
+    given = {t: set() for t in tables}
+    present = {t for t in tables if t and isinstance(_node(data, t), dict)}
+    top_tables = [t for t in tables if t and "." not in t]
+    for key, value in data.items():
+        if key in tables[""]:
+            continue
+        if key in top_tables:
+            if not isinstance(value, dict):
+                problems.append(f"{path}: {key} = {show(value)}: must be a table ([{key}])")
+            continue
+        hint = _suggest(tables, key, list(tables[""]) + top_tables, "")
+        shown = f"[{key}]" if isinstance(value, dict) else f"{key} = {show(value)}"
+        problems.append(f"{path}: {shown}: unknown top-level name{hint}; allowed: "
+                        f"{', '.join(f'[{t}]' for t in top_tables)}, {', '.join(tables[''])}")
+    for table, keys in tables.items():
+        node = _node(data, table)
+        if not isinstance(node, dict):
+            continue
+        sub = SUBTABLES.get(table)
+        for key, value in node.items():
+            if not table and key not in keys:
+                continue  # the top level's tables and unknown names: handled above
+            if key == sub:
+                if not isinstance(value, dict):
+                    problems.append(f"{path}: {table}.{key} = {show(value)}: must be a table ([{table}.{key}])")
+                continue
+            if key not in keys:
+                valid = list(keys) + ([sub] if sub else [])
+                problems.append(f"{path}: {dot(table, key)} = {show(value)}: unknown key"
+                                f"{_suggest(tables, key, valid, table)}; allowed in [{table}]: {', '.join(valid)}")
+                continue
+            given[table].add(key)
+            try:
+                values[table][key] = keys[key].check(value)
+            except Invalid as exc:
+                problems.append(f"{path}: {dot(table, key)} = {show(value)}: {exc}")
+        for key, spec in keys.items():
+            if spec.default is REQUIRED and key not in node and _node(data, table.split(".")[0]) is not None:
+                problems.append(f"{path}: {dot(table, key)} is missing: required, {spec.doc}")
+    for table in REQUIRED_TABLES:
+        if table not in data:
+            problems.append(f"{path}: [{table}] is missing: required ({REQUIRED_TABLES[table]})")
+    return values, given, present
+
+
+class _Rules:
+    """Rules between keys, on the valid values; a key given with an invalid value counts as given."""
+
+    def __init__(self, tables, values, given, present, path, problems):
+        self.tables, self.t, self.given, self.present = tables, values, given, present
+        self.path, self.problems = path, problems
+
+    def where(self, dotted):
+        return f"{self.path}: {dotted}"
+
+    def has(self, table, key):
+        return key in self.given[table]
+
+    def need(self, table, key, why):
+        if not self.has(table, key):
+            self.problems.append(f"{self.where(dot(table, key))} is missing: required {why}; "
+                                 f"{self.tables[table][key].doc}")
+
+    def forbid(self, table, key, why):
+        raw = self.t[table].get(key, "(invalid)")
+        self.problems.append(f"{self.where(dot(table, key))} = {show(raw)}: not allowed {why}")
+
+    def defaults(self, table):
+        out = {}
+        for key, spec in self.tables[table].items():
+            if key in self.t[table]:
+                out[key] = self.t[table][key]
+            elif spec.default is not REQUIRED and spec.default is not OPTIONAL:
+                out[key] = spec.default
+        return out
+
+    # ------------------------------------------------------------------
+    def scene(self) -> Scene:
+        sweep = self.defaults("sweep")
+        damper = self.defaults("damper")
+        effects = self.defaults("effects")
+        output = self.defaults("output")
+        load = self.defaults("damper.load")
+        self._sweep(sweep)
+        blade = self._blade(sweep["kind"])
+        specs = [MODELS[m] for m in damper["model"]]
+        needs = set().union(*(s.needs(self.t["damper"]) for s in specs)) if specs else set()
+        self._damper(specs, needs, effects)
+        has_load = "damper.load" in self.present
+        self._load(needs, has_load, load, damper["model"])
+        if effects.get("tolerance") is None:
+            effects["tolerance"] = sweep["options"]["rtol"]
+        bar_complete = all(self.has("damper", k) for k in BAR_KEYS)
+        if sweep["unit"] == "omega_c" and not bar_complete and "bar" not in needs:
+            self.forbid("sweep", "unit", "without a bar in [damper] (omega_c is the bar's: give E, rho, A, L, k, mu)")
+        if output.get("folder") is None:
+            output["folder"] = self.path.stem
+        return Scene(path=self.path, title=self.t[""].get("title", ""), blade=blade, damper=damper,
+                     load=load if has_load else None, effects=effects, sweep=sweep, output=output)
+
+    def _sweep(self, sweep):
+        kind = sweep["kind"]
+        omega = self.t["sweep"].get("omega")
+        if omega is not None:
+            item = number(ge=0)
+            try:
+                if kind == "frequency":
+                    pair = number_list(item, length=2)(omega)
+                    if pair[0] == pair[1]:
+                        raise Invalid("must be a list of 2 different numbers [w0, w1] (w0 > w1 sweeps down)")
+                    sweep["omega"] = pair
+                else:
+                    sweep["omega"] = number_list(item, minimum=1)(omega)
+            except Invalid as exc:
+                what = ("the range [w0, w1])" if kind == "frequency" else "the frequencies of the table)")
+                self.problems.append(f"{self.where('sweep.omega')} = {show(omega)}: {exc} "
+                                     f"(sweep.kind = \"{kind}\": {what}")
+        knobs = ("tolerance", "max_step", "min_step", "max_steps")
+        if self.has("sweep", "accuracy"):
+            for key in knobs:
+                if self.has("sweep", key):
+                    self.forbid("sweep", "accuracy", f"together with sweep.{key}, which it sets: give one of "
+                                                     "them (as frequency_response's accuracy=)")
+            options = presets.resolve(sweep.get("accuracy", "default")).options()
+        else:
+            options = presets.resolve("default").options()
+            for key, name in zip(knobs, ("rtol", "max_step", "min_step", "max_steps")):
+                if key in self.t["sweep"]:
+                    options[name] = self.t["sweep"][key]
+            if options["min_step"] > options["max_step"]:
+                self.forbid("sweep", "min_step", f"above sweep.max_step = {options['max_step']!r}")
+        sweep["options"] = options
+        sweep["tolerance"] = options["rtol"]
+        if kind == "frequency":
+            for key in ("amplitude", "amplitude_unit", "points"):
+                if self.has("sweep", key):
+                    self.forbid("sweep", key, 'with sweep.kind = "frequency" (it belongs to an amplitude sweep)')
+            if "blade" not in self.present:
+                self.problems.append(f"{self.path}: [blade] is missing: required for sweep.kind = \"frequency\" "
+                                     "(mass, stiffness or frequency, damping or damping_ratio, force)")
+        else:
+            self.need("sweep", "amplitude", 'with sweep.kind = "amplitude"')
+            for key in ("max_step", "min_step", "max_steps", "accuracy"):
+                if self.has("sweep", key):
+                    self.forbid("sweep", key, 'with sweep.kind = "amplitude" (continuation settings of a '
+                                              'frequency sweep)')
+
+    def _blade(self, kind):
+        if "blade" not in self.present or kind != "frequency":
+            return None
+        blade = dict(self.t["blade"])
+        for a, b in (("stiffness", "frequency"), ("damping", "damping_ratio")):
+            if self.has("blade", a) and self.has("blade", b):
+                self.forbid("blade", b, f"together with blade.{a}: give one of them")
+            elif not self.has("blade", a) and not self.has("blade", b):
+                self.problems.append(f"{self.where('blade.' + a)} is missing: give blade.{a} or blade.{b}")
+        return blade
+
+    def _damper(self, specs, needs, effects):
+        if "bar" in needs:
+            first = next(s.name for s in specs if "bar" in s.needs(self.t["damper"]))
+            why = f"for damper.model = {show(first)}"
+            for key in BAR_KEYS:
+                self.need("damper", key, why)
+            if effects["strain_hardening"]:
+                self.need("damper", "beta", why + " while effects.strain_hardening = true (or set it false)")
+        names = [s.name for s in specs]
+        for key in sorted(self.given["damper"]):
+            owners = [m.name for m in MODELS.values() if key in m.keys]
+            if owners and not any(o in names for o in owners):
+                self.forbid("damper", key, f"unless damper.model includes {' or '.join(map(show, owners))}")
+        for spec in specs:
+            if spec.validate is not None:
+                own = {k: v for k, v in self.t["damper"].items() if k in spec.keys}
+                own.update({k: None for k in self.given["damper"] if k in spec.keys and k not in own})
+                for message in spec.validate(own):
+                    self.problems.append(self.where(message))
+
+    def _load(self, needs, has_load, load, models):
+        if "load" in needs and not has_load:
+            first = next(m for m in models if "load" in MODELS[m].needs(self.t["damper"]))
+            self.problems.append(f"{self.path}: [damper.load] is missing: required for damper.model = {show(first)} "
+                                 "(kind, N, and ratio or q0 and q2 for a quadratic load)")
+            return
+        if not has_load:
+            return
+        t = self.t["damper.load"]
+        if load["kind"] == "uniform":
+            for key in ("ratio", "q0", "q2"):
+                if self.has("damper.load", key):
+                    self.forbid("damper.load", key, 'with damper.load.kind = "uniform" (use kind = "quadratic")')
+            self.need("damper.load", "N", 'with damper.load.kind = "uniform"')
+            return
+        by_ratio = self.has("damper.load", "N") or self.has("damper.load", "ratio")
+        by_q = self.has("damper.load", "q0") or self.has("damper.load", "q2")
+        if by_ratio and by_q:
+            self.problems.append(f"{self.where('damper.load')}: give N and ratio, or q0 and q2, not both")
+        elif by_q:
+            for key in ("q0", "q2"):
+                self.need("damper.load", key, "with the other of q0, q2")
+            if "q0" in t and "q2" in t:
+                if t["q2"] > t["q0"]:
+                    self.problems.append(f"{self.where('damper.load.q2')} = {show(t['q2'])}: must be <= "
+                                         f"damper.load.q0 = {show(t['q0'])} (the load q0 - q2 at mid-length must "
+                                         "be >= 0)")
+                L = self.t["damper"].get("L")
+                load["N"] = ((t["q0"] - 2.0 * t["q2"] / 3.0) * L,) if L else None
+        else:
+            for key in ("N", "ratio"):
+                self.need("damper.load", key, 'with damper.load.kind = "quadratic" (or give q0 and q2)')
