@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 
 from contact_models import QuasiStatic, ThreeRegionMicroslip
-from hbm.scene import load_scene, plan_scene, run_scene
+from hbm.scenes import load_scene, plan_scene, run_scene
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 #: Default-case peak (python -m hbm; tests/test_hbm_examples.py).
