@@ -99,6 +99,27 @@ def test_every_problem_is_reported_at_once(tmp_path):
     assert len(err.value.problems) >= 3 and "blade.mas " in keys and "blade.force" in keys
 
 
+def test_key_errors_and_rules_between_keys_come_in_one_pass(tmp_path):
+    """A bad value and a broken rule between keys are reported together, and a key given with a bad
+    value is not also reported missing: correcting what is reported gives a valid scene."""
+    bad = (DEFAULT.replace("force = 8.0", "force = -8.0").replace("tolerance = 1e-6", 'tolerance = 1e-6\naccuracy = "fast"')
+           .replace("mu = 0.3", 'mu = "high"').replace('kind = "uniform"', 'kind = "quadratic"'))
+    scene = tmp_path / "s.toml"
+    scene.write_text(bad)
+    with pytest.raises(SceneError) as err:
+        load_scene(scene)
+    problems = err.value.problems
+    assert any("blade.force = -8.0" in p for p in problems)  # a value
+    assert any('sweep.accuracy = "fast"' in p and "sweep.tolerance" in p for p in problems)  # a rule
+    assert any("damper.load.ratio is missing" in p for p in problems)  # a rule on another table
+    assert not any("damper.mu is missing" in p for p in problems)  # given, though invalid
+    assert len(problems) == 4, problems
+    fixed = (bad.replace("force = -8.0", "force = 8.0").replace('\naccuracy = "fast"', "")
+             .replace('mu = "high"', "mu = 0.3").replace("N = 100.0", "N = 100.0\nratio = 12.0"))
+    scene.write_text(fixed)
+    load_scene(scene)  # no second round of problems
+
+
 def test_bad_override_on_the_command_line_exits_2(tmp_path, capsys):
     scene = tmp_path / "s.toml"
     scene.write_text(DEFAULT)
