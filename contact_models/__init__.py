@@ -3,6 +3,7 @@
 See ``contact_models.base.ContactElement`` for the interface.
 """
 
+from ._version import __version__
 from .bar import Bar
 from .base import ContactElement
 from .loads import QuadraticLoad, UniformLoad
@@ -12,5 +13,5 @@ from .numerical import NumericalMicroslip
 from .point_contact import PointContact
 from .quasi_static import QuasiStatic
 
-__all__ = ["Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
+__all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic"]

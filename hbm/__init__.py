@@ -6,11 +6,13 @@ continuation core (it knows nothing of friction); ``hbm.residual`` states the ba
 integrates the blade with the discretised bar in time, the balance's independent check.
 """
 
+from contact_models import __version__  # one version for both packages
+
 from .blade import Blade
 from . import continuation
 from .frf import FrequencyResponse, Peak, Response, frequency_response, response_at
 from .transient import BladeSimulation, simulate_blade
 from .residual import HarmonicBalance
 
-__all__ = ["Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
+__all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
