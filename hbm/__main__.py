@@ -3,16 +3,34 @@
 With no arguments it computes the frequency response of the built-in default case
 (``hbm.cases.default_case``) and writes ``frf.csv`` and ``frf.png`` to the current folder
 (``--out DIR`` elsewhere), printing where they went and the peak.  Subcommands are registered
-in ``COMMANDS`` (``default`` is the same job, named; ``run SCENE.toml`` runs a scene,
-``docs/scenes.md``: exit code 0 on success, 1 on a failed computation, 2 on an invalid scene).
+in ``COMMANDS``: ``default`` (the same job, named), ``run SCENE.toml`` (``docs/scenes.md``; exit
+code 0 on success, 1 on a failed computation, 2 on an invalid scene, 130 on Ctrl-C),
+``new SCENE.toml`` (an annotated template scene), ``models`` and ``keys`` (listings generated
+from the registries and the schema).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import time
 from pathlib import Path
+
+from .presets import DEFAULT_RTOL
+
+#: The first line of ``--help``.
+DESCRIPTION = "Forced response of a blade with a friction damper (harmonic balance, continuation)."
+#: Examples shown at the end of ``--help``.
+EXAMPLES = """examples:
+  {prog}                                   the default case: frf.csv and frf.png here
+  {prog} --out results                     the same, written to results/
+  {prog} run study.toml                    run a scene (a study described in a TOML file)
+  {prog} run study.toml --check            validate it and print its effects; compute nothing
+  {prog} run study.toml --set sweep.accuracy=fast --out quick
+  {prog} new study.toml                    write an annotated template scene that runs as written
+  {prog} models                            the damper models a scene can name
+  {prog} keys                              every key of a scene, with its default and meaning"""
 
 
 def _default(args) -> int:
@@ -33,7 +51,8 @@ def _default(args) -> int:
     print(f"case: {case.description}")
     print(f"{len(frf)} points in {elapsed:.2f} s ({frf.nsteps} steps, {frf.nit} Newton iterations, "
           f"{frf.nfev} element evaluations): {frf.message}")
-    print(f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m (= {pk.amplitude / a_min:.4g} a_min)")
+    in_a_min = f" (= {pk.amplitude / a_min:.4g} a_min)" if a_min > 0.0 else ""
+    print(f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m{in_a_min}")
     print(f"wrote {csv_path.resolve()}")
     print(f"wrote {png_path.resolve()}")
     return 0 if frf.success else 1
@@ -46,6 +65,7 @@ def _figure(frf, case, path):
     import matplotlib.pyplot as plt
     import numpy as np
 
+    from .output import plot_frfs
     from .residual import linear_response
 
     el, blade = case.element, case.blade
@@ -53,9 +73,8 @@ def _figure(frf, case, path):
     stuck = np.abs(linear_response(blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     ax.plot(w, stuck, "--", color="0.6", lw=1, label="damper stuck (linear)")
-    frf.plot(ax, label="microslip damper (harmonic balance)", color="C0")
+    plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
     ax.axhline(el.slip_amplitude(0.0), color="C3", lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)")
-    ax.set_yscale("log")
     ax.set_title("Blade with a two-region microslip damper")
     ax.legend(fontsize=8)
     fig.tight_layout()
@@ -109,12 +128,54 @@ def _run_arguments(parser):
     parser.add_argument("--check", action="store_true", help="validate and print the effects; compute nothing")
 
 
-DEFAULT_RTOL = 1e-6
+def _new(args) -> int:
+    from .scenes.template import template
+
+    path = Path(args.scene)
+    if path.exists() and not args.force:
+        print(f"error: {path} exists (pass --force to overwrite it)", file=sys.stderr)
+        return 2
+    path.write_text(template(path.stem))
+    print(f"wrote {path.resolve()}: run it with: {args.prog} run {path}")
+    return 0
+
+
+def _new_arguments(parser):
+    parser.add_argument("scene", help="the scene file to write (TOML)")
+    parser.add_argument("--force", action="store_true", help="overwrite an existing file")
+
+
+def _models(args) -> int:
+    from .scenes import MODELS
+
+    width = max(len(name) for name in MODELS)
+    for name, spec in MODELS.items():
+        own = f" (keys: {', '.join('damper.' + k for k in spec.keys)})" if spec.keys else ""
+        print(f"{name.ljust(width)}  {spec.doc}{own}")
+    return 0
+
+
+def _keys(args) -> int:
+    from .scenes import REQUIRED, schema
+    from .scenes.checks import dot, show
+
+    for table, keys in schema().items():
+        print(f"[{table}]" if table else "(top level)")
+        for key, spec in keys.items():
+            default = ("required" if spec.default is REQUIRED else "optional" if spec.default is None
+                       else f"default {show(list(spec.default) if isinstance(spec.default, tuple) else spec.default)}")
+            print(f"  {dot(table, key)}: {default}; {spec.doc}")
+    return 0
+
 
 #: Subcommands: name -> (help, handler[, add_arguments]).  No subcommand runs ``default``.
 COMMANDS = {"default": ("run the built-in default case (the same as no subcommand)", _default),
-            "run": ("run a scene file: python -m hbm run SCENE.toml [--out DIR] [--quiet]", _run,
-                    _run_arguments)}
+            "run": ("run a scene file: run SCENE.toml [--out DIR] [--set TABLE.KEY=VALUE] [--quiet] [--check]",
+                    _run, _run_arguments),
+            "new": ("write an annotated template scene that runs as written: new SCENE.toml", _new,
+                    _new_arguments),
+            "models": ("list the damper models a scene can name", _models),
+            "keys": ("list every key of a scene with its default and meaning", _keys)}
 
 
 def _common(parser, suppress=False):
@@ -123,20 +184,33 @@ def _common(parser, suppress=False):
     parser.add_argument("--out", default=default(None),
                         help="output folder (default: the current folder; for run, the scene's output.folder)")
     parser.add_argument("--rtol", type=float, default=default(None),
-                        help="relative accuracy (default 1e-6; for run, overrides sweep.tolerance)")
+                        help=f"relative accuracy (default {DEFAULT_RTOL:g}; for run, overrides sweep.tolerance)")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m hbm", description=__doc__.splitlines()[0])
+def program_name(argv0: str | None = None) -> str:
+    """How the user called us: ``python -m hbm`` or the console script's name."""
+    argv0 = sys.argv[0] if argv0 is None else argv0
+    name = os.path.basename(argv0)
+    return "python -m hbm" if name in ("__main__.py", "-m", "") else name
+
+
+def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
+    """The command line's parser; ``prog`` defaults to :func:`program_name`."""
+    from . import __version__
+
+    prog = program_name() if prog is None else prog
+    parser = argparse.ArgumentParser(prog=prog, description=DESCRIPTION, epilog=EXAMPLES.format(prog=prog),
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     _common(parser)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (text, handler, *arguments) in COMMANDS.items():
-        p = sub.add_parser(name, help=text)
+        p = sub.add_parser(name, help=text, description=text)
         _common(p, suppress=True)
         for add in arguments:
             add(p)
         p.set_defaults(handler=handler)
-    parser.set_defaults(handler=_default)
+    parser.set_defaults(handler=_default, prog=prog)
     return parser
 
 

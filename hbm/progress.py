@@ -16,7 +16,8 @@ INTERVAL = 0.1
 
 
 class ProgressLine:
-    """``line(progress)`` redraws ``run i/n label: omega ... rad/s (xx %), N points, t s`` on ``stream``."""
+    """``line(progress)`` redraws ``run i/n label: omega ... rad/s (xx %), N points, t s, about T left``
+    on ``stream`` (runs numbered from 1, as in the CSV and the summary; T from the time so far)."""
 
     def __init__(self, stream, *, enabled: bool):
         self.stream = stream
@@ -33,8 +34,10 @@ class ProgressLine:
         if now - self._last < INTERVAL:
             return
         self._last = now
-        text = (f"run {p.run + 1}/{p.runs} {p.label}: omega {p.omega:.6g} rad/s "
-                f"({100.0 * min(max(p.fraction, 0.0), 1.0):.0f} %), {p.points} points, {p.elapsed:.1f} s")
+        eta = p.eta
+        text = (f"run {p.run}/{p.runs} {p.label}: omega {p.omega:.6g} rad/s "
+                f"({100.0 * min(max(p.fraction, 0.0), 1.0):.0f} %), {p.points} points, {p.elapsed:.1f} s"
+                + ("" if eta is None else f", about {_duration(eta)} left"))
         self.stream.write("\r" + text.ljust(self._width))
         self.stream.flush()
         self._width = len(text)
@@ -45,3 +48,13 @@ class ProgressLine:
             self.stream.write("\r" + " " * self._width + "\r")
             self.stream.flush()
             self._width = 0
+
+
+def _duration(seconds: float) -> str:
+    """``42 s``, ``3 min 5 s``, ``2 h 10 min``."""
+    s = int(round(seconds))
+    if s < 60:
+        return f"{s} s"
+    if s < 3600:
+        return f"{s // 60} min {s % 60} s"
+    return f"{s // 3600} h {s % 3600 // 60} min"

@@ -374,7 +374,7 @@ class FakeTerminal:
 
 def test_progress_line_appears_after_a_second_on_a_terminal_only():
     def p(elapsed, points=3):
-        return Progress(0, 2, "two-region", 3.5e4, 0.25, points, elapsed)
+        return Progress(1, 2, "two-region", 3.5e4, 0.25, points, elapsed)  # runs numbered from 1
 
     term = FakeTerminal()
     line = ProgressLine(term, enabled=True)
@@ -382,6 +382,8 @@ def test_progress_line_appears_after_a_second_on_a_terminal_only():
     assert term.text == ""  # short sweeps: nothing
     line(p(1.5, 7))
     assert term.text.startswith("\r") and "run 1/2 two-region" in term.text and "(25 %), 7 points" in term.text
+    # 1/8 of the scene done in 1.5 s: 7/8 left take 10.5 s
+    assert "about 10 s left" in term.text  # 10.5 s, rounded half to even
     line.clear()
     assert term.text.endswith("\r")
     quiet = FakeTerminal()
