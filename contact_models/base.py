@@ -47,8 +47,10 @@ Nothing else of an element is read by ``hbm``:
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._validation import nonnegative, nonnegative_array, positive
 
@@ -76,7 +78,8 @@ class ContactElement(ABC):
     frequency_dependent: bool = True
 
     # ------------------------------------------------------------------ public
-    def fourier(self, a, omega=0.0, *, rtol: float = DEFAULT_RTOL):
+    def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
+                rtol: float = DEFAULT_RTOL) -> tuple[float | NDArray, float | NDArray]:
         """First-harmonic coefficients ``(f_s, f_c)`` in N for amplitude ``a`` (m) and ``omega`` (rad/s).
 
         ``a`` and ``omega`` broadcast against each other; both must be finite and >= 0.
@@ -87,7 +90,8 @@ class ContactElement(ABC):
         fs, fc = self._fourier(a_b, w_b, rtol)
         return _shaped(fs, shape), _shaped(fc, shape)
 
-    def fourier_derivatives(self, a, omega=0.0, *, rtol: float = DEFAULT_RTOL):
+    def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
+                            rtol: float = DEFAULT_RTOL) -> tuple[float | NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)``, broadcasting like :meth:`fourier`.
 
         Elements override ``_fourier_derivatives`` with analytic derivatives; the
@@ -99,7 +103,7 @@ class ContactElement(ABC):
         out = self._fourier_derivatives(a_b, w_b, rtol)
         return tuple(_shaped(v, shape) for v in out)
 
-    def fourier_derivatives_unchecked(self, a: np.ndarray, omega: np.ndarray, rtol: float):
+    def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)`` on flat float64 arrays ``a``, ``omega`` of one size.
 
         The solver's fast path: no validation and no broadcasting, so the caller guarantees
@@ -107,36 +111,36 @@ class ContactElement(ABC):
         """
         return self._fourier_derivatives(a, omega, rtol)
 
-    def linear_amplitude(self, omega=0.0) -> float:
+    def linear_amplitude(self, omega: float = 0.0) -> float:
         """Amplitude (m) up to which ``f_s + i f_c = (k_s + i k_c) a`` (see ``linear_coefficients``).
 
         Default: ``slip_amplitude(omega)``.  0 for an element that is nonlinear at any amplitude.
         """
         return self._linear_amplitude(nonnegative("omega", omega))
 
-    def linear_coefficients(self, omega=0.0) -> tuple[float, float]:
+    def linear_coefficients(self, omega: float = 0.0) -> tuple[float, float]:
         """``(k_s, k_c)`` (N/m): ``f_s = k_s a``, ``f_c = k_c a`` for ``a <= linear_amplitude(omega)``.
 
         Default: ``(stuck_stiffness(omega), 0.0)``.
         """
         return self._linear_coefficients(nonnegative("omega", omega))
 
-    def reference_amplitude(self, omega=0.0) -> float:
+    def reference_amplitude(self, omega: float = 0.0) -> float:
         """An amplitude (m) at which the element is clearly nonlinear (default ``slip_amplitude``).
 
         Amplitude sweeps are measured in it, and property tests sample amplitudes around it.
         """
         return self._reference_amplitude(nonnegative("omega", omega))
 
-    def stuck_stiffness(self, omega=0.0) -> float:
+    def stuck_stiffness(self, omega: float = 0.0) -> float:
         """Dynamic stiffness (N/m) while nothing slips; ``k* = stuck_stiffness(0)``."""
         return self._stuck_stiffness(nonnegative("omega", omega))
 
-    def slip_amplitude(self, omega=0.0) -> float:
+    def slip_amplitude(self, omega: float = 0.0) -> float:
         """``a_min`` (m): the amplitude at which slip begins."""
         return self._slip_amplitude(nonnegative("omega", omega))
 
-    def hysteresis(self, a, omega=0.0, *, n: int = 401):
+    def hysteresis(self, a: float, omega: float = 0.0, *, n: int = 401) -> tuple[NDArray, NDArray]:
         """One closed loop ``(x, f)`` of the steady response to ``x = a sin(theta)``.
 
         ``n`` points, theta from -pi/2 to 3 pi/2 (the loop starts and ends at x = -a).
@@ -198,7 +202,7 @@ class ContactElement(ABC):
         return a_b.ravel().astype(float), w_b.ravel().astype(float), shape
 
 
-def masing_loop(loading, a: float, n: int):
+def masing_loop(loading: Callable[[NDArray], NDArray], a: float, n: int) -> tuple[NDArray, NDArray]:
     """Closed loop from a loading curve by the Masing rule.
 
     ``loading(x)`` is the virgin loading curve F(x) for x >= 0 (vectorised).  The

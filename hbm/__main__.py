@@ -214,7 +214,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv=None) -> int:
+def main(argv: list[str] | None = None) -> int:
     """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
     args = build_parser().parse_args(argv)
     try:

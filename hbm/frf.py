@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from typing import NamedTuple
+from typing import TYPE_CHECKING, Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -21,6 +21,9 @@ from .blade import Blade
 from .output import write_frf_csv
 from .presets import DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply
 from .residual import HarmonicBalance
+
+if TYPE_CHECKING:
+    from contact_models import ContactElement
 
 #: Newton tolerance on |R|/F (Euclidean, R = (R_c, R_s)) as a fraction of ``rtol``.
 NEWTON_TOL_FACTOR = 5e-3
@@ -57,7 +60,8 @@ class FrequencyResponse:
     stuck stiffness); the counters include the work of :meth:`peak` once it has been called.
     """
 
-    def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol, tol, scale):
+    def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
+                 scale: Callable[[np.ndarray], np.ndarray]):
         self._problem = problem
         self._run = run
         self._scale = scale
@@ -153,12 +157,12 @@ class FrequencyResponse:
         return best
 
     # ------------------------------------------------------------------ output
-    def to_csv(self, path) -> Path:
+    def to_csv(self, path: str | Path) -> Path:
         """Write the points as ``hbm.output.FRF_COLUMNS`` (omega, amplitude, phase, x_c, x_s,
         residual, units in the header); returns the path."""
         return write_frf_csv(path, self)
 
-    def plot(self, ax=None, *, label=None, peak=True, **kwargs):
+    def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
         """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax."""
         import matplotlib.pyplot as plt  # only when plotting
 
@@ -173,10 +177,12 @@ class FrequencyResponse:
         return ax
 
 
-def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: float = DEFAULT_RTOL,
+def frequency_response(blade: Blade, element: ContactElement | None = None,
+                       omega_range: tuple[float, float] | None = None, *, rtol: float = DEFAULT_RTOL,
                        max_step: float = DEFAULT_MAX_STEP, min_step: float = DEFAULT_MIN_STEP,
                        max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True,
-                       on_point=None, accuracy=None) -> FrequencyResponse:
+                       on_point: Callable[[float, float, float, float], None] | None = None,
+                       accuracy: str | float | None = None) -> FrequencyResponse:
     """FRF of ``blade`` with the contact element ``element`` (None: the bare blade) over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -238,7 +244,8 @@ def frequency_response(blade: Blade, element=None, omega_range=None, *, rtol: fl
     return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale)
 
 
-def response_at(blade: Blade, element, omega, amplitude_bracket, *, rtol: float = 1e-8) -> Response:
+def response_at(blade: Blade, element: ContactElement, omega: float,
+                amplitude_bracket: tuple[float, float], *, rtol: float = 1e-8) -> Response:
     """The single-harmonic balance at one frequency ``omega``, for one amplitude in
     ``amplitude_bracket = (a_lo, a_hi)`` (m).
 

@@ -50,7 +50,7 @@ class CsvStream:
     '1.0,5.0,0.9272952180016122,3.0,4.0,1e-09'
     """
 
-    def __init__(self, path, columns: Sequence[str]):
+    def __init__(self, path: str | Path, columns: Sequence[str]):
         self.path = Path(path)
         self.columns = tuple(columns)
         self._fh = self.path.open("w", newline="")
@@ -67,14 +67,14 @@ class CsvStream:
     def close(self) -> None:
         self._fh.close()
 
-    def __enter__(self):
+    def __enter__(self) -> "CsvStream":
         return self
 
-    def __exit__(self, *exc):
+    def __exit__(self, *exc: object) -> None:
         self.close()
 
 
-def write_frf_csv(path, frf) -> Path:
+def write_frf_csv(path: str | Path, frf: Any) -> Path:
     """Write a :class:`hbm.FrequencyResponse` as :data:`FRF_COLUMNS`; returns the path."""
     with CsvStream(path, FRF_COLUMNS) as out:
         for w, xc, xs, r, a, ph in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude, frf.phase):
@@ -82,7 +82,8 @@ def write_frf_csv(path, frf) -> Path:
     return Path(path)
 
 
-def plot_frfs(curves, ax=None, *, parameter: str | None = None, log: bool = True):
+def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]], ax: Any = None, *,
+              parameter: str | None = None, log: bool = True) -> Any:
     """Amplitude against omega of several FRFs on ``ax`` (a new figure if None); returns ``ax``.
 
     ``curves`` is a sequence of ``(frf, label, model, value)``: ``model`` sets the line style,

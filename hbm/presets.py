@@ -98,7 +98,7 @@ def max_step_for(rtol: float) -> float:
     return min(max(step, MIN_PRESET_STEP), MAX_PRESET_STEP)
 
 
-def resolve(accuracy) -> Accuracy:
+def resolve(accuracy: str | float) -> Accuracy:
     """``accuracy``: "fast", "default", "precise" or a number 0 < rtol < 0.1."""
     if isinstance(accuracy, str):
         if accuracy not in NAMED:
@@ -114,7 +114,8 @@ def resolve(accuracy) -> Accuracy:
     return from_rtol(value)
 
 
-def apply(accuracy, *, rtol, max_step, min_step, max_steps):
+def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: float,
+          max_steps: int) -> tuple[float, float, float, int]:
     """``(rtol, max_step, min_step, max_steps)`` for ``frequency_response(..., accuracy=...)``.
 
     The preset sets all four; passing one of them too (with a value other than its default)

@@ -8,6 +8,10 @@ terminal, or ``--quiet``).  It is a callback for ``hbm.scenes.run_scene(progress
 from __future__ import annotations
 
 import time
+from typing import TYPE_CHECKING, TextIO
+
+if TYPE_CHECKING:
+    from .scenes.running import Progress
 
 #: Seconds after which the line appears (shorter sweeps print nothing).
 SHOW_AFTER = 1.0
@@ -19,14 +23,14 @@ class ProgressLine:
     """``line(progress)`` redraws ``run i/n label: omega ... rad/s (xx %), N points, t s, about T left``
     on ``stream`` (runs numbered from 1, as in the CSV and the summary; T from the time so far)."""
 
-    def __init__(self, stream, *, enabled: bool):
+    def __init__(self, stream: TextIO, *, enabled: bool):
         self.stream = stream
         self.enabled = enabled
         self.points = 0  #: points written so far (also counted when disabled)
         self._last = -1.0
         self._width = 0
 
-    def __call__(self, p) -> None:
+    def __call__(self, p: Progress) -> None:
         self.points = p.points
         if not self.enabled or p.elapsed < SHOW_AFTER:
             return

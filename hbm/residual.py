@@ -45,9 +45,15 @@ from __future__ import annotations
 
 import math
 
+from typing import TYPE_CHECKING, Callable
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .blade import Blade
+
+if TYPE_CHECKING:
+    from contact_models import ContactElement
 
 #: omega-derivative of the stuck stiffness: central difference of this relative step.
 STUCK_FD_STEP = 1e-5
@@ -68,7 +74,7 @@ class HarmonicBalance:
     itself in the Newton loop; (a, omega) are finite and >= 0 here by construction.
     """
 
-    def __init__(self, blade: Blade, element=None, *, rtol: float = 1e-6,
+    def __init__(self, blade: Blade, element: ContactElement | None = None, *, rtol: float = 1e-6,
                  x_ref: float = 1.0, omega_ref: float = 1.0):
         self.blade = blade
         self.element = element
@@ -88,7 +94,7 @@ class HarmonicBalance:
         self.omega_fd_step = math.sqrt(max(self.rtol, 1e-14))
 
     # ------------------------------------------------------------------ element
-    def stiffness_terms(self, a: float, omega: float):
+    def stiffness_terms(self, a: float, omega: float) -> tuple[float, float, float, float, float, float]:
         """``(p, q, dp/da, dq/da, dp/domega, dq/domega)`` of the element at amplitude ``a``."""
         el = self.element
         if el is None:
@@ -137,7 +143,7 @@ class HarmonicBalance:
         return d
 
     # ------------------------------------------------------------------ balance
-    def balance(self, xc: float, xs: float, omega: float):
+    def balance(self, xc: float, xs: float, omega: float) -> tuple[tuple[float, float], tuple[float, ...]]:
         """Physical ``(R_c, R_s)`` and ``dR/d(x_c, x_s, omega)`` as a flat 6-tuple (row-major)."""
         self.ncalls += 1
         b = self.blade
@@ -159,12 +165,12 @@ class HarmonicBalance:
              -ki + v * gc, kr + v * gs, krw * xs - kiw * xc)
         return (Rc, Rs), J
 
-    def physical(self, y):
+    def physical(self, y: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """``R`` (2,) and ``J`` (2, 3) at ``y = (x_c, x_s, omega)`` in physical units."""
         R, J = self.balance(float(y[0]), float(y[1]), float(y[2]))
         return np.array(R), np.array(J).reshape(2, 3)
 
-    def __call__(self, u):
+    def __call__(self, u: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Scaled ``R/F`` (2,) and its Jacobian in ``u = (x_c/x_ref, x_s/x_ref, omega/omega_ref)``."""
         xr, wr, F = self.x_ref, self.omega_ref, self.blade.force
         (Rc, Rs), J = self.balance(float(u[0]) * xr, float(u[1]) * xr, float(u[2]) * wr)
@@ -172,13 +178,14 @@ class HarmonicBalance:
         return (np.array((Rc / F, Rs / F)),
                 np.array(((J[0] * cx, J[1] * cx, J[2] * cw), (J[3] * cx, J[4] * cx, J[5] * cw))))
 
-    def to_physical(self, u):
+    def to_physical(self, u: ArrayLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(x_c, x_s, omega)`` arrays from scaled points ``u`` (..., 3)."""
         u = np.asarray(u, dtype=float)
         return u[..., 0] * self.x_ref, u[..., 1] * self.x_ref, u[..., 2] * self.omega_ref
 
 
-def linear_response(blade: Blade, omega, stiffness=0.0):
+def linear_response(blade: Blade, omega: ArrayLike,
+                    stiffness: complex | Callable[[np.ndarray], ArrayLike] = 0.0) -> np.ndarray:
     """Closed-form complex amplitude ``x_c - i x_s = F / (k + k_d - m w^2 + i c w)`` of the blade
     with a linear spring ``stiffness`` (a number or a function of omega) in place of the damper."""
     omega = np.asarray(omega, dtype=float)

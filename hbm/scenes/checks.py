@@ -11,12 +11,12 @@ from __future__ import annotations
 import difflib
 import json
 import math
-from typing import Any, Callable, NamedTuple
+from typing import Any, Callable, Iterable, NamedTuple
 
 class SceneError(ValueError):
     """An invalid scene: ``problems`` lists every message (file, table.key, value, what is allowed)."""
 
-    def __init__(self, problems):
+    def __init__(self, problems: Iterable[str]):
         self.problems = list(problems)
         super().__init__("\n".join(self.problems))
 
@@ -42,7 +42,7 @@ class Key(NamedTuple):
     doc: str
 
 
-def show(v) -> str:
+def show(v: Any) -> str:
     """A value as it would be written in TOML."""
     if isinstance(v, bool):
         return "true" if v else "false"
@@ -59,14 +59,15 @@ def show(v) -> str:
     return repr(v)
 
 
-def number(*, gt=None, ge=None, lt=None, unit="", allow_inf=False):
+def number(*, gt: float | None = None, ge: float | None = None, lt: float | None = None, unit: str = "",
+           allow_inf: bool = False) -> Callable[[Any], float]:
     parts = [p for p in (f"> {gt:g}" if gt is not None else None, f">= {ge:g}" if ge is not None else None,
                          f"< {lt:g}" if lt is not None else None) if p]
     what = "a number" + (" " + " and ".join(parts) if parts else "") + (f" ({unit})" if unit else "")
     if allow_inf:
         what += " or inf"
 
-    def check(v):
+    def check(v: Any) -> Any:
         if isinstance(v, bool) or not isinstance(v, (int, float)):
             raise Invalid(f"must be {what}")
         v = float(v)
@@ -81,8 +82,8 @@ def number(*, gt=None, ge=None, lt=None, unit="", allow_inf=False):
     return check
 
 
-def integer(minimum):
-    def check(v):
+def integer(minimum: int) -> Callable[[Any], int]:
+    def check(v: Any) -> Any:
         if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
             raise Invalid(f"must be an integer >= {minimum}")
         return int(v)
@@ -90,22 +91,22 @@ def integer(minimum):
     return check
 
 
-def boolean(v):
+def boolean(v: Any) -> bool:
     if not isinstance(v, bool):
         raise Invalid("must be true or false")
     return v
 
 
-def text(v):
+def text(v: Any) -> str:
     if not isinstance(v, str):
         raise Invalid("must be a string")
     return v
 
 
-def choice(*names):
+def choice(*names: str) -> Callable[[Any], str]:
     allowed = ", ".join(json.dumps(n) for n in names)
 
-    def check(v):
+    def check(v: Any) -> Any:
         if not isinstance(v, str) or v not in names:
             hint = ""
             if isinstance(v, str):
@@ -118,10 +119,10 @@ def choice(*names):
     return check
 
 
-def one_or_list(item, what):
+def one_or_list(item: Callable[[Any], Any], what: str) -> Callable[[Any], tuple]:
     """A single value or a non-empty list of distinct values (a study over them); returns a tuple."""
 
-    def check(v):
+    def check(v: Any) -> Any:
         values = v if isinstance(v, list) else [v]
         if not values:
             raise Invalid(f"must be {what}, or a non-empty list of them")
@@ -136,8 +137,9 @@ def one_or_list(item, what):
     return check
 
 
-def number_list(item, *, length=None, minimum=1):
-    def check(v):
+def number_list(item: Callable[[Any], float], *, length: int | None = None,
+                minimum: int = 1) -> Callable[[Any], tuple]:
+    def check(v: Any) -> Any:
         if not isinstance(v, list) or (length is not None and len(v) != length) or len(v) < minimum:
             n = f"{length}" if length is not None else f"at least {minimum}"
             raise Invalid(f"must be a list of {n} numbers, each {item.what}")
@@ -149,7 +151,7 @@ def number_list(item, *, length=None, minimum=1):
     return check
 
 
-def formats(v):
+def formats(v: Any) -> tuple:
     """A list of distinct output names out of "csv", "png", "json"."""
     names = ("csv", "png", "json")
     if not isinstance(v, list) or any(x not in names for x in v) or len(set(v)) != len(v):

@@ -89,7 +89,7 @@ def unregister_effect(name: str) -> None:
 
 
 # ====================================================================== the deciders
-def strain_hardening(run) -> Effect | None:
+def strain_hardening(run: Any) -> Effect | None:
     """The spring beta at the bar's end x = 0: off sets beta = 0 in the bar of this run."""
     if run.bar is None:
         return None
@@ -106,7 +106,7 @@ def strain_hardening(run) -> Effect | None:
     return Effect("strain-hardening spring", True, f"beta = {beta:g} N/m")
 
 
-def inertia(run) -> Effect:
+def inertia(run: Any) -> Effect:
     """Damper inertia: from the stuck dynamic stiffness at the top of the sweep (``auto``).
 
     A model on the microslip bar decides from the bar before its element is built; any other
@@ -148,7 +148,7 @@ def inertia(run) -> Effect:
     return Effect("damper inertia", run.inertia, reason)
 
 
-def topology(run) -> Effect | None:
+def topology(run: Any) -> Effect | None:
     """Two or three regions, from where slip starts on the bar (Section 2.1); builds ``run.micro``."""
     if run.spec.microslip is None:
         return None
@@ -194,7 +194,7 @@ def topology(run) -> Effect | None:
     return Effect("interior slip onset (three regions)", name == "three-region", f"{why}; {text}")
 
 
-def slip(run) -> Effect:
+def slip(run: Any) -> Effect:
     """A damper whose stuck (linear) response never reaches its linear amplitude is a linear spring."""
     from contact_models.quasi_static import StuckContact
 
@@ -213,7 +213,7 @@ def slip(run) -> Effect:
                                        f"({peak:.4g} m against {smallest:.4g} m)")
 
 
-def harmonics_key(v):
+def harmonics_key(v: Any) -> int:
     """``effects.harmonics``: only 1 until the multi-harmonic balance is wired into scenes."""
     v = integer(1)(v)
     if v != 1:
@@ -222,7 +222,7 @@ def harmonics_key(v):
     return v
 
 
-def harmonics(run) -> Effect:
+def harmonics(run: Any) -> Effect:
     """Higher harmonics of the balance."""
     return Effect("higher harmonics", False, "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c)")
 
@@ -243,7 +243,7 @@ def _sliding_change(bar, load, omega):
     return v if math.isfinite(v) else None
 
 
-def linear_amplitude(element, omega: float) -> float:
+def linear_amplitude(element: Any, omega: float) -> float:
     """The element's linear amplitude at ``omega``; for a dynamic bar from ``Bar.slip_onset``
     (no loading path built)."""
     bar, load = getattr(element, "bar", None), getattr(element, "load", None)
@@ -252,7 +252,7 @@ def linear_amplitude(element, omega: float) -> float:
     return float(element.linear_amplitude(omega))
 
 
-def stuck_peak(blade, element, omega) -> tuple[float, float]:
+def stuck_peak(blade: Any, element: Any, omega: tuple) -> tuple[float, float]:
     """(largest amplitude of the blade with the damper linear over the range, smallest linear
     amplitude there)."""
     from scipy.optimize import minimize_scalar

@@ -77,7 +77,7 @@ class ModelSpec:
     build: Callable[[Any], Any]
     doc: str = ""
     keys: Mapping[str, Key] = field(default_factory=dict)
-    needs: Callable[[Mapping[str, Any]], set] = lambda given: set()
+    needs: Callable[[Mapping[str, Any]], set] = field(default=lambda given: set())
     microslip: Callable[[Mapping[str, Any]], str | None] | None = None
     unit: Callable[[Any], tuple[float, str]] | None = None
     example: Callable[[], Any] | None = None

@@ -48,7 +48,7 @@ class RunContext:
         return self.scene.where(dotted)
 
     @property
-    def load(self):
+    def load(self) -> Any:
         """The normal load of this run (``contact_models`` load object), or None without [damper.load]."""
         if self._load is None and self.scene.load is not None:
             from contact_models import QuadraticLoad, UniformLoad
@@ -88,13 +88,13 @@ class RunContext:
         return self._built
 
     @property
-    def element(self):
+    def element(self) -> Any:
         """The contact element of this run (built on first use)."""
         self._build()
         return self._element
 
     @element.setter
-    def element(self, value):
+    def element(self, value: Any) -> None:
         self._build()
         self._element = value
 

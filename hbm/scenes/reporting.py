@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -14,7 +15,7 @@ from .effects import linear_amplitude
 from .planning import Plan
 
 
-def run_summary(res) -> dict:
+def run_summary(res: Any) -> dict:
     """The summary.json entry of one :class:`hbm.scenes.running.RunResult`."""
     from contact_models import QuasiStatic
     from contact_models.quasi_static import StuckContact
@@ -49,7 +50,7 @@ def run_summary(res) -> dict:
     return out
 
 
-def jsonable(v):
+def jsonable(v: Any) -> Any:
     """``v`` with numpy scalars as Python numbers and non-finite floats as strings."""
     if isinstance(v, dict):
         return {k: jsonable(x) for k, x in v.items()}
@@ -67,7 +68,7 @@ def _model_of(label: str) -> str:
     return label.split(" (")[0]
 
 
-def figure(scene, results, path) -> Path:
+def figure(scene: Any, results: list, path: str | Path) -> Path:
     """The scene's figure: FRFs (and peaks against the load for several loads), or F_s, F_c tables."""
     import matplotlib
 
@@ -144,7 +145,7 @@ def _ranges(numbers) -> str:
     return ", ".join(out)
 
 
-def summary_lines(result) -> list:
+def summary_lines(result: Any) -> list:
     """The end-of-run summary of a :class:`hbm.scenes.running.SceneResult` as lines of text."""
     lines = []
     scene = result.plan.scene

@@ -94,7 +94,7 @@ def columns(scene: Scene) -> tuple:
     return RUN_COLUMNS + (FRF_COLUMNS if scene.sweep["kind"] == "frequency" else TABLE_COLUMNS)
 
 
-def run_scene(scene: Scene, out=None, *, plan: Plan | None = None,
+def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None = None,
               progress: Callable[[Progress], None] | None = None) -> SceneResult:
     """Run every computation of ``scene``, writing its outputs to ``out`` (default
     ``scene.output["folder"]``) as they are computed; see the module docstring.
@@ -213,7 +213,7 @@ def _run_amplitude(scene, plan, res, emit):
     res.message = "table complete"
 
 
-def thin(omega, n: int = 33):
+def thin(omega: Any, n: int = 33) -> np.ndarray:
     """A few frequencies of the branch (the linear amplitude varies slowly with omega)."""
     omega = np.asarray(omega)
     return omega[np.unique(np.linspace(0, len(omega) - 1, min(n, len(omega))).astype(int))]

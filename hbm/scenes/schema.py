@@ -8,6 +8,8 @@
 
 from __future__ import annotations
 
+from typing import Iterator
+
 from .. import presets
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
                      one_or_list, positive, text, choice)
@@ -116,7 +118,7 @@ def schema() -> dict[str, dict[str, Key]]:
     return out
 
 
-def all_keys():
+def all_keys() -> Iterator[str]:
     """Every ``table.key`` of the schema (top-level keys bare)."""
     for table, keys in schema().items():
         for key in keys:

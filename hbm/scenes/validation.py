@@ -48,7 +48,7 @@ class Scene:
         return f"{self.path}: {dotted}"
 
 
-def load_scene(path, *, overrides: Mapping[str, Any] | None = None) -> Scene:
+def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) -> Scene:
     """Read and validate the scene file ``path``.
 
     ``overrides`` maps ``"table.key"`` to a value that replaces the file's (as
@@ -84,7 +84,7 @@ def parse_override(text: str) -> tuple[str, Any]:
     return name, value
 
 
-def scene_from_dict(data: dict, path="<scene>", *, overrides: Mapping[str, Any] | None = None) -> Scene:
+def scene_from_dict(data: dict, path: str | Path = "<scene>", *, overrides: Mapping[str, Any] | None = None) -> Scene:
     """Validate the parsed TOML ``data`` (file name ``path`` for messages); see :func:`load_scene`."""
     path = Path(path)
     data = _copy(data)
