@@ -57,20 +57,31 @@ utilisation tau/(mu q) (signed with the slip) linearly to 1.
 
 Quasi-static runs of several amplitudes step in lockstep, their tridiagonal systems stacked
 into one banded solve; dynamic runs go one (a, omega) pair at a time.
+
+Code: the nodal data in ``_fe_bar``, the integrator's coefficients in ``_genalpha`` (shared
+with ``hbm.transient``), the step (return mapping, Newton, lockstep batch and its tangent) in
+``_stepping``; here the element, its runs to the steady state (with the shooting) and the
+result.  The names ``hbm.transient`` uses are re-exported here.
 """
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
-from scipy.linalg import eigh_tridiagonal, solve_banded
+from scipy.linalg import eigh_tridiagonal
 
+from ._fe_bar import NodalData, _Discretisation
+from ._genalpha import GeneralizedAlpha
+from ._stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tangent, return_map, solve_step
 from ._validation import nonnegative, positive
 from .bar import Bar
 from .base import ContactElement
+
+__all__ = ["NumericalMicroslip", "SimulationResult", "NodalData", "GeneralizedAlpha", "return_map", "solve_step",
+           "STEPS_QUASI_STATIC", "STEPS_DYNAMIC", "STEADY_TOL", "MAX_CYCLES_QUASI_STATIC", "MAX_CYCLES_DYNAMIC",
+           "RHO_INF", "RAMP_CYCLES", "NEWTON_PLAIN", "NEWTON_MAX", "NEWTON_RTOL", "SHOOT_SKIP"]
 
 #: Default steps per cycle, quasi-static and dynamic (multiples of 4: x = +-a are grid points).
 STEPS_QUASI_STATIC = 512
@@ -84,12 +95,6 @@ MAX_CYCLES_DYNAMIC = 30
 RHO_INF = 0.9
 #: Default cycles over which a dynamic run raises the amplitude from 0 to a.
 RAMP_CYCLES = 2
-#: Plain semismooth Newton iterations before switching to the energy line search.
-NEWTON_PLAIN = 8
-#: Hard limit on Newton iterations per step.
-NEWTON_MAX = 60
-#: Residual accepted as converged, relative to the step's force scale.
-NEWTON_RTOL = 1e-12
 #: Shooting skips its Newton step when the one-cycle map moves the state by less than this
 #: fraction of steady_tol (scaled, see ``_run_dynamic``).
 SHOOT_SKIP = 1e-2
@@ -158,293 +163,6 @@ class SimulationResult:
         return ax
 
 
-class NodalData(NamedTuple):
-    """Nodal arrays of the discretised bar (n + 1 nodes, node n the driven end).
-
-    ``mass``: lumped masses rho A c_i (kg); ``stiffness_diag``, ``stiffness_off``: the
-    tridiagonal axial stiffness (N/m; the beta spring in entry 0, the driven node's diagonal
-    S/h); ``shear_stiffness``, ``slip_force``: each node's Jenkins element k c_i (N/m) and
-    mu q(x_i) c_i (N).
-    """
-
-    x: np.ndarray
-    mass: np.ndarray
-    stiffness_diag: np.ndarray
-    stiffness_off: float
-    shear_stiffness: np.ndarray
-    slip_force: np.ndarray
-
-
-class _Discretisation:
-    """Nodal data of the finite-element bar (n cells, n + 1 nodes, node n driven)."""
-
-    def __init__(self, bar: Bar, load, n: int):
-        self.n = n
-        self.h = bar.L / n
-        self.x = np.linspace(0.0, bar.L, n + 1)
-        c = np.full(n + 1, self.h)
-        c[0] = c[-1] = 0.5 * self.h  # trapezoid weights
-        self.c = c
-        self.kc = bar.k * c  # nodal shear stiffness (N/m)
-        self.p = bar.mu * np.asarray(load.q(self.x), dtype=float) * c  # nodal slip force (N)
-        self.m = bar.rho * bar.A * c  # lumped mass (kg)
-        self.off = -bar.EA / self.h  # off-diagonal of the stiffness matrix
-        kd = np.full(n + 1, 2.0 * bar.EA / self.h)
-        kd[0] = bar.EA / self.h + bar.beta
-        kd[-1] = bar.EA / self.h
-        self.kdiag = kd
-
-    def stuck_solution(self, omega: float):
-        """Free nodal displacements of the stuck bar for u_n = 1, and the tip reaction."""
-        n = self.n
-        d = self.kdiag + self.kc - omega**2 * self.m
-        ab = np.zeros((3, n))
-        ab[0, 1:] = self.off
-        ab[1] = d[:n]
-        ab[2, :-1] = self.off
-        rhs = np.zeros(n)
-        rhs[-1] = -self.off
-        u = solve_banded((1, 1), ab, rhs)
-        f = d[n] + self.off * u[-1]
-        return np.append(u, 1.0), f
-
-
-class _Batch:
-    """P bars of the same discretisation integrated in lockstep over theta.
-
-    State per pair: nodal u, slider positions z (post-step, tau = k c (u - z) exactly), and
-    for the dynamic mode v and the acceleration.  Free unknowns are nodes 0 .. n-1; node n
-    follows the drive.
-    """
-
-    def __init__(self, disc: _Discretisation, a, omega, quasi_static: bool, steps: int, ramp_cycles: float,
-                 rho_inf: float = 1.0):
-        self.d = disc
-        self.a = np.asarray(a, dtype=float)
-        self.omega = np.asarray(omega, dtype=float)
-        self.qs = quasi_static
-        self.steps = steps
-        self.dtheta = 2.0 * np.pi / steps
-        self.ramp = 0.0 if quasi_static else float(ramp_cycles) * 2.0 * np.pi
-        P, n1 = self.a.size, disc.n + 1
-        self.u = np.zeros((P, n1))
-        self.z = np.zeros((P, n1))
-        self.u_prev = np.zeros((P, n1))
-        self.v = np.zeros((P, n1))
-        self.acc = np.zeros((P, n1))
-        self.slip = np.zeros((P, n1), bool)  # nodes that slipped in the last step
-        self.count = 0  # steps taken; theta = count * dtheta
-        self.newton = 0
-        # generalized-alpha (Chung & Hulbert 1993).  rho_inf = 1 is Newmark average acceleration,
-        # written with equilibrium at t_{n+1} (alpha_m = alpha_f = 0) so that its spurious root is
-        # 0 rather than -1 (the alpha = 1/2 form carries an undamped equilibrium error).
-        if rho_inf >= 1.0:
-            self.am = self.af = 0.0
-        else:
-            self.am = (2.0 * rho_inf - 1.0) / (rho_inf + 1.0)
-            self.af = rho_inf / (rho_inf + 1.0)
-        self.gamma = 0.5 - self.am + self.af
-        self.beta = 0.25 * (1.0 - self.am + self.af) ** 2
-        if quasi_static:
-            self.dt = np.zeros(P)
-            self.cm = np.zeros(P)
-        else:
-            self.dt = self.dtheta / self.omega
-            # a_{n+1} = (u_{n+1} - pred) / (beta dt^2); the step equation divided by 1 - alpha_f
-            self.cm = (1.0 - self.am) / ((1.0 - self.af) * self.beta * self.dt**2)
-        self._build_band()
-
-    def _build_band(self):
-        P, n = self.a.size, self.d.n
-        ab = np.zeros((3, P * n))
-        off = np.full(P * n, self.d.off)
-        off[n - 1 :: n] = 0.0  # no coupling across blocks
-        ab[0, 1:] = off[:-1]
-        ab[2, :-1] = off[:-1]
-        self.ab = ab
-        self.base = self.d.kdiag[None, :n] + self.cm[:, None] * self.d.m[None, :n]
-
-    def keep(self, idx):
-        """Drop all pairs but ``idx``."""
-        for name in ("a", "omega", "u", "z", "u_prev", "v", "acc", "slip", "cm", "dt"):
-            setattr(self, name, getattr(self, name)[idx])
-        self._build_band()
-
-    # ---------------------------------------------------------------- drive
-    def drive(self, theta):
-        """Tip displacement, velocity and acceleration at theta (quintic amplitude ramp if dynamic)."""
-        s, c = math.sin(theta), math.cos(theta)
-        if self.ramp > 0.0 and theta < self.ramp:
-            r_ = theta / self.ramp
-            r = r_**3 * (10.0 - 15.0 * r_ + 6.0 * r_**2)
-            dr = 30.0 * r_**2 * (1.0 - r_) ** 2 / self.ramp
-            ddr = 60.0 * r_ * (1.0 - r_) * (1.0 - 2.0 * r_) / self.ramp**2
-        else:
-            r, dr, ddr = 1.0, 0.0, 0.0
-        x = self.a * r * s
-        vel = self.a * self.omega * (dr * s + r * c)
-        # d2/dtheta2 of r sin = r'' sin + 2 r' cos - r sin, times omega^2
-        acc = self.a * self.omega**2 * (ddr * s + 2.0 * dr * c - r * s)
-        return x, vel, acc
-
-    def set_state(self, u, v, acc, z):
-        """Put the free nodes at (u, v, acc) and the sliders at z at the current theta (dynamic)."""
-        n = self.d.n
-        ut, vt, at = self.drive(self.count * self.dtheta)
-        self.u = np.concatenate([u, ut[:, None]], axis=1)
-        self.v = np.concatenate([v, vt[:, None]], axis=1)
-        self.acc = np.concatenate([acc, at[:, None]], axis=1)
-        self.z = z
-
-    def internal_force(self, u, z):
-        """K u + k c (u - z) on the free nodes (tau = k c (u - z) holds exactly after a step);
-        ``u`` over all nodes, or a tangent (n + 1, m) with zero tip row."""
-        d, n = self.d, self.d.n
-        g = d.kdiag[:n, None] * u[:n] + d.kc[:n, None] * (u[:n] - z[:n])
-        g[1:] += d.off * u[: n - 1]
-        g += d.off * u[1:]
-        return g
-
-    # ---------------------------------------------------------------- step
-    def step(self, ut=None):
-        """Advance every pair by one theta step (or to the tip displacements ``ut``, quasi-static).
-
-        Returns the tip force per pair; the slip mask of the step is left in ``self.slip``."""
-        d, n = self.d, self.d.n
-        self.count += 1
-        if ut is None:
-            ut, _, acc_t = self.drive(self.count * self.dtheta)
-        u0 = self.u
-        if self.qs:
-            # linear extrapolation of the free nodes as the Newton start
-            guess = 2.0 * u0[:, :n] - self.u_prev[:, :n]
-            rhs = np.zeros_like(guess)
-        else:
-            dt = self.dt[:, None]
-            pred = u0 + dt * self.v + (0.5 - self.beta) * dt * dt * self.acc  # u_{n+1} - beta dt^2 a_{n+1}
-            rhs = self.cm[:, None] * d.m[None, :n] * pred[:, :n]
-            if self.af > 0.0:
-                # alpha-weighted old terms: alpha_m M a_n + alpha_f (K u_n + tau_n), over (1 - alpha_f)
-                g0 = self.internal_force(u0.T, self.z.T).T
-                rhs -= (self.am * d.m[:n] * self.acc[:, :n] + self.af * g0) / (1.0 - self.af)
-            guess = u0[:, :n] + dt * self.v[:, :n] + 0.5 * dt * dt * self.acc[:, :n]
-        rhs[:, -1] -= d.off * ut  # coupling of node n-1 to the driven node (old one in g0)
-        u = self._solve(guess, rhs, ut)
-        # commit: return mapping on every node (tip node explicit)
-        full = np.concatenate([u, ut[:, None]], axis=1)
-        tau, slip = return_map(full, self.z, d.kc, d.p)
-        self.z = np.where(slip, full - tau / d.kc, self.z)
-        self.slip = slip
-        if self.qs:
-            acc_new = np.zeros_like(full)
-        else:
-            dt = self.dt[:, None]
-            acc_new = (full - pred) / (self.beta * dt * dt)
-            acc_new[:, -1] = acc_t
-            self.v = self.v + dt * ((1.0 - self.gamma) * self.acc + self.gamma * acc_new)
-        self.acc = acc_new
-        self.u_prev, self.u = self.u, full
-        # tip reaction: (S/h)(u_n - u_{n-1}) + tau_n + m_n u_n''
-        return -d.off * (ut - u[:, -1]) + tau[:, -1] + d.m[-1] * acc_new[:, -1]
-
-    def tangent_step(self, T):
-        """Carry the derivatives ``T = (dU, dV, dA, dZ)`` of the state through the last step.
-
-        One pair (dynamic).  Each array has one column per direction; dU, dV, dA over the free
-        nodes, dZ over all nodes.  The step is piecewise linear, so with the step's stick/slip
-        set this is its exact derivative: J dU' = cm M dpred - old terms + k c [stuck] dZ,
-        slipping sliders follow their node, stuck ones keep dZ; Newmark updates dV, dA.
-        """
-        d, n = self.d, self.d.n
-        dU, dV, dA, dZ = T
-        dt, cm = float(self.dt[0]), float(self.cm[0])
-        slip = self.slip[0]
-        stuck = ~slip[:n]
-        dpred = dU + dt * dV + ((0.5 - self.beta) * dt * dt) * dA
-        rhs = (cm * d.m[:n])[:, None] * dpred
-        if self.af > 0.0:
-            dg = self.internal_force(np.vstack([dU, np.zeros((1, dU.shape[1]))]), dZ)
-            rhs -= (self.am * d.m[:n, None] * dA + self.af * dg) / (1.0 - self.af)
-        rhs[stuck] += d.kc[:n][stuck, None] * dZ[:n][stuck]
-        ab = self.ab.copy()
-        ab[1] = self.base[0] + d.kc[:n] * stuck
-        dU_new = solve_banded((1, 1), ab, rhs, overwrite_ab=True, overwrite_b=True, check_finite=False)
-        dA_new = (dU_new - dpred) / (self.beta * dt * dt)
-        dV_new = dV + dt * ((1.0 - self.gamma) * dA + self.gamma * dA_new)
-        dZ[:n][slip[:n]] = dU_new[slip[:n]]  # in place: dZ belongs to the caller's tangent
-        if slip[n]:
-            dZ[n] = 0.0  # the tip slider follows the prescribed tip
-        return dU_new, dV_new, dA_new, dZ
-
-    def _solve(self, u, rhs, ut):
-        """The step's system on the free nodes, all pairs at once (``solve_step``)."""
-        d, n = self.d, self.d.n
-        scale = NEWTON_RTOL * (np.abs(ut) * (abs(d.off) + d.kc[-1]) + np.max(d.p) + 1e-300)[:, None]
-        try:
-            u, iterations = solve_step(self.ab, self.base, d.off, d.kc[:n], d.p[:n], self.z[:, :n], rhs, u, scale)
-        except FloatingPointError as exc:
-            raise FloatingPointError(f"NumericalMicroslip: {exc}") from None
-        self.newton += iterations
-        return u
-
-
-def _step_residual(base, off, kc, p, z, u, rhs):
-    R = base * u - rhs
-    R[:, 1:] += off * u[:, :-1]
-    R[:, :-1] += off * u[:, 1:]
-    tau, slip = return_map(u, z, kc, p)
-    return R + tau, ~slip
-
-
-def _step_energy(base, off, kc, p, z, u, rhs):
-    """The convex potential whose gradient is the step's residual (for the line search)."""
-    E = 0.5 * np.sum(base * u * u, axis=1) + off * np.sum(u[:, :-1] * u[:, 1:], axis=1) - np.sum(rhs * u, axis=1)
-    e = u - z
-    lim = p / kc
-    quad = 0.5 * kc * e * e
-    lin = p * np.abs(e) - 0.5 * p * lim
-    return E + np.sum(np.where(np.abs(e) <= lim, quad, lin), axis=1)
-
-
-def solve_step(ab, base, off, kc, p, z, rhs, u, scale):
-    """One implicit step's piecewise linear system for P independent chains of m nodes,
-    ``base * u + off * (neighbours) + tau(u) = rhs`` row by row, tau the Jenkins forces of
-    stiffness ``kc``, slip force ``p`` and sliders ``z`` (return mapping), by semismooth Newton
-    from ``u`` (P, m).
-
-    The system is piecewise linear, so a pair stops when the stick/slip set it assumed is
-    reproduced (then solved exactly) or its residual is below ``scale`` (P, 1); after
-    ``NEWTON_PLAIN`` iterations an Armijo line search on the step's convex potential guards
-    against cycling.  ``ab`` is the (3, P m) banded work matrix with the off-diagonals set
-    (zero between chains); its diagonal is overwritten.  Returns (u, Newton iterations).
-    """
-    P, m = u.shape
-    args = (base, off, kc, p, z)
-    R, stuck = _step_residual(*args, u, rhs)
-    assumed = None
-    for it in range(NEWTON_MAX):
-        small = np.all(np.abs(R) <= scale, axis=1)
-        same = np.all(stuck == assumed, axis=1) if assumed is not None else np.zeros(P, bool)
-        if np.all(small | same):
-            return u, it
-        ab[1] = (base + kc * stuck).ravel()
-        delta = solve_banded((1, 1), ab, -R.ravel(), overwrite_b=True, check_finite=False).reshape(P, m)
-        assumed = stuck
-        if it >= NEWTON_PLAIN:  # guarded: Armijo backtracking on the convex potential, per pair
-            E0 = _step_energy(*args, u, rhs)
-            slope = np.sum(R * delta, axis=1)
-            t = np.ones(P)
-            for _ in range(40):
-                bad = _step_energy(*args, u + t[:, None] * delta, rhs) > E0 + 1e-4 * t * slope
-                if not np.any(bad):
-                    break
-                t = np.where(bad, 0.5 * t, t)
-            delta = t[:, None] * delta
-        u = u + delta
-        R, stuck = _step_residual(*args, u, rhs)
-    raise FloatingPointError("Newton did not converge in a step")
-
-
 def _change(f, prev):
     """Relative cycle-to-cycle change max|f_j - f_{j-1}| / max|f_j| per pair (inf without a previous cycle)."""
     if prev is None:
@@ -452,24 +170,6 @@ def _change(f, prev):
     peak = np.max(np.abs(f), axis=1)
     return np.max(np.abs(f - prev), axis=1) / np.where(peak > 0, peak, 1.0)
 
-
-def _unit_tangent(d: _Discretisation, zset):
-    """Derivatives of the cycle-start state w.r.t. u, v, acc (free nodes) and the sliders ``zset``."""
-    n = d.n
-    iz = np.flatnonzero(zset)
-    m = 3 * n + iz.size
-    dZ = np.zeros((n + 1, m))
-    dZ[iz, 3 * n + np.arange(iz.size)] = 1.0
-    return np.eye(n, m), np.eye(n, m, n), np.eye(n, m, 2 * n), dZ
-
-
-def return_map(u, z, kc, p):
-    """Exact return mapping of Jenkins elements of stiffness ``kc`` and slip force ``p``, sliders
-    at ``z`` before the step, ends at ``u``: (force, slipping mask).  The slider's new position is
-    ``u - force / kc`` where the mask is set."""
-    t = kc * (u - z)
-    slip = np.abs(t) > p
-    return np.clip(t, -p, p), slip
 
 
 def _fronts(slip, x, util):

@@ -16,7 +16,7 @@ c and the force F cos(omega t); every node carries its Jenkins element.  Node n'
 the blade's, with f_d = (S/h)(u_n - u_{n-1}) + tau_n + m_n u_n'' (the driven-end reaction of
 ``NumericalMicroslip``).  All n + 1 nodes are free.
 
-Time: the same generalized-alpha scheme as ``NumericalMicroslip`` (spectral radius
+Time: the generalized-alpha scheme of ``NumericalMicroslip`` (``GeneralizedAlpha``, spectral radius
 ``damper.rho_inf``), with the damping term C v at the alpha_f point, and each step's piecewise
 linear system A u + tau(u) = r (A = K + c_m M + c_c C, tridiagonal) solved exactly by
 semismooth Newton with the exact return mapping of every Jenkins element, guarded by an Armijo
@@ -41,7 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from contact_models.numerical import NEWTON_RTOL, NumericalMicroslip, return_map, solve_step
+from contact_models.numerical import NEWTON_RTOL, GeneralizedAlpha, NumericalMicroslip, return_map, solve_step
 
 from ._validation import positive
 from .blade import Blade
@@ -150,18 +150,11 @@ class _Coupled:
         self.damping = np.zeros(n1)
         self.damping[-1] = blade.damping
         self.kc, self.p = d.shear_stiffness, d.slip_force
-        rho = damper.rho_inf
-        if rho >= 1.0:
-            self.am = self.af = 0.0
-        else:
-            self.am = (2.0 * rho - 1.0) / (rho + 1.0)
-            self.af = rho / (rho + 1.0)
-        self.gamma = 0.5 - self.am + self.af
-        self.beta = 0.25 * (1.0 - self.am + self.af) ** 2
+        self.scheme = GeneralizedAlpha.from_rho_inf(damper.rho_inf)
         self.dtheta = 2.0 * math.pi / steps
         self.dt = self.dtheta / omega
-        self.cm = (1.0 - self.am) / ((1.0 - self.af) * self.beta * self.dt**2)
-        self.cc = self.gamma / (self.beta * self.dt)
+        self.cm = self.scheme.mass_coefficient(self.dt)
+        self.cc = self.scheme.damping_coefficient(self.dt)
         self.A = self.kdiag + self.cm * self.mass + self.cc * self.damping  # diagonal of the step matrix
         self.ab = np.zeros((3, n1))
         self.ab[0, 1:] = self.off
@@ -193,21 +186,20 @@ class _Coupled:
     def step(self):
         """One theta step; returns (blade displacement, damper force on the blade)."""
         self.count += 1
-        dt = self.dt
+        dt, ga = self.dt, self.scheme
         f_new = self.load(self.count * self.dtheta)
-        pred = self.u + dt * self.v + (0.5 - self.beta) * dt * dt * self.acc
-        vpred = self.v + dt * (1.0 - self.gamma) * self.acc
+        pred = ga.predict(self.u, self.v, self.acc, dt)
+        vpred = ga.velocity_predictor(self.v, self.acc, dt)  # C v_{n+1} = C (vpred + cc (u_{n+1} - pred))
         rhs = self.cm * self.mass * pred + self.damping * (self.cc * pred - vpred)
-        if self.af > 0.0:
-            old = self.am * self.mass * self.acc + self.af * (self.damping * self.v + self._matvec(self.u) + self.tau)
-            rhs -= old / (1.0 - self.af)
-        rhs[-1] += f_new + self.af / (1.0 - self.af) * self.f_old
+        if ga.alpha_f > 0.0:
+            rhs -= ga.old_terms(self.mass, self.acc, self.damping * self.v + self._matvec(self.u) + self.tau)
+        rhs[-1] += f_new + ga.alpha_f / (1.0 - ga.alpha_f) * self.f_old
         self.f_old = f_new
         u = self._solve(pred, rhs)  # the predictor as the Newton start
         tau, slip = return_map(u, self.z, self.kc, self.p)
         self.z = np.where(slip, u - tau / self.kc, self.z)
-        acc = (u - pred) / (self.beta * dt * dt)
-        self.v = vpred + self.gamma * dt * acc
+        acc = ga.acceleration(u, pred, dt)
+        self.v = ga.velocity(self.v, self.acc, acc, dt)
         self.acc, self.u, self.tau = acc, u, tau
         fd = -self.off * (u[-1] - u[-2]) + tau[-1] + self.m_tip * acc[-1]
         return u[-1], fd
