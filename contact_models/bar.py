@@ -19,14 +19,20 @@ microslip elements differentiate along the loading curve by complex step.
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
 from ._validation import nonnegative, positive
 
+if TYPE_CHECKING:
+    from .loads import QuadraticLoad, UniformLoad
 
-def segment_cs(s2, ell):
+
+def segment_cs(s2: ArrayLike, ell: ArrayLike) -> tuple[NDArray[Any] | float, NDArray[Any] | float,
+                                                      NDArray[Any] | float]:
     """Scaled ``(C, Sn, scale)`` with C = scale*cosh(sqrt(s2) ell), Sn = scale*sinh(..)/sqrt(s2).
 
     ``scale`` = 1/cosh(sqrt(s2) ell) for s2 > 0 (so C = 1), and 1 otherwise.
@@ -62,7 +68,7 @@ def segment_cs(s2, ell):
     return C, Sn, scale
 
 
-def end_impedance(k_left, s2, ell, EA):
+def end_impedance(k_left: ArrayLike, s2: ArrayLike, ell: ArrayLike, EA: float) -> NDArray[Any] | float:
     """Dynamic stiffness EA u'(ell)/u(ell) of a segment with EA u'(0) = k_left u(0).
 
     With k_left = beta and s2 = gamma^2 this is Eq. 14's beta'.
@@ -71,7 +77,7 @@ def end_impedance(k_left, s2, ell, EA):
     return EA * (EA * s2 * Sn + k_left * C) / (EA * C + k_left * Sn)
 
 
-def transmission(k_left, s2, ell, EA):
+def transmission(k_left: ArrayLike, s2: ArrayLike, ell: ArrayLike, EA: float) -> NDArray[Any] | float:
     """u(0)/u(ell) for the same segment: the share of the end motion reaching its start."""
     C, Sn, scale = segment_cs(s2, ell)
     return EA * scale / (EA * C + k_left * Sn)
@@ -81,7 +87,7 @@ class Bar:
     """The paper's bar: E (Pa), rho (kg/m^3), A (m^2), L (m), shear-layer k (N/m^2),
     strain-hardening spring beta (N/m) at x = 0, friction coefficient mu."""
 
-    def __init__(self, E, rho, A, L, k, beta, mu):
+    def __init__(self, E: float, rho: float, A: float, L: float, k: float, beta: float, mu: float) -> None:
         self.E = positive("E", E)
         self.rho = positive("rho", rho)
         self.A = positive("A", A)
@@ -90,7 +96,7 @@ class Bar:
         self.beta = nonnegative("beta", beta)
         self.mu = nonnegative("mu", mu)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (f"Bar(E={self.E!r}, rho={self.rho!r}, A={self.A!r}, L={self.L!r}, "
                 f"k={self.k!r}, beta={self.beta!r}, mu={self.mu!r})")
 
@@ -104,16 +110,16 @@ class Bar:
         """lambda = sqrt(k/EA) (Eq. 12)."""
         return math.sqrt(self.k / self.EA)
 
-    def alpha2(self, omega):
+    def alpha2(self, omega: ArrayLike) -> NDArray[np.float64] | float:
         """alpha^2 = rho omega^2 / E (Eq. 12)."""
         return self.rho * np.asarray(omega, dtype=float) ** 2 / self.E
 
-    def gamma2(self, omega):
+    def gamma2(self, omega: ArrayLike) -> NDArray[np.float64] | float:
         """gamma^2 = k/EA - rho omega^2/E (Eq. 12); negative above sqrt(k/(rho A))."""
         return self.k / self.EA - self.alpha2(omega)
 
     # ------------------------------------------------------------ stuck bar
-    def stuck_stiffness(self, omega=0.0):
+    def stuck_stiffness(self, omega: ArrayLike = 0.0) -> NDArray[np.float64] | float:
         """Dynamic stiffness EA u_x(L)/u(L) of the fully stuck bar (Eq. 1-2; Eq. 14 at L1 = L).
 
         Broadcasts over ``omega``; infinite values mark resonances of the bar held at x = L.
@@ -146,7 +152,7 @@ class Bar:
             g = y / L
         return math.sqrt(self.E / self.rho * (g * g + self.k / EA))
 
-    def stuck_shape(self, x, omega=0.0):
+    def stuck_shape(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """u(x)/u(L) of the fully stuck bar at frequency omega (the mode-like shape of Fig. 2)."""
         x = np.asarray(x, dtype=float)
         omega = nonnegative("omega", omega)
@@ -162,7 +168,8 @@ class Bar:
             return ratio * (Cx + b * Sx) / (CL + b * SL)
         return (Cx + b * Sx) / (CL + b * SL)
 
-    def contact_force(self, x, omega=0.0, *, tip_displacement=None, tip_force=None):
+    def contact_force(self, x: ArrayLike, omega: float = 0.0, *, tip_displacement: float | None = None,
+                      tip_force: float | None = None) -> NDArray[np.float64]:
         """Contact elastic force k u(x) (N/m) of the stuck bar (Figs. 2, 3) for a tip
         displacement or a tip force (give one)."""
         if (tip_displacement is None) == (tip_force is None):
@@ -172,7 +179,8 @@ class Bar:
             tip_displacement = tip_force / K
         return self.k * tip_displacement * self.stuck_shape(x, omega)
 
-    def slip_onset(self, load, omega=0.0, *, grid: int = 801):
+    def slip_onset(self, load: UniformLoad | QuadraticLoad, omega: float = 0.0, *,
+                   grid: int = 801) -> tuple[float, float]:
         """``(x_star, a_min)``: where and at which tip amplitude the stuck bar first slips.
 
         Slip starts where k |u(x)| = mu q(x) first holds as the amplitude grows, i.e. at the

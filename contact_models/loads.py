@@ -14,8 +14,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
+from typing import Any, Self
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._validation import finite, nonnegative, positive
 
@@ -24,7 +26,7 @@ class _Load:
     N: float
     L: float | None
 
-    def on(self, L: float):
+    def on(self, L: float) -> Self:
         """This load on a contact of length ``L`` (checks an explicit length agrees)."""
         L = positive("L", L)
         if self.L is not None and not math.isclose(self.L, L, rel_tol=1e-12):
@@ -49,21 +51,21 @@ class UniformLoad(_Load):
     N: float
     L: float | None = None
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "N", nonnegative("N", self.N))
         if self.L is not None:
             object.__setattr__(self, "L", positive("L", self.L))
 
-    def q(self, x):
+    def q(self, x: ArrayLike) -> NDArray[Any]:
         return self.N / self._length() + 0.0 * np.asarray(x)
 
-    def dq(self, x):
+    def dq(self, x: ArrayLike) -> NDArray[Any]:
         return 0.0 * np.asarray(x)
 
-    def I1(self, x):
+    def I1(self, x: ArrayLike) -> NDArray[Any]:
         return self.N / self._length() * np.asarray(x)
 
-    def I2(self, x):
+    def I2(self, x: ArrayLike) -> NDArray[Any]:
         x = np.asarray(x)
         return 0.5 * self.N / self._length() * x * x
 
@@ -82,7 +84,7 @@ class QuadraticLoad(_Load):
     L: float | None = None
     _per_length: tuple | None = field(default=None, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         if self._per_length is not None:  # from_ratio without a length
             return
         q0 = nonnegative("q0", self.q0)
@@ -135,22 +137,22 @@ class QuadraticLoad(_Load):
         q0, q2 = self._per_length if self._per_length is not None else (self.q0, self.q2)
         return math.inf if q0 == q2 else q0 / (q0 - q2)
 
-    def q(self, x):
+    def q(self, x: ArrayLike) -> NDArray[Any]:
         # q0 + q2 4x(x-L)/L^2 written as (q0 - q2) + q2 (2x/L - 1)^2: never below q0 - q2 by rounding
         L = self._length()
         u = 2.0 * np.asarray(x) / L - 1.0
         return (self.q0 - self.q2) + self.q2 * u * u
 
-    def dq(self, x):
+    def dq(self, x: ArrayLike) -> NDArray[Any]:
         L = self._length()
         return self.q2 * 4.0 * (2.0 * np.asarray(x) - L) / L**2
 
-    def I1(self, x):
+    def I1(self, x: ArrayLike) -> NDArray[Any]:
         L = self._length()
         x = np.asarray(x)
         return self.q0 * x + 4.0 * self.q2 / L**2 * (x**3 / 3.0 - L * x**2 / 2.0)
 
-    def I2(self, x):
+    def I2(self, x: ArrayLike) -> NDArray[Any]:
         L = self._length()
         x = np.asarray(x)
         return self.q0 * x**2 / 2.0 + 4.0 * self.q2 / L**2 * (x**4 / 12.0 - L * x**3 / 6.0)
