@@ -5,9 +5,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 
-def positive(name: str, value) -> float:
+def positive(name: str, value: object) -> float:
     """Return ``value`` as float if it is finite and > 0, else raise ValueError."""
     v = _scalar(name, value)
     if not v > 0.0:
@@ -15,7 +16,7 @@ def positive(name: str, value) -> float:
     return v
 
 
-def nonnegative(name: str, value) -> float:
+def nonnegative(name: str, value: object) -> float:
     """Return ``value`` as float if it is finite and >= 0, else raise ValueError."""
     v = _scalar(name, value)
     if not v >= 0.0:
@@ -23,12 +24,12 @@ def nonnegative(name: str, value) -> float:
     return v
 
 
-def finite(name: str, value) -> float:
+def finite(name: str, value: object) -> float:
     """Return ``value`` as a finite float, else raise ValueError."""
     return _scalar(name, value)
 
 
-def count(name: str, value, minimum: int = 1) -> int:
+def count(name: str, value: object, minimum: int = 1) -> int:
     """Return ``value`` as an int >= ``minimum``, else raise ValueError."""
     ok = not isinstance(value, bool)
     try:
@@ -40,7 +41,7 @@ def count(name: str, value, minimum: int = 1) -> int:
     return int(value)
 
 
-def nonnegative_array(name: str, value) -> np.ndarray:
+def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     """Return ``value`` as a float array whose entries are finite and >= 0."""
     try:
         arr = np.asarray(value, dtype=float)
@@ -53,7 +54,7 @@ def nonnegative_array(name: str, value) -> np.ndarray:
     return arr
 
 
-def _scalar(name: str, value) -> float:
+def _scalar(name: str, value: object) -> float:
     if isinstance(value, bool):
         raise ValueError(f"{name} must be a number, got {name}={value!r}")
     try:

@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._validation import positive
 from .base import ContactElement, masing_loop
@@ -29,7 +30,7 @@ from .base import ContactElement, masing_loop
 SERIES_BELOW = 0.5
 
 
-def z_minus_sin(z):
+def z_minus_sin(z: ArrayLike) -> NDArray[np.float64]:
     """``z - sin(z)`` for z >= 0, accurate to rounding also for small z (f_s at large amplitude)."""
     z = np.asarray(z, dtype=float)
     z2 = z * z
@@ -39,7 +40,7 @@ def z_minus_sin(z):
     return np.where(z < SERIES_BELOW, series, z - np.sin(z))
 
 
-def jenkins_fourier(k: float, y: float, a):
+def jenkins_fourier(k: float, y: float, a: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """``(f_s, f_c, df_s/da, df_c/da)`` of a Jenkins element (spring k, slip displacement y > 0).
 
     The slip force is ``k y``.  ``a`` is a flat float array of amplitudes >= 0.  f_s is
@@ -73,14 +74,14 @@ class Macroslip(ContactElement):
 
     frequency_dependent = False
 
-    def __init__(self, stiffness, slip_force):
+    def __init__(self, stiffness: float, slip_force: float) -> None:
         if _is_inf(stiffness):
             self.stiffness = math.inf
         else:
             self.stiffness = positive("stiffness", stiffness)
         self.slip_force = positive("slip_force", slip_force)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Macroslip(stiffness={self.stiffness!r}, slip_force={self.slip_force!r})"
 
     @property
@@ -89,7 +90,7 @@ class Macroslip(ContactElement):
         return self.stiffness == math.inf
 
     # ------------------------------------------------------------ time domain
-    def step(self, x_old, f_old, x_new):
+    def step(self, x_old: ArrayLike, f_old: ArrayLike, x_new: ArrayLike) -> NDArray[np.float64]:
         """Force after moving monotonically from ``x_old`` (force ``f_old``) to ``x_new``.
 
         The state is the last pair (x, f); the slider sits at ``x - f/stiffness``.  Exact
@@ -103,11 +104,11 @@ class Macroslip(ContactElement):
             return np.where(dx > 0.0, F, np.where(dx < 0.0, -F, f_old))
         return np.clip(f_old + self.stiffness * dx, -F, F)
 
-    def slider_position(self, x, f):
+    def slider_position(self, x: ArrayLike, f: ArrayLike) -> NDArray[np.float64]:
         """Slider position ``w = x - f/stiffness`` for the state (x, f)."""
         return np.asarray(x, dtype=float) - np.asarray(f, dtype=float) / self.stiffness
 
-    def force_history(self, x, *, x0=0.0, f0=0.0):
+    def force_history(self, x: ArrayLike, *, x0: float = 0.0, f0: float = 0.0) -> NDArray[np.float64]:
         """Force for the displacement history ``x`` (time along the last axis).
 
         The element starts in the state (x0, f0) (default: relaxed at rest) and moves
@@ -116,7 +117,7 @@ class Macroslip(ContactElement):
         return _history(self.step, x, x0, f0)
 
     # ------------------------------------------------------------ frequency domain
-    def loading_curve(self, x, omega=0.0):
+    def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """Virgin loading force ``F(x) = min(k x, slip_force)`` for x >= 0."""
         x = np.asarray(x, dtype=float)
         if self.rigid:

@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._validation import finite, nonnegative, positive
 from .base import ContactElement, masing_loop
@@ -45,7 +46,7 @@ class PointContact(ContactElement):
 
     frequency_dependent = False
 
-    def __init__(self, k_s, beta_p, k_p, slip_force):
+    def __init__(self, k_s: float, beta_p: float, k_p: float, slip_force: float) -> None:
         if _is_inf(k_s):
             self.k_s = math.inf
         else:
@@ -64,13 +65,14 @@ class PointContact(ContactElement):
         self._F0 = self.slip_force / (1.0 + cs * bp)
         self._a_y = self._F0 / self._D
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (f"PointContact(k_s={self.k_s!r}, beta_p={self.beta_p!r}, k_p={self.k_p!r}, "
                 f"slip_force={self.slip_force!r})")
 
     # ------------------------------------------------------------ the fit (Section 3.4)
     @classmethod
-    def fit(cls, element, omega=0.0, *, k_p=None, slip_force=None):
+    def fit(cls, element: ContactElement, omega: float = 0.0, *, k_p: float | None = None,
+            slip_force: float | None = None) -> PointContact:
         """Point contact with the stuck stiffness, fully-slipping stiffness and gross-slip
         amplitude of the microslip ``element`` at ``omega`` (Section 3.4, conditions 1-3).
 
@@ -94,8 +96,8 @@ class PointContact(ContactElement):
         return cls.from_bilinear(K1, K2, a_g, k_p=k_p, slip_force=slip_force)
 
     @classmethod
-    def from_bilinear(cls, stuck_stiffness, slip_stiffness, gross_slip_amplitude, *,
-                      k_p=None, slip_force=None):
+    def from_bilinear(cls, stuck_stiffness: float, slip_stiffness: float, gross_slip_amplitude: float, *,
+                      k_p: float | None = None, slip_force: float | None = None) -> PointContact:
         """Point contact whose bilinear loading curve has slopes ``stuck_stiffness`` (K1) and
         ``slip_stiffness`` (K2) with the kink at ``gross_slip_amplitude`` (a_g), and the given
         ``k_p`` or ``slip_force`` (exactly one).  ``docs/point_contact.md``, "The fit"."""
@@ -149,23 +151,23 @@ class PointContact(ContactElement):
         return cls(k_s=k_s, beta_p=K2 / c, k_p=kp, slip_force=Fs)
 
     # ------------------------------------------------------------ bilinear loading curve
-    def slip_stiffness(self, omega=0.0) -> float:
+    def slip_stiffness(self, omega: float = 0.0) -> float:
         """K2 = series(k_s, beta_p): the slope while the slider slips."""
         nonnegative("omega", omega)
         return self._K2
 
-    def gross_slip_amplitude(self, omega=0.0) -> float:
+    def gross_slip_amplitude(self, omega: float = 0.0) -> float:
         """Amplitude at which the slider starts to slip (one slider: slip is gross slip)."""
         nonnegative("omega", omega)
         return self._a_y
 
-    def loading_curve(self, x, omega=0.0):
+    def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """Virgin loading force ``F(x) = K2 x + (K1 - K2) min(x, a_y)`` for x >= 0."""
         x = np.asarray(x, dtype=float)
         return self._K2 * x + self._D * np.minimum(x, self._a_y)
 
     # ------------------------------------------------------------ time domain (the layout itself)
-    def internal_state(self, x, f):
+    def internal_state(self, x: ArrayLike, f: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """``(y, z)``: node displacement and slider position for the state (x, f)."""
         x = np.asarray(x, dtype=float)
         f = np.asarray(f, dtype=float)
@@ -173,7 +175,7 @@ class PointContact(ContactElement):
         f_jenkins = f - self.beta_p * y  # node equilibrium
         return y, y - f_jenkins / self.k_p
 
-    def step(self, x_old, f_old, x_new):
+    def step(self, x_old: ArrayLike, f_old: ArrayLike, x_new: ArrayLike) -> NDArray[np.float64]:
         """Force after moving monotonically from ``x_old`` (force ``f_old``) to ``x_new``.
 
         Solves the node equilibrium ``k_s (x - y) = beta_p y + f_J`` of the layout with the
@@ -190,7 +192,7 @@ class PointContact(ContactElement):
         y = np.where(slipping, (x_new - cs * f_jenkins) / (1.0 + cs * bp), y)
         return bp * y + f_jenkins
 
-    def force_history(self, x, *, x0=0.0, f0=0.0):
+    def force_history(self, x: ArrayLike, *, x0: float = 0.0, f0: float = 0.0) -> NDArray[np.float64]:
         """Force for the displacement history ``x`` (time along the last axis), starting in
         the state (x0, f0) (default: relaxed at rest), monotone between samples."""
         return _history(self.step, x, x0, f0)

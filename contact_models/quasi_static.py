@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from ._validation import nonnegative
 from .base import ContactElement
@@ -32,29 +33,29 @@ class QuasiStatic(ContactElement):
 
     frequency_dependent = False
 
-    def __init__(self, element):
+    def __init__(self, element: ContactElement) -> None:
         if not isinstance(element, ContactElement):
             raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
         self.element = element
         self.calls = 0
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"QuasiStatic({self.element!r})"
 
     # ------------------------------------------------------------ extras of the wrapped element
-    def slip_stiffness(self, omega=0.0) -> float:
+    def slip_stiffness(self, omega: float = 0.0) -> float:
         """The wrapped element's fully slipping stiffness at omega = 0."""
         self._check(omega)
         self.calls += 1
         return self.element.slip_stiffness(0.0)
 
-    def gross_slip_amplitude(self, omega=0.0) -> float:
+    def gross_slip_amplitude(self, omega: float = 0.0) -> float:
         """The wrapped element's gross-slip amplitude at omega = 0."""
         self._check(omega)
         self.calls += 1
         return self.element.gross_slip_amplitude(0.0)
 
-    def loading_curve(self, x, omega=0.0):
+    def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """The wrapped element's virgin loading curve at omega = 0."""
         self._check(omega)
         self.calls += 1
@@ -104,13 +105,13 @@ class StuckContact(ContactElement):
     ``slip_amplitude`` is infinite (it never slips); ``f_c = 0``.
     """
 
-    def __init__(self, element):
+    def __init__(self, element: ContactElement) -> None:
         if not isinstance(element, ContactElement):
             raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
         self.element = element
         self.frequency_dependent = bool(getattr(element, "frequency_dependent", True))
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"StuckContact({self.element!r})"
 
     def _stuck_stiffness(self, omega):
