@@ -9,12 +9,16 @@ entry 0 (Eq. 30 by the method of lines).
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.linalg import solve_banded
 
 from .bar import Bar
+
+if TYPE_CHECKING:
+    from .loads import QuadraticLoad, UniformLoad
 
 
 class NodalData(NamedTuple):
@@ -37,7 +41,7 @@ class NodalData(NamedTuple):
 class _Discretisation:
     """Nodal data of the finite-element bar (n cells, n + 1 nodes, node n driven)."""
 
-    def __init__(self, bar: Bar, load, n: int):
+    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, n: int) -> None:
         self.n = n
         self.h = bar.L / n
         self.x = np.linspace(0.0, bar.L, n + 1)
@@ -53,7 +57,7 @@ class _Discretisation:
         kd[-1] = bar.EA / self.h
         self.kdiag = kd
 
-    def stuck_solution(self, omega: float):
+    def stuck_solution(self, omega: float) -> tuple[NDArray[np.float64], float]:
         """Free nodal displacements of the stuck bar for u_n = 1, and the tip reaction."""
         n = self.n
         d = self.kdiag + self.kc - omega**2 * self.m

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import NDArray
 from scipy.linalg import solve_banded
 
 from ._fe_bar import _Discretisation
@@ -213,7 +214,8 @@ def _step_energy(base, off, kc, p, z, u, rhs):
     return E + np.sum(np.where(np.abs(e) <= lim, quad, lin), axis=1)
 
 
-def solve_step(ab, base, off, kc, p, z, rhs, u, scale):
+def solve_step(ab: NDArray[np.float64], base: NDArray[np.float64], off: float, kc: NDArray[np.float64], p: NDArray[np.float64], z: NDArray[np.float64], rhs: NDArray[np.float64], u: NDArray[np.float64],
+               scale: NDArray[np.float64]) -> tuple[NDArray[np.float64], int]:
     """One implicit step's piecewise linear system for P independent chains of m nodes,
     ``base * u + off * (neighbours) + tau(u) = rhs`` row by row, tau the Jenkins forces of
     stiffness ``kc``, slip force ``p`` and sliders ``z`` (return mapping), by semismooth Newton
@@ -263,7 +265,7 @@ def _unit_tangent(d: _Discretisation, zset):
     return np.eye(n, m), np.eye(n, m, n), np.eye(n, m, 2 * n), dZ
 
 
-def return_map(u, z, kc, p):
+def return_map(u: NDArray[np.float64], z: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
     """Exact return mapping of Jenkins elements of stiffness ``kc`` and slip force ``p``, sliders
     at ``z`` before the step, ends at ``u``: (force, slipping mask).  The slider's new position is
     ``u - force / kc`` where the mask is set."""

@@ -68,8 +68,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import eigh_tridiagonal
 
 from ._fe_bar import NodalData, _Discretisation
@@ -78,6 +81,11 @@ from ._stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tang
 from ._validation import nonnegative, positive
 from .bar import Bar
 from .base import ContactElement
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+    from .loads import QuadraticLoad, UniformLoad
 
 __all__ = ["NumericalMicroslip", "SimulationResult", "NodalData", "GeneralizedAlpha", "return_map", "solve_step",
            "STEPS_QUASI_STATIC", "STEPS_DYNAMIC", "STEADY_TOL", "MAX_CYCLES_QUASI_STATIC", "MAX_CYCLES_DYNAMIC",
@@ -129,29 +137,29 @@ class SimulationResult:
     newton_iterations: int
     steps: int
     message: str = ""
-    history: np.ndarray = field(default=None, repr=False)  # change per cycle
+    history: NDArray[np.float64] | None = field(default=None, repr=False)  # change per cycle
 
     @property
     def success(self) -> bool:
         return self.converged
 
-    def loop(self, n: int | None = None):
+    def loop(self, n: int | None = None) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         """Closed loop ``(x, f)`` from theta = -pi/2 to 3 pi/2 (x from -a back to -a)."""
         theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n or self.theta.size + 1)
         return self.a * np.sin(theta), self.force_at(theta)
 
-    def force_at(self, theta):
+    def force_at(self, theta: ArrayLike) -> NDArray[np.float64]:
         """f at arbitrary theta (periodic linear interpolation of the steady cycle)."""
         th = np.mod(np.asarray(theta, dtype=float), 2.0 * np.pi)
         grid = np.append(self.theta, 2.0 * np.pi)
         return np.interp(th, grid, np.append(self.f, self.f[0]))
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | Path) -> None:
         """Write theta, x, f, L1, L2 of the steady cycle."""
         data = np.column_stack([self.theta, self.x, self.f, self.L1, self.L2])
         np.savetxt(path, data, delimiter=",", header="theta,x,f,L1,L2", comments="")
 
-    def plot(self, ax=None):
+    def plot(self, ax: Axes | None = None) -> Axes:
         """Hysteresis loop f against x."""
         import matplotlib.pyplot as plt
 
@@ -226,10 +234,10 @@ class NumericalMicroslip(ContactElement):
     gives its error: about 1e-5 k* a at the defaults).
     """
 
-    def __init__(self, bar: Bar, load, cells: int = 200, *, steps_per_cycle: int | None = None,
-                 quasi_static: bool | None = None, steady_tol: float = STEADY_TOL,
-                 max_cycles: int | None = None, ramp_cycles: float = RAMP_CYCLES, shooting: bool = True,
-                 rho_inf: float = RHO_INF):
+    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int = 200, *,
+                 steps_per_cycle: int | None = None, quasi_static: bool | None = None,
+                 steady_tol: float = STEADY_TOL, max_cycles: int | None = None,
+                 ramp_cycles: float = RAMP_CYCLES, shooting: bool = True, rho_inf: float = RHO_INF) -> None:
         if not isinstance(bar, Bar):
             raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
         if isinstance(cells, bool) or int(cells) != cells or cells < 2:
@@ -259,16 +267,16 @@ class NumericalMicroslip(ContactElement):
             raise ValueError(f"rho_inf must be in [0, 1], got rho_inf={rho_inf!r}")
         self._disc = _Discretisation(bar, self.load, self.cells)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"NumericalMicroslip({self.bar!r}, {self.load!r}, cells={self.cells})"
 
     # ------------------------------------------------------------ extras
     @property
-    def nodes(self) -> np.ndarray:
+    def nodes(self) -> NDArray[np.float64]:
         """Node positions x_i (m)."""
         return self._disc.x.copy()
 
-    def natural_frequencies(self, count: int = 1) -> np.ndarray:
+    def natural_frequencies(self, count: int = 1) -> NDArray[np.float64]:
         """Lowest ``count`` natural frequencies (rad/s) of the discretised stuck bar, tip free."""
         d = self._disc
         s = 1.0 / np.sqrt(d.m)
@@ -289,7 +297,7 @@ class NumericalMicroslip(ContactElement):
         """First natural frequency of the discretised stuck bar with x = L free."""
         return float(self.natural_frequencies(1)[0])
 
-    def stuck_shape(self, omega=0.0) -> np.ndarray:
+    def stuck_shape(self, omega: float = 0.0) -> NDArray[np.float64]:
         """Nodal u(x_i)/u(L) of the discretised stuck bar at frequency omega."""
         return self._disc.stuck_solution(nonnegative("omega", omega))[0]
 
@@ -300,14 +308,14 @@ class NumericalMicroslip(ContactElement):
             raise ValueError("omega must be > 0 for a dynamic run (quasi_static=False), got omega=0.0")
         return qs
 
-    def simulate(self, a, omega=0.0, *, steady_tol: float | None = None) -> SimulationResult:
+    def simulate(self, a: float, omega: float = 0.0, *, steady_tol: float | None = None) -> SimulationResult:
         """Integrate from rest to the periodic steady state for ``x = a sin(omega t)``."""
         a = nonnegative("a", a)
         omega = nonnegative("omega", omega)
         qs = self._check_mode(omega)
         return self._run(np.array([a]), np.array([omega]), qs, steady_tol or self.steady_tol)[0]
 
-    def force_history(self, x) -> np.ndarray:
+    def force_history(self, x: ArrayLike) -> NDArray[np.float64]:
         """Quasi-static tip force for a tip-displacement history ``x`` (from rest, x[0] first)."""
         x = np.asarray(x, dtype=float)
         if x.ndim != 1 or not np.all(np.isfinite(x)):

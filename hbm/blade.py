@@ -22,14 +22,14 @@ class Blade:
     damping: float
     force: float
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "mass", positive("mass", self.mass))
         object.__setattr__(self, "stiffness", nonnegative("stiffness", self.stiffness))
         object.__setattr__(self, "damping", nonnegative("damping", self.damping))
         object.__setattr__(self, "force", positive("force", self.force))
 
     @classmethod
-    def from_modal(cls, *, frequency, damping_ratio, mass, force) -> "Blade":
+    def from_modal(cls, *, frequency: float, damping_ratio: float, mass: float, force: float) -> Blade:
         """Blade from its own natural frequency ``frequency`` (rad/s, without the damper),
         viscous ``damping_ratio`` (c = 2 zeta m omega_n), ``mass`` (kg) and ``force`` (N)."""
         w = positive("frequency", frequency)

@@ -11,9 +11,12 @@ about 2 a_min).  The sweep is 0.8 to 1.1 times the stuck resonance.
 from __future__ import annotations
 
 import math
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 from .blade import Blade
+
+if TYPE_CHECKING:
+    from contact_models import ContactElement
 
 #: Blade stiffness (N/m), damping ratio and force amplitude (N) of the default case.
 DEFAULT_BLADE_STIFFNESS = 1.0e8
@@ -26,7 +29,7 @@ DEFAULT_SWEEP = (0.8, 1.1)
 
 class Case(NamedTuple):
     blade: Blade
-    element: object
+    element: ContactElement
     omega_range: tuple[float, float]
     description: str
 

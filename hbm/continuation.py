@@ -32,8 +32,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from enum import IntEnum
+from typing import Callable
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 from scipy.optimize import brentq
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
@@ -60,6 +62,11 @@ MAX_BEND = 0.25
 RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError)
 #: Default first step as a fraction of ``max_step``.
 FIRST_STEP = 0.25
+
+#: ``residual(y) -> (R, J)``: R of shape (n-1,), its Jacobian dR/dy of shape (n-1, n).
+Residual = Callable[[NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
+#: ``scale(y) -> s``: positive weights, one per component of y.
+Scale = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
 
 class Status(IntEnum):
@@ -121,11 +128,12 @@ class _Newton:
     J0: np.ndarray | None = None  # Jacobian at the first point (the predictor)
 
 
-def continuation(residual, y0, *, parameter: int = -1, bounds=(-math.inf, math.inf),
-                 direction: int = 1, step: float | None = None, min_step: float = 1e-9,
-                 max_step: float = 0.1, max_steps: int = 1000, tol: float = 1e-10,
-                 max_iter: int = NEWTON_MAX_ITER, scale=None, locate_folds: bool = True,
-                 fold_xtol: float = 1e-10, on_point=None) -> ContinuationResult:
+def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
+                 bounds: tuple[float, float] = (-math.inf, math.inf), direction: int = 1,
+                 step: float | None = None, min_step: float = 1e-9, max_step: float = 0.1,
+                 max_steps: int = 1000, tol: float = 1e-10, max_iter: int = NEWTON_MAX_ITER,
+                 scale: Scale | None = None, locate_folds: bool = True, fold_xtol: float = 1e-10,
+                 on_point: Callable[[NDArray[np.float64], float], object] | None = None) -> ContinuationResult:
     """Trace the branch of ``residual(y) = 0`` through ``y0`` in the direction of ``parameter``.
 
     ``residual(y) -> (R, J)``; ``y0`` is corrected with the parameter held fixed first.  The
@@ -281,8 +289,10 @@ class Located:
     nfev: int
 
 
-def locate(residual, ya, yb, g, *, tol: float = 1e-10, scale=None, xtol: float = 1e-10,
-           max_iter: int = NEWTON_MAX_ITER, count: _Count | None = None) -> Located | None:
+def locate(residual: Residual, ya: ArrayLike, yb: ArrayLike,
+           g: Callable[[NDArray[np.float64], NDArray[np.float64]], float], *, tol: float = 1e-10,
+           scale: Scale | None = None, xtol: float = 1e-10, max_iter: int = NEWTON_MAX_ITER,
+           count: _Count | None = None) -> Located | None:
     """The point between ``ya`` and ``yb`` (both on the branch) where ``g(y, t) = 0``.
 
     ``t`` is the tangent at ``y`` in physical coordinates, oriented from ``ya`` to ``yb``.  The

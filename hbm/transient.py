@@ -38,8 +38,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
+from numpy.typing import NDArray
 
 from contact_models.numerical import NEWTON_RTOL, GeneralizedAlpha, NumericalMicroslip, return_map, solve_step
 
@@ -78,7 +80,7 @@ class BladeSimulation:
     newton_iterations: int
     steps: int
     message: str = ""
-    history: np.ndarray = field(default=None, repr=False)
+    history: NDArray[np.float64] | None = field(default=None, repr=False)
 
     @property
     def amplitude(self) -> float:
@@ -99,13 +101,13 @@ class BladeSimulation:
             raise ValueError(f"h must be an integer >= 1, got h={h!r}")
         return 2.0 / self.steps * float(abs(np.sum(self.x * np.exp(-1j * h * self.theta))))
 
-    def to_csv(self, path):
+    def to_csv(self, path: str | Path) -> None:
         """Write theta, x, f of the steady cycle."""
         np.savetxt(path, np.column_stack([self.theta, self.x, self.f]), delimiter=",", header="theta,x,f",
                    comments="")
 
 
-def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega, *, steps_per_cycle: int = STEPS,
+def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, steps_per_cycle: int = STEPS,
                    steady_tol: float = STEADY_TOL, max_cycles: int = MAX_CYCLES,
                    ramp_cycles: int = RAMP_CYCLES) -> BladeSimulation:
     """Integrate blade + discretised bar at ``omega`` (rad/s) from rest to the steady state.
@@ -171,7 +173,7 @@ class _Coupled:
         self.acc[-1] = self.f_old / self.mass[-1]
         self.tol_force = NEWTON_RTOL * (self.force + float(np.max(self.p)))
 
-    def load(self, theta):
+    def load(self, theta: float) -> float:
         if self.ramp > 0.0 and theta < self.ramp:
             r = theta / self.ramp
             return self.force * r**3 * (10.0 - 15.0 * r + 6.0 * r * r) * math.cos(theta)
@@ -183,7 +185,7 @@ class _Coupled:
         g[:-1] += self.off * u[1:]
         return g
 
-    def step(self):
+    def step(self) -> tuple[float, float]:
         """One theta step; returns (blade displacement, damper force on the blade)."""
         self.count += 1
         dt, ga = self.dt, self.scheme
@@ -215,7 +217,7 @@ class _Coupled:
         self.newton += iterations
         return u[0]
 
-    def cycle(self):
+    def cycle(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         x = np.empty(self.steps)
         f = np.empty(self.steps)
         for k in range(self.steps):
