@@ -51,7 +51,7 @@ class GeneralizedAlpha:
     @classmethod
     def from_rho_inf(cls, rho_inf: float) -> GeneralizedAlpha:
         """The second-order scheme with spectral radius ``rho_inf`` at infinite frequency
-        (Chung & Hulbert 1993, Eq. 25); 1 is Newmark's average acceleration."""
+        (Chung & Hulbert 1993); 1 is Newmark's average acceleration."""
         if not 0.0 <= rho_inf <= 1.0:
             raise ValueError(f"rho_inf must be in [0, 1], got rho_inf={rho_inf!r}")
         if rho_inf >= 1.0:
