@@ -23,7 +23,6 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
 from ._validation import nonnegative, positive
 
@@ -148,6 +147,8 @@ class Bar:
             g = 0.0
         else:
             b = self.beta * L / EA
+            from scipy.optimize import brentq  # lazily: import contact_models stays light
+
             y = brentq(lambda y: y * math.sin(y) - b * math.cos(y), 0.0, 0.5 * math.pi, xtol=1e-15, rtol=1e-15)
             g = y / L
         return math.sqrt(self.E / self.rho * (g * g + self.k / EA))
@@ -211,5 +212,7 @@ class Bar:
         lo, hi = xs[max(i - 1, 0)], xs[min(i + 1, grid - 1)]
         if i == 0 or not dlog(lo) < 0.0 < dlog(hi):
             return float(xs[i]), float(r[i])
+        from scipy.optimize import brentq
+
         x_star = brentq(dlog, lo, hi, xtol=1e-15 * self.L, rtol=1e-15)
         return x_star, max(float(ratio(np.array(x_star))), 0.0)  # q(x*) = 0 may round below 0

@@ -32,7 +32,6 @@ from typing import NamedTuple
 
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
-from scipy.optimize import brentq, minimize_scalar
 
 from .bar import Bar, end_impedance, transmission
 from .base import ContactElement, masing_loop
@@ -156,6 +155,8 @@ class _Piece:
                 raise FloatingPointError(
                     f"the loading curve folds back before gross slip at omega={omega!r} by "
                     f"{(s[j] - s[-1]) / abs(s[j]):.2g} (relative): outside the single-mode model's range")
+            from scipy.optimize import minimize_scalar  # lazily: import contact_models stays light
+
             res = minimize_scalar(lambda t: -self._s(t), bounds=(tt[j - 1], tt[j + 1]), method="bounded",
                                   options={"xatol": 1e-14})
             t1 = float(res.x)
@@ -214,6 +215,8 @@ class _Piece:
         if np.any(over > 0.0):
             i = int(np.argmax(over > 0.0))
             if i > 0:  # locate the crossing between two table points
+                from scipy.optimize import brentq  # lazily: import contact_models stays light
+
                 tc = brentq(lambda u: float(excess(np.array([u]), self._s(u))[0][0]), t[i - 1], t[i], xtol=1e-14)
                 xc, L1c = self._s(tc), float(excess(np.array([tc]), self._s(tc))[1][0])
             else:

@@ -36,7 +36,6 @@ from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -342,6 +341,8 @@ def locate(residual: Residual, ya: ArrayLike, yb: ArrayLike,
         elif ga * gb > 0.0:
             return None
         else:
+            from scipy.optimize import brentq  # lazily: import hbm stays light
+
             root = brentq(G, 0.0, ell, xtol=xtol * ell, rtol=4 * np.finfo(float).eps, maxiter=100)
         sol, t = point(root)
     except _LocateFailed:
