@@ -33,7 +33,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.polynomial import chebyshev as cheb
 
-from .bar import Bar, end_impedance, transmission
+from ._roots import brentq
+from .bar import Bar, end_impedance, impedance_transmission, transmission
 from .base import ContactElement, masing_loop
 from ._validation import nonnegative
 
@@ -78,20 +79,26 @@ def region_solution(bar: Bar, load, L1, L2, omega):
     u(L1) = u1_fric + u1_unit x.  ``L2=None`` is the two-region case (L2 = L; x2 None).  Accepts complex L1, L2
     (complex-step differentiation).  docs/theory.md, sections 3 and 4, derive every line.
     """
-    S, L, lam, mu, k = bar.EA, bar.L, bar.lam, bar.mu, bar.k
+    S, L, lam, mu, k, beta = bar.EA, bar.L, bar.lam, bar.mu, bar.k, bar.beta
     two = L2 is None
     ell_m = (L if two else L2) - L1  # slipping length
     # --- friction-driven part (independent of theta, no inertia): u'' = lam^2 u stuck, u'' = mu q/EA slipping
-    k0 = end_impedance(bar.beta, lam * lam, L1, S)  # static stiffness of [0, L1] seen from L1
+    k0, _ = impedance_transmission(beta, lam * lam, L1, S, transmission=False)  # static stiffness of [0, L1]
     # D2 = Q(L2) - Q(L1) - Q'(L1) ell_m and dQ = Q'(L2) - Q'(L1), Eq. 15, by Taylor at L1 (exact, no cancellation)
     q1, dq1, ddq = load.q(L1), load.dq(L1), load_curvature(load)
-    D2 = mu / S * (q1 * ell_m**2 / 2 + dq1 * ell_m**3 / 6 + ddq * ell_m**4 / 24)
-    dQ = mu / S * (q1 * ell_m + dq1 * ell_m**2 / 2 + ddq * ell_m**3 / 6)
+    e2 = ell_m * ell_m
+    if ddq == 0.0 and not np.any(dq1):  # uniform load: the Taylor series stops at q1
+        D2 = mu / S * (q1 * e2 / 2)
+        dQ = mu / S * (q1 * ell_m)
+    else:
+        D2 = mu / S * (q1 * e2 / 2 + dq1 * (e2 * ell_m) / 6 + ddq * (e2 * e2) / 24)
+        dQ = mu / S * (q1 * ell_m + dq1 * e2 / 2 + ddq * (e2 * ell_m) / 6)
     # --- part proportional to x = a sin(theta): u'' = gamma^2 u stuck, u'' = -alpha^2 u slipping
-    g2, a2 = bar.gamma2(omega), bar.alpha2(omega)
-    kap = end_impedance(bar.beta, g2, L1, S)  # Eq. 14, beta'(L1)
-    k_mid = end_impedance(kap, -a2, ell_m, S)
-    t1 = transmission(kap, -a2, ell_m, S)  # u(L1)/u(L2)
+    w2 = float(omega) * float(omega)
+    a2 = bar.rho * w2 / bar.E  # Bar.alpha2, Bar.gamma2 (Eq. 12) for one float omega
+    g2 = bar.k / S - a2
+    kap, _ = impedance_transmission(beta, g2, L1, S, transmission=False)  # Eq. 14, beta'(L1)
+    k_mid, t1 = impedance_transmission(kap, -a2, ell_m, S)  # t1 = u(L1)/u(L2)
     if two:
         d0 = -D2 / (1.0 + k0 * ell_m / S)  # friction part of u(L1)
         x1 = (mu * q1 / k - d0) / t1
@@ -103,8 +110,7 @@ def region_solution(bar: Bar, load, L1, L2, omega):
     d0 = -(D2 + cR * S * dQ) / (1.0 + k0 * (ell_m + cR * S) / S)
     uf2 = D2 + d0 * (1.0 + k0 * ell_m / S)  # friction part of u(L2)
     F_fric = (S * dQ + k0 * d0) * sech2  # EA u_x(L) of the friction part
-    K_tip = end_impedance(k_mid, g2, ell_2, S)
-    t2 = transmission(k_mid, g2, ell_2, S)  # u(L2)/u(L)
+    K_tip, t2 = impedance_transmission(k_mid, g2, ell_2, S)  # t2 = u(L2)/u(L)
     # --- slip conditions k u(L_i) = mu q(L_i), linear in x
     x1 = (mu * q1 / k - d0) / (t1 * t2)
     x2 = (mu * load.q(L2) / k - uf2) / t2
@@ -215,8 +221,6 @@ class _Piece:
         if np.any(over > 0.0):
             i = int(np.argmax(over > 0.0))
             if i > 0:  # locate the crossing between two table points
-                from scipy.optimize import brentq  # lazily: import contact_models stays light
-
                 tc = brentq(lambda u: float(excess(np.array([u]), self._s(u))[0][0]), t[i - 1], t[i], xtol=1e-14)
                 xc, L1c = self._s(tc), float(excess(np.array([tc]), self._s(tc))[1][0])
             else:

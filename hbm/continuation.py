@@ -37,6 +37,8 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from contact_models._roots import brentq  # scipy's algorithm without importing scipy.optimize
+
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
 #: Corrector iterations the step-size control aims at.
@@ -341,8 +343,6 @@ def locate(residual: Residual, ya: ArrayLike, yb: ArrayLike,
         elif ga * gb > 0.0:
             return None
         else:
-            from scipy.optimize import brentq  # lazily: import hbm stays light
-
             root = brentq(G, 0.0, ell, xtol=xtol * ell, rtol=4 * np.finfo(float).eps, maxiter=100)
         sol, t = point(root)
     except _LocateFailed:
