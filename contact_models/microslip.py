@@ -54,6 +54,17 @@ MAX_ONSET_DIP = 1e-3
 MAX_GROSS_DIP = 0.5
 #: Points of the per-frequency table used to start the inversion s(t) = a.
 TABLE_POINTS = 65
+#: A Newton step of the inversion s(t) = a at most this long (in t) is its last: the error after
+#: it is of order its square times s''/s' (t in [0, 1]), below rounding.
+NEWTON_LAST = 1e-9
+
+
+@lru_cache(maxsize=None)
+def _table_nodes(n: int):
+    """The per-frequency table's parameters t: Chebyshev-Lobatto points on [0, 1] (read-only)."""
+    t = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, n)))
+    t.flags.writeable = False
+    return t
 
 
 @lru_cache(maxsize=None)
@@ -135,8 +146,8 @@ class _Piece:
         self.el = element
         self.omega = omega
         self.t0, self.t1 = 0.0, 1.0
-        tt = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, self.table_points)))
-        s = self.evaluate(tt)[0]
+        tt = _table_nodes(self.table_points)
+        s, F, ds, _, r = self._evaluate(tt)
         if not np.all(np.isfinite(s)):
             raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
                                      "(at a resonance of the damper bar)")
@@ -166,10 +177,11 @@ class _Piece:
             res = minimize_scalar(lambda t: -self._s(t), bounds=(tt[j - 1], tt[j + 1]), method="bounded",
                                   options={"xatol": 1e-14})
             t1 = float(res.x)
-        self.t0, self.t1 = t0, t1
-        s, F = self.evaluate(tt)[:2]
-        self._check_left_end(tt, s)
-        self.t_tab, self.s_tab = tt, s
+        if (t0, t1) != (0.0, 1.0):  # else the table above is already the piece's
+            self.t0, self.t1 = t0, t1
+            s, F, ds, _, r = self._evaluate(tt)
+        self._check_left_end(tt, s, r)
+        self.t_tab, self.s_tab, self.ds_tab = tt, s, ds
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if np.any(np.diff(s) <= 0.0):
@@ -199,7 +211,7 @@ class _Piece:
             t = tn
         return t
 
-    def _check_left_end(self, t, s):
+    def _check_left_end(self, t, s, regions=None):
         """The stuck region [0, L1] must stay stuck: k |u(0)| <= mu q(0) along the path.
 
         A lightly loaded left end (strongly convex loads) would start a second slip zone
@@ -208,16 +220,16 @@ class _Piece:
         bar, load = self.el.bar, self.el.load
         limit = bar.mu * float(load.q(0.0))
 
-        def excess(t, s):
-            L1, L2 = self.boundaries(t)
-            L1 = np.real(L1)
-            r = region_solution(bar, load, L1, None if L2 is None else np.real(L2), self.omega)
-            fric = r.u1_fric * transmission(bar.beta, bar.lam**2, L1, bar.EA)
-            unit = s * r.u1_unit * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
+        def excess(t, s, r=None):
+            L1 = np.real(self.boundaries(t)[0])
+            if r is None:
+                r = self._regions(t)
+            fric = np.real(r.u1_fric) * transmission(bar.beta, bar.lam**2, L1, bar.EA)
+            unit = s * np.real(r.u1_unit) * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
             rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
             return np.real(bar.k * np.abs(fric + unit) - limit * (1.0 + 1e-9) - rounding), L1
 
-        over, L1 = excess(t, s)
+        over, L1 = excess(t, s, regions)
         if np.any(over > 0.0):
             i = int(np.argmax(over > 0.0))
             if i > 0:  # locate the crossing between two table points
@@ -237,14 +249,18 @@ class _Piece:
 
     def evaluate(self, t):
         """s, F and their derivatives in t (complex step), for real array t."""
-        t = np.asarray(t, dtype=float)
-        xc, Fc = self._xF(t + 1j * CSTEP)
-        return xc.real, Fc.real, xc.imag / CSTEP, Fc.imag / CSTEP
+        return self._evaluate(t)[:4]
 
-    def _xF(self, t):
+    def _evaluate(self, t):
+        """``evaluate`` and the complex-step region solution it came from (whose real parts
+        are the region solution at t, to O(CSTEP^2))."""
+        r = self._regions(np.asarray(t, dtype=float) + 1j * CSTEP)
+        xc, Fc = r.x1, r.F_fric + r.K_tip * r.x1
+        return xc.real, Fc.real, xc.imag / CSTEP, Fc.imag / CSTEP, r
+
+    def _regions(self, t):
         L1, L2 = self.boundaries(t)
-        r = region_solution(self.el.bar, self.el.load, L1, L2, self.omega)
-        return r.x1, r.F_fric + r.K_tip * r.x1
+        return region_solution(self.el.bar, self.el.load, L1, L2, self.omega)
 
     def invert(self, a):
         """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""
@@ -252,7 +268,16 @@ class _Piece:
         j = np.clip(np.searchsorted(self.s_tab, a), 1, self.table_points - 1)
         lo, hi = self.t_tab[j - 1], self.t_tab[j]
         slo, shi = self.s_tab[j - 1], self.s_tab[j]
-        t = lo + (hi - lo) * np.clip((a - slo) / (shi - slo), 0.0, 1.0)
+        u = np.clip((a - slo) / (shi - slo), 0.0, 1.0)
+        # start: cubic Hermite interpolation of the inverse t(s) between the two table points
+        # (slopes 1/s'), error O(h^4); linear where a slope is not positive (at a fold)
+        dlo, dhi = self.ds_tab[j - 1], self.ds_tab[j]
+        with np.errstate(all="ignore"):
+            H = shi - slo
+            t = (lo + u * u * (3.0 - 2.0 * u) * (hi - lo)
+                 + H * u * (1.0 - u) * ((1.0 - u) / dlo - u / dhi))
+        linear = lo + (hi - lo) * u
+        t = np.where((dlo > 0.0) & (dhi > 0.0) & (t >= lo) & (t <= hi), t, linear)
         for _ in range(60):
             s, _, ds, _ = self.evaluate(t)
             r = s - a
@@ -262,7 +287,9 @@ class _Piece:
                 tn = t - r / ds
             bad = ~np.isfinite(tn) | (tn <= lo) | (tn >= hi)
             tn = np.where(bad, 0.5 * (lo + hi), tn)
-            done = np.abs(tn - t) <= 4e-16 * np.maximum(1.0, np.abs(t))
+            # Newton converges quadratically: after a step of at most NEWTON_LAST the next
+            # one would be below rounding (t is in [0, 1]), so that step is the last
+            done = np.abs(tn - t) <= np.where(bad, 4e-16, NEWTON_LAST)
             t = tn
             if np.all(done | (hi - lo <= 1e-16)):
                 break
@@ -384,6 +411,7 @@ class _MicroslipBar(ContactElement):
         if self.load.minimum() < 0.0:
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
         self._paths: dict = {}
+        self._onsets: dict = {}
 
     def __repr__(self):
         return f"{type(self).__name__}({self.bar!r}, {self.load!r})"
@@ -474,7 +502,30 @@ class _MicroslipBar(ContactElement):
         return float(self.bar.stuck_stiffness(omega))
 
     def _slip_amplitude(self, omega):
-        return self._path(omega)[0]
+        return self._path(omega)[0]  # builds (and so checks) the loading path
+
+    def _linear_amplitude(self, omega):
+        # the solver's question "is a stuck?" needs no loading path: the onset alone
+        return self._onset(float(omega))[1]
+
+    def _onset(self, omega: float):
+        """``(x_star, a_min)``: where and at which tip amplitude slip starts at omega, cached.
+
+        Needs no loading path (a stuck evaluation builds none): a_min is the loading curve's
+        first point, the tip amplitude at which k u(x*) = mu q(x*) for the stuck bar.
+        """
+        hit = self._onsets.get(omega)
+        if hit is None:
+            hit = self._stuck_onset(omega) if self.bar.mu * self.load.N > 0.0 else (self.bar.L, 0.0)
+            if len(self._onsets) > 256:
+                self._onsets.clear()
+            self._onsets[omega] = hit
+        return hit
+
+    def _stuck_onset(self, omega):
+        """Two regions: slip starts at the excited end, x1 of the two-region solution at L1 = L."""
+        L = self.bar.L
+        return L, float(region_solution(self.bar, self.load, L, None, omega).x1)
 
     def _hysteresis(self, a, omega, n):
         return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
@@ -553,12 +604,12 @@ def _fourier_one_omega(path, a, rtol):
         t_end = np.ones_like(Aa)
         if np.any(inside):
             t_end[inside] = p.invert(Aa[inside])
-        js, jc, jd = _piece_integrals(p, Aa, t_end, inside, rtol)
+        (js, jc, jd), (Fe, dse, dFe) = _piece_integrals(p, Aa, t_end, inside, rtol)
         Js[act] += js
         Jc[act] += jc
         Jd[act] += jd
         if np.any(inside):
-            _, Fi, dsi, dFi = p.evaluate(t_end[inside])
+            Fi, dsi, dFi = Fe[inside], dse[inside], dFe[inside]
             idx = np.flatnonzero(act)[inside]
             Fa[idx] = Fi
             dFa[idx] = dFi / dsi
@@ -578,13 +629,17 @@ def _fourier_one_omega(path, a, rtol):
 
 
 def _piece_integrals(p, a, t_end, exact_end, rtol):
-    """Integrals of one piece from t = 0 to t_end for each amplitude, to relative ``rtol``.
+    """Integrals of one piece from t = 0 to t_end for each amplitude, to relative ``rtol``,
+    and ``(F, s', F')`` at t_end (the end node of the first evaluation).
 
     With t = t_end (1 - tau^2) the square-root end (s = a) becomes smooth in tau.  A piece
     that ends just below a (near-singular) is split into geometrically graded cells in tau.
+    The first two rules (``GAUSS_START`` and twice as many nodes) and the end node share one
+    evaluation of the loading curve.
     """
     near = ~exact_end & ((a - p.s1) < GRADE_BELOW * (p.s1 - p.s0))
     out = [np.zeros_like(a) for _ in range(3)]
+    end = [np.zeros_like(a) for _ in range(3)]
     for mask, graded in ((~near, False), (near, True)):
         if not np.any(mask):
             continue
@@ -594,38 +649,47 @@ def _piece_integrals(p, a, t_end, exact_end, rtol):
             edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
         else:
             edges = np.array([0.0, 1.0])
-        n = GAUSS_START
-        prev = _graded_rule(p, aa, te, edges, n)
+        n = 2 * GAUSS_START
+        (prev, cur), at_end = _graded_rules(p, aa, te, edges, (GAUSS_START, n), with_end=True)
         while True:
-            n *= 2
-            cur = _graded_rule(p, aa, te, edges, n)
             scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
             err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
             if np.all(err <= 0.1 * rtol) or n >= GAUSS_MAX:
                 break
-            prev = cur
+            n *= 2
+            prev, ((cur,), _) = cur, _graded_rules(p, aa, te, edges, (n,))
         for k in range(3):
             out[k][mask] = cur[k]
-    return out
+            end[k][mask] = at_end[k]
+    return out, end
 
 
-def _graded_rule(p, a, t_end, edges, n):
-    x, w = _gauss(n)
+def _graded_rules(p, a, t_end, edges, ns, *, with_end=False):
+    """``([(J_s, J_c, J_d) for each rule of n in ns], (F, s', F') at t_end or None)``: one
+    evaluation of the loading curve at the nodes of all the rules (and at tau = 0)."""
     lo, hi = edges[:-1], edges[1:]
-    tau = (lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel()  # nodes in (0, 1)
-    wt = ((hi - lo)[:, None] * w[None, :]).ravel()
+    taus, wts = [], []
+    for n in ns:
+        x, w = _gauss(n)
+        taus.append((lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel())  # nodes in (0, 1)
+        wts.append(((hi - lo)[:, None] * w[None, :]).ravel())
+    tau = np.concatenate(taus + ([np.zeros(1)] if with_end else []))
     tt = t_end[:, None] * (1.0 - tau[None, :] ** 2)
-    s, _, _, dF = p.evaluate(tt)
-    jac = 2.0 * t_end[:, None] * tau[None, :]  # |dt/dtau|
+    s, F, ds, dF = p.evaluate(tt)
     A = a[:, None]
     gap = np.maximum(A - s, 0.0)
     sq = np.sqrt(np.maximum(s, 0.0))
-    dFw = dF * jac * wt[None, :]
-    Js = np.sum(sq * np.sqrt(gap) * dFw, axis=1)
-    Jc = np.sum((A - 2.0 * s) * dFw, axis=1)
+    dFj = dF * (2.0 * t_end[:, None] * tau[None, :])  # dF/dt |dt/dtau|
+    g_s = sq * np.sqrt(gap) * dFj
+    g_c = (A - 2.0 * s) * dFj
     with np.errstate(divide="ignore", invalid="ignore"):
-        Jd = np.sum(np.where(gap > 0.0, 0.5 * sq / np.sqrt(gap), 0.0) * dFw, axis=1)
-    return Js, Jc, Jd
+        g_d = np.where(gap > 0.0, 0.5 * sq / np.sqrt(gap), 0.0) * dFj
+    rules, i = [], 0
+    for wt in wts:
+        cols = slice(i, i + wt.size)
+        rules.append((g_s[:, cols] @ wt, g_c[:, cols] @ wt, g_d[:, cols] @ wt))
+        i += wt.size
+    return rules, ((F[:, -1], ds[:, -1], dF[:, -1]) if with_end else None)
 
 
 class TwoRegionMicroslip(_MicroslipBar):
@@ -656,9 +720,15 @@ class ThreeRegionMicroslip(_MicroslipBar):
     With a load that slips first at the excited end it reduces to the two-region path.
     """
 
+    def _stuck_onset(self, omega):
+        x_star, a_min = self.bar.slip_onset(self.load, omega)
+        if x_star >= self.bar.L * (1.0 - 1e-9):  # slip starts at the excited end: two regions
+            return super()._stuck_onset(omega)
+        return x_star, a_min
+
     def _pieces(self, omega):
         L = self.bar.L
-        x_star, _ = self.bar.slip_onset(self.load, omega)
+        x_star, _ = self._onset(omega)
         if x_star >= L * (1.0 - 1e-9):
             return [_TwoRegionPiece(self, omega, L)]
         three = _ThreeRegionPiece(self, omega, x_star)
