@@ -26,6 +26,7 @@ elements do not hide resonances of the damper itself.
 
 from __future__ import annotations
 
+import bisect
 import math
 from functools import lru_cache
 from typing import NamedTuple
@@ -54,9 +55,10 @@ MAX_ONSET_DIP = 1e-3
 MAX_GROSS_DIP = 0.5
 #: Points of the per-frequency table used to start the inversion s(t) = a.
 TABLE_POINTS = 65
-#: A Newton step of the inversion s(t) = a at most this long (in t) is its last: the error after
-#: it is of order its square times s''/s' (t in [0, 1]), below rounding.
-NEWTON_LAST = 1e-9
+
+
+_EPS = float(np.finfo(float).eps)
+_TINY = float(np.finfo(float).tiny)
 
 
 @lru_cache(maxsize=None)
@@ -181,7 +183,8 @@ class _Piece:
             self.t0, self.t1 = t0, t1
             s, F, ds, _, r = self._evaluate(tt)
         self._check_left_end(tt, s, r)
-        self.t_tab, self.s_tab, self.ds_tab = tt, s, ds
+        self.t_tab, self.s_tab, self.ds_tab, self._table_regions = tt, s, ds, r
+        self._lists = None  # the table as lists, for _invert_one
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if np.any(np.diff(s) <= 0.0):
@@ -265,6 +268,8 @@ class _Piece:
     def invert(self, a):
         """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""
         a = np.asarray(a, dtype=float)
+        if a.size == 1:
+            return np.full_like(a, self._invert_one(float(a.flat[0])))
         j = np.clip(np.searchsorted(self.s_tab, a), 1, self.table_points - 1)
         lo, hi = self.t_tab[j - 1], self.t_tab[j]
         slo, shi = self.s_tab[j - 1], self.s_tab[j]
@@ -277,7 +282,12 @@ class _Piece:
             t = (lo + u * u * (3.0 - 2.0 * u) * (hi - lo)
                  + H * u * (1.0 - u) * ((1.0 - u) / dlo - u / dhi))
         linear = lo + (hi - lo) * u
-        t = np.where((dlo > 0.0) & (dhi > 0.0) & (t >= lo) & (t <= hi), t, linear)
+        smooth = (dlo > 0.0) & (dhi > 0.0)
+        t = np.where(smooth & (t >= lo) & (t <= hi), t, linear)
+        # |s''| / (2 s') on the interval, from its end slopes: Newton's error after a step d is
+        # about curv d^2, so a step with curv d^2 below rounding is the last
+        with np.errstate(all="ignore"):
+            curv = np.where(smooth, np.abs(dhi - dlo) / (2.0 * (hi - lo) * np.minimum(dlo, dhi)), np.inf)
         for _ in range(60):
             s, _, ds, _ = self.evaluate(t)
             r = s - a
@@ -287,11 +297,40 @@ class _Piece:
                 tn = t - r / ds
             bad = ~np.isfinite(tn) | (tn <= lo) | (tn >= hi)
             tn = np.where(bad, 0.5 * (lo + hi), tn)
-            # Newton converges quadratically: after a step of at most NEWTON_LAST the next
-            # one would be below rounding (t is in [0, 1]), so that step is the last
-            done = np.abs(tn - t) <= np.where(bad, 4e-16, NEWTON_LAST)
+            step = np.abs(tn - t)
+            done = (step <= 4e-16 * np.maximum(1.0, np.abs(t))) | (~bad & (curv * step * step <= 1e-16))
             t = tn
             if np.all(done | (hi - lo <= 1e-16)):
+                break
+        return t
+
+    def _invert_one(self, a: float) -> float:
+        """``invert`` for one amplitude in floats (the solver's call, where numpy's per-call
+        cost would exceed the arithmetic): the same start, steps and stopping rule."""
+        tab = self._lists
+        if tab is None:
+            tab = self._lists = (self.t_tab.tolist(), self.s_tab.tolist(), self.ds_tab.tolist())
+        t_tab, s_tab, ds_tab = tab
+        j = min(max(bisect.bisect_left(s_tab, a), 1), len(s_tab) - 1)
+        lo, hi, slo, shi, dlo, dhi = t_tab[j - 1], t_tab[j], s_tab[j - 1], s_tab[j], ds_tab[j - 1], ds_tab[j]
+        u = min(max((a - slo) / (shi - slo), 0.0), 1.0)
+        t, curv = lo + (hi - lo) * u, math.inf
+        if dlo > 0.0 and dhi > 0.0:
+            th = lo + u * u * (3.0 - 2.0 * u) * (hi - lo) + (shi - slo) * u * (1.0 - u) * ((1.0 - u) / dlo - u / dhi)
+            t = th if lo <= th <= hi else t
+            curv = abs(dhi - dlo) / (2.0 * (hi - lo) * min(dlo, dhi))
+        for _ in range(60):
+            s, _, ds, _ = self.evaluate(np.array([t]))
+            r = float(s[0]) - a
+            ds = float(ds[0])
+            lo, hi = (t, hi) if r < 0.0 else ((lo, t) if r > 0.0 else (lo, hi))
+            tn = t - r / ds if ds != 0.0 else math.nan
+            bad = not lo < tn < hi
+            tn = 0.5 * (lo + hi) if bad else tn
+            step = abs(tn - t)
+            done = step <= 4e-16 * max(1.0, abs(t)) or (not bad and curv * step * step <= 1e-16)
+            t = tn
+            if done or hi - lo <= 1e-16:
                 break
         return t
 
@@ -305,6 +344,15 @@ class _TwoRegionPiece(_Piece):
 
     def _boundaries(self, t):
         return self.L1_start * (1.0 - t), None
+
+    def sliding(self):
+        """``(F_fric, K_slip)`` of the whole bar slipping (L1 = 0): the table's last point when
+        the piece reaches L1 = 0, else a fresh region solution there."""
+        if self.t1 == 1.0:
+            r = self._table_regions
+            return float(r.F_fric[-1].real), float(r.K_tip[-1].real)
+        r = region_solution(self.el.bar, self.el.load, 0.0, None, self.omega)
+        return float(r.F_fric), float(r.K_tip)
 
 
 class _ThreeRegionPiece(_Piece):
@@ -431,14 +479,14 @@ class _MicroslipBar(ContactElement):
     def _build_path(self, omega):
         bar = self.bar
         K = float(bar.stuck_stiffness(omega))
-        sliding = region_solution(bar, self.load, 0.0, None, omega)  # the whole bar slips: F = F_int + K_slip x
-        K_slip = float(sliding.K_tip)
         if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
-            return 0.0, [], 0.0, 0.0, K_slip, K
+            return 0.0, [], 0.0, 0.0, float(region_solution(bar, self.load, 0.0, None, omega).K_tip), K
         pieces = self._pieces(omega)
+        # the whole bar slips: F = F_fric + K_slip x, the region solution at L1 = 0
+        F_fric, K_slip = pieces[-1].sliding()
         a_min, a_g = pieces[0].s0, pieces[-1].s1
         # on the sliding line at a_g; differs from pieces[-1].F1 only after a gross-slip fold
-        F_g = float(sliding.F_fric) + K_slip * a_g
+        F_g = F_fric + K_slip * a_g
         return a_min, pieces, a_g, F_g, K_slip, K
 
     # ------------------------------------------------------------ public extras
@@ -535,6 +583,8 @@ class _MicroslipBar(ContactElement):
         fc = np.empty_like(a)
         dfs = np.empty_like(a)
         dfc = np.empty_like(a)
+        if omega.size == 1 or (omega.size > 1 and np.all(omega == omega[0])):  # one frequency (the solver's call)
+            return _fourier_one_omega(self._path(float(omega[0])), a, rtol)
         for w in np.unique(omega):
             sel = omega == w
             r = _fourier_one_omega(self._path(float(w)), a[sel], rtol)
@@ -542,54 +592,48 @@ class _MicroslipBar(ContactElement):
         return fs, fc, dfs, dfc
 
 
-def _isq(a, s1, s2):
-    """int_{s1}^{s2} sqrt(s (a - s)) ds, closed form (s = a (1 + sin th)/2)."""
+def _stretch(a, K, s1, s2):
+    """The integrals (J_s, J_c, J_d) of a straight stretch dF = K ds of the loading curve from
+    s1 to s2 <= a, in closed form (s = a (1 + u)/2, u = sin th):
 
-    def prim(s):
-        u = np.clip(2.0 * s / a - 1.0, -1.0, 1.0)
-        return a * a / 8.0 * (np.arcsin(u) + u * np.sqrt(1.0 - u * u))
-
-    return prim(s2) - prim(s1)
-
-
-def _idsq(a, s1, s2):
-    """int_{s1}^{s2} sqrt(s / (a - s)) / 2 ds, closed form (the a-derivative weight of f_s)."""
-
-    def prim(s):
-        u = np.clip(2.0 * s / a - 1.0, -1.0, 1.0)
-        return a / 4.0 * (np.arcsin(u) - np.sqrt(1.0 - u * u))
-
-    return prim(s2) - prim(s1)
+    J_s = K int sqrt(s (a - s)) ds = K a^2/8 [asin u + u sqrt(1 - u^2)],
+    J_c = K int (a - 2 s) ds = K (a - s1 - s2)(s2 - s1),
+    J_d = K int sqrt(s / (a - s)) / 2 ds = K a/4 [asin u - sqrt(1 - u^2)].
+    """
+    u1 = np.minimum(np.maximum(2.0 * s1 / a - 1.0, -1.0), 1.0)
+    u2 = np.minimum(np.maximum(2.0 * s2 / a - 1.0, -1.0), 1.0)
+    as1, as2 = np.arcsin(u1), np.arcsin(u2)
+    r1, r2 = np.sqrt(1.0 - u1 * u1), np.sqrt(1.0 - u2 * u2)
+    Js = K * a * a / 8.0 * ((as2 - as1) + (u2 * r2 - u1 * r1))
+    Jc = K * (a - s1 - s2) * (s2 - s1)
+    Jd = K * a / 4.0 * ((as2 - as1) - (r2 - r1))
+    return Js, Jc, Jd
 
 
 def _fourier_one_omega(path, a, rtol):
     """f_s, f_c, df_s/da, df_c/da for amplitudes ``a`` at one frequency (see module docstring)."""
     a_min, pieces, a_g, F_g, K_slip, K = path
     a = np.asarray(a, dtype=float)
-    fs = K * a
-    fc = np.zeros_like(a)
-    dfs = np.full_like(a, K)
-    dfc = np.zeros_like(a)
     slip = a > a_min
     if not np.any(slip):
-        return fs, fc, dfs, dfc
-    A = a[slip]
-    # Stieltjes integrals J_s = int sqrt(s(a-s)) dF, J_c = int (a - 2s) dF, Jd = int sqrt(s/(a-s))/2 dF
-    m = np.minimum(A, a_min)
-    Js = K * _isq(A, 0.0, m)
-    Jc = K * (A * m - m * m)
-    Jd = K * _idsq(A, 0.0, m)
-    Fa = np.where(A > a_g, F_g + K_slip * (A - a_g), 0.0)
-    dFa = np.where(A > a_g, K_slip, 0.0)
+        return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+    every = bool(np.all(slip))
+    A = a if every else a[slip]
+    # Stieltjes integrals J_s = int sqrt(s(a-s)) dF, J_c = int (a - 2s) dF, Jd = int sqrt(s/(a-s))/2 dF;
+    # first the stuck stretch [0, a_min] (A > a_min here)
+    Js, Jc, Jd = _stretch(A, K, 0.0, a_min)
+    gross = A > a_g
+    any_gross = bool(np.any(gross))
+    Fa = np.where(gross, F_g + K_slip * (A - a_g), 0.0) if any_gross else np.zeros_like(A)
+    dFa = np.where(gross, K_slip, 0.0) if any_gross else np.zeros_like(A)
     # A skipped onset fold leaves F(s0) - K s0 as a jump of the loading curve: a point mass of dF.
     if pieces:
         s0, jump = pieces[0].s0, pieces[0].F0 - K * pieces[0].s0
         Js += jump * np.sqrt(s0 * np.maximum(A - s0, 0.0))
         Jc += jump * (A - 2.0 * s0)
-        Jd += jump * 0.5 * np.sqrt(s0 / np.maximum(A - s0, np.finfo(float).tiny))
+        Jd += jump * 0.5 * np.sqrt(s0 / np.maximum(A - s0, _TINY))
     # Likewise a gross-slip fold: the curve snaps from the piece's end onto the sliding line at a_g.
-    gross = A > a_g
-    if np.any(gross) and pieces:
+    if any_gross and pieces:
         jump = F_g - pieces[-1].F1
         G = A[gross]
         Js[gross] += jump * np.sqrt(a_g * (G - a_g))
@@ -599,32 +643,43 @@ def _fourier_one_omega(path, a, rtol):
         act = A > p.s0
         if not np.any(act):
             continue
-        Aa = A[act]
+        all_act = bool(np.all(act))
+        Aa = A if all_act else A[act]
         inside = Aa < p.s1
-        t_end = np.ones_like(Aa)
-        if np.any(inside):
-            t_end[inside] = p.invert(Aa[inside])
+        if np.all(inside):
+            t_end = p.invert(Aa)
+        else:
+            t_end = np.ones_like(Aa)
+            if np.any(inside):
+                t_end[inside] = p.invert(Aa[inside])
         (js, jc, jd), (Fe, dse, dFe) = _piece_integrals(p, Aa, t_end, inside, rtol)
-        Js[act] += js
-        Jc[act] += jc
-        Jd[act] += jd
-        if np.any(inside):
-            Fi, dsi, dFi = Fe[inside], dse[inside], dFe[inside]
-            idx = np.flatnonzero(act)[inside]
-            Fa[idx] = Fi
-            dFa[idx] = dFi / dsi
-    if np.any(gross):
+        if all_act:
+            Js += js
+            Jc += jc
+            Jd += jd
+        else:
+            Js[act] += js
+            Jc[act] += jc
+            Jd[act] += jd
+        idx = np.flatnonzero(act)[inside]
+        Fa[idx] = Fe[inside]
+        dFa[idx] = dFe[inside] / dse[inside]
+    if any_gross:
         G = A[gross]
-        Js[gross] += K_slip * _isq(G, a_g, G)
-        Jc[gross] += K_slip * (G * (G - a_g) - (G * G - a_g * a_g))
-        Jd[gross] += K_slip * _idsq(G, a_g, G)
+        js, jc, jd = _stretch(G, K_slip, a_g, G)
+        Js[gross] += js
+        Jc[gross] += jc
+        Jd[gross] += jd
     fs_s = 8.0 / (np.pi * A) * Js
     fc_s = 4.0 / (np.pi * A) * Jc
-    fs[slip] = fs_s
     # J_c cancels exactly on linear stretches; clear rounding-level negatives (|.| <= 64 eps K a).
-    fc[slip] = np.where((fc_s < 0.0) & (fc_s > -64 * np.finfo(float).eps * abs(K) * A), 0.0, fc_s)
-    dfs[slip] = -fs_s / A + 8.0 / (np.pi * A) * Jd
-    dfc[slip] = -fc_s / A + 4.0 / (np.pi * A) * (Fa - A * dFa)
+    fc_s = np.where((fc_s < 0.0) & (fc_s > -64 * _EPS * abs(K) * A), 0.0, fc_s)
+    dfs_s = -fs_s / A + 8.0 / (np.pi * A) * Jd
+    dfc_s = -fc_s / A + 4.0 / (np.pi * A) * (Fa - A * dFa)
+    if every:
+        return fs_s, fc_s, dfs_s, dfc_s
+    fs, fc, dfs, dfc = K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+    fs[slip], fc[slip], dfs[slip], dfc[slip] = fs_s, fc_s, dfs_s, dfc_s
     return fs, fc, dfs, dfc
 
 
@@ -638,35 +693,42 @@ def _piece_integrals(p, a, t_end, exact_end, rtol):
     evaluation of the loading curve.
     """
     near = ~exact_end & ((a - p.s1) < GRADE_BELOW * (p.s1 - p.s0))
+    if not np.any(near):
+        return _converged_rules(p, a, t_end, False, rtol)
     out = [np.zeros_like(a) for _ in range(3)]
     end = [np.zeros_like(a) for _ in range(3)]
     for mask, graded in ((~near, False), (near, True)):
-        if not np.any(mask):
-            continue
-        aa, te = a[mask], t_end[mask]
-        if graded:
-            # cells [r^(j+1), r^j] in tau, the innermost [0, r^GRADE_CELLS]
-            edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
-        else:
-            edges = np.array([0.0, 1.0])
-        n = 2 * GAUSS_START
-        (prev, cur), at_end = _graded_rules(p, aa, te, edges, (GAUSS_START, n), with_end=True)
-        while True:
-            scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
-            err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
-            if np.all(err <= 0.1 * rtol) or n >= GAUSS_MAX:
-                break
-            n *= 2
-            prev, ((cur,), _) = cur, _graded_rules(p, aa, te, edges, (n,))
-        for k in range(3):
-            out[k][mask] = cur[k]
-            end[k][mask] = at_end[k]
+        if np.any(mask):
+            cur, at_end = _converged_rules(p, a[mask], t_end[mask], graded, rtol)
+            for k in range(3):
+                out[k][mask] = cur[k]
+                end[k][mask] = at_end[k]
     return out, end
 
 
-def _graded_rules(p, a, t_end, edges, ns, *, with_end=False):
-    """``([(J_s, J_c, J_d) for each rule of n in ns], (F, s', F') at t_end or None)``: one
-    evaluation of the loading curve at the nodes of all the rules (and at tau = 0)."""
+def _converged_rules(p, a, t_end, graded, rtol):
+    """The piece's integrals by rules of doubling size until two agree to ``rtol / 10``, and the
+    curve's ``(F, s', F')`` at t_end."""
+    n = 2 * GAUSS_START
+    (prev, cur), at_end = _graded_rules(p, a, t_end, graded, (GAUSS_START, n), with_end=True)
+    while True:
+        scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
+        err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
+        if np.all(err <= 0.1 * rtol) or n >= GAUSS_MAX:
+            return cur, at_end
+        n *= 2
+        prev, ((cur,), _) = cur, _graded_rules(p, a, t_end, graded, (n,))
+
+
+@lru_cache(maxsize=64)
+def _rule_nodes(graded: bool, ns: tuple, with_end: bool):
+    """Nodes tau in [0, 1] of the Gauss-Legendre rules of sizes ``ns`` (one after the other, and
+    tau = 0 last when ``with_end``) on one cell or on the graded cells, and each rule's weights."""
+    if graded:
+        # cells [r^(j+1), r^j] in tau, the innermost [0, r^GRADE_CELLS]
+        edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
+    else:
+        edges = np.array([0.0, 1.0])
     lo, hi = edges[:-1], edges[1:]
     taus, wts = [], []
     for n in ns:
@@ -674,16 +736,26 @@ def _graded_rules(p, a, t_end, edges, ns, *, with_end=False):
         taus.append((lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel())  # nodes in (0, 1)
         wts.append(((hi - lo)[:, None] * w[None, :]).ravel())
     tau = np.concatenate(taus + ([np.zeros(1)] if with_end else []))
-    tt = t_end[:, None] * (1.0 - tau[None, :] ** 2)
-    s, F, ds, dF = p.evaluate(tt)
+    for v in [tau] + wts:
+        v.flags.writeable = False
+    return tau, tuple(wts)
+
+
+def _graded_rules(p, a, t_end, graded, ns, *, with_end=False):
+    """``([(J_s, J_c, J_d) for each rule of n in ns], (F, s', F') at t_end or None)``: one
+    evaluation of the loading curve at the nodes of all the rules (and at tau = 0)."""
+    tau, wts = _rule_nodes(graded, ns, with_end)
+    te = t_end[:, None]
+    s, F, ds, dF = p.evaluate(te * (1.0 - tau * tau))
     A = a[:, None]
     gap = np.maximum(A - s, 0.0)
     sq = np.sqrt(np.maximum(s, 0.0))
-    dFj = dF * (2.0 * t_end[:, None] * tau[None, :])  # dF/dt |dt/dtau|
-    g_s = sq * np.sqrt(gap) * dFj
+    dFj = dF * ((2.0 * te) * tau)  # dF/dt |dt/dtau|
+    rg = np.sqrt(gap)
+    g_s = sq * rg * dFj
     g_c = (A - 2.0 * s) * dFj
     with np.errstate(divide="ignore", invalid="ignore"):
-        g_d = np.where(gap > 0.0, 0.5 * sq / np.sqrt(gap), 0.0) * dFj
+        g_d = np.where(gap > 0.0, 0.5 * sq / rg, 0.0) * dFj
     rules, i = [], 0
     for wt in wts:
         cols = slice(i, i + wt.size)
