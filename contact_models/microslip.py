@@ -164,7 +164,7 @@ class _Piece:
                     f"the loading curve folds back after slip onset at omega={omega!r} by "
                     f"{(s[0] - s[i]) / abs(s[0]):.2g} (relative): outside the single-mode model's range")
             j = i + int(np.argmax(s[i:] >= s[0]))
-            t0 = self._rising_root(s[0], tt[i], tt[j])
+            t0 = self._root_one(float(s[0]), *(float(v) for v in (tt[j - 1], tt[j], s[j - 1], s[j], ds[j - 1], ds[j])))
         j = int(np.argmax(s))
         if j < self.table_points - 1:
             # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
@@ -194,25 +194,6 @@ class _Piece:
 
     def _s(self, t):
         return float(self.evaluate(np.array([t]))[0][0])
-
-    def _rising_root(self, target, lo, hi):
-        """t in [lo, hi] with s(t) = target, s increasing there: Newton on s' (complex step), bisection guard."""
-        t = 0.5 * (lo + hi)
-        for _ in range(60):
-            s, _, ds, _ = (float(v[0]) for v in self.evaluate(np.array([t])))
-            if abs(s - target) <= 8 * np.finfo(float).eps * abs(target):  # s is known to rounding only
-                return t
-            if s < target:
-                lo = t
-            else:
-                hi = t
-            tn = t - (s - target) / ds if ds > 0.0 else 0.5 * (lo + hi)
-            if not lo <= tn <= hi:
-                tn = 0.5 * (lo + hi)
-            if abs(tn - t) <= 1e-15 or hi - lo <= 1e-15:
-                return tn
-            t = tn
-        return t
 
     def _check_left_end(self, t, s, regions=None):
         """The stuck region [0, L1] must stay stuck: k |u(0)| <= mu q(0) along the path.
@@ -312,7 +293,11 @@ class _Piece:
             tab = self._lists = (self.t_tab.tolist(), self.s_tab.tolist(), self.ds_tab.tolist())
         t_tab, s_tab, ds_tab = tab
         j = min(max(bisect.bisect_left(s_tab, a), 1), len(s_tab) - 1)
-        lo, hi, slo, shi, dlo, dhi = t_tab[j - 1], t_tab[j], s_tab[j - 1], s_tab[j], ds_tab[j - 1], ds_tab[j]
+        return self._root_one(a, t_tab[j - 1], t_tab[j], s_tab[j - 1], s_tab[j], ds_tab[j - 1], ds_tab[j])
+
+    def _root_one(self, a, lo, hi, slo, shi, dlo, dhi):
+        """t in [lo, hi] with s(t) = a, from the table's values s and slopes s' at lo and hi
+        (s increasing there): Hermite start, safeguarded Newton, the stopping rule of ``invert``."""
         u = min(max((a - slo) / (shi - slo), 0.0), 1.0)
         t, curv = lo + (hi - lo) * u, math.inf
         if dlo > 0.0 and dhi > 0.0:
@@ -365,13 +350,16 @@ class _ThreeRegionPiece(_Piece):
     def __init__(self, element, omega, x_star):
         self.x_star = x_star
         self.coef = self._fit_L1(element, omega, x_star)
+        self.dcoef = 2.0 * cheb.chebder(self.coef)  # d L1 / dt (x = 2 t - 1)
         super().__init__(element, omega, last=False)
 
     def _boundaries(self, t):
         L = self.el.bar.L
         L2 = self.x_star + (L - self.x_star) * t
-        L1 = cheb.chebval(2.0 * t - 1.0, self.coef)
-        return L1, L2
+        if np.iscomplexobj(t):  # complex step: L1(t + i h) = L1(t) + i h L1'(t) + O(h^2)
+            L1, dL1 = _chebyshev_sum(2.0 * t.real - 1.0, self.coef, self.dcoef)
+            return L1 + 1j * t.imag * dL1, L2
+        return _chebyshev_sum(2.0 * np.asarray(t, dtype=float) - 1.0, self.coef)[0], L2
 
     @staticmethod
     def _fit_L1(el, omega, x_star, tol=1e-13):
@@ -390,13 +378,23 @@ class _ThreeRegionPiece(_Piece):
             if previous is not None:
                 xs_prev, coef_prev = previous
                 t_prev = np.clip((L2 - xs_prev) / (L - xs_prev), 0.0, 1.0)
-                guess = cheb.chebval(2.0 * t_prev - 1.0, coef_prev)
+                guess = _chebyshev_sum(2.0 * t_prev - 1.0, coef_prev)[0]
             L1 = _solve_L1(bar, load, L2, x_star, omega, guess)
             coef = cheb.chebfit(u, L1, deg)
             if np.max(np.abs(coef[-4:])) <= tol * L:
                 break
         el._last_L1_fit = (x_star, coef)
         return coef
+
+
+def _chebyshev_sum(x, *coefs):
+    """``sum_k c_k T_k(x)`` for each coefficient vector, x real in [-1, 1] (any shape), with
+    T_k(x) = cos(k arccos x): one matrix of T_k shared by the sums (``chebval``'s Clenshaw
+    recurrence costs a numpy call per degree)."""
+    x = np.asarray(x, dtype=float)
+    theta = np.arccos(np.clip(x.ravel(), -1.0, 1.0))
+    T = np.cos(theta[:, None] * np.arange(len(coefs[0]))[None, :])
+    return tuple((T[:, :len(c)] @ c).reshape(x.shape) for c in coefs)
 
 
 def _solve_L1(bar, load, L2, x_star, omega, guess=None):
@@ -407,7 +405,7 @@ def _solve_L1(bar, load, L2, x_star, omega, guess=None):
     the bracket.
     """
 
-    def G(L1):
+    def G(L1, L2=L2):
         # divided by (L2 - L1) > 0: removes the trivial root, which otherwise makes the
         # physical one nearly double next to the nucleation point (slow Newton)
         z = L1 + 1j * CSTEP * bar.L
@@ -419,20 +417,26 @@ def _solve_L1(bar, load, L2, x_star, omega, guess=None):
     at_start = (L2 - x_star) <= 1e-14 * bar.L  # nucleation limit: L1 -> x*
     lo = np.zeros_like(L2)
     hi = np.minimum(np.full_like(L2, x_star), L2)
-    glo, _ = G(lo)
-    ghi, _ = G(hi)
+    n = L2.size
+    if guess is None:
+        g3, _ = G(np.concatenate([lo, hi]), np.concatenate([L2, L2]))
+        glo, ghi = g3[:n], g3[n:]
+        with np.errstate(all="ignore"):
+            L1 = np.where(glo != ghi, (lo * ghi - hi * glo) / (ghi - glo), 0.5 * (lo + hi))
+        L1 = np.where((L1 > lo) & (L1 < hi), L1, 0.5 * (lo + hi))
+        first = None
+    else:  # the bracket's ends and the first Newton point in one evaluation
+        L1 = np.asarray(guess, dtype=float)
+        L1 = np.where((L1 > lo) & (L1 < hi), L1, 0.5 * (lo + hi))
+        g3, dg3 = G(np.concatenate([lo, hi, L1]), np.concatenate([L2, L2, L2]))
+        glo, ghi, first = g3[:n], g3[n:2 * n], (g3[2 * n:], dg3[2 * n:])
     if np.any(~at_start & ~((glo >= 0.0) & (ghi <= 0.0))):
         raise FloatingPointError("three-region curve: no stick-slip boundary L1 found (load or frequency "
                                  "outside the three-region model's range)")
-    if guess is None:
-        with np.errstate(all="ignore"):
-            L1 = np.where(glo != ghi, (lo * ghi - hi * glo) / (ghi - glo), 0.5 * (lo + hi))
-    else:
-        L1 = np.asarray(guess, dtype=float).copy()
-    L1 = np.where((L1 > lo) & (L1 < hi), L1, 0.5 * (lo + hi))
     done = at_start.copy()
     for _ in range(100):
-        g, dg = G(L1)
+        g, dg = G(L1) if first is None else first
+        first = None
         lo = np.where(g > 0.0, L1, lo)
         hi = np.where(g <= 0.0, L1, hi)
         with np.errstate(all="ignore"):
