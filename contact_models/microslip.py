@@ -194,7 +194,11 @@ class _MicroslipBar(ContactElement):
         dfs = np.empty_like(a)
         dfc = np.empty_like(a)
         if omega.size == 1 or (omega.size > 1 and np.all(omega == omega[0])):  # one frequency (the solver's call)
-            return _fourier_one_omega(self._path(float(omega[0])), a, rtol)
+            w = float(omega[0])
+            if w not in self._paths and np.all(a <= self._onset(w)[1]):  # stuck: no loading path needed
+                K = self._stuck_stiffness(w)
+                return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+            return _fourier_one_omega(self._path(w), a, rtol)
         for w in np.unique(omega):
             sel = omega == w
             r = _fourier_one_omega(self._path(float(w)), a[sel], rtol)
