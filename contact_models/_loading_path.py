@@ -60,12 +60,13 @@ def region_solution(bar: Bar, load, L1, L2, omega):
     # --- friction-driven part (independent of theta, no inertia): u'' = lam^2 u stuck, u'' = mu q/EA slipping
     k0, _ = impedance_transmission(beta, lam * lam, L1, S, transmission=False)  # static stiffness of [0, L1]
     # D2 = Q(L2) - Q(L1) - Q'(L1) ell_m and dQ = Q'(L2) - Q'(L1), Eq. 15, by Taylor at L1 (exact, no cancellation)
-    q1, dq1, ddq = load.q(L1), load.dq(L1), load_curvature(load)
     e2 = ell_m * ell_m
-    if ddq == 0.0 and not np.any(dq1):  # uniform load: the Taylor series stops at q1
+    if not getattr(load, "q2", 0.0):  # a constant load: the Taylor series stops at q1
+        q1 = float(load.q(0.0))
         D2 = mu / S * (q1 * e2 / 2)
         dQ = mu / S * (q1 * ell_m)
     else:
+        q1, dq1, ddq = load.q(L1), load.dq(L1), load_curvature(load)
         D2 = mu / S * (q1 * e2 / 2 + dq1 * (e2 * ell_m) / 6 + ddq * (e2 * e2) / 24)
         dQ = mu / S * (q1 * ell_m + dq1 * e2 / 2 + ddq * (e2 * ell_m) / 6)
     # --- part proportional to x = a sin(theta): u'' = gamma^2 u stuck, u'' = -alpha^2 u slipping

@@ -181,9 +181,10 @@ class _MicroslipBar(ContactElement):
         return hit
 
     def _stuck_onset(self, omega):
-        """Two regions: slip starts at the excited end, x1 of the two-region solution at L1 = L."""
+        """Two regions: slip starts at the excited end when k u(L) = mu q(L), at any frequency
+        (the two-region solution at L1 = L: no slipping length, t1 = 1, x1 = mu q(L)/k)."""
         L = self.bar.L
-        return L, float(region_solution(self.bar, self.load, L, None, omega).x1)
+        return L, float(self.bar.mu * self.load.q(L) / self.bar.k)
 
     def _hysteresis(self, a, omega, n):
         return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
@@ -275,9 +276,12 @@ def _fourier_one_omega(path, a, rtol):
             Js[act] += js
             Jc[act] += jc
             Jd[act] += jd
-        idx = np.flatnonzero(act)[inside]
-        Fa[idx] = Fe[inside]
-        dFa[idx] = dFe[inside] / dse[inside]
+        if all_act and np.all(inside):
+            Fa, dFa = Fe, dFe / dse
+        else:
+            idx = np.flatnonzero(act)[inside]
+            Fa[idx] = Fe[inside]
+            dFa[idx] = dFe[inside] / dse[inside]
     if any_gross:
         G = A[gross]
         js, jc, jd = _stretch(G, K_slip, a_g, G)
