@@ -166,9 +166,16 @@ class _Piece:
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if np.any(np.diff(s) <= 0.0):
+            # A fold inside the slip path: the tip displacement falls while the slip zone grows,
+            # so the slip front would jump (snap through) at constant displacement.  At omega = 0
+            # this is the static bar's own behaviour (a load falling steeply away from where slip
+            # starts); at omega > 0 inertia adds it near a resonance of the damper bar.
+            cause = ("the load falls too steeply along the slip path" if omega == 0.0 else
+                     "the load, or inertia near a resonance of the damper bar")
             raise FloatingPointError(
-                f"the loading curve is not monotone at omega={omega!r}: outside the single-mode model's range "
-                "(near a resonance of the damper bar)")
+                f"the loading curve folds back inside the slip path at omega={omega!r} (the tip displacement "
+                f"falls by {(np.max(np.maximum.accumulate(s) - s)) / abs(s[-1]):.2g} relative while the slip zone "
+                f"grows, so the slip front would jump; cause: {cause}): outside the single-mode model's range")
 
     def _s(self, t):
         return float(self.evaluate(np.array([t]))[0][0])
@@ -377,6 +384,15 @@ class _MicroslipBar(ContactElement):
         if self.load.minimum() < 0.0:
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
         self._paths: dict = {}
+        self._check_topology()
+        try:  # the static path (cached for later): a bar and load it cannot follow are refused here
+            self._path(0.0)
+        except FloatingPointError as exc:
+            raise ValueError(f"bar, load: {exc} (bar={bar!r}, lambda L={bar.lam * bar.L:.4g}, "
+                             f"load={self.load!r})") from None
+
+    def _check_topology(self) -> None:
+        """Refuse a load whose stick-slip topology the element does not describe (default: none)."""
 
     def __repr__(self):
         return f"{type(self).__name__}({self.bar!r}, {self.load!r})"
@@ -628,8 +644,8 @@ class TwoRegionMicroslip(_MicroslipBar):
     ``TwoRegionMicroslip(bar, UniformLoad(N=100.0))``; a_min = mu q(L)/k.
     """
 
-    def __init__(self, bar: Bar, load):
-        super().__init__(bar, load)
+    def _check_topology(self) -> None:
+        bar = self.bar
         x_star = bar.slip_onset(self.load, 0.0)[0] if bar.mu * self.load.N > 0.0 else bar.L
         if x_star < bar.L * (1.0 - 1e-9):
             raise ValueError(
