@@ -28,9 +28,10 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from numpy.polynomial import chebyshev as cheb
 from scipy.optimize import brentq, minimize_scalar
 
@@ -71,7 +72,7 @@ class Regions(NamedTuple):
     u1_unit: np.ndarray
 
 
-def region_solution(bar: Bar, load, L1, L2, omega):
+def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float) -> Regions:
     """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
 
     Returns a ``Regions`` tuple: ``x1, x2`` the tip displacements at which the shear
@@ -112,7 +113,7 @@ def region_solution(bar: Bar, load, L1, L2, omega):
     return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2)
 
 
-def load_curvature(load) -> float:
+def load_curvature(load: Any) -> float:
     """q'' (constant for the loads here)."""
     q2 = getattr(load, "q2", 0.0) or 0.0
     return 8.0 * q2 / load.L**2

@@ -40,6 +40,11 @@ class Built(NamedTuple):
     note: str = ""  #: one line on how the element was made (shown in the effects' reasons)
 
 
+def needs_nothing(given: Mapping[str, Any]) -> set:
+    """The default ``needs`` of a model: nothing from the rest of the scene."""
+    return set()
+
+
 @dataclass(frozen=True)
 class ModelSpec:
     """Everything the scene machinery knows of a damper model.
@@ -77,7 +82,7 @@ class ModelSpec:
     build: Callable[[Any], Any]
     doc: str = ""
     keys: Mapping[str, Key] = field(default_factory=dict)
-    needs: Callable[[Mapping[str, Any]], set] = field(default=lambda given: set())
+    needs: Callable[[Mapping[str, Any]], set] = needs_nothing
     microslip: Callable[[Mapping[str, Any]], str | None] | None = None
     unit: Callable[[Any], tuple[float, str]] | None = None
     example: Callable[[], Any] | None = None
