@@ -12,9 +12,10 @@ from __future__ import annotations
 import bisect
 import math
 from functools import lru_cache
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from numpy.polynomial import chebyshev as cheb
 
 from ._roots import brentq
@@ -46,7 +47,7 @@ class Regions(NamedTuple):
     u1_unit: np.ndarray
 
 
-def region_solution(bar: Bar, load, L1, L2, omega):
+def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float) -> Regions:
     """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
 
     Returns a ``Regions`` tuple: ``x1, x2`` the tip displacements at which the shear
@@ -93,7 +94,7 @@ def region_solution(bar: Bar, load, L1, L2, omega):
     return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2)
 
 
-def load_curvature(load) -> float:
+def load_curvature(load: Any) -> float:
     """q'' (constant for the loads here)."""
     q2 = getattr(load, "q2", 0.0) or 0.0
     return 8.0 * q2 / load.L**2
@@ -151,9 +152,16 @@ class _Piece:
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if np.any(np.diff(s) <= 0.0):
+            # A fold inside the slip path: the tip displacement falls while the slip zone grows,
+            # so the slip front would jump (snap through) at constant displacement.  At omega = 0
+            # this is the static bar's own behaviour (a load falling steeply away from where slip
+            # starts); at omega > 0 inertia adds it near a resonance of the damper bar.
+            cause = ("the load falls too steeply along the slip path" if omega == 0.0 else
+                     "the load, or inertia near a resonance of the damper bar")
             raise FloatingPointError(
-                f"the loading curve is not monotone at omega={omega!r}: outside the single-mode model's range "
-                "(near a resonance of the damper bar)")
+                f"the loading curve folds back inside the slip path at omega={omega!r} (the tip displacement "
+                f"falls by {(np.max(np.maximum.accumulate(s) - s)) / abs(s[-1]):.2g} relative while the slip zone "
+                f"grows, so the slip front would jump; cause: {cause}): outside the single-mode model's range")
 
     def _s(self, t):
         return float(self.evaluate(np.array([t]))[0][0])

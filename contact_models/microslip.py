@@ -70,6 +70,15 @@ class _MicroslipBar(ContactElement):
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
         self._paths: dict = {}
         self._onsets: dict = {}
+        self._check_topology()
+        try:  # the static path (cached for later): a bar and load it cannot follow are refused here
+            self._path(0.0)
+        except FloatingPointError as exc:
+            raise ValueError(f"bar, load: {exc} (bar={bar!r}, lambda L={bar.lam * bar.L:.4g}, "
+                             f"load={self.load!r})") from None
+
+    def _check_topology(self) -> None:
+        """Refuse a load whose stick-slip topology the element does not describe (default: none)."""
 
     def __repr__(self):
         return f"{type(self).__name__}({self.bar!r}, {self.load!r})"
@@ -389,8 +398,8 @@ class TwoRegionMicroslip(_MicroslipBar):
     ``TwoRegionMicroslip(bar, UniformLoad(N=100.0))``; a_min = mu q(L)/k.
     """
 
-    def __init__(self, bar: Bar, load):
-        super().__init__(bar, load)
+    def _check_topology(self) -> None:
+        bar = self.bar
         x_star = bar.slip_onset(self.load, 0.0)[0] if bar.mu * self.load.N > 0.0 else bar.L
         if x_star < bar.L * (1.0 - 1e-9):
             raise ValueError(

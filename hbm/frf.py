@@ -61,7 +61,7 @@ class FrequencyResponse:
     """
 
     def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
-                 scale: Callable[[np.ndarray], np.ndarray]):
+                 scale: Callable[[np.ndarray], np.ndarray]) -> None:
         self._problem = problem
         self._run = run
         self._scale = scale

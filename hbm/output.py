@@ -50,7 +50,7 @@ class CsvStream:
     '1.0,5.0,0.9272952180016122,3.0,4.0,1e-09'
     """
 
-    def __init__(self, path: str | Path, columns: Sequence[str]):
+    def __init__(self, path: str | Path, columns: Sequence[str]) -> None:
         self.path = Path(path)
         self.columns = tuple(columns)
         self._fh = self.path.open("w", newline="")

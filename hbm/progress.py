@@ -23,7 +23,7 @@ class ProgressLine:
     """``line(progress)`` redraws ``run i/n label: omega ... rad/s (xx %), N points, t s, about T left``
     on ``stream`` (runs numbered from 1, as in the CSV and the summary; T from the time so far)."""
 
-    def __init__(self, stream: TextIO, *, enabled: bool):
+    def __init__(self, stream: TextIO, *, enabled: bool) -> None:
         self.stream = stream
         self.enabled = enabled
         self.points = 0  #: points written so far (also counted when disabled)

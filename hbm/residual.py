@@ -75,7 +75,7 @@ class HarmonicBalance:
     """
 
     def __init__(self, blade: Blade, element: ContactElement | None = None, *, rtol: float = 1e-6,
-                 x_ref: float = 1.0, omega_ref: float = 1.0):
+                 x_ref: float = 1.0, omega_ref: float = 1.0) -> None:
         self.blade = blade
         self.element = element
         self.rtol = float(rtol)

@@ -192,3 +192,20 @@ def test_convex_load_whose_left_end_slips_is_refused(bar):
         TwoRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 0.5)).slip_amplitude(0.0)
     mild = TwoRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 0.8))  # stays two-region to gross slip
     assert mild.slip_amplitude(0.0) == pytest.approx(bar.mu * mild.load.q(bar.L) / bar.k, rel=1e-14)
+
+
+def test_static_fold_is_refused_up_front_with_a_true_message():
+    """Issue 11: hypothesis found this concave load (ratio 2.5) on a stiff layer (lambda L = 2.49).
+
+    Its static (omega = 0) loading curve folds: slip starts at the tip, and as the slip zone moves
+    into the lighter middle the tip displacement falls, so the slip front would jump.  The element
+    refuses it when built, naming the bar, lambda L and the load, without blaming a resonance.
+    """
+    bar = Bar(E=1e10, rho=1000, A=1e-4, L=0.1, k=6.2e8, beta=0, mu=1)
+    with pytest.raises(ValueError) as info:
+        ThreeRegionMicroslip(bar, QuadraticLoad(q0=16.67, q2=10))
+    msg = str(info.value)
+    assert msg.startswith("bar, load:") and "omega=0.0" in msg and "lambda L=2.49" in msg
+    assert "q0=16.67" in msg and "resonance" not in msg
+    # the same bar with the uniform load is accepted, and so is the ratio-12 load on it
+    assert ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=1.0, ratio=12.0)).slip_amplitude() > 0.0

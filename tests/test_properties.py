@@ -1,15 +1,19 @@
 """Properties of every contact element over random valid parameters (hypothesis).
 
-CI runs the "ci" profile (25 examples per property); ``HYPOTHESIS_PROFILE=long`` runs 400.
+CI runs the "ci" profile (25 examples per property, derandomized); ``HYPOTHESIS_PROFILE=long``
+runs 400, ``HYPOTHESIS_PROFILE=random`` draws new examples each run.
 The microslip bars are sampled where the single-mode model is defined (docs/theory.md,
-section 6): lambda L in [0.2, 2.5] and omega <= 0.4 omega_c.
+section 6): lambda L in [0.2, 2.5] and omega <= 0.4 omega_c, among the bar and load pairs the
+elements accept: a load whose static loading curve folds (the slip front would jump, e.g. a
+concave load of ratio 2.5 on a bar with lambda L = 2.49) is refused by the constructor with a
+ValueError, and such draws are discarded.
 """
 
 import math
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import assume, given
 from hypothesis import strategies as st
 
 from contact_models import (Bar, Macroslip, PointContact, QuadraticLoad, ThreeRegionMicroslip,
@@ -34,10 +38,14 @@ def microslip(draw, scale=1.0):
     ratio = draw(st.one_of(st.just(1.0), st.floats(1.5, 50.0)))
     w = draw(st.floats(0.0, 0.4))
     bar = Bar(E=E, rho=rho, A=A, L=L, k=k, beta=beta, mu=mu)
-    if ratio == 1.0:
-        el = TwoRegionMicroslip(bar, UniformLoad(N))
-    else:
-        el = ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N, ratio))
+    try:
+        if ratio == 1.0:
+            el = TwoRegionMicroslip(bar, UniformLoad(N))
+        else:
+            el = ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N, ratio))
+    except ValueError as exc:  # refused up front: outside what the element accepts
+        assert "folds back inside the slip path at omega=0.0" in str(exc)
+        assume(False)
     return el, w * bar.omega_c
 
 

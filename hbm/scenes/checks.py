@@ -16,7 +16,7 @@ from typing import Any, Callable, Iterable, NamedTuple
 class SceneError(ValueError):
     """An invalid scene: ``problems`` lists every message (file, table.key, value, what is allowed)."""
 
-    def __init__(self, problems: Iterable[str]):
+    def __init__(self, problems: Iterable[str]) -> None:
         self.problems = list(problems)
         super().__init__("\n".join(self.problems))
 

@@ -181,8 +181,12 @@ def topology(run: Any) -> Effect | None:
     try:
         run.micro = cls(bar, load)
     except ValueError as exc:
-        raise SceneError([f"{run.where(key)} = {show(asked)} with the {text}: {exc}; "
-                          'allowed here: "three-region" or "auto"']) from None
+        static_interior = bar.mu * load.on(bar.L).N > 0.0 and bar.slip_onset(load, 0.0)[0] < bar.L * (1.0 - ONSET_AT_END)
+        if cls is TwoRegionMicroslip and static_interior:  # the model asked for cannot follow this load
+            raise SceneError([f"{run.where(key)} = {show(asked)} with the {text}: {exc}; "
+                              'allowed here: "three-region" or "auto"']) from None
+        # the bar and load themselves are outside what the microslip elements describe
+        raise SceneError([f"{run.where('damper.load')}: {exc} (damper.model = {show(run.spec.name)}, {text})"]) from None
     run.topology = name
     for w in probe:  # the damper frequencies the element will see: its path must exist there
         try:

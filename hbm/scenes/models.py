@@ -40,6 +40,11 @@ class Built(NamedTuple):
     note: str = ""  #: one line on how the element was made (shown in the effects' reasons)
 
 
+def needs_nothing(given: Mapping[str, Any]) -> set:
+    """The default ``needs`` of a model: nothing from the rest of the scene."""
+    return set()
+
+
 @dataclass(frozen=True)
 class ModelSpec:
     """Everything the scene machinery knows of a damper model.
@@ -77,7 +82,7 @@ class ModelSpec:
     build: Callable[[Any], Any]
     doc: str = ""
     keys: Mapping[str, Key] = field(default_factory=dict)
-    needs: Callable[[Mapping[str, Any]], set] = field(default=lambda given: set())
+    needs: Callable[[Mapping[str, Any]], set] = needs_nothing
     microslip: Callable[[Mapping[str, Any]], str | None] | None = None
     unit: Callable[[Any], tuple[float, str]] | None = None
     example: Callable[[], Any] | None = None
@@ -216,9 +221,12 @@ def _example_point_contact():
 
 
 STIFFNESS = Key(number(gt=0, unit="N/m"), None,
-                "macroslip only: spring of the Jenkins element (N/m); default k* of the bar")
+                "macroslip and iwan: stiffness of the element while stuck (N/m); default k* of the bar")
 SLIP_FORCE = Key(number(gt=0, unit="N"), None,
-                 "macroslip only: slip force of the Jenkins element (N); default mu N")
+                 "macroslip and iwan: force at which the whole element slips (N); default mu N")
+CHI = Key(number(gt=-1), -0.5, "iwan only: exponent chi of the density of slip strengths (> -1; "
+                               "dissipation per cycle ~ a^(chi + 3))")
+IWAN_BETA = Key(number(ge=0), 0.1, "iwan only: beta, the share of the strongest elements (>= 0)")
 
 
 def _macroslip_own(params) -> bool:
@@ -257,6 +265,24 @@ def _example_macroslip():
     return Macroslip(stiffness=1.0e7, slip_force=30.0)
 
 
+def _build_iwan(run):
+    from contact_models import Iwan
+
+    p = run.params
+    if _macroslip_own(p):
+        K, F, how = p["stiffness"], p["slip_force"], "damper.stiffness and damper.slip_force"
+    else:
+        K, F, how = run.bar.k_star, run.bar.mu * run.N, "k* of the bar at omega = 0 and mu N"
+    return Built(Iwan(slip_force=F, stiffness=K, chi=p["chi"], beta=p["iwan_beta"]),
+                 f"iwan (chi = {p['chi']:g}, beta = {p['iwan_beta']:g})", how)
+
+
+def _example_iwan():
+    from contact_models import Iwan
+
+    return Iwan(slip_force=30.0, stiffness=1.0e7, chi=-0.5, beta=0.1)
+
+
 def _register_builtins():
     bar_and_load = {"bar", "load"}
     for name, doc, example in (
@@ -273,6 +299,11 @@ def _register_builtins():
                    needs=lambda given: set() if _macroslip_own(given) else {"bar", "load"},
                    unit=_macroslip_unit, doc="the Jenkins element: a spring behind a Coulomb slider",
                    example=_example_macroslip, validate=_macroslip_pair)
+    register_model("iwan", _build_iwan,
+                   keys={"stiffness": STIFFNESS, "slip_force": SLIP_FORCE, "chi": CHI, "iwan_beta": IWAN_BETA},
+                   needs=lambda given: set() if _macroslip_own(given) else {"bar", "load"},
+                   doc="Segalman's four-parameter Iwan element: parallel Jenkins elements, slip at any amplitude",
+                   example=_example_iwan, validate=_macroslip_pair)
 
 
 _register_builtins()
