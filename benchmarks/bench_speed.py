@@ -298,8 +298,34 @@ def _profile_task(repeats):
     return {"total": total, "cum": cum}
 
 
+def _numba_task(repeats):
+    import math
+
+    import numpy as np
+
+    sys.path.insert(0, str(Path(__file__).resolve().parent))
+    t_import, numba_prototype = _cpu(lambda: __import__("numba_prototype"))
+    bar, el = _element()
+    tt, tau, wts = _fused_nodes(65, (12, 24))
+    S = bar.E * bar.A
+    a = 2.0 * el.slip_amplitude(0.0)
+
+    def call(w):
+        return numba_prototype.fused_numba(S, bar.L, math.sqrt(bar.k / S), bar.mu, bar.k, bar.beta, 100.0 / bar.L,
+                                           bar.rho, bar.E, w, a, tt, tau, wts[0], wts[1], 12)
+
+    w0 = 0.3 * bar.omega_c
+    t_compile, (fs, fc) = _cpu(lambda: call(w0))
+    ref = el.fourier(a, w0)
+    ws = w0 * (1.0 + 1e-7 * np.arange(1, 2001))
+    times = [_cpu(lambda: [call(w) for w in ws])[0] / len(ws) for _ in range(repeats)]
+    return {"cpu": times, "compile": t_compile, "import": t_import,
+            "rel_diff": max(abs(fs - ref[0]), abs(fc - ref[1])) / abs(complex(*ref))}
+
+
 TASKS = {"default_frf": lambda r: _frf_task(_default_frf, r), "three_frf": lambda r: _frf_task(_three_frf, r),
-         "scalar": _scalar_task, "fused": _fused_task, "free": _free_task, "profile": _profile_task}
+         "scalar": _scalar_task, "fused": _fused_task, "free": _free_task, "profile": _profile_task,
+         "numba": _numba_task}
 
 
 def _worker(task, repeats):
@@ -470,6 +496,16 @@ def report(res, prof=None):
                  f"{100 * free / a['default_frf']:.0f} % of the FRF after the change; an infinitely fast element "
                  f"would make the FRF at most {a['default_frf'] / free:.1f} times faster. Floor estimate "
                  f"{FLOOR} s: the FRF is {a['default_frf'] / FLOOR:.1f} times it.")
+    if "numba" in res:
+        nb = res["numba"]
+        t_nb = statistics.median(nb["cpu"])
+        calls = res["checks"]["default"]["nfev"][1]
+        projected = free + calls * t_nb
+        lines.append(f"numba prototype (`benchmarks/numba_prototype.py`, the fused formulas compiled): "
+                     f"{1e6 * t_nb:.1f} us per scalar call (agrees to {nb['rel_diff']:.0e}), {nb['compile']:.2f} s "
+                     f"to compile on first use, {nb['import']:.2f} s to import numba; the default FRF with such an "
+                     f"element ({calls} calls) would take about {projected:.3f} s, {a['default_frf'] / projected:.1f} "
+                     f"times less than now, before the element's checks are ported.")
     if prof is not None:
         lines += ["", profile_table(prof)]
     return "\n".join(lines)
@@ -483,6 +519,7 @@ def main(argv=None):
     p.add_argument("--baseline", default=BASELINE)
     p.add_argument("--profile", action="store_true", help="add the profile table of the current code")
     p.add_argument("--json", help="also write the measurements to this file")
+    p.add_argument("--numba", action="store_true", help="add the numba prototype (needs numba installed)")
     args = p.parse_args(argv)
     if args.worker:
         _worker(args.worker, args.repeats)
@@ -490,6 +527,8 @@ def main(argv=None):
     log = lambda msg: print(msg, file=sys.stderr, flush=True)  # noqa: E731
     res = measure(args.baseline, args.rounds, args.repeats, log)
     prof = run_worker(ROOT, "profile", 1) if args.profile else None
+    if args.numba:
+        res["numba"] = run_worker(ROOT, "numba", 5)
     if args.json:
         Path(args.json).write_text(json.dumps({"result": res, "profile": prof}, default=float))
     print(report(res, prof))

@@ -343,7 +343,7 @@ class _ThreeRegionPiece(_Piece):
         L = bar.L
         previous = getattr(el, "_last_L1_fit", None)
         for deg in (24, 48, 96):
-            u = np.cos(np.pi * (np.arange(deg + 1) + 0.5) / (deg + 1))  # Chebyshev points in (-1, 1)
+            u, to_coef = _chebyshev_gauss(deg)
             L2 = x_star + (L - x_star) * 0.5 * (u + 1.0)
             guess = None
             if previous is not None:
@@ -351,11 +351,26 @@ class _ThreeRegionPiece(_Piece):
                 t_prev = np.clip((L2 - xs_prev) / (L - xs_prev), 0.0, 1.0)
                 guess = _chebyshev_sum(2.0 * t_prev - 1.0, coef_prev)[0]
             L1 = _solve_L1(bar, load, L2, x_star, omega, guess)
-            coef = cheb.chebfit(u, L1, deg)
+            coef = to_coef @ L1  # the interpolant through the deg + 1 points (chebfit's, without a solve)
             if np.max(np.abs(coef[-4:])) <= tol * L:
                 break
         el._last_L1_fit = (x_star, coef)
         return coef
+
+
+@lru_cache(maxsize=None)
+def _chebyshev_gauss(deg: int):
+    """The deg + 1 Chebyshev points u_j = cos(theta_j), theta_j = pi (j + 1/2)/(deg + 1), in (-1, 1),
+    and the matrix taking values there to the interpolant's coefficients (discrete orthogonality
+    of T_k at these points: c_k = (2 - [k = 0])/(deg + 1) sum_j f_j cos(k theta_j))."""
+    n = deg + 1
+    theta = np.pi * (np.arange(n) + 0.5) / n
+    M = np.cos(np.arange(n)[:, None] * theta[None, :]) * (2.0 / n)
+    M[0] *= 0.5
+    u = np.cos(theta)
+    u.flags.writeable = False
+    M.flags.writeable = False
+    return u, M
 
 
 def _chebyshev_sum(x, *coefs):
