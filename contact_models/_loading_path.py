@@ -143,10 +143,23 @@ class _Piece:
             res = minimize_scalar(lambda t: -self._s(t), bounds=(tt[j - 1], tt[j + 1]), method="bounded",
                                   options={"xatol": 1e-14})
             t1 = float(res.x)
-        if (t0, t1) != (0.0, 1.0):  # else the table above is already the piece's
+        if t1 != 1.0:  # a gross-slip fold (rare): the table anew on [t0, t1]
             self.t0, self.t1 = t0, t1
             s, F, ds, _, r = self._evaluate(tt)
-        self._check_left_end(tt, s, r)
+        elif t0 != 0.0:  # an onset fold: the table's nodes past t0, and t0 itself, in the piece's t
+            self.t0 = t0
+            k = int(np.searchsorted(tt, t0, side="right"))
+            k += bool(k < len(tt) - 1 and s[k] <= s[0])  # a node within rounding of t0
+            tl, sl, Fl, dsl, dFl = self._last_root
+            scale = 1.0 - t0  # d(raw t)/d(piece t)
+            tt = np.concatenate(([0.0], (tt[k:] - t0) / scale))
+            F = np.concatenate(([Fl + dFl * (t0 - tl)], F[k:]))  # F(t0) to O((t0 - tl)^2)
+            s = np.concatenate(([s[0]], s[k:]))  # s(t0) = s(0): t0's definition
+            ds = np.concatenate(([dsl], ds[k:])) * scale
+            r = Regions(*(None if v is None else v[k:] for v in r))
+            self._check_left_end(tt[1:], s[1:], r)
+        if t0 == 0.0 or t1 != 1.0:
+            self._check_left_end(tt, s, r)
         self.t_tab, self.s_tab, self.ds_tab, self._table_regions = tt, s, ds, r
         self._lists = None  # the table as lists, for _invert_one
         self.s0, self.s1 = float(s[0]), float(s[-1])
@@ -222,7 +235,7 @@ class _Piece:
         a = np.asarray(a, dtype=float)
         if a.size == 1:
             return np.full_like(a, self._invert_one(float(a.flat[0])))
-        j = np.clip(np.searchsorted(self.s_tab, a), 1, self.table_points - 1)
+        j = np.clip(np.searchsorted(self.s_tab, a), 1, len(self.s_tab) - 1)
         lo, hi = self.t_tab[j - 1], self.t_tab[j]
         slo, shi = self.s_tab[j - 1], self.s_tab[j]
         u = np.clip((a - slo) / (shi - slo), 0.0, 1.0)
@@ -276,9 +289,9 @@ class _Piece:
             t = th if lo <= th <= hi else t
             curv = abs(dhi - dlo) / (2.0 * (hi - lo) * min(dlo, dhi))
         for _ in range(60):
-            s, _, ds, _ = self.evaluate(np.array([t]))
-            r = float(s[0]) - a
-            ds = float(ds[0])
+            s, F, ds, dF = (float(v[0]) for v in self.evaluate(np.array([t])))
+            self._last_root = (t, s, F, ds, dF)  # the last evaluation (an onset fold's table starts with it)
+            r = s - a
             lo, hi = (t, hi) if r < 0.0 else ((lo, t) if r > 0.0 else (lo, hi))
             tn = t - r / ds if ds != 0.0 else math.nan
             bad = not lo < tn < hi

@@ -26,6 +26,7 @@ elements do not hide resonances of the damper itself.
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 
 import numpy as np
@@ -85,7 +86,11 @@ class _MicroslipBar(ContactElement):
 
     # ------------------------------------------------------------ the path
     def _path(self, omega: float):
-        """(a_min, pieces, a_gross, F_gross, K_slip, K_stuck) at omega, cached."""
+        """(a_min, pieces, a_gross, F_gross, K_slip, K_stuck) at omega, cached: the whole path."""
+        return self._lazy_path(omega).full()
+
+    def _lazy_path(self, omega: float) -> _Path:
+        """The path at omega, cached, built as far as it has been needed (``_Path``)."""
         key = float(omega)
         hit = self._paths.get(key)
         if hit is None:
@@ -99,14 +104,13 @@ class _MicroslipBar(ContactElement):
         bar = self.bar
         K = float(bar.stuck_stiffness(omega))
         if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
-            return 0.0, [], 0.0, 0.0, float(region_solution(bar, self.load, 0.0, None, omega).K_tip), K
-        pieces = self._pieces(omega)
-        # the whole bar slips: F = F_fric + K_slip x, the region solution at L1 = 0
-        F_fric, K_slip = pieces[-1].sliding()
-        a_min, a_g = pieces[0].s0, pieces[-1].s1
-        # on the sliding line at a_g; differs from pieces[-1].F1 only after a gross-slip fold
-        F_g = F_fric + K_slip * a_g
-        return a_min, pieces, a_g, F_g, K_slip, K
+            return _Path(K, [], done=(0.0, [], 0.0, 0.0,
+                                      float(region_solution(bar, self.load, 0.0, None, omega).K_tip), K))
+        return _Path(K, *self._first_pieces(omega))
+
+    def _first_pieces(self, omega):
+        """``(pieces, more)``: the path's first pieces and a callable building the rest (or None)."""
+        return self._pieces(omega), None
 
     # ------------------------------------------------------------ public extras
     def slip_stiffness(self, omega=0.0) -> float:
@@ -208,12 +212,47 @@ class _MicroslipBar(ContactElement):
             if w not in self._paths and np.all(a <= self._onset(w)[1]):  # stuck: no loading path needed
                 K = self._stuck_stiffness(w)
                 return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
-            return _fourier_one_omega(self._path(w), a, rtol)
+            return _fourier_one_omega(self._lazy_path(w).upto(float(np.max(a))), a, rtol)
         for w in np.unique(omega):
             sel = omega == w
             r = _fourier_one_omega(self._path(float(w)), a[sel], rtol)
             fs[sel], fc[sel], dfs[sel], dfc[sel] = r
         return fs, fc, dfs, dfc
+
+
+class _Path:
+    """The loading path at one frequency, built only as far as the amplitudes asked need.
+
+    The first pieces are built at once (a_min and the microslip up to their end ``s1``); the
+    rest (for three regions the two-region continuation from L2 = L) and the sliding line past
+    gross slip when an amplitude reaches past them, or the whole path is asked for (``full``):
+    f_s, f_c at an amplitude a depend on the loading curve up to a only.
+    """
+
+    def __init__(self, K, pieces, more=None, *, done=None):
+        self.K, self.pieces, self._more, self._full = K, pieces, more, done
+        self.a_min = pieces[0].s0 if pieces else (done[0] if done else 0.0)
+
+    def upto(self, a_max: float):
+        """The path's tuple (as ``full``) for amplitudes up to ``a_max``: the pieces built so far
+        when they reach past a_max (a_gross is then +inf, not reached), else the whole path."""
+        if self._full is None and self._more is not None and a_max < self.pieces[-1].s1:
+            return self.a_min, self.pieces, math.inf, math.nan, math.nan, self.K
+        return self.full()
+
+    def full(self):
+        """``(a_min, pieces, a_gross, F_gross, K_slip, K_stuck)``, building what is missing."""
+        if self._full is None:
+            if self._more is not None:
+                self.pieces = self.pieces + self._more()
+                self._more = None
+            last = self.pieces[-1]
+            # the whole bar slips: F = F_fric + K_slip x, the region solution at L1 = 0
+            F_fric, K_slip = last.sliding()
+            a_g = last.s1
+            # on the sliding line at a_g; differs from pieces[-1].F1 only after a gross-slip fold
+            self._full = (self.a_min, self.pieces, a_g, F_fric + K_slip * a_g, K_slip, self.K)
+        return self._full
 
 
 def _stretch(a, K, s1, s2):
@@ -426,13 +465,19 @@ class ThreeRegionMicroslip(_MicroslipBar):
         return x_star, a_min
 
     def _pieces(self, omega):
+        first, more = self._first_pieces(omega)
+        return first + (more() if more is not None else [])
+
+    def _first_pieces(self, omega):
         L = self.bar.L
         x_star, _ = self._onset(omega)
         if x_star >= L * (1.0 - 1e-9):
-            return [_TwoRegionPiece(self, omega, L)]
+            return [_TwoRegionPiece(self, omega, L)], None
         three = _ThreeRegionPiece(self, omega, x_star)
         if three.t1 != 1.0:
             raise FloatingPointError(f"three-region curve ends before L2 = L at omega={omega!r}")
-        L1_end = float(np.real(three.boundaries(1.0)[0]))
-        two = _TwoRegionPiece(self, omega, L1_end)
-        return [three, two]
+
+        def more():  # the two-region continuation, from L2 = L to gross slip
+            return [_TwoRegionPiece(self, omega, float(np.real(three.boundaries(1.0)[0])))]
+
+        return [three], more
