@@ -45,6 +45,7 @@ class Regions(NamedTuple):
     K_tip: np.ndarray
     u1_fric: np.ndarray
     u1_unit: np.ndarray
+    L1: Any = None  #: the stuck length the solution was taken at (as given)
 
 
 def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float) -> Regions:
@@ -79,7 +80,7 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
     if two:
         d0 = -D2 / (1.0 + k0 * ell_m / S)  # friction part of u(L1)
         x1 = (mu * q1 / k - d0) / t1
-        return Regions(x1, None, S * dQ + k0 * d0, k_mid, d0, t1)
+        return Regions(x1, None, S * dQ + k0 * d0, k_mid, d0, t1, L1)
     ell_2 = L - L2  # right stuck length
     e = np.exp(-lam * ell_2)
     sech2 = 2.0 * e / (1.0 + e * e)
@@ -91,7 +92,7 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
     # --- slip conditions k u(L_i) = mu q(L_i), linear in x
     x1 = (mu * q1 / k - d0) / (t1 * t2)
     x2 = (mu * load.q(L2) / k - uf2) / t2
-    return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2)
+    return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2, L1)
 
 
 def load_curvature(load: Any) -> float:
@@ -128,7 +129,11 @@ class _Piece:
                     f"the loading curve folds back after slip onset at omega={omega!r} by "
                     f"{(s[0] - s[i]) / abs(s[0]):.2g} (relative): outside the single-mode model's range")
             j = i + int(np.argmax(s[i:] >= s[0]))
-            t0 = self._root_one(float(s[0]), *(float(v) for v in (tt[j - 1], tt[j], s[j - 1], s[j], ds[j - 1], ds[j])))
+            # started from the last frequency's t0 (kept on the element) when it lies in the bracket:
+            # along a continuation it moves little, and the slopes here may not tell the curvature
+            t0 = self._root_one(float(s[0]), *(float(v) for v in (tt[j - 1], tt[j], s[j - 1], s[j], ds[j - 1], ds[j])),
+                                start=getattr(element, "_last_onset_t0", None))
+            element._last_onset_t0 = t0
         j = int(np.argmax(s))
         if j < self.table_points - 1:
             # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
@@ -189,9 +194,9 @@ class _Piece:
         limit = bar.mu * float(load.q(0.0))
 
         def excess(t, s, r=None):
-            L1 = np.real(self.boundaries(t)[0])
             if r is None:
                 r = self._regions(t)
+            L1 = np.real(r.L1)
             fric = np.real(r.u1_fric) * transmission(bar.beta, bar.lam**2, L1, bar.EA)
             unit = s * np.real(r.u1_unit) * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
             rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
@@ -279,18 +284,26 @@ class _Piece:
         j = min(max(bisect.bisect_left(s_tab, a), 1), len(s_tab) - 1)
         return self._root_one(a, t_tab[j - 1], t_tab[j], s_tab[j - 1], s_tab[j], ds_tab[j - 1], ds_tab[j])
 
-    def _root_one(self, a, lo, hi, slo, shi, dlo, dhi):
+    def _root_one(self, a, lo, hi, slo, shi, dlo, dhi, start=None):
         """t in [lo, hi] with s(t) = a, from the table's values s and slopes s' at lo and hi
-        (s increasing there): Hermite start, safeguarded Newton, the stopping rule of ``invert``."""
+        (s increasing there): Hermite start (or ``start`` if inside), safeguarded Newton, the
+        stopping rule of ``invert``."""
         u = min(max((a - slo) / (shi - slo), 0.0), 1.0)
         t, curv = lo + (hi - lo) * u, math.inf
         if dlo > 0.0 and dhi > 0.0:
             th = lo + u * u * (3.0 - 2.0 * u) * (hi - lo) + (shi - slo) * u * (1.0 - u) * ((1.0 - u) / dlo - u / dhi)
             t = th if lo <= th <= hi else t
             curv = abs(dhi - dlo) / (2.0 * (hi - lo) * min(dlo, dhi))
+        if start is not None and lo < start < hi:
+            t = start
+        prev = None
         for _ in range(60):
             s, F, ds, dF = (float(v[0]) for v in self.evaluate(np.array([t])))
             self._last_root = (t, s, F, ds, dF)  # the last evaluation (an onset fold's table starts with it)
+            if prev is not None and ds > 0.0 and prev[1] > 0.0 and t != prev[0]:
+                # |s''| / (2 s') from this slope and the last one (where the table's could not tell)
+                curv = abs(ds - prev[1]) / (2.0 * abs(t - prev[0]) * min(ds, prev[1]))
+            prev = (t, ds)
             r = s - a
             lo, hi = (t, hi) if r < 0.0 else ((lo, t) if r > 0.0 else (lo, hi))
             tn = t - r / ds if ds != 0.0 else math.nan
@@ -371,6 +384,9 @@ class _ThreeRegionPiece(_Piece):
         return coef
 
 
+_T_CACHE: dict = {}
+
+
 @lru_cache(maxsize=None)
 def _chebyshev_gauss(deg: int):
     """The deg + 1 Chebyshev points u_j = cos(theta_j), theta_j = pi (j + 1/2)/(deg + 1), in (-1, 1),
@@ -389,10 +405,18 @@ def _chebyshev_gauss(deg: int):
 def _chebyshev_sum(x, *coefs):
     """``sum_k c_k T_k(x)`` for each coefficient vector, x real in [-1, 1] (any shape), with
     T_k(x) = cos(k arccos x): one matrix of T_k shared by the sums (``chebval``'s Clenshaw
-    recurrence costs a numpy call per degree)."""
+    recurrence costs a numpy call per degree).  The matrix of a long x (the per-frequency table,
+    the same nodes at every frequency) is kept for the next call."""
     x = np.asarray(x, dtype=float)
-    theta = np.arccos(np.clip(x.ravel(), -1.0, 1.0))
-    T = np.cos(theta[:, None] * np.arange(len(coefs[0]))[None, :])
+    key = (x.tobytes(), len(coefs[0])) if x.size >= 64 else None
+    T = _T_CACHE.get(key) if key is not None else None
+    if T is None:
+        theta = np.arccos(np.clip(x.ravel(), -1.0, 1.0))
+        T = np.cos(theta[:, None] * np.arange(len(coefs[0]))[None, :])
+        if key is not None:
+            if len(_T_CACHE) >= 16:
+                _T_CACHE.clear()
+            _T_CACHE[key] = T
     return tuple((T[:, :len(c)] @ c).reshape(x.shape) for c in coefs)
 
 
