@@ -59,34 +59,36 @@ def segment_cs(s2: ArrayLike, ell: ArrayLike) -> tuple[NDArray[Any] | float, NDA
     return C, Sn, scale
 
 
-def _segment(s2: float, ell, scaled: bool):
+def _segment(s2: float, ell, scaled: bool, m: Any = np):
     """``segment_cs`` for one float ``s2``: only the branch that applies; ``scale`` (the sech
     factor, needed by the transmission only) is computed when ``scaled``, else 1.
 
     For s2 < 0, Sn = sin(g ell)/g (g = sqrt(-s2) > 0): no division by ell, so ell = 0 is fine.
+    ``m`` gives tanh, exp, cos, sin: numpy, or ``cmath`` for one complex ell (no array overhead).
     """
     if s2 > 0.0:
         g = math.sqrt(s2)
         z = g * ell
         if not scaled:
-            return 1.0, np.tanh(z) / g, 1.0
-        e = np.exp(-z)
-        return 1.0, np.tanh(z) / g, 2.0 * e / (1.0 + e * e)
+            return 1.0, m.tanh(z) / g, 1.0
+        e = m.exp(-z)
+        return 1.0, m.tanh(z) / g, 2.0 * e / (1.0 + e * e)
     if s2 < 0.0:
         g = math.sqrt(-s2)
         z = g * ell
-        return np.cos(z), np.sin(z) / g, 1.0
+        return m.cos(z), m.sin(z) / g, 1.0
     return 1.0, ell, 1.0
 
 
 def impedance_transmission(k_left: ArrayLike, s2: float, ell: ArrayLike, EA: float, *,
-                           transmission: bool = True) -> tuple[NDArray[Any] | float, NDArray[Any] | float]:
+                           transmission: bool = True, m: Any = np) -> tuple[Any, Any]:
     """``(end_impedance(...), transmission(...))`` of one segment for one float ``s2``, sharing
     the segment functions and the denominator (the microslip elements' inner loop).
 
-    ``transmission=False`` skips the transmission (returned as None) and its sech factor.
+    ``transmission=False`` skips the transmission (returned as None) and its sech factor;
+    ``m``: the functions' module (``numpy``, or ``cmath`` for one complex ``ell``).
     """
-    C, Sn, scale = _segment(s2, ell, transmission)
+    C, Sn, scale = _segment(s2, ell, transmission, m)
     den = EA * C + k_left * Sn
     imp = EA * (EA * s2 * Sn + k_left * C) / den
     return imp, (EA * scale / den if transmission else None)
