@@ -1,0 +1,128 @@
+"""The shortcuts of issue 15 (speed) give the answers of the long way round.
+
+Each shortcut is checked against an independent computation: the stuck answer against the
+stuck stiffness (and that no loading path is built for it), the closed-form onset against the
+path's first point, the one-step inversion against Newton iterated to convergence, the lazily
+built three-region path against the whole path, the cmath point against the numpy one, the
+interpolation matrix against numpy's least-squares fit.
+"""
+
+import math
+
+import numpy as np
+import pytest
+from numpy.polynomial import chebyshev as cheb
+
+import contact_models._loading_path as lp
+from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
+
+from conftest import BAR
+
+FREQS = (0.0, 0.1, 0.3, 0.5)  # fractions of omega_c
+
+
+def _counting(el):
+    builds = []
+    build = el._build_path
+
+    def counted(omega):
+        builds.append(omega)
+        return build(omega)
+
+    el._build_path = counted
+    return builds
+
+
+@pytest.mark.parametrize("make", [lambda b: TwoRegionMicroslip(b, UniformLoad(N=100.0)),
+                                  lambda b: ThreeRegionMicroslip(b, QuadraticLoad.from_ratio(100.0, 12.0))])
+def test_stuck_evaluations_build_no_path_and_answer_the_stuck_stiffness(make):
+    bar = Bar(**BAR)
+    el = make(bar)
+    builds = _counting(el)
+    for f in (0.11, 0.23, 0.37):
+        w = f * bar.omega_c
+        a_min = el.linear_amplitude(w)
+        fs, fc, dfs, dfc = el.fourier_derivatives(np.array([0.2, 0.9, 1.0]) * a_min, w)
+        K = float(bar.stuck_stiffness(w))
+        assert fs == pytest.approx(K * np.array([0.2, 0.9, 1.0]) * a_min, rel=1e-15)
+        assert np.all(fc == 0.0) and np.all(dfs == K) and np.all(dfc == 0.0)
+    assert builds == []
+    # and the onset used for it is the path's first point (bit for bit for two regions)
+    for f in FREQS:
+        w = f * bar.omega_c
+        assert el.linear_amplitude(w) == pytest.approx(el.slip_amplitude(w), rel=1e-14, abs=0.0)
+    assert len(builds) == len(FREQS) - 1  # omega = 0 was built with the element
+
+
+def test_two_region_onset_is_mu_q_over_k_and_the_paths_first_point_exactly():
+    bar = Bar(**BAR)
+    for load in (UniformLoad(N=100.0), QuadraticLoad.from_ratio(100.0, 0.8), UniformLoad(N=7.0)):
+        el = TwoRegionMicroslip(bar, load)
+        for f in FREQS:
+            w = f * bar.omega_c
+            assert el.linear_amplitude(w) == el.slip_amplitude(w)  # no rounding apart
+            assert el.linear_amplitude(w) == bar.mu * float(el.load.q(bar.L)) / bar.k
+
+
+@pytest.mark.parametrize("make", [lambda b: TwoRegionMicroslip(b, UniformLoad(N=100.0)),
+                                  lambda b: ThreeRegionMicroslip(b, QuadraticLoad.from_ratio(100.0, 12.0))])
+def test_one_step_inversion_is_converged_newton(make):
+    bar = Bar(**BAR)
+    el = make(bar)
+    worst = 0.0
+    for f in FREQS:
+        w = f * bar.omega_c
+        for p in el._path(w)[1]:
+            for u in np.linspace(0.02, 0.98, 9):
+                a = p.s0 + u * (p.s1 - p.s0)
+                t = p._invert_one(a)
+                # an independent answer: bisection on s(t) - a to the last bit
+                lo, hi = 0.0, 1.0
+                for _ in range(80):
+                    mid = 0.5 * (lo + hi)
+                    lo, hi = (mid, hi) if p._evaluate_one(mid)[0] < a else (lo, mid)
+                worst = max(worst, abs(t - 0.5 * (lo + hi)))
+                s = p._evaluate_one(t)[0]
+                assert abs(s - a) <= 1e-13 * a
+    assert worst < 1e-12
+
+
+def test_lazy_three_region_path_gives_the_whole_paths_answers():
+    bar = Bar(**BAR)
+    load = QuadraticLoad.from_ratio(100.0, 12.0)
+    lazy, whole = ThreeRegionMicroslip(bar, load), ThreeRegionMicroslip(bar, load)
+    w = 0.3 * bar.omega_c
+    whole._path(w)  # built to gross slip first
+    s1 = whole._path(w)[1][0].s1  # end of the three-region piece
+    a = np.array([0.5, 0.9]) * s1 + 0.1 * whole.slip_amplitude(w)
+    got = lazy.fourier_derivatives(a, w)
+    assert len(lazy._paths[w].pieces) == 1  # the two-region continuation was not built
+    ref = whole.fourier_derivatives(a, w)
+    for g, r in zip(got, ref):
+        assert np.all(g == r)
+    lazy.fourier_derivatives(np.array([2.0 * s1]), w)  # past it: the rest is built
+    assert len(lazy._paths[w].pieces) == 2
+
+
+def test_cmath_point_agrees_with_the_numpy_table():
+    bar = Bar(**BAR)
+    for el in (TwoRegionMicroslip(bar, UniformLoad(N=100.0)),
+               ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 12.0))):
+        for f in (0.1, 0.3, 0.5):
+            p = el._path(f * bar.omega_c)[1][0]
+            t = np.array([0.1, 0.5, 0.9])
+            table = np.array(p.evaluate(t))
+            one = np.array([p._evaluate_one(v) for v in t]).T
+            assert np.max(np.abs(one - table) / np.abs(table)) < 1e-13
+
+
+@pytest.mark.parametrize("deg", [24, 48, 96])
+def test_chebyshev_interpolation_matrix_is_the_least_squares_fit(deg):
+    u, to_coef = lp._chebyshev_gauss(deg)
+    f = np.exp(np.sin(3.0 * u)) / (1.2 - u)
+    assert np.max(np.abs(to_coef @ f - cheb.chebfit(u, f, deg))) < 1e-13
+    x = np.linspace(-1.0, 1.0, 7)
+    c = to_coef @ f
+    s, ds = lp._chebyshev_sum(x, c, cheb.chebder(c))
+    assert np.max(np.abs(s - cheb.chebval(x, c))) < 1e-13
+    assert np.max(np.abs(ds - cheb.chebval(x, cheb.chebder(c)))) < 1e-11 * math.fsum(np.abs(cheb.chebder(c)))
