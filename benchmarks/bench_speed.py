@@ -274,18 +274,17 @@ def _free_task(repeats):
 
 
 def _profile_task(repeats):
+    return {"default": _profile(_default_frf), "three": _profile(_three_frf)}
+
+
+def _profile(make):
     import cProfile
     import pstats
 
-    from hbm.cases import default_case
-    from hbm.frf import frequency_response
-
-    _default_frf()
-    case = default_case()
+    make()  # warm-up
     prof = cProfile.Profile()
     prof.enable()
-    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range)
-    frf.peak()
+    make()
     prof.disable()
     st = pstats.Stats(prof).stats
     cum = {}
@@ -430,7 +429,7 @@ def measure(baseline=BASELINE, rounds=3, repeats=3, log=print):
     return res
 
 
-STAGES = [("harmonic balance + continuation (outside the element)", None),
+STAGES = [("harmonic balance, continuation, scene (outside the element)", None),
           ("element: loading path builds", "_build_path"),
           ("  of which the L1(L2) fit (three regions)", "_fit_L1"),
           ("element: onset a_min (no path)", "_onset"),
@@ -439,18 +438,18 @@ STAGES = [("harmonic balance + continuation (outside the element)", None),
           ("element: region solution, all calls (inside the stages above)", "region_solution")]
 
 
-def profile_table(prof):
+def profile_table(prof, label):
     total, cum = prof["total"], prof["cum"]
     element = sum(cum.get(n, (0, 0.0))[1] for n in ("fourier_derivatives_unchecked", "linear_amplitude",
                                                     "linear_coefficients"))
     rows = []
-    for label, name in STAGES:
+    for stage, name in STAGES:
         t = total - element if name is None else cum.get(name, (0, 0.0))[1]
         calls = "" if name is None else str(cum.get(name, (0, 0.0))[0])
-        rows.append(f"| {label} | {calls} | {t:.3f} | {100 * t / total:.0f} % |")
+        rows.append(f"| {stage} | {calls} | {t:.3f} | {100 * t / total:.0f} % |")
     other = element - sum(cum.get(n, (0, 0.0))[1] for n in ("_build_path", "_onset", "invert", "_piece_integrals"))
     rows.insert(6, f"| element: assembly of f_s, f_c and the rest | | {other:.3f} | {100 * other / total:.0f} % |")
-    head = "| where (default FRF + peak, under cProfile) | calls | s | share |\n|---|---|---|---|"
+    head = f"| where ({label} FRF + peak, under cProfile) | calls | s | share |\n|---|---|---|---|"
     return head + "\n" + "\n".join(rows) + f"\n| **total under cProfile** | | **{total:.3f}** | 100 % |"
 
 
@@ -507,7 +506,7 @@ def report(res, prof=None):
                      f"element ({calls} calls) would take about {projected:.3f} s, {a['default_frf'] / projected:.1f} "
                      f"times less than now, before the element's checks are ported.")
     if prof is not None:
-        lines += ["", profile_table(prof)]
+        lines += ["", profile_table(prof["default"], "default"), "", profile_table(prof["three"], "three-region")]
     return "\n".join(lines)
 
 
