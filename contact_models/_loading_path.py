@@ -279,7 +279,8 @@ class _Piece:
             bad = ~np.isfinite(tn) | (tn <= lo) | (tn >= hi)
             tn = np.where(bad, 0.5 * (lo + hi), tn)
             step = np.abs(tn - t)
-            done = (step <= 4e-16 * np.maximum(1.0, np.abs(t))) | (~bad & (curv * step * step <= 1e-16))
+            with np.errstate(invalid="ignore"):  # inf * 0: no curvature known and no step
+                done = (step <= 4e-16 * np.maximum(1.0, np.abs(t))) | (~bad & (curv * step * step <= 1e-16))
             t = tn
             if np.all(done | (hi - lo <= 1e-16)):
                 break

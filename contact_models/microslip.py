@@ -212,6 +212,9 @@ class _MicroslipBar(ContactElement):
             if w not in self._paths and np.all(a <= self._onset(w)[1]):  # stuck: no loading path needed
                 K = self._stuck_stiffness(w)
                 return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+            if a.size == 1:  # the solver's call: one amplitude, in floats
+                return tuple(np.full_like(a, v) for v in
+                             _fourier_one(self._lazy_path(w).upto(float(a[0])), float(a[0]), rtol))
             return _fourier_one_omega(self._lazy_path(w).upto(float(np.max(a))), a, rtol)
         for w in np.unique(omega):
             sel = omega == w
@@ -255,18 +258,26 @@ class _Path:
         return self._full
 
 
-def _stretch(a, K, s1, s2):
+#: (arcsin, sqrt, clip to [-1, 1]) for arrays and for one float amplitude.
+_ARRAYS = (np.arcsin, np.sqrt, lambda u: np.minimum(np.maximum(u, -1.0), 1.0))
+_FLOATS = (math.asin, math.sqrt, lambda u: min(max(u, -1.0), 1.0))
+
+
+def _stretch(a, K, s1, s2, fns=_ARRAYS):
     """The integrals (J_s, J_c, J_d) of a straight stretch dF = K ds of the loading curve from
     s1 to s2 <= a, in closed form (s = a (1 + u)/2, u = sin th):
 
     J_s = K int sqrt(s (a - s)) ds = K a^2/8 [asin u + u sqrt(1 - u^2)],
     J_c = K int (a - 2 s) ds = K (a - s1 - s2)(s2 - s1),
     J_d = K int sqrt(s / (a - s)) / 2 ds = K a/4 [asin u - sqrt(1 - u^2)].
+
+    ``fns``: ``_ARRAYS`` for arrays a, ``_FLOATS`` for one float a.
     """
-    u1 = np.minimum(np.maximum(2.0 * s1 / a - 1.0, -1.0), 1.0)
-    u2 = np.minimum(np.maximum(2.0 * s2 / a - 1.0, -1.0), 1.0)
-    as1, as2 = np.arcsin(u1), np.arcsin(u2)
-    r1, r2 = np.sqrt(1.0 - u1 * u1), np.sqrt(1.0 - u2 * u2)
+    asin, sqrt, clip = fns
+    u1 = clip(2.0 * s1 / a - 1.0)
+    u2 = clip(2.0 * s2 / a - 1.0)
+    as1, as2 = asin(u1), asin(u2)
+    r1, r2 = sqrt(1.0 - u1 * u1), sqrt(1.0 - u2 * u2)
     Js = K * a * a / 8.0 * ((as2 - as1) + (u2 * r2 - u1 * r1))
     Jc = K * (a - s1 - s2) * (s2 - s1)
     Jd = K * a / 4.0 * ((as2 - as1) - (r2 - r1))
@@ -347,6 +358,45 @@ def _fourier_one_omega(path, a, rtol):
     fs, fc, dfs, dfc = K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
     fs[slip], fc[slip], dfs[slip], dfc[slip] = fs_s, fc_s, dfs_s, dfc_s
     return fs, fc, dfs, dfc
+
+
+def _fourier_one(path, a: float, rtol):
+    """``_fourier_one_omega`` for one float amplitude, term by term the same (numpy's cost per
+    call on 1-element arrays would be most of the time): f_s, f_c, df_s/da, df_c/da."""
+    a_min, pieces, a_g, F_g, K_slip, K = path
+    if not a > a_min:
+        return K * a, 0.0, K, 0.0
+    Js, Jc, Jd = _stretch(a, K, 0.0, a_min, _FLOATS)
+    Fa = dFa = 0.0
+    if pieces:  # the onset fold's point mass (see _fourier_one_omega)
+        s0, jump = pieces[0].s0, pieces[0].F0 - K * pieces[0].s0
+        Js += jump * math.sqrt(s0 * max(a - s0, 0.0))
+        Jc += jump * (a - 2.0 * s0)
+        Jd += jump * 0.5 * math.sqrt(s0 / max(a - s0, _TINY))
+    gross = a > a_g
+    if gross and pieces:  # the gross-slip fold's
+        jump = F_g - pieces[-1].F1
+        Js += jump * math.sqrt(a_g * (a - a_g))
+        Jc += jump * (a - 2.0 * a_g)
+        Jd += jump * 0.5 * math.sqrt(a_g / (a - a_g))
+    for p in pieces:
+        if not a > p.s0:
+            continue
+        inside = a < p.s1
+        t_end = p._invert_one(a) if inside else 1.0
+        (js, jc, jd), (Fe, dse, dFe) = _piece_integrals(p, np.array([a]), np.array([t_end]), np.array([inside]), rtol)
+        Js, Jc, Jd = Js + float(js[0]), Jc + float(jc[0]), Jd + float(jd[0])
+        if inside:
+            Fa, dFa = float(Fe[0]), float(dFe[0] / dse[0])
+    if gross:
+        Fa, dFa = F_g + K_slip * (a - a_g), K_slip
+        js, jc, jd = _stretch(a, K_slip, a_g, a, _FLOATS)
+        Js, Jc, Jd = Js + js, Jc + jc, Jd + jd
+    fs = 8.0 / (math.pi * a) * Js
+    fc = 4.0 / (math.pi * a) * Jc
+    if -64 * _EPS * abs(K) * a < fc < 0.0:  # rounding-level negatives, as _fourier_one_omega
+        fc = 0.0
+    return fs, fc, -fs / a + 8.0 / (math.pi * a) * Jd, -fc / a + 4.0 / (math.pi * a) * (Fa - a * dFa)
 
 
 def _piece_integrals(p, a, t_end, exact_end, rtol):

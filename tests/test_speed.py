@@ -126,3 +126,27 @@ def test_chebyshev_interpolation_matrix_is_the_least_squares_fit(deg):
     s, ds = lp._chebyshev_sum(x, c, cheb.chebder(c))
     assert np.max(np.abs(s - cheb.chebval(x, c))) < 1e-13
     assert np.max(np.abs(ds - cheb.chebval(x, cheb.chebder(c)))) < 1e-11 * math.fsum(np.abs(cheb.chebder(c)))
+
+
+def test_float_path_for_one_amplitude_agrees_with_the_array_path():
+    """``_fourier_one`` (one amplitude in floats, the solver's call) against ``_fourier_one_omega``
+    (arrays) over stuck, microslip, gross slip, both folds (beta = 0 has a gross-slip fold, the
+    three-region path an onset fold).  f_s, f_c agree to rounding; df_s/da to 1e-10 k*: just
+    above a_min it is ill-conditioned in the end point t(a) of the quadrature (its integrand
+    has a 1/sqrt(a - s) end), which the two paths find by the same Newton steps in numpy and in
+    cmath, one rounding apart."""
+    import contact_models.microslip as ms
+
+    bar = Bar(**BAR)
+    bar0 = Bar(**{**BAR, "beta": 0.0})
+    for el in (TwoRegionMicroslip(bar, UniformLoad(N=100.0)),
+               ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 12.0)),
+               TwoRegionMicroslip(bar0, UniformLoad(N=100.0))):
+        for f in (0.0, 0.06, 0.3, 0.5):
+            path = el._path(f * bar.omega_c)
+            a = path[0] * np.concatenate([[0.5, 1.0, 1.001], np.geomspace(1.01, 3.0 * path[2] / path[0], 25)])
+            v = np.array(ms._fourier_one_omega(path, a, 1e-6))
+            s = np.array([ms._fourier_one(path, float(x), 1e-6) for x in a]).T
+            F = np.hypot(v[0], v[1])
+            assert np.max(np.abs(s[:2] - v[:2]) / F) < 1e-14
+            assert np.max(np.abs(s[2:] - v[2:])) < 1e-10 * abs(path[5])
