@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import solve_banded
 
 from .bar import Bar
 
@@ -67,6 +66,8 @@ class _Discretisation:
         ab[2, :-1] = self.off
         rhs = np.zeros(n)
         rhs[-1] = -self.off
+        from scipy.linalg import solve_banded  # lazily: import contact_models stays light
+
         u = solve_banded((1, 1), ab, rhs)
         f = d[n] + self.off * u[-1]
         return np.append(u, 1.0), f

@@ -14,7 +14,6 @@ import math
 
 import numpy as np
 from numpy.typing import NDArray
-from scipy.linalg import solve_banded
 
 from ._fe_bar import _Discretisation
 from ._genalpha import GeneralizedAlpha
@@ -176,6 +175,8 @@ class _Batch:
         rhs[stuck] += d.kc[:n][stuck, None] * dZ[:n][stuck]
         ab = self.ab.copy()
         ab[1] = self.base[0] + d.kc[:n] * stuck
+        from scipy.linalg import solve_banded  # lazily: import contact_models stays light
+
         dU_new = solve_banded((1, 1), ab, rhs, overwrite_ab=True, overwrite_b=True, check_finite=False)
         dA_new = ga.acceleration(dU_new, dpred, dt)
         dV_new = ga.velocity(dV, dA, dA_new, dt)
@@ -237,6 +238,8 @@ def solve_step(ab: NDArray[np.float64], base: NDArray[np.float64], off: float, k
         if np.all(small | same):
             return u, it
         ab[1] = (base + kc * stuck).ravel()
+        from scipy.linalg import solve_banded
+
         delta = solve_banded((1, 1), ab, -R.ravel(), overwrite_b=True, check_finite=False).reshape(P, m)
         assumed = stuck
         if it >= NEWTON_PLAIN:  # guarded: Armijo backtracking on the convex potential, per pair

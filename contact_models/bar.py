@@ -23,8 +23,8 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
 
+from ._roots import brentq
 from ._validation import nonnegative, positive
 
 if TYPE_CHECKING:
@@ -39,16 +39,7 @@ def segment_cs(s2: ArrayLike, ell: ArrayLike) -> tuple[NDArray[Any] | float, NDA
     """
     ell = np.asarray(ell)
     if np.ndim(s2) == 0:  # one frequency: compute only the branch that applies
-        s2 = float(s2)
-        if s2 > 0.0:
-            g = math.sqrt(s2)
-            z = g * ell
-            e = np.exp(-z)
-            return 1.0, np.tanh(z) / g, 2.0 * e / (1.0 + e * e)
-        if s2 < 0.0:
-            z = math.sqrt(-s2) * ell
-            return np.cos(z), ell * np.sinc(z / np.pi), 1.0
-        return 1.0, ell, 1.0
+        return _segment(float(s2), ell, True)
     s2 = np.asarray(s2, dtype=float)
     pos = s2 > 0.0
     g = np.sqrt(np.abs(s2))
@@ -66,6 +57,39 @@ def segment_cs(s2: ArrayLike, ell: ArrayLike) -> tuple[NDArray[Any] | float, NDA
     Sn = np.where(pos, sn_pos, sn_neg)
     scale = np.where(pos, sech, 1.0 + 0.0 * ell)
     return C, Sn, scale
+
+
+def _segment(s2: float, ell, scaled: bool):
+    """``segment_cs`` for one float ``s2``: only the branch that applies; ``scale`` (the sech
+    factor, needed by the transmission only) is computed when ``scaled``, else 1.
+
+    For s2 < 0, Sn = sin(g ell)/g (g = sqrt(-s2) > 0): no division by ell, so ell = 0 is fine.
+    """
+    if s2 > 0.0:
+        g = math.sqrt(s2)
+        z = g * ell
+        if not scaled:
+            return 1.0, np.tanh(z) / g, 1.0
+        e = np.exp(-z)
+        return 1.0, np.tanh(z) / g, 2.0 * e / (1.0 + e * e)
+    if s2 < 0.0:
+        g = math.sqrt(-s2)
+        z = g * ell
+        return np.cos(z), np.sin(z) / g, 1.0
+    return 1.0, ell, 1.0
+
+
+def impedance_transmission(k_left: ArrayLike, s2: float, ell: ArrayLike, EA: float, *,
+                           transmission: bool = True) -> tuple[NDArray[Any] | float, NDArray[Any] | float]:
+    """``(end_impedance(...), transmission(...))`` of one segment for one float ``s2``, sharing
+    the segment functions and the denominator (the microslip elements' inner loop).
+
+    ``transmission=False`` skips the transmission (returned as None) and its sech factor.
+    """
+    C, Sn, scale = _segment(s2, ell, transmission)
+    den = EA * C + k_left * Sn
+    imp = EA * (EA * s2 * Sn + k_left * C) / den
+    return imp, (EA * scale / den if transmission else None)
 
 
 def end_impedance(k_left: ArrayLike, s2: ArrayLike, ell: ArrayLike, EA: float) -> NDArray[Any] | float:

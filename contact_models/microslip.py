@@ -26,21 +26,16 @@ elements do not hide resonances of the damper itself.
 
 from __future__ import annotations
 
-import math
 from functools import lru_cache
-from typing import Any, NamedTuple
 
 import numpy as np
-from numpy.typing import ArrayLike
-from numpy.polynomial import chebyshev as cheb
-from scipy.optimize import brentq, minimize_scalar
 
-from .bar import Bar, end_impedance, transmission
+from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, Regions,  # noqa: F401 (public here)
+                            _ThreeRegionPiece, _TwoRegionPiece, load_curvature, region_solution)
+from .bar import Bar
 from .base import ContactElement, masing_loop
 from ._validation import nonnegative
 
-#: Complex-step size for derivatives along the loading curve (relative to a unit parameter).
-CSTEP = 1e-30
 #: Gauss-Legendre nodes of the first rule; doubled until two rules agree to rtol.
 GAUSS_START = 12
 #: Largest Gauss-Legendre rule tried before giving up refining.
@@ -49,327 +44,16 @@ GAUSS_MAX = 384
 GRADE_BELOW = 0.05
 #: Number of geometric cells (ratio 1/4) used for a near-singular piece.
 GRADE_CELLS = 14
-#: Largest relative dip of the loading curve below its onset value accepted as an onset fold.
-MAX_ONSET_DIP = 1e-3
-#: Largest relative overshoot of the loading curve before gross slip accepted as a gross-slip fold.
-MAX_GROSS_DIP = 0.5
-#: Points of the per-frequency table used to start the inversion s(t) = a.
-TABLE_POINTS = 65
+
+
+_EPS = float(np.finfo(float).eps)
+_TINY = float(np.finfo(float).tiny)
 
 
 @lru_cache(maxsize=None)
 def _gauss(n: int):
     x, w = np.polynomial.legendre.leggauss(n)
     return 0.5 * (x + 1.0), 0.5 * w
-
-
-class Regions(NamedTuple):
-    x1: np.ndarray
-    x2: np.ndarray | None
-    F_fric: np.ndarray
-    K_tip: np.ndarray
-    u1_fric: np.ndarray
-    u1_unit: np.ndarray
-
-
-def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float) -> Regions:
-    """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
-
-    Returns a ``Regions`` tuple: ``x1, x2`` the tip displacements at which the shear
-    force at L1 resp. L2 equals mu q (Eq. 7, 21); the tip force is F = F_fric + K_tip x;
-    u(L1) = u1_fric + u1_unit x.  ``L2=None`` is the two-region case (L2 = L; x2 None).  Accepts complex L1, L2
-    (complex-step differentiation).  docs/theory.md, sections 3 and 4, derive every line.
-    """
-    S, L, lam, mu, k = bar.EA, bar.L, bar.lam, bar.mu, bar.k
-    two = L2 is None
-    ell_m = (L if two else L2) - L1  # slipping length
-    # --- friction-driven part (independent of theta, no inertia): u'' = lam^2 u stuck, u'' = mu q/EA slipping
-    k0 = end_impedance(bar.beta, lam * lam, L1, S)  # static stiffness of [0, L1] seen from L1
-    # D2 = Q(L2) - Q(L1) - Q'(L1) ell_m and dQ = Q'(L2) - Q'(L1), Eq. 15, by Taylor at L1 (exact, no cancellation)
-    q1, dq1, ddq = load.q(L1), load.dq(L1), load_curvature(load)
-    D2 = mu / S * (q1 * ell_m**2 / 2 + dq1 * ell_m**3 / 6 + ddq * ell_m**4 / 24)
-    dQ = mu / S * (q1 * ell_m + dq1 * ell_m**2 / 2 + ddq * ell_m**3 / 6)
-    # --- part proportional to x = a sin(theta): u'' = gamma^2 u stuck, u'' = -alpha^2 u slipping
-    g2, a2 = bar.gamma2(omega), bar.alpha2(omega)
-    kap = end_impedance(bar.beta, g2, L1, S)  # Eq. 14, beta'(L1)
-    k_mid = end_impedance(kap, -a2, ell_m, S)
-    t1 = transmission(kap, -a2, ell_m, S)  # u(L1)/u(L2)
-    if two:
-        d0 = -D2 / (1.0 + k0 * ell_m / S)  # friction part of u(L1)
-        x1 = (mu * q1 / k - d0) / t1
-        return Regions(x1, None, S * dQ + k0 * d0, k_mid, d0, t1)
-    ell_2 = L - L2  # right stuck length
-    e = np.exp(-lam * ell_2)
-    sech2 = 2.0 * e / (1.0 + e * e)
-    cR = np.tanh(lam * ell_2) / (S * lam)  # compliance u/(-EA u') of the right stuck part at L2
-    d0 = -(D2 + cR * S * dQ) / (1.0 + k0 * (ell_m + cR * S) / S)
-    uf2 = D2 + d0 * (1.0 + k0 * ell_m / S)  # friction part of u(L2)
-    F_fric = (S * dQ + k0 * d0) * sech2  # EA u_x(L) of the friction part
-    K_tip = end_impedance(k_mid, g2, ell_2, S)
-    t2 = transmission(k_mid, g2, ell_2, S)  # u(L2)/u(L)
-    # --- slip conditions k u(L_i) = mu q(L_i), linear in x
-    x1 = (mu * q1 / k - d0) / (t1 * t2)
-    x2 = (mu * load.q(L2) / k - uf2) / t2
-    return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2)
-
-
-def load_curvature(load: Any) -> float:
-    """q'' (constant for the loads here)."""
-    q2 = getattr(load, "q2", 0.0) or 0.0
-    return 8.0 * q2 / load.L**2
-
-
-class _Piece:
-    """One stretch of the virgin loading curve, parameter t in [0, 1], s increasing with t.
-
-    Subclasses give ``_boundaries(t)`` -> (L1, L2) (complex t allowed).
-    """
-
-    table_points = TABLE_POINTS
-
-    def __init__(self, element, omega, *, last: bool = True):
-        self.el = element
-        self.omega = omega
-        self.t0, self.t1 = 0.0, 1.0
-        tt = 0.5 * (1.0 - np.cos(np.linspace(0.0, np.pi, self.table_points)))
-        s = self.evaluate(tt)[0]
-        if not np.all(np.isfinite(s)):
-            raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
-                                     "(at a resonance of the damper bar)")
-        t0, t1 = 0.0, 1.0
-        i = int(np.argmin(s))
-        if i > 0:
-            # Onset fold: with inertia the single-mode curve can dip just after an interior
-            # slip onset (relative depth ~1e-6 at 0.3 omega_c).  The interface stays stuck up
-            # to the stuck onset s(0), then snaps to the rising branch where s = s(0) again.
-            if s[0] - s[i] > MAX_ONSET_DIP * abs(s[0]) or s[-1] <= s[0]:
-                raise FloatingPointError(
-                    f"the loading curve folds back after slip onset at omega={omega!r} by "
-                    f"{(s[0] - s[i]) / abs(s[0]):.2g} (relative): outside the single-mode model's range")
-            j = i + int(np.argmax(s[i:] >= s[0]))
-            t0 = self._rising_root(s[0], tt[i], tt[j])
-        j = int(np.argmax(s))
-        if j < self.table_points - 1:
-            # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
-            # L1 = 0 (relative overshoot 4e-7 at 0.06 omega_c, 4e-4 at 0.3 omega_c for beta = 0).
-            # Past the peak the last stuck zone cannot hold: gross slip starts at the peak.
-            if not last or s[j] - s[-1] > MAX_GROSS_DIP * abs(s[j]):
-                raise FloatingPointError(
-                    f"the loading curve folds back before gross slip at omega={omega!r} by "
-                    f"{(s[j] - s[-1]) / abs(s[j]):.2g} (relative): outside the single-mode model's range")
-            res = minimize_scalar(lambda t: -self._s(t), bounds=(tt[j - 1], tt[j + 1]), method="bounded",
-                                  options={"xatol": 1e-14})
-            t1 = float(res.x)
-        self.t0, self.t1 = t0, t1
-        s, F = self.evaluate(tt)[:2]
-        self._check_left_end(tt, s)
-        self.t_tab, self.s_tab = tt, s
-        self.s0, self.s1 = float(s[0]), float(s[-1])
-        self.F0, self.F1 = float(F[0]), float(F[-1])
-        if np.any(np.diff(s) <= 0.0):
-            # A fold inside the slip path: the tip displacement falls while the slip zone grows,
-            # so the slip front would jump (snap through) at constant displacement.  At omega = 0
-            # this is the static bar's own behaviour (a load falling steeply away from where slip
-            # starts); at omega > 0 inertia adds it near a resonance of the damper bar.
-            cause = ("the load falls too steeply along the slip path" if omega == 0.0 else
-                     "the load, or inertia near a resonance of the damper bar")
-            raise FloatingPointError(
-                f"the loading curve folds back inside the slip path at omega={omega!r} (the tip displacement "
-                f"falls by {(np.max(np.maximum.accumulate(s) - s)) / abs(s[-1]):.2g} relative while the slip zone "
-                f"grows, so the slip front would jump; cause: {cause}): outside the single-mode model's range")
-
-    def _s(self, t):
-        return float(self.evaluate(np.array([t]))[0][0])
-
-    def _rising_root(self, target, lo, hi):
-        """t in [lo, hi] with s(t) = target, s increasing there: Newton on s' (complex step), bisection guard."""
-        t = 0.5 * (lo + hi)
-        for _ in range(60):
-            s, _, ds, _ = (float(v[0]) for v in self.evaluate(np.array([t])))
-            if abs(s - target) <= 8 * np.finfo(float).eps * abs(target):  # s is known to rounding only
-                return t
-            if s < target:
-                lo = t
-            else:
-                hi = t
-            tn = t - (s - target) / ds if ds > 0.0 else 0.5 * (lo + hi)
-            if not lo <= tn <= hi:
-                tn = 0.5 * (lo + hi)
-            if abs(tn - t) <= 1e-15 or hi - lo <= 1e-15:
-                return tn
-            t = tn
-        return t
-
-    def _check_left_end(self, t, s):
-        """The stuck region [0, L1] must stay stuck: k |u(0)| <= mu q(0) along the path.
-
-        A lightly loaded left end (strongly convex loads) would start a second slip zone
-        there, which neither the two- nor the three-region model describes.
-        """
-        bar, load = self.el.bar, self.el.load
-        limit = bar.mu * float(load.q(0.0))
-
-        def excess(t, s):
-            L1, L2 = self.boundaries(t)
-            L1 = np.real(L1)
-            r = region_solution(bar, load, L1, None if L2 is None else np.real(L2), self.omega)
-            fric = r.u1_fric * transmission(bar.beta, bar.lam**2, L1, bar.EA)
-            unit = s * r.u1_unit * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
-            rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
-            return np.real(bar.k * np.abs(fric + unit) - limit * (1.0 + 1e-9) - rounding), L1
-
-        over, L1 = excess(t, s)
-        if np.any(over > 0.0):
-            i = int(np.argmax(over > 0.0))
-            if i > 0:  # locate the crossing between two table points
-                tc = brentq(lambda u: float(excess(np.array([u]), self._s(u))[0][0]), t[i - 1], t[i], xtol=1e-14)
-                xc, L1c = self._s(tc), float(excess(np.array([tc]), self._s(tc))[1][0])
-            else:
-                xc, L1c = s[0], L1[0]
-            raise ValueError(
-                f"load: the end x = 0 starts slipping too, at tip amplitude {xc:.4g} m (stuck length "
-                f"L1 = {L1c / bar.L:.3f} L) at omega={self.omega!r}, before gross slip; the interface then "
-                "has slip zones at both ends, which the two- and three-region models do not describe "
-                f"(q(0) = {float(load.q(0.0)):.4g} N/m is too small)")
-
-    def boundaries(self, t):
-        """(L1, L2) at parameter t in [0, 1] (t = 0 at the piece's start)."""
-        return self._boundaries(self.t0 + (self.t1 - self.t0) * t)
-
-    def evaluate(self, t):
-        """s, F and their derivatives in t (complex step), for real array t."""
-        t = np.asarray(t, dtype=float)
-        xc, Fc = self._xF(t + 1j * CSTEP)
-        return xc.real, Fc.real, xc.imag / CSTEP, Fc.imag / CSTEP
-
-    def _xF(self, t):
-        L1, L2 = self.boundaries(t)
-        r = region_solution(self.el.bar, self.el.load, L1, L2, self.omega)
-        return r.x1, r.F_fric + r.K_tip * r.x1
-
-    def invert(self, a):
-        """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""
-        a = np.asarray(a, dtype=float)
-        j = np.clip(np.searchsorted(self.s_tab, a), 1, self.table_points - 1)
-        lo, hi = self.t_tab[j - 1], self.t_tab[j]
-        slo, shi = self.s_tab[j - 1], self.s_tab[j]
-        t = lo + (hi - lo) * np.clip((a - slo) / (shi - slo), 0.0, 1.0)
-        for _ in range(60):
-            s, _, ds, _ = self.evaluate(t)
-            r = s - a
-            lo = np.where(r < 0, t, lo)
-            hi = np.where(r > 0, t, hi)
-            with np.errstate(all="ignore"):
-                tn = t - r / ds
-            bad = ~np.isfinite(tn) | (tn <= lo) | (tn >= hi)
-            tn = np.where(bad, 0.5 * (lo + hi), tn)
-            done = np.abs(tn - t) <= 4e-16 * np.maximum(1.0, np.abs(t))
-            t = tn
-            if np.all(done | (hi - lo <= 1e-16)):
-                break
-        return t
-
-
-class _TwoRegionPiece(_Piece):
-    """L1 from L1_start down to 0, L2 = L (t = 0 at L1_start)."""
-
-    def __init__(self, element, omega, L1_start):
-        self.L1_start = L1_start
-        super().__init__(element, omega)
-
-    def _boundaries(self, t):
-        return self.L1_start * (1.0 - t), None
-
-
-class _ThreeRegionPiece(_Piece):
-    """L2 from the slip-onset point x* up to L, L1 = L1(L2) (a Chebyshev interpolant)."""
-
-    #: a finer table: its onset dip (docs/theory.md, section 6) is shallow and short, and a
-    #: 65-point table misses it at some frequencies (f_s, f_c then off by ~1e-9; 129: ~1e-11)
-    table_points = 2 * TABLE_POINTS - 1
-
-    def __init__(self, element, omega, x_star):
-        self.x_star = x_star
-        self.coef = self._fit_L1(element, omega, x_star)
-        super().__init__(element, omega, last=False)
-
-    def _boundaries(self, t):
-        L = self.el.bar.L
-        L2 = self.x_star + (L - self.x_star) * t
-        L1 = cheb.chebval(2.0 * t - 1.0, self.coef)
-        return L1, L2
-
-    @staticmethod
-    def _fit_L1(el, omega, x_star, tol=1e-13):
-        """Chebyshev coefficients of L1(L2) on the three-region curve x1(L1, L2) = x2(L1, L2).
-
-        The previous frequency's interpolant (kept on the element) starts the root solves,
-        so consecutive frequencies of a continuation converge in a few Newton steps.
-        """
-        bar, load = el.bar, el.load
-        L = bar.L
-        previous = getattr(el, "_last_L1_fit", None)
-        for deg in (24, 48, 96):
-            u = np.cos(np.pi * (np.arange(deg + 1) + 0.5) / (deg + 1))  # Chebyshev points in (-1, 1)
-            L2 = x_star + (L - x_star) * 0.5 * (u + 1.0)
-            guess = None
-            if previous is not None:
-                xs_prev, coef_prev = previous
-                t_prev = np.clip((L2 - xs_prev) / (L - xs_prev), 0.0, 1.0)
-                guess = cheb.chebval(2.0 * t_prev - 1.0, coef_prev)
-            L1 = _solve_L1(bar, load, L2, x_star, omega, guess)
-            coef = cheb.chebfit(u, L1, deg)
-            if np.max(np.abs(coef[-4:])) <= tol * L:
-                break
-        el._last_L1_fit = (x_star, coef)
-        return coef
-
-
-def _solve_L1(bar, load, L2, x_star, omega, guess=None):
-    """Root L1 in [0, x*) of G = x1(L1, L2) - x2(L1, L2) for each L2 > x* (vectorised).
-
-    G(0) > 0 > G(x*) brackets the physical root (L1 = L2 is the trivial one, outside the
-    bracket, and divided out).  Newton with the complex-step derivative dG/dL1, bisection when a step leaves
-    the bracket.
-    """
-
-    def G(L1):
-        # divided by (L2 - L1) > 0: removes the trivial root, which otherwise makes the
-        # physical one nearly double next to the nucleation point (slow Newton)
-        z = L1 + 1j * CSTEP * bar.L
-        r = region_solution(bar, load, z, L2, omega)
-        with np.errstate(all="ignore"):
-            g = (r.x1 - r.x2) / (L2 - z)
-        return g.real, g.imag / (CSTEP * bar.L)
-
-    at_start = (L2 - x_star) <= 1e-14 * bar.L  # nucleation limit: L1 -> x*
-    lo = np.zeros_like(L2)
-    hi = np.minimum(np.full_like(L2, x_star), L2)
-    glo, _ = G(lo)
-    ghi, _ = G(hi)
-    if np.any(~at_start & ~((glo >= 0.0) & (ghi <= 0.0))):
-        raise FloatingPointError("three-region curve: no stick-slip boundary L1 found (load or frequency "
-                                 "outside the three-region model's range)")
-    if guess is None:
-        with np.errstate(all="ignore"):
-            L1 = np.where(glo != ghi, (lo * ghi - hi * glo) / (ghi - glo), 0.5 * (lo + hi))
-    else:
-        L1 = np.asarray(guess, dtype=float).copy()
-    L1 = np.where((L1 > lo) & (L1 < hi), L1, 0.5 * (lo + hi))
-    done = at_start.copy()
-    for _ in range(100):
-        g, dg = G(L1)
-        lo = np.where(g > 0.0, L1, lo)
-        hi = np.where(g <= 0.0, L1, hi)
-        with np.errstate(all="ignore"):
-            new = L1 - g / dg
-        # a converged point is itself a bracket end: accept steps onto the ends
-        new = np.where(np.isfinite(new) & (new >= lo) & (new <= hi), new, 0.5 * (lo + hi))
-        done |= (np.abs(new - L1) <= 1e-14 * bar.L) | (hi - lo <= 1e-14 * bar.L)  # interpolant needs 1e-13 L
-        L1 = np.where(done, L1, new)
-        if np.all(done):
-            break
-    return np.where(at_start, x_star, L1)
 
 
 class _MicroslipBar(ContactElement):
@@ -385,6 +69,7 @@ class _MicroslipBar(ContactElement):
         if self.load.minimum() < 0.0:
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
         self._paths: dict = {}
+        self._onsets: dict = {}
         self._check_topology()
         try:  # the static path (cached for later): a bar and load it cannot follow are refused here
             self._path(0.0)
@@ -413,14 +98,14 @@ class _MicroslipBar(ContactElement):
     def _build_path(self, omega):
         bar = self.bar
         K = float(bar.stuck_stiffness(omega))
-        sliding = region_solution(bar, self.load, 0.0, None, omega)  # the whole bar slips: F = F_int + K_slip x
-        K_slip = float(sliding.K_tip)
         if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
-            return 0.0, [], 0.0, 0.0, K_slip, K
+            return 0.0, [], 0.0, 0.0, float(region_solution(bar, self.load, 0.0, None, omega).K_tip), K
         pieces = self._pieces(omega)
+        # the whole bar slips: F = F_fric + K_slip x, the region solution at L1 = 0
+        F_fric, K_slip = pieces[-1].sliding()
         a_min, a_g = pieces[0].s0, pieces[-1].s1
         # on the sliding line at a_g; differs from pieces[-1].F1 only after a gross-slip fold
-        F_g = float(sliding.F_fric) + K_slip * a_g
+        F_g = F_fric + K_slip * a_g
         return a_min, pieces, a_g, F_g, K_slip, K
 
     # ------------------------------------------------------------ public extras
@@ -484,7 +169,30 @@ class _MicroslipBar(ContactElement):
         return float(self.bar.stuck_stiffness(omega))
 
     def _slip_amplitude(self, omega):
-        return self._path(omega)[0]
+        return self._path(omega)[0]  # builds (and so checks) the loading path
+
+    def _linear_amplitude(self, omega):
+        # the solver's question "is a stuck?" needs no loading path: the onset alone
+        return self._onset(float(omega))[1]
+
+    def _onset(self, omega: float):
+        """``(x_star, a_min)``: where and at which tip amplitude slip starts at omega, cached.
+
+        Needs no loading path (a stuck evaluation builds none): a_min is the loading curve's
+        first point, the tip amplitude at which k u(x*) = mu q(x*) for the stuck bar.
+        """
+        hit = self._onsets.get(omega)
+        if hit is None:
+            hit = self._stuck_onset(omega) if self.bar.mu * self.load.N > 0.0 else (self.bar.L, 0.0)
+            if len(self._onsets) > 256:
+                self._onsets.clear()
+            self._onsets[omega] = hit
+        return hit
+
+    def _stuck_onset(self, omega):
+        """Two regions: slip starts at the excited end, x1 of the two-region solution at L1 = L."""
+        L = self.bar.L
+        return L, float(region_solution(self.bar, self.load, L, None, omega).x1)
 
     def _hysteresis(self, a, omega, n):
         return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
@@ -494,6 +202,12 @@ class _MicroslipBar(ContactElement):
         fc = np.empty_like(a)
         dfs = np.empty_like(a)
         dfc = np.empty_like(a)
+        if omega.size == 1 or (omega.size > 1 and np.all(omega == omega[0])):  # one frequency (the solver's call)
+            w = float(omega[0])
+            if w not in self._paths and np.all(a <= self._onset(w)[1]):  # stuck: no loading path needed
+                K = self._stuck_stiffness(w)
+                return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+            return _fourier_one_omega(self._path(w), a, rtol)
         for w in np.unique(omega):
             sel = omega == w
             r = _fourier_one_omega(self._path(float(w)), a[sel], rtol)
@@ -501,54 +215,48 @@ class _MicroslipBar(ContactElement):
         return fs, fc, dfs, dfc
 
 
-def _isq(a, s1, s2):
-    """int_{s1}^{s2} sqrt(s (a - s)) ds, closed form (s = a (1 + sin th)/2)."""
+def _stretch(a, K, s1, s2):
+    """The integrals (J_s, J_c, J_d) of a straight stretch dF = K ds of the loading curve from
+    s1 to s2 <= a, in closed form (s = a (1 + u)/2, u = sin th):
 
-    def prim(s):
-        u = np.clip(2.0 * s / a - 1.0, -1.0, 1.0)
-        return a * a / 8.0 * (np.arcsin(u) + u * np.sqrt(1.0 - u * u))
-
-    return prim(s2) - prim(s1)
-
-
-def _idsq(a, s1, s2):
-    """int_{s1}^{s2} sqrt(s / (a - s)) / 2 ds, closed form (the a-derivative weight of f_s)."""
-
-    def prim(s):
-        u = np.clip(2.0 * s / a - 1.0, -1.0, 1.0)
-        return a / 4.0 * (np.arcsin(u) - np.sqrt(1.0 - u * u))
-
-    return prim(s2) - prim(s1)
+    J_s = K int sqrt(s (a - s)) ds = K a^2/8 [asin u + u sqrt(1 - u^2)],
+    J_c = K int (a - 2 s) ds = K (a - s1 - s2)(s2 - s1),
+    J_d = K int sqrt(s / (a - s)) / 2 ds = K a/4 [asin u - sqrt(1 - u^2)].
+    """
+    u1 = np.minimum(np.maximum(2.0 * s1 / a - 1.0, -1.0), 1.0)
+    u2 = np.minimum(np.maximum(2.0 * s2 / a - 1.0, -1.0), 1.0)
+    as1, as2 = np.arcsin(u1), np.arcsin(u2)
+    r1, r2 = np.sqrt(1.0 - u1 * u1), np.sqrt(1.0 - u2 * u2)
+    Js = K * a * a / 8.0 * ((as2 - as1) + (u2 * r2 - u1 * r1))
+    Jc = K * (a - s1 - s2) * (s2 - s1)
+    Jd = K * a / 4.0 * ((as2 - as1) - (r2 - r1))
+    return Js, Jc, Jd
 
 
 def _fourier_one_omega(path, a, rtol):
     """f_s, f_c, df_s/da, df_c/da for amplitudes ``a`` at one frequency (see module docstring)."""
     a_min, pieces, a_g, F_g, K_slip, K = path
     a = np.asarray(a, dtype=float)
-    fs = K * a
-    fc = np.zeros_like(a)
-    dfs = np.full_like(a, K)
-    dfc = np.zeros_like(a)
     slip = a > a_min
     if not np.any(slip):
-        return fs, fc, dfs, dfc
-    A = a[slip]
-    # Stieltjes integrals J_s = int sqrt(s(a-s)) dF, J_c = int (a - 2s) dF, Jd = int sqrt(s/(a-s))/2 dF
-    m = np.minimum(A, a_min)
-    Js = K * _isq(A, 0.0, m)
-    Jc = K * (A * m - m * m)
-    Jd = K * _idsq(A, 0.0, m)
-    Fa = np.where(A > a_g, F_g + K_slip * (A - a_g), 0.0)
-    dFa = np.where(A > a_g, K_slip, 0.0)
+        return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+    every = bool(np.all(slip))
+    A = a if every else a[slip]
+    # Stieltjes integrals J_s = int sqrt(s(a-s)) dF, J_c = int (a - 2s) dF, Jd = int sqrt(s/(a-s))/2 dF;
+    # first the stuck stretch [0, a_min] (A > a_min here)
+    Js, Jc, Jd = _stretch(A, K, 0.0, a_min)
+    gross = A > a_g
+    any_gross = bool(np.any(gross))
+    Fa = np.where(gross, F_g + K_slip * (A - a_g), 0.0) if any_gross else np.zeros_like(A)
+    dFa = np.where(gross, K_slip, 0.0) if any_gross else np.zeros_like(A)
     # A skipped onset fold leaves F(s0) - K s0 as a jump of the loading curve: a point mass of dF.
     if pieces:
         s0, jump = pieces[0].s0, pieces[0].F0 - K * pieces[0].s0
         Js += jump * np.sqrt(s0 * np.maximum(A - s0, 0.0))
         Jc += jump * (A - 2.0 * s0)
-        Jd += jump * 0.5 * np.sqrt(s0 / np.maximum(A - s0, np.finfo(float).tiny))
+        Jd += jump * 0.5 * np.sqrt(s0 / np.maximum(A - s0, _TINY))
     # Likewise a gross-slip fold: the curve snaps from the piece's end onto the sliding line at a_g.
-    gross = A > a_g
-    if np.any(gross) and pieces:
+    if any_gross and pieces:
         jump = F_g - pieces[-1].F1
         G = A[gross]
         Js[gross] += jump * np.sqrt(a_g * (G - a_g))
@@ -558,84 +266,125 @@ def _fourier_one_omega(path, a, rtol):
         act = A > p.s0
         if not np.any(act):
             continue
-        Aa = A[act]
+        all_act = bool(np.all(act))
+        Aa = A if all_act else A[act]
         inside = Aa < p.s1
-        t_end = np.ones_like(Aa)
-        if np.any(inside):
-            t_end[inside] = p.invert(Aa[inside])
-        js, jc, jd = _piece_integrals(p, Aa, t_end, inside, rtol)
-        Js[act] += js
-        Jc[act] += jc
-        Jd[act] += jd
-        if np.any(inside):
-            _, Fi, dsi, dFi = p.evaluate(t_end[inside])
-            idx = np.flatnonzero(act)[inside]
-            Fa[idx] = Fi
-            dFa[idx] = dFi / dsi
-    if np.any(gross):
+        if np.all(inside):
+            t_end = p.invert(Aa)
+        else:
+            t_end = np.ones_like(Aa)
+            if np.any(inside):
+                t_end[inside] = p.invert(Aa[inside])
+        (js, jc, jd), (Fe, dse, dFe) = _piece_integrals(p, Aa, t_end, inside, rtol)
+        if all_act:
+            Js += js
+            Jc += jc
+            Jd += jd
+        else:
+            Js[act] += js
+            Jc[act] += jc
+            Jd[act] += jd
+        idx = np.flatnonzero(act)[inside]
+        Fa[idx] = Fe[inside]
+        dFa[idx] = dFe[inside] / dse[inside]
+    if any_gross:
         G = A[gross]
-        Js[gross] += K_slip * _isq(G, a_g, G)
-        Jc[gross] += K_slip * (G * (G - a_g) - (G * G - a_g * a_g))
-        Jd[gross] += K_slip * _idsq(G, a_g, G)
+        js, jc, jd = _stretch(G, K_slip, a_g, G)
+        Js[gross] += js
+        Jc[gross] += jc
+        Jd[gross] += jd
     fs_s = 8.0 / (np.pi * A) * Js
     fc_s = 4.0 / (np.pi * A) * Jc
-    fs[slip] = fs_s
     # J_c cancels exactly on linear stretches; clear rounding-level negatives (|.| <= 64 eps K a).
-    fc[slip] = np.where((fc_s < 0.0) & (fc_s > -64 * np.finfo(float).eps * abs(K) * A), 0.0, fc_s)
-    dfs[slip] = -fs_s / A + 8.0 / (np.pi * A) * Jd
-    dfc[slip] = -fc_s / A + 4.0 / (np.pi * A) * (Fa - A * dFa)
+    fc_s = np.where((fc_s < 0.0) & (fc_s > -64 * _EPS * abs(K) * A), 0.0, fc_s)
+    dfs_s = -fs_s / A + 8.0 / (np.pi * A) * Jd
+    dfc_s = -fc_s / A + 4.0 / (np.pi * A) * (Fa - A * dFa)
+    if every:
+        return fs_s, fc_s, dfs_s, dfc_s
+    fs, fc, dfs, dfc = K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+    fs[slip], fc[slip], dfs[slip], dfc[slip] = fs_s, fc_s, dfs_s, dfc_s
     return fs, fc, dfs, dfc
 
 
 def _piece_integrals(p, a, t_end, exact_end, rtol):
-    """Integrals of one piece from t = 0 to t_end for each amplitude, to relative ``rtol``.
+    """Integrals of one piece from t = 0 to t_end for each amplitude, to relative ``rtol``,
+    and ``(F, s', F')`` at t_end (the end node of the first evaluation).
 
     With t = t_end (1 - tau^2) the square-root end (s = a) becomes smooth in tau.  A piece
     that ends just below a (near-singular) is split into geometrically graded cells in tau.
+    The first two rules (``GAUSS_START`` and twice as many nodes) and the end node share one
+    evaluation of the loading curve.
     """
     near = ~exact_end & ((a - p.s1) < GRADE_BELOW * (p.s1 - p.s0))
+    if not np.any(near):
+        return _converged_rules(p, a, t_end, False, rtol)
     out = [np.zeros_like(a) for _ in range(3)]
+    end = [np.zeros_like(a) for _ in range(3)]
     for mask, graded in ((~near, False), (near, True)):
-        if not np.any(mask):
-            continue
-        aa, te = a[mask], t_end[mask]
-        if graded:
-            # cells [r^(j+1), r^j] in tau, the innermost [0, r^GRADE_CELLS]
-            edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
-        else:
-            edges = np.array([0.0, 1.0])
-        n = GAUSS_START
-        prev = _graded_rule(p, aa, te, edges, n)
-        while True:
-            n *= 2
-            cur = _graded_rule(p, aa, te, edges, n)
-            scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
-            err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
-            if np.all(err <= 0.1 * rtol) or n >= GAUSS_MAX:
-                break
-            prev = cur
-        for k in range(3):
-            out[k][mask] = cur[k]
-    return out
+        if np.any(mask):
+            cur, at_end = _converged_rules(p, a[mask], t_end[mask], graded, rtol)
+            for k in range(3):
+                out[k][mask] = cur[k]
+                end[k][mask] = at_end[k]
+    return out, end
 
 
-def _graded_rule(p, a, t_end, edges, n):
-    x, w = _gauss(n)
+def _converged_rules(p, a, t_end, graded, rtol):
+    """The piece's integrals by rules of doubling size until two agree to ``rtol / 10``, and the
+    curve's ``(F, s', F')`` at t_end."""
+    n = 2 * GAUSS_START
+    (prev, cur), at_end = _graded_rules(p, a, t_end, graded, (GAUSS_START, n), with_end=True)
+    while True:
+        scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
+        err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
+        if np.all(err <= 0.1 * rtol) or n >= GAUSS_MAX:
+            return cur, at_end
+        n *= 2
+        prev, ((cur,), _) = cur, _graded_rules(p, a, t_end, graded, (n,))
+
+
+@lru_cache(maxsize=64)
+def _rule_nodes(graded: bool, ns: tuple, with_end: bool):
+    """Nodes tau in [0, 1] of the Gauss-Legendre rules of sizes ``ns`` (one after the other, and
+    tau = 0 last when ``with_end``) on one cell or on the graded cells, and each rule's weights."""
+    if graded:
+        # cells [r^(j+1), r^j] in tau, the innermost [0, r^GRADE_CELLS]
+        edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
+    else:
+        edges = np.array([0.0, 1.0])
     lo, hi = edges[:-1], edges[1:]
-    tau = (lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel()  # nodes in (0, 1)
-    wt = ((hi - lo)[:, None] * w[None, :]).ravel()
-    tt = t_end[:, None] * (1.0 - tau[None, :] ** 2)
-    s, _, _, dF = p.evaluate(tt)
-    jac = 2.0 * t_end[:, None] * tau[None, :]  # |dt/dtau|
+    taus, wts = [], []
+    for n in ns:
+        x, w = _gauss(n)
+        taus.append((lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel())  # nodes in (0, 1)
+        wts.append(((hi - lo)[:, None] * w[None, :]).ravel())
+    tau = np.concatenate(taus + ([np.zeros(1)] if with_end else []))
+    for v in [tau] + wts:
+        v.flags.writeable = False
+    return tau, tuple(wts)
+
+
+def _graded_rules(p, a, t_end, graded, ns, *, with_end=False):
+    """``([(J_s, J_c, J_d) for each rule of n in ns], (F, s', F') at t_end or None)``: one
+    evaluation of the loading curve at the nodes of all the rules (and at tau = 0)."""
+    tau, wts = _rule_nodes(graded, ns, with_end)
+    te = t_end[:, None]
+    s, F, ds, dF = p.evaluate(te * (1.0 - tau * tau))
     A = a[:, None]
     gap = np.maximum(A - s, 0.0)
     sq = np.sqrt(np.maximum(s, 0.0))
-    dFw = dF * jac * wt[None, :]
-    Js = np.sum(sq * np.sqrt(gap) * dFw, axis=1)
-    Jc = np.sum((A - 2.0 * s) * dFw, axis=1)
+    dFj = dF * ((2.0 * te) * tau)  # dF/dt |dt/dtau|
+    rg = np.sqrt(gap)
+    g_s = sq * rg * dFj
+    g_c = (A - 2.0 * s) * dFj
     with np.errstate(divide="ignore", invalid="ignore"):
-        Jd = np.sum(np.where(gap > 0.0, 0.5 * sq / np.sqrt(gap), 0.0) * dFw, axis=1)
-    return Js, Jc, Jd
+        g_d = np.where(gap > 0.0, 0.5 * sq / rg, 0.0) * dFj
+    rules, i = [], 0
+    for wt in wts:
+        cols = slice(i, i + wt.size)
+        rules.append((g_s[:, cols] @ wt, g_c[:, cols] @ wt, g_d[:, cols] @ wt))
+        i += wt.size
+    return rules, ((F[:, -1], ds[:, -1], dF[:, -1]) if with_end else None)
 
 
 class TwoRegionMicroslip(_MicroslipBar):
@@ -666,9 +415,15 @@ class ThreeRegionMicroslip(_MicroslipBar):
     With a load that slips first at the excited end it reduces to the two-region path.
     """
 
+    def _stuck_onset(self, omega):
+        x_star, a_min = self.bar.slip_onset(self.load, omega)
+        if x_star >= self.bar.L * (1.0 - 1e-9):  # slip starts at the excited end: two regions
+            return super()._stuck_onset(omega)
+        return x_star, a_min
+
     def _pieces(self, omega):
         L = self.bar.L
-        x_star, _ = self.bar.slip_onset(self.load, omega)
+        x_star, _ = self._onset(omega)
         if x_star >= L * (1.0 - 1e-9):
             return [_TwoRegionPiece(self, omega, L)]
         three = _ThreeRegionPiece(self, omega, x_star)

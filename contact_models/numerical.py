@@ -73,7 +73,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import eigh_tridiagonal
 
 from ._fe_bar import NodalData, _Discretisation
 from ._genalpha import GeneralizedAlpha
@@ -282,6 +281,8 @@ class NumericalMicroslip(ContactElement):
         s = 1.0 / np.sqrt(d.m)
         diag = (d.kdiag + d.kc) * s * s
         off = d.off * s[:-1] * s[1:]
+        from scipy.linalg import eigh_tridiagonal  # lazily: import contact_models stays light
+
         w2 = eigh_tridiagonal(diag, off, eigvals_only=True, select="i", select_range=(0, count - 1))
         return np.sqrt(w2)
 

@@ -59,10 +59,9 @@ def _default(args) -> int:
 
 
 def _figure(frf, case, path):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    # A bare Figure (no pyplot, no GUI backend) with fixed margins: tight_layout would draw the
+    # figure once more to measure it (0.06 s of the job's 0.7 s of CPU)
+    from matplotlib.figure import Figure
     import numpy as np
 
     from .output import plot_frfs
@@ -71,15 +70,15 @@ def _figure(frf, case, path):
     el, blade = case.element, case.blade
     w = np.linspace(*case.omega_range, 600)
     stuck = np.abs(linear_response(blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
-    fig, ax = plt.subplots(figsize=(6.4, 4.2))
+    fig = Figure(figsize=(6.4, 4.2))
+    ax = fig.subplots()
     ax.plot(w, stuck, "--", color="0.6", lw=1, label="damper stuck (linear)")
     plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
     ax.axhline(el.slip_amplitude(0.0), color="C3", lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)")
     ax.set_title("Blade with a two-region microslip damper")
     ax.legend(fontsize=8)
-    fig.tight_layout()
+    fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.93)
     fig.savefig(path, dpi=130)
-    plt.close(fig)
     return path
 
 

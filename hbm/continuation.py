@@ -36,7 +36,8 @@ from typing import Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.optimize import brentq
+
+from contact_models._roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8

@@ -164,9 +164,9 @@ class FrequencyResponse:
 
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
         """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax."""
-        import matplotlib.pyplot as plt  # only when plotting
-
         if ax is None:
+            import matplotlib.pyplot as plt  # only when plotting on a new figure
+
             _, ax = plt.subplots(figsize=(6.4, 4.2))
         line, = ax.plot(self.omega, self.amplitude, label=label, **kwargs)
         if peak and len(self):

@@ -91,20 +91,20 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     with a colour bar titled ``parameter``.  Each curve is drawn by ``FrequencyResponse.plot``,
     which marks its peak.
     """
-    import matplotlib.pyplot as plt
-
     if ax is None:
+        import matplotlib.pyplot as plt
+
         _, ax = plt.subplots(figsize=(6.4, 4.2))
     curves = list(curves)
     models = list(dict.fromkeys(c[2] for c in curves))
     values = [c[3] for c in curves if c[3] is not None]
     by_value = len(curves) > LEGEND_LIMIT and len(values) == len(curves) and len(set(values)) > 1
     if by_value:
-        from matplotlib import cm, colors
+        from matplotlib import cm, colormaps, colors
 
         norm = (colors.LogNorm if min(values) > 0 and max(values) / min(values) > 20 else colors.Normalize)(
             min(values), max(values))
-        cmap = plt.get_cmap("viridis")
+        cmap = colormaps["viridis"]
     for i, (frf, label, model, value) in enumerate(curves):
         style = STYLES[models.index(model) % len(STYLES)]
         color = cmap(norm(value)) if by_value else f"C{i % 10}"
