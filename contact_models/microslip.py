@@ -211,7 +211,8 @@ class _MicroslipBar(ContactElement):
             w = float(omega[0])
             if w not in self._paths and np.all(a <= self._onset(w)[1]):  # stuck: no loading path needed
                 K = self._stuck_stiffness(w)
-                return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+                if math.isfinite(K):  # (at a resonance of the stuck bar the path reports it)
+                    return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
             if a.size == 1:  # the solver's call: one amplitude, in floats
                 return tuple(np.full_like(a, v) for v in
                              _fourier_one(self._lazy_path(w).upto(float(a[0])), float(a[0]), rtol))
