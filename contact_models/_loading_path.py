@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike
 from numpy.polynomial import chebyshev as cheb
 
 from ._roots import brentq
-from .bar import Bar, impedance_transmission, transmission
+from .bar import Bar, impedance_transmission
 
 #: Complex-step size for derivatives along the loading curve (relative to a unit parameter).
 CSTEP = 1e-30
@@ -47,9 +47,12 @@ class Regions(NamedTuple):
     u1_fric: np.ndarray
     u1_unit: np.ndarray
     L1: Any = None  #: the stuck length the solution was taken at (as given)
+    t0_fric: Any = None  #: u(0)/u(L1) of the friction part (static) and of the part
+    t0_unit: Any = None  #: proportional to x, when asked for (``left=True``)
 
 
-def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float) -> Regions:
+def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float, *,
+                    left: bool = False) -> Regions:
     """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
 
     Returns a ``Regions`` tuple: ``x1, x2`` the tip displacements at which the shear
@@ -65,7 +68,8 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
         L2 = None if two else complex(L2)
     ell_m = (L if two else L2) - L1  # slipping length
     # --- friction-driven part (independent of theta, no inertia): u'' = lam^2 u stuck, u'' = mu q/EA slipping
-    k0, _ = impedance_transmission(beta, lam * lam, L1, S, transmission=False, m=m)  # static stiffness of [0, L1]
+    # static stiffness of [0, L1] (and u(0)/u(L1) with left=True, for the left-end check)
+    k0, t0_fric = impedance_transmission(beta, lam * lam, L1, S, transmission=left, m=m)
     # D2 = Q(L2) - Q(L1) - Q'(L1) ell_m and dQ = Q'(L2) - Q'(L1), Eq. 15, by Taylor at L1 (exact, no cancellation)
     e2 = ell_m * ell_m
     if not getattr(load, "q2", 0.0):  # a constant load: the Taylor series stops at q1
@@ -80,12 +84,12 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
     w2 = float(omega) * float(omega)
     a2 = bar.rho * w2 / bar.E  # Bar.alpha2, Bar.gamma2 (Eq. 12) for one float omega
     g2 = bar.k / S - a2
-    kap, _ = impedance_transmission(beta, g2, L1, S, transmission=False, m=m)  # Eq. 14, beta'(L1)
+    kap, t0_unit = impedance_transmission(beta, g2, L1, S, transmission=left, m=m)  # Eq. 14, beta'(L1)
     k_mid, t1 = impedance_transmission(kap, -a2, ell_m, S, m=m)  # t1 = u(L1)/u(L2)
     if two:
         d0 = -D2 / (1.0 + k0 * ell_m / S)  # friction part of u(L1)
         x1 = (mu * q1 / k - d0) / t1
-        return Regions(x1, None, S * dQ + k0 * d0, k_mid, d0, t1, L1)
+        return Regions(x1, None, S * dQ + k0 * d0, k_mid, d0, t1, L1, t0_fric, t0_unit)
     ell_2 = L - L2  # right stuck length
     e = m.exp(-lam * ell_2)
     sech2 = 2.0 * e / (1.0 + e * e)
@@ -97,7 +101,7 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
     # --- slip conditions k u(L_i) = mu q(L_i), linear in x
     x1 = (mu * q1 / k - d0) / (t1 * t2)
     x2 = (mu * load.q(L2) / k - uf2) / t2
-    return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2, L1)
+    return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2, L1, t0_fric, t0_unit)
 
 
 def load_curvature(load: Any) -> float:
@@ -119,43 +123,47 @@ class _Piece:
         self.omega = omega
         self.t0, self.t1 = 0.0, 1.0
         tt = _table_nodes(self.table_points)
-        s, F, ds, _, r = self._evaluate(tt)
-        if not np.all(np.isfinite(s)):
-            raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
-                                     "(at a resonance of the damper bar)")
+        s, F, ds, _, r = self._evaluate(tt, left=True)
         t0, t1 = 0.0, 1.0
-        i = int(np.argmin(s))
-        if i > 0:
-            # Onset fold: with inertia the single-mode curve can dip just after an interior
-            # slip onset (relative depth ~1e-6 at 0.3 omega_c).  The interface stays stuck up
-            # to the stuck onset s(0), then snaps to the rising branch where s = s(0) again.
-            if s[0] - s[i] > MAX_ONSET_DIP * abs(s[0]) or s[-1] <= s[0]:
-                raise FloatingPointError(
-                    f"the loading curve folds back after slip onset at omega={omega!r} by "
-                    f"{(s[0] - s[i]) / abs(s[0]):.2g} (relative): outside the single-mode model's range")
-            j = i + int(np.argmax(s[i:] >= s[0]))
-            # started from the last frequency's t0 (kept on the element) when it lies in the bracket:
-            # along a continuation it moves little, and the slopes here may not tell the curvature
-            t0 = self._root_one(float(s[0]), *(float(v) for v in (tt[j - 1], tt[j], s[j - 1], s[j], ds[j - 1], ds[j])),
-                                start=getattr(element, "_last_onset_t0", None))
-            element._last_onset_t0 = t0
-        j = int(np.argmax(s))
-        if j < self.table_points - 1:
-            # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
-            # L1 = 0 (relative overshoot 4e-7 at 0.06 omega_c, 4e-4 at 0.3 omega_c for beta = 0).
-            # Past the peak the last stuck zone cannot hold: gross slip starts at the peak.
-            if not last or s[j] - s[-1] > MAX_GROSS_DIP * abs(s[j]):
-                raise FloatingPointError(
-                    f"the loading curve folds back before gross slip at omega={omega!r} by "
-                    f"{(s[j] - s[-1]) / abs(s[j]):.2g} (relative): outside the single-mode model's range")
-            from scipy.optimize import minimize_scalar  # lazily: import contact_models stays light
+        # the common case, a rising finite curve, in one test (NaN fails it, and with finite
+        # ends a rising table is finite); else look for its folds
+        rising = bool(np.all(np.diff(s) > 0.0)) and math.isfinite(s[0]) and math.isfinite(s[-1])
+        if not rising:
+            if not np.all(np.isfinite(s)):
+                raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
+                                         "(at a resonance of the damper bar)")
+            i = int(np.argmin(s))
+            if i > 0:
+                # Onset fold: with inertia the single-mode curve can dip just after an interior
+                # slip onset (relative depth ~1e-6 at 0.3 omega_c).  The interface stays stuck up
+                # to the stuck onset s(0), then snaps to the rising branch where s = s(0) again.
+                if s[0] - s[i] > MAX_ONSET_DIP * abs(s[0]) or s[-1] <= s[0]:
+                    raise FloatingPointError(
+                        f"the loading curve folds back after slip onset at omega={omega!r} by "
+                        f"{(s[0] - s[i]) / abs(s[0]):.2g} (relative): outside the single-mode model's range")
+                j = i + int(np.argmax(s[i:] >= s[0]))
+                # started from the last frequency's t0 (kept on the element) when it lies in the bracket:
+                # along a continuation it moves little, and the slopes here may not tell the curvature
+                t0 = self._root_one(float(s[0]), *(float(v) for v in (tt[j - 1], tt[j], s[j - 1], s[j], ds[j - 1], ds[j])),
+                                    start=getattr(element, "_last_onset_t0", None))
+                element._last_onset_t0 = t0
+            j = int(np.argmax(s))
+            if j < self.table_points - 1:
+                # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
+                # L1 = 0 (relative overshoot 4e-7 at 0.06 omega_c, 4e-4 at 0.3 omega_c for beta = 0).
+                # Past the peak the last stuck zone cannot hold: gross slip starts at the peak.
+                if not last or s[j] - s[-1] > MAX_GROSS_DIP * abs(s[j]):
+                    raise FloatingPointError(
+                        f"the loading curve folds back before gross slip at omega={omega!r} by "
+                        f"{(s[j] - s[-1]) / abs(s[j]):.2g} (relative): outside the single-mode model's range")
+                from scipy.optimize import minimize_scalar  # lazily: import contact_models stays light
 
-            res = minimize_scalar(lambda t: -self._s(t), bounds=(tt[j - 1], tt[j + 1]), method="bounded",
-                                  options={"xatol": 1e-14})
-            t1 = float(res.x)
+                res = minimize_scalar(lambda t: -self._s(t), bounds=(tt[j - 1], tt[j + 1]), method="bounded",
+                                      options={"xatol": 1e-14})
+                t1 = float(res.x)
         if t1 != 1.0:  # a gross-slip fold (rare): the table anew on [t0, t1]
             self.t0, self.t1 = t0, t1
-            s, F, ds, _, r = self._evaluate(tt)
+            s, F, ds, _, r = self._evaluate(tt, left=True)
         elif t0 != 0.0:  # an onset fold: the table's nodes past t0, and t0 itself, in the piece's t
             self.t0 = t0
             k = int(np.searchsorted(tt, t0, side="right"))
@@ -174,7 +182,7 @@ class _Piece:
         self._lists = None  # the table as lists, for _invert_one
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
-        if np.any(np.diff(s) <= 0.0):
+        if not rising and np.any(np.diff(s) <= 0.0):
             # A fold inside the slip path: the tip displacement falls while the slip zone grows,
             # so the slip front would jump (snap through) at constant displacement.  At omega = 0
             # this is the static bar's own behaviour (a load falling steeply away from where slip
@@ -200,10 +208,10 @@ class _Piece:
 
         def excess(t, s, r=None):
             if r is None:
-                r = self._regions(t)
+                r = self._regions(t, left=True)
+            fric = np.real(r.u1_fric) * np.real(r.t0_fric)  # the table's: complex step, real to O(h^2)
+            unit = s * np.real(r.u1_unit) * np.real(r.t0_unit)
             L1 = np.real(r.L1)
-            fric = np.real(r.u1_fric) * transmission(bar.beta, bar.lam**2, L1, bar.EA)
-            unit = s * np.real(r.u1_unit) * transmission(bar.beta, bar.gamma2(self.omega), L1, bar.EA)
             rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
             return np.real(bar.k * np.abs(fric + unit) - limit * (1.0 + 1e-9) - rounding), L1
 
@@ -229,10 +237,10 @@ class _Piece:
         """s, F and their derivatives in t (complex step), for real array t."""
         return self._evaluate(t)[:4]
 
-    def _evaluate(self, t):
+    def _evaluate(self, t, left=False):
         """``evaluate`` and the complex-step region solution it came from (whose real parts
         are the region solution at t, to O(CSTEP^2))."""
-        r = self._regions(np.asarray(t, dtype=float) + 1j * CSTEP)
+        r = self._regions(np.asarray(t, dtype=float) + 1j * CSTEP, left)
         xc, Fc = r.x1, r.F_fric + r.K_tip * r.x1
         return xc.real, Fc.real, xc.imag / CSTEP, Fc.imag / CSTEP, r
 
@@ -242,9 +250,9 @@ class _Piece:
         x, F = complex(r.x1), complex(r.F_fric + r.K_tip * r.x1)
         return x.real, F.real, x.imag / CSTEP, F.imag / CSTEP
 
-    def _regions(self, t):
+    def _regions(self, t, left=False):
         L1, L2 = self.boundaries(t)
-        return region_solution(self.el.bar, self.el.load, L1, L2, self.omega)
+        return region_solution(self.el.bar, self.el.load, L1, L2, self.omega, left=left)
 
     def invert(self, a):
         """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""

@@ -43,6 +43,8 @@ def count(name: str, value: object, minimum: int = 1) -> int:
 
 def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     """Return ``value`` as a float array whose entries are finite and >= 0."""
+    if type(value) is float and 0.0 <= value < math.inf:  # the common scalar, without numpy's checks
+        return np.array(value)
     try:
         arr = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

@@ -33,7 +33,7 @@ import numpy as np
 
 from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, Regions,  # noqa: F401 (public here)
                             _ThreeRegionPiece, _TwoRegionPiece, load_curvature, region_solution)
-from .bar import Bar
+from .bar import Bar, impedance_transmission
 from .base import ContactElement, masing_loop
 from ._validation import nonnegative
 
@@ -102,7 +102,7 @@ class _MicroslipBar(ContactElement):
 
     def _build_path(self, omega):
         bar = self.bar
-        K = float(bar.stuck_stiffness(omega))
+        K = self._stuck_stiffness(omega)
         if bar.mu * self.load.N == 0.0:  # no friction: a linear spring of the slipping bar
             return _Path(K, [], done=(0.0, [], 0.0, 0.0,
                                       float(region_solution(bar, self.load, 0.0, None, omega).K_tip), K))
@@ -170,7 +170,11 @@ class _MicroslipBar(ContactElement):
 
     # ------------------------------------------------------------ interface
     def _stuck_stiffness(self, omega):
-        return float(self.bar.stuck_stiffness(omega))
+        # Bar.stuck_stiffness for one float omega without its array checks: the same operations
+        bar = self.bar
+        g2 = bar.k / bar.EA - bar.rho * (omega * omega) / bar.E  # Bar.gamma2
+        with np.errstate(divide="ignore"):  # infinite at a resonance of the bar held at x = L
+            return float(impedance_transmission(bar.beta, g2, bar.L, bar.EA, transmission=False)[0])
 
     def _slip_amplitude(self, omega):
         return self._path(omega)[0]  # builds (and so checks) the loading path
@@ -209,13 +213,13 @@ class _MicroslipBar(ContactElement):
         dfc = np.empty_like(a)
         if omega.size == 1 or (omega.size > 1 and np.all(omega == omega[0])):  # one frequency (the solver's call)
             w = float(omega[0])
-            if w not in self._paths and np.all(a <= self._onset(w)[1]):  # stuck: no loading path needed
+            a_max = float(a[0]) if a.size == 1 else float(np.max(a))
+            if w not in self._paths and a_max <= self._onset(w)[1]:  # stuck: no loading path needed
                 K = self._stuck_stiffness(w)
                 if math.isfinite(K):  # (at a resonance of the stuck bar the path reports it)
                     return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
             if a.size == 1:  # the solver's call: one amplitude, in floats
-                return tuple(np.full_like(a, v) for v in
-                             _fourier_one(self._lazy_path(w).upto(float(a[0])), float(a[0]), rtol))
+                return tuple(np.full_like(a, v) for v in _fourier_one(self._lazy_path(w).upto(a_max), a_max, rtol))
             return _fourier_one_omega(self._lazy_path(w).upto(float(np.max(a))), a, rtol)
         for w in np.unique(omega):
             sel = omega == w
@@ -385,7 +389,8 @@ def _fourier_one(path, a: float, rtol):
             continue
         inside = a < p.s1
         t_end = p._invert_one(a) if inside else 1.0
-        (js, jc, jd), (Fe, dse, dFe) = _piece_integrals(p, np.array([a]), np.array([t_end]), np.array([inside]), rtol)
+        graded = not inside and (a - p.s1) < GRADE_BELOW * (p.s1 - p.s0)  # as _piece_integrals
+        (js, jc, jd), (Fe, dse, dFe) = _converged_rules(p, np.array([a]), np.array([t_end]), graded, rtol)
         Js, Jc, Jd = Js + float(js[0]), Jc + float(jc[0]), Jd + float(jd[0])
         if inside:
             Fa, dFa = float(Fe[0]), float(dFe[0] / dse[0])
@@ -429,9 +434,14 @@ def _converged_rules(p, a, t_end, graded, rtol):
     n = 2 * GAUSS_START
     (prev, cur), at_end = _graded_rules(p, a, t_end, graded, (GAUSS_START, n), with_end=True)
     while True:
-        scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
-        err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
-        if np.all(err <= 0.1 * rtol) or n >= GAUSS_MAX:
+        if cur[0].size == 1:  # one amplitude: the same test in floats
+            (c0,), (c1,), (p0,), (p1,) = cur[0].tolist(), cur[1].tolist(), prev[0].tolist(), prev[1].tolist()
+            agree = max(abs(c0 - p0), abs(c1 - p1)) / max(abs(c0) + abs(c1), 1e-300) <= 0.1 * rtol
+        else:
+            scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
+            err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
+            agree = bool(np.all(err <= 0.1 * rtol))
+        if agree or n >= GAUSS_MAX:
             return cur, at_end
         n *= 2
         prev, ((cur,), _) = cur, _graded_rules(p, a, t_end, graded, (n,))
