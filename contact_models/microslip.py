@@ -170,9 +170,10 @@ class _MicroslipBar(ContactElement):
 
     # ------------------------------------------------------------ interface
     def _stuck_stiffness(self, omega):
-        # Bar.stuck_stiffness for one float omega without its array checks: the same operations
+        # Bar.stuck_stiffness for one float omega without its array checks: the same operations.
+        # Every path build and stuck answer passes here, through Bar.gamma2 (tests spy on it)
         bar = self.bar
-        g2 = bar.k / bar.EA - bar.rho * (omega * omega) / bar.E  # Bar.gamma2
+        g2 = float(bar.gamma2(omega))
         with np.errstate(divide="ignore"):  # infinite at a resonance of the bar held at x = L
             return float(impedance_transmission(bar.beta, g2, bar.L, bar.EA, transmission=False)[0])
 
