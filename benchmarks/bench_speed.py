@@ -434,7 +434,7 @@ STAGES = [("harmonic balance, continuation, scene (outside the element)", None),
           ("  of which the L1(L2) fit (three regions)", "_fit_L1"),
           ("element: onset a_min (no path)", "_onset"),
           ("element: inversion s(t) = a (one amplitude)", "_invert_one"),
-          ("element: Gauss quadrature", "_piece_integrals"),
+          ("element: Gauss quadrature", "_converged_rules"),
           ("element: region solution, all calls (inside the stages above)", "region_solution")]
 
 
@@ -447,7 +447,7 @@ def profile_table(prof, label):
         t = total - element if name is None else cum.get(name, (0, 0.0))[1]
         calls = "" if name is None else str(cum.get(name, (0, 0.0))[0])
         rows.append(f"| {stage} | {calls} | {t:.3f} | {100 * t / total:.0f} % |")
-    other = element - sum(cum.get(n, (0, 0.0))[1] for n in ("_build_path", "_onset", "_invert_one", "_piece_integrals"))
+    other = element - sum(cum.get(n, (0, 0.0))[1] for n in ("_build_path", "_onset", "_invert_one", "_converged_rules"))
     rows.insert(6, f"| element: assembly of f_s, f_c and the rest | | {other:.3f} | {100 * other / total:.0f} % |")
     head = f"| where ({label} FRF + peak, under cProfile) | calls | s | share |\n|---|---|---|---|"
     return head + "\n" + "\n".join(rows) + f"\n| **total under cProfile** | | **{total:.3f}** | 100 % |"
