@@ -183,8 +183,8 @@ class Bar:
                    grid: int = 801) -> tuple[float, float]:
         """``(x_star, a_min)``: where and at which tip amplitude the stuck bar first slips.
 
-        Slip starts where k |u(x)| = mu q(x) first holds as the amplitude grows, i.e. at the
-        minimum over x of mu q(x) / (k |u(x)/u(L)|) (Section 2.1, Fig. 3).
+        Slip starts where ``k |u(x)| = mu q(x)`` first holds as the amplitude grows, i.e. at the
+        minimum over x of ``mu q(x) / (k |u(x)/u(L)|)`` (Section 2.1, Fig. 3).
         """
         load = load.on(self.L)
         omega = nonnegative("omega", omega)
