@@ -68,6 +68,9 @@ myst_heading_anchors = 3
 autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "signature"
 autodoc_preserve_defaults = True
+# numpy's typing aliases shown by name, not expanded into their unions of private protocols
+autodoc_type_aliases = {"ArrayLike": "numpy.typing.ArrayLike", "NDArray": "numpy.typing.NDArray",
+                        "npt.ArrayLike": "numpy.typing.ArrayLike", "npt.NDArray": "numpy.typing.NDArray"}
 autosummary_generate = False  # the pages are written by frictiondamp_docs.write_api_pages
 numpydoc_show_class_members = False  # autodoc's :members: lists them on the class page
 numpydoc_class_members_toctree = False
