@@ -95,6 +95,8 @@ class FrequencyResponse:
     (True, True)
     >>> float(frf.residual_norm.max()) < 1e-6
     True
+    >>> round(float(frf.amplitude.max()), 9)           # largest sampled point, m (peak() refines it)
+    1.512e-06
     """
 
     def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
@@ -243,6 +245,8 @@ class FrequencyResponse:
         >>> lines = path.read_text().splitlines()
         >>> lines[0].split(",")[:2], len(lines) == len(frf.omega) + 1
         (['omega_rad_s', 'amplitude_m'], True)
+        >>> float(lines[1].split(",")[0]), float(lines[-1].split(",")[0])   # omega_range, rad/s
+        (90.0, 110.0)
         """
         return write_frf_csv(path, self)
 
