@@ -55,7 +55,8 @@ GUIDES = fd.write_guides_toctree(DOCS, GENERATED / "guides_toctree.md")
 # suits a site of this size; sphinx-gallery's thumbnails and tables render well in it.
 html_theme = "furo"
 html_title = f"frictiondamp {release}"
-html_static_path = []
+html_static_path = ["_static"]
+html_css_files = ["custom.css"]
 html_show_sourcelink = False
 html_last_updated_fmt = None
 
