@@ -69,9 +69,8 @@ myst_heading_anchors = 3
 autodoc_default_options = {"member-order": "bysource"}
 autodoc_typehints = "signature"
 autodoc_preserve_defaults = True
-# numpy's typing aliases shown by name, not expanded into their unions of private protocols
-# (NDArray is left out: Sphinx renders an aliased NDArray inside a union as TypeAliasForwardRef)
-autodoc_type_aliases = {"ArrayLike": "numpy.typing.ArrayLike"}
+# numpy's typing aliases (ArrayLike, NDArray) are shown by name by frictiondamp_docs.short_numpy_types
+# (autodoc_type_aliases would render them inside a union as TypeAliasForwardRef(...))
 autosummary_generate = False  # the pages are written by frictiondamp_docs.write_api_pages
 numpydoc_show_class_members = False  # autodoc's :members: lists them on the class page
 numpydoc_class_members_toctree = False
@@ -114,4 +113,7 @@ sphinx_gallery_conf = {
 
 def setup(app):
     app.connect("autodoc-process-bases", fd.public_bases)
+    app.connect("autodoc-process-signature", fd.short_numpy_types)
+    app.connect("autodoc-process-docstring", fd.escape_bars, priority=400)  # before numpydoc (500)
+    app.connect("missing-reference", fd.public_reference)
     return {"parallel_read_safe": True}

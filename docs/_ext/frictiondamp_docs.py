@@ -356,3 +356,110 @@ def write_guides_toctree(docs: Path, path: Path) -> list[str]:
     text = "```{toctree}\n:maxdepth: 1\n:caption: Guides and theory\n\n" + "".join(f"/{p}\n" for p in pages) + "```\n"
     _write(path, text)
     return pages
+
+
+# ------------------------------------------------------------------------------------- docstrings
+def _numpy_alias_patterns():
+    """``[(regex, replacement)]`` that fold numpy's expanded typing aliases back into their names."""
+    from numpy.typing import ArrayLike, NDArray
+    from sphinx.util.typing import stringify_annotation
+
+    out = []
+    for mode, prefix in (("fully-qualified-except-typing", ""), ("smart", "~")):
+        for alias, name in ((ArrayLike, "numpy.typing.ArrayLike"), (NDArray, "numpy.typing.NDArray")):
+            out.append((re.compile(re.escape(stringify_annotation(alias, mode))), prefix + name))
+        # NDArray[dtype]: ndarray[tuple[Any, ...], dtype[float64]] -> NDArray[float64]
+        nd = re.escape(prefix) + r"numpy\.ndarray\[tuple\[Any, \.\.\.\], " + re.escape(prefix) + r"numpy\.dtype\[([~\w.]+)\]\]"
+        out.append((re.compile(nd), prefix + r"numpy.typing.NDArray[\1]"))
+    return out
+
+
+_ALIASES: list = []
+
+
+def short_numpy_types(app, what, name, obj, options, signature, return_annotation):
+    """``autodoc-process-signature``: show ``ArrayLike`` and ``NDArray[...]`` by name, not as the
+    unions of numpy's private protocols they expand to at run time."""
+    if not _ALIASES:
+        _ALIASES.extend(_numpy_alias_patterns())
+    out = []
+    for text in (signature, return_annotation):
+        if text:
+            for pattern, repl in _ALIASES:
+                text = pattern.sub(repl, text)
+        out.append(text)
+    return tuple(out)
+
+
+_LITERAL = re.compile(r"(``.*?``|:math:`[^`]*`|`[^`]*`_?)")
+
+
+def escape_bars(app, what, name, obj, options, lines):
+    """``autodoc-process-docstring`` (before numpydoc): a ``|x|`` written for an absolute value is
+    text, not a reST substitution (this project defines none), so its bars are escaped.
+
+    Left alone: inline literals and roles, ``.. math::`` and literal blocks (``::``), doctest
+    blocks, and lines that start with ``|`` or ``+`` (tables, line blocks).
+    """
+    block_indent = None  # indentation of the directive or '::' paragraph whose body we are in
+    in_doctest = False
+    for i, line in enumerate(lines):
+        stripped = line.lstrip()
+        indent = len(line) - len(stripped)
+        if not stripped:
+            in_doctest = False
+            continue
+        if block_indent is not None:
+            if indent > block_indent:
+                continue
+            block_indent = None
+        if stripped.startswith(">>>") or in_doctest:
+            in_doctest = True
+            continue
+        if stripped.startswith(("|", "+")) or "|" not in line:
+            pass
+        else:
+            parts = _LITERAL.split(line)
+            lines[i] = "".join(p if k % 2 else re.sub(r"(?<!\\)\|", r"\\|", p) for k, p in enumerate(parts))
+        if stripped.startswith(".. ") or stripped.endswith("::"):
+            block_indent = indent
+
+
+# ------------------------------------------------------------------------------------- references
+_PUBLIC: dict[str, str] = {}
+
+
+def _public_paths() -> dict[str, str]:
+    """``{defining module path: public path}`` of every public class (``contact_models.bar.Bar``
+    -> ``contact_models.Bar``)."""
+    if not _PUBLIC:
+        for package in PACKAGES:
+            module = importlib.import_module(package)
+            for name in module.__all__:
+                obj = getattr(module, name)
+                if inspect.isclass(obj) or inspect.isroutine(obj):
+                    real = f"{obj.__module__}.{obj.__qualname__}"
+                    if real != f"{package}.{name}":
+                        _PUBLIC.setdefault(real, f"{package}.{name}")
+    return _PUBLIC
+
+
+def public_reference(app, env, node, contnode):
+    """``missing-reference``: a reference written with a class's defining module
+    (``contact_models.allmode.AllModeMicroslip.solve``, or ``AllModeMicroslip.solve`` inside that
+    module) resolves to the class's public page (``contact_models.AllModeMicroslip.solve``)."""
+    if node.get("refdomain") != "py":
+        return None
+    target = node["reftarget"].lstrip("~.")
+    candidates = [target]
+    if node.get("py:module"):
+        candidates.append(f"{node['py:module']}.{target}")
+    domain = env.get_domain("py")
+    for candidate in candidates:
+        for real, public in _public_paths().items():
+            if candidate == real or candidate.startswith(real + "."):
+                new = public + candidate[len(real):]
+                found = domain.resolve_xref(env, node["refdoc"], app.builder, node["reftype"], new, node, contnode)
+                if found is not None:
+                    return found
+    return None
