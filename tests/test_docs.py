@@ -63,10 +63,10 @@ def _resolve(qualified):
 
 
 def _directives(text):
-    """``{target}`` of every autodoc directive / autosummary entry of a generated reST page."""
-    found = set(re.findall(r"^\.\. auto(?:class|function|data|module):: (\S+)", text, re.MULTILINE))
-    for block in re.findall(r"^\.\. autosummary::\n\n((?:   \S+\n)+)", text, re.MULTILINE):
-        found |= {line.strip() for line in block.splitlines()}
+    """``{target}`` of every autodoc directive / table entry of a generated reST page."""
+    found = set(re.findall(r"^\.\. (?:auto(?:class|function|data|module)|py:data):: (\S+)", text, re.MULTILINE))
+    for qualified in re.findall(r":(?:class|func|mod):`~(\S+?)`", text):  # the package page's tables
+        found |= {qualified, qualified.rsplit(".", 1)[1]}
     return found
 
 

@@ -133,18 +133,62 @@ def _name_page(qualified: str, kind: str) -> str:
     return head + f".. autofunction:: {name}\n"
 
 
+def _summary(obj) -> str:
+    """The first paragraph of ``obj``'s docstring, on one line (autosummary would cut it at "Fig.")."""
+    doc = inspect.getdoc(obj) or ""
+    line = [" ".join(doc.split("\n\n", 1)[0].split())]
+    escape_bars(None, None, None, None, None, line)
+    return line[0]
+
+
+def _data_doc(package: str, name: str) -> tuple[str, str]:
+    """``(value, description)`` of a data name: its ``#:`` comment where it is defined."""
+    import pkgutil
+
+    from sphinx.pycode import ModuleAnalyzer
+
+    module = importlib.import_module(package)
+    obj = getattr(module, name)
+    names = [package] + [f"{package}.{m.name}" for m in pkgutil.iter_modules(module.__path__)]
+    description = ""
+    for modname in names:
+        try:
+            docs = ModuleAnalyzer.for_module(modname).find_attr_docs()
+        except Exception:  # a module without source
+            continue
+        if ("", name) in docs:
+            description = " ".join(line.strip() for line in docs[("", name)] if line.strip())
+            break
+    if name == "__version__" and not description:
+        description = "The version of the installed package (``pyproject.toml``)."
+    value = repr(obj)
+    if len(value) > 70 or " at 0x" in value:
+        value = ""
+    return value, description
+
+
 def _package_page(package: str, names: list[tuple[str, str]], pages: list[str], others: list[str]) -> str:
     text = _underline(f"``{package}``") + f"\n.. automodule:: {package}\n   :no-members:\n\n"
     text += f".. currentmodule:: {package}\n\n"
-    for title, kinds in (("Classes", {"class"}), ("Functions", {"function"}), ("Modules", {"module"})):
-        entries = [q.rsplit(".", 1)[1] for q, k in names if k in kinds]
+    module = importlib.import_module(package)
+    roles = {"class": "class", "function": "func", "module": "mod"}
+    for title, kind in (("Classes", "class"), ("Functions", "function"), ("Modules", "module")):
+        entries = [q for q, k in names if k == kind]
         if entries:
-            text += _underline(title, "-") + "\n.. autosummary::\n\n" + "".join(f"   {e}\n" for e in entries) + "\n"
+            text += (_underline(title, "-") + "\n.. list-table::\n   :widths: 30 70\n\n")
+            for qualified in entries:
+                obj = getattr(module, qualified.rsplit(".", 1)[1])
+                text += f"   * - :{roles[kind]}:`~{qualified}`\n     - {_summary(obj) or ' '}\n"
+            text += "\n"
     data = [q.rsplit(".", 1)[1] for q, k in names if k == "data"]
     if data:
         text += _underline("Data", "-") + "\n"
         for name in data:
-            text += f".. autodata:: {name}\n\n"
+            value, description = _data_doc(package, name)
+            text += f".. py:data:: {name}\n"
+            if value:
+                text += f"   :value: {value}\n"
+            text += f"\n   {description}\n\n" if description else "\n"
     if others:
         text += (_underline("Types of the results", "-") + "\nClasses that the public API returns or takes, "
                  "documented where they are defined.\n\n")
