@@ -168,3 +168,24 @@ def test_every_markdown_page_is_in_the_site(tmp_path):
     for name in ("getting_started", "changelog", "auto_examples/index", "generated/api/index",
                  "generated/guides_toctree.md"):
         assert name in index
+
+
+def test_getting_started_scripts_run_and_print_what_the_page_says(tmp_path, monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    text = (DOCS / "getting_started.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert len(blocks) == 2
+    monkeypatch.chdir(tmp_path)  # the page writes frf.csv in the current folder
+    namespace = {}
+    for block in blocks:
+        exec(compile(block, "getting_started.md", "exec"), namespace)
+    # the numbers the page states in its comments
+    assert namespace["a_min"] == pytest.approx(7.5e-7, rel=1e-12)  # mu N/(k L)
+    assert (namespace["f_s"], namespace["f_c"]) == pytest.approx((47.65, 7.22), abs=0.005)
+    peak = namespace["frf"].peak()
+    assert (peak.omega, peak.amplitude) == pytest.approx((38773.5, 1.5119e-6), rel=5e-5)
+    other = namespace["pc"].peak()
+    assert (other.omega, other.amplitude) == pytest.approx((39697.0, 2.195e-6), rel=5e-4)
+    assert (tmp_path / "frf.csv").is_file()
