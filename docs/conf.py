@@ -34,8 +34,10 @@ extensions = [
     "sphinx.ext.autosummary",
     "sphinx.ext.mathjax",
     "sphinx_gallery.gen_gallery",
-    "sphinx-mathjax-offline",  # MathJax 3 copied into the site: equations render offline
 ]
+# MathJax 3 from the package sphinx-mathjax-offline, copied into the site (fd.copy_mathjax): equations
+# render with no network
+mathjax_path = "mathjax/tex-chtml.js"
 
 exclude_patterns = ["_build", "_ext", "figures", "**/*.ipynb", "auto_examples/*.md5",
                     "auto_examples/*.py", "auto_examples/*.zip"]
@@ -116,4 +118,5 @@ def setup(app):
     app.connect("autodoc-process-signature", fd.short_numpy_types)
     app.connect("autodoc-process-docstring", fd.escape_bars, priority=400)  # before numpydoc (500)
     app.connect("missing-reference", fd.public_reference)
-    return {"parallel_read_safe": True}
+    app.connect("build-finished", fd.copy_mathjax)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}

@@ -507,3 +507,20 @@ def public_reference(app, env, node, contnode):
                 if found is not None:
                     return found
     return None
+
+
+# ------------------------------------------------------------------------------------------ MathJax
+def mathjax_folder() -> Path:
+    """MathJax 3 as shipped by the package ``sphinx-mathjax-offline`` (the docs extra)."""
+    package = importlib.import_module("sphinx-mathjax-offline")
+    return Path(package.__file__).resolve().parent / "static" / "mathjax"
+
+
+def copy_mathjax(app, exception):
+    """``build-finished``: MathJax into the site (``mathjax_path = "mathjax/tex-chtml.js"``), so
+    equations render with no network.  Done here rather than by listing that package as an
+    extension, which does not declare itself safe for parallel builds (``-j``)."""
+    if exception is None and app.builder.format == "html":
+        from sphinx.util.fileutil import copy_asset
+
+        copy_asset(str(mathjax_folder()), str(Path(app.outdir) / "_static" / "mathjax"))
