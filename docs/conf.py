@@ -4,7 +4,7 @@ Build (no network needed): ``python3 -m sphinx -W -n -b html docs docs/_build/ht
 ``docs/_build/html/index.html``.  The API reference (``docs/generated/api``), the scene-keys page
 and the guides' toctree are written here at build time from the code (``_ext/frictiondamp_docs.py``);
 the gallery (``docs/auto_examples``) from ``examples/*.py`` by sphinx-gallery.  None of them is
-committed.
+committed.  ``FRICTIONDAMP_GALLERY_RUN=False`` builds without running the examples (quick drafts).
 """
 
 from __future__ import annotations
@@ -43,7 +43,6 @@ exclude_patterns = ["_build", "_ext", "figures", "**/*.ipynb", "auto_examples/*.
                     "auto_examples/*.py", "auto_examples/*.zip"]
 source_suffix = {".rst": "restructuredtext", ".md": "markdown"}
 root_doc = "index"
-suppress_warnings = []
 
 # ---------------------------------------------------------------------------- generated at build
 GENERATED.mkdir(exist_ok=True)
@@ -79,8 +78,9 @@ numpydoc_class_members_toctree = False
 numpydoc_xref_param_type = False
 
 # Nitpicky mode (-n) checks every cross-reference of the public API.  The exceptions, each with its
-# reason, are third-party names: the build is offline (no intersphinx inventories), so references
-# to numpy, scipy, matplotlib and the standard library's classes in type hints cannot resolve.
+# reason: third-party names, because the build is offline (no intersphinx inventories), so numpy,
+# scipy, matplotlib and standard-library classes in type hints cannot resolve; and two kinds of type
+# hint that name nothing documented.
 nitpicky = True
 nitpick_ignore_regex = [
     ("py:.*", r"(numpy|np|numpy\.typing|npt)\..*"),  # type hints: np.ndarray, npt.ArrayLike
