@@ -110,8 +110,65 @@ def transmission(k_left: ArrayLike, s2: ArrayLike, ell: ArrayLike, EA: float) ->
 
 
 class Bar:
-    """The paper's bar: E (Pa), rho (kg/m^3), A (m^2), L (m), shear-layer k (N/m^2),
-    strain-hardening spring beta (N/m) at x = 0, friction coefficient mu."""
+    """The paper's damper bar (Fig. 1) and its fully stuck solution (Section 2.1).
+
+    A bar 0 <= x <= L of axial stiffness EA and mass rho A per length on a shear layer of
+    stiffness k per length, whose Coulomb limit is mu q(x); a spring beta ties x = 0 to ground
+    (strain hardening); the excited end x = L is driven.  The contact elements
+    (:class:`TwoRegionMicroslip`, :class:`ThreeRegionMicroslip`, :class:`NumericalMicroslip`)
+    take a bar and a normal load.
+
+    Parameters
+    ----------
+    E : float
+        Young's modulus (Pa), > 0.
+    rho : float
+        Density (kg/m^3), > 0.
+    A : float
+        Cross-section (m^2), > 0.
+    L : float
+        Length of the bar and of the contact (m), > 0.
+    k : float
+        Shear-layer stiffness per unit length (N/m^2), > 0.
+    beta : float
+        Strain-hardening spring at x = 0 (N/m), >= 0.
+    mu : float
+        Friction coefficient, >= 0.
+
+    Raises
+    ------
+    ValueError
+        If a parameter is not finite or out of its range; the message names it and its value.
+
+    See Also
+    --------
+    UniformLoad, QuadraticLoad : the normal load q(x) along the contact.
+
+    Notes
+    -----
+    Eq. 12 defines ``lambda^2 = k/(EA)``, ``alpha^2 = rho omega^2/E`` and
+    ``gamma^2 = lambda^2 - alpha^2`` (:meth:`alpha2`, :meth:`gamma2`).  :attr:`omega_c` is the
+    first natural frequency of the stuck bar with x = L free (rad/s), :attr:`k_star` the static
+    stuck stiffness ``k* = stuck_stiffness(0)`` (N/m); ``docs/theory.md`` derives both.
+
+    References
+    ----------
+    .. [1] E. Cigeroglu, W. Lu, C.-H. Menq, "One-dimensional dynamic microslip friction model",
+       J. Sound Vib. 292 (2006), Section 2.1, Eqs. 1-2 and 12.
+
+    Examples
+    --------
+    The bar of the paper's figures: lambda L = 1 and beta = EA lambda, so k* = EA lambda.
+
+    >>> from contact_models import Bar
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> bar.lam * bar.L, bar.k_star                     # -, N/m
+    (1.0, 40000000.0)
+    >>> round(bar.omega_c, 1)                           # rad/s
+    133170.0
+    >>> abs(float(bar.stuck_stiffness(bar.omega_c))) < 1e-6 * bar.k_star
+    True
+    """
 
     def __init__(self, E: float, rho: float, A: float, L: float, k: float, beta: float, mu: float) -> None:
         self.E = positive("E", E)
@@ -209,8 +266,8 @@ class Bar:
                    grid: int = 801) -> tuple[float, float]:
         """``(x_star, a_min)``: where and at which tip amplitude the stuck bar first slips.
 
-        Slip starts where k |u(x)| = mu q(x) first holds as the amplitude grows, i.e. at the
-        minimum over x of mu q(x) / (k |u(x)/u(L)|) (Section 2.1, Fig. 3).
+        Slip starts where ``k |u(x)| = mu q(x)`` first holds as the amplitude grows, i.e. at the
+        minimum over x of ``mu q(x) / (k |u(x)/u(L)|)`` (Section 2.1, Fig. 3).
         """
         load = load.on(self.L)
         omega = nonnegative("omega", omega)

@@ -64,7 +64,27 @@ FD_REL_STEP = 1e-6
 class ContactElement(ABC):
     """Abstract contact element: f_s, f_c as functions of amplitude and frequency.
 
-    See the module docstring for the whole contract.
+    For the steady displacement ``x = a sin(theta)``, ``theta = omega t``, at its attachment
+    point, an element gives the first-harmonic coefficients of the force ``f`` it needs there,
+
+    .. math::
+
+        f_s = \\frac{1}{\\pi} \\int_0^{2\\pi} f \\sin\\theta \\, d\\theta, \\qquad
+        f_c = \\frac{1}{\\pi} \\int_0^{2\\pi} f \\cos\\theta \\, d\\theta
+        \\quad \\text{(N)},
+
+    in phase ("spring") and in quadrature ("damping"); ``pi a f_c`` is the energy dissipated per
+    cycle, so a passive element has ``f_c >= 0``.
+
+    Notes
+    -----
+    A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,
+    ``_slip_amplitude`` and ``_hysteresis``; the public methods validate and broadcast, then
+    call them on flat float arrays.  What a solver or a scene reads of an element (and nothing
+    else): :attr:`frequency_dependent`, :meth:`fourier`, :meth:`fourier_derivatives`,
+    :meth:`fourier_derivatives_unchecked`, :meth:`stuck_stiffness`, :meth:`slip_amplitude`,
+    :meth:`linear_amplitude`, :meth:`linear_coefficients`, :meth:`reference_amplitude` and
+    :meth:`hysteresis`; the module docstring of ``contact_models.base`` states each default.
 
     Examples
     --------
@@ -84,6 +104,40 @@ class ContactElement(ABC):
 
         ``a`` and ``omega`` broadcast against each other; both must be finite and >= 0.
         ``rtol`` is the relative accuracy asked of f_s and f_c.
+
+        Parameters
+        ----------
+        a : array_like
+            Amplitude of the displacement ``x = a sin(theta)`` (m), finite and >= 0.
+        omega : array_like, optional
+            Frequency (rad/s), finite and >= 0; broadcasts against ``a``.  Default 0.
+        rtol : float, optional
+            Relative accuracy asked of f_s and f_c, > 0.  Default 1e-6.
+
+        Returns
+        -------
+        f_s, f_c : float or ndarray
+            In-phase and quadrature coefficients (N), of the broadcast shape of ``a`` and
+            ``omega`` (floats for scalar input).
+
+        Raises
+        ------
+        ValueError
+            If ``a`` or ``omega`` is negative or not finite, or ``rtol`` <= 0, naming it.
+
+        Examples
+        --------
+        The Jenkins element against its closed form
+        ``f_c = (4 F_s/pi)(1 - F_s/(k a))`` past slip:
+
+        >>> import math
+        >>> from contact_models import Macroslip
+        >>> jen = Macroslip(stiffness=1.0e7, slip_force=10.0)
+        >>> f_s, f_c = jen.fourier(2.0e-6)
+        >>> round(float(f_c), 9) == round(4 * 10.0 / math.pi * (1 - 10.0 / (1.0e7 * 2.0e-6)), 9)
+        True
+        >>> jen.fourier([0.5e-6, 1.0e-6], 0.0)[1]          # stuck up to a_min = 1e-6 m: no dissipation
+        array([0., 0.])
         """
         a_b, w_b, shape = self._prepare(a, omega)
         rtol = positive("rtol", rtol)
@@ -144,6 +198,37 @@ class ContactElement(ABC):
         """One closed loop ``(x, f)`` of the steady response to ``x = a sin(theta)``.
 
         ``n`` points, theta from -pi/2 to 3 pi/2 (the loop starts and ends at x = -a).
+
+        Parameters
+        ----------
+        a : float
+            Amplitude (m), >= 0.
+        omega : float, optional
+            Frequency (rad/s), >= 0.  Default 0.
+        n : int, optional
+            Number of points, >= 5.  Default 401.
+
+        Returns
+        -------
+        x, f : ndarray
+            Displacement (m) and force (N) along the loop, ``n`` points each.
+
+        Raises
+        ------
+        ValueError
+            If ``a`` or ``omega`` is negative, or ``n`` is not an integer >= 5.
+
+        Examples
+        --------
+        The loop's area is the energy dissipated per cycle, ``pi a f_c``:
+
+        >>> import numpy as np
+        >>> from contact_models import Macroslip
+        >>> jen = Macroslip(stiffness=1.0e7, slip_force=10.0)
+        >>> x, f = jen.hysteresis(2.0e-6, n=2001)
+        >>> area = 0.5 * abs(np.dot(x[:-1], f[1:]) - np.dot(x[1:], f[:-1]))
+        >>> round(float(area / (np.pi * 2.0e-6 * jen.fourier(2.0e-6)[1])), 4)
+        1.0
         """
         a = nonnegative("a", a)
         omega = nonnegative("omega", omega)

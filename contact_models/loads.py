@@ -46,7 +46,38 @@ class _Load:
 
 @dataclass(frozen=True)
 class UniformLoad(_Load):
-    """Constant normal load q = N/L (the paper's two-region case, Section 3)."""
+    """Constant normal load q = N/L (the paper's two-region case, Section 3).
+
+    Parameters
+    ----------
+    N : float
+        Total normal load (N), >= 0.
+    L : float or None, optional
+        Contact length (m), > 0.  Default None: the element binds the load to its bar's length
+        with :meth:`on`.
+
+    Raises
+    ------
+    ValueError
+        If ``N`` < 0 or ``L`` <= 0 (or either is not finite), naming the parameter and value.
+
+    See Also
+    --------
+    QuadraticLoad : Eq. 29, the paper's non-uniform loads.
+
+    Notes
+    -----
+    Besides ``q(x)`` (N/m), a load gives the running integrals of Eq. 15 in closed form,
+    ``I1(x) = int_0^x q`` (N) and ``I2(x) = int_0^x I1`` (N m), so that ``Q'(x) = mu I1/(EA)``
+    and ``Q(x) = mu I2/(EA)``.
+
+    Examples
+    --------
+    >>> from contact_models import UniformLoad
+    >>> load = UniformLoad(N=100.0).on(0.05)
+    >>> float(load.q(0.02)), float(load.I1(0.05)), float(load.I2(0.05))   # N/m, N, N m
+    (2000.0, 100.0, 2.5)
+    """
 
     N: float
     L: float | None = None
@@ -77,6 +108,46 @@ class QuadraticLoad(_Load):
     q2 > 0: concave (largest at the ends, q0 - q2 in the middle; three regions);
     q2 < 0: convex, hump-shaped (two regions).  q must be >= 0 everywhere.
     ``from_ratio(N, ratio)`` without L keeps (q0 L, q2 L) until :meth:`on` gives L.
+
+    Parameters
+    ----------
+    q0 : float
+        Load per length at the ends x = 0 and x = L (N/m), >= 0.
+    q2 : float
+        Depth of the parabola (N/m): the load at mid-length is ``q0 - q2`` >= 0.
+    L : float or None, optional
+        Contact length (m).  Default None: bound to the bar's length by :meth:`on`.
+
+    Raises
+    ------
+    ValueError
+        If ``q0`` < 0, ``q2`` is not finite, ``q2 > q0`` (negative load at mid-length), or
+        ``L`` <= 0; the message names the parameter and its value.
+
+    See Also
+    --------
+    UniformLoad
+
+    Notes
+    -----
+    The paper's Section 3.3 sets the shape by ``ratio = q0/(q0 - q2)`` (:meth:`from_ratio`):
+    ratio > 1 is concave (slip starts inside the bar: :class:`ThreeRegionMicroslip`), ratio < 1
+    convex.  With N the total load, ``q0 L = 3 N/(1 + 2/ratio)``.
+
+    References
+    ----------
+    .. [1] Cigeroglu, Lu & Menq (2006), Eq. 29 and Section 3.3.
+
+    Examples
+    --------
+    The paper's concave load, ratio 12, 100 N on a 0.05 m contact:
+
+    >>> from contact_models import QuadraticLoad
+    >>> load = QuadraticLoad.from_ratio(N=100.0, ratio=12.0).on(0.05)
+    >>> round(load.q0, 3), round(load.q2, 3)            # N/m
+    (5142.857, 4714.286)
+    >>> round(float(load.q(0.025)), 3), round(float(load.I1(0.05)), 9)   # N/m at mid-length, N in all
+    (428.571, 100.0)
     """
 
     q0: float | None

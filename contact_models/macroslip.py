@@ -70,7 +70,49 @@ def jenkins_fourier(k: float, y: float, a: ArrayLike) -> tuple[NDArray[np.float6
 
 class Macroslip(ContactElement):
     """Jenkins element: spring ``stiffness`` (N/m, may be ``math.inf``) behind a Coulomb
-    slider of force ``slip_force`` (N).  Frequency independent."""
+    slider of force ``slip_force`` (N).  Frequency independent.
+
+    Parameters
+    ----------
+    stiffness : float
+        Tangential spring k (N/m), > 0; ``math.inf`` (or ``"inf"``) for the rigid Coulomb
+        slider.
+    slip_force : float
+        Slider force (N), > 0.
+
+    Raises
+    ------
+    ValueError
+        If ``stiffness`` or ``slip_force`` is not positive, naming it and its value.
+
+    See Also
+    --------
+    PointContact : a Jenkins element with two more springs, fitted to a microslip element.
+
+    Notes
+    -----
+    The describing function: stuck, ``f_s = k a`` and ``f_c = 0``, up to
+    ``a_min = y = slip_force/k``; above, with ``psi = arccos(1 - 2 y/a)``,
+
+    .. math::
+
+        f_s = \\frac{k a}{\\pi}\\left(\\psi - \\tfrac{1}{2}\\sin 2\\psi\\right), \\qquad
+        f_c = \\frac{4 F_{slip}}{\\pi}\\left(1 - \\frac{y}{a}\\right).
+
+    The rigid slider gives ``f_s = 0``, ``f_c = 4 slip_force/pi`` for ``a > 0``.  The
+    time-domain law (:meth:`step`, :meth:`force_history`) is the slider's exact return map.
+
+    Examples
+    --------
+    >>> import math
+    >>> from contact_models import Macroslip
+    >>> jen = Macroslip(stiffness=1.0e7, slip_force=10.0)
+    >>> jen.slip_amplitude()                           # slip_force/stiffness, m
+    1e-06
+    >>> f_s, f_c = jen.fourier(2.0e-6)                 # psi = pi/2 at a = 2 y
+    >>> round(float(f_s), 6), round(float(f_c) * math.pi / 40.0, 12)
+    (10.0, 0.5)
+    """
 
     frequency_dependent = False
 

@@ -497,6 +497,52 @@ class TwoRegionMicroslip(_MicroslipBar):
     region [0, L1] shrinks to gross slip.  For uniform and convex loads (Eq. 3-15).
 
     ``TwoRegionMicroslip(bar, UniformLoad(N=100.0))``; a_min = mu q(L)/k.
+
+    Parameters
+    ----------
+    bar : Bar
+        The damper bar.
+    load : UniformLoad or QuadraticLoad
+        Normal load along the contact; bound to ``bar.L``.  It must slip first at the excited
+        end x = L (uniform, convex).
+
+    Raises
+    ------
+    ValueError
+        If slip starts inside the bar at low frequency (a concave load: use
+        :class:`ThreeRegionMicroslip`), or if the load's lightly loaded end x = 0 would slip
+        before gross slip; the message says which.
+
+    See Also
+    --------
+    ThreeRegionMicroslip : slip starting inside the bar (concave loads).
+    NumericalMicroslip : the same bar with every mode, integrated in time.
+    PointContact.fit : the equivalent single-slider contact.
+
+    Notes
+    -----
+    The single-mode solution of the paper: the virgin loading curve F(x) is parametrised by the
+    stuck length L1, from L1 = L (slip onset at ``a_min = mu q(L)/k``, for a uniform load
+    ``mu N/(k L)``) down to L1 = 0 (gross slip at :meth:`gross_slip_amplitude`); past it the
+    bar slides as a whole with stiffness :meth:`slip_stiffness`.  The Masing rule closes the
+    loop, and f_s, f_c are its Fourier integrals, evaluated to ``rtol``.  ``docs/theory.md``
+    gives every coefficient (Eqs. 10-15) and where the printed paper differs.
+
+    References
+    ----------
+    .. [1] Cigeroglu, Lu & Menq (2006), Section 2.2, Eqs. 3-15; Figs. 6, 8-10.
+
+    Examples
+    --------
+    >>> from contact_models import Bar, UniformLoad, TwoRegionMicroslip
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> two = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
+    >>> a_min = two.slip_amplitude()                   # mu N/(k L), m
+    >>> a_min, round(two.gross_slip_amplitude() / a_min, 6), two.slip_stiffness() / bar.k_star
+    (7.5e-07, 2.5, 0.5)
+    >>> f_s, f_c = two.fourier(2 * a_min, 0.3 * bar.omega_c)
+    >>> round(float(f_s), 3), round(float(f_c), 3)      # N
+    (47.653, 7.221)
     """
 
     def _check_topology(self) -> None:
@@ -518,6 +564,48 @@ class ThreeRegionMicroslip(_MicroslipBar):
     slip (Fig. 7).  For concave loads, e.g. ``QuadraticLoad.from_ratio(N, 12)``.
 
     With a load that slips first at the excited end it reduces to the two-region path.
+
+    Parameters
+    ----------
+    bar : Bar
+        The damper bar.
+    load : UniformLoad or QuadraticLoad
+        Normal load along the contact; bound to ``bar.L``.
+
+    Raises
+    ------
+    ValueError
+        If the load's lightly loaded end x = 0 would slip before gross slip (the model's
+        topology cannot follow it); the message says where.
+
+    See Also
+    --------
+    TwoRegionMicroslip, QuadraticLoad.from_ratio
+
+    Notes
+    -----
+    Slip starts at the minimum x* of ``mu q(x)/(k |u(x)/u(L)|)`` (:meth:`Bar.slip_onset`), at
+    the amplitude ``a_min``; the slip region [L1, L2] grows both ways (Eqs. 16-28 and
+    Appendix A), the right stuck region vanishes first, and the interface then continues as two
+    regions to gross slip.  ``docs/theory.md``, section 4, has every coefficient.
+
+    References
+    ----------
+    .. [1] Cigeroglu, Lu & Menq (2006), Section 2.3, Eqs. 16-28, Appendix A; Figs. 7, 11-15.
+
+    Examples
+    --------
+    The concave ratio-12 load slips first at x* = 0.5114 L, at 0.3513 of the uniform load's
+    a_min:
+
+    >>> from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> three = ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=100.0, ratio=12.0))
+    >>> round(three.slip_amplitude() / 7.5e-07, 4)
+    0.3513
+    >>> f_s, f_c = three.fourier(2.25e-6, 0.3 * bar.omega_c)
+    >>> round(float(f_s), 3), round(float(f_c), 3)      # N
+    (57.478, 10.511)
     """
 
     def _stuck_onset(self, omega):

@@ -231,6 +231,65 @@ class NumericalMicroslip(ContactElement):
     See the module docstring for the scheme.  ``fourier``'s ``rtol`` can only tighten the
     steady-state tolerance; the accuracy is set by the discretisation (``docs/validation.md``
     gives its error: about 1e-5 k* a at the defaults).
+
+    Parameters
+    ----------
+    bar : Bar
+        The damper bar.
+    load : UniformLoad or QuadraticLoad
+        Normal load, >= 0 everywhere; bound to ``bar.L``.
+    cells : int, optional
+        Linear elements along the bar, >= 2.  Default 200.
+    steps_per_cycle : int, optional
+        Time steps per cycle, a multiple of 4, >= 8.  Default 512.
+    quasi_static : bool or None, optional
+        Drop inertia; None (default): exactly when omega == 0.
+    steady_tol : float, optional
+        Relative cycle-to-cycle change of the force history that counts as steady.
+        Default 1e-6.
+    max_cycles : int, optional
+        Cycles before giving up, >= 2.  Default 8 quasi-static, 30 dynamic.
+    ramp_cycles : float, optional
+        Cycles of dynamic start-up ramp, >= 0.  Default 2.
+    shooting : bool, optional
+        Newton on the one-cycle map to reach the steady state.  Default True.
+    rho_inf : float, optional
+        Spectral radius at infinity of the generalized-alpha scheme, in [0, 1].  Default 0.9.
+
+    Raises
+    ------
+    ValueError
+        If an option is out of its range or the load is negative somewhere, naming it.
+
+    See Also
+    --------
+    TwoRegionMicroslip, ThreeRegionMicroslip : the single-mode analytic elements it checks.
+    hbm.simulate_blade : the blade integrated in time with this bar.
+
+    Notes
+    -----
+    Eq. 30 with every mode: the bar in ``cells`` linear elements with lumped masses, a Jenkins
+    element (stiffness k per length, slider mu q per length) at every node, integrated over
+    cycles of ``x = a sin(theta)`` with an exact return map per node until the force history
+    is steady; f_s, f_c are the Fourier integrals of the last cycle.
+
+    References
+    ----------
+    .. [1] Cigeroglu, Lu & Menq (2006), Eq. 30 and Section 3.5 (Fig. 19).
+
+    Examples
+    --------
+    At omega = 0 the single-mode solution is exact, so the discretised bar converges to it:
+
+    >>> from contact_models import Bar, UniformLoad, NumericalMicroslip, TwoRegionMicroslip
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> num = NumericalMicroslip(bar, UniformLoad(N=100.0), cells=40)
+    >>> f_s, f_c = num.fourier(1.5e-6)
+    >>> g_s, g_c = TwoRegionMicroslip(bar, UniformLoad(N=100.0)).fourier(1.5e-6)
+    >>> round(float(f_s), 2), round(float(g_s), 2)       # N
+    (52.78, 52.78)
+    >>> float(abs(f_c - g_c)) / (bar.k_star * 1.5e-6) < 1e-4     # error measured in k* a
+    True
     """
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int = 200, *,

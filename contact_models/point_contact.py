@@ -42,7 +42,48 @@ INTERCEPT_RTOL = 1e-12
 
 class PointContact(ContactElement):
     """Point contact of Fig. 16: ``k_s`` (N/m, may be ``math.inf``) in series with
-    ``beta_p`` (N/m, >= 0) parallel to a Jenkins element (``k_p`` N/m, ``slip_force`` N)."""
+    ``beta_p`` (N/m, >= 0) parallel to a Jenkins element (``k_p`` N/m, ``slip_force`` N).
+
+    Usually made by :meth:`fit` from a microslip element.  Frequency independent.
+
+    Parameters
+    ----------
+    k_s : float
+        Series spring between the input and the node (N/m), > 0 or ``math.inf``.
+    beta_p : float
+        Spring from the node to ground (N/m), >= 0.
+    k_p : float
+        Spring of the Jenkins element from the node to ground (N/m), > 0.
+    slip_force : float
+        Slider force of the Jenkins element (N), > 0.
+
+    Raises
+    ------
+    ValueError
+        If a parameter is out of its range, naming it and its value.
+
+    See Also
+    --------
+    Macroslip, TwoRegionMicroslip
+
+    Notes
+    -----
+    One Coulomb slider makes a bilinear Masing loop: stuck stiffness
+    ``K1 = 1/(1/k_s + 1/(beta_p + k_p))``, fully slipping stiffness
+    ``K2 = 1/(1/k_s + 1/beta_p)``, slip at the input amplitude
+    ``slip_force k_s/((k_s + beta_p)(K1 - K2))``.  ``docs/point_contact.md`` derives it.
+
+    References
+    ----------
+    .. [1] Cigeroglu, Lu & Menq (2006), Section 3.4, Fig. 16; Figs. 17-18.
+
+    Examples
+    --------
+    >>> from contact_models import PointContact
+    >>> pc = PointContact(k_s=float("inf"), beta_p=1.0e7, k_p=3.0e7, slip_force=30.0)
+    >>> pc.stuck_stiffness(), pc.slip_stiffness(), pc.slip_amplitude()   # N/m, N/m, m
+    (40000000.0, 10000000.0, 1e-06)
+    """
 
     frequency_dependent = False
 
@@ -82,6 +123,45 @@ class PointContact(ContactElement):
         needs ``(K1 - K2) a_g <= slip_force < K1 a_g`` (equality: ``k_s = inf``), so the
         slider cannot sit at mu N for the uniform bar.  Raises ``ValueError`` naming the
         condition that no all-positive layout can meet.
+
+        Parameters
+        ----------
+        element : ContactElement
+            The element to match, with ``stuck_stiffness``, ``slip_stiffness`` and
+            ``gross_slip_amplitude`` (the microslip elements).
+        omega : float, optional
+            Frequency (rad/s) at which the three are matched, >= 0.  Default 0.
+        k_p : float, optional
+            The fourth condition: the Jenkins spring (N/m).  Default ``bar.k * bar.L``.
+        slip_force : float, optional
+            The fourth condition instead of ``k_p``: the slider force (N).
+
+        Returns
+        -------
+        PointContact
+            The fitted contact; ``stuck_stiffness()``, ``slip_stiffness()`` and
+            ``gross_slip_amplitude()`` equal the element's at ``omega``.
+
+        Raises
+        ------
+        ValueError
+            If no all-positive layout meets the conditions, or ``element`` has no bar for the
+            default ``k_p``; the message names the condition.
+
+        References
+        ----------
+        .. [1] Cigeroglu, Lu & Menq (2006), Section 3.4 (conditions 1-3), Figs. 16-18.
+
+        Examples
+        --------
+        >>> from contact_models import Bar, UniformLoad, TwoRegionMicroslip, PointContact
+        >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+        >>> two = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
+        >>> pc = PointContact.fit(two)
+        >>> pc.stuck_stiffness(), round(pc.slip_stiffness(), 3), pc.gross_slip_amplitude()
+        (40000000.0, 20000000.0, 1.875e-06)
+        >>> round(pc.k_p), round(pc.slip_force, 4)          # k L (N/m); the slider (N), not mu N
+        (40000000, 46.3525)
         """
         omega = nonnegative("omega", omega)
         K1 = float(element.stuck_stiffness(omega))

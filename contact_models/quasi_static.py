@@ -29,6 +29,34 @@ class QuasiStatic(ContactElement):
     """``element`` evaluated at omega = 0 for every omega (no damper inertia).
 
     ``calls`` counts the evaluations of the wrapped element (all at omega = 0).
+
+    Parameters
+    ----------
+    element : ContactElement
+        The element to evaluate quasi-statically.
+
+    Raises
+    ------
+    ValueError
+        If ``element`` is not a :class:`ContactElement`.
+
+    Notes
+    -----
+    A scene whose damper inertia is off wraps its element in this: ``frequency_dependent`` is
+    False, so the balance takes no omega-derivative, and no dynamic coefficient of the bar
+    (alpha, gamma(omega), K*(omega)) is ever evaluated.  Valid while the stuck bar's
+    ``|K*(omega)/k* - 1|`` is small over the sweep (``docs/scenes.md``, effects).
+
+    Examples
+    --------
+    >>> from contact_models import Bar, UniformLoad, TwoRegionMicroslip, QuasiStatic
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> two = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
+    >>> qs = QuasiStatic(two)
+    >>> qs.fourier(1.5e-6, 0.3 * bar.omega_c) == two.fourier(1.5e-6, 0.0)
+    True
+    >>> qs.frequency_dependent, qs.calls
+    (False, 1)
     """
 
     frequency_dependent = False

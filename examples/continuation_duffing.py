@@ -1,4 +1,7 @@
-"""A continuation script to copy: your own residual through ``hbm.continuation`` (example c).
+"""Continuation of your own residual: a Duffing oscillator
+=======================================================
+
+A continuation script to copy: your own residual through ``hbm.continuation`` (example c).
 
 The Duffing oscillator ``m x'' + c x' + k x + k3 x^3 = F cos(omega t)`` in single-harmonic
 balance, ``x = x_c cos(omega t) + x_s sin(omega t)``: the cubic force's first harmonic is
@@ -24,7 +27,7 @@ from scipy.optimize import fsolve  # noqa: E402
 
 from hbm.continuation import continuation  # noqa: E402
 
-DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
+from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 M, C, K, K3, F = 1.0, 0.02, 1.0, 0.5, 0.1  # a lightly damped hardening oscillator
 
 

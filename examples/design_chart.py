@@ -1,4 +1,7 @@
-"""The damper design chart: resonant amplitude of the blade against the damper's normal load,
+"""Design chart: resonant amplitude against normal load
+====================================================
+
+The damper design chart: resonant amplitude of the blade against the damper's normal load,
 for the microslip, point-contact and macroslip models (issue 4, example b).
 
 Blade: the default case of ``python -m hbm`` (stuck resonance at 0.3 omega_c, zeta = 2e-3,
@@ -39,7 +42,7 @@ from hbm.residual import linear_response  # noqa: E402
 
 from contact_models import Macroslip  # noqa: E402
 
-DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
+from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 #: Normal loads (N) of the chart: log-spaced.
 LOADS = tuple(np.geomspace(10.0, 3000.0, 19))
 SMALL_LOADS = (30.0, 100.0, 1000.0)

@@ -1,4 +1,7 @@
-"""Fig. 2 of Cigeroglu et al. (2006): the contact elastic force k u(x) along the fully stuck bar.
+"""Fig. 2: contact force along the stuck bar
+=========================================
+
+Fig. 2 of Cigeroglu et al. (2006): the contact elastic force k u(x) along the fully stuck bar.
 
 A harmonic tip force drives the stuck bar (Eq. 1-2); the contact force is normalised by its
 value at the excited end x = L, so the curves show its shape.  The paper's 1, 1500, 5000 and

@@ -1,4 +1,7 @@
-"""Fig. 3 of Cigeroglu et al. (2006): build-up of the contact elastic force against three
+"""Fig. 3: build-up of the contact force under three loads
+=======================================================
+
+Fig. 3 of Cigeroglu et al. (2006): build-up of the contact elastic force against three
 normal-load distributions, at low frequency (0.01 omega_c).
 
 Solid: the friction limits mu q(x) of a uniform load, a convex (hump) load

@@ -1,4 +1,7 @@
-"""Fig. 6 of Cigeroglu et al. (2006): the stuck length L1/L of the two-region interface over
+"""Fig. 6: stuck length over one cycle, two regions
+================================================
+
+Fig. 6 of Cigeroglu et al. (2006): the stuck length L1/L of the two-region interface over
 one steady cycle x = a sin(theta), at low frequency (0.01 omega_c).
 
 ``TwoRegionMicroslip.stick_slip_history`` gives the boundaries by the Masing rule.  Solid:

@@ -1,4 +1,7 @@
-"""Fig. 7 of Cigeroglu et al. (2006): L1/L (solid) and L2/L (dashed) of the three-region
+"""Fig. 7: region boundaries over one cycle, three regions
+=======================================================
+
+Fig. 7 of Cigeroglu et al. (2006): L1/L (solid) and L2/L (dashed) of the three-region
 interface over one steady cycle, at low frequency (0.01 omega_c).
 
 Amplitude a = 4 a_min (a_min of the two-region element): above the amplitude at which the

@@ -1,4 +1,7 @@
-"""Fig. 8 of Cigeroglu et al. (2006): hysteresis loops of the two-region interface (uniform
+"""Fig. 8: hysteresis loops, two regions
+=====================================
+
+Fig. 8 of Cigeroglu et al. (2006): hysteresis loops of the two-region interface (uniform
 load) at 0.01, 0.2, 0.3 and 0.5 omega_c, amplitude a = 2 a_min (below gross slip, 2.15-2.5
 a_min over these frequencies).
 

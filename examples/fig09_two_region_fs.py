@@ -1,4 +1,7 @@
-"""Fig. 9 of Cigeroglu et al. (2006): normalised stiffness F_s = f_s/(k* a) of the two-region
+"""Fig. 9: stiffness coefficient F_s, two regions
+==============================================
+
+Fig. 9 of Cigeroglu et al. (2006): normalised stiffness F_s = f_s/(k* a) of the two-region
 interface (uniform load) against a/a_min, at 0.01, 0.2, 0.3 and 0.5 omega_c.
 
 One vectorised ``fourier`` call per curve.  Below a_min (dotted vertical) F_s is the stuck

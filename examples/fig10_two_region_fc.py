@@ -1,4 +1,7 @@
-"""Fig. 10 of Cigeroglu et al. (2006): normalised damping F_c = f_c/(k* a) of the two-region
+"""Fig. 10: damping coefficient F_c, two regions
+=============================================
+
+Fig. 10 of Cigeroglu et al. (2006): normalised damping F_c = f_c/(k* a) of the two-region
 interface (uniform load) against a/a_min, at 0.01, 0.2, 0.3 and 0.5 omega_c.
 
 F_c is zero until slip starts at a_min (dotted vertical), rises to a maximum near gross slip

@@ -1,4 +1,7 @@
-"""Fig. 11 of Cigeroglu et al. (2006): hysteresis loops of the three-region interface (concave
+"""Fig. 11: hysteresis loops, three regions
+========================================
+
+Fig. 11 of Cigeroglu et al. (2006): hysteresis loops of the three-region interface (concave
 load, q0/(q0 - q2) = 12) at 0.01, 0.2, 0.3 and 0.5 omega_c, amplitude a = 3 a_min (a_min of
 the two-region element): past the amplitude where the right stuck region vanishes (about
 2.6 a_min), below gross slip (4.9-5.6 a_min).

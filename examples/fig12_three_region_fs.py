@@ -1,4 +1,7 @@
-"""Fig. 12 of Cigeroglu et al. (2006): F_s = f_s/(k* a) of the three-region interface (concave
+"""Fig. 12: stiffness coefficient F_s, three regions
+=================================================
+
+Fig. 12 of Cigeroglu et al. (2006): F_s = f_s/(k* a) of the three-region interface (concave
 load, q0/(q0 - q2) = 12) against a/a_min (a_min of the two-region element), at 0.01, 0.2, 0.3
 and 0.5 omega_c.
 

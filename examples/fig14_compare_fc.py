@@ -1,4 +1,7 @@
-"""Fig. 14 of Cigeroglu et al. (2006): F_c of the two-region (uniform load, solid) and the
+"""Fig. 14: F_c of two regions against three
+=========================================
+
+Fig. 14 of Cigeroglu et al. (2006): F_c of the two-region (uniform load, solid) and the
 three-region (concave load q0/(q0 - q2) = 12, dashed) interfaces at 0.3 omega_c, same total
 normal load N = 100 N, amplitudes over a_min of the two-region element.
 

@@ -1,4 +1,7 @@
-"""Fig. 15 of Cigeroglu et al. (2006): F_s of the two-region (uniform load, solid) and the
+"""Fig. 15: F_s of two regions against three
+=========================================
+
+Fig. 15 of Cigeroglu et al. (2006): F_s of the two-region (uniform load, solid) and the
 three-region (concave load q0/(q0 - q2) = 12, dashed) interfaces at 0.3 omega_c, same total
 normal load, amplitudes over a_min of the two-region element (axis from 0.2 a_min; dotted
 verticals mark both slip onsets).

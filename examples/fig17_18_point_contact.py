@@ -1,4 +1,7 @@
-"""Figs. 17 and 18 of Cigeroglu et al. (2006): F_s and F_c of the two-region microslip bar
+"""Figs. 17-18: microslip bar against its point contact
+====================================================
+
+Figs. 17 and 18 of Cigeroglu et al. (2006): F_s and F_c of the two-region microslip bar
 against those of its equivalent point contact (Section 3.4, Fig. 16).
 
 The point contact is ``PointContact.fit(two)``: equal stuck stiffness, fully-slipping stiffness

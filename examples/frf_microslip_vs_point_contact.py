@@ -1,4 +1,7 @@
-"""FRFs of the blade with a two-region microslip damper and with its fitted point contact,
+"""FRF: microslip damper against its point contact
+===============================================
+
+FRFs of the blade with a two-region microslip damper and with its fitted point contact,
 at several normal loads, on one figure (issue 4, example a).
 
 The blade is the default case of ``python -m hbm`` (``hbm.cases.default_case``: stuck resonance
@@ -29,7 +32,7 @@ from hbm import frequency_response  # noqa: E402
 from hbm.cases import default_case  # noqa: E402
 from hbm.residual import linear_response  # noqa: E402
 
-DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
+from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 #: Normal loads (N) drawn.
 LOADS = (50.0, 100.0, 200.0, 400.0)
 

@@ -1,4 +1,7 @@
-"""Figs. 17-18 for the three-region element: F_s and F_c of the concave-load microslip bar
+"""Point contact fitted to the three-region bar
+============================================
+
+Figs. 17-18 for the three-region element: F_s and F_c of the concave-load microslip bar
 (``QuadraticLoad.from_ratio(N=100, ratio=12)``) against its fitted point contact.
 
 Same comparison as ``fig17_18_point_contact.py``, omega = 0, amplitudes normalised by a_min of

@@ -1,4 +1,7 @@
-"""Convergence of ``NumericalMicroslip`` in the cell size and the time step (docs/validation.md).
+"""Validation: convergence of the numerical bar
+============================================
+
+Convergence of ``NumericalMicroslip`` in the cell size and the time step (docs/validation.md).
 
 Quasi-static (omega = 0): errors against the analytic elements, which are exact there, for
 n = 50 ... 1600 cells (4096 steps per cycle, so the theta quadrature does not interfere), and
@@ -7,7 +10,16 @@ F_s, F_c as n doubles at 1024 steps per cycle, and as the steps per cycle double
 Observed rates are log2 of successive ratios.  Writes ``validation_convergence.png``.
 
     python examples/validation_convergence.py          # the full study (a few minutes)
+
+.. note::
+   Not run when the site is built (a few minutes): the figure is the one a committed run wrote,
+   ``docs/figures/validation_convergence.png``; running this script regenerates it.
+
+.. image:: /figures/validation_convergence.png
+   :alt: Validation: convergence of the numerical bar
 """
+
+# sphinx_gallery_thumbnail_path = "figures/validation_convergence.png"
 
 from __future__ import annotations
 

@@ -1,10 +1,13 @@
-"""Fig. 19 of Cigeroglu et al. (2006): the stuck length L1/L over one steady cycle, analytic
+"""Fig. 19: stuck length, analytic against numerical
+=================================================
+
+Fig. 19 of Cigeroglu et al. (2006): the stuck length L1/L over one steady cycle, analytic
 (single-mode, line) against the full numerical solution (``NumericalMicroslip``, points).
 
 Left: the paper's figure, two-region (uniform) interface at low frequency (0.01 omega_c),
 a = 2 a_min.  Middle: the three-region (ratio-12 concave) interface, L1 and L2, a = 3 a_min.
 Right: the two-region interface at 0.5 omega_c, where the single-mode solution departs.
-Writes ``validation_fig19.png``; returns the largest |L1_numerical - L1_analytic| / L per panel
+Writes ``validation_fig19.png``; returns the largest ``|L1_numerical - L1_analytic| / L`` per panel
 (over the part of the cycle where the analytic slip zone is longer than two cells).
 """
 

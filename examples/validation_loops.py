@@ -1,4 +1,7 @@
-"""Hysteresis loops of the single-mode analytic element (Masing loop of its loading curve)
+"""Validation: hysteresis loops against the numerical bar
+======================================================
+
+Hysteresis loops of the single-mode analytic element (Masing loop of its loading curve)
 against the full numerical solution, uniform load, at 0.01 and 0.5 omega_c (docs/validation.md).
 
 At low frequency the two coincide; at 0.5 omega_c the numerical loop is no longer a Masing

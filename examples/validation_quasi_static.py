@@ -1,4 +1,7 @@
-"""Issue 2's independent check: the quasi-static discretised bar against the analytic elements.
+"""Validation: the quasi-static bar against the analytic elements
+==============================================================
+
+Issue 2's independent check: the quasi-static discretised bar against the analytic elements.
 
 At omega = 0 the single-mode solution of the paper is exact (no inertia, no phase), so the
 difference between ``NumericalMicroslip`` (n cells, Jenkins element per node, exact return
@@ -60,7 +63,7 @@ def table(rows) -> str:
 
 
 if __name__ == "__main__":
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser = argparse.ArgumentParser(description=(__doc__ or "").partition("\n")[0])
     parser.add_argument("--cells", type=int, default=400)
     args = parser.parse_args()
     t0 = time.perf_counter()

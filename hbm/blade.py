@@ -15,7 +15,40 @@ from ._validation import nonnegative, positive
 @dataclass(frozen=True)
 class Blade:
     """Blade of mass ``mass`` (kg), stiffness ``stiffness`` (N/m), viscous damping
-    ``damping`` (N s/m), excited by ``force * cos(omega t)`` (force amplitude in N)."""
+    ``damping`` (N s/m), excited by ``force * cos(omega t)`` (force amplitude in N).
+
+    The single-degree-of-freedom oscillator ``m x'' + c x' + k x + f_d(x) = F cos(omega t)``,
+    ``f_d`` the force of the damper whose excited end moves with the blade.
+
+    Parameters
+    ----------
+    mass : float
+        Modal mass m (kg), > 0.
+    stiffness : float
+        Stiffness k (N/m), >= 0.
+    damping : float
+        Viscous damping c (N s/m), >= 0.
+    force : float
+        Force amplitude F (N), > 0.
+
+    Raises
+    ------
+    ValueError
+        If a parameter is out of its range or not finite, naming it and its value.
+
+    See Also
+    --------
+    frequency_response : the FRF of the blade with a damper.
+
+    Examples
+    --------
+    >>> from hbm import Blade
+    >>> blade = Blade.from_modal(frequency=1000.0, damping_ratio=0.01, mass=2.0, force=1.0)
+    >>> blade.stiffness, blade.damping                 # m w^2 (N/m), 2 zeta m w (N s/m)
+    (2000000.0, 40.0)
+    >>> blade.natural_frequency, round(blade.damping_ratio, 12)
+    (1000.0, 0.01)
+    """
 
     mass: float
     stiffness: float

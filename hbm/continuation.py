@@ -43,7 +43,7 @@ from contact_models._roots import brentq  # scipy's algorithm without importing 
 NEWTON_MAX_ITER = 8
 #: Corrector iterations the step-size control aims at.
 NEWTON_TARGET = 3.0
-#: Largest accepted ratio ``|R_{k+1}| / |R_k|`` from the second Newton update on (|.| Euclidean).
+#: Largest accepted ratio ``|R_{k+1}| / |R_k|`` from the second Newton update on (``|.|`` Euclidean).
 MAX_CONTRACTION = 0.5
 #: Target angle (rad) between successive tangents (curvature control).
 MAX_TURN = 0.12
@@ -142,7 +142,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     ``max_steps`` accepted steps, or when the step falls below ``min_step``.  ``tol`` bounds
     ``|R|`` (Euclidean) at every returned point.  ``scale(y)``: optional positive weights (see module).
     Folds are located to ``fold_xtol`` (relative arclength) when ``locate_folds``.
-    ``on_point(y, residual_norm)``: called with each point and its |R| as soon as it is accepted,
+    ``on_point(y, residual_norm)``: called with each point and its ``|R|`` as soon as it is accepted,
     in order (streaming).
     """
     y0 = np.array(y0, dtype=float).ravel()

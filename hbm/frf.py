@@ -33,7 +33,15 @@ PEAK_XTOL_FACTOR = 1e-3
 
 
 class Peak(NamedTuple):
-    """The largest first-harmonic amplitude on the branch and its frequency."""
+    """The largest first-harmonic amplitude on the branch and its frequency.
+
+    Attributes
+    ----------
+    omega : float
+        Frequency (rad/s).
+    amplitude : float
+        First-harmonic amplitude (m).
+    """
 
     omega: float
     amplitude: float
@@ -54,10 +62,38 @@ class FrequencyResponse:
 
     ``omega`` (rad/s), ``amplitude`` (m, first harmonic), ``phase`` (rad, lag of the displacement
     behind the force, ``x = a cos(omega t - phase)``), ``x_c``, ``x_s``, ``residual_norm``
-    (|R|/F at each point, R = (R_c, R_s)), ``folds_omega``/``folds_amplitude`` (located turning points),
+    (``|R|/F`` at each point, R = (R_c, R_s)), ``folds_omega``/``folds_amplitude`` (located turning points),
     ``success``, ``status``, ``message``, counters ``nsteps`` (accepted steps), ``nit`` (Newton
     iterations), ``nfev`` (element evaluations), ``nstuck`` (evaluations answered by the
     stuck stiffness); the counters include the work of :meth:`peak` once it has been called.
+
+    Made by :func:`frequency_response`, not by hand.
+
+    Attributes
+    ----------
+    omega, amplitude, phase, x_c, x_s, residual_norm : ndarray
+        One value per point along the branch (rad/s, m, rad, m, m, dimensionless).
+    folds_omega, folds_amplitude : ndarray
+        The located turning points of the branch (rad/s, m).
+    success : bool
+        Whether the branch reached the end of ``omega_range``.
+    status, message
+        How the continuation ended, as a code and in words; on failure the points computed
+        before are kept.
+    nsteps, nit, nfev, nstuck : int
+        Accepted steps, Newton iterations, element evaluations, stuck evaluations.
+
+    Examples
+    --------
+    >>> from hbm import Blade, frequency_response
+    >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
+    ...                          omega_range=(90.0, 110.0))
+    >>> frf.success, len(frf.omega) == len(frf.amplitude) > 100
+    (True, True)
+    >>> float(frf.residual_norm.max()) < 1e-6              # |R|/F at every point
+    True
+    >>> round(float(frf.amplitude.max()), 6)           # largest sampled point, m (peak() refines it)
+    0.005
     """
 
     def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
@@ -120,6 +156,29 @@ class FrequencyResponse:
         chord and the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a
         fresh omega-derivative) is found by Brent's method; every trial point is a converged
         Newton point.  A maximum at an end of the branch is returned as sampled.
+
+        Returns
+        -------
+        Peak
+            ``(omega, amplitude)`` in rad/s and m; cached after the first call.
+
+        Raises
+        ------
+        ValueError
+            If the response has no points.
+
+        Examples
+        --------
+        The default case of ``python -m hbm``: the damper is in microslip at resonance, the
+        peak at about twice its slip amplitude a_min = 7.5e-7 m.
+
+        >>> from hbm import frequency_response
+        >>> from hbm.cases import default_case
+        >>> case = default_case()
+        >>> frf = frequency_response(case.blade, case.element, omega_range=case.omega_range)
+        >>> pk = frf.peak()
+        >>> round(pk.omega, -1), round(pk.amplitude / 7.5e-7, 2)     # rad/s, a/a_min
+        (38770.0, 2.02)
         """
         if self._peak is not None:
             return self._peak
@@ -159,11 +218,63 @@ class FrequencyResponse:
     # ------------------------------------------------------------------ output
     def to_csv(self, path: str | Path) -> Path:
         """Write the points as ``hbm.output.FRF_COLUMNS`` (omega, amplitude, phase, x_c, x_s,
-        residual, units in the header); returns the path."""
+        residual, units in the header); returns the path.
+
+        Parameters
+        ----------
+        path : str or Path
+            The CSV file to write.
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> from hbm import Blade, frequency_response
+        >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
+        ...                          omega_range=(90.0, 110.0))
+        >>> path = frf.to_csv(pathlib.Path(tempfile.mkdtemp()) / "frf.csv")
+        >>> lines = path.read_text().splitlines()
+        >>> lines[0].split(",")[:2], len(lines) == len(frf.omega) + 1
+        (['omega_rad_s', 'amplitude_m'], True)
+        >>> float(lines[1].split(",")[0]), float(lines[-1].split(",")[0])   # omega_range, rad/s
+        (90.0, 110.0)
+        """
         return write_frf_csv(path, self)
 
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
-        """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax."""
+        """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw; default a new figure.
+        label : str, optional
+            Legend label of the curve.
+        peak : bool, optional
+            Mark the peak (:meth:`peak`) with a dot.  Default True.
+        **kwargs
+            Passed to ``ax.plot`` (colour, line style).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The axes drawn on.
+
+        Examples
+        --------
+        >>> import matplotlib
+        >>> matplotlib.use("Agg")
+        >>> from hbm import Blade, frequency_response
+        >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
+        ...                          omega_range=(90.0, 110.0))
+        >>> ax = frf.plot(label="bare blade")
+        >>> ax.get_ylabel(), len(ax.lines)                 # the curve and its peak
+        ('amplitude (m)', 2)
+        """
         if ax is None:
             import matplotlib.pyplot as plt  # only when plotting on a new figure
 
@@ -189,11 +300,87 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
     ``rtol``: relative accuracy; the element is evaluated to ``rtol`` and every point solves
     the balance to ``|R|/F <= NEWTON_TOL_FACTOR * rtol``.  ``max_step``/``min_step``: step
     limits in scaled arclength (module docstring); ``max_steps``: step budget.
-    ``on_point(omega, x_c, x_s, residual)``: called with each accepted point and its |R|/F as soon
+    ``on_point(omega, x_c, x_s, residual)``: called with each accepted point and its ``|R|/F`` as soon
     as it is accepted, in continuation order (the same points as the result's), so a caller can
     stream them.
     ``accuracy``: "fast", "default", "precise" or an rtol; sets rtol, max_step, min_step and
     max_steps together (``hbm.presets``; not combined with them).
+
+    Parameters
+    ----------
+    blade : Blade
+        The blade (mass, stiffness, damping, force).
+    element : ContactElement or None, optional
+        The damper at the blade's tip (any ``contact_models`` element); None for the bare blade.
+    omega_range : tuple of float
+        ``(w0, w1)`` in rad/s, >= 0 and different; traced from w0 to w1 (either way).
+    rtol : float, optional
+        Relative accuracy, in (0, 0.1).  Default 1e-6.
+    max_step, min_step : float, optional
+        Largest and smallest continuation step in scaled arclength.  Defaults 0.03, 1e-9.
+    max_steps : int, optional
+        Step budget.  Default 5000.
+    locate_folds : bool, optional
+        Locate the turning points of the branch.  Default True.
+    on_point : callable, optional
+        ``on_point(omega, x_c, x_s, residual)`` for each accepted point, as it is accepted.
+    accuracy : {"fast", "default", "precise"} or float, optional
+        A preset of ``hbm.presets`` instead of ``rtol`` and the step settings.
+
+    Returns
+    -------
+    FrequencyResponse
+        The branch, with ``success`` and ``message``; a run that stops early keeps the points it
+        computed.
+
+    Raises
+    ------
+    ValueError
+        If ``blade`` is not a :class:`Blade`, ``element`` has no ``fourier``, ``omega_range`` is
+        missing or invalid, or an option is out of range; the message names it and its value.
+
+    See Also
+    --------
+    response_at : the balance at one frequency.
+    simulate_blade : the blade and the discretised bar integrated in time, the independent check.
+
+    Notes
+    -----
+    Single-harmonic balance: with ``x = x_c cos(omega t) + x_s sin(omega t)``,
+    ``a = sqrt(x_c^2 + x_s^2)`` and the element's ``p = f_s/a``, ``q = f_c/a``,
+
+    .. math::
+
+        (k - m\\omega^2 + p + i(c\\omega + q))\\,(x_c - i x_s) = F,
+
+    two real equations in ``y = (x_c, x_s, omega)``, traced by pseudo-arclength continuation
+    through folds; each point solves it to ``|R|/F <= NEWTON_TOL_FACTOR * rtol``.
+    ``docs/hbm.md`` derives the Jacobian and the step control.
+
+    Examples
+    --------
+    The bare blade against its closed form ``F/(c omega)`` at resonance:
+
+    >>> from hbm import Blade, frequency_response
+    >>> blade = Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0)
+    >>> frf = frequency_response(blade, omega_range=(90.0, 110.0))
+    >>> pk = frf.peak()
+    >>> import math
+    >>> abs(pk.omega / math.sqrt(1.0e4 - 2.0) - 1.0) < 1e-7          # sqrt(k/m - c^2/(2 m^2))
+    True
+    >>> round(pk.amplitude / (1.0 / (2.0 * math.sqrt(1.0e4 - 1.0))), 6)  # F/(c sqrt(k/m - c^2/(4 m^2)))
+    1.0
+
+    With the two-region microslip damper (the default case of ``python -m hbm``):
+
+    >>> from contact_models import Bar, UniformLoad, TwoRegionMicroslip
+    >>> from hbm import Blade, frequency_response
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> two = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
+    >>> blade = Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0)
+    >>> frf = frequency_response(blade, two, omega_range=(3.2e4, 4.4e4))
+    >>> frf.success, round(frf.peak().amplitude, 9)    # m
+    (True, 1.512e-06)
     """
     if not isinstance(blade, Blade):
         raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
@@ -256,6 +443,43 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     relative tolerance on a.  For any contact element, including ``NumericalMicroslip``, whose
     f_s, f_c carry no derivatives: the check of a time integration at a few frequencies
     (``docs/validation.md``), where a continuation would cost too much.
+
+    Parameters
+    ----------
+    blade : Blade
+        The blade.
+    element : ContactElement
+        The damper.
+    omega : float
+        Frequency (rad/s), >= 0.
+    amplitude_bracket : tuple of float
+        ``(a_lo, a_hi)`` (m), 0 < a_lo < a_hi, bracketing one solution.
+    rtol : float, optional
+        Relative tolerance on the amplitude, passed to the element too.  Default 1e-8.
+
+    Returns
+    -------
+    Response
+        ``(omega, x_c, x_s, amplitude, phase)`` in rad/s, m, m, m, rad.
+
+    Raises
+    ------
+    ValueError
+        If an argument is invalid, or the bracket does not change sign (no solution, or an
+        even number of them, in it); the message gives the values at its ends.
+
+    See Also
+    --------
+    frequency_response
+
+    Examples
+    --------
+    >>> from hbm import response_at
+    >>> from hbm.cases import default_case
+    >>> case = default_case()                          # the blade and damper of python -m hbm
+    >>> r = response_at(case.blade, case.element, 38000.0, (1.0e-7, 1.0e-5))
+    >>> round(r.amplitude, 10), round(r.phase, 3)      # m, rad
+    (7.371e-07, 0.041)
     """
     from scipy.optimize import brentq
 

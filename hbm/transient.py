@@ -114,6 +114,61 @@ def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, st
 
     ``damper`` is a ``NumericalMicroslip`` (its ``cells`` and ``rho_inf`` are used; its own
     run settings are not).  See the module docstring for the scheme and the criterion.
+
+    Parameters
+    ----------
+    blade : Blade
+        The blade; its force ``F cos(omega t)`` drives the system.
+    damper : contact_models.NumericalMicroslip
+        The discretised bar, whose driven end x = L moves with the blade.
+    omega : float
+        Excitation frequency (rad/s), > 0.
+    steps_per_cycle : int, optional
+        Time steps per cycle, a multiple of 4, >= 8.  Default 256.
+    steady_tol : float, optional
+        The run stops at the first cycle whose blade displacement differs from the previous
+        cycle's by at most ``steady_tol`` times its peak.  Default 1e-6.
+    max_cycles : int, optional
+        Cycle budget, >= 2.  Default 1000.
+    ramp_cycles : int, optional
+        Cycles over which the force is raised from 0 (a quintic smooth step), >= 0.  Default 2.
+
+    Returns
+    -------
+    BladeSimulation
+        The last cycle: ``x``, ``f``, its first harmonic ``x_c``, ``x_s`` and ``amplitude``,
+        ``converged`` and ``message``; a run out of cycles keeps its last cycle.
+
+    Raises
+    ------
+    ValueError
+        If ``blade`` or ``damper`` has the wrong type or an option is out of range, naming it.
+
+    See Also
+    --------
+    response_at : the harmonic balance at the same frequency, which this run checks.
+
+    Notes
+    -----
+    ``m x'' + c x' + k x + f_d = F cos(omega t)`` with the bar of Eq. 30 (every mode) as
+    ``f_d``, integrated from rest by generalized-alpha with the exact return map of every
+    Jenkins element of the bar; no harmonic truncation, no single-mode assumption.
+    ``docs/validation.md`` compares it with the FRF near resonance.
+
+    Examples
+    --------
+    Below slip (a well-damped blade, 30000 rad/s) the run agrees with the harmonic balance of
+    the single-mode element to the discretisation error of a 20-cell bar:
+
+    >>> from contact_models import Bar, UniformLoad, NumericalMicroslip, TwoRegionMicroslip
+    >>> from hbm import Blade, response_at, simulate_blade
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> blade = Blade.from_modal(frequency=33765.0, damping_ratio=0.05, mass=0.0877, force=8.0)
+    >>> run = simulate_blade(blade, NumericalMicroslip(bar, UniformLoad(N=100.0), cells=20),
+    ...                      30000.0, steps_per_cycle=64)
+    >>> hb = response_at(blade, TwoRegionMicroslip(bar, UniformLoad(N=100.0)), 30000.0, (1e-9, 1e-5))
+    >>> run.converged, round(run.amplitude / hb.amplitude, 2)
+    (True, 1.0)
     """
     if not isinstance(blade, Blade):
         raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")

@@ -61,6 +61,16 @@ def show(v: Any) -> str:
 
 def number(*, gt: float | None = None, ge: float | None = None, lt: float | None = None, unit: str = "",
            allow_inf: bool = False) -> Callable[[Any], float]:
+    """A check of a number with optional bounds ``gt``, ``ge``, ``lt`` (``unit`` is shown in messages).
+
+    The check returns the value as a float and raises :class:`Invalid` saying what is allowed.
+
+    Examples
+    --------
+    >>> from hbm.scenes import number
+    >>> number(gt=0, unit="N")(8)
+    8.0
+    """
     parts = [p for p in (f"> {gt:g}" if gt is not None else None, f">= {ge:g}" if ge is not None else None,
                          f"< {lt:g}" if lt is not None else None) if p]
     what = "a number" + (" " + " and ".join(parts) if parts else "") + (f" ({unit})" if unit else "")
@@ -83,6 +93,8 @@ def number(*, gt: float | None = None, ge: float | None = None, lt: float | None
 
 
 def integer(minimum: int) -> Callable[[Any], int]:
+    """A check of an integer >= ``minimum`` (booleans refused); raises :class:`Invalid`."""
+
     def check(v: Any) -> Any:
         if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
             raise Invalid(f"must be an integer >= {minimum}")
@@ -92,18 +104,21 @@ def integer(minimum: int) -> Callable[[Any], int]:
 
 
 def boolean(v: Any) -> bool:
+    """Check of a TOML boolean: returns ``v``, or raises :class:`Invalid` for anything else."""
     if not isinstance(v, bool):
         raise Invalid("must be true or false")
     return v
 
 
 def text(v: Any) -> str:
+    """Check of a string: returns ``v``, or raises :class:`Invalid` for anything else."""
     if not isinstance(v, str):
         raise Invalid("must be a string")
     return v
 
 
 def choice(*names: str) -> Callable[[Any], str]:
+    """A check that the value is one of ``names``; the message suggests the closest name."""
     allowed = ", ".join(json.dumps(n) for n in names)
 
     def check(v: Any) -> Any:
@@ -139,6 +154,11 @@ def one_or_list(item: Callable[[Any], Any], what: str) -> Callable[[Any], tuple]
 
 def number_list(item: Callable[[Any], float], *, length: int | None = None,
                 minimum: int = 1) -> Callable[[Any], tuple]:
+    """A check of a list of numbers, each passing ``item`` (``length`` exactly, or ``minimum`` at least).
+
+    The check returns a tuple of floats and raises :class:`Invalid` saying what is allowed.
+    """
+
     def check(v: Any) -> Any:
         if not isinstance(v, list) or (length is not None and len(v) != length) or len(v) < minimum:
             n = f"{length}" if length is not None else f"at least {minimum}"

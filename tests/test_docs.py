@@ -1,0 +1,192 @@
+"""The documentation site: the API reference covers every public name, the gallery and the pages
+are complete, and the main entry points carry numpydoc sections with examples.
+
+The site itself is built by ``.ci/run`` (``sphinx -W -n``), which then sets
+``FRICTIONDAMP_DOCS_HTML`` so that :func:`test_built_inventory_names_every_public_name` reads the
+built ``objects.inv``; without it that test is skipped (a stale local build would mislead).
+"""
+
+import importlib
+import inspect
+import os
+import re
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = ROOT / "docs"
+sys.path.insert(0, str(DOCS / "_ext"))
+
+import frictiondamp_docs as fd  # noqa: E402
+
+#: The packages whose ``__all__`` the reference documents (the issue names the first two).
+PACKAGES = ("contact_models", "hbm", "hbm.scenes")
+
+#: The main entry points: each docstring has these numpydoc sections.
+ENTRY_POINTS = {
+    "hbm.frequency_response": ("Parameters", "Returns", "Raises", "Examples"),
+    "hbm.response_at": ("Parameters", "Returns", "Raises", "Examples"),
+    "hbm.simulate_blade": ("Parameters", "Returns", "Raises", "Examples"),
+    "hbm.Blade": ("Parameters", "Raises", "Examples"),
+    "hbm.FrequencyResponse": ("Attributes", "Examples"),
+    "hbm.FrequencyResponse.peak": ("Returns", "Raises", "Examples"),
+    "hbm.FrequencyResponse.to_csv": ("Parameters", "Returns", "Examples"),
+    "hbm.FrequencyResponse.plot": ("Parameters", "Returns", "Examples"),
+    "contact_models.Bar": ("Parameters", "Raises", "Examples"),
+    "contact_models.UniformLoad": ("Parameters", "Raises", "Examples"),
+    "contact_models.QuadraticLoad": ("Parameters", "Raises", "Examples"),
+    "contact_models.TwoRegionMicroslip": ("Parameters", "Raises", "References", "Examples"),
+    "contact_models.ThreeRegionMicroslip": ("Parameters", "Raises", "References", "Examples"),
+    "contact_models.Macroslip": ("Parameters", "Raises", "Examples"),
+    "contact_models.PointContact": ("Parameters", "Raises", "Examples"),
+    "contact_models.PointContact.fit": ("Parameters", "Returns", "Raises", "Examples"),
+    "contact_models.NumericalMicroslip": ("Parameters", "Raises", "Examples"),
+    "contact_models.QuasiStatic": ("Parameters", "Raises", "Examples"),
+    "contact_models.ContactElement": ("Examples",),
+    "contact_models.ContactElement.fourier": ("Parameters", "Returns", "Raises", "Examples"),
+}
+
+
+def _resolve(qualified):
+    parts = qualified.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:i]))
+        except ImportError:
+            continue
+        for name in parts[i:]:
+            obj = getattr(obj, name)
+        return obj
+    raise ImportError(qualified)
+
+
+def _directives(text):
+    """``{target}`` of every autodoc directive / table entry of a generated reST page."""
+    found = set(re.findall(r"^\.\. (?:auto(?:class|function|data|module)|py:data):: (\S+)", text, re.MULTILINE))
+    for qualified in re.findall(r":(?:class|func|mod):`~(\S+?)`", text):  # the package page's tables
+        found |= {qualified, qualified.rsplit(".", 1)[1]}
+    return found
+
+
+def test_api_pages_name_every_public_name(tmp_path):
+    pytest.importorskip("sphinx", reason="the docs extra (pip install -e '.[docs]'); .ci/run installs it")
+    documented = fd.write_api_pages(tmp_path, PACKAGES)
+    for package in PACKAGES:
+        module = importlib.import_module(package)
+        assert documented[package] == [f"{package}.{n}" for n in module.__all__]
+        page = (tmp_path / f"{package}.rst").read_text()
+        entries = _directives(page)
+        for name in module.__all__:
+            obj = getattr(module, name)
+            assert name in entries, f"{package}.{name} is missing from the page of {package}"
+            if inspect.isclass(obj) or inspect.isroutine(obj) or inspect.ismodule(obj):
+                own = tmp_path / f"{package}.{name}.rst"
+                if not (inspect.ismodule(obj) and obj.__name__ in PACKAGES):
+                    assert own.exists(), f"no page for {package}.{name}"
+                    text = own.read_text()
+                    assert name in _directives(text) or f"{package}.{name}" in _directives(text)
+
+
+def test_every_public_class_and_function_has_a_docstring():
+    for package in PACKAGES:
+        module = importlib.import_module(package)
+        for name in module.__all__:
+            obj = getattr(module, name)
+            if inspect.isclass(obj) or inspect.isroutine(obj) or inspect.ismodule(obj):
+                doc = inspect.getdoc(obj) or ""
+                assert len(doc.split()) >= 3, f"{package}.{name} has no docstring"
+
+
+@pytest.mark.parametrize("qualified", sorted(ENTRY_POINTS))
+def test_entry_points_have_numpydoc_sections(qualified):
+    doc = inspect.getdoc(_resolve(qualified)) or ""
+    for section in ENTRY_POINTS[qualified]:
+        assert re.search(rf"^{section}\n-{{{len(section)}}}$", doc, re.MULTILINE), f"{qualified}: no {section}"
+    if "Examples" in ENTRY_POINTS[qualified]:
+        examples = doc.split("Examples\n--------", 1)[1]
+        assert ">>> " in examples and re.search(r"^\s*[^>.\s].*\d", examples, re.MULTILINE), \
+            f"{qualified}: the example asserts no number"
+
+
+def test_built_inventory_names_every_public_name():
+    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
+    if not html:
+        pytest.skip("set FRICTIONDAMP_DOCS_HTML to a built site (.ci/run does) to check its inventory")
+    from sphinx.util.inventory import InventoryFile
+
+    path = Path(html)
+    path = path if path.is_absolute() else ROOT / path
+    with open(path / "objects.inv", "rb") as f:
+        inventory = InventoryFile.load(f, str(path), lambda base, uri: uri)
+    data = inventory.data if hasattr(inventory, "data") else inventory
+    names = {name for kind, entries in data.items() if kind.startswith("py:") for name in entries}
+    missing = [f"{p}.{n}" for p in PACKAGES for n in importlib.import_module(p).__all__
+               if f"{p}.{n}" not in names]
+    assert not missing, f"public names not in the built reference: {missing}"
+    # the main entry points and their methods are documented objects of the site too
+    for qualified in ENTRY_POINTS:
+        assert qualified in names, qualified
+
+
+def test_gallery_has_a_dozen_pages_with_figures_and_long_ones_show_a_committed_figure():
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    assert len(executed) + len(shown) >= 12
+    for name in shown:
+        header = fd.example_header(ROOT / "examples" / name)
+        for figure in re.findall(r"^\s*\.\. image:: /(figures/\S+)", header, re.MULTILINE):
+            assert (DOCS / figure).is_file(), f"{name} shows {figure}, which is not committed"
+    # helpers without a title are left out, and are not gallery pages
+    assert "paper_figures.py" not in executed + shown and "validation_common.py" not in executed + shown
+    # the long scripts are not run at build time
+    assert {"validation_blade.py", "validation_dynamic.py", "validation_convergence.py"} <= set(shown)
+    filename_pattern, ignore_pattern = fd.gallery_patterns(ROOT / "examples")
+    assert re.search(filename_pattern, "/x/examples/fig09_two_region_fs.py")
+    assert not re.search(filename_pattern, "/x/examples/validation_blade.py")
+    assert re.search(ignore_pattern, "/x/examples/paper_figures.py")
+    assert not re.search(ignore_pattern, "/x/examples/fig09_two_region_fs.py")
+
+
+def test_scene_keys_page_lists_every_key(tmp_path):
+    from hbm.scenes import all_keys
+
+    count = fd.write_scene_keys(tmp_path / "keys.md")
+    text = (tmp_path / "keys.md").read_text()
+    keys = list(all_keys())
+    assert count == len(keys) and count > 20
+    for key in keys:
+        assert f"| `{key}` |" in text, key
+
+
+def test_every_markdown_page_is_in_the_site(tmp_path):
+    pages = fd.write_guides_toctree(DOCS, tmp_path / "toctree.md")
+    own = set(fd.OWN_PLACE)
+    for md in DOCS.glob("*.md"):
+        assert md.stem in pages or md.stem in own, md.name
+    assert pages.index("theory") < pages.index("validation")
+    index = (DOCS / "index.md").read_text()
+    for name in ("getting_started", "changelog", "auto_examples/index", "generated/api/index",
+                 "generated/guides_toctree.md"):
+        assert name in index
+
+
+def test_getting_started_scripts_run_and_print_what_the_page_says(tmp_path, monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    text = (DOCS / "getting_started.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", text, re.S)
+    assert len(blocks) == 2
+    monkeypatch.chdir(tmp_path)  # the page writes frf.csv in the current folder
+    namespace = {}
+    for block in blocks:
+        exec(compile(block, "getting_started.md", "exec"), namespace)
+    # the numbers the page states in its comments
+    assert namespace["a_min"] == pytest.approx(7.5e-7, rel=1e-12)  # mu N/(k L)
+    assert (namespace["f_s"], namespace["f_c"]) == pytest.approx((47.65, 7.22), abs=0.005)
+    peak = namespace["frf"].peak()
+    assert (peak.omega, peak.amplitude) == pytest.approx((38773.5, 1.5119e-6), rel=5e-5)
+    other = namespace["pc"].peak()
+    assert (other.omega, other.amplitude) == pytest.approx((39697.0, 2.195e-6), rel=5e-4)
+    assert (tmp_path / "frf.csv").is_file()
