@@ -208,10 +208,6 @@ class _MicroslipBar(ContactElement):
         return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
 
     def _fourier_derivatives(self, a, omega, rtol):
-        fs = np.empty_like(a)
-        fc = np.empty_like(a)
-        dfs = np.empty_like(a)
-        dfc = np.empty_like(a)
         if omega.size == 1 or (omega.size > 1 and np.all(omega == omega[0])):  # one frequency (the solver's call)
             w = float(omega[0])
             a_max = float(a[0]) if a.size == 1 else float(np.max(a))
@@ -222,6 +218,7 @@ class _MicroslipBar(ContactElement):
             if a.size == 1:  # the solver's call: one amplitude, in floats
                 return tuple(np.full_like(a, v) for v in _fourier_one(self._lazy_path(w).upto(a_max), a_max, rtol))
             return _fourier_one_omega(self._lazy_path(w).upto(float(np.max(a))), a, rtol)
+        fs, fc, dfs, dfc = (np.empty_like(a) for _ in range(4))
         for w in np.unique(omega):
             sel = omega == w
             r = _fourier_one_omega(self._path(float(w)), a[sel], rtol)
