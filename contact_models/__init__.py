@@ -6,6 +6,7 @@ See ``contact_models.base.ContactElement`` for the interface.
 from ._version import __version__
 from .bar import Bar
 from .base import ContactElement
+from .cubic import CubicSpring
 from .loads import QuadraticLoad, UniformLoad
 from .macroslip import Macroslip
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
@@ -14,4 +15,5 @@ from .point_contact import PointContact
 from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
-           "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic"]
+           "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
+           "CubicSpring"]
