@@ -45,7 +45,7 @@ def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable
     """
     n = x.size
     m0 = int(np.argmax(x))
-    xr = np.roll(x, -m0)  # sample 0 is the global maximum
+    xr = np.concatenate((x[m0:], x[:m0]))  # sample 0 is the global maximum
     im = int(np.argmin(xr))
     xM, xm = float(xr[0]), float(xr[im])
     half, xc = 0.5 * (xM - xm), 0.5 * (xM + xm)
@@ -112,7 +112,9 @@ def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable
     rows[0, pos[im]] += 0.5 * (k_inf - Sa)
     rows[n, pos[0]] += 0.5 * (k_inf - Sa)
     rows[n, pos[im]] += 0.5 * (k_inf + Sa)
-    col_of = np.array([pos.get(int(o), -1) if o < n else pos[im] for o in range(n + 1)])
+    col_of = np.full(n + 1, -1, dtype=np.intp)
+    col_of[idx] = np.arange(idx.size)
+    col_of[n] = pos[im]
     for r in rev:
         o = origin[r]
         rows[r] = rows[o]
@@ -122,7 +124,8 @@ def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable
     C[np.arange(n), col_of[origin]] -= sl
     C[0] = rows[0]
     # ---- back to the caller's sample order
-    return np.roll(f, m0), np.roll(sl, m0), (idx + m0) % n, np.roll(C, m0, axis=0)
+    back = np.r_[n - m0:n, 0:n - m0]  # undo the rotation: sample i is rotated sample (i - m0) mod n
+    return f[back], sl[back], (idx + m0) % n, C[back]
 
 
 def dense_jacobian(d: Array, idx: NDArray[np.intp], C: Array) -> Array:
@@ -152,6 +155,49 @@ def aft_matrices(harmonics: int, n_t: int) -> tuple[Array, Array]:
     Einv.setflags(write=False)
     E.setflags(write=False)
     return E, Einv
+
+
+@lru_cache(maxsize=64)
+def _product_index(harmonics: int, n_t: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """``((p - h) mod n_t, (p + h) mod n_t)`` for p, h = 1..H (rows p, columns h)."""
+    h = np.arange(1, harmonics + 1)
+    return (h[:, None] - h[None, :]) % n_t, (h[:, None] + h[None, :]) % n_t
+
+
+def diagonal_product(d: Array, harmonics: int) -> Array:
+    """``E diag(d) E^-1`` (2H+1, 2H+1) without forming it.
+
+    The sampled product ``d x`` is the discrete convolution of the DFT coefficients
+    ``D_m = (1/n_t) sum_k d_k exp(-i m theta_k)`` (exact for samples, indices mod n_t).  With
+    ``D-`` = ``D_(p-h)``, ``D+`` = ``D_(p+h)``: column X0 is ``(Re D_0; 2 Re D_p; -2 Im D_p)``,
+    column Xc_h is ``(Re D_h; Re(D- + D+); -Im(D- + D+))``, column Xs_h is
+    ``(-Im D_h; Im D- - Im D+; Re D- - Re D+)`` (rows: F0, Fc_p, Fs_p).  Index arithmetic only
+    (no BLAS call: small threaded products are slow on a loaded machine).
+    """
+    H = harmonics
+    D = np.fft.fft(d) / d.size
+    im, ip = _product_index(H, d.size)
+    Dm, Dp = D[im], D[ip]
+    Dh = D[1:H + 1]
+    J = np.empty((2 * H + 1, 2 * H + 1))
+    J[0, 0] = D[0].real
+    J[0, 1::2], J[0, 2::2] = Dh.real, -Dh.imag
+    J[1::2, 0], J[2::2, 0] = 2.0 * Dh.real, -2.0 * Dh.imag
+    J[1::2, 1::2] = Dm.real + Dp.real
+    J[2::2, 1::2] = -(Dm.imag + Dp.imag)
+    J[1::2, 2::2] = Dm.imag - Dp.imag
+    J[2::2, 2::2] = Dm.real - Dp.real
+    return J
+
+
+def to_time(X: Array, n_t: int) -> Array:
+    """Samples at ``theta_k = 2 pi k / n_t`` of the coefficients ``X`` (layout above), by the
+    inverse real FFT (``E_inv X``)."""
+    H = (X.size - 1) // 2
+    c = np.zeros(n_t // 2 + 1, dtype=complex)
+    c[0] = X[0] * n_t
+    c[1:H + 1] = (X[1::2] - 1j * X[2::2]) * (0.5 * n_t)
+    return np.fft.irfft(c, n=n_t)
 
 
 def to_harmonics(f: Array, harmonics: int) -> Array:

@@ -272,13 +272,15 @@ class ContactElement(ABC):
         H = (X.size - 1) // 2
         if H == 1 and (not self.has_time_law or self._is_masing()):
             return self._describing_force(X, omega, rtol)
-        from ._masing import aft_matrices, to_harmonics
+        from ._masing import aft_matrices, diagonal_product, to_harmonics, to_time
 
-        E, Einv = aft_matrices(H, n_t)
-        x = Einv @ X  # to time
+        x = to_time(X, n_t)  # to time (inverse real FFT)
         f, d, idx, C = self._periodic_tangent(x, omega)  # the force law
         F = to_harmonics(f, H)  # back, by the real FFT
-        J = (E * d) @ Einv + (E @ C) @ Einv[idx]  # E J_t E^-1, J_t = diag(d) + columns idx
+        # E J_t E^-1 with J_t = diag(d) + the columns C at idx (einsum: no small threaded BLAS call)
+        J = diagonal_product(d, H)
+        if idx.size:
+            J += np.einsum("ir,rj->ij", to_harmonics(C.T, H).T, aft_matrices(H, n_t)[1][idx])
         return F, J, np.zeros_like(F)
 
     # ----------------------------------------------------------------- private

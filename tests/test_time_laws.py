@@ -13,7 +13,7 @@ import pytest
 
 from contact_models import (CubicSpring, Macroslip, NumericalMicroslip, PointContact, QuasiStatic,
                             TwoRegionMicroslip, UniformLoad)
-from contact_models._masing import aft_matrices, to_harmonics
+from contact_models._masing import aft_matrices, diagonal_product, to_harmonics, to_time
 
 N_T = 64
 THETA = 2.0 * np.pi * np.arange(N_T) / N_T
@@ -157,3 +157,13 @@ def test_bad_samples_refused():
         el.harmonic_force(np.zeros(4), 1.0)
     with pytest.raises(ValueError, match="x"):
         el.periodic_force([0.0, np.nan, 1.0])
+
+
+@pytest.mark.parametrize("H, n_t", [(1, 4), (3, 8), (7, 64), (21, 1024)])
+def test_fast_transforms_equal_the_dense_matrices(H, n_t):
+    rng = np.random.default_rng(H)
+    E, Einv = aft_matrices(H, n_t)
+    d = rng.normal(size=n_t)
+    np.testing.assert_allclose(diagonal_product(d, H), (E * d) @ Einv, rtol=0, atol=1e-13)
+    X = rng.normal(size=2 * H + 1)
+    np.testing.assert_allclose(to_time(X, n_t), Einv @ X, rtol=0, atol=1e-13)
