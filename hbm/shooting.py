@@ -54,6 +54,8 @@ CHORD_RATE = 0.1
 FIRST_TRY = 12
 #: Periods of transient integrated from the stuck guess before a second Newton attempt.
 SETTLE = 60
+#: Samples per period of the return map marched for ``_harmonic_guess``.
+GUESS_SAMPLES = 256
 #: Default grid steps per period of each integrator.
 STEPS = {"events": 512, "newmark": 4096}
 
@@ -261,6 +263,20 @@ def _linear_guess(m: Model, omega: float) -> NDArray[np.float64]:
     return np.concatenate([X.real, (1j * omega * X).real, np.zeros(m.nc)])
 
 
+def _harmonic_guess(m: Model, omega: float, X: NDArray[np.complex128]) -> NDArray[np.float64]:
+    """Start of the shooting from first-harmonic coefficients ``x = Re(X exp(i omega t))``: the
+    sliders' states at t = 0 by the return map marched over two periods of that motion."""
+    if X.size != m.n or not np.all(np.isfinite(X)):
+        raise ValueError(f"initial must hold {m.n} finite complex coefficients, got initial={X!r}")
+    theta = np.linspace(0.0, 4.0 * np.pi, 2 * GUESS_SAMPLES + 1)
+    u = np.real(np.outer(np.exp(1j * theta), X @ m.B))
+    z = np.zeros(m.nc)
+    for uk in u:
+        f = np.clip(m.kt * (uk - z), -m.fs, m.fs)
+        z = uk - f / m.kt
+    return np.concatenate([X.real, -omega * X.imag, z])
+
+
 def _scale(m: Model, y: NDArray[np.float64], omega: float) -> NDArray[np.float64]:
     """Per-component scale of the state (x, v, z) for the differences and the convergence test."""
     n = m.n
@@ -345,8 +361,11 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
         Grid steps per period (samples of the output; Newmark's time step).  Default 512 for
         ``"events"``, 4096 for ``"newmark"``.
     initial : PeriodicResponse or array, optional
-        Start of the Newton iteration: an earlier response (continuation) or the state
-        ``(x, v, z)`` at t = 0.  Default: the response with every contact stuck.
+        Start of the Newton iteration: an earlier response (continuation), the state
+        ``(x, v, z)`` at t = 0 (real, length 2 n + n_c), or complex first-harmonic coefficients
+        of every DOF (length n, ``x = Re(X exp(i omega t))``; the sliders' states follow by the
+        return map).  Default: the response with every contact stuck; if Newton fails from
+        there, it is retried after 60 periods of transient.
     tol : float, optional
         Newton stops when ``max |Phi_T(y0) - y0|`` over the state's scale is below ``tol``.
     max_iter : int, optional
@@ -398,6 +417,8 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
         y = _linear_guess(m, omega)
     elif isinstance(initial, PeriodicResponse):
         y = initial.state.copy()
+    elif np.iscomplexobj(initial):
+        y = _harmonic_guess(m, omega, np.asarray(initial).ravel())
     else:
         y = np.asarray(initial, dtype=float).ravel().copy()
     d = 2 * m.n + m.nc
@@ -460,6 +481,10 @@ def _extreme_finder(I, samples):
 
 
 # ---------------------------------------------------------------- peak
+def _measure(r: PeriodicResponse, dof: int, measure: str) -> float:
+    return r.amplitude(dof) if measure == "amplitude" else r.max_abs(dof)
+
+
 def periodic_peak(system: Any, contacts: Sequence[Any] = (), *, bracket: tuple[float, float], dof: int = 0,
                   measure: str = "amplitude", initial: PeriodicResponse | None = None, xtol: float = 1e-9,
                   **options: Any) -> PeriodicPeak:
@@ -508,7 +533,7 @@ def periodic_peak(system: Any, contacts: Sequence[Any] = (), *, bracket: tuple[f
     >>> p = periodic_peak(Blade(mass=1, stiffness=1, damping=0.1, force=0.01), [Ground()],
     ...                   bracket=(1.3, 1.5), steps=64, harmonics=1)
     >>> round(p.omega, 6), round(math.sqrt(2 - 0.1**2 / 2), 6)
-    (1.412444, 1.412444)
+    (1.412445, 1.412445)
     """
     from scipy.optimize import minimize_scalar
 
@@ -528,13 +553,15 @@ def periodic_peak(system: Any, contacts: Sequence[Any] = (), *, bracket: tuple[f
         if not r.success:
             raise FloatingPointError(f"no periodic response at omega={w!r}: {r.message}")
         solved[w] = r
-        return -(r.amplitude(dof) if measure == "amplitude" else r.max_abs(dof))
+        return -_measure(r, dof, measure)
 
     try:
         opt = minimize_scalar(value, bounds=(lo, hi), method="bounded", options={"xatol": xtol, "maxiter": 200})
     except FloatingPointError as exc:
-        best = min(solved, key=lambda w: value(w)) if solved else lo
-        return PeriodicPeak(best, math.nan, solved.get(best), len(solved), False, str(exc))
+        if not solved:
+            return PeriodicPeak(math.nan, math.nan, None, 0, False, str(exc))
+        best = max(solved, key=lambda w: _measure(solved[w], dof, measure))
+        return PeriodicPeak(best, _measure(solved[best], dof, measure), solved[best], len(solved), False, str(exc))
     w = float(opt.x)
     r = solved[w] if w in solved else periodic_response(system, contacts, omega=w, **options)
     ok = bool(opt.success) and lo + 10 * xtol < w < hi - 10 * xtol
