@@ -36,19 +36,32 @@ Array = NDArray[np.float64]
 
 
 def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable[[Array], Array],
-                    k_inf: float) -> tuple[Array, Array, NDArray[np.intp], Array]:
+                    k_inf: float, extremes: tuple[float, float, bool, bool] | None = None
+                    ) -> tuple[Array, Array, NDArray[np.intp], Array]:
     """Periodic force of a Masing element for the samples ``x`` of one period, with its tangent.
 
-    Returns ``(f, d, idx, C)``: the force samples and the exact Jacobian of the sampled map in
-    the structured form ``J = diag(d) + S``, where ``S`` is zero except in the columns ``idx``
-    (the reversal samples and the two extremes), ``S[:, idx] = C``.
+    ``extremes = (x_max, x_min, after_max, after_min)``: the true extreme values of the
+    continuous path (between samples) and whether the sample of the largest (smallest) value
+    lies after the true maximum (minimum); None takes the sampled extremes.  The outer loop's
+    tips are then at the true extremes, which removes the O(dtheta^2) error of sampled tips.
+
+    Returns ``(f, d, idx, C)``: the force samples and the exact Jacobian in the structured form
+    ``J = diag(d) + S``, ``S`` zero except in the columns ``idx`` (reversal samples and the tips),
+    ``S[:, idx] = C``.  Column ``n`` stands for ``x_min`` and ``n + 1`` for ``x_max`` when
+    ``extremes`` is given (their derivatives are the caller's); otherwise the tips are samples.
     """
     n = x.size
     m0 = int(np.argmax(x))
-    xr = np.concatenate((x[m0:], x[:m0]))  # sample 0 is the global maximum
+    xr = np.concatenate((x[m0:], x[:m0]))  # sample 0 holds the largest value
     im = int(np.argmin(xr))
-    xM, xm = float(xr[0]), float(xr[im])
+    if extremes is None:
+        xM, xm, after_max, after_min = float(xr[0]), float(xr[im]), True, False
+        colT, colB = 0, im
+    else:
+        xM, xm, after_max, after_min = extremes
+        colT, colB = n + 1, n
     half, xc = 0.5 * (xM - xm), 0.5 * (xM + xm)
+    B, T = n, n + 1  # the outer loop's lower and upper tips (virtual reversal points)
 
     # ---- directions of the steps k -> k+1 (flat steps keep the previous direction), reversals
     d = np.sign(np.diff(xr))
@@ -60,10 +73,11 @@ def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable
     rev = (1 + np.flatnonzero(d[1:] != d[:-1])).tolist()
 
     # ---- branch origin of every sample: march the monotone segments with the turning-point stack
-    xext = np.append(xr, xm)  # index n: the outer loop's lower tip (virtual reversal)
+    xext = np.concatenate((xr, (xm, xM)))
     origin = np.zeros(n, dtype=np.intp)
-    stack = [n, 0]
+    stack = [B, T]
     starts, ends = [0] + rev, rev + [n - 1]
+    pushed = []
     for s, e in zip(starts, ends):
         if e <= s:
             continue
@@ -82,50 +96,90 @@ def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable
             origin[cur:e + 1] = stack[-1]
             break
         if e < n - 1:
-            stack.append(e)
+            top = B if xr[e] == xr[im] and stack[-1] == T else e  # the global minimum: the lower tip
+            stack.append(top)
+            if top == e:
+                pushed.append(e)
+    origin[0] = T if after_max else B
+    if after_min and origin[im] == T:
+        origin[im] = B
 
     # ---- branch forces and slopes, vectorised over the samples
     dx = xr - xext[origin]
-    dx[0] = 0.0
     u = np.append(0.5 * np.abs(dx), half)
     Fu = np.asarray(loading(u), dtype=float)
     Su = np.asarray(slope(u), dtype=float)
     g = 2.0 * np.sign(dx) * Fu[:n]
     sl = Su[:n].copy()
-    sl[0] = 0.0
     Fa, Sa = float(Fu[n]), float(Su[n])
 
     # ---- reversal forces in order (each depends on its origin only), then every sample
-    fext = np.empty(n + 1)
-    fext[0] = k_inf * xc + Fa
-    fext[n] = k_inf * xc - Fa
-    for r in rev:
+    fext = np.empty(n + 2)
+    fext[T] = k_inf * xc + Fa
+    fext[B] = k_inf * xc - Fa
+    for r in pushed:
         fext[r] = g[r] + fext[origin[r]]
     f = g + fext[origin]
-    f[0] = fext[0]
 
-    # ---- Jacobian rows of the reversal points in the columns idx (tips: through x_M and x_m)
-    idx = np.array(sorted(set([0, im] + rev)), dtype=np.intp)
-    pos = {int(j): i for i, j in enumerate(idx)}
-    rows = np.zeros((n + 1, idx.size))  # only the rows of 0, n and the reversals are used
-    rows[0, pos[0]] += 0.5 * (k_inf + Sa)
-    rows[0, pos[im]] += 0.5 * (k_inf - Sa)
-    rows[n, pos[0]] += 0.5 * (k_inf - Sa)
-    rows[n, pos[im]] += 0.5 * (k_inf + Sa)
-    col_of = np.full(n + 1, -1, dtype=np.intp)
-    col_of[idx] = np.arange(idx.size)
-    col_of[n] = pos[im]
-    for r in rev:
+    # ---- Jacobian rows of the reversal points in the columns idx
+    idx = np.array(sorted(set([colT, colB] + pushed)), dtype=np.intp)
+    col_of = np.full(n + 2, -1, dtype=np.intp)
+    col_of[idx[idx < n]] = np.flatnonzero(idx < n)
+    col_of[T], col_of[B] = int(np.searchsorted(idx, colT)), int(np.searchsorted(idx, colB))
+    rows = np.zeros((n + 2, idx.size))  # only the rows of the tips and the pushed reversals are used
+    rows[T, col_of[T]] += 0.5 * (k_inf + Sa)
+    rows[T, col_of[B]] += 0.5 * (k_inf - Sa)
+    rows[B, col_of[T]] += 0.5 * (k_inf - Sa)
+    rows[B, col_of[B]] += 0.5 * (k_inf + Sa)
+    for r in pushed:
         o = origin[r]
         rows[r] = rows[o]
-        rows[r, pos[r]] += sl[r]
+        rows[r, col_of[r]] += sl[r]
         rows[r, col_of[o]] -= sl[r]
     C = rows[origin]
     C[np.arange(n), col_of[origin]] -= sl
-    C[0] = rows[0]
     # ---- back to the caller's sample order
     back = np.r_[n - m0:n, 0:n - m0]  # undo the rotation: sample i is rotated sample (i - m0) mod n
-    return f[back], sl[back], (idx + m0) % n, C[back]
+    idx = np.where(idx < n, (idx + m0) % n, idx)
+    return f[back], sl[back], idx, C[back]
+
+
+#: Newton iterations locating a true extremum between samples (quadratic convergence from
+#: within half a sample spacing: 4 reach rounding for any smooth periodic path).
+EXTREMUM_ITERATIONS = 4
+
+
+def true_extremes(X: Array, x: Array) -> tuple[tuple[float, float, bool, bool], Array, Array]:
+    """The extremes of the trigonometric polynomial ``X`` near its largest and smallest samples
+    ``x``: ``((x_max, x_min, after_max, after_min), basis(theta_max), basis(theta_min))``.
+
+    Newton on ``x'(theta) = 0`` from the sample, kept within one sample spacing;
+    ``basis(theta) = [1, cos theta, sin theta, ...]`` is also ``d x_max / dX`` (``x'`` vanishes
+    there).  ``after_*``: the sample lies after the extremum.
+    """
+    n = x.size
+    H = (X.size - 1) // 2
+    hh = np.arange(1, H + 1)
+    Xc, Xs = X[1::2], X[2::2]
+    dth = 2.0 * np.pi / n
+    out = []
+    for k0 in (int(np.argmax(x)), int(np.argmin(x))):
+        th0 = th = dth * k0
+        for _ in range(EXTREMUM_ITERATIONS):
+            c, s = np.cos(hh * th), np.sin(hh * th)
+            d1 = float(np.sum(hh * (Xs * c - Xc * s)))
+            d2 = -float(np.sum(hh * hh * (Xc * c + Xs * s)))
+            if d2 == 0.0:
+                break
+            th = min(max(th - d1 / d2, th0 - dth), th0 + dth)
+        basis = np.empty(2 * H + 1)
+        basis[0] = 1.0
+        basis[1::2], basis[2::2] = np.cos(hh * th), np.sin(hh * th)
+        out.append((float(basis @ X), th0 > th, basis))
+    (xM, aM, bM), (xm, am, bm) = out
+    if not (xM >= x.max() and xm <= x.min()):  # Newton went astray (flat top): keep the samples
+        return (float(x.max()), float(x.min()), True, False), bM * np.nan, bm * np.nan
+    return (xM, xm, aM, am), bM, bm
 
 
 def dense_jacobian(d: Array, idx: NDArray[np.intp], C: Array) -> Array:

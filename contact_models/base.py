@@ -240,6 +240,9 @@ class ContactElement(ABC):
         -----
         AFT: ``x = E^-1 X`` at ``t_k = 2 pi k/(n_t omega)``, ``f = periodic_force(x)``,
         ``F = E f`` (real FFT), ``dF/dX = E J_t E^-1``; ``dF/domega = 0`` (rate-independent).
+        A Masing element puts its outer loop's tips at the true extremes of ``x(t)`` (Newton
+        between samples, ``contact_models._masing.true_extremes``) instead of the sampled ones,
+        removing an O((2 pi/n_t)^2) error that moves with the phase of the sample grid.
         At H = 1 an element without a time law, and a Masing element (exactly), answer from the
         describing function ``fourier_derivatives``: ``F0 = K_inf X0``,
         ``Fc = p Xc + q Xs``, ``Fs = p Xs - q Xc`` with ``p = f_s/a``, ``q = f_c/a``.
@@ -275,12 +278,23 @@ class ContactElement(ABC):
         from ._masing import aft_matrices, diagonal_product, to_harmonics, to_time
 
         x = to_time(X, n_t)  # to time (inverse real FFT)
-        f, d, idx, C = self._periodic_tangent(x, omega)  # the force law
+        Einv = aft_matrices(H, n_t)[1]
+        if self._is_masing():  # the force law, with the outer loop's tips at the true extremes
+            from ._masing import true_extremes
+
+            ext, b_max, b_min = true_extremes(X, x)
+            if not np.isfinite(b_max[0]):
+                ext = None
+            f, d, idx, C = self._masing_tangent(x, omega, ext)
+            dxdX = np.vstack([Einv, b_min, b_max])[idx]  # columns n, n+1: the true extremes
+        else:
+            f, d, idx, C = self._periodic_tangent(x, omega)  # the force law
+            dxdX = Einv[idx]
         F = to_harmonics(f, H)  # back, by the real FFT
         # E J_t E^-1 with J_t = diag(d) + the columns C at idx (einsum: no small threaded BLAS call)
         J = diagonal_product(d, H)
         if idx.size:
-            J += np.einsum("ir,rj->ij", to_harmonics(C.T, H).T, aft_matrices(H, n_t)[1][idx])
+            J += np.einsum("ir,rj->ij", to_harmonics(C.T, H).T, dxdX)
         return F, J, np.zeros_like(F)
 
     # ----------------------------------------------------------------- private
@@ -309,13 +323,16 @@ class ContactElement(ABC):
     def _periodic_tangent(self, x: NDArray, omega: float):
         """``(f, d, idx, C)``: force samples and ``J = diag(d)`` plus the columns ``C`` at ``idx``."""
         if self._is_masing():
-            from ._masing import masing_periodic
-
-            loading = self.loading_curve
-            return masing_periodic(x, lambda u: loading(u, omega), lambda u: self._loading_slope(u, omega),
-                                   self._masing_centre_stiffness(omega))
+            return self._masing_tangent(x, omega, None)
         f, J = self._periodic_force(x, omega)
         return f, np.zeros_like(f), np.arange(f.size), J
+
+    def _masing_tangent(self, x: NDArray, omega: float, extremes):
+        from ._masing import masing_periodic
+
+        loading = self.loading_curve
+        return masing_periodic(x, lambda u: loading(u, omega), lambda u: self._loading_slope(u, omega),
+                               self._masing_centre_stiffness(omega), extremes)
 
     def _describing_force(self, X: NDArray, omega: float, rtol: float):
         """H = 1 from the describing function (``hbm.residual``'s algebra), with the omega-derivative

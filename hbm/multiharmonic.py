@@ -171,12 +171,20 @@ class MultiHarmonicBalance:
         return R.ravel(), J
 
     def __call__(self, u: NDArray) -> tuple[NDArray, NDArray]:
-        """Scaled ``R/x_ref`` and its Jacobian in ``u = (X/x_ref, omega/omega_ref)``."""
+        """Scaled ``R/(x_ref sigma)`` and its Jacobian in ``u = (X/x_ref, omega/omega_ref)``.
+
+        ``sigma = max(1, |u_1|)``, ``|u_1|`` the first-harmonic amplitude of the condensation
+        DOFs in units of x_ref: the Newton tolerance is relative to the response once it
+        exceeds the static deflection (rounding of a resonant amplitude cannot meet an absolute
+        one).  sigma's own derivative multiplies R and vanishes on the branch, so it is left
+        out of the Jacobian (Newton stays quadratic near the branch; the tangent is exact).
+        """
         xr, wr = self.x_ref, self.omega_ref
         X = (u[:-1] * xr).reshape(self.na, self.L)
         R, J = self.physical(X, float(u[-1]) * wr)
+        sigma = max(1.0, math.sqrt(float(np.sum(X[:, 1:3] ** 2))) / xr)
         J[:, -1] *= wr / xr
-        return R / xr, J
+        return R / (xr * sigma), J / sigma
 
     def to_physical(self, u: NDArray) -> tuple[NDArray, NDArray]:
         """``(X (..., n_a, L), omega (...))`` from scaled points."""

@@ -134,10 +134,9 @@ def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: floa
 
 
 #: Harmonics H and AFT samples per period n_t of each named preset for the multi-harmonic balance
-#: (``frequency_response`` with an ``hbm.Structure``); n_t None is
-#: ``contact_models.base.default_samples(H)``.  Chosen from ``benchmarks/bench_mhb_accuracy.py``
+#: (``frequency_response`` with an ``hbm.Structure``).  Chosen from ``benchmarks/bench_mhb_accuracy.py``
 #: (``docs/performance.md``, "What accuracy costs: harmonics"); a number (an rtol) takes "default"'s.
-HARMONICS = {"fast": (3, None), "default": (7, None), "precise": (15, 512)}
+HARMONICS = {"fast": (3, 256), "default": (7, 512), "precise": (15, 2048)}
 
 
 def harmonic_knobs(accuracy: str | float) -> tuple[int, int | None]:
@@ -145,8 +144,8 @@ def harmonic_knobs(accuracy: str | float) -> tuple[int, int | None]:
 
     Examples
     --------
-    >>> harmonic_knobs("default")
-    (7, None)
+    >>> harmonic_knobs("precise")
+    (15, 2048)
     """
     resolve(accuracy)
     return HARMONICS[accuracy] if isinstance(accuracy, str) else HARMONICS["default"]
