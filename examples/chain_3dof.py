@@ -43,10 +43,10 @@ def main(outdir: Path | str = DEFAULT_OUTDIR, small: bool = False, harmonics: in
     outdir = Path(outdir)
     outdir.mkdir(parents=True, exist_ok=True)
     s, contacts = chain()
-    H = 3 if small else harmonics
+    H = 2 if small else harmonics
     t0 = time.perf_counter()
-    frf = frequency_response(s, contacts, omega_range=(0.3, 1.8), harmonics=H, n_t=128 if small else n_t,
-                             response_dof=2)
+    frf = frequency_response(s, contacts, omega_range=(0.3, 1.8), harmonics=H, n_t=64 if small else n_t,
+                             response_dof=2, max_step=0.1 if small else 0.03)
     seconds = time.perf_counter() - t0
 
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
