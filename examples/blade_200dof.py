@@ -27,6 +27,8 @@ import numpy as np  # noqa: E402
 from contact_models import Macroslip  # noqa: E402
 from hbm import Contact, Structure, continuation, frequency_response  # noqa: E402
 
+from chain_3dof import save_log_figure  # noqa: E402  (examples/ is on the path when run or imported)
+
 DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
 E, RHO, LENGTH, WIDTH, HEIGHT = 2.0e11, 7850.0, 0.1, 0.02, 0.004
 ZETA = 0.005
@@ -110,12 +112,8 @@ def main(outdir: Path | str = DEFAULT_OUTDIR, small: bool = False, harmonics: in
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     full.plot(ax, label=f"full, {s.n} DOFs ({runs['full'][2]:.2f} s)", peak=True)
     red_run.plot(ax, label=f"Craig-Bampton, {red.n} DOFs ({runs['reduced'][2]:.2f} s)", peak=True, ls=":")
-    ax.set_yscale("log")
-    ax.set_title(f"cantilever blade with an under-platform damper, H = {H}")
-    ax.legend(fontsize=7)
-    path = outdir / "blade_200dof.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    path = save_log_figure(fig, ax, f"cantilever blade with an under-platform damper, H = {H}",
+                           outdir / "blade_200dof.png")
     return {"path": str(path), "n": s.n, "reduced_n": red.n, "first_frequency": w1,
             "euler_bernoulli": euler_bernoulli_first_frequency(), "peak_full": runs["full"][1],
             "peak_reduced": runs["reduced"][1], "seconds_full": runs["full"][2], "seconds_reduced": runs["reduced"][2],

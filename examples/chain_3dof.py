@@ -38,6 +38,16 @@ def chain() -> tuple[Structure, list[Contact]]:
                Contact(Macroslip(stiffness=1.0, slip_force=0.05), dofs=(0, 1))]
 
 
+def save_log_figure(fig, ax, title: str, path: Path) -> Path:
+    """Log amplitude axis, title, legend; write ``path`` and close the figure."""
+    ax.set_yscale("log")
+    ax.set_title(title)
+    ax.legend(fontsize=7)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
 def main(outdir: Path | str = DEFAULT_OUTDIR, small: bool = False, harmonics: int = 7, n_t: int = 512) -> dict:
     """Trace the FRF, draw both figures, return the run's numbers."""
     outdir = Path(outdir)
@@ -55,12 +65,8 @@ def main(outdir: Path | str = DEFAULT_OUTDIR, small: bool = False, harmonics: in
         from hbm.output import plot_branch
 
         plot_branch(ax, frf.omega, amp, frf.stable, label=f"DOF {dof}")
-    ax.set_yscale("log")
-    ax.set_title(f"3-DOF chain, two Jenkins contacts, H = {H} (dashed: unstable)")
-    ax.legend(fontsize=7)
-    path = outdir / "chain_3dof_frf.png"
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    path = save_log_figure(fig, ax, f"3-DOF chain, two Jenkins contacts, H = {H} (dashed: unstable)",
+                           outdir / "chain_3dof_frf.png")
 
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
     c = frf.coefficients(2)

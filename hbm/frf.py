@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable, NamedTuple
 import numpy as np
 
 from . import continuation as cont  # the module (hbm.continuation)
-from ._validation import count, nonnegative, positive
+from ._validation import count, nonnegative, omega_range_pair, positive
 from .blade import Blade
 from .output import write_frf_csv
 from .presets import DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply
@@ -77,6 +77,11 @@ class FrequencyResponse:
         fx, fs_, fw = problem.to_physical(run.folds) if len(run.folds) else (np.empty(0),) * 3
         self.folds_omega = fw
         self.folds_amplitude = np.hypot(fx, fs_)
+        self._take_run(run)
+
+    def _take_run(self, run: cont.ContinuationResult) -> None:
+        """Status, message (with where a failed branch stops), counters; the peak not yet located."""
+        w = self.omega
         self.status = run.status
         self.message = run.message
         if not run.success and len(w):
@@ -113,6 +118,14 @@ class FrequencyResponse:
                 f"FrequencyResponse(0 points, success=False, message={self.message!r})")
 
     # ------------------------------------------------------------------ peak
+    #: Indices in the unknowns of the response's (x_c, x_s) (``peak`` maximises their norm).
+    _peak_components = (0, 1)
+
+    def _peak_point(self, y: np.ndarray) -> tuple[float, float]:
+        """``(omega, amplitude)`` of the scaled point ``y``."""
+        xc, xs, w = self._problem.to_physical(y)
+        return float(w), float(math.hypot(xc, xs))
+
     def peak(self) -> Peak:
         """``(omega, amplitude)`` of the largest response, located on the branch.
 
@@ -133,8 +146,10 @@ class FrequencyResponse:
             counter = cont._Count()
             y = self._run.y
 
+            c, s_ = self._peak_components  # the scaled (x_c, x_s) of the response in y
+
             def slope(u, t):  # proportional to d(a^2)/ds along the branch
-                return u[0] * t[0] + u[1] * t[1]
+                return u[c] * t[c] + u[s_] * t[s_]
 
             try:
                 xtol = PEAK_XTOL_FACTOR * math.sqrt(self.rtol)
@@ -148,8 +163,7 @@ class FrequencyResponse:
                 pr.fresh_omega_derivative = False
                 self._peak_nit += counter.nit
             if loc is not None:
-                xc, xs, w = pr.to_physical(loc.y)
-                a = float(math.hypot(xc, xs))
+                w, a = self._peak_point(loc.y)
                 if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
                     best = Peak(float(w), a)
                     self.peak_refined = True
@@ -212,16 +226,7 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
                                   stability=stability)
     if not isinstance(blade, Blade):
         raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
-    if omega_range is None:
-        raise ValueError("omega_range must be given as (w0, w1), got omega_range=None")
-    try:
-        w0, w1 = omega_range
-    except (TypeError, ValueError):
-        raise ValueError(f"omega_range must be a pair (w0, w1), got omega_range={omega_range!r}") from None
-    w0 = nonnegative("omega_range[0]", w0)
-    w1 = nonnegative("omega_range[1]", w1)
-    if w0 == w1:
-        raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
+    w0, w1 = omega_range_pair(omega_range)
     if accuracy is not None:
         rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step,
                                                     min_step=min_step, max_steps=max_steps)

@@ -9,19 +9,18 @@
 from __future__ import annotations
 
 import math
-from pathlib import Path
 from typing import Any, Callable
+
+from . import continuation as cont
 
 import numpy as np
 from numpy.typing import NDArray
 
-from . import continuation as cont
-from .frf import Peak
-from .output import write_frf_csv
+from .frf import FrequencyResponse, Peak
 from .stability import STABILITY_TOL, hill_exponents, stability_changes
 
 
-class MultiHarmonicResponse:
+class MultiHarmonicResponse(FrequencyResponse):
     """FRF of a structure with contacts by multi-harmonic balance (``hbm.frequency_response``).
 
     Attributes: ``omega`` (rad/s), ``amplitude`` (m, first harmonic of ``response_dof``),
@@ -31,7 +30,8 @@ class MultiHarmonicResponse:
     Floquet exponents, ``stability_dofs`` (the DOFs of the model they are computed on),
     ``stability_changes`` (located, classified), ``folds_omega``/``folds_amplitude``,
     ``success``, ``status``, ``message``, counters ``nsteps``, ``nit``, ``nfev`` (element harmonic
-    force evaluations).
+    force evaluations).  Counters, ``success``, ``len`` and ``to_csv`` (the points of
+    ``response_dof``) are those of :class:`hbm.FrequencyResponse`.
     """
 
     def __init__(self, problem: Any, run: cont.ContinuationResult, *, response_dof: int, rtol: float, tol: float,
@@ -59,42 +59,13 @@ class MultiHarmonicResponse:
             self.folds_omega, self.folds_amplitude = Fw, np.hypot(FX[:, self._r, 1], FX[:, self._r, 2])
         else:
             self.folds_omega = self.folds_amplitude = np.empty(0)
-        self.status, self.message = run.status, run.message
-        if not run.success and len(w):
-            self.message += f"; the branch stops at omega = {w[-1]:.9g} rad/s, amplitude {self.amplitude[-1]:.6g} m"
-        self.nsteps = run.nsteps
-        self._nit0 = run.nit
-        self._peak = None
-        self._peak_nit = 0
-        self.peak_refined = False
+        self._take_run(run)
         self.stable = np.ones(len(w), dtype=bool)
         self.exponents = np.empty((len(w), 0), dtype=complex)
         self.stability_changes: list = []
         self.stability_dofs: list[int] = []
         if stability and len(w):
             self._stability()
-
-    # ------------------------------------------------------------------ counters
-    @property
-    def success(self) -> bool:
-        return self._run.success
-
-    @property
-    def nit(self) -> int:
-        return self._nit0 + self._peak_nit
-
-    @property
-    def nfev(self) -> int:
-        return self._problem.nfev
-
-    @property
-    def nstuck(self) -> int:
-        """0: every point evaluates the elements (the counter of ``FrequencyResponse`` for the shortcut
-        through the stuck stiffness, which the multi-harmonic balance does not take)."""
-        return 0
-
-    def __len__(self) -> int:
-        return len(self.omega)
 
     def __repr__(self) -> str:
         return (f"MultiHarmonicResponse({len(self)} points, H={self.harmonics}, success={self.success}, "
@@ -142,49 +113,16 @@ class MultiHarmonicResponse:
         self.stability_changes = stability_changes(self.omega, self.amplitude, self.exponents, self.stable,
                                                    self.fold_after, folds)
 
-    # ------------------------------------------------------------------ peak
-    def peak(self) -> Peak:
-        """``(omega, amplitude)`` of the largest first-harmonic amplitude of ``response_dof``,
-        refined between the neighbours of the largest sampled point (zero of ``d(a^2)/ds`` by
-        Brent's method on converged points, as ``FrequencyResponse.peak``)."""
-        if self._peak is not None:
-            return self._peak
-        if len(self) == 0:
-            raise ValueError("the frequency response has no points")
-        i = int(np.argmax(self.amplitude))
-        best = Peak(float(self.omega[i]), float(self.amplitude[i]))
-        if 0 < i < len(self) - 1:
-            pr, L, r = self._problem, self._problem.L, self._r
-            counter = cont._Count()
-            y = self._run.y
+    # ------------------------------------------------------------------ peak (FrequencyResponse.peak)
+    @property
+    def _peak_components(self) -> tuple[int, int]:
+        return self._r * self._problem.L + 1, self._r * self._problem.L + 2
 
-            def slope(u, t):
-                return u[r * L + 1] * t[r * L + 1] + u[r * L + 2] * t[r * L + 2]
-
-            try:
-                xtol = 1e-3 * math.sqrt(self.rtol)
-                loc = None
-                for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
-                    loc = cont.locate(pr, y[ja], y[jb], slope, tol=self.tol, scale=self._scale, xtol=xtol,
-                                      count=counter)
-                    if loc is not None:
-                        break
-            finally:
-                self._peak_nit += counter.nit
-            if loc is not None:
-                X, w = pr.to_physical(loc.y)
-                a = float(math.hypot(X[r, 1], X[r, 2]))
-                if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
-                    best = Peak(float(w), a)
-                    self.peak_refined = True
-        self._peak = best
-        return best
+    def _peak_point(self, y: NDArray) -> tuple[float, float]:
+        X, w = self._problem.to_physical(y)
+        return float(w), float(math.hypot(X[self._r, 1], X[self._r, 2]))
 
     # ------------------------------------------------------------------ output
-    def to_csv(self, path: str | Path) -> Path:
-        """Write the points of ``response_dof`` as ``hbm.output.FRF_COLUMNS``; returns the path."""
-        return write_frf_csv(path, self)
-
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
         """Amplitude against omega on ``ax`` (new figure if None): stable stretches solid,
         unstable dashed (``hbm.output.plot_branch``); marks the peak.  Returns ax."""

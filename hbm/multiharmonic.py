@@ -39,7 +39,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont
-from ._validation import count, nonnegative, positive
+from ._validation import count, omega_range_pair, positive
 from .structure import Contact, Structure, modal_compliance
 
 #: Newton tolerance on |R|/x_ref as a fraction of ``rtol`` (as ``hbm.frf``).
@@ -127,6 +127,8 @@ class MultiHarmonicBalance:
         self._attach = [(c.element, [pos[d] for d in c.dofs]) for c in self.contacts]
         self.nfev = 0  #: element harmonic-force evaluations
         self.ncalls = 0  #: balance evaluations
+        self.nstuck = 0  #: (the stuck-stiffness shortcut of ``hbm.residual`` is not taken here)
+        self.fresh_omega_derivative = False  #: (read by ``FrequencyResponse.peak``; omega-derivatives are exact here)
 
     def forces(self, X: NDArray, omega: float, *, perturbation: bool = False) -> tuple[NDArray, NDArray, NDArray]:
         """Contact forces' harmonics F (n_a, L), dF/dX (n_a L, n_a L), dF/domega (n_a, L).
@@ -242,20 +244,6 @@ def check_problem(structure: Any, contacts: Any, harmonics: Any, n_t: Any,
     return contacts, H, int(n_t), response_dof
 
 
-def _check_range(omega_range):
-    if omega_range is None:
-        raise ValueError("omega_range must be given as (w0, w1), got omega_range=None")
-    try:
-        w0, w1 = omega_range
-    except (TypeError, ValueError):
-        raise ValueError(f"omega_range must be a pair (w0, w1), got omega_range={omega_range!r}") from None
-    w0 = nonnegative("omega_range[0]", w0)
-    w1 = nonnegative("omega_range[1]", w1)
-    if w0 == w1:
-        raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
-    return w0, w1
-
-
 def _stuck_matrix(contacts, dofs, omega):
     """Complex stiffness (n_a, n_a) of the contacts held in their linear range at omega (rigid: 0)."""
     pos = {d: i for i, d in enumerate(dofs)}
@@ -314,7 +302,7 @@ def multiharmonic_response(structure: Structure, contacts: Sequence[Contact], *,
     from .mhresult import MultiHarmonicResponse
 
     contacts, H, n_t, response_dof = check_problem(structure, contacts, harmonics, n_t, response_dof)
-    w0, w1 = _check_range(omega_range)
+    w0, w1 = omega_range_pair(omega_range)
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
