@@ -91,6 +91,7 @@ class FrequencyResponse:
         self._peak = None
         self._peak_nit = 0
         self.peak_refined = False  #: whether peak() located the maximum between samples
+        self._stable = None
 
     # ------------------------------------------------------------------ counters
     @property
@@ -177,18 +178,29 @@ class FrequencyResponse:
         return write_frf_csv(path, self)
 
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
-        """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax."""
-        import matplotlib.pyplot as plt  # only when plotting
+        """Amplitude against omega on ``ax`` (a new figure if None): stable stretches solid, unstable
+        dashed (:attr:`stable`); marks the peak. Returns ax."""
+        from .output import plot_branch
 
-        if ax is None:
-            _, ax = plt.subplots(figsize=(6.4, 4.2))
-        line, = ax.plot(self.omega, self.amplitude, label=label, **kwargs)
+        # a single DOF at H = 1 with a passive element loses stability only at folds (the sum of
+        # its two exponents is minus its damping): stability is computed only on a folded branch
+        folded = self._stable is not None or len(getattr(self._run, "fold_after", ())) > 0
+        ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable if folded else None, label=label,
+                                **kwargs)
         if peak and len(self):
             pk = self.peak()
-            ax.plot([pk.omega], [pk.amplitude], "o", color=line.get_color(), ms=4)
-        ax.set_xlabel(r"$\omega$ (rad/s)")
-        ax.set_ylabel("amplitude (m)")
+            ax.plot([pk.omega], [pk.amplitude], "o", color=color, ms=4)
         return ax
+
+    @property
+    def stable(self) -> np.ndarray:
+        """Stability of every point (bool), by Hill's method at H = 1 (``hbm.stability``), computed on
+        first use; unstable stretches are drawn dashed by :meth:`plot`."""
+        if self._stable is None:
+            from .stability import single_harmonic_stability
+
+            self._stable = single_harmonic_stability(self.blade, self.element, self.omega, self.x_c, self.x_s)
+        return self._stable
 
 
 def frequency_response(blade: Blade, element: ContactElement | None = None,

@@ -60,7 +60,7 @@ class MultiHarmonicResponse(FrequencyResponse):
         else:
             self.folds_omega = self.folds_amplitude = np.empty(0)
         self._take_run(run)
-        self.stable = np.ones(len(w), dtype=bool)
+        self._stable = np.ones(len(w), dtype=bool)
         self.exponents = np.empty((len(w), 0), dtype=complex)
         self.stability_changes: list = []
         self.stability_dofs: list[int] = []
@@ -108,7 +108,7 @@ class MultiHarmonicResponse(FrequencyResponse):
             dF[np.ix_(idx, idx)] = dFa
             lams.append(hill_exponents(M, C, K, float(w), dF, self.harmonics))
         self.exponents = np.array(lams)
-        self.stable = self.exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)
+        self._stable = self.exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)
         folds = list(zip(self.folds_omega, self.folds_amplitude))
         self.stability_changes = stability_changes(self.omega, self.amplitude, self.exponents, self.stable,
                                                    self.fold_after, folds)
@@ -121,19 +121,6 @@ class MultiHarmonicResponse(FrequencyResponse):
     def _peak_point(self, y: NDArray) -> tuple[float, float]:
         X, w = self._problem.to_physical(y)
         return float(w), float(math.hypot(X[self._r, 1], X[self._r, 2]))
-
-    # ------------------------------------------------------------------ output
-    def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
-        """Amplitude against omega on ``ax`` (new figure if None): stable stretches solid,
-        unstable dashed (``hbm.output.plot_branch``); marks the peak.  Returns ax."""
-        from .output import plot_branch
-
-        ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable, label=label, **kwargs)
-        if peak and len(self):
-            pk = self.peak()
-            ax.plot([pk.omega], [pk.amplitude], "o", color=color, ms=4)
-        return ax
-
 
 def to_c(X: NDArray) -> NDArray[np.complex128]:
     """(points, 2H+1) real layout -> (points, H+1) complex ``c_h = Xc_h - i Xs_h``."""

@@ -141,14 +141,14 @@ def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, labe
     omega, amplitude = np.asarray(omega), np.asarray(amplitude)
     stable = np.ones(omega.size, dtype=bool) if stable is None else np.asarray(stable, dtype=bool)
     ls = kwargs.pop("ls", kwargs.pop("linestyle", "-"))
-    line, = ax.plot(omega[:1], amplitude[:1], ls=ls, label=label, **kwargs)
-    color = line.get_color()
-    kwargs["color"] = color
     cuts = np.flatnonzero(stable[1:] != stable[:-1]) + 1
+    color = kwargs.pop("color", None)
     start = 0
     for end in list(cuts) + [omega.size]:
         seg = slice(start, min(end + 1, omega.size))  # overlap one point: no gaps
-        ax.plot(omega[seg], amplitude[seg], ls=ls if stable[start] else "--", **kwargs)
+        line, = ax.plot(omega[seg], amplitude[seg], ls=ls if (stable[start] if omega.size else True) else "--",
+                        color=color, label=label if start == 0 else None, **kwargs)
+        color = line.get_color()  # one colour for the whole branch
         start = end
     ax.set_xlabel(r"$\omega$ (rad/s)")
     ax.set_ylabel("amplitude (m)")

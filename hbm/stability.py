@@ -22,7 +22,7 @@ stability of periodic solutions of dynamical systems", C. R. Mecanique 338 (2010
 writing an eigenvector in complex exponentials ``p(t) = sum_k z_k exp(i k omega t)``, the
 member of a family whose weights ``|z_k|^2`` are centred on ``k = 0`` is the one the truncation
 represents best; the ``2 n`` eigenvalues with the smallest ``|sum_k k |z_k|^2| / sum_k |z_k|^2``
-are kept.  (The imaginary-part criterion, "smallest |Im lambda|", fails when a mode's frequency
+are kept, ties (to 0.01) going to the smaller ``|Im lambda|``.  (The imaginary-part criterion, "smallest |Im lambda|", fails when a mode's frequency
 exceeds ``H omega``: its family's member in the strip ``|Im| <= omega/2`` is then missing from
 the truncated problem and copies of other families are picked instead.)  The solution is stable
 when every selected exponent has ``Re lambda <= STABILITY_TOL * omega``.
@@ -30,7 +30,7 @@ when every selected exponent has ``Re lambda <= STABILITY_TOL * omega``.
 
 from __future__ import annotations
 
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -103,7 +103,9 @@ def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray
     wp, wm = np.sum(np.abs(zp) ** 2, axis=0), np.sum(np.abs(zm) ** 2, axis=0)
     total = 4.0 * np.sum(np.abs(P[:, 0]) ** 2, axis=0) + np.sum(wp + wm, axis=0)
     centre = np.abs(np.sum(h[0] * (wp - wm), axis=0)) / np.maximum(total, 1e-300)
-    lam = lam[np.argsort(centre, kind="stable")[:2 * n]]
+    # ties (equally centred members, e.g. a real exponent's symmetric +-1 content and a spurious
+    # purely static member at H = 1) go to the smaller |Im lambda|
+    lam = lam[np.lexsort((np.abs(lam.imag), np.round(centre, 2)))[:2 * n]]
     return lam[np.argsort(-lam.real, kind="stable")]
 
 
@@ -143,4 +145,26 @@ def stability_changes(omega: NDArray, amplitude: NDArray, exponents: NDArray, st
     return out
 
 
-__all__ = ["hill_exponents", "derivative_operator", "StabilityChange", "stability_changes", "STABILITY_TOL"]
+def single_harmonic_stability(blade: Any, element: Any, omega: NDArray, x_c: NDArray,
+                               x_s: NDArray) -> NDArray[np.bool_]:
+    """Hill's method at H = 1 for the points of a blade's single-harmonic FRF (``FrequencyResponse.stable``).
+
+    The element's Jacobian is that of its describing function (``harmonic_force`` at H = 1); an
+    element within its linear range is a spring ``k_s`` for a perturbation (static term included).
+    """
+    M, C, K = (np.array([[v]]) for v in (blade.mass, blade.damping, blade.stiffness))
+    out = np.ones(len(omega), dtype=bool)
+    for i, (w, xc, xs) in enumerate(zip(omega, x_c, x_s)):
+        w = float(w)
+        dF = np.zeros((3, 3))
+        if element is not None:
+            if float(np.hypot(xc, xs)) <= element.linear_amplitude(w):
+                dF = float(element.linear_coefficients(w)[0]) * np.eye(3)
+            else:
+                dF = element.harmonic_force(np.array([0.0, xc, xs]), w)[1]
+        lam = hill_exponents(M, C, K, w, dF, 1)
+        out[i] = lam[0].real <= STABILITY_TOL * max(w, 1e-300)
+    return out
+
+
+__all__ = ["single_harmonic_stability", "hill_exponents", "derivative_operator", "StabilityChange", "stability_changes", "STABILITY_TOL"]

@@ -190,3 +190,24 @@ def test_unstable_stretch_drawn_dashed(tmp_path):
     assert styles == {"-", "--"}
     path = frf.to_csv(tmp_path / "frf.csv")
     assert len(path.read_text().splitlines()) == len(frf) + 1
+
+
+def test_single_harmonic_blade_frf_carries_stability_and_draws_it():
+    """The blade path (unchanged solver) gets ``stable`` by Hill at H = 1: the Duffing middle
+    branch, between the two located folds, is unstable and drawn dashed."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.02, force=0.05)
+    frf = frequency_response(blade, CubicSpring(0.1), omega_range=(0.8, 1.6))
+    lo, hi = sorted(frf.folds_omega)
+    a_lo, a_hi = sorted(frf.folds_amplitude)
+    bad = ~frf.stable
+    assert bad.sum() > 10
+    assert np.all((frf.omega[bad] >= lo) & (frf.omega[bad] <= hi))
+    assert np.all((frf.amplitude[bad] >= a_lo) & (frf.amplitude[bad] <= a_hi))
+    # every point strictly inside the middle branch is unstable
+    i0, i1 = np.flatnonzero(bad)[[0, -1]]
+    assert np.all(bad[i0:i1 + 1])
+    ax = frf.plot()
+    assert "--" in {ln.get_linestyle() for ln in ax.get_lines()}
