@@ -7,6 +7,7 @@ from ._version import __version__
 from .bar import Bar
 from .base import ContactElement
 from .iwan import Iwan
+from .cubic import CubicSpring
 from .loads import QuadraticLoad, UniformLoad
 from .macroslip import Macroslip
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
@@ -16,4 +17,4 @@ from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
-           "Iwan"]
+           "Iwan", "CubicSpring"]

@@ -5,4 +5,19 @@ from contact_models._validation import count, finite, nonnegative, positive
 
 number = finite
 
-__all__ = ["count", "finite", "nonnegative", "number", "positive"]
+
+def omega_range_pair(omega_range: object) -> tuple[float, float]:
+    """``(w0, w1)`` from ``omega_range``: a pair of finite numbers >= 0 with w0 != w1."""
+    if omega_range is None:
+        raise ValueError("omega_range must be given as (w0, w1), got omega_range=None")
+    try:
+        w0, w1 = omega_range  # type: ignore[misc]
+    except (TypeError, ValueError):
+        raise ValueError(f"omega_range must be a pair (w0, w1), got omega_range={omega_range!r}") from None
+    w0 = nonnegative("omega_range[0]", w0)
+    w1 = nonnegative("omega_range[1]", w1)
+    if w0 == w1:
+        raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
+    return w0, w1
+
+__all__ = ["count", "finite", "nonnegative", "number", "positive", "omega_range_pair"]

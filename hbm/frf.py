@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, Callable, NamedTuple
 import numpy as np
 
 from . import continuation as cont  # the module (hbm.continuation)
-from ._validation import count, nonnegative, positive
+from ._validation import count, nonnegative, omega_range_pair, positive
 from .blade import Blade
 from .output import write_frf_csv
 from .presets import DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply
@@ -113,6 +113,11 @@ class FrequencyResponse:
         fx, fs_, fw = problem.to_physical(run.folds) if len(run.folds) else (np.empty(0),) * 3
         self.folds_omega = fw
         self.folds_amplitude = np.hypot(fx, fs_)
+        self._take_run(run)
+
+    def _take_run(self, run: cont.ContinuationResult) -> None:
+        """Status, message (with where a failed branch stops), counters; the peak not yet located."""
+        w = self.omega
         self.status = run.status
         self.message = run.message
         if not run.success and len(w):
@@ -122,6 +127,7 @@ class FrequencyResponse:
         self._peak = None
         self._peak_nit = 0
         self.peak_refined = False  #: whether peak() located the maximum between samples
+        self._stable = None
 
     # ------------------------------------------------------------------ counters
     @property
@@ -149,6 +155,14 @@ class FrequencyResponse:
                 f"FrequencyResponse(0 points, success=False, message={self.message!r})")
 
     # ------------------------------------------------------------------ peak
+    #: Indices in the unknowns of the response's (x_c, x_s) (``peak`` maximises their norm).
+    _peak_components = (0, 1)
+
+    def _peak_point(self, y: np.ndarray) -> tuple[float, float]:
+        """``(omega, amplitude)`` of the scaled point ``y``."""
+        xc, xs, w = self._problem.to_physical(y)
+        return float(w), float(math.hypot(xc, xs))
+
     def peak(self) -> Peak:
         """``(omega, amplitude)`` of the largest response, located on the branch.
 
@@ -192,8 +206,10 @@ class FrequencyResponse:
             counter = cont._Count()
             y = self._run.y
 
+            c, s_ = self._peak_components  # the scaled (x_c, x_s) of the response in y
+
             def slope(u, t):  # proportional to d(a^2)/ds along the branch
-                return u[0] * t[0] + u[1] * t[1]
+                return u[c] * t[c] + u[s_] * t[s_]
 
             try:
                 xtol = PEAK_XTOL_FACTOR * math.sqrt(self.rtol)
@@ -207,8 +223,7 @@ class FrequencyResponse:
                 pr.fresh_omega_derivative = False
                 self._peak_nit += counter.nit
             if loc is not None:
-                xc, xs, w = pr.to_physical(loc.y)
-                a = float(math.hypot(xc, xs))
+                w, a = self._peak_point(loc.y)
                 if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
                     best = Peak(float(w), a)
                     self.peak_refined = True
@@ -246,7 +261,8 @@ class FrequencyResponse:
         return write_frf_csv(path, self)
 
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
-        """Amplitude against omega on ``ax`` (a new figure if None); marks the peak. Returns ax.
+        """Amplitude against omega on ``ax`` (a new figure if None): stable stretches solid, unstable
+        dashed (:attr:`stable`); marks the peak. Returns ax.
 
         Parameters
         ----------
@@ -275,17 +291,27 @@ class FrequencyResponse:
         >>> ax.get_ylabel(), len(ax.lines)                 # the curve and its peak
         ('amplitude (m)', 2)
         """
-        if ax is None:
-            import matplotlib.pyplot as plt  # only when plotting on a new figure
+        from .output import plot_branch
 
-            _, ax = plt.subplots(figsize=(6.4, 4.2))
-        line, = ax.plot(self.omega, self.amplitude, label=label, **kwargs)
+        # a single DOF at H = 1 with a passive element loses stability only at folds (the sum of
+        # its two exponents is minus its damping): stability is computed only on a folded branch
+        folded = self._stable is not None or len(getattr(self._run, "fold_after", ())) > 0
+        ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable if folded else None, label=label,
+                                **kwargs)
         if peak and len(self):
             pk = self.peak()
-            ax.plot([pk.omega], [pk.amplitude], "o", color=line.get_color(), ms=4)
-        ax.set_xlabel(r"$\omega$ (rad/s)")
-        ax.set_ylabel("amplitude (m)")
+            ax.plot([pk.omega], [pk.amplitude], "o", color=color, ms=4)
         return ax
+
+    @property
+    def stable(self) -> np.ndarray:
+        """Stability of every point (bool), by Hill's method at H = 1 (``hbm.stability``), computed on
+        first use; unstable stretches are drawn dashed by :meth:`plot`."""
+        if self._stable is None:
+            from .stability import single_harmonic_stability
+
+            self._stable = single_harmonic_stability(self.blade, self.element, self.omega, self.x_c, self.x_s)
+        return self._stable
 
 
 def frequency_response(blade: Blade, element: ContactElement | None = None,
@@ -293,7 +319,9 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
                        max_step: float = DEFAULT_MAX_STEP, min_step: float = DEFAULT_MIN_STEP,
                        max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True,
                        on_point: Callable[[float, float, float, float], None] | None = None,
-                       accuracy: str | float | None = None) -> FrequencyResponse:
+                       accuracy: str | float | None = None, harmonics: int | None = None,
+                       n_t: int | None = None, response_dof: int | None = None,
+                       stability: bool = True) -> FrequencyResponse:
     """FRF of ``blade`` with the contact element ``element`` (None: the bare blade) over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -326,12 +354,16 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
         ``on_point(omega, x_c, x_s, residual)`` for each accepted point, as it is accepted.
     accuracy : {"fast", "default", "precise"} or float, optional
         A preset of ``hbm.presets`` instead of ``rtol`` and the step settings.
+    harmonics, n_t, response_dof, stability : optional
+        The multi-harmonic balance's options (see below): the number of harmonics H (default the
+        accuracy preset's), the AFT samples per period, the DOF whose response is reported (default
+        the forced DOF) and whether Hill's stability is computed at every point (default True).
 
     Returns
     -------
     FrequencyResponse
         The branch, with ``success`` and ``message``; a run that stops early keeps the points it
-        computed.
+        computed.  For the multi-harmonic balance an ``hbm.mhresult.MultiHarmonicResponse``.
 
     Raises
     ------
@@ -346,6 +378,12 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
 
     Notes
     -----
+    With an ``hbm.Structure`` first and a sequence of ``hbm.Contact`` second (or a ``Blade``
+    with ``harmonics``/``n_t``/``response_dof`` given) this is the multi-harmonic balance
+    (``hbm.multiharmonic``): ``harmonics`` H (default: the accuracy preset's), ``n_t`` AFT
+    samples per period, ``response_dof`` (default the forced DOF), ``stability`` (Hill's method
+    at every point); it returns an ``hbm.mhresult.MultiHarmonicResponse``.
+
     Single-harmonic balance: with ``x = x_c cos(omega t) + x_s sin(omega t)``,
     ``a = sqrt(x_c^2 + x_s^2)`` and the element's ``p = f_s/a``, ``q = f_c/a``,
 
@@ -382,18 +420,16 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
     >>> frf.success, round(frf.peak().amplitude, 9)    # m
     (True, 1.512e-06)
     """
+    if not isinstance(blade, Blade) or harmonics is not None or n_t is not None or response_dof is not None:
+        from .mhdispatch import structure_response
+
+        return structure_response(blade, element, omega_range, rtol=rtol, max_step=max_step, min_step=min_step,
+                                  max_steps=max_steps, locate_folds=locate_folds, on_point=on_point,
+                                  accuracy=accuracy, harmonics=harmonics, n_t=n_t, response_dof=response_dof,
+                                  stability=stability)
     if not isinstance(blade, Blade):
         raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
-    if omega_range is None:
-        raise ValueError("omega_range must be given as (w0, w1), got omega_range=None")
-    try:
-        w0, w1 = omega_range
-    except (TypeError, ValueError):
-        raise ValueError(f"omega_range must be a pair (w0, w1), got omega_range={omega_range!r}") from None
-    w0 = nonnegative("omega_range[0]", w0)
-    w1 = nonnegative("omega_range[1]", w1)
-    if w0 == w1:
-        raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
+    w0, w1 = omega_range_pair(omega_range)
     if accuracy is not None:
         rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step,
                                                     min_step=min_step, max_steps=max_steps)

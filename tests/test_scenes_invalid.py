@@ -55,7 +55,7 @@ CASES = [
     ("tolerance and accuracy", "tolerance = 1e-6", 'tolerance = 1e-6\naccuracy = "precise"',
      ['sweep.accuracy = "precise"', "one of them"]),
     ("multi-harmonic", "harmonics = 1", "harmonics = 3",
-     ["effects.harmonics = 3", "multi-harmonic balance is not available"]),
+     ["effects.harmonics = 3", "needs an element with a time-domain force law"]),
     ("negative q", UNIFORM, 'kind = "quadratic"\nq0 = 1000.0\nq2 = 2000.0', ["damper.load.q2 = 2000.0", "q0"]),
     ("macroslip key on a microslip model", "mu = 0.3", "mu = 0.3\nslip_force = 30.0",
      ["damper.slip_force = 30.0", "macroslip"]),
