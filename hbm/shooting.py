@@ -39,7 +39,6 @@ from typing import Any, Iterable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._newmark import NewmarkIntegrator
 from ._piecewise import EventIntegrator, Model
 
 __all__ = ["PeriodicResponse", "PeriodicPeak", "periodic_response", "periodic_peak"]
@@ -252,6 +251,8 @@ def _integrator(model: Model, omega: float, integrator: str, steps: int | None):
         raise ValueError(f"steps must be an integer >= 8, got steps={steps!r}")
     if integrator == "events":
         return EventIntegrator(model, omega, int(steps))
+    from ._newmark import NewmarkIntegrator  # scipy.linalg through contact_models: only when asked
+
     return NewmarkIntegrator(model, omega, int(steps))
 
 
@@ -435,6 +436,7 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     y, success, message, it, res = _shoot(m, omega, phi, y, J0, tol, first)
     if not success and initial is None:  # from the stuck guess: let the transient settle, retry
         try:
+            y = _linear_guess(m, omega)
             for _ in range(SETTLE):
                 y = phi(y)
         except FloatingPointError:
@@ -443,7 +445,12 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
             y, success, message, it2, res = _shoot(m, omega, phi, y, None, tol, max_iter)
             it += it2
             message += f" (after {SETTLE} periods of transient from the stuck guess)"
-    _, samples = I.period_map(y, record=True)
+    try:
+        _, samples = I.period_map(y, record=True)
+    except FloatingPointError as exc:  # only after a failed shooting: keep the start's period
+        message += f"; the last iterate cannot be integrated ({exc}), the samples are the stuck start's"
+        y = _linear_guess(m, omega)
+        _, samples = I.period_map(y, record=True)
     mono = np.empty((0, 0))
     mult = np.empty(0, dtype=complex)
     if floquet and success:

@@ -32,6 +32,7 @@ MODULES = [
     "hbm.cases",
     "hbm.continuation",
     "hbm.transient",
+    "hbm.shooting",
 ]
 
 
