@@ -25,6 +25,7 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
@@ -42,8 +43,9 @@ def run_peer(python: Path, repeats: int, timeout: float) -> dict:
                          "/work/venvs/pyharm/bin/pip install pyharm-os==1.2.2)"}
     cmd = [str(python), str(PEER), "--repeats", str(repeats)]
     env = {k: v for k, v in os.environ.items() if k != "PYTHONPATH"}  # keep our package out of the venv
-    try:
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
+    try:  # in a scratch directory: pyHarm writes a .pyHarm/ state folder into its working directory
+        with tempfile.TemporaryDirectory() as scratch:
+            proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env, cwd=scratch)
     except subprocess.TimeoutExpired:
         return {"error": f"pyHarm did not finish in {timeout:.0f} s"}
     lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("{")]
