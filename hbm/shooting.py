@@ -24,10 +24,11 @@ Method (``docs/shooting.md``):
 3. Monodromy ``dPhi_T/dy0`` by central differences at the solution; its eigenvalues are the
    Floquet multipliers (a slider slipping at t = 0 gives a zero multiplier: its state is forgotten).
 
-Accuracy (measured by ``examples/periodic_reference.py``, ``tests/test_shooting.py``): the
-event-driven reference is exact to rounding between events, so its first-harmonic amplitudes
-agree with the exact linear response to ~1e-13 and with the Newmark integrator's Richardson
-extrapolation to ~1e-9 relative; Newmark converges at rate 2 in the step.
+Accuracy (measured by ``benchmarks/periodic_reference.py``, ``tests/test_shooting.py``,
+``docs/shooting.md``): the event-driven reference is exact to rounding between events; its first
+harmonics agree with the exact linear response to 1e-12, do not change from 128 to 1024 grid
+steps (1e-12), balance the energy per cycle to 1e-10, and Newmark converges to them at rate ~2
+in the step (-2.8e-8 at 8192 and -9e-10 at 16384 steps per period on P1 at omega = 1.3).
 """
 
 from __future__ import annotations
