@@ -52,6 +52,8 @@ MONODROMY_FD = 1e-5
 CHORD_RATE = 0.1
 #: Newton iterations tried from the stuck guess before the transient is let settle.
 FIRST_TRY = 12
+#: Step halvings tried along one Newton direction.
+HALVINGS = 12
 #: Periods of transient integrated from the stuck guess before a second Newton attempt.
 SETTLE = 60
 #: Samples per period of the return map marched for ``_harmonic_guess``.
@@ -303,12 +305,13 @@ def _shoot(m, omega, phi, y, J, tol, max_iter):
 
     Returns (y, success, message, iterations, scaled residual)."""
     d = y.size
-    py, it, res = None, 0, math.inf
+    py, it, res, it_fresh = None, 0, math.inf, -1
     try:
         for it in range(max_iter + 1):
             s = _scale(m, y, omega)
             if J is None:
                 J, py = _jacobian(phi, y, NEWTON_FD * s, central=False)
+                it_fresh = it
             elif py is None:
                 py = phi(y)
             G = py - y
@@ -321,14 +324,18 @@ def _shoot(m, omega, phi, y, J, tol, max_iter):
                 break
             # least squares: a slider stuck all period is a neutral direction (multiplier 1)
             step = np.linalg.lstsq(J - np.eye(d), -G, rcond=1e-12)[0]
-            t = 1.0
-            for _ in range(30):  # halve the step until the residual decreases
+            t, fresh = 1.0, it_fresh == it
+            for _ in range(HALVINGS):  # halve the step until the residual decreases
                 trial = y + t * step
                 p_trial = phi(trial)
                 r_trial = float(np.max(np.abs(p_trial - trial) / _scale(m, trial, omega)))
                 if r_trial < res:
                     break
                 t *= 0.5
+            else:
+                if fresh:  # no decrease along a fresh Newton direction: rounding floor of the map
+                    return y, False, (f"Newton stagnated at residual {res:.2e} > tol (the period map's "
+                                      "rounding floor: loosen tol)"), it, res
             if r_trial > CHORD_RATE * res:
                 J = None  # slow: a fresh Jacobian at the next iterate
             y, py = trial, p_trial
