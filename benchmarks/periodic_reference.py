@@ -199,7 +199,7 @@ def newmark_convergence(steps_list):
     for N in steps_list:
         t0 = time.perf_counter()
         r = hbm.periodic_response(blade, cs, omega=w, integrator="newmark", steps=N, initial=ref, harmonics=H,
-                                  floquet=False, tol=1e-10)
+                                  floquet=False, tol=1e-10 if N <= 8192 else 1e-9)  # rounding floor grows with N
         rows.append({"steps": N, "success": r.success, "amplitude_error": r.amplitude(0) / ref.amplitude(0) - 1.0,
                      "seconds": time.perf_counter() - t0})
     e = np.array([abs(r["amplitude_error"]) for r in rows])

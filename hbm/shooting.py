@@ -28,7 +28,7 @@ Accuracy (measured by ``benchmarks/periodic_reference.py``, ``tests/test_shootin
 ``docs/shooting.md``): the event-driven reference is exact to rounding between events; its first
 harmonics agree with the exact linear response to 1e-12, do not change from 128 to 1024 grid
 steps (1e-12), balance the energy per cycle to 1e-10, and Newmark converges to them at rate ~2
-in the step (-2.8e-8 at 8192 and -9e-10 at 16384 steps per period on P1 at omega = 1.3).
+in the step (-2.8e-8, -9e-10, +5e-9 at 8192, 16384, 32768 steps per period on P1 at omega = 1.3).
 """
 
 from __future__ import annotations
