@@ -45,7 +45,7 @@ STEPS = 1024
 #: The Jenkins problems of issue 12.
 JENKINS = {"P1": dict(damping=0.004, slip_force=0.02), "P2": dict(damping=0.004, slip_force=0.005),
            "P3": dict(damping=0.0002, slip_force=0.02)}
-CHAIN_OMEGA = [0.40, 0.47, 0.52, 0.56, 0.62, 1.00, 1.30, 1.38]
+CHAIN_OMEGA = [0.40, 0.47, 0.52, 0.56, 0.62, 1.00, 1.36, 1.38]
 DUFFING = dict(mass=1.0, stiffness=1.0, damping=0.02, k3=0.1, force=0.05, omega=[1.08, 1.12])
 
 
@@ -121,6 +121,11 @@ def chain_system():
     return (M, C, K, f), cs
 
 
+def never_slipping(r):
+    """Indices of the contacts whose slider does not move over the period."""
+    return [int(c) for c in np.flatnonzero(np.ptp(r.z, axis=0) == 0.0)]
+
+
 def sweep(system, cs, omegas):
     out, prev = {}, None
     for w in omegas:
@@ -141,12 +146,19 @@ def chain():
         points.append({"omega": w, "success": r.success, "harmonics": harmonics_json(r), "floquet": floquet_json(r),
                        "stable": r.stable, "amplitude": [r.amplitude(i) for i in range(3)],
                        "max_abs": [r.max_abs(i) for i in range(3)],
-                       "up_down_difference": float(np.max(np.abs(r.harmonics - d.harmonics)) / np.max(np.abs(r.harmonics)))})
+                       "never_slipping_contacts": never_slipping(r),
+                       # h >= 1 only: see "static_offset" below
+                       "up_down_difference": float(np.max(np.abs(r.harmonics[:, 1:] - d.harmonics[:, 1:]))
+                                                   / np.max(np.abs(r.harmonics[:, 1:])))})
     M, C, K, f = system
     return {"parameters": {"M": M.tolist(), "C": C.tolist(), "K": K.tolist(), "force": f.tolist(),
                            "damping": "C = 0.004 K (stiffness proportional)",
                            "contacts": [{"dofs": [0], "stiffness": 1.0, "slip_force": 0.02},
                                         {"dofs": [0, 1], "stiffness": 1.0, "slip_force": 0.05}]},
+            "static_offset": "Where a contact sticks all period (never_slipping_contacts, a Floquet multiplier 1), "
+                             "its slider's position is not fixed by periodicity: a family of periodic responses "
+                             "differs by a static offset, so X0 depends on the start (the history); harmonics h >= 1 "
+                             "are unique (up_down_difference). Compare X0 only where no contact sticks all period.",
             "points": points}
 
 
@@ -187,7 +199,7 @@ def newmark_convergence(steps_list):
     for N in steps_list:
         t0 = time.perf_counter()
         r = hbm.periodic_response(blade, cs, omega=w, integrator="newmark", steps=N, initial=ref, harmonics=H,
-                                  floquet=False, tol=1e-10)
+                                  floquet=False, tol=1e-10 if N <= 8192 else 1e-9)  # rounding floor grows with N
         rows.append({"steps": N, "success": r.success, "amplitude_error": r.amplitude(0) / ref.amplitude(0) - 1.0,
                      "seconds": time.perf_counter() - t0})
     e = np.array([abs(r["amplitude_error"]) for r in rows])
