@@ -89,7 +89,8 @@ class NewmarkIntegrator:
         v1 = ga.velocity(v, a, a1, h)
         return x1, v1, a1, z1
 
-    def period_map(self, y0: NDArray[np.float64], *, record: bool = False):
+    def period_map(self, y0: NDArray[np.float64], *,
+                   record: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
         """One period from (x, v, z) at t = 0 (sliders return-mapped first); see
         ``EventIntegrator.period_map``."""
         m, n = self.m, self.m.n

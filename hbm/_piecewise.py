@@ -197,7 +197,8 @@ class EventIntegrator:
         return np.where(slip, -sig * du, np.abs(f) - m.fs * (1.0 + STICK_MARGIN))
 
     # ------------------------------------------------------------ integration
-    def period_map(self, y0: NDArray[np.float64], *, record: bool = False):
+    def period_map(self, y0: NDArray[np.float64], *,
+                   record: bool = False) -> tuple[NDArray[np.float64], NDArray[np.float64] | None]:
         """Integrate one period from ``y0`` = (x, v, z) at t = 0.
 
         Returns the end state (x, v, z) and, with ``record``, the states (x, v, z) at the
