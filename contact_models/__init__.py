@@ -4,9 +4,10 @@ See ``contact_models.base.ContactElement`` for the interface.
 """
 
 from ._version import __version__
+from .allmode import AllModeMicroslip
 from .bar import Bar
 from .base import ContactElement
-from .loads import QuadraticLoad, UniformLoad
+from .loads import FunctionLoad, QuadraticLoad, SampledLoad, UniformLoad
 from .macroslip import Macroslip
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
 from .numerical import NumericalMicroslip
@@ -14,4 +15,5 @@ from .point_contact import PointContact
 from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
-           "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic"]
+           "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
+           "AllModeMicroslip", "FunctionLoad", "SampledLoad"]

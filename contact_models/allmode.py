@@ -1,0 +1,428 @@
+"""The all-mode dynamic microslip bar in the frequency domain (the paper's future work).
+
+``AllModeMicroslip`` is the bar of Eq. 30 with every mode: the same finite-element bar as
+``NumericalMicroslip`` (``_fe_bar``: n equal cells, lumped mass rho A c_i, a Jenkins element of
+stiffness k c_i and slip force mu q(x_i) c_i at node i, the beta spring at node 0, node n
+driven), but solved for its steady periodic state directly, by multi-harmonic balance with
+alternating frequency-time (AFT) at the nodes, instead of integrated in time.  It resolves the
+phase differences along the bar that the single-mode elements (``TwoRegionMicroslip``,
+``ThreeRegionMicroslip``) neglect, works for any normal load (any number of stick and slip
+regions) and any frequency, including above the cut-off sqrt(k/(rho A)).
+
+Model.  Free nodes i = 0..n-1 with harmonic coefficients U_i (layout ``[U0, Uc1, Us1, ...]``,
+H harmonics), driven node U_n = X (the end displacement, ``a sin(theta)`` for ``fourier``):
+
+    R_i = (K_ii - (h omega)^2 m_i) U_i + K_off (U_{i-1} + U_{i+1}) + T_i(U_i) = 0,
+
+with (h omega)^2 acting per harmonic h, K the tridiagonal axial stiffness (beta in K_00) and
+T_i = P tau_i(E U_i) the harmonic coefficients of node i's periodic Jenkins force (exact
+return map marched from the sample of the global maximum, ``_hbal.jenkins_periodic``).  The
+end force ``EA u_x(L)`` is the driven node's reaction,
+
+    F = K_nn X + K_off U_{n-1} + T_n(X) - (h omega)^2 m_n X.
+
+Solution.  Newton's method on R (piecewise linear in U for a fixed stick/slip pattern, so it
+ends exactly once the pattern settles) with an Armijo backtracking line search; the Jacobian
+is block tridiagonal (diagonal blocks (2H+1)^2 from AFT, off-diagonal K_off I) and is solved
+by block Thomas elimination in O(n H^3).  The derivatives of F follow from the implicit
+function theorem at the converged Jacobian: only node n-1 couples to X, so
+``dF/dX = K_nn - (h omega)^2 m_n + dT_n/dX - K_off^2 C_{n-1}^{-1}`` with C_{n-1} the last
+pivot block of the elimination, and ``dF/domega = -2 omega h^2 m_n X + K_off dU_{n-1}/domega``
+with ``J dU/domega = 2 omega h^2 m U``.  The last solution is cached and warm-starts the next
+call (along amplitude and frequency); a failed Newton run falls back to continuation in the
+amplitude from the exactly linear (stuck) state.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._fe_bar import _Discretisation
+from ._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_periodic
+from ._validation import count, nonnegative, positive
+from .bar import Bar
+from .base import ContactElement
+
+if TYPE_CHECKING:
+    from .loads import QuadraticLoad, UniformLoad
+
+__all__ = ["AllModeMicroslip", "AllModeSolution", "CELLS", "HARMONICS", "SAMPLES_PER_HARMONIC", "NEWTON_TOL",
+           "NEWTON_MAX_ITER"]
+
+#: Default number of cells.
+CELLS = 40
+#: Default number of harmonics H.
+HARMONICS = 15
+#: Default time samples per harmonic (n_t = SAMPLES_PER_HARMONIC * H, rounded up to a multiple of 4).
+SAMPLES_PER_HARMONIC = 8
+#: Newton stops when the residual is below this fraction of the bar's force scale.
+NEWTON_TOL = 1e-11
+#: Newton iteration limit (per solve, before the continuation fallback).
+NEWTON_MAX_ITER = 40
+
+
+@dataclass
+class AllModeSolution:
+    """Steady periodic state of the all-mode bar for one end displacement and frequency.
+
+    ``X``: the end displacement's coefficients (2H+1, layout ``[X0, Xc1, Xs1, ...]``), ``omega``
+    (rad/s), ``F``: the end force's coefficients (N), ``U``: every node's coefficients
+    (n + 1, 2H+1; row n is X), ``dF_dX`` (2H+1, 2H+1) and ``dF_domega`` (2H+1) by the implicit
+    function theorem, ``slip`` (n + 1, n_t): where each node slips at theta_k = 2 pi k/n_t.
+    ``decay``: max(|F_H|, |F_{H-1}|) / |F_1|, the size of the last harmonics kept relative to
+    the first (a truncation indicator; two because even harmonics vanish for a symmetric drive); ``error``: the error estimate of (F_s, F_c) in N from
+    :meth:`AllModeMicroslip.solve` with ``estimate_error=True`` (None otherwise) and
+    ``error_parts`` its parts (``"cells"``: Richardson estimate from the half-cells solution,
+    ``"harmonics"``: change from H to ceil(H/2) harmonics).
+    """
+
+    X: NDArray[np.float64]
+    omega: float
+    F: NDArray[np.float64]
+    U: NDArray[np.float64]
+    dF_dX: NDArray[np.float64]
+    dF_domega: NDArray[np.float64]
+    slip: NDArray[np.bool_]
+    success: bool
+    message: str
+    iterations: int
+    decay: float
+    error: float | None = None
+    error_parts: dict = field(default_factory=dict)
+
+    @property
+    def f_s(self) -> float:
+        """First-harmonic sine coefficient of the end force (N)."""
+        return float(self.F[2])
+
+    @property
+    def f_c(self) -> float:
+        """First-harmonic cosine coefficient of the end force (N)."""
+        return float(self.F[1])
+
+    @property
+    def harmonics(self) -> NDArray[np.complex128]:
+        """Complex coefficients c_h = F_c,h - i F_s,h of the end force, h = 0..H."""
+        return np.concatenate([[self.F[0]], self.F[1::2] - 1j * self.F[2::2]])
+
+
+class AllModeMicroslip(ContactElement):
+    """Microslip bar of Eq. 30 with every mode, solved in the frequency domain.
+
+    Parameters
+    ----------
+    bar : Bar
+        The damper bar.
+    load : UniformLoad, QuadraticLoad, FunctionLoad or SampledLoad
+        Normal load q(x) >= 0 (any shape: any number of stick and slip regions).
+    cells : int, optional
+        Linear finite elements along the bar (default ``CELLS`` = 40); error O(cells^-2).
+    harmonics : int, optional
+        Harmonics H kept in every node's motion (default ``HARMONICS`` = 15).
+    n_t : int, optional
+        Time samples per period of the AFT, a multiple of 4 and >= 2H + 2 (default
+        ``SAMPLES_PER_HARMONIC * H`` rounded up to a multiple of 4).
+
+    Notes
+    -----
+    The model and the solution are in the module docstring and ``docs/theory.md`` (section
+    "The all-mode bar").  Accuracy against converged time integration and the cost of each
+    knob: ``docs/validation.md`` and ``docs/performance.md``.  The steady state of a node that
+    never slips is taken with its slider at the centre of its motion (the Masing convention;
+    the symmetric state for the drive ``a sin(theta)``).
+
+    Examples
+    --------
+    >>> from contact_models import AllModeMicroslip, Bar, UniformLoad
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> el = AllModeMicroslip(bar, UniformLoad(N=100.0), cells=20, harmonics=7)
+    >>> fs, fc = el.fourier(3 * 7.5e-7, 0.0)
+    >>> round(fs / (bar.k_star * 3 * 7.5e-7), 2), round(fc / (bar.k_star * 3 * 7.5e-7), 2)
+    (0.75, 0.15)
+    """
+
+    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int = CELLS, *,
+                 harmonics: int = HARMONICS, n_t: int | None = None) -> None:
+        if not isinstance(bar, Bar):
+            raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
+        self.cells = count("cells", cells, 2)
+        self.harmonics = count("harmonics", harmonics, 1)
+        if n_t is None:
+            n_t = 4 * math.ceil(SAMPLES_PER_HARMONIC * self.harmonics / 4)
+        if isinstance(n_t, bool) or int(n_t) != n_t or n_t % 4 or n_t < 2 * self.harmonics + 2:
+            raise ValueError(f"n_t must be a multiple of 4 and >= 2 harmonics + 2 = {2 * self.harmonics + 2}, "
+                             f"got n_t={n_t!r}")
+        self.n_t = int(n_t)
+        self.bar = bar
+        self.load = load.on(bar.L)
+        if self.load.minimum() < 0.0:
+            raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
+        self._disc = _Discretisation(bar, self.load, self.cells)
+        self._aft: dict = {}
+        self._cache: dict = {}  # H -> (X, omega, U) of the last converged solve
+
+    def __repr__(self) -> str:
+        return (f"AllModeMicroslip({self.bar!r}, {self.load!r}, cells={self.cells}, "
+                f"harmonics={self.harmonics}, n_t={self.n_t})")
+
+    # ------------------------------------------------------------ extras
+    @property
+    def nodes(self) -> NDArray[np.float64]:
+        """Node positions x_i (m)."""
+        return self._disc.x.copy()
+
+    def solve(self, a: float | ArrayLike, omega: float = 0.0, *, estimate_error: bool = False) -> AllModeSolution:
+        """Steady state for the end displacement ``a sin(theta)`` (``a`` a number, m) or for the
+        coefficients ``a`` (length 2H'+1, layout ``[X0, Xc1, Xs1, ...]``, H' <= harmonics).
+
+        ``estimate_error=True`` also solves with half the cells and with ceil(H/2) harmonics and
+        fills ``error`` (N, on (f_s, f_c), the larger of the two parts) and ``error_parts``.
+        """
+        omega = nonnegative("omega", omega)
+        X = self._end_vector(a)
+        sol = self._solve(X, omega, self.harmonics)
+        if estimate_error and sol.success:
+            sol.error_parts = self._error_parts(X, omega, sol)
+            sol.error = max(sol.error_parts.values())
+        return sol
+
+    def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None
+                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """End force coefficients ``F`` (2H+1), ``dF/dX`` (2H+1, 2H+1) and ``dF/domega`` (2H+1)
+        for the end displacement coefficients ``X`` (length 2H+1) at ``omega`` (rad/s).
+
+        The bar is solved with ``max(H, harmonics)`` harmonics (its internal motion needs its
+        own resolution) and its own sample count (``n_t`` of the caller is not used: the
+        nested AFT samples each node, not the caller's force); the result is truncated to H.
+        Derivatives by the implicit function theorem (exact for the discrete model).
+        Raises ValueError when the nested solve fails.
+        """
+        X = np.asarray(X, dtype=float)
+        if X.ndim != 1 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
+            raise ValueError(f"X must be a finite vector of odd length 2H+1, got X with shape {X.shape}")
+        omega = nonnegative("omega", omega)
+        H = (X.size - 1) // 2
+        Hi = max(H, self.harmonics)
+        sol = self._solve(np.pad(X, (0, 2 * (Hi - H))), omega, Hi)
+        if not sol.success:
+            raise ValueError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
+        m = 2 * H + 1
+        return sol.F[:m].copy(), sol.dF_dX[:m, :m].copy(), sol.dF_domega[:m].copy()
+
+    def stick_slip_map(self, a: float, omega: float = 0.0) -> tuple[NDArray[np.float64], NDArray[np.float64],
+                                                                        NDArray[np.bool_]]:
+        """``(theta, x, slip)``: where the bar slips over one cycle of ``a sin(theta)``,
+        slip[i, k] True when node x[i] slips at theta[k] = 2 pi k / n_t."""
+        sol = self.solve(a, omega)
+        return 2.0 * np.pi * np.arange(self.n_t) / self.n_t, self.nodes, sol.slip
+
+    # ------------------------------------------------------------ the solve
+    def _matrices(self, H: int):
+        key = (H, self._nt(H))
+        if key not in self._aft:
+            self._aft[key] = aft_matrices(H, key[1])
+        return self._aft[key]
+
+    def _nt(self, H: int) -> int:
+        if H == self.harmonics:
+            return self.n_t
+        return max(4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(self.n_t * H / self.harmonics / 4))
+
+    def _end_vector(self, a) -> NDArray[np.float64]:
+        arr = np.asarray(a, dtype=float)
+        if arr.ndim == 0:
+            X = np.zeros(2 * self.harmonics + 1)
+            X[2] = nonnegative("a", float(arr))
+            return X
+        if arr.ndim != 1 or arr.size % 2 == 0 or arr.size > 2 * self.harmonics + 1 or not np.all(np.isfinite(arr)):
+            raise ValueError(f"a must be an amplitude or a finite coefficient vector of odd length <= "
+                             f"{2 * self.harmonics + 1}, got a={a!r}")
+        return np.pad(arr, (0, 2 * self.harmonics + 1 - arr.size))
+
+    def _scale(self, X):
+        d = self._disc
+        return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
+
+    def _residual(self, U, X, omega, H, jacobian=True):
+        """R (n, 2H+1), the Jenkins Jacobians (n+1 nodes) and slip masks, at U (n, 2H+1)."""
+        d = self._disc
+        E, P, order = self._matrices(H)
+        full = np.vstack([U, X[None, :]])
+        T, J, slip = jenkins_harmonic(full, d.kc, d.p, E, P, jacobian=jacobian)
+        lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * order[None, :] ** 2  # (n+1, 2H+1)
+        R = lin[:-1] * U + T[:-1]
+        R[1:] += d.off * U[:-1]
+        R[:-1] += d.off * U[1:]
+        R[-1] += d.off * X
+        return R, T, J, slip, lin
+
+    def _linear_guess(self, X, omega, H):
+        """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
+        d = self._disc
+        _, _, order = self._matrices(H)
+        diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * order[None, :] ** 2
+        rhs = np.zeros((d.n, order.size))
+        rhs[-1] = -d.off * X
+        # per harmonic a tridiagonal solve, all harmonics at once (Thomas on diagonal blocks)
+        n = d.n
+        cp = np.empty_like(diag)
+        y = np.empty_like(rhs)
+        cp[0] = diag[0]
+        y[0] = rhs[0]
+        for i in range(1, n):
+            w = d.off / cp[i - 1]
+            cp[i] = diag[i] - w * d.off
+            y[i] = rhs[i] - w * y[i - 1]
+        U = np.empty_like(y)
+        U[-1] = y[-1] / cp[-1]
+        for i in range(n - 2, -1, -1):
+            U[i] = (y[i] - d.off * U[i + 1]) / cp[i]
+        return U
+
+    def _guess(self, X, omega, H):
+        cands = [self._linear_guess(X, omega, H)]
+        if H in self._cache:
+            Xc, wc, Uc = self._cache[H]
+            s = float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300)
+            cands.append(Uc * s)
+        if len(cands) == 1:
+            return cands[0]
+        res = [float(np.max(np.abs(self._residual(U, X, omega, H, jacobian=False)[0]))) for U in cands]
+        return cands[int(np.argmin(res))]
+
+    def _newton(self, U, X, omega, H, max_iter=NEWTON_MAX_ITER):
+        """Damped Newton from U.  Returns (U, converged, iterations, last evaluation)."""
+        tol = NEWTON_TOL * self._scale(X)
+        for it in range(max_iter + 1):
+            R, T, J, slip, lin = self._residual(U, X, omega, H)
+            res = float(np.max(np.abs(R)))
+            B = J[:-1] + lin[:-1, :, None] * np.eye(lin.shape[1])[None]
+            fac = BlockTridiagonal(B, self._disc.off)
+            if res <= tol or it == max_iter or not np.isfinite(res):
+                break
+            dU = -fac.solve(R)
+            t = 1.0
+            for _ in range(30):
+                Rt = self._residual(U + t * dU, X, omega, H, jacobian=False)[0]
+                if float(np.max(np.abs(Rt))) <= (1.0 - 1e-4 * t) * res:
+                    break
+                t *= 0.5
+            U = U + t * dU
+        return U, res <= tol, it, (R, T, J, slip, lin, fac)
+
+    def _solve(self, X, omega, H) -> AllModeSolution:
+        U, ok, iters, ev = self._newton(self._guess(X, omega, H), X, omega, H)
+        if not ok:
+            U, ok, extra, ev = self._continuation(X, omega, H)
+            iters += extra
+        return self._finish(U, X, omega, H, ok, iters, ev)
+
+    def _continuation(self, X, omega, H):
+        """Scale the end motion from the linear (stuck) state up to X, halving steps on failure."""
+        a_lin = self._disc.slip_amplitude(omega)
+        size = float(np.max(np.abs(X)))
+        s = min(1.0, 0.5 * a_lin / size) if size > 0 else 1.0
+        U = self._linear_guess(s * X, omega, H)
+        ds, total, ev = s, 0, None
+        ok = True
+        while s < 1.0:
+            s_new = min(1.0, s + ds)
+            Ut, ok_t, it, ev_t = self._newton(U * (s_new / s), s_new * X, omega, H, max_iter=15)
+            total += it
+            if ok_t:
+                U, s, ev = Ut, s_new, ev_t
+                ds *= 1.5
+            else:
+                ds *= 0.5
+                if ds < 1e-6:
+                    ok = False
+                    break
+        if ev is None:
+            U, ok, it, ev = self._newton(U, X, omega, H)
+            total += it
+        return U, ok and s >= 1.0, total, ev
+
+    def _finish(self, U, X, omega, H, ok, iters, ev) -> AllModeSolution:
+        R, T, J, slip, lin, fac = ev
+        d = self._disc
+        nh = 2 * H + 1
+        _, _, order = self._matrices(H)
+        F = lin[-1] * X + d.off * U[-1] + T[-1]
+        dF_dX = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.inv[-1]
+        dR_dw = -2.0 * omega * d.m[:-1, None] * order[None, :] ** 2 * U
+        dU_dw = fac.solve(-dR_dw)
+        dF_dw = -2.0 * omega * d.m[-1] * order**2 * X + d.off * dU_dw[-1]
+        F1 = math.hypot(F[1], F[2])
+        FH = max(math.hypot(F[-2], F[-1]), math.hypot(F[-4], F[-3]) if H >= 2 else 0.0)
+        decay = FH / F1 if F1 > 0 else 0.0
+        finite = bool(np.all(np.isfinite(F)) and np.all(np.isfinite(dF_dX)))
+        ok = ok and finite
+        if ok:
+            self._cache[H] = (X.copy(), omega, U.copy())
+        msg = "converged" if ok else f"Newton did not converge (residual {float(np.max(np.abs(R))):.3g} N)"
+        return AllModeSolution(X=X.copy(), omega=omega, F=F, U=np.vstack([U, X]), dF_dX=dF_dX, dF_domega=dF_dw,
+                               slip=slip, success=ok, message=msg, iterations=iters, decay=decay)
+
+    def _error_parts(self, X, omega, sol):
+        parts = {}
+        if self.cells >= 4:
+            coarse = AllModeMicroslip(self.bar, self.load, self.cells // 2, harmonics=self.harmonics, n_t=self.n_t)
+            c = coarse._solve(X, omega, self.harmonics)
+            parts["cells"] = float(np.max(np.abs(c.F[1:3] - sol.F[1:3]))) / 3.0
+        Hh = max(1, math.ceil(self.harmonics / 2))
+        if Hh < self.harmonics:
+            h = self._solve(X[: 2 * Hh + 1], omega, Hh)
+            parts["harmonics"] = float(np.max(np.abs(h.F[1:3] - sol.F[1:3])))
+        return parts
+
+    # ------------------------------------------------------------ interface
+    def _stuck_stiffness(self, omega):
+        return float(self._disc.stuck_solution(omega)[1])
+
+    def _slip_amplitude(self, omega):
+        return self._disc.slip_amplitude(omega)
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        fs = np.empty_like(a)
+        fc = np.zeros_like(a)
+        dfs = np.empty_like(a)
+        dfc = np.zeros_like(a)
+        for w in np.unique(omega):
+            sel = np.flatnonzero(omega == w)
+            sel = sel[np.argsort(a[sel])]
+            a_lin = self._slip_amplitude(float(w))
+            K = self._stuck_stiffness(float(w))
+            for i in sel:
+                if a[i] <= a_lin:
+                    fs[i], dfs[i] = K * a[i], K
+                    continue
+                X = np.zeros(2 * self.harmonics + 1)
+                X[2] = a[i]
+                sol = self._solve(X, float(w), self.harmonics)
+                if not sol.success:
+                    raise FloatingPointError(f"AllModeMicroslip: {sol.message} at a={a[i]!r}, omega={w!r}")
+                fs[i], fc[i] = sol.f_s, sol.f_c
+                dfs[i], dfc[i] = sol.dF_dX[2, 2], sol.dF_dX[1, 2]
+        return fs, fc, dfs, dfc
+
+    def _hysteresis(self, a, omega, n):
+        theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)
+        x = a * np.sin(theta)
+        if a <= self._slip_amplitude(omega):
+            return x, self._stuck_stiffness(omega) * x
+        sol = self.solve(a, omega)
+        d, H = self._disc, self.harmonics
+        # end force in time: axial term from node n-1's series, tip Jenkins marched on x itself
+        Ef = np.ones((n, 2 * H + 1))
+        hth = np.outer(theta, np.arange(1, H + 1))
+        Ef[:, 1::2], Ef[:, 2::2] = np.cos(hth), np.sin(hth)
+        u_prev = Ef @ sol.U[-2]
+        tau, *_ = jenkins_periodic(x[None, :-1], d.kc[-1:], d.p[-1:])
+        tau = np.append(tau[0], tau[0, 0])
+        f = -d.off * (x - u_prev) + tau - d.m[-1] * omega**2 * x
+        return x, f
