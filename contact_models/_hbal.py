@@ -51,27 +51,31 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     umax = u[rows, kmax]
     umin = np.min(u, axis=1)
     never = kc * (umax - umin) <= 2.0 * p
+    # rolled so that each row starts at its maximum; time along axis 0 (contiguous steps)
+    order = kmax[None, :] + np.arange(n_t)[:, None]
+    order[order >= n_t] -= n_t
+    ur = u[rows[None, :], order]
+    dku = kc * np.diff(ur, axis=0)
+    trial = np.empty((n_t, m))
+    fk = np.where(never, 0.5 * kc * (umax - umin), p)
+    trial[0] = fk
+    lo = -p
+    for j in range(1, n_t):
+        t = fk + dku[j - 1]
+        trial[j] = t
+        fk = np.minimum(np.maximum(t, lo), p)
+    fr = np.minimum(np.maximum(trial, lo), p)
+    st = np.abs(trial) <= p
+    st[0] = never
+    # the stick phase at step j began at the last slipping step (step 0 slips unless `never`)
+    last = np.where(st, 0, np.arange(n_t)[:, None])
+    last = np.maximum.accumulate(last, axis=0)
     f = np.empty((m, n_t))
     stuck = np.empty((m, n_t), bool)
     anchor = np.empty((m, n_t), np.intp)
-    fk = np.where(never, 0.5 * kc * (umax - umin), p)
-    f[rows, kmax] = fk
-    stuck[rows, kmax] = never
-    anchor[rows, kmax] = kmax
-    a_k = kmax.copy()
-    prev = umax
-    for j in range(1, n_t):
-        k = kmax + j
-        k[k >= n_t] -= n_t
-        uk = u[rows, k]
-        trial = fk + kc * (uk - prev)
-        fk = np.clip(trial, -p, p)
-        st = np.abs(trial) <= p
-        a_k = np.where(st, a_k, k)
-        f[rows, k] = fk
-        stuck[rows, k] = st
-        anchor[rows, k] = a_k
-        prev = uk
+    f[rows[None, :], order] = fr
+    stuck[rows[None, :], order] = st
+    anchor[rows[None, :], order] = order[last, rows[None, :]]
     return f, stuck, anchor, never
 
 

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -111,6 +111,33 @@ class AllModeSolution:
         return np.concatenate([[self.F[0]], self.F[1::2] - 1j * self.F[2::2]])
 
 
+class _Basis(NamedTuple):
+    """The harmonic coefficients solved for: ``idx`` into the full layout, AFT matrices on them."""
+
+    H: int
+    odd: bool
+    idx: NDArray[np.intp]
+    E: NDArray[np.float64]
+    P: NDArray[np.float64]
+    order: NDArray[np.float64]
+
+    @property
+    def key(self):
+        return (self.H, self.odd)
+
+
+class _Eval(NamedTuple):
+    """One evaluation of the bar's balance at U."""
+
+    U: NDArray[np.float64]
+    R: NDArray[np.float64]
+    res: float
+    T: NDArray[np.float64]
+    J: NDArray[np.float64]
+    slip: NDArray[np.bool_]
+    lin: NDArray[np.float64]
+
+
 class AllModeMicroslip(ContactElement):
     """Microslip bar of Eq. 30 with every mode, solved in the frequency domain.
 
@@ -164,7 +191,7 @@ class AllModeMicroslip(ContactElement):
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
         self._disc = _Discretisation(bar, self.load, self.cells)
         self._aft: dict = {}
-        self._cache: dict = {}  # H -> (X, omega, U) of the last converged solve
+        self._cache: dict = {}  # (H, odd) -> (X, omega, U) of the last converged solve
 
     def __repr__(self) -> str:
         return (f"AllModeMicroslip({self.bar!r}, {self.load!r}, cells={self.cells}, "
@@ -185,7 +212,7 @@ class AllModeMicroslip(ContactElement):
         """
         omega = nonnegative("omega", omega)
         X = self._end_vector(a)
-        sol = self._solve(X, omega, self.harmonics)
+        sol = self._solve(X, omega, self.harmonics, odd=self._is_odd(X))
         if estimate_error and sol.success:
             sol.error_parts = self._error_parts(X, omega, sol)
             sol.error = max(sol.error_parts.values())
@@ -222,16 +249,18 @@ class AllModeMicroslip(ContactElement):
         return 2.0 * np.pi * np.arange(self.n_t) / self.n_t, self.nodes, sol.slip
 
     # ------------------------------------------------------------ the solve
-    def _matrices(self, H: int):
-        key = (H, self._nt(H))
+    def _basis(self, H: int, odd: bool) -> _Basis:
+        """Harmonics 0..H, or only the odd ones: a drive with only odd harmonics (``a sin``) has a
+        half-wave symmetric steady state (u(t + T/2) = -u(t) at every node: the equations are odd
+        and invariant under the half-period shift), so the even coefficients vanish."""
+        key = (H, odd)
         if key not in self._aft:
-            self._aft[key] = aft_matrices(H, key[1])
+            n_t = self.n_t if H == self.harmonics else max(
+                4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(self.n_t * H / self.harmonics / 4))
+            E, P, order = aft_matrices(H, n_t)
+            idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
+            self._aft[key] = _Basis(H, odd, idx, E[:, idx], P[idx], order[idx])
         return self._aft[key]
-
-    def _nt(self, H: int) -> int:
-        if H == self.harmonics:
-            return self.n_t
-        return max(4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(self.n_t * H / self.harmonics / 4))
 
     def _end_vector(self, a) -> NDArray[np.float64]:
         arr = np.asarray(a, dtype=float)
@@ -248,135 +277,143 @@ class AllModeMicroslip(ContactElement):
         d = self._disc
         return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
 
-    def _residual(self, U, X, omega, H, jacobian=True):
-        """R (n, 2H+1), the Jenkins Jacobians (n+1 nodes) and slip masks, at U (n, 2H+1)."""
+    def _evaluate(self, U, X, omega, b):
+        """Residual R (n, s) at U (n, s) with the Jenkins forces and Jacobians of all n + 1 nodes,
+        the slip masks and the linear part (X, U in the basis b of s coefficients)."""
         d = self._disc
-        E, P, order = self._matrices(H)
         full = np.vstack([U, X[None, :]])
-        T, J, slip = jenkins_harmonic(full, d.kc, d.p, E, P, jacobian=jacobian)
-        lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * order[None, :] ** 2  # (n+1, 2H+1)
+        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P)
+        lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
         R = lin[:-1] * U + T[:-1]
         R[1:] += d.off * U[:-1]
         R[:-1] += d.off * U[1:]
         R[-1] += d.off * X
-        return R, T, J, slip, lin
+        return _Eval(U, R, float(np.max(np.abs(R))), T, J, slip, lin)
 
-    def _linear_guess(self, X, omega, H):
+    def _linear_guess(self, X, omega, b):
         """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
         d = self._disc
-        _, _, order = self._matrices(H)
-        diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * order[None, :] ** 2
-        rhs = np.zeros((d.n, order.size))
-        rhs[-1] = -d.off * X
-        # per harmonic a tridiagonal solve, all harmonics at once (Thomas on diagonal blocks)
-        n = d.n
+        diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * b.order[None, :] ** 2
+        off, n = d.off, d.n
+        # per coefficient a tridiagonal solve, all at once (scalar Thomas)
         cp = np.empty_like(diag)
-        y = np.empty_like(rhs)
+        y = np.zeros_like(diag)
         cp[0] = diag[0]
-        y[0] = rhs[0]
+        y[-1] = -off * X
         for i in range(1, n):
-            w = d.off / cp[i - 1]
-            cp[i] = diag[i] - w * d.off
-            y[i] = rhs[i] - w * y[i - 1]
+            w = off / cp[i - 1]
+            cp[i] = diag[i] - w * off
+            y[i] -= w * y[i - 1]
         U = np.empty_like(y)
         U[-1] = y[-1] / cp[-1]
         for i in range(n - 2, -1, -1):
-            U[i] = (y[i] - d.off * U[i + 1]) / cp[i]
+            U[i] = (y[i] - off * U[i + 1]) / cp[i]
         return U
 
-    def _guess(self, X, omega, H):
-        cands = [self._linear_guess(X, omega, H)]
-        if H in self._cache:
-            Xc, wc, Uc = self._cache[H]
+    def _start(self, X, omega, b):
+        """The better (smaller residual) of the linear state and the cached solution scaled to X."""
+        best = self._evaluate(self._linear_guess(X, omega, b), X, omega, b)
+        if b.key in self._cache:
+            Xc, _, Uc = self._cache[b.key]
             s = float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300)
-            cands.append(Uc * s)
-        if len(cands) == 1:
-            return cands[0]
-        res = [float(np.max(np.abs(self._residual(U, X, omega, H, jacobian=False)[0]))) for U in cands]
-        return cands[int(np.argmin(res))]
+            ev = self._evaluate(Uc * s, X, omega, b)
+            if ev.res < best.res:
+                best = ev
+        return best
 
-    def _newton(self, U, X, omega, H, max_iter=NEWTON_MAX_ITER):
-        """Damped Newton from U.  Returns (U, converged, iterations, last evaluation)."""
+    def _newton(self, ev, X, omega, b, max_iter=NEWTON_MAX_ITER):
+        """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
+        iterations).  Armijo backtracking on max|R|; accepted trials are reused."""
         tol = NEWTON_TOL * self._scale(X)
         for it in range(max_iter + 1):
-            R, T, J, slip, lin = self._residual(U, X, omega, H)
-            res = float(np.max(np.abs(R)))
-            B = J[:-1] + lin[:-1, :, None] * np.eye(lin.shape[1])[None]
+            B = ev.J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None]
             fac = BlockTridiagonal(B, self._disc.off)
-            if res <= tol or it == max_iter or not np.isfinite(res):
+            if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
                 break
-            dU = -fac.solve(R)
+            dU = -fac.solve(ev.R)
             t = 1.0
             for _ in range(30):
-                Rt = self._residual(U + t * dU, X, omega, H, jacobian=False)[0]
-                if float(np.max(np.abs(Rt))) <= (1.0 - 1e-4 * t) * res:
+                trial = self._evaluate(ev.U + t * dU, X, omega, b)
+                if trial.res <= (1.0 - 1e-4 * t) * ev.res:
                     break
                 t *= 0.5
-            U = U + t * dU
-        return U, res <= tol, it, (R, T, J, slip, lin, fac)
+            ev = trial
+        return ev, fac, ev.res <= tol, it
 
-    def _solve(self, X, omega, H) -> AllModeSolution:
-        U, ok, iters, ev = self._newton(self._guess(X, omega, H), X, omega, H)
+    def _solve(self, X, omega, H, odd=False) -> AllModeSolution:
+        """Steady state for the full-layout X (2H+1) at omega, in the odd basis if asked."""
+        b = self._basis(H, odd)
+        Xb = X[b.idx]
+        ev, fac, ok, iters = self._newton(self._start(Xb, omega, b), Xb, omega, b)
         if not ok:
-            U, ok, extra, ev = self._continuation(X, omega, H)
+            ev, fac, ok, extra = self._continuation(Xb, omega, b)
             iters += extra
-        return self._finish(U, X, omega, H, ok, iters, ev)
+        return self._finish(ev, fac, X, Xb, omega, b, ok, iters)
 
-    def _continuation(self, X, omega, H):
+    def _continuation(self, X, omega, b):
         """Scale the end motion from the linear (stuck) state up to X, halving steps on failure."""
-        a_lin = self._disc.slip_amplitude(omega)
         size = float(np.max(np.abs(X)))
-        s = min(1.0, 0.5 * a_lin / size) if size > 0 else 1.0
-        U = self._linear_guess(s * X, omega, H)
-        ds, total, ev = s, 0, None
-        ok = True
+        s = min(1.0, 0.5 * self._disc.slip_amplitude(omega) / size) if size > 0 else 1.0
+        ev = self._evaluate(self._linear_guess(s * X, omega, b), s * X, omega, b)
+        ds, total, fac, ok = s, 0, None, True
         while s < 1.0:
             s_new = min(1.0, s + ds)
-            Ut, ok_t, it, ev_t = self._newton(U * (s_new / s), s_new * X, omega, H, max_iter=15)
+            start = self._evaluate(ev.U * (s_new / s), s_new * X, omega, b)
+            ev_t, fac_t, ok_t, it = self._newton(start, s_new * X, omega, b, max_iter=15)
             total += it
             if ok_t:
-                U, s, ev = Ut, s_new, ev_t
+                ev, fac, s = ev_t, fac_t, s_new
                 ds *= 1.5
             else:
                 ds *= 0.5
                 if ds < 1e-6:
                     ok = False
                     break
-        if ev is None:
-            U, ok, it, ev = self._newton(U, X, omega, H)
+        if fac is None:
+            ev, fac, ok, it = self._newton(ev, X, omega, b)
             total += it
-        return U, ok and s >= 1.0, total, ev
+        return ev, fac, ok and s >= 1.0, total
 
-    def _finish(self, U, X, omega, H, ok, iters, ev) -> AllModeSolution:
-        R, T, J, slip, lin, fac = ev
+    def _finish(self, ev, fac, X, Xb, omega, b, ok, iters) -> AllModeSolution:
         d = self._disc
-        nh = 2 * H + 1
-        _, _, order = self._matrices(H)
-        F = lin[-1] * X + d.off * U[-1] + T[-1]
-        dF_dX = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.inv[-1]
-        dR_dw = -2.0 * omega * d.m[:-1, None] * order[None, :] ** 2 * U
-        dU_dw = fac.solve(-dR_dw)
-        dF_dw = -2.0 * omega * d.m[-1] * order**2 * X + d.off * dU_dw[-1]
+        U, T, J, lin = ev.U, ev.T, ev.J, ev.lin
+        full = 2 * b.H + 1
+        Fb = lin[-1] * Xb + d.off * U[-1] + T[-1]
+        dF_dXb = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.inv[-1]
+        dU_dw = fac.solve(2.0 * omega * d.m[:-1, None] * b.order[None, :] ** 2 * U)
+        dF_dwb = -2.0 * omega * d.m[-1] * b.order**2 * Xb + d.off * dU_dw[-1]
+        F = np.zeros(full)
+        F[b.idx] = Fb
+        dF_dX = np.zeros((full, full))
+        dF_dX[np.ix_(b.idx, b.idx)] = dF_dXb
+        dF_dw = np.zeros(full)
+        dF_dw[b.idx] = dF_dwb
+        Ufull = np.zeros((d.n + 1, full))
+        Ufull[:-1, b.idx] = U
+        Ufull[-1] = X
         F1 = math.hypot(F[1], F[2])
-        FH = max(math.hypot(F[-2], F[-1]), math.hypot(F[-4], F[-3]) if H >= 2 else 0.0)
+        FH = max(math.hypot(F[-2], F[-1]), math.hypot(F[-4], F[-3]) if b.H >= 2 else 0.0)
         decay = FH / F1 if F1 > 0 else 0.0
-        finite = bool(np.all(np.isfinite(F)) and np.all(np.isfinite(dF_dX)))
-        ok = ok and finite
+        ok = bool(ok and np.all(np.isfinite(F)) and np.all(np.isfinite(dF_dX)))
         if ok:
-            self._cache[H] = (X.copy(), omega, U.copy())
-        msg = "converged" if ok else f"Newton did not converge (residual {float(np.max(np.abs(R))):.3g} N)"
-        return AllModeSolution(X=X.copy(), omega=omega, F=F, U=np.vstack([U, X]), dF_dX=dF_dX, dF_domega=dF_dw,
-                               slip=slip, success=ok, message=msg, iterations=iters, decay=decay)
+            self._cache[b.key] = (Xb.copy(), omega, U.copy())
+        msg = "converged" if ok else f"Newton did not converge (residual {ev.res:.3g} N)"
+        return AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
+                               slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay)
+
+    @staticmethod
+    def _is_odd(X):
+        return not np.any(X[0::4]) and not np.any(X[3::4])  # h = 0, 2, 4, ... sit at 0, 3, 4, 7, 8, ...
 
     def _error_parts(self, X, omega, sol):
         parts = {}
         if self.cells >= 4:
             coarse = AllModeMicroslip(self.bar, self.load, self.cells // 2, harmonics=self.harmonics, n_t=self.n_t)
-            c = coarse._solve(X, omega, self.harmonics)
+            c = coarse._solve(X, omega, self.harmonics, odd=self._is_odd(X))
             parts["cells"] = float(np.max(np.abs(c.F[1:3] - sol.F[1:3]))) / 3.0
         Hh = max(1, math.ceil(self.harmonics / 2))
         if Hh < self.harmonics:
-            h = self._solve(X[: 2 * Hh + 1], omega, Hh)
+            h = self._solve(X[: 2 * Hh + 1], omega, Hh, odd=self._is_odd(X))
             parts["harmonics"] = float(np.max(np.abs(h.F[1:3] - sol.F[1:3])))
         return parts
 
@@ -403,7 +440,7 @@ class AllModeMicroslip(ContactElement):
                     continue
                 X = np.zeros(2 * self.harmonics + 1)
                 X[2] = a[i]
-                sol = self._solve(X, float(w), self.harmonics)
+                sol = self._solve(X, float(w), self.harmonics, odd=True)
                 if not sol.success:
                     raise FloatingPointError(f"AllModeMicroslip: {sol.message} at a={a[i]!r}, omega={w!r}")
                 fs[i], fc[i] = sol.f_s, sol.f_c
