@@ -105,7 +105,8 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
         # df_k/dU = kc stuck_k (E_k - E_anchor(k)); dT/dU = P (df/dU)
         st = stuck[slips]
         G = (E[None, :, :] - E[anchor[slips]]) * st[:, :, None]
-        J[slips] = kc[slips, None, None] * np.matmul(P, G)
+        # one GEMM for all nodes: (s, n_t) x (n_t, m s)
+        J[slips] = kc[slips, None, None] * np.tensordot(P, G, axes=([1], [1])).transpose(1, 0, 2)
     return T, J, ~stuck
 
 

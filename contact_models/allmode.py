@@ -218,24 +218,29 @@ class AllModeMicroslip(ContactElement):
             sol.error = max(sol.error_parts.values())
         return sol
 
-    def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None
+    def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None, rtol: float = 1e-6
                        ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """End force coefficients ``F`` (2H+1), ``dF/dX`` (2H+1, 2H+1) and ``dF/domega`` (2H+1)
-        for the end displacement coefficients ``X`` (length 2H+1) at ``omega`` (rad/s).
+        for the end displacement coefficients ``X`` (length 2H+1, H >= 1) at ``omega`` (rad/s).
 
-        The bar is solved with ``max(H, harmonics)`` harmonics (its internal motion needs its
-        own resolution) and its own sample count (``n_t`` of the caller is not used: the
-        nested AFT samples each node, not the caller's force); the result is truncated to H.
-        Derivatives by the implicit function theorem (exact for the discrete model).
-        Raises ValueError when the nested solve fails.
+        The multi-harmonic contract (CONTRACT.md) with a nested solve: the bar is solved with
+        ``max(H, harmonics)`` harmonics (its internal motion needs its own resolution) and its
+        own sample count (``n_t`` and ``rtol`` of the caller are accepted and not used: the
+        nested AFT samples every node, and Newton converges to rounding); the result is
+        truncated to H.  Derivatives by the implicit function theorem (exact for the discrete
+        model).  Raises ValueError for bad input and when the nested solve fails.
         """
         X = np.asarray(X, dtype=float)
-        if X.ndim != 1 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
-            raise ValueError(f"X must be a finite vector of odd length 2H+1, got X with shape {X.shape}")
-        omega = nonnegative("omega", omega)
+        if X.ndim != 1 or X.size < 3 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
+            raise ValueError(f"X must be a finite vector of odd length 2H+1 >= 3, got X with shape {X.shape}")
+        return self.harmonic_force_unchecked(X, nonnegative("omega", omega), n_t or 0, rtol)
+
+    def harmonic_force_unchecked(self, X: NDArray[np.float64], omega: float, n_t: int = 0, rtol: float = 1e-6
+                                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+        """:meth:`harmonic_force` without validation (the solver's fast path)."""
         H = (X.size - 1) // 2
         Hi = max(H, self.harmonics)
-        sol = self._solve(np.pad(X, (0, 2 * (Hi - H))), omega, Hi)
+        sol = self._solve(np.pad(X, (0, 2 * (Hi - H))), float(omega), Hi)
         if not sol.success:
             raise ValueError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
         m = 2 * H + 1

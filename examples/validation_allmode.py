@@ -76,7 +76,8 @@ def compare(ref, cells: int = 40, harmonics: int = 15):
     rows = []
     for name in ALL_LOADS:
         el = AllModeMicroslip(BAR, ALL_LOADS[name], cells=cells, harmonics=harmonics)
-        amin = el.slip_amplitude(0.0)
+        # the reference's physical amplitudes: a/a_min with a_min of its 200-cell bar
+        amin = NumericalMicroslip(BAR, ALL_LOADS[name], cells=REF_CELLS).slip_amplitude(0.0)
         for (nm, w, r), (fs_ref, fc_ref, _) in sorted(ref.items()):
             if nm != name:
                 continue
@@ -95,7 +96,7 @@ def regions_figure(outdir: Path = FIGURES, w: float = 0.5, r: float = 3.0, cells
     import matplotlib.pyplot as plt
 
     el = AllModeMicroslip(BAR, WAVY, cells=cells, harmonics=15)
-    a = r * el.slip_amplitude(0.0)
+    a = r * NumericalMicroslip(BAR, WAVY, cells=REF_CELLS).slip_amplitude(0.0)
     theta, x, slip = el.stick_slip_map(a, w * BAR.omega_c)
     num = NumericalMicroslip(BAR, WAVY, cells=cells, steps_per_cycle=steps)
     slip_num = _numerical_slip(num, a, w * BAR.omega_c)
