@@ -9,6 +9,7 @@ from .bar import Bar
 from .base import ContactElement
 from .loads import FunctionLoad, QuadraticLoad, SampledLoad, UniformLoad
 from .macroslip import Macroslip
+from .model_range import ModelRangeWarning
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
 from .numerical import NumericalMicroslip
 from .point_contact import PointContact
@@ -16,4 +17,4 @@ from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
-           "AllModeMicroslip", "FunctionLoad", "SampledLoad"]
+           "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning"]

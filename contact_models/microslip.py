@@ -28,14 +28,16 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 from numpy.polynomial import chebyshev as cheb
 from scipy.optimize import brentq, minimize_scalar
 
 from .bar import Bar, end_impedance, transmission
-from .base import ContactElement, masing_loop
+from .base import DEFAULT_RTOL, ContactElement, masing_loop
+from .model_range import check_single_mode
 from ._validation import nonnegative
 
 #: Complex-step size for derivatives along the loading curve (relative to a unit parameter).
@@ -463,6 +465,20 @@ class _MicroslipBar(ContactElement):
         return theta, L1, L2
 
     # ------------------------------------------------------------ interface
+    def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *, rtol: float = DEFAULT_RTOL) -> tuple[Any, Any]:
+        """As ``ContactElement.fourier``; warns (``ModelRangeWarning``) outside the single-mode range
+        (``contact_models.model_range``)."""
+        out = super().fourier(a, omega, rtol=rtol)
+        check_single_mode(self, a, omega)
+        return out
+
+    def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
+                            rtol: float = DEFAULT_RTOL) -> tuple[Any, ...]:
+        """As ``ContactElement.fourier_derivatives``; warns outside the single-mode range."""
+        out = super().fourier_derivatives(a, omega, rtol=rtol)
+        check_single_mode(self, a, omega)
+        return out
+
     def _stuck_stiffness(self, omega):
         return float(self.bar.stuck_stiffness(omega))
 

@@ -1,0 +1,72 @@
+"""FRF of the default blade with the all-mode damper (AllModeMicroslip), against the single-mode
+FRF and the time integration of blade + bar (issue 13).
+
+The default case of ``python -m hbm`` (hbm.cases.default_case): blade k = 1e8 N/m, zeta = 2e-3,
+F = 8 N, uniform 100 N load on the DESIGN.md bar.  The time-integration numbers are the ones
+stored in docs/validation.md ("The blade in time against the FRF": ``hbm.simulate_blade``,
+160 cells, 1024 steps per cycle, a 345 s run), not re-run here.  Writes
+docs/figures/allmode_frf.png and prints the comparison table.
+"""
+
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from validation_common import FIGURES, markdown_table
+
+from contact_models import AllModeMicroslip, UniformLoad
+from hbm import frequency_response, response_at
+from hbm.cases import default_case
+
+#: omega (rad/s) -> (a/a_min, phase) of the time integration, docs/validation.md (stored, not re-run).
+TIME_INTEGRATION = {38400.0: (1.70788, 0.6661), 38768.3: (2.04257, 1.5568), 40000.0: (1.60920, 2.5986)}
+
+
+def main(cells: int = 40, harmonics: int = 15, outdir=FIGURES, figure: bool = True):
+    case = default_case()
+    amin = case.element.slip_amplitude(0.0)
+    el = AllModeMicroslip(case.element.bar, UniformLoad(N=100.0), cells=cells, harmonics=harmonics)
+    t0 = time.perf_counter()
+    frf = frequency_response(case.blade, el, case.omega_range)
+    seconds = time.perf_counter() - t0
+    single = frequency_response(case.blade, case.element, case.omega_range)
+    rows = []
+    for w, (a_ti, ph_ti) in TIME_INTEGRATION.items():
+        lo, hi = 0.5 * a_ti * amin, 1.5 * a_ti * amin
+        r_all = response_at(case.blade, el, w, (lo, hi))
+        r_one = response_at(case.blade, case.element, w, (lo, hi))
+        rows.append((w, r_one.amplitude / amin, r_all.amplitude / amin, a_ti,
+                     r_one.amplitude / amin / a_ti - 1.0, r_all.amplitude / amin / a_ti - 1.0))
+    table = markdown_table(["omega (rad/s)", "single-mode a/a_min", "all-mode a/a_min", "time integration a/a_min",
+                            "single-mode vs TI", "all-mode vs TI"],
+                           [(f"{w:g}", f"{a:.5f}", f"{b:.5f}", f"{c:.5f}", f"{d:+.2%}", f"{e:+.2%}")
+                            for w, a, b, c, d, e in rows])
+    print(f"all-mode FRF: {frf.omega.size} points in {seconds:.1f} s ({cells} cells, H = {harmonics}); "
+          f"peak {frf.peak().amplitude / amin:.5f} a_min at {frf.peak().omega:.6g} rad/s; "
+          f"single-mode peak {single.peak().amplitude / amin:.5f} a_min")
+    print(table)
+    if figure:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        ax.plot(single.omega, single.amplitude / amin, label="single-mode (TwoRegionMicroslip)")
+        ax.plot(frf.omega, frf.amplitude / amin, "--", label=f"all-mode (AllModeMicroslip, {cells} cells, H={harmonics})")
+        ax.plot(list(TIME_INTEGRATION), [v[0] for v in TIME_INTEGRATION.values()], "ko",
+                label="time integration (simulate_blade, stored)")
+        ax.set_xlabel("omega (rad/s)")
+        ax.set_ylabel("a / a_min")
+        ax.set_xlim(37000, 41500)
+        ax.legend()
+        fig.tight_layout()
+        fig.savefig(outdir / "allmode_frf.png", dpi=110)
+        plt.close(fig)
+    return frf, single, rows, seconds
+
+
+if __name__ == "__main__":
+    main()
