@@ -642,6 +642,13 @@ class TwoRegionMicroslip(_MicroslipBar):
     region [0, L1] shrinks to gross slip.  For uniform and convex loads (Eq. 3-15).
 
     ``TwoRegionMicroslip(bar, UniformLoad(N=100.0))``; a_min = mu q(L)/k.
+
+    Range (validity map, docs/validation.md): exact while stuck and at omega -> 0; otherwise its
+    F_s, F_c error against the all-mode bar stays within 1 % up to
+    omega_1 = omega_c sqrt(0.01/C), C = 0.42 (1 + (lambda L)^2)(1 + 0.2 EA/(beta L)) (0.10 omega_c
+    for the DESIGN.md bar), and grows like (omega/omega_c)^2 beyond (2.4 % at 0.2, 21 % at 0.5
+    omega_c there).  ``fourier`` and ``fourier_derivatives`` warn (``ModelRangeWarning``) beyond
+    omega_1 and at an early gross-slip snap; ``AllModeMicroslip`` holds everywhere.
     """
 
     def __init__(self, bar: Bar, load):
@@ -663,6 +670,10 @@ class ThreeRegionMicroslip(_MicroslipBar):
     slip (Fig. 7).  For concave loads, e.g. ``QuadraticLoad.from_ratio(N, 12)``.
 
     With a load that slips first at the excited end it reduces to the two-region path.
+
+    Range (validity map, docs/validation.md): as ``TwoRegionMicroslip`` with C = 0.62 (1 + (lambda
+    L)^2)(1 + 0.2 EA/(beta L)) (ratio-12 concave load; 0.082 omega_c for the DESIGN.md bar, 5.3 %
+    error at 0.2 omega_c); warns (``ModelRangeWarning``) beyond it.
     """
 
     def _pieces(self, omega):
