@@ -430,10 +430,7 @@ class AllModeMicroslip(ContactElement):
         return self._disc.slip_amplitude(omega)
 
     def _fourier_derivatives(self, a, omega, rtol):
-        fs = np.empty_like(a)
-        fc = np.zeros_like(a)
-        dfs = np.empty_like(a)
-        dfc = np.zeros_like(a)
+        fs, fc, dfs, dfc = (np.zeros_like(a) for _ in range(4))
         for w in np.unique(omega):
             sel = np.flatnonzero(omega == w)
             sel = sel[np.argsort(a[sel])]
