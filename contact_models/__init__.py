@@ -7,6 +7,7 @@ from ._version import __version__
 from .allmode import AllModeMicroslip
 from .bar import Bar
 from .base import ContactElement
+from .cubic import CubicSpring
 from .loads import FunctionLoad, QuadraticLoad, SampledLoad, UniformLoad
 from .macroslip import Macroslip
 from .model_range import ModelRangeWarning
@@ -17,4 +18,4 @@ from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
-           "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning"]
+           "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning"]

@@ -41,7 +41,21 @@ Nothing else of an element is read by ``hbm``:
                                  tests.  Default ``slip_amplitude(omega)``; an element with
                                  a_min = 0 must override it.
 ``hysteresis(a, omega)``         one closed loop (x, f) of the steady response.
+``has_time_law``                 class attribute, default False.  True for an element that
+                                 owns a time-domain force law (multi-harmonic balance).
+``periodic_force(x, omega)``     the periodic force samples for the samples ``x`` of one
+                                 period, and the exact Jacobian of that sampled map.
+``harmonic_force(X, omega)``     the force's harmonic coefficients (layout
+                                 ``[X0, Xc1, Xs1, ...]``), Jacobian and omega-derivative.
 ===============================  ==========================================================
+
+Time laws (``docs/multiharmonic.md``).  A rate-independent element obeying Masing's rules with
+memory implements only its virgin ``loading_curve(x, omega)`` and ``_loading_slope(x, omega)``
+(and sets ``has_time_law = True``); the shared routine ``contact_models._masing`` marches the
+turning-point stack from the sample of the global maximum, which gives the periodic state in
+one pass.  The outer loop's force centre is ``K_inf x_c`` with ``K_inf`` the element's
+``slip_stiffness(omega)`` where it has one (the slope past full slip), else 0.  Any other law
+overrides ``_periodic_force`` (and, for speed, ``_periodic_tangent``).
 """
 
 from __future__ import annotations
@@ -52,7 +66,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import nonnegative, nonnegative_array, positive
+from ._validation import count, nonnegative, nonnegative_array, positive
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
@@ -76,6 +90,8 @@ class ContactElement(ABC):
 
     #: True when f_s, f_c depend on omega; False lets the solver skip the omega-derivative.
     frequency_dependent: bool = True
+    #: True for an element with a time-domain force law (``periodic_force``, multi-harmonic AFT).
+    has_time_law: bool = False
 
     # ------------------------------------------------------------------ public
     def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
@@ -151,7 +167,205 @@ class ContactElement(ABC):
             raise ValueError(f"n must be an integer >= 5, got n={n!r}")
         return self._hysteresis(a, omega, int(n))
 
+    # ------------------------------------------------------------ time domain
+    def periodic_force(self, x: ArrayLike, omega: float = 0.0) -> tuple[NDArray, NDArray]:
+        """Steady periodic force samples ``f`` (n_t,) for the displacement samples ``x`` (n_t,) of
+        one period (uniform in time), and the exact Jacobian ``df/dx`` (n_t, n_t) of that map.
+
+        Parameters
+        ----------
+        x : array_like
+            Displacement samples (m), at least 2, finite; the path is monotone between samples.
+        omega : float
+            Frequency (rad/s) of the period, >= 0 (for laws that depend on it).
+
+        Returns
+        -------
+        f, df_dx : ndarray
+            Force samples (N) and their Jacobian (N/m).
+
+        Raises
+        ------
+        ValueError
+            For an element without a time law (named), or bad ``x``/``omega``.
+
+        Notes
+        -----
+        Masing elements: turning-point stack marched from the global maximum
+        (``contact_models._masing``; ``docs/multiharmonic.md``).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from contact_models import Macroslip
+        >>> f, J = Macroslip(stiffness=1.0, slip_force=0.5).periodic_force(np.cos(np.arange(8) * np.pi / 4))
+        >>> np.round(f, 3).tolist()
+        [0.5, 0.207, -0.5, -0.5, -0.5, -0.207, 0.5, 0.5]
+        """
+        self._require_time_law()
+        x = np.asarray(x, dtype=float)
+        if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)):
+            raise ValueError(f"x must be a finite 1-d array of at least 2 samples, got x with shape {x.shape}")
+        omega = nonnegative("omega", omega)
+        return self._periodic_force(x, omega)
+
+    def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None,
+                       rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:
+        """Harmonic coefficients of the periodic force for the displacement coefficients ``X``.
+
+        Parameters
+        ----------
+        X : array_like
+            ``[X0, Xc1, Xs1, ..., XcH, XsH]`` (m), length 2H+1, H >= 1:
+            ``x(t) = X0 + sum_h (Xc_h cos(h omega t) + Xs_h sin(h omega t))``.
+        omega : float
+            Fundamental frequency (rad/s), >= 0.
+        n_t : int, optional
+            Time samples per period of the AFT, >= 2H+2 (aliasing); default
+            ``default_samples(H)``.  Not used at H = 1 (exact describing function).
+        rtol : float
+            Relative tolerance passed to ``fourier_derivatives`` at H = 1.
+
+        Returns
+        -------
+        F, dF_dX, dF_domega : ndarray
+            Force coefficients (N, same layout), Jacobian (2H+1, 2H+1), omega-derivative.
+
+        Raises
+        ------
+        ValueError
+            H > 1 for an element without a time law (named); bad X, omega or n_t.
+
+        Notes
+        -----
+        AFT: ``x = E^-1 X`` at ``t_k = 2 pi k/(n_t omega)``, ``f = periodic_force(x)``,
+        ``F = E f`` (real FFT), ``dF/dX = E J_t E^-1``; ``dF/domega = 0`` (rate-independent).
+        A Masing element puts its outer loop's tips at the true extremes of ``x(t)`` (Newton
+        between samples, ``contact_models._masing.true_extremes``) instead of the sampled ones,
+        removing an O((2 pi/n_t)^2) error that moves with the phase of the sample grid.
+        At H = 1 an element without a time law, and a Masing element (exactly), answer from the
+        describing function ``fourier_derivatives``: ``F0 = K_inf X0``,
+        ``Fc = p Xc + q Xs``, ``Fs = p Xs - q Xc`` with ``p = f_s/a``, ``q = f_c/a``.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> from contact_models import Macroslip
+        >>> F, J, Fw = Macroslip(stiffness=1.0, slip_force=0.5).harmonic_force([0.0, 0.0, 1.0], 1.0)
+        >>> np.round(F, 4).tolist()  # f_c = 4 F_s (1 - y/a)/pi in cos, f_s = a/2 in sin
+        [0.0, 0.3183, 0.5]
+        """
+        X = np.asarray(X, dtype=float)
+        if X.ndim != 1 or X.size < 3 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
+            raise ValueError(f"X must be a finite vector of odd length 2H+1 >= 3, got X with shape {X.shape}")
+        H = (X.size - 1) // 2
+        omega = nonnegative("omega", omega)
+        rtol = positive("rtol", rtol)
+        if H > 1:
+            self._require_time_law(f" at harmonics={H} (it is a first-harmonic element: use harmonics=1)")
+        if n_t is None:
+            n_t = default_samples(H)
+        n_t = count("n_t", n_t, 2 * H + 2)
+        return self.harmonic_force_unchecked(X, omega, n_t, rtol)
+
+    def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int,
+                                 rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:
+        """:meth:`harmonic_force` without validation: the solver's fast path (float64 ``X`` of
+        length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1)."""
+        H = (X.size - 1) // 2
+        if H == 1 and (not self.has_time_law or self._is_masing()):
+            return self._describing_force(X, omega, rtol)
+        from ._masing import aft_matrices, diagonal_product, to_harmonics, to_time
+
+        x = to_time(X, n_t)  # to time (inverse real FFT)
+        Einv = aft_matrices(H, n_t)[1]
+        if self._is_masing():  # the force law, with the outer loop's tips at the true extremes
+            from ._masing import true_extremes
+
+            ext, b_max, b_min = true_extremes(X, x)
+            if not np.isfinite(b_max[0]):
+                ext = None
+            f, d, idx, C = self._masing_tangent(x, omega, ext)
+            dxdX = np.vstack([Einv, b_min, b_max])[idx]  # columns n, n+1: the true extremes
+        else:
+            f, d, idx, C = self._periodic_tangent(x, omega)  # the force law
+            dxdX = Einv[idx]
+        F = to_harmonics(f, H)  # back, by the real FFT
+        # E J_t E^-1 with J_t = diag(d) + the columns C at idx (einsum: no small threaded BLAS call)
+        J = diagonal_product(d, H)
+        if idx.size:
+            J += np.einsum("ir,rj->ij", to_harmonics(C.T, H).T, dxdX)
+        return F, J, np.zeros_like(F)
+
     # ----------------------------------------------------------------- private
+    def _require_time_law(self, detail: str = "") -> None:
+        if not self.has_time_law:
+            raise ValueError(f"element={self!r}: {type(self).__name__} has no time-domain force law{detail}")
+
+    def _is_masing(self) -> bool:
+        return type(self)._periodic_force is ContactElement._periodic_force
+
+    def _loading_slope(self, x: NDArray, omega: float) -> NDArray:
+        """dF/dx of the virgin loading curve (Masing elements implement it)."""
+        raise NotImplementedError(f"{type(self).__name__} has no _loading_slope")
+
+    def _masing_centre_stiffness(self, omega: float) -> float:
+        """K_inf: the loading curve's slope past full slip (``slip_stiffness``), else 0."""
+        k = getattr(self, "slip_stiffness", None)
+        return float(k(omega)) if callable(k) else 0.0
+
+    def _periodic_force(self, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
+        from ._masing import dense_jacobian
+
+        f, d, idx, C = self._periodic_tangent(x, omega)
+        return f, dense_jacobian(d, idx, C)
+
+    def _periodic_tangent(self, x: NDArray, omega: float):
+        """``(f, d, idx, C)``: force samples and ``J = diag(d)`` plus the columns ``C`` at ``idx``."""
+        if self._is_masing():
+            return self._masing_tangent(x, omega, None)
+        f, J = self._periodic_force(x, omega)
+        return f, np.zeros_like(f), np.arange(f.size), J
+
+    def _masing_tangent(self, x: NDArray, omega: float, extremes):
+        from ._masing import masing_periodic
+
+        loading = self.loading_curve
+        return masing_periodic(x, lambda u: loading(u, omega), lambda u: self._loading_slope(u, omega),
+                               self._masing_centre_stiffness(omega), extremes)
+
+    def _describing_force(self, X: NDArray, omega: float, rtol: float):
+        """H = 1 from the describing function (``hbm.residual``'s algebra), with the omega-derivative
+        of a frequency-dependent element as a forward difference of relative step sqrt(rtol)."""
+        X0, xc, xs = (float(v) for v in X)
+        k_inf = self._masing_centre_stiffness(omega)
+        F = np.empty(3)
+        J = np.zeros((3, 3))
+        F[0], J[0, 0] = k_inf * X0, k_inf
+        a = float(np.hypot(xc, xs))
+        p, q, dp, dq = self._pq(a, omega, rtol)
+        F[1], F[2] = p * xc + q * xs, p * xs - q * xc
+        gc, gs = (xc / a, xs / a) if a > 0.0 else (0.0, 0.0)
+        u, v = dp * xc + dq * xs, dp * xs - dq * xc
+        J[1, 1:] = p + u * gc, q + u * gs
+        J[2, 1:] = -q + v * gc, p + v * gs
+        Fw = np.zeros(3)
+        if self.frequency_dependent:
+            h = np.sqrt(rtol) * max(omega, 1e-3)
+            ph, qh, _, _ = self._pq(a, omega + h, rtol)
+            Fw[1], Fw[2] = ((ph - p) * xc + (qh - q) * xs) / h, ((ph - p) * xs - (qh - q) * xc) / h
+        return F, J, Fw
+
+    def _pq(self, a: float, omega: float, rtol: float):
+        """``(p, q, dp/da, dq/da)``, ``p = f_s/a``, ``q = f_c/a``; the linear range without ``fourier``."""
+        if a == 0.0 or a <= self.linear_amplitude(omega):
+            ks, kc = self.linear_coefficients(omega)
+            return float(ks), float(kc), 0.0, 0.0
+        fs, fc, dfs, dfc = (float(v[0]) for v in self.fourier_derivatives_unchecked(
+            np.array([a]), np.array([omega]), rtol))
+        p, q = fs / a, fc / a
+        return p, q, (dfs - p) / a, (dfc - q) / a
+
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
         if (cls._fourier is ContactElement._fourier
@@ -218,6 +432,16 @@ def masing_loop(loading: Callable[[NDArray], NDArray], a: float, n: int) -> tupl
     f[up] = -fa + 2.0 * loading(0.5 * (a + x[up]))
     f[~up] = fa - 2.0 * loading(0.5 * (a - x[~up]))
     return x, f
+
+
+#: Default AFT samples per period: at least this many per harmonic, a power of two.
+SAMPLES_PER_HARMONIC = 16
+
+
+def default_samples(harmonics: int) -> int:
+    """Default AFT samples per period for ``harmonics`` harmonics: the power of two
+    ``>= SAMPLES_PER_HARMONIC * (harmonics + 1)`` (and so >= 2H+2)."""
+    return 1 << int(np.ceil(np.log2(SAMPLES_PER_HARMONIC * (harmonics + 1))))
 
 
 def _shaped(v, shape):

@@ -13,7 +13,10 @@ stuck, ``f_s = k a, f_c = 0``, for ``a <= y = slip_force/k``; above, with
 
 ``stiffness=math.inf`` is the rigid Coulomb slider: ``f_s = 0``, ``f_c = 4 slip_force/pi``
 for ``a > 0``.  The time-domain law (``step``, ``force_history``) is the exact return map
-of the slider for a displacement that is monotone between samples.
+of the slider for a displacement that is monotone between samples; ``periodic_force`` and
+``harmonic_force`` (multi-harmonic AFT) follow Masing's rules with memory from
+``loading_curve`` and its slope (``contact_models.base``).  The rigid slider has no time law
+there (its tangent is a Dirac at each reversal): it is a first-harmonic element.
 """
 
 from __future__ import annotations
@@ -81,6 +84,11 @@ class Macroslip(ContactElement):
             self.stiffness = positive("stiffness", stiffness)
         self.slip_force = positive("slip_force", slip_force)
 
+    @property
+    def has_time_law(self) -> bool:
+        """True for the elastic Jenkins element; False for the rigid slider (H = 1 only)."""
+        return not self.rigid
+
     def __repr__(self) -> str:
         return f"Macroslip(stiffness={self.stiffness!r}, slip_force={self.slip_force!r})"
 
@@ -123,6 +131,10 @@ class Macroslip(ContactElement):
         if self.rigid:
             return np.where(x > 0.0, self.slip_force, 0.0)
         return np.minimum(self.stiffness * x, self.slip_force)
+
+    def _loading_slope(self, x, omega):
+        """dF/dx: k below the slip displacement (k at it, the stuck side), 0 above."""
+        return np.where(np.asarray(x) <= self.slip_force / self.stiffness, self.stiffness, 0.0)
 
     def _stuck_stiffness(self, omega):
         return self.stiffness

@@ -16,6 +16,8 @@ Jenkins element of stiffness ``K1 - K2`` and slip force ``F0 = slip_force k_s/(k
 
 so the loop is the bilinear Masing loop and f_s, f_c are ``K2 a`` plus the Jenkins
 describing function (``contact_models.macroslip.jenkins_fourier``).  Frequency independent.
+Its time law for multi-harmonic balance is Masing's with memory on that bilinear curve
+(``periodic_force``, ``harmonic_force``; centre force ``K2 x_c``, ``contact_models._masing``).
 
 ``PointContact.fit(element)`` matches conditions (1)-(3) of Section 3.4 (equal stuck
 stiffness, fully-slipping stiffness and gross-slip amplitude).  These fix K1, K2, a_y and
@@ -45,6 +47,7 @@ class PointContact(ContactElement):
     ``beta_p`` (N/m, >= 0) parallel to a Jenkins element (``k_p`` N/m, ``slip_force`` N)."""
 
     frequency_dependent = False
+    has_time_law = True
 
     def __init__(self, k_s: float, beta_p: float, k_p: float, slip_force: float) -> None:
         if _is_inf(k_s):
@@ -165,6 +168,10 @@ class PointContact(ContactElement):
         """Virgin loading force ``F(x) = K2 x + (K1 - K2) min(x, a_y)`` for x >= 0."""
         x = np.asarray(x, dtype=float)
         return self._K2 * x + self._D * np.minimum(x, self._a_y)
+
+    def _loading_slope(self, x, omega):
+        """dF/dx: K1 up to a_y (the stuck side at it), K2 beyond."""
+        return np.where(np.asarray(x) <= self._a_y, self._K1, self._K2)
 
     # ------------------------------------------------------------ time domain (the layout itself)
     def internal_state(self, x: ArrayLike, f: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:

@@ -13,6 +13,8 @@ from . import continuation
 from .frf import FrequencyResponse, Peak, Response, frequency_response, response_at
 from .transient import BladeSimulation, simulate_blade
 from .residual import HarmonicBalance
+from .shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 
 __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
+__all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]

@@ -182,7 +182,9 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
                        max_step: float = DEFAULT_MAX_STEP, min_step: float = DEFAULT_MIN_STEP,
                        max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True,
                        on_point: Callable[[float, float, float, float], None] | None = None,
-                       accuracy: str | float | None = None) -> FrequencyResponse:
+                       accuracy: str | float | None = None, harmonics: int | None = None,
+                       n_t: int | None = None, response_dof: int | None = None,
+                       stability: bool = True) -> FrequencyResponse:
     """FRF of ``blade`` with the contact element ``element`` (None: the bare blade) over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -194,7 +196,20 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
     stream them.
     ``accuracy``: "fast", "default", "precise" or an rtol; sets rtol, max_step, min_step and
     max_steps together (``hbm.presets``; not combined with them).
+
+    With an ``hbm.Structure`` first and a sequence of ``hbm.Contact`` second (or a ``Blade``
+    with ``harmonics``/``n_t``/``response_dof`` given) this is the multi-harmonic balance
+    (``hbm.multiharmonic``): ``harmonics`` H (default: the accuracy preset's), ``n_t`` AFT
+    samples per period, ``response_dof`` (default the forced DOF), ``stability`` (Hill's method
+    at every point); it returns an ``hbm.mhresult.MultiHarmonicResponse``.
     """
+    if not isinstance(blade, Blade) or harmonics is not None or n_t is not None or response_dof is not None:
+        from .mhdispatch import structure_response
+
+        return structure_response(blade, element, omega_range, rtol=rtol, max_step=max_step, min_step=min_step,
+                                  max_steps=max_steps, locate_folds=locate_folds, on_point=on_point,
+                                  accuracy=accuracy, harmonics=harmonics, n_t=n_t, response_dof=response_dof,
+                                  stability=stability)
     if not isinstance(blade, Blade):
         raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
     if omega_range is None:

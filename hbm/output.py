@@ -123,3 +123,33 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     elif curves and any(c[1] for c in curves):
         ax.legend(fontsize=7)
     return ax
+
+
+def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, label: str | None = None,
+                **kwargs: Any) -> tuple[Any, Any]:
+    """Draw one branch on ``ax`` (a new figure if None): stable stretches solid, unstable
+    stretches dashed in the same colour (``stable`` None: all solid).  Returns ``(ax, colour)``.
+
+    A ``ls``/``linestyle`` given in ``kwargs`` styles the stable stretches (the model's style in
+    :func:`plot_frfs`); unstable stretches are always dashed.
+    """
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(6.4, 4.2))
+    omega, amplitude = np.asarray(omega), np.asarray(amplitude)
+    stable = np.ones(omega.size, dtype=bool) if stable is None else np.asarray(stable, dtype=bool)
+    ls = kwargs.pop("ls", kwargs.pop("linestyle", "-"))
+    line, = ax.plot(omega[:1], amplitude[:1], ls=ls, label=label, **kwargs)
+    color = line.get_color()
+    kwargs["color"] = color
+    cuts = np.flatnonzero(stable[1:] != stable[:-1]) + 1
+    start = 0
+    for end in list(cuts) + [omega.size]:
+        seg = slice(start, min(end + 1, omega.size))  # overlap one point: no gaps
+        ax.plot(omega[seg], amplitude[seg], ls=ls if stable[start] else "--", **kwargs)
+        start = end
+    ax.set_xlabel(r"$\omega$ (rad/s)")
+    ax.set_ylabel("amplitude (m)")
+    return ax, color

@@ -131,3 +131,21 @@ def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: floa
                          f"{', '.join(clash)} (pass either accuracy or the knobs, e.g. "
                          f"**hbm.presets.resolve({accuracy!r}).options() with changes)")
     return preset.rtol, preset.max_step, preset.min_step, preset.max_steps
+
+
+#: Harmonics H and AFT samples per period n_t of each named preset for the multi-harmonic balance
+#: (``frequency_response`` with an ``hbm.Structure``).  Chosen from ``benchmarks/bench_mhb_accuracy.py``
+#: (``docs/performance.md``, "What accuracy costs: harmonics"); a number (an rtol) takes "default"'s.
+HARMONICS = {"fast": (3, 256), "default": (7, 512), "precise": (15, 2048)}
+
+
+def harmonic_knobs(accuracy: str | float) -> tuple[int, int | None]:
+    """``(harmonics, n_t)`` of a preset name, or of "default" for an rtol (validated by :func:`resolve`).
+
+    Examples
+    --------
+    >>> harmonic_knobs("precise")
+    (15, 2048)
+    """
+    resolve(accuracy)
+    return HARMONICS[accuracy] if isinstance(accuracy, str) else HARMONICS["default"]

@@ -1,0 +1,376 @@
+"""Linear structures with contacts: ``Structure(M, C, K, force=f)`` and ``Contact``.
+
+The equation of motion (``docs/multiharmonic.md``)::
+
+    M x'' + C x' + K x + sum_contacts P_k f_k(x) = f cos(omega t)
+
+with ``f_k`` the force of contact ``k`` for the displacement of its DOF (to ground) or the
+relative displacement ``x_i - x_j`` (acting +f on i, -f on j).  Helpers build C from modal
+damping ratios or Rayleigh coefficients, read M and K from ``.npz`` or Matrix Market files, and
+reduce a large model by Craig-Bampton (:meth:`Structure.reduce`).
+
+Why Craig-Bampton and not modal truncation with a static correction: the contact DOFs stay
+physical DOFs of the reduced model (contacts attach to them unchanged, and several contacts or
+relative contacts need no special treatment), the static response at every kept DOF is exact
+(the constraint modes are the exact static shapes), and the error of the dynamic response falls
+with the fixed-interface modes kept; the reduced M, C, K are symmetric and M stays positive
+definite, so the reduced structure is again a ``Structure`` with every check and solver.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from ._validation import count, nonnegative
+
+#: Relative asymmetry ``max|A - A^T| / max|A|`` above which a matrix is refused as not symmetric.
+SYMMETRY_RTOL = 1e-10
+
+
+def _dense(A: Any) -> NDArray[np.float64]:
+    return np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
+
+
+def _check_matrix(name: str, A: Any, n: int | None) -> Any:
+    """Validate one of M, C, K (dense or scipy.sparse): square, size n, finite, symmetric."""
+    sparse = hasattr(A, "tocsr") and hasattr(A, "nnz")
+    if not sparse:
+        try:
+            A = np.asarray(A, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
+    shape = A.shape
+    if len(shape) != 2 or shape[0] != shape[1] or shape[0] < 1:
+        raise ValueError(f"{name} must be a square matrix, got {name} of shape {shape}")
+    if n is not None and shape[0] != n:
+        raise ValueError(f"{name} must be {n} x {n} like M, got {name} of shape {shape}")
+    data = A.data if sparse else A
+    if not np.all(np.isfinite(data)):
+        raise ValueError(f"{name} must be finite, got {name} with a non-finite entry")
+    big = float(np.max(np.abs(data))) if data.size else 0.0
+    asym = abs(A - A.T)
+    asym = float(asym.max()) if sparse else float(np.max(asym))
+    if asym > SYMMETRY_RTOL * big:
+        raise ValueError(f"{name} must be symmetric, got {name} with max|{name} - {name}^T| = {asym:.3g} "
+                         f"(max|{name}| = {big:.3g})")
+    return A.tocsr().astype(float) if sparse else A
+
+
+class Structure:
+    """A linear structure ``M x'' + C x' + K x = force cos(omega t)`` with n DOFs.
+
+    Parameters
+    ----------
+    M, C, K : array_like or scipy.sparse matrix
+        Mass (kg), damping (N s/m) and stiffness (N/m) matrices, n x n, finite and symmetric;
+        M positive definite.
+    force : array_like
+        Amplitudes (N) of the harmonic excitation ``force * cos(omega t)``, length n.
+
+    Raises
+    ------
+    ValueError
+        Naming the matrix or vector and what is wrong with it.
+
+    Notes
+    -----
+    Attributes ``M, C, K`` (as given, sparse converted to CSR), ``force`` and ``n``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], force=[0.0, 1.0])
+    >>> s.n, np.round(s.natural_frequencies(), 4).tolist()
+    (2, [0.618, 1.618])
+    """
+
+    def __init__(self, M: ArrayLike, C: ArrayLike, K: ArrayLike, *, force: ArrayLike) -> None:
+        self.M = _check_matrix("M", M, None)
+        n = self.M.shape[0]
+        self.C = _check_matrix("C", C, n)
+        self.K = _check_matrix("K", K, n)
+        try:
+            np.linalg.cholesky(_dense(self.M))
+        except np.linalg.LinAlgError:
+            raise ValueError("M must be positive definite, got M with a non-positive eigenvalue "
+                             f"(smallest {float(np.linalg.eigvalsh(_dense(self.M))[0]):.3g})") from None
+        try:
+            f = np.asarray(force, dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
+        if f.size != n:
+            raise ValueError(f"force must have length n = {n}, got force of length {f.size}")
+        if not np.all(np.isfinite(f)):
+            raise ValueError(f"force must be finite, got force={f!r}")
+        self.force = f
+        self.n = n
+
+    def __repr__(self) -> str:
+        return f"Structure(n={self.n}, forced DOFs {np.flatnonzero(self.force).tolist()})"
+
+    # ------------------------------------------------------------ construction helpers
+    @classmethod
+    def with_rayleigh(cls, M: ArrayLike, K: ArrayLike, *, alpha: float, beta: float, force: ArrayLike) -> Structure:
+        """Structure with Rayleigh damping ``C = alpha M + beta K`` (alpha in 1/s, beta in s).
+
+        Examples
+        --------
+        >>> s = Structure.with_rayleigh([[1.0]], [[4.0]], alpha=0.1, beta=0.01, force=[1.0])
+        >>> float(s.C[0, 0])
+        0.14
+        """
+        a = nonnegative("alpha", alpha)
+        b = nonnegative("beta", beta)
+        M = _check_matrix("M", M, None)
+        K = _check_matrix("K", K, M.shape[0])
+        return cls(M, a * M + b * K, K, force=force)
+
+    @classmethod
+    def with_modal_damping(cls, M: ArrayLike, K: ArrayLike, *, ratios: float | Sequence[float],
+                           force: ArrayLike) -> Structure:
+        """Structure with modal damping ``C = M Phi diag(2 zeta_j omega_j) Phi^T M``.
+
+        ``Phi`` are the mass-normalised modes of (K, M), ``omega_j`` their natural frequencies;
+        ``ratios`` is one damping ratio for every mode or one per mode (n values, >= 0).
+
+        Examples
+        --------
+        >>> s = Structure.with_modal_damping([[1.0]], [[4.0]], ratios=0.05, force=[1.0])
+        >>> float(s.C[0, 0])  # 2 zeta omega m
+        0.2
+        """
+        from scipy.linalg import eigh
+
+        M = _check_matrix("M", M, None)
+        K = _check_matrix("K", K, M.shape[0])
+        Md, Kd = _dense(M), _dense(K)
+        n = Md.shape[0]
+        z = np.broadcast_to(np.asarray(ratios, dtype=float), (n,)) if np.ndim(ratios) == 0 else np.asarray(
+            ratios, dtype=float)
+        if z.shape != (n,) or not np.all(np.isfinite(z)) or np.any(z < 0.0):
+            raise ValueError(f"ratios must be one number >= 0 or {n} of them, got ratios={ratios!r}")
+        try:
+            lam, Phi = eigh(Kd, Md)
+        except np.linalg.LinAlgError:
+            raise ValueError("M must be positive definite, got M for which (K, M) has no eigen-decomposition") from None
+        w = np.sqrt(np.clip(lam, 0.0, None))
+        MPhi = Md @ Phi
+        return cls(M, (MPhi * (2.0 * z * w)) @ MPhi.T, K, force=force)
+
+    @classmethod
+    def from_files(cls, mass: str | Path, stiffness: str | Path, *, force: ArrayLike,
+                   damping: str | Path | None = None, rayleigh: tuple[float, float] | None = None,
+                   modal_damping: float | Sequence[float] | None = None) -> Structure:
+        """Structure from matrix files: ``.mtx`` (Matrix Market, ``scipy.io.mmread``), ``.npz``
+        (``scipy.sparse.save_npz`` or ``numpy.savez``; ``"file.npz:key"`` picks an array) or
+        ``.npy``.  Damping: a ``damping`` file, ``rayleigh=(alpha, beta)`` or ``modal_damping``
+        (ratios), exactly one.
+        """
+        given = [v is not None for v in (damping, rayleigh, modal_damping)]
+        if sum(given) != 1:
+            raise ValueError(f"give exactly one of damping, rayleigh and modal_damping, got damping={damping!r}, "
+                             f"rayleigh={rayleigh!r}, modal_damping={modal_damping!r}")
+        M, K = load_matrix(mass), load_matrix(stiffness)
+        if damping is not None:
+            return cls(M, load_matrix(damping), K, force=force)
+        if rayleigh is not None:
+            try:
+                alpha, beta = rayleigh
+            except (TypeError, ValueError):
+                raise ValueError(f"rayleigh must be a pair (alpha, beta), got rayleigh={rayleigh!r}") from None
+            return cls.with_rayleigh(M, K, alpha=alpha, beta=beta, force=force)
+        return cls.with_modal_damping(M, K, ratios=modal_damping, force=force)
+
+    # ------------------------------------------------------------ properties
+    def natural_frequencies(self) -> NDArray[np.float64]:
+        """Undamped natural frequencies (rad/s) of (K, M), ascending (dense eigensolver)."""
+        from scipy.linalg import eigh
+
+        lam = eigh(_dense(self.K), _dense(self.M), eigvals_only=True)
+        return np.sqrt(np.clip(lam, 0.0, None))
+
+    def reduce(self, keep: Sequence[int], *, modes: int) -> ReducedStructure:
+        """Craig-Bampton reduction to the DOFs ``keep`` plus ``modes`` fixed-interface modes.
+
+        The reduced DOFs are ``keep`` (in that order, as physical DOFs: reduced DOF ``i`` is
+        ``keep[i]``) followed by the modal coordinates.  ``x = T q`` with
+        ``T = [[I, 0], [-K_ii^-1 K_ib, Phi_i]]`` (rows reordered to the original DOFs); the
+        reduced matrices are ``T^T M T``, ``T^T C T``, ``T^T K T``, the force ``T^T f``.
+        Exact statically at every kept DOF (module docstring says why this method).
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> n = 6
+        >>> K = 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+        >>> f = np.zeros(n); f[-1] = 1.0
+        >>> r = Structure(np.eye(n), 0.01 * np.eye(n), K, force=f).reduce([0, n - 1], modes=4)
+        >>> r.n, np.allclose(np.linalg.solve(r.K, r.force)[:2], np.linalg.solve(K, f)[[0, n - 1]])
+        (6, True)
+        """
+        from scipy.linalg import eigh
+
+        keep = [self._dof("keep", d) for d in keep]
+        if len(set(keep)) != len(keep) or not keep:
+            raise ValueError(f"keep must be distinct DOFs, at least one, got keep={keep!r}")
+        inner = np.setdiff1d(np.arange(self.n), keep)
+        modes = count("modes", modes, 0)
+        if modes > inner.size:
+            raise ValueError(f"modes must be <= {inner.size} (the DOFs not kept), got modes={modes!r}")
+        M, C, K = _dense(self.M), _dense(self.C), _dense(self.K)
+        b = np.asarray(keep)
+        Kii = K[np.ix_(inner, inner)]
+        psi = -np.linalg.solve(Kii, K[np.ix_(inner, b)]) if inner.size else np.zeros((0, b.size))
+        T = np.zeros((self.n, b.size + modes))
+        T[b, np.arange(b.size)] = 1.0
+        T[np.ix_(inner, np.arange(b.size))] = psi
+        if modes:
+            lam, Phi = eigh(Kii, M[np.ix_(inner, inner)], subset_by_index=(0, modes - 1))
+            T[np.ix_(inner, b.size + np.arange(modes))] = Phi
+        sym = lambda A: 0.5 * (A + A.T)  # noqa: E731 - remove rounding asymmetry of T^T A T
+        return ReducedStructure(sym(T.T @ M @ T), sym(T.T @ C @ T), sym(T.T @ K @ T), force=T.T @ self.force,
+                                T=T, kept=tuple(keep), full=self)
+
+    def _dof(self, name: str, d: Any) -> int:
+        if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or not 0 <= int(d) < self.n:
+            raise ValueError(f"{name} must be a DOF index in 0..{self.n - 1}, got {name}={d!r}")
+        return int(d)
+
+
+class ReducedStructure(Structure):
+    """A :class:`Structure` from :meth:`Structure.reduce`: reduced DOF ``i < len(kept)`` is the
+    original DOF ``kept[i]``; ``T`` maps reduced to original DOFs (``x = T q``); ``full`` is
+    the structure it came from."""
+
+    def __init__(self, M: ArrayLike, C: ArrayLike, K: ArrayLike, *, force: ArrayLike, T: NDArray[np.float64],
+                 kept: tuple[int, ...], full: Structure) -> None:
+        super().__init__(M, C, K, force=force)
+        self.T = T
+        self.kept = kept
+        self.full = full
+
+    def dof(self, original: int) -> int:
+        """The reduced DOF of the kept original DOF ``original``."""
+        if original not in self.kept:
+            raise ValueError(f"original must be one of the kept DOFs {self.kept}, got original={original!r}")
+        return self.kept.index(original)
+
+
+class Contact:
+    """A contact element attached at one DOF (to ground) or between two DOFs.
+
+    Parameters
+    ----------
+    element : contact_models.ContactElement
+        The element; its force depends on ``x_dof`` or on ``x_i - x_j``.
+    dof : int, optional
+        The DOF of a contact to ground.
+    dofs : tuple of two ints, optional
+        ``(i, j)`` for a contact between DOFs: force +f on i, -f on j. Exactly one of dof, dofs.
+
+    Examples
+    --------
+    >>> from contact_models import Macroslip
+    >>> Contact(Macroslip(stiffness=1.0, slip_force=0.05), dofs=(0, 1)).dofs
+    (0, 1)
+    """
+
+    def __init__(self, element: Any, *, dof: int | None = None, dofs: tuple[int, int] | None = None) -> None:
+        from contact_models import ContactElement
+
+        if not isinstance(element, ContactElement):
+            raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
+        if (dof is None) == (dofs is None):
+            raise ValueError(f"give exactly one of dof and dofs, got dof={dof!r}, dofs={dofs!r}")
+        if dof is not None:
+            dd: tuple = (dof,)
+            name = "dof"
+        else:
+            try:
+                dd = tuple(dofs)
+            except TypeError:
+                raise ValueError(f"dofs must be a pair (i, j), got dofs={dofs!r}") from None
+            name = "dofs"
+            if len(dd) != 2:
+                raise ValueError(f"dofs must be a pair (i, j), got dofs={dofs!r}")
+        for d in dd:
+            if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d < 0:
+                raise ValueError(f"{name} must hold DOF indices >= 0, got {name}={dof if dofs is None else dofs!r}")
+        if len(dd) == 2 and dd[0] == dd[1]:
+            raise ValueError(f"dofs must be two different DOFs, got dofs={dofs!r}")
+        self.element = element
+        self.dofs = tuple(int(d) for d in dd)
+
+    def __repr__(self) -> str:
+        where = f"dof={self.dofs[0]}" if len(self.dofs) == 1 else f"dofs={self.dofs}"
+        return f"Contact({self.element!r}, {where})"
+
+
+def load_matrix(path: str | Path) -> Any:
+    """A matrix from ``.mtx`` (Matrix Market), ``.npz`` (``scipy.sparse.save_npz``, or
+    ``numpy.savez`` with one array or ``"file.npz:key"``) or ``.npy``."""
+    text = str(path)
+    key = None
+    if ".npz:" in text:
+        text, key = text.split(".npz:", 1)
+        text += ".npz"
+    p = Path(text)
+    if not p.is_file():
+        raise ValueError(f"path must name an existing matrix file, got path={str(path)!r}")
+    suffix = p.suffix.lower()
+    if suffix == ".mtx":
+        from scipy.io import mmread
+
+        return mmread(str(p))
+    if suffix == ".npy":
+        return np.load(p)
+    if suffix == ".npz":
+        with np.load(p, allow_pickle=False) as z:
+            names = list(z.keys())
+            if key is None and {"format", "shape", "data"} <= set(names):
+                from scipy.sparse import load_npz
+
+                return load_npz(p)
+            if key is None:
+                if len(names) != 1:
+                    raise ValueError(f"path must name one array as 'file.npz:key' (keys {names}), got path={str(path)!r}")
+                key = names[0]
+            if key not in names:
+                raise ValueError(f"path names key {key!r} not in {names}, got path={str(path)!r}")
+            return z[key]
+    raise ValueError(f"path must end in .mtx, .npz or .npy, got path={str(path)!r}")
+
+
+def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], NDArray[np.complex128],
+                                                       NDArray[np.complex128]]:
+    """``(lam, V, B)``: the state-space modes of ``M x'' + C x' + K x``, so that for any s
+    ``(K + s C + s^2 M)^-1 = V diag(1/(s - lam)) B`` (V: n x 2n, B: 2n x n).
+
+    From the first-order form ``z' = A z``, ``A = [[0, I], [-M^-1 K, -M^-1 C]]``,
+    ``A = W diag(lam) W^-1``: ``(s I - A)^-1 = W diag(1/(s - lam)) W^-1`` and
+    ``Z(s)^-1 = [I 0] (s I - A)^-1 [0; M^-1]``.  Exact for any (non-defective) damping.
+    """
+    from scipy.linalg import eig, lu_factor, lu_solve
+
+    Md, Cd, Kd = _dense(M), _dense(C), _dense(K)
+    n = Md.shape[0]
+    MinvK = np.linalg.solve(Md, Kd)
+    MinvC = np.linalg.solve(Md, Cd)
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -MinvK
+    A[n:, n:] = -MinvC
+    lam, W = eig(A)
+    lu = lu_factor(W)
+    rhs = np.zeros((2 * n, n), dtype=complex)
+    rhs[n:] = np.linalg.inv(Md)
+    B = lu_solve(lu, rhs)
+    return lam, W[:n], B
+
+
+__all__ = ["Structure", "ReducedStructure", "Contact", "load_matrix", "modal_compliance"]
