@@ -173,6 +173,10 @@ class AllModeMicroslip(ContactElement):
     (0.75, 0.15)
     """
 
+    #: It owns a force law for any periodic end motion (a nested harmonic balance), so the
+    #: multi-harmonic solver may use it at H > 1 (``harmonic_force`` is overridden).
+    has_time_law = True
+
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int = CELLS, *,
                  harmonics: int = HARMONICS, n_t: int | None = None) -> None:
         if not isinstance(bar, Bar):
@@ -245,6 +249,16 @@ class AllModeMicroslip(ContactElement):
             raise ValueError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
         m = 2 * H + 1
         return sol.F[:m].copy(), sol.dF_dX[:m, :m].copy(), sol.dF_domega[:m].copy()
+
+    def _periodic_force(self, x, omega):
+        """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end
+        force for the sampled periodic end displacement ``x`` (n samples over one period), through
+        the harmonics the samples carry (H = (n - 2) // 2): f = E F(P x), df/dx = E (dF/dX) P."""
+        n = x.size
+        H = max(1, (n - 2) // 2)
+        E, P, _ = aft_matrices(H, n)
+        F, J, _ = self.harmonic_force_unchecked(P @ x, float(omega))
+        return E @ F, E @ J @ P
 
     def stick_slip_map(self, a: float, omega: float = 0.0) -> tuple[NDArray[np.float64], NDArray[np.float64],
                                                                         NDArray[np.bool_]]:
