@@ -169,7 +169,7 @@ class AllModeMicroslip(ContactElement):
     >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
     >>> el = AllModeMicroslip(bar, UniformLoad(N=100.0), cells=20, harmonics=7)
     >>> fs, fc = el.fourier(3 * 7.5e-7, 0.0)
-    >>> round(fs / (bar.k_star * 3 * 7.5e-7), 2), round(fc / (bar.k_star * 3 * 7.5e-7), 2)
+    >>> round(float(fs) / (bar.k_star * 3 * 7.5e-7), 2), round(float(fc) / (bar.k_star * 3 * 7.5e-7), 2)
     (0.75, 0.15)
     """
 

@@ -289,3 +289,14 @@ def test_blade_with_the_all_mode_damper_at_three_harmonics():
     assert a3 == pytest.approx(a1, rel=5e-3)
     c = three.coefficients(0)
     assert c.shape[1] == 4 and np.max(np.abs(c[:, 3])) < 0.01 * np.max(np.abs(c[:, 1]))
+
+
+def test_docstring_examples():
+    import doctest
+
+    import contact_models.allmode
+    import contact_models.loads
+    import contact_models.model_range
+
+    for mod in (contact_models.allmode, contact_models.loads, contact_models.model_range):
+        assert doctest.testmod(mod).failed == 0, mod.__name__
