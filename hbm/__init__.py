@@ -18,3 +18,7 @@ from .shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_re
 __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
+from .structure import Contact, ReducedStructure, Structure
+from .mhresult import MultiHarmonicResponse
+
+__all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse"]

@@ -126,7 +126,7 @@ class MultiHarmonicResponse:
         idx = (np.asarray(place)[:, None] * L + np.arange(L)[None, :]).ravel()
         lams = []
         for X, w in zip(self._X, self.omega):
-            dFa = pr.forces(X, float(w))[1]
+            dFa = pr.forces(X, float(w), perturbation=True)[1]
             dF = np.zeros((model.n * L, model.n * L))
             dF[np.ix_(idx, idx)] = dFa
             lams.append(hill_exponents(M, C, K, float(w), dF, self.harmonics))

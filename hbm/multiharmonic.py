@@ -128,8 +128,17 @@ class MultiHarmonicBalance:
         self.nfev = 0  #: element harmonic-force evaluations
         self.ncalls = 0  #: balance evaluations
 
-    def forces(self, X: NDArray, omega: float):
-        """Contact forces' harmonics F (n_a, L), dF/dX (n_a L, n_a L), dF/domega (n_a, L)."""
+    def forces(self, X: NDArray, omega: float, *, perturbation: bool = False):
+        """Contact forces' harmonics F (n_a, L), dF/dX (n_a L, n_a L), dF/domega (n_a, L).
+
+        ``perturbation=True`` (Hill's method): an element whose displacement stays within its
+        linear range all period is a linear spring for a perturbation (nothing slips, its
+        internal state does not move), so its Jacobian is ``k_s I``; the balance's own Jacobian
+        differs only in the static term, where the centring convention of a Masing element's
+        periodic state (``contact_models._masing``) gives ``K_inf``.
+        """
+        from contact_models._masing import to_time
+
         na, L = self.na, self.L
         F = np.zeros((na, L))
         dF = np.zeros((na, L, na, L))
@@ -138,6 +147,10 @@ class MultiHarmonicBalance:
             Xrel = X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]]
             f, J, fw = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), omega, self.n_t, self.rtol)
             self.nfev += 1
+            if perturbation:
+                x = to_time(np.ascontiguousarray(Xrel), max(self.n_t, 4 * L))
+                if 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega):
+                    J = float(el.linear_coefficients(omega)[0]) * np.eye(L)
             signs = ((ix[0], 1.0), (ix[1], -1.0)) if len(ix) == 2 else ((ix[0], 1.0),)
             for i, si in signs:
                 F[i] += si * f
@@ -257,6 +270,39 @@ def _stuck_matrix(contacts, dofs, omega):
     return Kc
 
 
+def _force_homotopy(problem: MultiHarmonicBalance, w0: float, tol: float, scale: Callable) -> NDArray | None:
+    """A start at ``w0`` when Newton from the stuck guess fails: continuation in the force scale
+    ``s`` from 0 (X = 0) to 1 of ``R = X - s X_lin + G F(X)`` at fixed omega (``hbm.continuation``);
+    None if it does not reach s = 1."""
+    wr, xr = problem.omega_ref, problem.x_ref
+    n = problem.na * problem.L
+
+    def residual(v):
+        u = np.append(v[:-1], w0 / wr)
+        s = float(v[-1])
+        R, J = problem(u)  # s = 1
+        sigma = max(1.0, math.sqrt(float(np.sum(u[:-1].reshape(problem.na, problem.L)[:, 1:3] ** 2))))
+        xl = problem.cond.at(w0)[2]
+        lin = np.zeros((problem.na, problem.L))
+        lin[:, 1], lin[:, 2] = xl.real, -xl.imag
+        lin = lin.ravel() / (xr * sigma)
+        Jh = np.empty((n, n + 1))
+        Jh[:, :-1] = J[:, :-1]
+        Jh[:, -1] = -lin
+        return R + (1.0 - s) * lin, Jh
+
+    def hscale(v):  # every X component by max(its first-harmonic amplitude, x_ref), s by 1
+        out = np.maximum(scale(np.append(v[:-1], 1.0)), 1.0)
+        out[-1] = 1.0
+        return out
+
+    run = cont.continuation(residual, np.zeros(n + 1), parameter=-1, bounds=(0.0, 1.0), max_step=0.1,
+                            min_step=1e-9, max_steps=2000, tol=tol, scale=hscale, locate_folds=False)
+    if not run.success or abs(run.y[-1, -1] - 1.0) > 1e-12:
+        return None
+    return np.append(run.y[-1, :-1], w0 / wr)
+
+
 def multiharmonic_response(structure: Structure, contacts: Sequence[Contact], *, omega_range: tuple[float, float],
                            harmonics: int = 1, n_t: int | None = None, response_dof: int | None = None,
                            rtol: float, max_step: float, min_step: float, max_steps: int, locate_folds: bool = True,
@@ -317,10 +363,17 @@ def multiharmonic_response(structure: Structure, contacts: Sequence[Contact], *,
         def report(u, rnorm):
             on_point(float(u[-1] * w_ref), float(u[r * L + 1] * x_ref), float(u[r * L + 2] * x_ref), float(rnorm))
 
-    run = cont.continuation(problem, u0, parameter=-1, bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
-                            direction=1 if w1 > w0 else -1, max_step=max_step, min_step=min_step,
-                            max_steps=max_steps, tol=tol, scale=scale, locate_folds=locate_folds,
-                            fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol), on_point=report)
+    def trace(u_start):
+        return cont.continuation(problem, u_start, parameter=-1, bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
+                                 direction=1 if w1 > w0 else -1, max_step=max_step, min_step=min_step,
+                                 max_steps=max_steps, tol=tol, scale=scale, locate_folds=locate_folds,
+                                 fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol), on_point=report)
+
+    run = trace(u0)
+    if run.status == cont.Status.START_FAILED:  # the stuck guess is too far: homotopy in the force
+        u_h = _force_homotopy(problem, w0, tol, scale)
+        if u_h is not None:
+            run = trace(u_h)
     return MultiHarmonicResponse(problem, run, response_dof=response_dof, rtol=rtol, tol=tol, scale=scale,
                                  stability=stability)
 

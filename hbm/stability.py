@@ -15,12 +15,17 @@ For rate-independent friction the perturbation force is taken from that Jacobian
 linearisation about the periodic motion with the perturbation held periodic), the standard
 choice of Hill's method for non-smooth forces (Krack & Gross 2019, ch. 5).
 
-The QEP has ``2 n (2H+1)`` eigenvalues; the Floquet exponents are the ``2 n`` with the smallest
-``|Im lambda|`` (the imaginary-part criterion: of each family ``lambda + i k omega`` the member
-in the strip ``|Im| <= omega/2``; Moore, SIAM J. Numer. Anal. 42 (2005) 2035; compared with the
-eigenvector-symmetry criterion by Lazarus & Thomas, C. R. Mecanique 338 (2010) 510, who find
-both converge to the same exponents as H grows).  The solution is stable when every selected
-exponent has ``Re lambda <= STABILITY_TOL * omega``.
+The QEP has ``2 n (2H+1)`` eigenvalues, in families ``lambda + i k omega`` (one Floquet
+exponent each, defined modulo ``i omega``).  The ``2 n`` exponents are selected by the
+symmetry of their eigenvectors (Lazarus & Thomas, "A harmonic-based method for computing the
+stability of periodic solutions of dynamical systems", C. R. Mecanique 338 (2010) 510-517):
+writing an eigenvector in complex exponentials ``p(t) = sum_k z_k exp(i k omega t)``, the
+member of a family whose weights ``|z_k|^2`` are centred on ``k = 0`` is the one the truncation
+represents best; the ``2 n`` eigenvalues with the smallest ``|sum_k k |z_k|^2| / sum_k |z_k|^2``
+are kept.  (The imaginary-part criterion, "smallest |Im lambda|", fails when a mode's frequency
+exceeds ``H omega``: its family's member in the strip ``|Im| <= omega/2`` is then missing from
+the truncated problem and copies of other families are picked instead.)  The solution is stable
+when every selected exponent has ``Re lambda <= STABILITY_TOL * omega``.
 """
 
 from __future__ import annotations
@@ -66,7 +71,8 @@ def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray
     Returns
     -------
     ndarray
-        The 2n exponents with the smallest ``|Im|`` (module docstring), sorted by real part, largest first.
+        The 2n exponents with the most centred eigenvectors (module docstring), sorted by real
+        part, largest first.
 
     Examples
     --------
@@ -75,7 +81,7 @@ def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray
     >>> np.round(lam.real, 6).tolist()  # -c/(2m) for the linear oscillator, at any omega
     [-0.1, -0.1]
     """
-    from scipy.linalg import eigvals
+    from scipy.linalg import eig
 
     n = M.shape[0]
     L = 2 * harmonics + 1
@@ -89,8 +95,15 @@ def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray
     A[:size, size:] = np.eye(size)
     A[size:, :size] = -Minv @ D0
     A[size:, size:] = -Minv @ D1
-    lam = eigvals(A)
-    lam = lam[np.argsort(np.abs(lam.imag), kind="stable")[:2 * n]]
+    lam, V = eig(A)
+    P = V[:size].reshape(n, L, 2 * size)  # displacement part of each eigenvector, per DOF and harmonic
+    zp = P[:, 1::2] - 1j * P[:, 2::2]  # 2 z_{+h}
+    zm = P[:, 1::2] + 1j * P[:, 2::2]  # 2 z_{-h}
+    h = np.arange(1, harmonics + 1)[None, :, None]
+    wp, wm = np.sum(np.abs(zp) ** 2, axis=0), np.sum(np.abs(zm) ** 2, axis=0)
+    total = 4.0 * np.sum(np.abs(P[:, 0]) ** 2, axis=0) + np.sum(wp + wm, axis=0)
+    centre = np.abs(np.sum(h[0] * (wp - wm), axis=0)) / np.maximum(total, 1e-300)
+    lam = lam[np.argsort(centre, kind="stable")[:2 * n]]
     return lam[np.argsort(-lam.real, kind="stable")]
 
 
