@@ -162,6 +162,15 @@ class AllModeMicroslip(ContactElement):
     knob: ``docs/validation.md`` and ``docs/performance.md``.  The steady state of a node that
     never slips is taken with its slider at the centre of its motion (the Masing convention;
     the symmetric state for the drive ``a sin(theta)``).
+    ``fourier``'s ``rtol`` is not used: Newton converges to rounding (relative residual 1e-11),
+    and the accuracy is set by ``cells``, ``harmonics`` and ``n_t`` (``solve(...,
+    estimate_error=True)`` estimates it).  ``fourier`` raises FloatingPointError where the
+    balance does not converge; ``solve`` reports it in ``success`` and ``message``.
+
+    Raises
+    ------
+    ValueError
+        ``bar`` not a ``Bar``; ``cells``, ``harmonics`` or ``n_t`` out of range; a load below 0.
 
     Examples
     --------
@@ -232,7 +241,8 @@ class AllModeMicroslip(ContactElement):
         own sample count (``n_t`` and ``rtol`` of the caller are accepted and not used: the
         nested AFT samples every node, and Newton converges to rounding); the result is
         truncated to H.  Derivatives by the implicit function theorem (exact for the discrete
-        model).  Raises ValueError for bad input and when the nested solve fails.
+        model).  Raises ValueError for bad input, FloatingPointError when the nested solve fails
+        (the solver's continuation then shortens its step).
         """
         X = np.asarray(X, dtype=float)
         if X.ndim != 1 or X.size < 3 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
@@ -245,8 +255,8 @@ class AllModeMicroslip(ContactElement):
         H = (X.size - 1) // 2
         Hi = max(H, self.harmonics)
         sol = self._solve(np.pad(X, (0, 2 * (Hi - H))), float(omega), Hi)
-        if not sol.success:
-            raise ValueError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
+        if not sol.success:  # numerical trouble, not bad input: a continuation shrinks its step on it
+            raise FloatingPointError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
         m = 2 * H + 1
         return sol.F[:m].copy(), sol.dF_dX[:m, :m].copy(), sol.dF_domega[:m].copy()
 
