@@ -217,11 +217,37 @@ class AllModeMicroslip(ContactElement):
         return self._disc.x.copy()
 
     def solve(self, a: float | ArrayLike, omega: float = 0.0, *, estimate_error: bool = False) -> AllModeSolution:
-        """Steady state for the end displacement ``a sin(theta)`` (``a`` a number, m) or for the
-        coefficients ``a`` (length 2H'+1, layout ``[X0, Xc1, Xs1, ...]``, H' <= harmonics).
+        """Steady periodic state of the bar for a driven-end displacement.
 
-        ``estimate_error=True`` also solves with half the cells and with ceil(H/2) harmonics and
-        fills ``error`` (N, on (f_s, f_c), the larger of the two parts) and ``error_parts``.
+        Parameters
+        ----------
+        a : float or array_like
+            An amplitude (m) for ``a sin(theta)``, or end-displacement coefficients (m) of length
+            2H'+1, layout ``[X0, Xc1, Xs1, ...]``, H' <= ``harmonics``.
+        omega : float
+            Frequency (rad/s), >= 0.
+        estimate_error : bool
+            Also solve with half the cells and with ceil(H/2) harmonics and fill ``error`` (N, on
+            (f_s, f_c): the larger of the two parts) and ``error_parts``.  Default False.
+
+        Returns
+        -------
+        AllModeSolution
+            End force harmonics, nodal coefficients, derivatives, slip map, ``success``, ``message``.
+
+        Raises
+        ------
+        ValueError
+            ``a`` or ``omega`` negative, not finite, or ``a`` of a bad length.
+
+        Examples
+        --------
+        >>> from contact_models import AllModeMicroslip, Bar, UniformLoad
+        >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+        >>> sol = AllModeMicroslip(bar, UniformLoad(N=100.0), cells=20, harmonics=7).solve(
+        ...     3 * 7.5e-7, 0.5 * bar.omega_c, estimate_error=True)
+        >>> sol.success, round(sol.f_c / (bar.k_star * 3 * 7.5e-7), 3), sol.error < 1e-3 * bar.k_star * 3 * 7.5e-7
+        (True, 0.19, True)
         """
         omega = nonnegative("omega", omega)
         X = self._end_vector(a)
@@ -272,8 +298,10 @@ class AllModeMicroslip(ContactElement):
 
     def stick_slip_map(self, a: float, omega: float = 0.0) -> tuple[NDArray[np.float64], NDArray[np.float64],
                                                                         NDArray[np.bool_]]:
-        """``(theta, x, slip)``: where the bar slips over one cycle of ``a sin(theta)``,
-        slip[i, k] True when node x[i] slips at theta[k] = 2 pi k / n_t."""
+        """``(theta, x, slip)``: where the bar slips over one cycle of ``a sin(theta)`` (``a`` in m,
+        ``omega`` in rad/s): ``slip[i, k]`` is True when node ``x[i]`` (m) slips at
+        ``theta[k] = 2 pi k / n_t`` (the return map clipped there).  Draws like the paper's
+        Figs. 6-7 for any number of stick and slip regions (docs/validation.md, wavy load)."""
         sol = self.solve(a, omega)
         return 2.0 * np.pi * np.arange(self.n_t) / self.n_t, self.nodes, sol.slip
 

@@ -217,6 +217,25 @@ class SampledLoad(_Load):
     """A user's normal load given as samples ``values`` (N/m) at positions ``x`` (m), linearly
     interpolated; ``x`` increasing from 0 to L.
 
+    Parameters
+    ----------
+    x : array_like
+        Sample positions (m), strictly increasing, x[0] = 0, x[-1] = L.
+    values : array_like
+        q at the samples (N/m), finite and >= 0.
+    L : float, optional
+        Contact length (m); default x[-1] (must equal it).
+
+    Raises
+    ------
+    ValueError
+        Naming ``x``, ``values`` or ``L`` and what they got.
+
+    Notes
+    -----
+    ``N`` is the trapezoid integral of the samples (exact for the interpolant).  Only ``q`` is
+    defined, as for :class:`FunctionLoad`.
+
     Examples
     --------
     >>> from contact_models import SampledLoad

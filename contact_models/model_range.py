@@ -98,7 +98,18 @@ def single_mode_error_bound(element: Any, a: ArrayLike, omega: ArrayLike) -> np.
 
 
 def single_mode_frequency_limit(element: Any, tolerance: float = TOLERANCE) -> float:
-    """omega_1 (rad/s): up to it the single-mode element's error stays within ``tolerance``."""
+    """omega_1 (rad/s): up to it the single-mode element's error stays within ``tolerance``.
+
+    omega_1 = omega_c sqrt(tolerance / C), C of the module docstring.
+
+    Examples
+    --------
+    >>> from contact_models import Bar, TwoRegionMicroslip, UniformLoad
+    >>> from contact_models.model_range import single_mode_frequency_limit
+    >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    >>> round(single_mode_frequency_limit(TwoRegionMicroslip(bar, UniformLoad(N=100.0))) / bar.omega_c, 4)
+    0.0996
+    """
     return element.bar.omega_c * math.sqrt(tolerance / _coefficient(element))
 
 
