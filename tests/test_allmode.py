@@ -168,7 +168,7 @@ def test_harmonic_force_jacobians_against_finite_differences():
 
 
 # ---------------------------------------------------------------- against time integration
-@pytest.mark.parametrize("w, r", [(0.5, 3.0), (0.8, 10.0)])
+@pytest.mark.parametrize("w, r", [(0.5, 3.0), (0.8, 10.0), (1.0, 3.0)])  # 1.0: at omega_c itself
 def test_agrees_with_time_integration_on_the_same_mesh(w, r):
     """Same 20-cell bar, NumericalMicroslip at 256 steps per cycle: its time-step error is at most
     3e-4 k* a there (docs/validation.md convergence table, 256 -> 512 steps), the all-mode
