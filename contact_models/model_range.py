@@ -21,8 +21,8 @@ depends on frequency only, so above omega_1 it also warns at some amplitudes whe
 happens to be smaller (docs/validation.md counts them).  Measured for lambda L in [0.3, 10],
 beta L/EA in [0.1, 10], the uniform and the ratio-12 concave loads; beta L/EA below 0.1 is
 taken as 0.1.
-The check is a few float operations per call (the element's a_min(omega) comes from its cached
-loading path).  Separately, an element whose loading curve folds before gross slip snaps onto
+The check costs about 0.1 ms per call (a tenth of a scalar ``fourier`` call; the element's
+a_min(omega) and snap come from its cached loading path) and is not in the solver's unchecked path.  Separately, an element whose loading curve folds before gross slip snaps onto
 the sliding line early (stiff shear layers, lambda L of 3 and more, with inertia); that snap
 is flagged when it happens with more than ``SNAP_TOLERANCE`` L of the bar still stuck.
 """
@@ -129,7 +129,7 @@ def check_single_mode(element: Any, a: ArrayLike, omega: ArrayLike, *, stackleve
     """Warn (``ModelRangeWarning``, once per call) if the single-mode ``element`` is evaluated where
     its error bound exceeds ``TOLERANCE`` or where it takes an early gross-slip snap.
 
-    Cost: the bound is a few float operations per frequency, and the snap is read from the
+    Cost: about 0.1 ms per call (measured, scalar a and omega); the snap is read from the
     element's cached loading path.
     """
     a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
