@@ -21,9 +21,11 @@ depends on frequency only, so above omega_1 it also warns at some amplitudes whe
 happens to be smaller (docs/validation.md counts them).  Measured for lambda L in [0.3, 10],
 beta L/EA in [0.1, 10], the uniform and the ratio-12 concave loads; beta L/EA below 0.1 is
 taken as 0.1.
+
 The check costs about 0.1 ms per call (a tenth of a scalar ``fourier`` call; the element's
-a_min(omega) and snap come from its cached loading path) and is not in the solver's unchecked path.  Separately, an element whose loading curve folds before gross slip snaps onto
-the sliding line early (stiff shear layers, lambda L of 3 and more, with inertia); that snap
+a_min(omega) and snap come from its cached loading path) and is not in the solver's unchecked
+path.  Separately, an element whose loading curve folds before gross slip snaps onto the
+sliding line early (stiff shear layers, lambda L of 3 and more, with inertia); that snap
 is flagged when it happens with more than ``SNAP_TOLERANCE`` L of the bar still stuck.
 """
 
