@@ -132,10 +132,14 @@ def figure(rows, outdir: Path = FIGURES):
             Z = np.full((len(ratios), len(freqs)), np.nan)
             for r in rows:
                 if (r[0], r[1], r[2]) == (lam_L, beta_L, name):
-                    Z[ratios.index(r[4]), freqs.index(r[3])] = min(max(r[5], r[6]), 10.0)
+                    Z[ratios.index(r[4]), freqs.index(r[3])] = max(r[5], r[6])
             ax = axes[i, j]
+            refused = ~np.isfinite(Z)
             Zp = np.where(np.isfinite(Z), np.maximum(Z, 1e-5), 10.0)
-            m = ax.pcolormesh(freqs, ratios, Zp, norm=LogNorm(1e-4, 1.0), cmap="viridis", shading="nearest")
+            cmap = plt.get_cmap("viridis").copy()
+            cmap.set_bad("lightgrey")
+            m = ax.pcolormesh(freqs, ratios, np.ma.masked_where(refused, Zp), norm=LogNorm(1e-4, 1.0), cmap=cmap,
+                              shading="nearest")
             ax.contour(freqs, ratios, Zp, levels=[0.01], colors="w")
             el = LOADS[name][1](make_bar(lam_L, beta_L), LOADS[name][0])
             ax.axvline(single_mode_frequency_limit(el) / el.bar.omega_c, color="r", ls="--", lw=1)
@@ -145,7 +149,7 @@ def figure(rows, outdir: Path = FIGURES):
                 ax.set_xlabel("omega / omega_c")
             if j == 0:
                 ax.set_ylabel("a / a_min")
-    fig.colorbar(m, ax=axes, label="max(e_s, e_c) (white: 1 %; red dashed: omega_1 of the warning)")
+    fig.colorbar(m, ax=axes, label="max(e_s, e_c) (white: 1 %; red dashed: omega_1 of the warning; grey: refused)")
     fig.savefig(outdir / "validity_map.png", dpi=100)
     plt.close(fig)
 
