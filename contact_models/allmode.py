@@ -280,11 +280,30 @@ class AllModeMicroslip(ContactElement):
         """:meth:`harmonic_force` without validation (the solver's fast path)."""
         H = (X.size - 1) // 2
         Hi = max(H, self.harmonics)
-        sol = self._solve(np.pad(X, (0, 2 * (Hi - H))), float(omega), Hi)
+        Xp = np.pad(X, (0, 2 * (Hi - H)))
+        odd = self._is_odd(Xp)
+        sol = self._solve(Xp, float(omega), Hi, odd=odd)
         if not sol.success:  # numerical trouble, not bad input: a continuation shrinks its step on it
             raise FloatingPointError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
+        if odd:
+            self._even_block(sol, Hi)
         m = 2 * H + 1
         return sol.F[:m].copy(), sol.dF_dX[:m, :m].copy(), sol.dF_domega[:m].copy()
+
+    def _even_block(self, sol: AllModeSolution, H: int) -> None:
+        """Fill the even-even block of ``sol.dF_dX`` for a half-wave symmetric solution solved in
+        the odd basis.  There the Jacobian commutes with the half-period shift, so it is block
+        diagonal in (odd, even) coefficients: F_even = 0, dF_even/dX_odd = dF_odd/dX_even = 0,
+        dF_even/domega = 0, and dF_even/dX_even is the Schur complement of the even blocks of the
+        full-basis Jacobian at the solution (one evaluation and one block elimination)."""
+        d = self._disc
+        b = self._basis(H, False)
+        even = np.flatnonzero(b.order % 2 == 0)
+        _, J, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P)
+        Je = J[:, even][:, :, even]
+        lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
+        fac = BlockTridiagonal(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
+        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.inv[-1]
 
     def _periodic_force(self, x, omega):
         """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end

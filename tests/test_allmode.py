@@ -167,6 +167,20 @@ def test_harmonic_force_jacobians_against_finite_differences():
     np.testing.assert_allclose(dw * omega, fd * omega, atol=1e-5 * scale)
 
 
+def test_symmetric_end_motion_solved_in_the_odd_basis_has_the_full_jacobian():
+    """harmonic_force at a half-wave symmetric X (odd harmonics only) solves in the odd basis and
+    adds the even block; it equals the full-basis solve's Jacobian, static and even columns too."""
+    el = AllModeMicroslip(BAR, CONCAVE, cells=10, harmonics=5)
+    X = np.zeros(7)
+    X[2], X[5] = 2e-6, -0.3e-6
+    F, dX, dw = el.harmonic_force(X, 0.4 * WC)
+    full = el._solve(np.pad(X, (0, 4)), 0.4 * WC, 5, odd=False)
+    np.testing.assert_allclose(F, full.F[:7], atol=1e-10 * np.max(np.abs(F)))
+    np.testing.assert_allclose(dX, full.dF_dX[:7, :7], atol=1e-9 * KS)
+    np.testing.assert_allclose(dw, full.dF_domega[:7], atol=1e-9 * np.max(np.abs(dw)))
+    assert np.max(np.abs(dX[0::4, 0::4])) > 0.01 * KS  # the even block is not empty
+
+
 # ---------------------------------------------------------------- against time integration
 @pytest.mark.parametrize("w, r", [(0.5, 3.0), (0.8, 10.0), (1.0, 3.0)])  # 1.0: at omega_c itself
 def test_agrees_with_time_integration_on_the_same_mesh(w, r):
