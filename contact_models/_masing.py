@@ -162,24 +162,23 @@ def true_extremes(X: Array, x: Array) -> tuple[tuple[float, float, bool, bool], 
     hh = np.arange(1, H + 1)
     Xc, Xs = X[1::2], X[2::2]
     dth = 2.0 * np.pi / n
-    out = []
-    for k0 in (int(np.argmax(x)), int(np.argmin(x))):
-        th0 = th = dth * k0
-        for _ in range(EXTREMUM_ITERATIONS):
-            c, s = np.cos(hh * th), np.sin(hh * th)
-            d1 = float(np.sum(hh * (Xs * c - Xc * s)))
-            d2 = -float(np.sum(hh * hh * (Xc * c + Xs * s)))
-            if d2 == 0.0:
-                break
-            th = min(max(th - d1 / d2, th0 - dth), th0 + dth)
-        basis = np.empty(2 * H + 1)
-        basis[0] = 1.0
-        basis[1::2], basis[2::2] = np.cos(hh * th), np.sin(hh * th)
-        out.append((float(basis @ X), th0 > th, basis))
-    (xM, aM, bM), (xm, am, bm) = out
+    th0 = dth * np.array([int(np.argmax(x)), int(np.argmin(x))], dtype=float)
+    th = th0.copy()
+    for _ in range(EXTREMUM_ITERATIONS):  # both extremes at once
+        ang = np.outer(th, hh)
+        c, s = np.cos(ang), np.sin(ang)
+        d1 = (s * -Xc + c * Xs) @ hh
+        d2 = -((c * Xc + s * Xs) @ (hh * hh))
+        step = np.divide(d1, d2, out=np.zeros(2), where=d2 != 0.0)
+        th = np.clip(th - step, th0 - dth, th0 + dth)
+    ang = np.outer(th, hh)
+    basis = np.empty((2, 2 * H + 1))
+    basis[:, 0] = 1.0
+    basis[:, 1::2], basis[:, 2::2] = np.cos(ang), np.sin(ang)
+    xM, xm = basis @ X
     if not (xM >= x.max() and xm <= x.min()):  # Newton went astray (flat top): keep the samples
-        return (float(x.max()), float(x.min()), True, False), bM * np.nan, bm * np.nan
-    return (xM, xm, aM, am), bM, bm
+        return (float(x.max()), float(x.min()), True, False), basis[0] * np.nan, basis[1] * np.nan
+    return (float(xM), float(xm), bool(th0[0] > th[0]), bool(th0[1] > th[1])), basis[0], basis[1]
 
 
 def dense_jacobian(d: Array, idx: NDArray[np.intp], C: Array) -> Array:

@@ -35,7 +35,7 @@ class MultiHarmonicResponse:
     """
 
     def __init__(self, problem: Any, run: cont.ContinuationResult, *, response_dof: int, rtol: float, tol: float,
-                 scale: Callable, stability: bool = True):
+                 scale: Callable, stability: bool = True) -> None:
         self._problem = problem
         self._run = run
         self._scale = scale
@@ -87,6 +87,12 @@ class MultiHarmonicResponse:
     def nfev(self) -> int:
         return self._problem.nfev
 
+    @property
+    def nstuck(self) -> int:
+        """0: every point evaluates the elements (the counter of ``FrequencyResponse`` for the shortcut
+        through the stuck stiffness, which the multi-harmonic balance does not take)."""
+        return 0
+
     def __len__(self) -> int:
         return len(self.omega)
 
@@ -110,7 +116,7 @@ class MultiHarmonicResponse:
         return out
 
     # ------------------------------------------------------------------ stability
-    def _stability(self):
+    def _stability(self) -> None:
         from .multiharmonic import STABILITY_FULL_DOFS, STABILITY_MODES
 
         pr, s = self._problem, self.structure

@@ -48,8 +48,8 @@ NEWTON_TOL_FACTOR = 5e-3
 PEAK_XTOL_FACTOR = 1e-3
 #: Hill's method runs on the structure itself up to this many DOFs, else on a Craig-Bampton
 #: model of the condensation DOFs plus ``STABILITY_MODES`` fixed-interface modes.
-STABILITY_FULL_DOFS = 12
-STABILITY_MODES = 8
+STABILITY_FULL_DOFS = 6
+STABILITY_MODES = 4
 
 
 def to_complex(V: NDArray) -> NDArray[np.complex128]:
@@ -72,7 +72,7 @@ def from_complex(c: NDArray) -> NDArray[np.float64]:
 class Condensed:
     """The structure's compliance at a set of DOFs for harmonics 0..H (state-space modes)."""
 
-    def __init__(self, structure: Structure, dofs: Sequence[int], harmonics: int):
+    def __init__(self, structure: Structure, dofs: Sequence[int], harmonics: int) -> None:
         self.lam, V, B = modal_compliance(structure.M, structure.C, structure.K)
         self.V, self.B = V, B
         self.dofs = np.asarray(dofs, dtype=int)
@@ -82,7 +82,7 @@ class Condensed:
         self.h = np.arange(harmonics + 1)
         self._cache: tuple | None = None
 
-    def at(self, omega: float):
+    def at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
         """``(G, dG/domega, x_lin, dx_lin/domega)``: G (H+1, n_a, n_a) complex, x_lin (n_a,) complex."""
         if self._cache is not None and self._cache[0] == omega:
             return self._cache[1]
@@ -111,7 +111,7 @@ class MultiHarmonicBalance:
     """``R(u)`` and ``dR/du`` of the condensed balance in scaled unknowns (module docstring)."""
 
     def __init__(self, structure: Structure, contacts: Sequence[Contact], dofs: Sequence[int], *,
-                 harmonics: int, n_t: int, rtol: float, x_ref: float, omega_ref: float):
+                 harmonics: int, n_t: int, rtol: float, x_ref: float, omega_ref: float) -> None:
         self.structure = structure
         self.contacts = list(contacts)
         self.dofs = list(dofs)
@@ -128,7 +128,7 @@ class MultiHarmonicBalance:
         self.nfev = 0  #: element harmonic-force evaluations
         self.ncalls = 0  #: balance evaluations
 
-    def forces(self, X: NDArray, omega: float, *, perturbation: bool = False):
+    def forces(self, X: NDArray, omega: float, *, perturbation: bool = False) -> tuple[NDArray, NDArray, NDArray]:
         """Contact forces' harmonics F (n_a, L), dF/dX (n_a L, n_a L), dF/domega (n_a, L).
 
         ``perturbation=True`` (Hill's method): an element whose displacement stays within its
@@ -159,7 +159,7 @@ class MultiHarmonicBalance:
                     dF[i, :, j, :] += (si * sj) * J
         return F, dF.reshape(na * L, na * L), Fw
 
-    def physical(self, X: NDArray, omega: float):
+    def physical(self, X: NDArray, omega: float) -> tuple[NDArray, NDArray]:
         """``R`` (n_a L,) and ``J`` (n_a L, n_a L + 1) in physical units."""
         self.ncalls += 1
         na, L = self.na, self.L
@@ -205,7 +205,8 @@ class MultiHarmonicBalance:
         return (u[..., :-1] * self.x_ref).reshape(u.shape[:-1] + (self.na, self.L)), u[..., -1] * self.omega_ref
 
 
-def check_problem(structure: Any, contacts: Any, harmonics: Any, n_t: Any, response_dof: Any):
+def check_problem(structure: Any, contacts: Any, harmonics: Any, n_t: Any,
+                  response_dof: Any) -> tuple[list, int, int, int]:
     """Validate the multi-harmonic problem up front; returns ``(contacts, H, n_t, response_dof)``."""
     from contact_models.base import default_samples
 
@@ -307,7 +308,7 @@ def multiharmonic_response(structure: Structure, contacts: Sequence[Contact], *,
                            harmonics: int = 1, n_t: int | None = None, response_dof: int | None = None,
                            rtol: float, max_step: float, min_step: float, max_steps: int, locate_folds: bool = True,
                            stability: bool = True,
-                           on_point: Callable[[float, float, float, float], None] | None = None):
+                           on_point: Callable[[float, float, float, float], None] | None = None) -> Any:
     """Continuation of the condensed multi-harmonic balance (``hbm.frequency_response`` with a
     :class:`Structure`); returns a :class:`hbm.mhresult.MultiHarmonicResponse`."""
     from .mhresult import MultiHarmonicResponse

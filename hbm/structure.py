@@ -354,11 +354,27 @@ def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], ND
     From the first-order form ``z' = A z``, ``A = [[0, I], [-M^-1 K, -M^-1 C]]``,
     ``A = W diag(lam) W^-1``: ``(s I - A)^-1 = W diag(1/(s - lam)) W^-1`` and
     ``Z(s)^-1 = [I 0] (s I - A)^-1 [0; M^-1]``.  Exact for any (non-defective) damping.
+    Classical damping (``Phi^T C Phi`` diagonal for the mass-normalised undamped modes ``Phi``,
+    Rayleigh and modal damping) takes the symmetric eigensolver instead: two poles per mode.
     """
-    from scipy.linalg import eig, lu_factor, lu_solve
+    from scipy.linalg import eig, eigh, lu_factor, lu_solve
 
     Md, Cd, Kd = _dense(M), _dense(C), _dense(K)
     n = Md.shape[0]
+    # classical damping (C diagonal in the undamped modes): two poles per mode from eigh, with
+    # 1/(s^2 + c s + w^2) = (1/(s - l+) - 1/(s - l-)) / (l+ - l-)
+    w2, Phi = eigh(Kd, Md)
+    c = Phi.T @ Cd @ Phi
+    cd = np.diag(c).copy()
+    off = np.max(np.abs(c - np.diag(cd))) if n > 1 else 0.0
+    disc = cd * cd - 4.0 * w2.astype(complex)
+    if off <= 1e-12 * max(float(np.max(np.abs(cd))), 1e-300) and np.all(np.abs(disc) > 1e-12 * np.abs(w2) + 1e-300):
+        root = np.sqrt(disc)
+        lp, lm = 0.5 * (-cd + root), 0.5 * (-cd - root)
+        inv = 1.0 / (lp - lm)
+        V = np.hstack([Phi, Phi]).astype(complex)
+        B = np.vstack([inv[:, None] * Phi.T, -inv[:, None] * Phi.T])
+        return np.concatenate([lp, lm]), V, B
     MinvK = np.linalg.solve(Md, Kd)
     MinvC = np.linalg.solve(Md, Cd)
     A = np.zeros((2 * n, 2 * n))

@@ -268,17 +268,39 @@ def phase_differences(run: Any) -> Effect | None:
 
 
 def harmonics_key(v: Any) -> int:
-    """``effects.harmonics``: only 1 until the multi-harmonic balance is wired into scenes."""
-    v = integer(1)(v)
-    if v != 1:
-        raise Invalid("must be 1: multi-harmonic balance is not available in scenes (they solve the "
-                      "single-harmonic balance)")
-    return v
+    """``effects.harmonics``: H >= 1; above 1 every element of the scene needs a time law."""
+    return integer(1)(v)
 
 
 def harmonics(run: Any) -> Effect:
-    """Higher harmonics of the balance."""
-    return Effect("higher harmonics", False, "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c)")
+    """Higher harmonics of the balance: H = 1 the single-harmonic balance; H > 1 the multi-harmonic
+    balance with AFT (``hbm.multiharmonic``) for a frequency sweep, where the element (after the
+    inertia decider: ``QuasiStatic`` without damper inertia) must own a time-domain law."""
+    H = run.scene.effects["harmonics"]
+    if H == 1:
+        return Effect("higher harmonics", False,
+                      "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c)")
+    if run.blade is None:
+        return Effect("higher harmonics", False, f"effects.harmonics = {H}: an amplitude sweep tabulates the "
+                                                 "first-harmonic f_s, f_c of the element; no balance is solved")
+    element = run.element
+    if type(element).__name__ == "StuckContact":
+        return Effect("higher harmonics", False, f"effects.harmonics = {H}: the damper stays stuck (a linear "
+                                                 "spring), so the response has no higher harmonics")
+    if not getattr(element, "has_time_law", False):
+        raise SceneError([f"{run.where('effects.harmonics')}: harmonics = {H} needs an element with a "
+                          f"time-domain force law, but the {run.label} element {type(element).__name__} has none "
+                          "(with damper inertia the single-mode bar is a first-harmonic element); use "
+                          "harmonics = 1 or effects.inertia = \"off\""])
+    from ..presets import harmonic_knobs
+    from contact_models.base import default_samples
+
+    options = run.scene.sweep["options"]
+    options["harmonics"] = H
+    options.setdefault("n_t", max(default_samples(H), harmonic_knobs("default")[1]))
+    return Effect("higher harmonics", True, f"effects.harmonics = {H}: multi-harmonic balance with AFT, "
+                                            f"n_t = {options['n_t']} samples per period "
+                                            f"({type(element).__name__} has a time-domain law)")
 
 
 # ====================================================================== helpers
@@ -356,4 +378,5 @@ register_effect("phase differences along the bar", phase_differences, key_name="
                         'the all-mode bar (AllModeMicroslip): "auto" (where the single-mode element is out of '
                         'its range, for damper.model = "auto"), "on" or "off"'))
 register_effect("higher harmonics", harmonics, key_name="harmonics",
-                key=Key(harmonics_key, 1, "harmonics of the balance; only 1 is available in scenes"))
+                key=Key(harmonics_key, 1, "harmonics of the balance (H >= 1; above 1 the element needs a "
+                                                "time-domain law: multi-harmonic balance with AFT)"))
