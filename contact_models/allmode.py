@@ -76,7 +76,7 @@ class AllModeSolution:
     function theorem, ``slip`` (n + 1, n_t): where each node slips at theta_k = 2 pi k/n_t.
     ``decay``: max(|F_H|, |F_{H-1}|) / |F_1|, the size of the last harmonics kept relative to
     the first (a truncation indicator; two because even harmonics vanish for a symmetric drive); ``error``: the error estimate of (F_s, F_c) in N from
-    :meth:`AllModeMicroslip.solve` with ``estimate_error=True`` (None otherwise) and
+    ``AllModeMicroslip.solve`` with ``estimate_error=True`` (None otherwise) and
     ``error_parts`` its parts (``"cells"``: Richardson estimate from the half-cells solution,
     ``"harmonics"``: change from H to ceil(H/2) harmonics).
     """
@@ -277,7 +277,7 @@ class AllModeMicroslip(ContactElement):
 
     def harmonic_force_unchecked(self, X: NDArray[np.float64], omega: float, n_t: int = 0, rtol: float = 1e-6
                                  ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """:meth:`harmonic_force` without validation (the solver's fast path)."""
+        """``harmonic_force`` without validation (the solver's fast path)."""
         H = (X.size - 1) // 2
         Hi = max(H, self.harmonics)
         Xp = np.pad(X, (0, 2 * (Hi - H)))

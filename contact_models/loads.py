@@ -168,7 +168,7 @@ class FunctionLoad(_Load):
     func : callable
         ``func(x) -> q`` for an array ``x`` in [0, L], vectorised, finite and >= 0.
     L : float, optional
-        Contact length (m); set by :meth:`on` from the bar otherwise.
+        Contact length (m); set by ``on`` from the bar otherwise.
 
     Notes
     -----
@@ -234,7 +234,7 @@ class SampledLoad(_Load):
     Notes
     -----
     ``N`` is the trapezoid integral of the samples (exact for the interpolant).  Only ``q`` is
-    defined, as for :class:`FunctionLoad`.
+    defined, as for ``FunctionLoad``.
 
     Examples
     --------
