@@ -4,12 +4,14 @@ See ``contact_models.base.ContactElement`` for the interface.
 """
 
 from ._version import __version__
+from .allmode import AllModeMicroslip
 from .bar import Bar
 from .base import ContactElement
 from .iwan import Iwan
 from .cubic import CubicSpring
-from .loads import QuadraticLoad, UniformLoad
+from .loads import FunctionLoad, QuadraticLoad, SampledLoad, UniformLoad
 from .macroslip import Macroslip
+from .model_range import ModelRangeWarning
 from .microslip import ThreeRegionMicroslip, TwoRegionMicroslip
 from .numerical import NumericalMicroslip
 from .point_contact import PointContact
@@ -17,4 +19,4 @@ from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
-           "Iwan", "CubicSpring"]
+           "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning"]

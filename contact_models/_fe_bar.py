@@ -72,3 +72,10 @@ class _Discretisation:
         f = d[n] + self.off * u[-1]
         return np.append(u, 1.0), f
 
+    def slip_amplitude(self, omega: float) -> float:
+        """Smallest tip amplitude at which a node's elastic force k c_i |u_i| of the stuck bar
+        reaches its slip force mu q_i c_i (inf if none can)."""
+        u, _ = self.stuck_solution(omega)
+        with np.errstate(divide="ignore"):
+            ratio = np.where(np.abs(u) > 0, self.p / (self.kc * np.abs(u)), np.inf)
+        return float(np.min(ratio))

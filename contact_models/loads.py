@@ -227,3 +227,122 @@ class QuadraticLoad(_Load):
         L = self._length()
         x = np.asarray(x)
         return self.q0 * x**2 / 2.0 + 4.0 * self.q2 / L**2 * (x**4 / 12.0 - L * x**3 / 6.0)
+
+
+@dataclass(frozen=True)
+class FunctionLoad(_Load):
+    """A user's normal load q(x) (N/m) given as a function of x (m), e.g. one with several
+    minima that gives four or more stick and slip regions.
+
+    Parameters
+    ----------
+    func : callable
+        ``func(x) -> q`` for an array ``x`` in [0, L], vectorised, finite and >= 0.
+    L : float, optional
+        Contact length (m); set by ``on`` from the bar otherwise.
+
+    Notes
+    -----
+    Only ``q`` is defined (the all-mode and numerical bars need nothing else; the single-mode
+    elements need ``I1``, ``I2`` and refuse this load).  ``N`` is the integral of q over
+    [0, L] (Gauss-Legendre, 200 points).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from contact_models import FunctionLoad
+    >>> load = FunctionLoad(lambda x: 2000.0 * (1.0 + 0.5 * np.cos(2 * np.pi * x / 0.05)), L=0.05)
+    >>> round(load.N, 6)
+    100.0
+    """
+
+    func: Any
+    L: float | None = None
+
+    def __post_init__(self) -> None:
+        if not callable(self.func):
+            raise ValueError(f"func must be callable, got func={self.func!r}")
+        if self.L is not None:
+            object.__setattr__(self, "L", positive("L", self.L))
+            self._check()
+
+    def _check(self) -> None:
+        x = np.linspace(0.0, self._length(), 2001)
+        q = np.asarray(self.func(x), dtype=float)
+        if q.shape != x.shape or not np.all(np.isfinite(q)):
+            raise ValueError(f"func must return finite values of the shape of x, got func={self.func!r}")
+
+    def q(self, x: ArrayLike) -> NDArray[Any]:
+        x = np.asarray(x, dtype=float)
+        return np.asarray(self.func(x), dtype=float) + 0.0 * x
+
+    @property
+    def N(self) -> float:
+        L = self._length()
+        t, w = np.polynomial.legendre.leggauss(200)
+        return float(0.5 * L * np.sum(w * self.q(0.5 * L * (t + 1.0))))
+
+
+@dataclass(frozen=True)
+class SampledLoad(_Load):
+    """A user's normal load given as samples ``values`` (N/m) at positions ``x`` (m), linearly
+    interpolated; ``x`` increasing from 0 to L.
+
+    Parameters
+    ----------
+    x : array_like
+        Sample positions (m), strictly increasing, x[0] = 0, x[-1] = L.
+    values : array_like
+        q at the samples (N/m), finite and >= 0.
+    L : float, optional
+        Contact length (m); default x[-1] (must equal it).
+
+    Raises
+    ------
+    ValueError
+        Naming ``x``, ``values`` or ``L`` and what they got.
+
+    Notes
+    -----
+    ``N`` is the trapezoid integral of the samples (exact for the interpolant).  Only ``q`` is
+    defined, as for ``FunctionLoad``.
+
+    Examples
+    --------
+    >>> from contact_models import SampledLoad
+    >>> load = SampledLoad(x=[0.0, 0.025, 0.05], values=[3000.0, 1000.0, 3000.0])
+    >>> round(load.N, 6), float(load.q(0.0125))
+    (100.0, 2000.0)
+    """
+
+    x: Any
+    values: Any
+    L: float | None = None
+
+    def __post_init__(self) -> None:
+        try:
+            x = np.array(self.x, dtype=float)
+            v = np.array(self.values, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"x and values must be arrays of numbers, got x={self.x!r}, values={self.values!r}") from None
+        if x.ndim != 1 or x.size < 2 or v.shape != x.shape:
+            raise ValueError(f"x and values must be 1-d of one length >= 2, got x={self.x!r}, values={self.values!r}")
+        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))) or np.any(np.diff(x) <= 0) or x[0] != 0.0:
+            raise ValueError(f"x must be finite, increasing and start at 0, got x={self.x!r}")
+        if np.any(v < 0):
+            raise ValueError(f"values must be >= 0, got values={self.values!r}")
+        L = float(x[-1]) if self.L is None else positive("L", self.L)
+        if not math.isclose(L, float(x[-1]), rel_tol=1e-12):
+            raise ValueError(f"the samples must end at x = L, got x[-1]={x[-1]!r}, L={self.L!r}")
+        x.flags.writeable = False
+        v.flags.writeable = False
+        object.__setattr__(self, "x", x)
+        object.__setattr__(self, "values", v)
+        object.__setattr__(self, "L", L)
+
+    def q(self, x: ArrayLike) -> NDArray[Any]:
+        return np.interp(np.asarray(x, dtype=float), self.x, self.values)
+
+    @property
+    def N(self) -> float:
+        return float(np.trapezoid(self.values, self.x))

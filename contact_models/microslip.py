@@ -28,13 +28,16 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, Regions,  # noqa: F401 (public here)
                             _ThreeRegionPiece, _TwoRegionPiece, load_curvature, region_solution)
 from .bar import Bar, impedance_transmission
-from .base import ContactElement, masing_loop
+from .base import DEFAULT_RTOL, ContactElement, masing_loop
+from .model_range import check_single_mode
 from ._validation import nonnegative
 
 #: Gauss-Legendre nodes of the first rule; doubled until two rules agree to rtol.
@@ -169,6 +172,20 @@ class _MicroslipBar(ContactElement):
         return theta, L1, L2
 
     # ------------------------------------------------------------ interface
+    def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *, rtol: float = DEFAULT_RTOL) -> tuple[Any, Any]:
+        """As ``ContactElement.fourier``; warns (``ModelRangeWarning``) outside the single-mode range
+        (``contact_models.model_range``)."""
+        out = super().fourier(a, omega, rtol=rtol)
+        check_single_mode(self, a, omega)
+        return out
+
+    def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
+                            rtol: float = DEFAULT_RTOL) -> tuple[Any, ...]:
+        """As ``ContactElement.fourier_derivatives``; warns outside the single-mode range."""
+        out = super().fourier_derivatives(a, omega, rtol=rtol)
+        check_single_mode(self, a, omega)
+        return out
+
     def _stuck_stiffness(self, omega):
         # Bar.stuck_stiffness for one float omega without its array checks: the same operations.
         # Every path build and stuck answer passes here, through Bar.gamma2 (tests spy on it)
@@ -525,6 +542,13 @@ class TwoRegionMicroslip(_MicroslipBar):
     loop, and f_s, f_c are its Fourier integrals, evaluated to ``rtol``.  ``docs/theory.md``
     gives every coefficient (Eqs. 10-15) and where the printed paper differs.
 
+    Range (validity map, docs/validation.md): exact while stuck and at omega -> 0; otherwise its
+    F_s, F_c error against the all-mode bar stays within 1 % up to
+    omega_1 = omega_c sqrt(0.01/C), C = 0.42 (1 + (lambda L)^2)(1 + 0.2 EA/(beta L)) (0.10 omega_c
+    for the DESIGN.md bar), and grows like (omega/omega_c)^2 beyond (2.4 % at 0.2, 21 % at 0.5
+    omega_c there).  ``fourier`` and ``fourier_derivatives`` warn (``ModelRangeWarning``) beyond
+    omega_1 and at an early gross-slip snap; ``AllModeMicroslip`` holds everywhere.
+
     References
     ----------
     .. [1] Cigeroglu, Lu & Menq (2006), Section 2.2, Eqs. 3-15; Figs. 6, 8-10.
@@ -585,6 +609,10 @@ class ThreeRegionMicroslip(_MicroslipBar):
     the amplitude ``a_min``; the slip region [L1, L2] grows both ways (Eqs. 16-28 and
     Appendix A), the right stuck region vanishes first, and the interface then continues as two
     regions to gross slip.  ``docs/theory.md``, section 4, has every coefficient.
+
+    Range (validity map, docs/validation.md): as ``TwoRegionMicroslip`` with C = 0.62 (1 + (lambda
+    L)^2)(1 + 0.2 EA/(beta L)) (ratio-12 concave load; 0.082 omega_c for the DESIGN.md bar, 5.3 %
+    error at 0.2 omega_c); warns (``ModelRangeWarning``) beyond it.
 
     References
     ----------

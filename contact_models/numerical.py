@@ -551,11 +551,7 @@ class NumericalMicroslip(ContactElement):
 
     def _slip_amplitude(self, omega):
         """Smallest tip amplitude at which a node's elastic force k c_i |u_i| reaches mu q_i c_i."""
-        d = self._disc
-        u, _ = d.stuck_solution(omega)
-        with np.errstate(divide="ignore"):
-            ratio = np.where(np.abs(u) > 0, d.p / (d.kc * np.abs(u)), np.inf)
-        return float(np.min(ratio))
+        return self._disc.slip_amplitude(omega)
 
     def _fourier(self, a, omega, rtol):
         fs = np.empty_like(a)

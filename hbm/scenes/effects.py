@@ -27,6 +27,11 @@ STUCK_GRID = 4001
 AMIN_SAMPLES = 65
 #: The stuck response must stay below the linear amplitude by this relative margin to call the damper stuck.
 STUCK_MARGIN = 1e-6
+#: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
+#: differences the element's omega-derivative; at the element's default H = 15 the default blade's
+#: peak sits where the 13th harmonic meets a bar mode, and that balance stalls there
+#: (docs/validation.md, "The default blade with the all-mode damper"); H = 11 traces it.
+SCENE_HARMONICS = 11
 
 
 @dataclass
@@ -217,6 +222,55 @@ def slip(run: Any) -> Effect:
                                        f"({peak:.4g} m against {smallest:.4g} m)")
 
 
+def phase_differences(run: Any) -> Effect | None:
+    """Phase differences along the bar: the all-mode bar (``AllModeMicroslip``) where the
+    single-mode element is outside its range (``contact_models.model_range``), the single-mode one
+    where it holds (it is far cheaper).
+
+    ``effects.phase_differences``: "auto" (default) decides for ``damper.model = "auto"`` and
+    reports, without switching, for an explicitly chosen "two-region" or "three-region"; "on"
+    takes the all-mode bar for any of the three; "off" never does.  The point contact and other
+    models are not concerned.  Runs after "damper slip": a damper that stays stuck needs no
+    all-mode bar (the single-mode stuck stiffness is exact).
+    """
+    if run.spec.microslip is None or run.spec.name not in ("auto", "two-region", "three-region"):
+        return None
+    from contact_models import AllModeMicroslip
+    from contact_models.model_range import TOLERANCE, single_mode_frequency_limit
+    from contact_models.quasi_static import StuckContact
+
+    from .models import Built
+
+    setting = run.scene.effects["phase_differences"]
+    name = "phase differences along the bar"
+    if not run.inertia:
+        return Effect(name, False, "no damper inertia: the quasi-static bar is in phase along its length")
+    if isinstance(run.element, StuckContact):
+        return Effect(name, False, "the damper stays stuck: the single-mode stuck stiffness is exact")
+    micro = run.micro
+    w_hi = max(run.omega)
+    w_1 = single_mode_frequency_limit(micro)
+    wc = micro.bar.omega_c
+    at = (f"the single-mode element is within {TOLERANCE:.0%} up to {w_1 / wc:.3g} omega_c "
+          f"(validity map), the sweep reaches {w_hi / wc:.3g} omega_c")
+    out_of_range = w_hi > w_1
+    if setting == "on" or (setting == "auto" and out_of_range and run.spec.name == "auto"):
+        element = AllModeMicroslip(micro.bar, micro.load, harmonics=SCENE_HARMONICS)
+        run.micro = element
+        run._built = Built(element, "all-mode" if setting == "on" else "all-mode (auto)", run.note)
+        run.element = element
+        why = 'effects.phase_differences = "on"' if setting == "on" else "auto"
+        return Effect(name, True, f"{why}: {at}; AllModeMicroslip (all modes, {element.cells} cells, "
+                                  f"H = {element.harmonics})")
+    if setting == "off":
+        return Effect(name, False, f'effects.phase_differences = "off": {at}')
+    if out_of_range:
+        return Effect(name, False, f"auto: {at}, but damper.model = {show(run.spec.name)} asks for the single-mode "
+                                   'element (damper.model = "auto" or effects.phase_differences = "on" takes '
+                                   "the all-mode bar)")
+    return Effect(name, False, f"auto: {at}: single-mode element")
+
+
 def harmonics_key(v: Any) -> int:
     """``effects.harmonics``: H >= 1; above 1 every element of the scene needs a time law."""
     return integer(1)(v)
@@ -323,6 +377,10 @@ register_effect("damper inertia", inertia, key_name="inertia",
                         'damper inertia: "on", "off" (quasi-static damper, omega = 0 in it) or "auto"'))
 register_effect("interior slip onset (three regions)", topology)
 register_effect("damper slip", slip)
+register_effect("phase differences along the bar", phase_differences, key_name="phase_differences",
+                key=Key(choice("auto", "on", "off"), "auto",
+                        'the all-mode bar (AllModeMicroslip): "auto" (where the single-mode element is out of '
+                        'its range, for damper.model = "auto"), "on" or "off"'))
 register_effect("higher harmonics", harmonics, key_name="harmonics",
                 key=Key(harmonics_key, 1, "harmonics of the balance (H >= 1; above 1 the element needs a "
                                                 "time-domain law: multi-harmonic balance with AFT)"))

@@ -1,0 +1,113 @@
+"""What accuracy costs in ``AllModeMicroslip`` against ``NumericalMicroslip`` (issue 13).
+
+Uniform load 100 N on the DESIGN.md bar, omega in {0.2, 0.5} omega_c, a in {1.5, 3, 10} a_min
+(a_min of the 200-cell bar, the reference's).  Error: max |F_s - F_s,ref|, |F_c - F_c,ref| in
+units of k* a against the stored converged time integration (``docs/data/allmode_reference.csv``:
+NumericalMicroslip, 200 cells, 1024 steps per cycle, written by examples/validation_allmode.py).
+
+Time per amplitude point (median of ``REPEATS`` round-robin runs, process CPU seconds):
+- all-mode, *cold*: a new element per point (no warm start);
+- all-mode, *sweep*: the six points in one ``fourier`` call per frequency (warm starts along a);
+- numerical: ``simulate(a, omega)`` per point, timed once per point (it takes seconds).
+The ratios are formed from times of this one run.  Run ``python benchmarks/bench_allmode.py``.
+"""
+
+from __future__ import annotations
+
+import csv
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+from contact_models import AllModeMicroslip, Bar, NumericalMicroslip, UniformLoad
+
+from common import REPEATS, machine, machine_line, table
+
+BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+LOAD = UniformLoad(N=100.0)
+FREQUENCIES = (0.2, 0.5)
+RATIOS = (1.5, 3.0, 10.0)
+REFERENCE = Path(__file__).resolve().parent.parent / "docs" / "data" / "allmode_reference.csv"
+#: (label, cells, harmonics) of the all-mode settings and (label, cells, steps) of the numerical ones
+ALLMODE = (("all-mode 20 cells, H 7", 20, 7), ("all-mode 40 cells, H 15 (default)", 40, 15),
+           ("all-mode 80 cells, H 23", 80, 23))
+NUMERICAL = (("numerical 50 cells, 256 steps", 50, 256), ("numerical 100 cells, 512 steps", 100, 512))
+
+
+def reference():
+    with open(REFERENCE) as fh:
+        return {(float(r["w"]), float(r["ratio"])): (float(r["Fs"]), float(r["Fc"]))
+                for r in csv.DictReader(fh) if r["load"] == "uniform"}
+
+
+def points():
+    amin = NumericalMicroslip(BAR, LOAD, cells=200).slip_amplitude(0.0)
+    return [(w, r, r * amin) for w in FREQUENCIES for r in RATIOS]
+
+
+def run_allmode(cells, H, pts, cold):
+    """(CPU seconds per point, values) for all points."""
+    vals = {}
+    t0 = time.process_time()
+    if cold:
+        for w, r, a in pts:
+            el = AllModeMicroslip(BAR, LOAD, cells=cells, harmonics=H)
+            vals[(w, r)] = el.fourier(a, w * BAR.omega_c)
+    else:
+        el = AllModeMicroslip(BAR, LOAD, cells=cells, harmonics=H)
+        for w in FREQUENCIES:
+            sel = [(ww, r, a) for ww, r, a in pts if ww == w]
+            fs, fc = el.fourier(np.array([a for *_, a in sel]), w * BAR.omega_c)
+            for (ww, r, a), s, c in zip(sel, fs, fc):
+                vals[(w, r)] = (s, c)
+    return (time.process_time() - t0) / len(pts), vals
+
+
+def run_numerical(cells, steps, pts):
+    vals, times = {}, []
+    for w, r, a in pts:
+        num = NumericalMicroslip(BAR, LOAD, cells=cells, steps_per_cycle=steps)
+        t0 = time.process_time()
+        res = num.simulate(a, w * BAR.omega_c)
+        times.append(time.process_time() - t0)
+        vals[(w, r)] = (res.f_s, res.f_c)
+    return statistics.median(times), vals
+
+
+def error(vals, ref, pts):
+    return max(max(abs(vals[(w, r)][0] / (BAR.k_star * a) - ref[(w, r)][0]),
+                   abs(vals[(w, r)][1] / (BAR.k_star * a) - ref[(w, r)][1])) for w, r, a in pts)
+
+
+def main(repeats: int = REPEATS, numerical: bool = True):
+    info = machine()
+    ref = reference()
+    pts = points()
+    rows = []
+    all_times = {}
+    for label, cells, H in ALLMODE:
+        cold = [run_allmode(cells, H, pts, True) for _ in range(repeats)]
+        warm = [run_allmode(cells, H, pts, False) for _ in range(repeats)]
+        t_cold = statistics.median(c[0] for c in cold)
+        t_warm = statistics.median(c[0] for c in warm)
+        all_times[label] = (t_cold, t_warm)
+        rows.append([label, f"{error(cold[-1][1], ref, pts):.1e}", f"{1e3 * t_cold:.1f} ms", f"{1e3 * t_warm:.1f} ms"])
+    num_times = {}
+    if numerical:
+        for label, cells, steps in NUMERICAL:
+            t, vals = run_numerical(cells, steps, pts)
+            num_times[label] = t
+            rows.append([label, f"{error(vals, ref, pts):.1e}", f"{t:.2f} s (median of {len(pts)})", ""])
+    print(machine_line(info))
+    print(table(["setting", "max error (k* a)", "CPU per point (cold)", "CPU per point (sweep)"], rows))
+    if num_times:
+        for (la, (tc, tw)), (ln, tn) in zip(list(all_times.items())[:2], num_times.items()):
+            print(f"\n{ln} / {la}: {tn / tc:.0f}x (cold), {tn / tw:.0f}x (sweep)")
+    return rows, all_times, num_times
+
+
+if __name__ == "__main__":
+    main(numerical="--no-numerical" not in sys.argv)
