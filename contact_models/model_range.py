@@ -94,7 +94,7 @@ def single_mode_error_bound(element: Any, a: ArrayLike, omega: ArrayLike) -> np.
     wc = element.bar.omega_c
     for w in np.unique(w_b):
         sel = w_b == w
-        a_min = element.slip_amplitude(float(w))
+        a_min = element.linear_amplitude(float(w))  # the slip onset, without building the loading path
         out[sel] = np.where(a_b[sel] > a_min, C * (float(w) / wc) ** 2, 0.0)
     return out
 
@@ -148,6 +148,11 @@ def check_single_mode(element: Any, a: ArrayLike, omega: ArrayLike, *, stackleve
                      f"may be off by up to {worst:.1%} (validity map, docs/validation.md; within {TOLERANCE:.0%} up "
                      f"to {single_mode_frequency_limit(element) / wc:.3g} omega_c)")
     for w in np.unique(w_b):
+        if not np.any(a_b[w_b == w] > element.linear_amplitude(float(w))):
+            continue  # stuck: no slip path to snap on (and none is built)
+        lazy = getattr(element, "_lazy_path", None)
+        if lazy is not None and lazy(float(w))._full is None:
+            continue  # the amplitudes stayed on the microslip pieces: gross slip, and its snap, not reached
         snap = early_snap(element, w)
         if snap > SNAP_TOLERANCE and np.any(a_b[w_b == w] > element.gross_slip_amplitude(float(w))):
             parts.append(f"at omega = {w:.6g} rad/s its loading curve folds before gross slip and it snaps onto "
