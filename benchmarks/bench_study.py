@@ -12,8 +12,10 @@ shared; a speed-up measured under load is depressed, so rerun this on a quiet ma
    ``LocalCluster`` (started once beforehand; its start-up is reported apart), interleaved
    ``--repeats`` times, medians.  Every run writes into a fresh folder (nothing reused).
 2. Scheduling overhead per run: ``--overhead-runs`` runs of known length (``time.sleep`` of
-   ``--run-seconds``, 0.5 s) on two workers; overhead per run = (wall - ideal) / (runs per
-   worker), ideal = ceil(runs / 2) x 0.5 s, as a fraction of the run.
+   ``--run-seconds``, 0.5 s: a sleep, so that the machine's load does not stretch the run itself)
+   on two workers of a process pool and of the LocalCluster, both started beforehand; overhead
+   per run = (wall - ideal) / (runs per worker), ideal = ceil(runs / 2) x 0.5 s, as a fraction
+   of the run.
 3. The Monte Carlo (``examples/scenes/monte_carlo.toml``, 1000 samples) on every core: wall time
    per run and the mean worker time per run.
 """
@@ -93,14 +95,22 @@ def chart(repeats, quick, pool):
 
 
 def overhead(n, seconds, pool):
+    """Both executors already started (the pool warmed by one run per worker): the cost per run."""
+    import concurrent.futures as cf
+
     study = Study(sleeper, grid({"i": list(range(n)), "seconds": [seconds]}))
     ideal = math.ceil(n / WORKERS) * seconds
     out = {}
-    for name, executor, kw in (("processes", "processes", {"workers": WORKERS}), ("dask", pool, {})):
-        wall, result, l0, l1 = timed(study, executor, **kw)
-        per_run = (wall - ideal) / math.ceil(n / WORKERS)
-        out[name] = {"wall_s": wall, "ideal_s": ideal, "per_run_s": per_run, "fraction": per_run / seconds,
-                     "load": (l0, l1)}
+    processes = cf.ProcessPoolExecutor(max_workers=WORKERS)
+    list(processes.map(time.sleep, [0.1] * WORKERS))
+    try:
+        for name, executor in (("processes", processes), ("dask", pool)):
+            wall, result, l0, l1 = timed(study, executor)
+            per_run = (wall - ideal) / math.ceil(n / WORKERS)
+            out[name] = {"wall_s": wall, "ideal_s": ideal, "per_run_s": per_run, "fraction": per_run / seconds,
+                         "load": (l0, l1)}
+    finally:
+        processes.shutdown()
     return out
 
 
@@ -133,7 +143,9 @@ def report(m) -> str:
                      "1" if k == "serial" else f"{c['speedup'][k]:.2f}", walls, ld])
     lines += [table(["executor", "wall (median)", "speed-up", "each repeat (s)", "load before / after"], rows), ""]
     lines += [f"**Scheduling overhead per run** ({m['overhead_runs']} runs of `time.sleep({m['run_seconds']})` on "
-              f"{WORKERS} workers; overhead per run = (wall - ideal) / runs per worker):", ""]
+              f"{WORKERS} workers of a process pool and of the LocalCluster, both started beforehand; overhead per "
+              "run = (wall - ideal) / runs per worker, everything `run_study` does included: hashing, "
+              "scheduling, writing each record):", ""]
     rows = [[k, f"{v['wall_s']:.2f} s", f"{v['ideal_s']:.2f} s", f"{1e3 * v['per_run_s']:.1f} ms",
              f"{100 * v['fraction']:.2f} %", loads(v["load"])] for k, v in o.items()]
     lines += [table(["executor", "wall", "ideal", "overhead per run", "of a 0.5 s run", "load before / after"],
