@@ -111,21 +111,34 @@ def _run(args) -> int:
         print("\n".join(effect_lines(plan)))
         return 0
     line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
+    folder = Path(args.out if args.out is not None else scene.output["folder"])
+
+    def kept():
+        files = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
+        return f"kept {line.points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
+
+    return _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
+
+
+def _compute(line, compute, kept, report) -> int:
+    """Run ``compute()`` behind the progress ``line``; print ``report(result)``, or after Ctrl-C or
+    SIGTERM ``kept()`` (what is on disk).  Returns the exit code."""
     try:
-        result = run_scene(scene, args.out, plan=plan, progress=line)
+        result = compute()
     except KeyboardInterrupt as exc:
         line.clear()
-        folder = Path(args.out if args.out is not None else scene.output["folder"])
-        kept = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
-        print(f"{_stopped(exc)}: kept {line.points} finished points; files: "
-              f"{', '.join(str(p) for p in kept) or 'none'}", file=sys.stderr)
+        print(f"{_stopped(exc)}: {kept()}", file=sys.stderr)
         return _interrupted_code(exc)
+    except ImportError as exc:  # an optional extra not installed (Dask)
+        line.clear()
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     except OSError as exc:
         line.clear()
         print(f"error: cannot write the outputs: {exc}", file=sys.stderr)
         return 1
     line.clear()
-    print("\n".join(summary_lines(result)))
+    print("\n".join(report(result)))
     return result.exit_code
 
 
@@ -160,27 +173,14 @@ def _run_study(args, overrides) -> int:
         return 0
     folder = Path(args.out if args.out is not None else study.settings["folder"])
     line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
-    try:
-        result = run_study(study, folder, executor=args.executor, workers=args.workers, scheduler=args.scheduler,
-                           progress=line)
-    except KeyboardInterrupt as exc:
-        line.clear()
-        kept = [folder / FILES[k] for k in ("records", "partial") if (folder / FILES[k]).exists()]
-        print(f"{_stopped(exc)}: kept {line.points} finished runs; files: "
-              f"{', '.join(str(p) for p in kept) or 'none'}; run the same command again to compute only the "
-              "missing runs", file=sys.stderr)
-        return _interrupted_code(exc)
-    except ImportError as exc:
-        line.clear()
-        print(f"error: {exc}", file=sys.stderr)
-        return 2
-    except OSError as exc:
-        line.clear()
-        print(f"error: cannot write the outputs: {exc}", file=sys.stderr)
-        return 1
-    line.clear()
-    print("\n".join(study_lines(result)))
-    return result.exit_code
+
+    def kept():
+        files = [folder / FILES[k] for k in ("records", "partial") if (folder / FILES[k]).exists()]
+        return (f"kept {line.points} finished runs; files: {', '.join(str(p) for p in files) or 'none'}; "
+                "run the same command again to compute only the missing runs")
+
+    return _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
+                                            scheduler=args.scheduler, progress=line), kept, study_lines)
 
 
 def study_lines(result) -> list:

@@ -246,3 +246,14 @@ def test_cli_refuses_workers_without_a_study(tmp_path, capsys):
     scene.write_text(SCENE)
     assert main(["run", str(scene), "--workers", "2"]) == 2
     assert "need a [study] table" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("module", ["hbm.study", "hbm.study.design", "hbm.study.figures",
+                                    "hbm.scenes.validation"])
+def test_docstring_examples(module, tmp_path, monkeypatch):
+    import doctest
+    import importlib
+
+    monkeypatch.chdir(tmp_path)
+    result = doctest.testmod(importlib.import_module(module))
+    assert result.attempted > 0 and result.failed == 0

@@ -56,15 +56,19 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
     ``overrides`` maps ``"table.key"`` to a value that replaces the file's (as
     ``python -m hbm run --set table.key=value``).  Raises :class:`SceneError` listing every problem.
     """
+    return scene_from_dict(read_toml(path), path, overrides=overrides)
+
+
+def read_toml(path: str | Path) -> dict:
+    """The parsed TOML file ``path``; :class:`SceneError` if it is missing or not TOML."""
     path = Path(path)
     try:
         with path.open("rb") as fh:
-            data = tomllib.load(fh)
+            return tomllib.load(fh)
     except FileNotFoundError:
         raise SceneError([f"{path}: no such file"]) from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneError([f"{path}: not valid TOML: {exc}"]) from None
-    return scene_from_dict(data, path, overrides=overrides)
 
 
 def parse_override(text: str) -> tuple[str, Any]:

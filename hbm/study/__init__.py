@@ -20,7 +20,6 @@ Examples
 
 from __future__ import annotations
 
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
@@ -106,16 +105,10 @@ class Study:
         more than one run (every problem at once, naming the run).
         """
         from ..scenes import SceneError, scene_from_dict
-        from ..scenes.validation import apply_overrides
+        from ..scenes.validation import apply_overrides, read_toml
 
         path = Path(path)
-        try:
-            with path.open("rb") as fh:
-                data = tomllib.load(fh)
-        except FileNotFoundError:
-            raise SceneError([f"{path}: no such file"]) from None
-        except tomllib.TOMLDecodeError as exc:
-            raise SceneError([f"{path}: not valid TOML: {exc}"]) from None
+        data = read_toml(path)
         scene = scene_from_dict(data, path, overrides=overrides)
         if scene.study is None:
             raise SceneError([f"{path}: [study] is missing: a study needs study.grid or study.samples"])

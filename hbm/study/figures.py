@@ -22,7 +22,7 @@ MAX_CURVES = 120
 class _Branch:
     """A recorded FRF curve drawn as ``plot_frfs`` draws an ``hbm.FrequencyResponse``."""
 
-    def __init__(self, rec: dict):
+    def __init__(self, rec: dict) -> None:
         self.omega = np.asarray(rec["curve"]["omega_rad_s"])
         self.amplitude = np.asarray(rec["curve"]["amplitude_m"])
         self.success = rec["success"]

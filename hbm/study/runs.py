@@ -26,7 +26,7 @@ class SceneRun:
     F_c (the amplitude and frequency of the most damping).
     """
 
-    def __init__(self, data: Mapping[str, Any], path: str = "<scene>"):
+    def __init__(self, data: Mapping[str, Any], path: str = "<scene>") -> None:
         self.data = {k: v for k, v in data.items() if k not in ("study", "output")}
         self.path = str(path)
 
