@@ -118,7 +118,7 @@ def test_same_table_serially_in_processes_and_on_dask(tmp_path):
         assert without_time(results[ex]) == ref, ex
         assert results[ex].records[0]["curve"] == results["serial"].records[0]["curve"]
     # the CSV holds the same numbers exactly (repr round-trips)
-    rows = list(csv.DictReader((tmp_path / "dask" / "study.csv").open()))
+    rows = list(csv.DictReader((tmp_path / "dask" / "study.csv").read_text().splitlines()))
     assert [float(r["peak_amplitude_m"]) for r in rows] == peaks
     assert [r["damper.model"] for r in rows] == ["macroslip"] * 3 + ["point-contact"] * 3
     # the points are those the samples draw (seed 11), joined to each model
@@ -153,7 +153,7 @@ def test_failed_and_killed_runs_then_resume(tmp_path, monkeypatch):
     assert not (out / "study.csv").exists() and (out / "study.partial.csv").exists()
     kept = read_records(out / "runs.jsonl")
     assert all(r["success"] for r in kept.values())
-    partial = list(csv.DictReader((out / "study.partial.csv").open()))
+    partial = list(csv.DictReader((out / "study.partial.csv").read_text().splitlines()))
     assert sorted(int(r["run"]) for r in partial) == sorted(r["run"] for r in kept.values())
     assert not {0.0, 1.0, 3.0, 4.0} & set(calls(tmp_path)) and 2.0 in calls(tmp_path)  # 3 retried, no other
     # resume: only the runs without a record are computed
@@ -209,13 +209,18 @@ def test_invalid_study_tables_name_the_key(tmp_path):
         Study.from_scene(path)
 
 
-def test_cli_study_sigterm_keeps_finished_runs_and_resumes(tmp_path):
-    """SIGTERM ends a study with the message of Ctrl-C (exit 143); the rerun computes the rest."""
+@pytest.mark.parametrize("sig, executor, code, said", [
+    (signal.SIGTERM, "serial", 143, "terminated (SIGTERM)"),
+    (signal.SIGINT, "processes", 130, "interrupted"),
+])
+def test_cli_study_signal_keeps_finished_runs_and_resumes(tmp_path, sig, executor, code, said):
+    """SIGTERM ends a study with the message of Ctrl-C (exit 143, Ctrl-C 130), the worker processes
+    stopped; the rerun computes only the rest."""
     scene = tmp_path / "chart.toml"
     loads = ", ".join(repr(float(v)) for v in np.geomspace(20.0, 400.0, 6))
     scene.write_text(SCENE.replace('model = "macroslip"', 'model = "two-region"')
                      .replace('accuracy = "fast"', 'accuracy = "default"')
-                     + f'[study]\nexecutor = "serial"\n[study.grid]\n"damper.load.N" = [{loads}]\n')
+                     + f'[study]\nexecutor = "{executor}"\nworkers = 2\n[study.grid]\n"damper.load.N" = [{loads}]\n')
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "hbm", "run", str(scene), "--out", str(out), "--quiet"]
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
@@ -226,19 +231,45 @@ def test_cli_study_sigterm_keeps_finished_runs_and_resumes(tmp_path):
         while time.monotonic() - t0 < 60 and not (log.exists() and log.read_text().count("\n") >= 2):
             assert proc.poll() is None, proc.stderr.read()
             time.sleep(0.02)
+        proc.send_signal(sig)
+        _, err = proc.communicate(timeout=30)
+    finally:
+        if proc.poll() is None:
+            proc.kill()
+    assert proc.returncode == code, err
+    kept = read_records(log)
+    assert 2 <= len(kept) < 6 and f"{said}: kept {len(kept)} finished runs" in err
+    assert len(list(csv.reader((out / "study.partial.csv").read_text().splitlines()))) == len(kept) + 1
+    if sig == signal.SIGINT:
+        return
+    done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert f"{6 - len(kept)} computed now, {len(kept)} found in the folder" in done.stdout
+    assert len(list(csv.reader((out / "study.csv").read_text().splitlines()))) == 7
+
+
+def test_cli_scene_sigterm_says_what_was_kept(tmp_path):
+    """A plain scene: SIGTERM keeps the partial CSV and says so, as Ctrl-C does (exit 143)."""
+    scene = tmp_path / "long.toml"
+    scene.write_text(SCENE.replace('accuracy = "fast"', "max_step = 0.0005"))
+    out = tmp_path / "out"
+    proc = subprocess.Popen([sys.executable, "-m", "hbm", "run", str(scene), "--out", str(out), "--quiet"],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            env={**os.environ, "PYTHONPATH": str(ROOT)})
+    partial = out / "frf.partial.csv"
+    try:
+        t0 = time.monotonic()
+        while time.monotonic() - t0 < 60 and not (partial.exists() and partial.read_text().count("\n") > 20):
+            assert proc.poll() is None, proc.stderr.read()
+            time.sleep(0.02)
         proc.send_signal(signal.SIGTERM)
         _, err = proc.communicate(timeout=30)
     finally:
         if proc.poll() is None:
             proc.kill()
-    assert proc.returncode == 143, err
-    kept = read_records(log)
-    assert 2 <= len(kept) < 6 and f"terminated (SIGTERM): kept {len(kept)} finished runs" in err
-    assert len(list(csv.reader((out / "study.partial.csv").open()))) == len(kept) + 1
-    done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120)
-    assert done.returncode == 0, done.stderr
-    assert f"{6 - len(kept)} computed now, {len(kept)} found in the folder" in done.stdout
-    assert len(list(csv.reader((out / "study.csv").open()))) == 7
+    assert proc.returncode == 143
+    rows = partial.read_text().count("\n") - 1
+    assert f"terminated (SIGTERM): kept {rows} finished points; files: {partial}" in err
 
 
 def test_cli_refuses_workers_without_a_study(tmp_path, capsys):

@@ -13,7 +13,7 @@ Examples
 >>> def run(point):  # any picklable function of a point: an FRF, or a dict of results
 ...     return {"peak_amplitude_m": point["x"] ** 2}
 >>> study = Study(run, grid({"x": [1.0, 2.0, 3.0]}))
->>> result = run_study(study, tempfile.mkdtemp(), executor="serial")
+>>> result = run_study(study, tempfile.mkdtemp(), executor="serial", formats=("csv",))
 >>> result.success, result.column("peak_amplitude_m").tolist()
 (True, [1.0, 4.0, 9.0])
 """

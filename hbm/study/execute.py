@@ -75,12 +75,13 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
 
 def _stop(pool: cf.Executor) -> None:
     """Cancel what has not started and end the worker processes now (an interrupted study)."""
-    pool.shutdown(wait=False, cancel_futures=True)
     kill = getattr(pool, "terminate_workers", None)  # Python >= 3.14
     if kill is not None:
         kill()
         return
-    for proc in list((getattr(pool, "_processes", None) or {}).values()):
+    procs = list((getattr(pool, "_processes", None) or {}).values())  # shutdown forgets them
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
         proc.terminate()
 
 
