@@ -194,7 +194,9 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
 
     describe = {"title": study.title, "version": __version__, "parameters": list(study.parameters),
                 **study.design, "executor": executor if isinstance(executor, str) else type(executor).__name__,
-                "workers": workers if executor != "serial" else 1, "scheduler": scheduler}
+                "scheduler": scheduler}
+    local = executor in ("processes", "dask") and scheduler is None
+    describe["workers"] = 1 if executor == "serial" else workers or (cores() if local else None)
 
     def run(tasks, on_done):
         return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler)
