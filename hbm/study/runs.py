@@ -31,10 +31,12 @@ class SceneRun:
         self.path = str(path)
 
     def identity(self, point: Mapping[str, Any]) -> dict:
-        """The run's inputs, for its hash: the scene as run (the point's keys set)."""
+        """The run's inputs, for its hash: the scene as run (the point's keys set; not its title)."""
         from ..scenes.validation import apply_overrides
 
-        return {"scene": apply_overrides(self.data, point)}
+        scene = apply_overrides(self.data, point)
+        scene.pop("title", None)
+        return {"scene": scene}
 
     def scene(self, point: Mapping[str, Any]) -> Any:
         """The validated scene of ``point``; :class:`hbm.scenes.SceneError` unless it makes one run."""
