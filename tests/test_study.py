@@ -313,3 +313,19 @@ def test_amplitude_sweep_study_records_the_largest_F_c(tmp_path):
         i = int(np.argmax(Fc))
         assert rec["peak_omega_rad_s"] == w and rec["peak_amplitude_m"] == pytest.approx(a[i], rel=1e-12)
         assert max(rec["curve"]["F_c"][0]) == pytest.approx(Fc[i], rel=1e-6)
+
+
+def test_progress_line_counts_runs_with_an_eta():
+    import io
+
+    from hbm.progress import ProgressLine
+    from hbm.study import StudyProgress
+
+    p = StudyProgress(points=3, runs=10, failed=1, reused=1, elapsed=6.0)
+    assert p.eta == pytest.approx(6.0 * 7 / 2)  # 2 runs computed in 6 s, 7 to go
+    assert p.line() == "run 3/10 (1 failed, 1 reused), 6.0 s, about 21 s left"
+    assert StudyProgress(points=4, runs=10, failed=0, reused=4, elapsed=0.5).eta is None  # nothing computed yet
+    term = io.StringIO()
+    line = ProgressLine(term, enabled=True)
+    line(p)
+    assert term.getvalue() == "\r" + p.line() and line.points == 3
