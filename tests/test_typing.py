@@ -32,12 +32,6 @@ MODULES = [
     "hbm.cases",
     "hbm.continuation",
     "hbm.transient",
-    "hbm.study",
-    "hbm.study.design",
-    "hbm.study.runs",
-    "hbm.study.execute",
-    "hbm.study.store",
-    "hbm.study.figures",
 ]
 
 
