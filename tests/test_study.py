@@ -329,3 +329,18 @@ def test_progress_line_counts_runs_with_an_eta():
     line = ProgressLine(term, enabled=True)
     line(p)
     assert term.getvalue() == "\r" + p.line() and line.points == 3
+
+
+@pytest.mark.slow
+def test_a_running_cluster_by_its_address(tmp_path):
+    """scheduler=ADDRESS uses a running Dask cluster (here a LocalCluster started by the test)."""
+    from distributed import LocalCluster
+
+    path = tmp_path / "s.toml"
+    path.write_text(SCENE + STUDY)
+    study = Study.from_scene(path)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        remote = run_study(study, tmp_path / "remote", scheduler=cluster.scheduler_address, formats=("csv",))
+    assert remote.summary["executor"] == "dask" and remote.summary["scheduler"] == cluster.scheduler_address
+    serial = run_study(study, tmp_path / "serial", executor="serial", formats=("csv",))
+    assert remote.success and without_time(remote) == without_time(serial)

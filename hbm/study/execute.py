@@ -59,7 +59,10 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
     except ImportError:
         raise ImportError(DASK_MISSING) from None
     if scheduler is not None:
-        client, cluster = Client(scheduler), None
+        try:
+            client, cluster = Client(scheduler), None
+        except OSError as exc:  # refused, unreachable, timed out
+            raise ValueError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
     else:
         cluster = LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,
                                dashboard_address=None)
