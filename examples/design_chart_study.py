@@ -53,8 +53,8 @@ def main(outdir=DEFAULT_OUTDIR, small=False, executor=None, workers=None, schedu
         raise RuntimeError(result.message)
     rows = result.rows
     loads = np.array(sorted({r["damper.load.N"] for r in rows}))
-    peaks = {m: np.array([next(r["peak_amplitude_m"] for r in rows if r["damper.model"] == m and r["damper.load.N"] == N)
-                          for N in loads]) for m in MODELS}
+    by = {(r["damper.model"], r["damper.load.N"]): r["peak_amplitude_m"] for r in rows}
+    peaks = {m: np.array([by[m, N] for N in loads]) for m in MODELS}
     fig, ax = plt.subplots(figsize=(6.4, 4.4))
     best = {}
     for m, (label, style) in MODELS.items():

@@ -68,7 +68,8 @@ def figure(result: Any, path: str | Path, *, title: str = "", samples: dict | No
         _histogram(ax, [r["peak_amplitude_m"] for r in recs])
         name = next(iter(samples))
         other = [p for p in params if p != name]
-        cval = [r["params"][other[0]] for r in recs] if other and _numeric([r["params"][other[0]] for r in recs]) else None
+        cval = [r["params"][other[0]] for r in recs] if other else None
+        cval = cval if cval is not None and _numeric(cval) else None
         sc = bx.scatter([r["params"][name] for r in recs], [r["peak_amplitude_m"] for r in recs], s=4, c=cval,
                         cmap="viridis" if cval is not None else None)
         if cval is not None:
