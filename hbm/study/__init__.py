@@ -24,6 +24,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
+import numpy as np
+
 from .design import (DISTRIBUTIONS, Distribution, combine, grid, lognormal, normal, run_id, samples,
                      uniform)
 from .execute import DASK_MISSING, EXECUTORS, check_executor, cores, run_tasks
@@ -67,7 +69,7 @@ class Study:
     def __post_init__(self) -> None:
         if not callable(self.runner):
             raise ValueError(f"runner must be callable, got runner={self.runner!r}")
-        self.points = [dict(p) for p in self.points]
+        self.points = [{k: v.item() if isinstance(v, np.generic) else v for k, v in p.items()} for p in self.points]
         if not self.points:
             raise ValueError("points must hold at least one point, got points=[]")
         names = set(self.points[0])

@@ -13,6 +13,8 @@ import math
 import time
 from typing import Any, Callable, Mapping
 
+import numpy as np
+
 #: The numbers of a record, in the table's order (after the run number, id and parameters).
 RESULT_COLUMNS = ("success", "message", "peak_omega_rad_s", "peak_amplitude_m", "nfev", "time_s")
 
@@ -77,12 +79,13 @@ class SceneRun:
 def outcome(out: Any) -> dict:
     """The record fields of what a runner returned: an FRF (``hbm.FrequencyResponse``) or a dict
     with any of ``success`` (default True), ``message``, ``peak_omega_rad_s``, ``peak_amplitude_m``,
-    ``nfev`` and ``curve`` (a dict of lists)."""
+    ``nfev`` and ``curve`` (a dict of arrays or lists of numbers, stored as lists of floats)."""
     if isinstance(out, Mapping):
         rec = {"success": bool(out.get("success", True)), "message": str(out.get("message", "")),
                "peak_omega_rad_s": _float(out.get("peak_omega_rad_s")),
                "peak_amplitude_m": _float(out.get("peak_amplitude_m")),
-               "nfev": None if out.get("nfev") is None else int(out["nfev"]), "curve": dict(out.get("curve") or {})}
+               "nfev": None if out.get("nfev") is None else int(out["nfev"]),
+               "curve": {str(k): np.asarray(v, dtype=float).tolist() for k, v in (out.get("curve") or {}).items()}}
         unknown = set(out) - set(rec)
         if unknown:
             raise ValueError(f"a runner's dict may hold {', '.join(rec)}; got also {', '.join(sorted(unknown))}")
