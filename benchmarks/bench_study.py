@@ -72,7 +72,7 @@ def local_cluster():
     from distributed import Client, LocalCluster
 
     t0 = time.perf_counter()
-    cluster = LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True, dashboard_address=None)
+    cluster = LocalCluster(n_workers=WORKERS, threads_per_worker=1, processes=True, dashboard_address=":0")
     client = Client(cluster)
     client.wait_for_workers(WORKERS)
     client.run(warm)  # the imports a forked process inherits from this one; a spawned worker makes them once

@@ -339,7 +339,7 @@ def test_a_running_cluster_by_its_address(tmp_path):
     path = tmp_path / "s.toml"
     path.write_text(SCENE + STUDY)
     study = Study.from_scene(path)
-    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster:
         remote = run_study(study, tmp_path / "remote", scheduler=cluster.scheduler_address, formats=("csv",))
     assert remote.summary["executor"] == "dask" and remote.summary["scheduler"] == cluster.scheduler_address
     serial = run_study(study, tmp_path / "serial", executor="serial", formats=("csv",))

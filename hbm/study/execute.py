@@ -65,7 +65,7 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
             raise ValueError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
     else:
         cluster = LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,
-                               dashboard_address=None)
+                               dashboard_address=":0")
         client = Client(cluster)
 
     def close() -> None:
