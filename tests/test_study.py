@@ -344,3 +344,15 @@ def test_a_running_cluster_by_its_address(tmp_path):
     assert remote.summary["executor"] == "dask" and remote.summary["scheduler"] == cluster.scheduler_address
     serial = run_study(study, tmp_path / "serial", executor="serial", formats=("csv",))
     assert remote.success and without_time(remote) == without_time(serial)
+
+
+def test_docs_list_the_study_keys_as_the_schema_has_them():
+    """The [study] tables of docs/studies.md and docs/scenes.md are the schema's rows (generated)."""
+    from hbm.scenes import REQUIRED, schema
+    from hbm.scenes.checks import show
+
+    for key, spec in schema()["study"].items():
+        default = "required" if spec.default is REQUIRED else "-" if spec.default is None else f"`{show(spec.default)}`"
+        row = f"| `study.{key}` | {default} | {spec.doc} |"
+        for doc in ("studies.md", "scenes.md"):
+            assert row in (ROOT / "docs" / doc).read_text(), (doc, row)
