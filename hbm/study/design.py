@@ -177,7 +177,14 @@ def combine(first: Sequence[dict], second: Sequence[dict]) -> list[dict]:
 
 def run_id(identity: Any, version: str) -> str:
     """The hash naming a run: SHA-256 of its inputs ``identity`` (JSON, keys sorted, floats
-    exact) and the library ``version``, 20 hex digits."""
+    exact) and the library ``version``, 20 hex digits.
+
+    Examples
+    --------
+    >>> a = run_id({"damper.mu": 0.3}, "0.1.0")
+    >>> len(a), a == run_id({"damper.mu": 0.3}, "0.1.0"), a == run_id({"damper.mu": 0.3}, "0.2.0")
+    (20, True, False)
+    """
     text = json.dumps({"inputs": identity, "version": version}, sort_keys=True, default=repr)
     return hashlib.sha256(text.encode()).hexdigest()[:20]
 

@@ -110,7 +110,17 @@ def _float(v: Any) -> float | None:
 
 def execute(runner: Callable[[Mapping[str, Any]], Any], point: Mapping[str, Any]) -> dict:
     """Run ``runner(point)``: its record fields (:func:`outcome`) and ``time_s``; an exception
-    makes a failed record whose message names it (so one bad run never stops a study)."""
+    makes a failed record whose message names it (so one bad run never stops a study).
+
+    Examples
+    --------
+    >>> rec = execute(lambda p: {"peak_amplitude_m": 2.0 * p["x"]}, {"x": 1.5})
+    >>> rec["success"], rec["peak_amplitude_m"], rec["time_s"] >= 0.0
+    (True, 3.0, True)
+    >>> rec = execute(lambda p: 1.0 / p["x"], {"x": 0.0})
+    >>> rec["success"], rec["message"]
+    (False, 'ZeroDivisionError: float division by zero')
+    """
     t0 = time.perf_counter()
     try:
         rec = outcome(runner(point))

@@ -35,7 +35,13 @@ FILES = {"records": "runs.jsonl", "csv": "study.csv", "partial": "study.partial.
 
 def columns(parameters: tuple) -> tuple:
     """The table's columns: ``run`` (from 1), ``id`` (the run's hash), the parameters, then
-    :data:`hbm.study.runs.RESULT_COLUMNS`."""
+    :data:`hbm.study.runs.RESULT_COLUMNS`.
+
+    Examples
+    --------
+    >>> columns(("damper.mu",))
+    ('run', 'id', 'damper.mu', 'success', 'message', 'peak_omega_rad_s', 'peak_amplitude_m', 'nfev', 'time_s')
+    """
     return ("run", "id", *parameters, *RESULT_COLUMNS)
 
 
@@ -57,7 +63,16 @@ def csv_row(record: dict, parameters: tuple) -> list[str]:
 
 def read_records(path: str | Path) -> dict:
     """``{id: record}`` of a ``runs.jsonl`` (the last record of an id wins); a line cut short by
-    an interruption, or not a record, is skipped."""
+    an interruption, or not a record, is skipped.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "runs.jsonl"
+    >>> _ = path.write_text('{"id": "a", "run": 1}\\n{"id": "b", "run": 2}\\n{"id": "c", "ru')
+    >>> sorted(read_records(path))
+    ['a', 'b']
+    """
     out = {}
     try:
         lines = Path(path).read_text().splitlines()
