@@ -3,8 +3,9 @@
 Every executor calls the same pure function, :func:`hbm.study.runs.execute`, on the same points
 (drawn beforehand in the calling process), so the records agree to the last bit whichever runs
 them.  Records come back to the calling process one by one as runs finish, and are handed to
-``on_done`` there (which writes them).  A worker that dies loses only the runs it had not
-finished: they are reported as lost, never recorded, and a rerun computes them.
+``on_done`` there (which writes them).  A worker process that dies breaks a process pool: the
+runs not finished by then are reported as lost, never recorded, and a rerun computes them (Dask
+retries a dead worker's runs on the others first).
 """
 
 from __future__ import annotations
