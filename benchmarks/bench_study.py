@@ -173,12 +173,13 @@ def report(m) -> str:
     lines += [table(["executor", "wall", "ideal", "overhead per run", "of a 0.5 s run", "load before / after"],
                     rows), ""]
     proj = {k: projected(c["times"], o[k]["per_run_s"]) for k in o}
-    lines += [f"**Projected speed-up on an idle machine**, from quantities that the load does not bias: "
-              f"the serial run's own run times (the last repeat; the load stretches them all alike) "
+    lines += [f"**Projected speed-up on an idle machine**, from quantities the load biases little: "
+              f"the serial run's own run times (the last repeat; the load is assumed to stretch them all alike) "
               f"handed out in submission order to the first free of {WORKERS} workers, as both executors "
               f"do, each plus the overhead per run measured above: processes {proj['processes']:.2f}, "
               f"dask {proj['dask']:.2f} (the rest to {WORKERS} is the last runs' tail). The measured "
-              "speed-ups above approach these on a quiet machine.", ""]
+              "speed-ups should approach these on a quiet machine; that is not verified when the machine is "
+              "loaded.", ""]
     m["projected"] = proj
     lines += [f"**The Monte Carlo** ({mc['runs']} samples of `examples/scenes/monte_carlo.toml`, "
               f"processes on {mc['workers']} cores): {mc['wall_s']:.1f} s in all, "
