@@ -113,9 +113,11 @@ def _run(args) -> int:
     line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
     folder = Path(args.out if args.out is not None else scene.output["folder"])
 
-    def kept():
+    def kept():  # counted on disk: the signal may come between a row's write and its progress call
         files = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
-        return f"kept {line.points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
+        partial = folder / output_names(scene)["partial"]
+        points = len(partial.read_text().splitlines()) - 1 if partial.exists() else line.points
+        return f"kept {points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
 
     return _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
 
@@ -162,7 +164,7 @@ def _interrupted_code(exc: BaseException) -> int:
 def _run_study(args, overrides) -> int:
     from .progress import ProgressLine
     from .scenes import effect_lines, plan_scene
-    from .study import FILES, Study, run_study
+    from .study import FILES, Study, read_records, run_study
 
     study = Study.from_scene(args.scene, overrides=overrides)
     if args.check:
@@ -176,8 +178,9 @@ def _run_study(args, overrides) -> int:
 
     def kept():
         files = [folder / FILES[k] for k in ("records", "partial") if (folder / FILES[k]).exists()]
-        return (f"kept {line.points} finished runs; files: {', '.join(str(p) for p in files) or 'none'}; "
-                "run the same command again to compute only the missing runs")
+        return (f"kept {len(read_records(folder / FILES['records']))} finished runs; files: "
+                f"{', '.join(str(p) for p in files) or 'none'}; run the same command again to compute only the "
+                "missing runs")
 
     return _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
                                             scheduler=args.scheduler, progress=line), kept, study_lines)
