@@ -35,7 +35,7 @@ FILES = {"records": "runs.jsonl", "csv": "study.csv", "partial": "study.partial.
 
 def columns(parameters: tuple) -> tuple:
     """The table's columns: ``run`` (from 1), ``id`` (the run's hash), the parameters, then
-    :data:`hbm.study.runs.RESULT_COLUMNS`.
+    :data:`hbm.study.RESULT_COLUMNS`.
 
     Examples
     --------
@@ -121,7 +121,7 @@ class StudyResult:
 
     ``records`` holds one record per run in the study's order (None for a run not computed:
     interrupted, or lost with its worker); a record is a dict with ``run``, ``id``, ``params``,
-    the :data:`hbm.study.runs.RESULT_COLUMNS` and ``curve``.
+    the :data:`hbm.study.RESULT_COLUMNS` and ``curve``.
     """
 
     parameters: tuple  #: the names varied
