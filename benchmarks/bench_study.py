@@ -56,16 +56,32 @@ def load() -> float:
     return os.getloadavg()[0]
 
 
-def timed(study, executor, **kw):
-    """(wall s, result, load before, load after) of one run of ``study`` into a fresh folder."""
+def cpu_seconds(client=None) -> float:
+    """CPU seconds used so far by this process, its finished child processes (a process pool's,
+    once shut down) and, given a Dask ``client``, the cluster's worker processes."""
+    import resource
+
+    own = resource.getrusage(resource.RUSAGE_SELF)
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN)
+    total = own.ru_utime + own.ru_stime + kids.ru_utime + kids.ru_stime
+    if client is not None:
+        total += sum(client.run(time.process_time).values())
+    return total
+
+
+def timed(study, executor, client=None, **kw):
+    """(wall s, result, load before, load after, CPU s of every process involved) of one run of
+    ``study`` into a fresh folder."""
     before = load()
+    c0 = cpu_seconds(client)
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         result = run_study(study, tmp, executor=executor, formats=("csv",), **kw)
         wall = time.perf_counter() - t0
+    cpu = cpu_seconds(client) - c0
     if not result.success:
         raise RuntimeError(result.message)
-    return wall, result, before, load()
+    return wall, result, before, load(), cpu
 
 
 def local_cluster():
@@ -85,24 +101,28 @@ def warm():
     import hbm.study  # noqa: F401
 
 
-def chart(repeats, quick, pool):
+def chart(repeats, quick, pool, client):
     overrides = {"study.grid": {"damper.model": ["two-region", "point-contact", "macroslip"],
                                 "damper.load.N": [10.0, 35.52, 126.2, 448.1, 1592.0]}} if quick else {}
     study = Study.from_scene(CHART, overrides=overrides)
-    settings = {"serial": ("serial", {}), "processes": ("processes", {"workers": WORKERS}), "dask": (pool, {})}
+    settings = {"serial": ("serial", {}), "processes": ("processes", {"workers": WORKERS}),
+                "dask": (pool, {"client": client})}
     runs = {k: [] for k in settings}
+    cpu = {k: [] for k in settings}
     tables = {}
     for _ in range(repeats):
         for name, (executor, kw) in settings.items():
-            wall, result, l0, l1 = timed(study, executor, **kw)
+            wall, result, l0, l1, c = timed(study, executor, **kw)
             runs[name].append((wall, l0, l1))
+            cpu[name].append(c)
             tables[name] = [{k: v for k, v in r.items() if k != "time_s"} for r in result.rows]
             if name == "serial":
                 times = [r["time_s"] for r in result.rows]
     same = tables["processes"] == tables["serial"] == tables["dask"]
     med = {k: statistics.median(w for w, _, _ in v) for k, v in runs.items()}
+    cpu = {k: statistics.median(v) for k, v in cpu.items()}
     return {"runs": len(study.points), "median_s": med, "all": runs, "identical": same, "times": times,
-            "speedup": {k: med["serial"] / med[k] for k in ("processes", "dask")}}
+            "cpu_s": cpu, "speedup": {k: med["serial"] / med[k] for k in ("processes", "dask")}}
 
 
 def projected(times, per_run, workers=WORKERS):
@@ -127,7 +147,7 @@ def overhead(n, seconds, pool):
     list(processes.map(time.sleep, [0.1] * WORKERS))
     try:
         for name, executor in (("processes", processes), ("dask", pool)):
-            wall, result, l0, l1 = timed(study, executor)
+            wall, result, l0, l1, _ = timed(study, executor)
             per_run = (wall - ideal) / math.ceil(n / WORKERS)
             out[name] = {"wall_s": wall, "ideal_s": ideal, "per_run_s": per_run, "fraction": per_run / seconds,
                          "load": (l0, l1)}
@@ -138,7 +158,7 @@ def overhead(n, seconds, pool):
 
 def monte_carlo(n):
     study = Study.from_scene(MONTE_CARLO, overrides={"study.n": n})
-    wall, result, l0, l1 = timed(study, "processes")
+    wall, result, l0, l1, _ = timed(study, "processes")
     times = result.column("time_s")
     return {"runs": n, "wall_s": wall, "wall_per_run_s": wall / n, "worker_s_per_run": float(times.mean()),
             "load": (l0, l1), "workers": result.summary["workers"] or os.cpu_count()}
@@ -162,8 +182,15 @@ def report(m) -> str:
         walls = ", ".join(f"{w:.1f}" for w, _, _ in c["all"][k])
         ld = ", ".join(loads((a, b)) for _, a, b in c["all"][k])
         rows.append([k if k == "serial" else f"{k}, {WORKERS} workers", f"{c['median_s'][k]:.2f} s",
-                     "1" if k == "serial" else f"{c['speedup'][k]:.2f}", walls, ld])
-    lines += [table(["executor", "wall (median)", "speed-up", "each repeat (s)", "load before / after"], rows), ""]
+                     "1" if k == "serial" else f"{c['speedup'][k]:.2f}", f"{c['cpu_s'][k]:.2f} s",
+                     f"{c['cpu_s']['serial'] / c['cpu_s'][k]:.3f}", walls, ld])
+    lines += [table(["executor", "wall (median)", "speed-up", "CPU, all processes", "CPU efficiency",
+                     "each repeat (s)", "load before / after"], rows), ""]
+    lines += ["CPU: user + system seconds of every process that worked (this one, the pool's processes, the "
+              "Dask workers; median), which the load does not stretch; CPU efficiency = serial CPU / this "
+              "executor's CPU, the work a parallel run adds (scheduling, pickling, the Dask event loops). "
+              "On a machine whose CPU is shared out per job rather than per process, the wall-clock speed-up "
+              "stays near 1 whatever the workers, while the CPU and the projection below are unaffected.", ""]
     lines += [f"**Scheduling overhead per run** ({m['overhead_runs']} runs of `time.sleep({m['run_seconds']})` on "
               f"{WORKERS} workers of a process pool and of the LocalCluster, both started beforehand; overhead per "
               "run = (wall - ideal) / runs per worker, everything `run_study` does included: hashing, "
@@ -172,11 +199,13 @@ def report(m) -> str:
              f"{100 * v['fraction']:.2f} %", loads(v["load"])] for k, v in o.items()]
     lines += [table(["executor", "wall", "ideal", "overhead per run", "of a 0.5 s run", "load before / after"],
                     rows), ""]
-    proj = {k: projected(c["times"], o[k]["per_run_s"]) for k in o}
+    proj = {k: projected(c["times"], o[k]["per_run_s"]) * min(1.0, c["cpu_s"]["serial"] / c["cpu_s"][k])
+            for k in o}
     lines += [f"**Projected speed-up on an idle machine**, from quantities the load biases little: "
               f"the serial run's own run times (the last repeat; the load is assumed to stretch them all alike) "
               f"handed out in submission order to the first free of {WORKERS} workers, as both executors "
-              f"do, each plus the overhead per run measured above: processes {proj['processes']:.2f}, "
+              f"do, each plus the overhead per run measured above, times the CPU efficiency: "
+              f"processes {proj['processes']:.2f}, "
               f"dask {proj['dask']:.2f} (the rest to {WORKERS} is the last runs' tail). The measured "
               "speed-ups should approach these on a quiet machine; that is not verified when the machine is "
               "loaded.", ""]
@@ -212,7 +241,7 @@ def main(argv=None):
     client, cluster, m["cluster_start_s"] = local_cluster()
     try:
         pool = client.get_executor(pure=False)
-        m["chart"] = chart(args.repeats, args.quick, pool)
+        m["chart"] = chart(args.repeats, args.quick, pool, client)
         m["overhead"] = overhead(args.overhead_runs, args.run_seconds, pool)
     finally:
         client.close()
