@@ -4,7 +4,8 @@ With no arguments it computes the frequency response of the built-in default cas
 (``hbm.cases.default_case``) and writes ``frf.csv`` and ``frf.png`` to the current folder
 (``--out DIR`` elsewhere), printing where they went and the peak.  Subcommands are registered
 in ``COMMANDS``: ``default`` (the same job, named), ``run SCENE.toml`` (``docs/scenes.md``; exit
-code 0 on success, 1 on a failed computation, 2 on an invalid scene, 130 on Ctrl-C),
+code 0 on success, 1 on a failed computation, 2 on an invalid scene, 130 on Ctrl-C, 143 on
+SIGTERM, each saying what was kept; a scene with a ``[study]`` table runs as a study, ``hbm.study``),
 ``new SCENE.toml`` (an annotated template scene), ``models`` and ``keys`` (listings generated
 from the registries and the schema).
 """
@@ -13,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import time
 from pathlib import Path
@@ -28,6 +30,8 @@ EXAMPLES = """examples:
   {prog} run study.toml                    run a scene (a study described in a TOML file)
   {prog} run study.toml --check            validate it and print its effects; compute nothing
   {prog} run study.toml --set sweep.accuracy=fast --out quick
+  {prog} run chart.toml --workers 2                a scene with [study]: its runs on 2 processes
+  {prog} run chart.toml --scheduler tcp://host:8786   ... on a running Dask cluster
   {prog} new study.toml                    write an annotated template scene that runs as written
   {prog} models                            the damper models a scene can name
   {prog} keys                              every key of a scene, with its default and meaning"""
@@ -92,6 +96,11 @@ def _run(args) -> int:
         if args.rtol is not None:
             overrides["sweep.tolerance"] = args.rtol
         scene = load_scene(args.scene, overrides=overrides)
+        if scene.study is not None:
+            return _run_study(args, overrides)
+        if args.workers is not None or args.scheduler is not None or args.executor is not None:
+            raise SceneError([f"{scene.path}: --workers, --scheduler and --executor need a [study] table "
+                              "(docs/studies.md)"])
         plan = plan_scene(scene)
     except SceneError as exc:
         print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
@@ -101,22 +110,99 @@ def _run(args) -> int:
         print("\n".join(effect_lines(plan)))
         return 0
     line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
+    folder = Path(args.out if args.out is not None else scene.output["folder"])
+
+    def kept():  # counted on disk: the signal may come between a row's write and its progress call
+        files = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
+        partial = folder / output_names(scene)["partial"]
+        points = len(partial.read_text().splitlines()) - 1 if partial.exists() else line.points
+        return f"kept {points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
+
+    return _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
+
+
+def _compute(line, compute, kept, report) -> int:
+    """Run ``compute()`` behind the progress ``line``; print ``report(result)``, or after Ctrl-C or
+    SIGTERM ``kept()`` (what is on disk).  Returns the exit code."""
     try:
-        result = run_scene(scene, args.out, plan=plan, progress=line)
-    except KeyboardInterrupt:
+        result = compute()
+    except KeyboardInterrupt as exc:
         line.clear()
-        folder = Path(args.out if args.out is not None else scene.output["folder"])
-        kept = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
-        print(f"interrupted: kept {line.points} finished points; files: "
-              f"{', '.join(str(p) for p in kept) or 'none'}", file=sys.stderr)
-        return 130
+        print(f"{_stopped(exc)}: {kept()}", file=sys.stderr)
+        return _interrupted_code(exc)
+    except ImportError as exc:  # an optional extra not installed (Dask)
+        line.clear()
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
     except OSError as exc:
         line.clear()
         print(f"error: cannot write the outputs: {exc}", file=sys.stderr)
         return 1
     line.clear()
-    print("\n".join(summary_lines(result)))
+    print("\n".join(report(result)))
     return result.exit_code
+
+
+class Terminated(KeyboardInterrupt):
+    """SIGTERM, raised like Ctrl-C so that a scene or study says what it kept (exit code 143)."""
+
+
+def _terminate(signum, frame):
+    raise Terminated()
+
+
+def _stopped(exc: BaseException) -> str:
+    return "terminated (SIGTERM)" if isinstance(exc, Terminated) else "interrupted"
+
+
+def _interrupted_code(exc: BaseException) -> int:
+    """130 after Ctrl-C, 143 after SIGTERM (128 + the signal's number, the shells' convention)."""
+    return 143 if isinstance(exc, Terminated) else 130
+
+
+def _run_study(args, overrides) -> int:
+    from .progress import ProgressLine
+    from .scenes import effect_lines, plan_scene
+    from .study import FILES, Study, read_records, run_study
+
+    study = Study.from_scene(args.scene, overrides=overrides)
+    if args.check:
+        print(f"scene {args.scene} is valid: a study of {len(study.points)} run(s) over "
+              f"{', '.join(study.parameters)}")
+        print("effects of run 1:")
+        print("\n".join(effect_lines(plan_scene(study.runner.scene(study.points[0])))))
+        return 0
+    folder = Path(args.out if args.out is not None else study.settings["folder"])
+    line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
+
+    def kept():
+        files = [folder / FILES[k] for k in ("records", "partial") if (folder / FILES[k]).exists()]
+        return (f"kept {len(read_records(folder / FILES['records']))} finished runs; files: "
+                f"{', '.join(str(p) for p in files) or 'none'}; run the same command again to compute only the "
+                "missing runs")
+
+    return _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
+                                            scheduler=args.scheduler, progress=line), kept, study_lines)
+
+
+def study_lines(result) -> list:
+    """The end-of-study summary of a :class:`hbm.study.StudyResult` as lines of text."""
+    s = result.summary
+    lines = [f"study: {s['title'] or 'untitled'}: {s['runs']} runs over {', '.join(s['parameters'])}",
+             f"{s['succeeded']} succeeded, {s['failed']} failed, {s['not_computed']} not computed; "
+             f"{s['computed']} computed now, {s['reused']} found in the folder; {s['elapsed_s']:.1f} s "
+             f"({s['executor']})"]
+    rows = [r for r in result.rows if r["peak_amplitude_m"] is not None]
+    if rows:
+        for word, pick in (("smallest", min), ("largest", max)):
+            r = pick(rows, key=lambda x: x["peak_amplitude_m"])
+            where = ", ".join(f"{p} = {r[p]}" for p in result.parameters)
+            lines.append(f"{word} peak: {r['peak_amplitude_m']:.6g} m at omega = {r['peak_omega_rad_s']:.6g} rad/s "
+                         f"(run {r['run']}: {where})")
+    lines += [f"wrote {Path(p).resolve()}" for p in result.files.values()]
+    if not result.success:
+        lines.append(f"failed: {result.message}")
+    return lines
 
 
 def _run_arguments(parser):
@@ -125,6 +211,12 @@ def _run_arguments(parser):
                         help="override a key of the scene (VALUE in TOML syntax), e.g. --set sweep.max_step=0.1")
     parser.add_argument("--quiet", action="store_true", help="no progress line")
     parser.add_argument("--check", action="store_true", help="validate and print the effects; compute nothing")
+    parser.add_argument("--workers", type=int, default=None, metavar="N",
+                        help="a study: processes (or Dask LocalCluster workers); default every core")
+    parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                        help="a study: run on the Dask scheduler at ADDRESS (tcp://host:8786)")
+    parser.add_argument("--executor", default=None, choices=("processes", "serial", "dask"),
+                        help="a study: where the runs go (default study.executor, else processes)")
 
 
 def _new(args) -> int:
@@ -216,11 +308,14 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
     args = build_parser().parse_args(argv)
+    previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         return args.handler(args)
     except ValueError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 if __name__ == "__main__":

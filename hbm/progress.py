@@ -1,8 +1,9 @@
-"""The command line's progress line for a running scene (``python -m hbm run``).
+"""The command line's progress line for a running scene or study (``python -m hbm run``).
 
 One line on a terminal, rewritten in place (carriage return), once the run has taken longer than
 ``SHOW_AFTER`` seconds and at most every ``INTERVAL`` seconds; nothing at all when disabled (not a
-terminal, or ``--quiet``).  It is a callback for ``hbm.scenes.run_scene(progress=...)``.
+terminal, or ``--quiet``).  It is a callback for ``hbm.scenes.run_scene(progress=...)`` and
+``hbm.study.run_study(progress=...)``: it draws ``p.line()`` and counts ``p.points``.
 """
 
 from __future__ import annotations
@@ -20,13 +21,15 @@ INTERVAL = 0.1
 
 
 class ProgressLine:
-    """``line(progress)`` redraws ``run i/n label: omega ... rad/s (xx %), N points, t s, about T left``
-    on ``stream`` (runs numbered from 1, as in the CSV and the summary; T from the time so far)."""
+    """``line(progress)`` redraws ``progress.line()`` on ``stream``: for a scene
+    ``run i/n label: omega ... rad/s (xx %), N points, t s, about T left`` (runs numbered from 1,
+    as in the CSV and the summary; T from the time so far), for a study
+    ``run i/n (f failed, r reused), t s, about T left``."""
 
     def __init__(self, stream: TextIO, *, enabled: bool) -> None:
         self.stream = stream
         self.enabled = enabled
-        self.points = 0  #: points written so far (also counted when disabled)
+        self.points = 0  #: points (a study: runs) finished so far (also counted when disabled)
         self._last = -1.0
         self._width = 0
 
@@ -38,10 +41,7 @@ class ProgressLine:
         if now - self._last < INTERVAL:
             return
         self._last = now
-        eta = p.eta
-        text = (f"run {p.run}/{p.runs} {p.label}: omega {p.omega:.6g} rad/s "
-                f"({100.0 * min(max(p.fraction, 0.0), 1.0):.0f} %), {p.points} points, {p.elapsed:.1f} s"
-                + ("" if eta is None else f", about {_duration(eta)} left"))
+        text = p.line()
         self.stream.write("\r" + text.ljust(self._width))
         self.stream.flush()
         self._width = len(text)
@@ -54,7 +54,7 @@ class ProgressLine:
             self._width = 0
 
 
-def _duration(seconds: float) -> str:
+def duration(seconds: float) -> str:
     """``42 s``, ``3 min 5 s``, ``2 h 10 min``."""
     s = int(round(seconds))
     if s < 60:

@@ -51,3 +51,43 @@ def test_continuation_duffing(tmp_path):
     assert len(out["folds"]) == 2
     for fw, fa, rw, ra in out["folds"]:
         assert fw == pytest.approx(rw, rel=1e-8) and fa == pytest.approx(ra, rel=1e-8)
+
+
+def test_design_chart_study(tmp_path):
+    """The study version of the design chart gives the scene's numbers (tests/test_scenes_examples.py)."""
+    out = run("design_chart_study", tmp_path)
+    loads = list(out["loads"])
+    assert loads == [30.0, 100.0, 1000.0] and len(out["result"].records) == 9
+    p = out["peaks"]
+    assert p["two-region"][1] == pytest.approx(DEFAULT_PEAK, rel=1e-6)
+    assert p["two-region"][2] / p["point-contact"][2] == pytest.approx(0.5057, abs=1e-3)
+    assert p["macroslip"][1] < p["two-region"][1]
+    # the optimum of each model lies inside the grid and below every grid point
+    for m, (N, a) in out["optimum"].items():
+        assert 30.0 <= N <= 1000.0 and a <= min(p[m]) * (1 + 1e-12)
+
+
+def test_monte_carlo(tmp_path):
+    """A sample's peak equals the FRF computed directly with the public API, and the percentiles
+    are numpy's of the table's column."""
+    import math
+
+    import numpy as np
+
+    from contact_models import Bar, QuasiStatic, TwoRegionMicroslip, UniformLoad
+    from hbm import Blade, frequency_response
+
+    out = run("monte_carlo", tmp_path)
+    result = out["result"]
+    assert result.success and len(result.records) == 12
+    peaks = result.column("peak_amplitude_m")
+    assert out["percentiles"][50.0] == pytest.approx(float(np.median(peaks)), rel=1e-15)
+    rec = result.records[3]
+    mu, N = rec["params"]["damper.mu"], rec["params"]["damper.load.N"]
+    assert 0.2 <= mu < 0.4 and N > 0
+    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=mu)
+    m, k = 0.08771473371579717, 1.0e8
+    blade = Blade(mass=m, stiffness=k, damping=2.0 * 2.0e-3 * math.sqrt(k * m), force=8.0)
+    frf = frequency_response(blade, QuasiStatic(TwoRegionMicroslip(bar, UniformLoad(N=N))),
+                             omega_range=(0.24 * bar.omega_c, 0.33 * bar.omega_c), accuracy="fast")
+    assert rec["peak_amplitude_m"] == pytest.approx(frf.peak().amplitude, rel=1e-12)

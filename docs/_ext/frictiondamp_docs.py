@@ -27,7 +27,7 @@ import tempfile
 from pathlib import Path
 
 #: Packages whose ``__all__`` makes the API reference (public modules found in them are added).
-PACKAGES = ("contact_models", "hbm", "hbm.scenes")
+PACKAGES = ("contact_models", "hbm", "hbm.scenes", "hbm.study")
 
 #: Members of these base classes are left out of a class page (a NamedTuple's ``count``, an
 #: exception's ``args``): they are Python's, not the library's.

@@ -44,6 +44,15 @@ class Progress:
         f = self.overall
         return self.elapsed * (1.0 - f) / f if f > 1e-3 else None
 
+    def line(self) -> str:
+        """``run i/n label: omega ... rad/s (xx %), N points, t s, about T left``."""
+        from ..progress import duration
+
+        eta = self.eta
+        return (f"run {self.run}/{self.runs} {self.label}: omega {self.omega:.6g} rad/s "
+                f"({100.0 * min(max(self.fraction, 0.0), 1.0):.0f} %), {self.points} points, {self.elapsed:.1f} s"
+                + ("" if eta is None else f", about {duration(eta)} left"))
+
 
 @dataclass
 class RunResult:

@@ -13,6 +13,7 @@ from typing import Iterator
 from .. import presets
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
                      one_or_list, positive, text, choice)
+from .study import STUDY_KEYS
 
 #: Sweep units of ``sweep.omega``: name -> factor to rad/s (``omega_c`` is the bar's, set per scene).
 OMEGA_UNITS = ("rad/s", "Hz", "omega_c")
@@ -115,6 +116,7 @@ def schema() -> dict[str, dict[str, Key]]:
                                "relative change below which `auto` leaves an effect out; default sweep.tolerance")
     out = {"": _FIXED[""], "blade": _FIXED["blade"], "damper": damper, "damper.load": _FIXED["damper.load"],
            "effects": effects, "sweep": _FIXED["sweep"], "output": _FIXED["output"]}
+    out["study"] = STUDY_KEYS  # hbm.scenes.study: a grid over, or samples of, the keys above
     return out
 
 

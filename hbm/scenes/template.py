@@ -30,8 +30,8 @@ def template(title: str = "") -> str:
              "# its meaning.  Keys set here make the default case (a blade with a two-region microslip",
              "# damper); commented keys show their default.  docs/scenes.md explains each table.", ""]
     for table, keys in schema().items():
-        if table:
-            lines += ["", f"[{table}]"]
+        if table:  # a table the template does not set (e.g. [study]) stays commented out, header and all
+            lines += ["", f"[{table}]" if table in VALUES else f"# [{table}]"]
         given = VALUES.get(table, {})
         for key, spec in keys.items():
             if key in given:

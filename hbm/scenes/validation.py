@@ -19,6 +19,7 @@ from .. import presets
 from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
+from .study import study_table
 
 
 @dataclass(frozen=True)
@@ -37,6 +38,7 @@ class Scene:
     effects: dict
     sweep: dict
     output: dict
+    study: dict | None = None  #: the validated [study] table with its ``points`` (``hbm.scenes.study``)
 
     @property
     def name(self) -> str:
@@ -54,15 +56,19 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
     ``overrides`` maps ``"table.key"`` to a value that replaces the file's (as
     ``python -m hbm run --set table.key=value``).  Raises :class:`SceneError` listing every problem.
     """
+    return scene_from_dict(read_toml(path), path, overrides=overrides)
+
+
+def read_toml(path: str | Path) -> dict:
+    """The parsed TOML file ``path``; :class:`SceneError` if it is missing or not TOML."""
     path = Path(path)
     try:
         with path.open("rb") as fh:
-            data = tomllib.load(fh)
+            return tomllib.load(fh)
     except FileNotFoundError:
         raise SceneError([f"{path}: no such file"]) from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneError([f"{path}: not valid TOML: {exc}"]) from None
-    return scene_from_dict(data, path, overrides=overrides)
 
 
 def parse_override(text: str) -> tuple[str, Any]:
@@ -87,8 +93,27 @@ def parse_override(text: str) -> tuple[str, Any]:
 def scene_from_dict(data: dict, path: str | Path = "<scene>", *, overrides: Mapping[str, Any] | None = None) -> Scene:
     """Validate the parsed TOML ``data`` (file name ``path`` for messages); see :func:`load_scene`."""
     path = Path(path)
+    data = apply_overrides(data, overrides or {})
+    problems: list[str] = []
+    tables = schema()
+    values, given, present = _check_keys(tables, data, path, problems)
+    scene = _Rules(tables, values, given, present, path, problems).scene()
+    if problems:
+        raise SceneError(list(dict.fromkeys(problems)))
+    return scene
+
+
+def apply_overrides(data: dict, overrides: Mapping[str, Any]) -> dict:
+    """A copy of the parsed TOML ``data`` with each ``"table.key"`` of ``overrides`` set (tables
+    created as needed; a name whose table is not a table is left for validation to report).
+
+    Examples
+    --------
+    >>> apply_overrides({"damper": {"mu": 0.3}}, {"damper.load.N": 50.0})
+    {'damper': {'mu': 0.3, 'load': {'N': 50.0}}}
+    """
     data = _copy(data)
-    for dotted, value in (overrides or {}).items():
+    for dotted, value in overrides.items():
         *tables, key = dotted.split(".")
         node = data
         for t in tables:
@@ -97,13 +122,7 @@ def scene_from_dict(data: dict, path: str | Path = "<scene>", *, overrides: Mapp
                 break
         if isinstance(node, dict):
             node[key] = value
-    problems: list[str] = []
-    tables = schema()
-    values, given, present = _check_keys(tables, data, path, problems)
-    scene = _Rules(tables, values, given, present, path, problems).scene()
-    if problems:
-        raise SceneError(list(dict.fromkeys(problems)))
-    return scene
+    return data
 
 
 def _copy(d):
@@ -234,8 +253,9 @@ class _Rules:
             self.forbid("sweep", "unit", "without a bar in [damper] (omega_c is the bar's: give E, rho, A, L, k, mu)")
         if output.get("folder") is None:
             output["folder"] = self.path.stem
+        study = study_table(self) if "study" in self.tables else None
         return Scene(path=self.path, title=self.t[""].get("title", ""), blade=blade, damper=damper,
-                     load=load if has_load else None, effects=effects, sweep=sweep, output=output)
+                     load=load if has_load else None, effects=effects, sweep=sweep, output=output, study=study)
 
     def _sweep(self, sweep):
         kind = sweep["kind"]

@@ -1,0 +1,212 @@
+"""Parameter studies: many runs (a grid, random samples), on every core or a Dask cluster.
+
+A :class:`Study` is a runner (a picklable function of one point) and its points
+(:func:`grid`, :func:`samples` with :func:`uniform`, :func:`normal`, :func:`lognormal`, or
+both with :func:`combine`); :meth:`Study.from_scene` makes one from a scene file's ``[study]``
+table.  :func:`run_study` runs it serially, on local processes (the default) or on Dask, writes
+each finished run as it finishes, and on a rerun into the same folder computes only the runs it
+does not find there (``hbm.study.store``).  ``docs/studies.md`` shows it all.
+
+Examples
+--------
+>>> import tempfile
+>>> def run(point):  # any picklable function of a point: an FRF, or a dict of results
+...     return {"peak_amplitude_m": point["x"] ** 2}
+>>> study = Study(run, grid({"x": [1.0, 2.0, 3.0]}))
+>>> result = run_study(study, tempfile.mkdtemp(), executor="serial", formats=("csv",))
+>>> result.success, result.column("peak_amplitude_m").tolist()
+(True, [1.0, 4.0, 9.0])
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+
+from .design import (DISTRIBUTIONS, Distribution, combine, grid, lognormal, normal, run_id, samples,
+                     uniform)
+from .execute import DASK_MISSING, EXECUTORS, check_executor, cores, run_tasks
+from .runs import RESULT_COLUMNS, SceneRun, execute, outcome
+from .store import FILES, StudyProgress, StudyResult, columns, read_records, run_into
+
+
+@dataclass
+class Study:
+    """A study: ``runner(point)`` for every point of ``points``.
+
+    Parameters
+    ----------
+    runner : callable
+        A pure, picklable function of one point (a dict) returning an ``hbm.FrequencyResponse``
+        or a dict of results (:func:`hbm.study.runs.outcome`); a module-level function or an object
+        such as :class:`SceneRun`.  It may define ``identity(point)``, the inputs its run depends on
+        (default: its qualified name and the point).
+    points : sequence of dict
+        The points, every one with the same names (:func:`grid`, :func:`samples`, :func:`combine`).
+    title : str, optional
+        Copied to ``study.json`` and the figure.
+    settings : dict, optional
+        Defaults of :func:`run_study` (``executor``, ``workers``, ``scheduler``, ``folder``,
+        ``formats``), set by :meth:`from_scene`.
+    design : dict, optional
+        How the points were made (``grid``, ``samples``, ``n``, ``seed``), for ``study.json``.
+
+    Raises
+    ------
+    ValueError
+        If ``runner`` is not callable, ``points`` is empty, or the points' names differ.
+    """
+
+    runner: Callable[[Mapping[str, Any]], Any]
+    points: Sequence[Mapping[str, Any]]
+    title: str = ""
+    settings: dict = field(default_factory=dict)
+    design: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if not callable(self.runner):
+            raise ValueError(f"runner must be callable, got runner={self.runner!r}")
+        self.points = [{k: v.item() if isinstance(v, np.generic) else v for k, v in p.items()} for p in self.points]
+        if not self.points:
+            raise ValueError("points must hold at least one point, got points=[]")
+        names = set(self.points[0])
+        for i, p in enumerate(self.points):
+            if set(p) != names:
+                raise ValueError(f"every point must name the same parameters: point {i + 1} has {sorted(p)}, "
+                                 f"point 1 has {sorted(names)}")
+
+    @property
+    def parameters(self) -> tuple:
+        """The names varied, in the order of the first point."""
+        return tuple(self.points[0])
+
+    def identity(self, point: Mapping[str, Any]) -> Any:
+        """The inputs of the run of ``point`` (what its id hashes)."""
+        own = getattr(self.runner, "identity", None)
+        if own is not None:
+            return own(point)
+        r = self.runner
+        return {"runner": f"{getattr(r, '__module__', '?')}.{getattr(r, '__qualname__', repr(r))}",
+                "point": dict(point)}
+
+    def ids(self) -> list[str]:
+        """The id of every run: :func:`run_id` of its inputs and ``contact_models.__version__``."""
+        from contact_models import __version__
+
+        return [run_id(self.identity(p), __version__) for p in self.points]
+
+    @classmethod
+    def from_scene(cls, path: str | Path, *, overrides: Mapping[str, Any] | None = None) -> "Study":
+        """The study of the scene file ``path`` (its ``[study]`` table; ``docs/studies.md``).
+
+        ``overrides`` as for :func:`hbm.scenes.load_scene`.  Raises :class:`hbm.scenes.SceneError`
+        for an invalid scene, one without ``[study]``, or a point whose scene is invalid or makes
+        more than one run (every problem at once, naming the run).
+        """
+        from ..scenes import SceneError, scene_from_dict
+        from ..scenes.validation import apply_overrides, read_toml
+
+        path = Path(path)
+        data = read_toml(path)
+        scene = scene_from_dict(data, path, overrides=overrides)
+        if scene.study is None:
+            raise SceneError([f"{path}: [study] is missing: a study needs study.grid or study.samples"])
+        runner = SceneRun(apply_overrides(data, overrides or {}), str(path))
+        problems = []
+        for i, point in enumerate(scene.study["points"]):
+            try:
+                runner.scene(point)
+            except SceneError as exc:
+                where = ", ".join(f"{k} = {v!r}" for k, v in point.items())
+                problems += [f"run {i + 1} ({where}): {p}" for p in exc.problems]
+        if problems:
+            raise SceneError(list(dict.fromkeys(problems)))
+        st = scene.study
+        settings = {k: st.get(k) for k in ("executor", "workers", "scheduler")}
+        settings.update(folder=scene.output["folder"], formats=scene.output["formats"])
+        design = {"grid": st.get("grid"), "n": st.get("n"), "seed": st.get("seed"),
+                  "samples": {k: d.as_dict() for k, d in (st.get("samples") or {}).items()} or None}
+        return cls(runner, scene.study["points"], title=scene.title, settings=settings, design=design)
+
+
+def run_study(study: Study, out: str | Path | None = None, *, executor: Any = None, workers: int | None = None,
+              scheduler: str | None = None, progress: Callable[[StudyProgress], None] | None = None,
+              retry_failed: bool = True, formats: Sequence[str] | None = None) -> StudyResult:
+    """Run every run of ``study`` not already in the folder ``out``; see ``hbm.study.store``.
+
+    Parameters
+    ----------
+    study : Study
+    out : path, optional
+        The output folder (default ``study.settings["folder"]``, else ``"study"``).
+    executor : {"processes", "serial", "dask"} or concurrent.futures.Executor, optional
+        Default ``study.settings["executor"]``, else ``"processes"`` (every core; ``workers=1``
+        runs serially).  ``"dask"`` needs ``pip install "frictiondamp[dask]"``.
+    workers : int, optional
+        Processes, or workers of the Dask ``LocalCluster``; default every core.
+    scheduler : str, optional
+        Address of a running Dask scheduler (``tcp://host:8786``): sets ``executor="dask"``;
+        without it Dask starts a ``LocalCluster``.
+    progress : callable, optional
+        Called with a :class:`StudyProgress` after each finished run.
+    retry_failed : bool, default True
+        Recompute runs recorded as failed in the folder (successful runs are never recomputed).
+    formats : sequence of {"csv", "json", "png"}, optional
+        Default ``study.settings["formats"]``, else all three.  ``runs.jsonl`` is always written.
+
+    Returns
+    -------
+    StudyResult
+        ``records`` in the study's order, ``success`` (every run recorded and succeeded),
+        ``lost`` (runs not computed: a worker died), ``files``, ``summary``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown executor or invalid ``workers``, ``scheduler`` or ``formats``.
+    ImportError
+        For ``executor="dask"`` without dask and distributed (the message says how to install them).
+
+    Notes
+    -----
+    Points are drawn before any run starts and every run is the pure function
+    :func:`hbm.study.runs.execute` of its point, so the table (apart from ``time_s``) is the same
+    to the last bit on every executor.  Ctrl-C (KeyboardInterrupt) stops the workers and
+    propagates; every run finished before it is in ``runs.jsonl`` and ``study.partial.csv``.
+    """
+    if not isinstance(study, Study):
+        raise ValueError(f"study must be an hbm.study.Study, got study={study!r}")
+    s = study.settings
+    if executor is None:  # the study's settings, unless asked otherwise
+        scheduler = scheduler if scheduler is not None else s.get("scheduler")
+        executor = "dask" if scheduler is not None else (s.get("executor") or "processes")
+    elif executor == "dask" and scheduler is None:
+        scheduler = s.get("scheduler")
+    workers = workers if workers is not None else s.get("workers")
+    check_executor(executor, workers, scheduler)
+    formats = tuple(formats if formats is not None else s.get("formats") or ("csv", "json", "png"))
+    unknown = set(formats) - {"csv", "json", "png"}
+    if unknown:
+        raise ValueError(f"formats may hold 'csv', 'json', 'png', got formats={formats!r}")
+    folder = Path(out if out is not None else s.get("folder") or "study")
+    from contact_models import __version__
+
+    describe = {"title": study.title, "version": __version__, "parameters": list(study.parameters),
+                **study.design, "executor": executor if isinstance(executor, str) else type(executor).__name__,
+                "scheduler": scheduler}
+    local = executor in ("processes", "dask") and scheduler is None
+    describe["workers"] = 1 if executor == "serial" else workers or (cores() if local else None)
+
+    def run(tasks, on_done):
+        return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler)
+
+    return run_into(study, folder, run=run, formats=formats, retry_failed=retry_failed, progress=progress,
+                    describe=describe)
+
+
+__all__ = ["Study", "run_study", "StudyResult", "StudyProgress", "grid", "samples", "combine", "uniform", "normal",
+           "lognormal", "Distribution", "DISTRIBUTIONS", "SceneRun", "execute", "outcome", "run_id", "columns",
+           "read_records", "run_tasks", "cores", "EXECUTORS", "DASK_MISSING", "RESULT_COLUMNS", "FILES"]

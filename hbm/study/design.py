@@ -1,0 +1,193 @@
+"""What a study computes: its points (a grid, random samples, or both) and the run of one point.
+
+A point is a dict ``{name: value}``; for a scene study the names are scene keys in dotted form
+(``"damper.mu"``, ``"damper.load.N"``).  Samples are drawn here, in the calling process, from one
+``numpy.random.Generator(PCG64(seed))``, so that every executor is handed the same numbers.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import itertools
+import json
+import math
+from dataclasses import dataclass
+from typing import Any, Callable, Mapping, Sequence
+
+import numpy as np
+
+
+def _finite(name: str, value: Any, *, positive: bool = False) -> float:
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        v = math.nan
+    if not math.isfinite(v) or (positive and v <= 0.0):
+        raise ValueError(f"{name} must be a finite number{' > 0' if positive else ''}, got {name}={value!r}")
+    return v
+
+
+@dataclass(frozen=True)
+class Distribution:
+    """A distribution of one parameter: ``kind`` ("uniform", "normal", "lognormal") and its two
+    numbers ``a``, ``b`` (see :func:`uniform`, :func:`normal`, :func:`lognormal`)."""
+
+    kind: str
+    a: float
+    b: float
+
+    def draw(self, rng: np.random.Generator, n: int) -> np.ndarray:
+        """``n`` values drawn with ``rng``."""
+        if self.kind == "uniform":
+            return rng.uniform(self.a, self.b, n)
+        if self.kind == "normal":
+            return rng.normal(self.a, self.b, n)
+        return rng.lognormal(math.log(self.a), self.b, n)
+
+    def as_dict(self) -> dict:
+        names = {"uniform": ("low", "high"), "normal": ("mean", "std"), "lognormal": ("median", "sigma")}[self.kind]
+        return {"distribution": self.kind, names[0]: self.a, names[1]: self.b}
+
+
+def uniform(low: float, high: float) -> Distribution:
+    """Uniform on ``[low, high)``.
+
+    Raises
+    ------
+    ValueError
+        Unless ``low < high``, both finite.
+
+    Examples
+    --------
+    >>> uniform(0.2, 0.4).as_dict()
+    {'distribution': 'uniform', 'low': 0.2, 'high': 0.4}
+    """
+    low, high = _finite("low", low), _finite("high", high)
+    if not low < high:
+        raise ValueError(f"uniform needs low < high, got low={low!r}, high={high!r}")
+    return Distribution("uniform", low, high)
+
+
+def normal(mean: float, std: float) -> Distribution:
+    """Normal with ``mean`` and standard deviation ``std > 0``.
+
+    Examples
+    --------
+    >>> normal(100.0, 5.0).as_dict()
+    {'distribution': 'normal', 'mean': 100.0, 'std': 5.0}
+    """
+    return Distribution("normal", _finite("mean", mean), _finite("std", std, positive=True))
+
+
+def lognormal(median: float, sigma: float) -> Distribution:
+    """Lognormal: ``log(x)`` is normal with mean ``log(median)`` and standard deviation ``sigma``.
+
+    Notes
+    -----
+    The median is ``median``, the mean ``median exp(sigma^2/2)``; every value is > 0, so it suits
+    loads, stiffnesses and friction coefficients.
+
+    Examples
+    --------
+    >>> lognormal(100.0, 0.3).as_dict()
+    {'distribution': 'lognormal', 'median': 100.0, 'sigma': 0.3}
+    """
+    return Distribution("lognormal", _finite("median", median, positive=True),
+                        _finite("sigma", sigma, positive=True))
+
+
+#: Distribution constructors by name (the ``distribution`` key of a scene's ``[study.samples]``).
+DISTRIBUTIONS: dict[str, tuple[Callable[..., Distribution], tuple[str, str]]] = {
+    "uniform": (uniform, ("low", "high")),
+    "normal": (normal, ("mean", "std")),
+    "lognormal": (lognormal, ("median", "sigma")),
+}
+
+
+def grid(axes: Mapping[str, Sequence[Any]]) -> list[dict]:
+    """Every combination of the values of ``axes`` (``{name: values}``), the last name fastest.
+
+    Raises
+    ------
+    ValueError
+        If ``axes`` is empty or a name has no values.
+
+    Examples
+    --------
+    >>> grid({"damper.model": ["two-region", "macroslip"], "damper.load.N": [10.0, 100.0]})[1]
+    {'damper.model': 'two-region', 'damper.load.N': 100.0}
+    >>> len(grid({"a": [1, 2, 3], "b": [4, 5]}))
+    6
+    """
+    if not axes:
+        raise ValueError("grid needs at least one parameter, got axes={}")
+    values = []
+    for name, vals in axes.items():
+        vals = list(vals) if isinstance(vals, (list, tuple, np.ndarray)) else [vals]
+        if not vals:
+            raise ValueError(f"grid: parameter {name!r} has no values, got {name}={vals!r}")
+        values.append([v.item() if isinstance(v, np.generic) else v for v in vals])
+    return [dict(zip(axes, combo)) for combo in itertools.product(*values)]
+
+
+def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> list[dict]:
+    """``n`` random points: parameter ``name`` drawn from ``distributions[name]``.
+
+    One generator ``numpy.random.default_rng(seed)`` draws all ``n`` values of each parameter in
+    the order of ``distributions``, so the points depend only on ``n``, ``seed`` and that order.
+
+    Raises
+    ------
+    ValueError
+        For ``n < 1``, a negative or non-integer ``seed``, or a value that is not a
+        :class:`Distribution`.
+
+    Examples
+    --------
+    >>> pts = samples(3, {"damper.mu": uniform(0.2, 0.4)}, seed=1)
+    >>> [round(p["damper.mu"], 4) for p in pts]
+    [0.3024, 0.3901, 0.2288]
+    """
+    if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
+        raise ValueError(f"samples needs an integer n >= 1, got n={n!r}")
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"samples needs an integer seed >= 0, got seed={seed!r}")
+    if not distributions:
+        raise ValueError("samples needs at least one distribution, got distributions={}")
+    rng = np.random.default_rng(int(seed))
+    drawn = {}
+    for name, dist in distributions.items():
+        if not isinstance(dist, Distribution):
+            raise ValueError(f"samples: {name} must be a Distribution (uniform, normal, lognormal), got {dist!r}")
+        drawn[name] = dist.draw(rng, int(n))
+    return [{name: float(v[i]) for name, v in drawn.items()} for i in range(int(n))]
+
+
+def combine(first: Sequence[dict], second: Sequence[dict]) -> list[dict]:
+    """Every point of ``first`` joined with every point of ``second`` (e.g. each model of a grid
+    with every sample); ``second`` varies fastest.
+
+    Examples
+    --------
+    >>> combine([{"a": 1}, {"a": 2}], [{"b": 3}])
+    [{'a': 1, 'b': 3}, {'a': 2, 'b': 3}]
+    """
+    return [{**p, **q} for p in first for q in second]
+
+
+def run_id(identity: Any, version: str) -> str:
+    """The hash naming a run: SHA-256 of its inputs ``identity`` (JSON, keys sorted, floats
+    exact) and the library ``version``, 20 hex digits.
+
+    Examples
+    --------
+    >>> a = run_id({"damper.mu": 0.3}, "0.1.0")
+    >>> len(a), a == run_id({"damper.mu": 0.3}, "0.1.0"), a == run_id({"damper.mu": 0.3}, "0.2.0")
+    (20, True, False)
+    """
+    text = json.dumps({"inputs": identity, "version": version}, sort_keys=True, default=repr)
+    return hashlib.sha256(text.encode()).hexdigest()[:20]
+
+
+__all__ = ["Distribution", "uniform", "normal", "lognormal", "DISTRIBUTIONS", "grid", "samples", "combine",
+           "run_id"]

@@ -1,0 +1,140 @@
+"""Executors of a study: serial, local processes (``concurrent.futures``) and Dask distributed.
+
+Every executor calls the same pure function, :func:`hbm.study.runs.execute`, on the same points
+(drawn beforehand in the calling process), so the records agree to the last bit whichever runs
+them.  Records come back to the calling process one by one as runs finish, and are handed to
+``on_done`` there (which writes them).  A worker process that dies breaks a process pool: the
+runs not finished by then are reported as lost, never recorded, and a rerun computes them (Dask
+retries a dead worker's runs on the others first).
+"""
+
+from __future__ import annotations
+
+import concurrent.futures as cf
+import functools
+import os
+import signal
+from typing import Any, Callable, Mapping, Sequence
+
+from .runs import execute
+
+#: Executors by name; an instance of ``concurrent.futures.Executor`` is accepted too.
+EXECUTORS = ("processes", "serial", "dask")
+#: The message when Dask is asked for and not installed.
+DASK_MISSING = ('executor "dask" needs the packages dask and distributed, which are not installed: '
+                'pip install "frictiondamp[dask]"')
+
+
+def cores() -> int:
+    """The cores this process may use (``os.sched_getaffinity`` where available)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def check_executor(executor: Any, workers: int | None, scheduler: str | None) -> None:
+    """Refuse unknown executors and worker counts by name (``ValueError``)."""
+    if not (isinstance(executor, cf.Executor) or executor in EXECUTORS):
+        raise ValueError(f"executor must be one of {', '.join(map(repr, EXECUTORS))} or a "
+                         f"concurrent.futures.Executor, got executor={executor!r}")
+    if workers is not None and (isinstance(workers, bool) or not isinstance(workers, int) or workers < 1):
+        raise ValueError(f"workers must be an integer >= 1 or None (every core), got workers={workers!r}")
+    if scheduler is not None and (executor != "dask" or not isinstance(scheduler, str) or not scheduler):
+        raise ValueError(f"scheduler (a Dask scheduler's address) needs executor='dask', got "
+                         f"scheduler={scheduler!r} with executor={executor!r}")
+
+
+def _worker_init() -> None:
+    """A worker process leaves Ctrl-C to its parent (which stops it) and dies on SIGTERM."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+
+
+def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Executor, Callable[[], None]]:
+    """``(executor, close)`` on a Dask cluster: a ``LocalCluster`` of ``workers`` single-threaded
+    worker processes, or the running scheduler at ``scheduler``.  ``ImportError`` saying how to
+    install Dask when it is not installed."""
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        raise ImportError(DASK_MISSING) from None
+    if scheduler is not None:
+        try:
+            client, cluster = Client(scheduler), None
+        except OSError as exc:  # refused, unreachable, timed out
+            raise ValueError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
+    else:
+        cluster = LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,
+                               dashboard_address=":0")
+        client = Client(cluster)
+
+    def close() -> None:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+    return client.get_executor(pure=False), close
+
+
+def _stop(pool: cf.Executor) -> None:
+    """Cancel what has not started and end the worker processes now (an interrupted study)."""
+    kill = getattr(pool, "terminate_workers", None)  # Python >= 3.14
+    if kill is not None:
+        kill()
+        return
+    procs = list((getattr(pool, "_processes", None) or {}).values())  # shutdown forgets them
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
+        proc.terminate()
+
+
+def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[int, Mapping[str, Any]]],
+              on_done: Callable[[int, dict], None], *, executor: Any = "processes", workers: int | None = None,
+              scheduler: str | None = None) -> list[tuple[int, str]]:
+    """Run ``execute(runner, point)`` for each ``(index, point)`` of ``tasks``; ``on_done(index,
+    record)`` in this process as each finishes.  Returns the runs lost (not computed) as
+    ``[(index, reason)]``: a worker process that died, a cluster that failed.
+
+    ``executor``: "serial" (here, in order), "processes" (a ``ProcessPoolExecutor`` of ``workers``
+    processes, default every core), "dask" (``dask_executor``) or an executor instance (used, not
+    shut down).  KeyboardInterrupt (and anything raised by ``on_done``) stops the workers and
+    propagates; what ``on_done`` was given is kept.
+    """
+    check_executor(executor, workers, scheduler)
+    fn = functools.partial(execute, runner)
+    if executor == "serial" or (executor == "processes" and workers == 1):
+        for index, point in tasks:
+            on_done(index, fn(point))
+        return []
+    if not tasks:
+        return []
+    close = None
+    if executor == "processes":
+        pool = cf.ProcessPoolExecutor(max_workers=workers or min(cores(), len(tasks)), initializer=_worker_init)
+    elif executor == "dask":
+        pool, close = dask_executor(workers, scheduler)
+    else:
+        pool = executor
+    lost = []
+    try:
+        futures = {pool.submit(fn, point): index for index, point in tasks}
+        for fut in cf.as_completed(futures):
+            exc = fut.exception()
+            if exc is None:
+                on_done(futures[fut], fut.result())
+            else:
+                lost.append((futures[fut], f"{type(exc).__name__}: {exc}".rstrip(": ")))
+    except BaseException:
+        if executor == "processes":
+            _stop(pool)
+        raise
+    finally:
+        if close is not None:
+            close()
+        elif executor == "processes":
+            pool.shutdown(wait=True, cancel_futures=True)
+    return sorted(lost)
+
+
+__all__ = ["EXECUTORS", "DASK_MISSING", "cores", "check_executor", "dask_executor", "run_tasks"]

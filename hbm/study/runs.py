@@ -1,0 +1,134 @@
+"""One run of a study: a pure function of its point, returning a record.
+
+:func:`execute` is what every executor calls (in this process, a worker process or a Dask
+worker): it calls the study's runner on the point, times it, turns what came back (an
+:class:`hbm.FrequencyResponse` or a dict) into a record, and records any exception as a failed
+run with its message.  :class:`SceneRun` is the runner of a scene study: the scene with the
+point's keys set, planned and run as ``hbm.scenes.run_scene`` runs it.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from typing import Any, Callable, Mapping
+
+import numpy as np
+
+#: The numbers of a record, in the table's order (after the run number, id and parameters).
+RESULT_COLUMNS = ("success", "message", "peak_omega_rad_s", "peak_amplitude_m", "nfev", "time_s")
+
+
+class SceneRun:
+    """The runner of a scene study: ``SceneRun(data, path)(point)`` runs the scene ``data`` (parsed
+    TOML, without ``[study]`` and ``[output]``) with the point's ``"table.key"`` values set.
+
+    The scene of a point must make exactly one run (one model, one normal load).  A frequency
+    sweep returns its FRF; an amplitude sweep returns the table of F_s, F_c, its "peak" the largest
+    F_c (the amplitude and frequency of the most damping).
+    """
+
+    def __init__(self, data: Mapping[str, Any], path: str = "<scene>") -> None:
+        self.data = {k: v for k, v in data.items() if k not in ("study", "output")}
+        self.path = str(path)
+
+    def identity(self, point: Mapping[str, Any]) -> dict:
+        """The run's inputs, for its hash: the scene as run (the point's keys set; not its title)."""
+        from ..scenes.validation import apply_overrides
+
+        scene = apply_overrides(self.data, point)
+        scene.pop("title", None)
+        return {"scene": scene}
+
+    def scene(self, point: Mapping[str, Any]) -> Any:
+        """The validated scene of ``point``; :class:`hbm.scenes.SceneError` unless it makes one run."""
+        from ..scenes import SceneError, scene_from_dict
+
+        scene = scene_from_dict(self.data, self.path, overrides=point)
+        loads = len(scene.load.get("N") or (None,)) if scene.load is not None else 1
+        if len(scene.damper["model"]) * loads != 1:
+            raise SceneError([f"{self.path}: a study run must make one computation: give damper.model and "
+                              "damper.load.N one value each (in the scene, or as study.grid keys); "
+                              f"this point gives {len(scene.damper['model'])} model(s) and {loads} load(s)"])
+        return scene
+
+    def __call__(self, point: Mapping[str, Any]) -> dict:
+        from ..scenes import plan_scene
+        from ..scenes.running import RunResult, _run_amplitude, _run_frequency
+
+        scene = self.scene(point)
+        plan = plan_scene(scene)
+        res = RunResult(plan.runs[0])
+        if scene.sweep["kind"] == "frequency":
+            _run_frequency(scene, plan, res, lambda *a: None)
+            return outcome(res.frf)
+        _run_amplitude(scene, plan, res, lambda *a: None)
+        t = res.table
+        best = max(((float(Fc[i]), w, float(t["a"][i])) for w, Fc in zip(t["omega"], t["F_c"])
+                    for i in range(len(Fc))), key=lambda x: x[0])
+        return {"success": True, "message": res.message, "peak_omega_rad_s": float(best[1]),
+                "peak_amplitude_m": best[2],
+                "curve": {"omega_rad_s": [float(w) for w in t["omega"]], "a_m": [float(a) for a in t["a"]],
+                          "F_s": [[float(v) for v in r] for r in t["F_s"]],
+                          "F_c": [[float(v) for v in r] for r in t["F_c"]]}}
+
+    def __repr__(self) -> str:
+        return f"SceneRun({self.path!r})"
+
+
+def outcome(out: Any) -> dict:
+    """The record fields of what a runner returned: an FRF (``hbm.FrequencyResponse``) or a dict
+    with any of ``success`` (default True), ``message``, ``peak_omega_rad_s``, ``peak_amplitude_m``,
+    ``nfev`` and ``curve`` (a dict of arrays or lists of numbers, stored as lists of floats)."""
+    if isinstance(out, Mapping):
+        rec = {"success": bool(out.get("success", True)), "message": str(out.get("message", "")),
+               "peak_omega_rad_s": _float(out.get("peak_omega_rad_s")),
+               "peak_amplitude_m": _float(out.get("peak_amplitude_m")),
+               "nfev": None if out.get("nfev") is None else int(out["nfev"]),
+               "curve": {str(k): np.asarray(v, dtype=float).tolist() for k, v in (out.get("curve") or {}).items()}}
+        unknown = set(out) - set(rec)
+        if unknown:
+            raise ValueError(f"a runner's dict may hold {', '.join(rec)}; got also {', '.join(sorted(unknown))}")
+        return rec
+    from ..frf import FrequencyResponse
+
+    if not isinstance(out, FrequencyResponse):
+        raise ValueError(f"a runner must return an hbm.FrequencyResponse or a dict, got {type(out).__name__}")
+    pk = out.peak() if len(out) else None
+    return {"success": bool(out.success), "message": out.message,
+            "peak_omega_rad_s": None if pk is None else pk.omega,
+            "peak_amplitude_m": None if pk is None else pk.amplitude, "nfev": int(out.nfev),
+            "curve": {"omega_rad_s": out.omega.tolist(), "amplitude_m": out.amplitude.tolist()}}
+
+
+def _float(v: Any) -> float | None:
+    if v is None:
+        return None
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+def execute(runner: Callable[[Mapping[str, Any]], Any], point: Mapping[str, Any]) -> dict:
+    """Run ``runner(point)``: its record fields (:func:`outcome`) and ``time_s``; an exception
+    makes a failed record whose message names it (so one bad run never stops a study).
+
+    Examples
+    --------
+    >>> rec = execute(lambda p: {"peak_amplitude_m": 2.0 * p["x"]}, {"x": 1.5})
+    >>> rec["success"], rec["peak_amplitude_m"], rec["time_s"] >= 0.0
+    (True, 3.0, True)
+    >>> rec = execute(lambda p: 1.0 / p["x"], {"x": 0.0})
+    >>> rec["success"], rec["message"]
+    (False, 'ZeroDivisionError: float division by zero')
+    """
+    t0 = time.perf_counter()
+    try:
+        rec = outcome(runner(point))
+    except Exception as exc:  # any failure of one run is that run's result
+        rec = {"success": False, "message": f"{type(exc).__name__}: {exc}", "peak_omega_rad_s": None,
+               "peak_amplitude_m": None, "nfev": None, "curve": {}}
+    rec["time_s"] = time.perf_counter() - t0
+    return rec
+
+
+__all__ = ["SceneRun", "outcome", "execute", "RESULT_COLUMNS"]

@@ -1,0 +1,271 @@
+"""Running a study into a folder: each finished run written as it finishes, and resumed.
+
+Files (``docs/studies.md``):
+
+- ``runs.jsonl``: one JSON line per finished run (its number, id, point, results and curve),
+  appended and flushed as the run finishes, so an interrupted study keeps every finished run;
+- ``study.partial.csv`` while runs are missing, ``study.csv`` once every run is recorded: the
+  tidy table, one row per run (:func:`columns`);
+- ``study.json`` (written last, atomically): the summary and the table without curves;
+- ``study.png``: the figure (``hbm.study.figures``).
+
+A run is named by :func:`hbm.study.design.run_id` of its inputs and the library version; a
+rerun into the same folder reuses the records whose id it finds and computes the rest (failed
+runs again when ``retry_failed``).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from ..output import CsvStream
+from .runs import RESULT_COLUMNS
+
+#: File names in a study's folder.
+FILES = {"records": "runs.jsonl", "csv": "study.csv", "partial": "study.partial.csv", "json": "study.json",
+         "png": "study.png"}
+
+
+def columns(parameters: tuple) -> tuple:
+    """The table's columns: ``run`` (from 1), ``id`` (the run's hash), the parameters, then
+    :data:`hbm.study.RESULT_COLUMNS`.
+
+    Examples
+    --------
+    >>> columns(("damper.mu",))
+    ('run', 'id', 'damper.mu', 'success', 'message', 'peak_omega_rad_s', 'peak_amplitude_m', 'nfev', 'time_s')
+    """
+    return ("run", "id", *parameters, *RESULT_COLUMNS)
+
+
+def _cell(v: Any) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (float, np.floating)):
+        return repr(float(v))
+    return str(v)
+
+
+def csv_row(record: dict, parameters: tuple) -> list[str]:
+    """A record as the cells of :func:`columns` (floats round-trip exact)."""
+    return [_cell(record["run"]), record["id"], *(_cell(record["params"].get(p)) for p in parameters),
+            *(_cell(record.get(c)) for c in RESULT_COLUMNS)]
+
+
+def read_records(path: str | Path) -> dict:
+    """``{id: record}`` of a ``runs.jsonl`` (the last record of an id wins); a line cut short by
+    an interruption, or not a record, is skipped.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "runs.jsonl"
+    >>> _ = path.write_text('{"id": "a", "run": 1}\\n{"id": "b", "run": 2}\\n{"id": "c", "ru')
+    >>> sorted(read_records(path))
+    ['a', 'b']
+    """
+    out = {}
+    try:
+        lines = Path(path).read_text().splitlines()
+    except FileNotFoundError:
+        return out
+    for line in lines:
+        try:
+            rec = json.loads(line)
+        except json.JSONDecodeError:
+            continue
+        if isinstance(rec, dict) and isinstance(rec.get("id"), str):
+            out[rec["id"]] = rec
+    return out
+
+
+@dataclass
+class StudyProgress:
+    """Passed to the ``progress`` callback of :func:`hbm.study.run_study` after each run."""
+
+    points: int  #: runs finished (reused ones included)
+    runs: int  #: runs of the study
+    failed: int  #: finished runs that failed
+    reused: int  #: runs found in the folder and not recomputed
+    elapsed: float  #: seconds since the study started
+
+    @property
+    def eta(self) -> float | None:
+        """Seconds left, from the time per run computed so far (None before the first)."""
+        done = self.points - self.reused
+        return self.elapsed * (self.runs - self.points) / done if done > 0 else None
+
+    def line(self) -> str:
+        """``run 12/57 (1 failed, 3 reused), 4.1 s, about 15 s left``."""
+        notes = ", ".join(s for s in (f"{self.failed} failed" if self.failed else "",
+                                      f"{self.reused} reused" if self.reused else "") if s)
+        eta = self.eta
+        from ..progress import duration
+
+        return (f"run {self.points}/{self.runs}" + (f" ({notes})" if notes else "") + f", {self.elapsed:.1f} s"
+                + ("" if eta is None else f", about {duration(eta)} left"))
+
+
+@dataclass
+class StudyResult:
+    """What :func:`hbm.study.run_study` did.
+
+    ``records`` holds one record per run in the study's order (None for a run not computed:
+    interrupted, or lost with its worker); a record is a dict with ``run``, ``id``, ``params``,
+    the :data:`hbm.study.RESULT_COLUMNS` and ``curve``.
+    """
+
+    parameters: tuple  #: the names varied
+    records: list
+    files: dict  #: kind -> Path written
+    computed: int  #: runs computed by this call
+    reused: int  #: runs found in the folder
+    lost: list  #: ``[(run number, reason)]`` of runs not computed
+    elapsed: float
+    summary: dict = field(default_factory=dict)
+
+    @property
+    def complete(self) -> bool:
+        """Every run has a record (succeeded or failed)."""
+        return all(r is not None for r in self.records)
+
+    @property
+    def success(self) -> bool:
+        """Every run recorded and succeeded."""
+        return self.complete and all(r["success"] for r in self.records)
+
+    @property
+    def exit_code(self) -> int:
+        return 0 if self.success else 1
+
+    @property
+    def message(self) -> str:
+        failed = [r for r in self.records if r is not None and not r["success"]]
+        parts = [f"run {r['run']} failed: {r['message']}" for r in failed[:5]]
+        if len(failed) > 5:
+            parts.append(f"and {len(failed) - 5} more failed runs")
+        if self.lost:
+            parts.append(f"{len(self.lost)} run(s) not computed (first: run {self.lost[0][0]}: {self.lost[0][1]}); "
+                         "run the study again into the same folder to compute them")
+        missing = sum(r is None for r in self.records) - len(self.lost)
+        if missing > 0:
+            parts.append(f"{missing} run(s) not computed")
+        return "; ".join(parts) if parts else "every run succeeded"
+
+    @property
+    def columns(self) -> tuple:
+        return columns(self.parameters)
+
+    @property
+    def rows(self) -> list[dict]:
+        """The table: one dict per recorded run (:attr:`columns`, no curves), in run order."""
+        return [{"run": r["run"], "id": r["id"], **{p: r["params"].get(p) for p in self.parameters},
+                 **{c: r.get(c) for c in RESULT_COLUMNS}} for r in self.records if r is not None]
+
+    def column(self, name: str) -> np.ndarray:
+        """One column over the recorded runs as an array (numbers as float, None as NaN)."""
+        if name not in self.columns:
+            raise ValueError(f"column must be one of {', '.join(self.columns)}, got column={name!r}")
+        values = [row[name] for row in self.rows]
+        if all(v is None or (isinstance(v, (int, float)) and not isinstance(v, bool)) for v in values):
+            return np.array([math.nan if v is None else float(v) for v in values])
+        return np.array(values, dtype=object)
+
+
+def _write_json(path: Path, data: Any) -> Path:
+    from ..scenes.reporting import jsonable
+
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps(jsonable(data), indent=2) + "\n")
+    tmp.replace(path)
+    return path
+
+
+def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_failed: bool,
+             progress: Callable[[StudyProgress], None] | None, describe: dict) -> StudyResult:
+    """The bookkeeping of :func:`hbm.study.run_study`: reuse, record, write.  ``run(tasks,
+    on_done)`` computes ``tasks`` (an executor of ``hbm.study.execute``) and returns the lost runs."""
+    t_start = time.perf_counter()
+    folder.mkdir(parents=True, exist_ok=True)
+    ids = study.ids()
+    params = study.parameters
+    old = read_records(folder / FILES["records"])
+    records: list = [None] * len(ids)
+    for i, rid in enumerate(ids):
+        rec = old.get(rid)
+        if rec is not None and (rec.get("success") or not retry_failed):
+            records[i] = {**rec, "run": i + 1, "params": study.points[i]}
+    reused = sum(r is not None for r in records)
+    for key in ("csv", "partial", "json", "png"):  # outputs of an earlier run of this folder
+        (folder / FILES[key]).unlink(missing_ok=True)
+    log_path = folder / FILES["records"]
+    tmp = log_path.with_name(log_path.name + ".tmp")  # keep only this study's records, atomically
+    tmp.write_text("".join(json.dumps(r) + "\n" for r in records if r is not None))
+    tmp.replace(log_path)
+    stream = CsvStream(folder / FILES["partial"], columns(params)) if "csv" in formats else None
+    counts = {"points": reused, "failed": sum(not r["success"] for r in records if r is not None)}
+    log = log_path.open("a")
+    try:
+        if stream is not None:
+            for r in records:
+                if r is not None:
+                    stream.write(csv_row(r, params))
+
+        def on_done(i: int, rec: dict) -> None:
+            rec = {"run": i + 1, "id": ids[i], "params": study.points[i], **rec}
+            log.write(json.dumps(rec) + "\n")
+            log.flush()
+            if stream is not None:
+                stream.write(csv_row(rec, params))
+            records[i] = rec
+            counts["points"] += 1
+            counts["failed"] += not rec["success"]
+            if progress is not None:
+                progress(StudyProgress(counts["points"], len(ids), counts["failed"], reused,
+                                       time.perf_counter() - t_start))
+
+        lost = run([(i, study.points[i]) for i, r in enumerate(records) if r is None], on_done)
+    finally:
+        log.close()
+        if stream is not None:
+            stream.close()
+    result = StudyResult(params, records, {}, counts["points"] - reused, reused,
+                         [(i + 1, why) for i, why in lost], time.perf_counter() - t_start)
+    if stream is not None:
+        result.files["csv"] = folder / FILES["partial"]
+        if result.complete:
+            with CsvStream(folder / (FILES["csv"] + ".tmp"), columns(params)) as out:
+                for r in records:
+                    out.write(csv_row(r, params))
+            result.files["csv"] = (folder / (FILES["csv"] + ".tmp")).replace(folder / FILES["csv"])
+            (folder / FILES["partial"]).unlink()
+    result.files["records"] = log_path
+    if "png" in formats and any(r is not None and r["success"] for r in records):
+        from .figures import figure
+
+        result.files["png"] = figure(result, folder / FILES["png"], title=describe.get("title", ""),
+                                     samples=describe.get("samples"))
+    ok = sum(r is not None and r["success"] for r in records)
+    result.summary = {**describe, "status": "success" if result.success else "failed", "message": result.message,
+                      "runs": len(records), "succeeded": ok, "failed": counts["failed"],
+                      "not_computed": sum(r is None for r in records), "computed": result.computed,
+                      "reused": reused, "lost": [list(x) for x in result.lost], "elapsed_s": result.elapsed,
+                      "columns": list(result.columns),
+                      "outputs": {k: str(v) for k, v in result.files.items()}, "table": result.rows}
+    if "json" in formats:
+        result.files["json"] = folder / FILES["json"]
+        result.summary["outputs"]["json"] = str(result.files["json"])
+        _write_json(result.files["json"], result.summary)
+    return result
+
+
+__all__ = ["FILES", "columns", "csv_row", "read_records", "StudyProgress", "StudyResult", "run_into"]
