@@ -1,9 +1,18 @@
-"""Convergence of AllModeMicroslip in cells, harmonics H and samples n_t, with observed rates.
+"""All-mode bar: convergence in cells, harmonics and samples
+=========================================================
+
+Convergence of AllModeMicroslip in cells, harmonics H and samples n_t, with observed rates.
 
 At 0.5 omega_c (the DESIGN.md bar, uniform and concave12 loads, a/a_min in {1.5, 3, 10, 30}):
 each knob is varied with the others at a fine setting, and the error is
 max |F(level) - F(finest)| over the amplitudes, in units of k* a.  Prints markdown tables
 (docs/validation.md) and writes docs/figures/allmode_convergence.png.
+
+.. note::
+   Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.
+
+.. image:: /figures/allmode_convergence.png
+   :alt: All-mode bar: convergence in cells, harmonics and samples
 """
 
 from __future__ import annotations

@@ -1,4 +1,7 @@
-"""FRF of the default blade with the all-mode damper (AllModeMicroslip), against the single-mode
+"""All-mode damper: FRF of the default blade
+=========================================
+
+FRF of the default blade with the all-mode damper (AllModeMicroslip), against the single-mode
 FRF and the time integration of blade + bar (issue 13).
 
 The default case of ``python -m hbm`` (hbm.cases.default_case): blade k = 1e8 N/m, zeta = 2e-3,
@@ -6,6 +9,12 @@ F = 8 N, uniform 100 N load on the DESIGN.md bar.  The time-integration numbers 
 stored in docs/validation.md ("The blade in time against the FRF": ``hbm.simulate_blade``,
 160 cells, 1024 steps per cycle, a 345 s run), not re-run here.  Writes
 docs/figures/allmode_frf.png and prints the comparison table.
+
+.. note::
+   Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.
+
+.. image:: /figures/allmode_frf.png
+   :alt: All-mode damper: FRF of the default blade
 """
 
 from __future__ import annotations

@@ -1,4 +1,7 @@
-"""Multi-harmonic balance of a 3-DOF chain with two friction contacts (issue 12).
+"""A 3-DOF chain with two friction contacts
+========================================
+
+Multi-harmonic balance of a 3-DOF chain with two friction contacts (issue 12).
 
 Unit masses and springs ground-0-1-2, damping C = 0.004 K, forced at DOF 2 by 0.01 cos(omega t);
 a Jenkins element (k = 1, slip force 0.02) ties DOF 0 to ground and another (k = 1, slip force
@@ -10,6 +13,15 @@ springs.
 
 Run ``python examples/chain_3dof.py``; writes ``docs/figures/chain_3dof_frf.png`` and
 ``docs/figures/chain_3dof_harmonics.png``.
+
+.. note::
+   Not run when the site is built (it takes from several seconds to minutes): the figures are the ones a committed run wrote; running this script regenerates them.
+
+.. image:: /figures/chain_3dof_frf.png
+   :alt: A 3-DOF chain with two friction contacts
+
+.. image:: /figures/chain_3dof_harmonics.png
+   :alt: A 3-DOF chain with two friction contacts
 """
 
 from __future__ import annotations

@@ -1,4 +1,7 @@
-"""The damper design chart as a parameter study (``hbm.study``, ``docs/studies.md``).
+"""The design chart as a parameter study
+=====================================
+
+The damper design chart as a parameter study (``hbm.study``, ``docs/studies.md``).
 
 The same chart as ``examples/design_chart.py`` (resonant amplitude against normal load for the
 microslip bar, its fitted point contact and the macroslip contact, the optimum load of each
@@ -8,6 +11,12 @@ starred), computed from the scene ``examples/scenes/design_chart_study.toml``: i
 ``design_chart_study/`` as they finish; a rerun computes only what is missing.
 
 Run ``python examples/design_chart_study.py``; writes ``docs/figures/design_chart_study.png``.
+
+.. note::
+   Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.
+
+.. image:: /figures/design_chart_study.png
+   :alt: The design chart as a parameter study
 """
 
 from __future__ import annotations

@@ -1,4 +1,7 @@
-"""Monte Carlo of the resonant amplitude under uncertain friction coefficient and normal load.
+"""Monte Carlo of the resonant amplitude
+=====================================
+
+Monte Carlo of the resonant amplitude under uncertain friction coefficient and normal load.
 
 The scene ``examples/scenes/monte_carlo.toml``: 1000 samples (seed 2006) of the friction
 coefficient mu (uniform 0.2 .. 0.4) and the normal load N (lognormal, median 60 N, sigma 0.3)
@@ -9,6 +12,12 @@ The figure (``hbm.study.figures``) shows the histogram of the peak amplitude wit
 and 95th percentiles, and the peak against mu coloured by N.
 
 Run ``python examples/monte_carlo.py``; writes ``docs/figures/monte_carlo.png``.
+
+.. note::
+   Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.
+
+.. image:: /figures/monte_carlo.png
+   :alt: Monte Carlo of the resonant amplitude
 """
 
 from __future__ import annotations

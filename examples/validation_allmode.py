@@ -1,4 +1,7 @@
-"""AllModeMicroslip against converged time integration (NumericalMicroslip), issue 13.
+"""Validation: the all-mode bar against time integration
+=====================================================
+
+AllModeMicroslip against converged time integration (NumericalMicroslip), issue 13.
 
 The reference runs (NumericalMicroslip, 200 cells, 1024 steps per cycle: about 5e-5 k* a from
 its own convergence study) are slow (10-40 s per point), so they run once and are stored in
@@ -8,6 +11,12 @@ N = 100 N, which slips in pockets (four or more stick and slip regions).
 
 Writes the comparison table (markdown) to stdout and the stick/slip map of the wavy load over a
 cycle, all-mode beside time integration, to docs/figures/allmode_regions.png.
+
+.. note::
+   Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.
+
+.. image:: /figures/allmode_regions.png
+   :alt: Validation: the all-mode bar against time integration
 """
 
 from __future__ import annotations

@@ -1,4 +1,7 @@
-"""Where the single-mode elements hold: their F_s, F_c error against AllModeMicroslip (issue 13).
+"""Where the single-mode elements hold: the validity map
+=====================================================
+
+Where the single-mode elements hold: their F_s, F_c error against AllModeMicroslip (issue 13).
 
 For bars with lambda L and beta L/EA by decades around the DESIGN.md bar (E, rho, A, L, mu
 fixed; k = (lambda L / L)^2 EA, beta = (beta L/EA) EA/L), the uniform load (TwoRegionMicroslip)
@@ -13,6 +16,12 @@ says nothing about damping).  A single-mode element that refuses a point (its lo
 folds: FloatingPointError) counts as out of range (error inf).  The all-mode reference:
 40 cells (60 for lambda L = 3, 120 for 10), H = 15.  Stores docs/data/validity_map.csv, writes
 docs/figures/validity_map.png and prints the summary table of docs/validation.md.
+
+.. note::
+   Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.
+
+.. image:: /figures/validity_map.png
+   :alt: Where the single-mode elements hold: the validity map
 """
 
 from __future__ import annotations
