@@ -127,37 +127,59 @@ def early_snap(element: Any, omega: float) -> float:
     return float(np.real(piece.boundaries(1.0)[0])) / element.bar.L
 
 
+def _range(element: Any) -> tuple[float, float]:
+    """``(C, omega_1)`` of the element, computed once and kept on it (the check runs at every
+    public ``fourier`` call, so it must cost microseconds, not a recomputation of C)."""
+    cached = element.__dict__.get("_single_mode_range")
+    if cached is None:
+        C = _coefficient(element)
+        cached = (C, element.bar.omega_c * math.sqrt(TOLERANCE / C))
+        element.__dict__["_single_mode_range"] = cached
+    return cached
+
+
+def _snap(element: Any, w: float, a_max: float) -> float:
+    """The stuck length L1/L left at an early gross-slip snap that amplitudes up to ``a_max`` reach
+    at ``w``, else 0; builds no path the amplitudes did not need."""
+    lazy = getattr(element, "_lazy_path", None)
+    if lazy is not None and lazy(w)._full is None:
+        return 0.0  # the amplitudes stayed on the microslip pieces: gross slip, and its snap, not reached
+    snap = early_snap(element, w)
+    return snap if snap > SNAP_TOLERANCE and a_max > element.gross_slip_amplitude(w) else 0.0
+
+
 def check_single_mode(element: Any, a: ArrayLike, omega: ArrayLike, *, stacklevel: int = 3) -> None:
     """Warn (``ModelRangeWarning``, once per call) if the single-mode ``element`` is evaluated where
     its error bound exceeds ``TOLERANCE`` or where it takes an early gross-slip snap.
 
-    Cost: about 0.1 ms per call (measured, scalar a and omega); the snap is read from the
-    element's cached loading path.
+    Cost: a few microseconds for a scalar call (C and omega_1 are computed once per element; the
+    slip onset comes from the element's cache, the snap from its cached loading path).
     """
-    a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
-    if a_b.size == 0:
-        return
-    bound = single_mode_error_bound(element, a_b, w_b)
-    parts = []
-    worst = float(np.max(bound))
+    C, w1 = _range(element)
+    if np.ndim(a) == 0 and np.ndim(omega) == 0:  # the common scalar call: no arrays
+        pairs = [(float(omega), float(a))]
+    else:
+        a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
+        pairs = [(float(w), float(np.max(a_b[w_b == w]))) for w in np.unique(w_b)]
     wc = element.bar.omega_c
-    name = type(element).__name__
-    if worst > TOLERANCE:
-        w = float(w_b.flat[int(np.argmax(bound))])
-        parts.append(f"at omega = {w:.6g} rad/s ({w / wc:.3g} omega_c) it is outside its single-mode range: F_s, F_c "
-                     f"may be off by up to {worst:.1%} (validity map, docs/validation.md; within {TOLERANCE:.0%} up "
-                     f"to {single_mode_frequency_limit(element) / wc:.3g} omega_c)")
-    for w in np.unique(w_b):
-        if not np.any(a_b[w_b == w] > element.linear_amplitude(float(w))):
-            continue  # stuck: no slip path to snap on (and none is built)
-        lazy = getattr(element, "_lazy_path", None)
-        if lazy is not None and lazy(float(w))._full is None:
-            continue  # the amplitudes stayed on the microslip pieces: gross slip, and its snap, not reached
-        snap = early_snap(element, w)
-        if snap > SNAP_TOLERANCE and np.any(a_b[w_b == w] > element.gross_slip_amplitude(float(w))):
-            parts.append(f"at omega = {w:.6g} rad/s its loading curve folds before gross slip and it snaps onto "
-                         f"gross slip early, with {snap:.2f} L still stuck")
-            break
+    worst_w, snap_w, snap = None, None, 0.0
+    for w, a_max in pairs:
+        if a_max <= element._linear_amplitude(w):
+            continue  # stuck at every amplitude asked: exact (and no path is built)
+        if w > w1 and (worst_w is None or w > worst_w):
+            worst_w = w
+        if snap_w is None:
+            snap = _snap(element, w, a_max)
+            snap_w = w if snap > 0.0 else None
+    parts = []
+    if worst_w is not None:
+        worst = C * (worst_w / wc) ** 2
+        parts.append(f"at omega = {worst_w:.6g} rad/s ({worst_w / wc:.3g} omega_c) it is outside its single-mode "
+                     f"range: F_s, F_c may be off by up to {worst:.1%} (validity map, docs/validation.md; within "
+                     f"{TOLERANCE:.0%} up to {w1 / wc:.3g} omega_c)")
+    if snap_w is not None:
+        parts.append(f"at omega = {snap_w:.6g} rad/s its loading curve folds before gross slip and it snaps onto "
+                     f"gross slip early, with {snap:.2f} L still stuck")
     if parts:
-        warnings.warn(f"{name}: " + "; ".join(parts) + "; AllModeMicroslip resolves the phase differences along "
-                      "the bar", ModelRangeWarning, stacklevel=stacklevel)
+        warnings.warn(f"{type(element).__name__}: " + "; ".join(parts) + "; AllModeMicroslip resolves the phase "
+                      "differences along the bar", ModelRangeWarning, stacklevel=stacklevel)
