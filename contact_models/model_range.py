@@ -127,13 +127,13 @@ def early_snap(element: Any, omega: float) -> float:
     return float(np.real(piece.boundaries(1.0)[0])) / element.bar.L
 
 
-def _range(element: Any) -> tuple[float, float]:
-    """``(C, omega_1)`` of the element, computed once and kept on it (the check runs at every
-    public ``fourier`` call, so it must cost microseconds, not a recomputation of C)."""
+def _range(element: Any) -> tuple[float, float, float]:
+    """``(C, omega_c, omega_1)`` of the element, computed once and kept on it (the check runs at
+    every public ``fourier`` call, so it must cost microseconds: ``Bar.omega_c`` is a root solve)."""
     cached = element.__dict__.get("_single_mode_range")
     if cached is None:
-        C = _coefficient(element)
-        cached = (C, element.bar.omega_c * math.sqrt(TOLERANCE / C))
+        C, wc = _coefficient(element), element.bar.omega_c
+        cached = (C, wc, wc * math.sqrt(TOLERANCE / C))
         element.__dict__["_single_mode_range"] = cached
     return cached
 
@@ -155,13 +155,12 @@ def check_single_mode(element: Any, a: ArrayLike, omega: ArrayLike, *, stackleve
     Cost: a few microseconds for a scalar call (C and omega_1 are computed once per element; the
     slip onset comes from the element's cache, the snap from its cached loading path).
     """
-    C, w1 = _range(element)
+    C, wc, w1 = _range(element)
     if np.ndim(a) == 0 and np.ndim(omega) == 0:  # the common scalar call: no arrays
         pairs = [(float(omega), float(a))]
     else:
         a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
         pairs = [(float(w), float(np.max(a_b[w_b == w]))) for w in np.unique(w_b)]
-    wc = element.bar.omega_c
     worst_w, snap_w, snap = None, None, 0.0
     for w, a_max in pairs:
         if a_max <= element._linear_amplitude(w):
