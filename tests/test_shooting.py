@@ -195,9 +195,7 @@ def test_stored_chain_point_reproduced(stored):
 
 
 # ------------------------------------------------------------------ interface
-def test_structure_and_contact_of_hbm_when_present():
-    if not hasattr(hbm, "Structure") or not hasattr(hbm, "Contact"):
-        pytest.skip("hbm.Structure / hbm.Contact not merged yet")
+def test_structure_and_contact_of_hbm():
     s = hbm.Structure(np.eye(1), np.array([[0.004]]), np.eye(1), force=np.array([0.01]))
     r = periodic_response(s, [hbm.Contact(Macroslip(1.0, 0.02), dof=0)], omega=1.3, steps=128, harmonics=1)
     blade, cs = p1()
