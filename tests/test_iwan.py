@@ -125,3 +125,39 @@ def test_bad_parameters_are_refused_by_name(kwargs, name):
     args = dict(slip_force=F_S, stiffness=K_T, chi=-0.5, beta=0.1) | kwargs
     with pytest.raises(ValueError, match=f"{name}="):
         Iwan(**args)
+
+
+def test_periodic_force_with_inner_loops_against_stepped_parallel_jenkins():
+    """The multi-harmonic time law (Masing with memory, from the loading curve and its slope) for a
+    displacement with inner loops, against the discretised element stepped from rest for three
+    periods (its last period); and its Jacobian against central differences."""
+    iwan = Iwan(slip_force=F_S, stiffness=K_T, chi=-0.5, beta=0.1)
+    th = 2 * np.pi * np.arange(256) / 256
+    x = iwan.phi_max * (0.8 * np.sin(th) + 0.3 * np.sin(3 * th + 0.4))  # four reversals a period
+    f, J = iwan.periodic_force(x)
+    k, fmax = jenkins_cells(iwan, 400)
+    fj, prev, hist = np.zeros_like(k), 0.0, []
+    for xi in np.concatenate([x, x, x]):
+        fj = np.clip(fj + k * (xi - prev), -fmax, fmax)
+        prev = xi
+        hist.append(fj.sum())
+    assert np.max(np.abs(np.array(hist[-256:]) - f)) < 2e-5 * F_S  # 400 cells: second order in cells
+    h = 1e-7 * iwan.phi_max
+    for j in (3, 100, 200):
+        dx = np.zeros_like(x)
+        dx[j] = h
+        fd = (iwan.periodic_force(x + dx)[0] - iwan.periodic_force(x - dx)[0]) / (2 * h)
+        assert np.allclose(J[:, j], fd, rtol=1e-5, atol=1e-6 * K_T)
+
+
+def test_multi_harmonic_frf_with_huge_beta_is_the_jenkins_frf():
+    """Through the multi-harmonic balance (H = 7) the Iwan element with beta -> inf gives the
+    Jenkins element's FRF (problem P1 of issue 12)."""
+    from hbm import Contact, Structure, frequency_response
+
+    s = Structure(np.eye(1), np.array([[0.004]]), np.eye(1), force=[0.01])
+    peaks = [frequency_response(s, [Contact(el, dof=0)], omega_range=(0.6, 1.8), harmonics=7, n_t=512,
+                                stability=False).peak()
+             for el in (Iwan(slip_force=0.02, stiffness=1.0, chi=-0.5, beta=1e9), Macroslip(1.0, 0.02))]
+    assert peaks[0].amplitude == pytest.approx(peaks[1].amplitude, rel=1e-7)
+    assert peaks[0].omega == pytest.approx(peaks[1].omega, rel=1e-7)
