@@ -30,7 +30,8 @@ def peaks(result):
 def test_every_example_scene_is_valid_and_tested():
     names = {p.stem for p in SCENES.glob("*.toml")}
     tested = {"default_microslip_frf", "microslip_vs_point_contact", "design_chart", "paper_fs_fc_two_region",
-              "paper_fs_fc_three_region", "three_region_concave_frf", "quasi_static_low_frequency"}
+              "paper_fs_fc_three_region", "three_region_concave_frf", "quasi_static_low_frequency",
+              "chain_3dof"}
     studies = {"design_chart_study", "monte_carlo"}  # tests/test_hbm_examples.py runs them
     assert names == tested | studies
     for name in tested:
@@ -91,3 +92,20 @@ def test_quasi_static_low_frequency(tmp_path):
     assert summary["effects"][1]["effect"] == "damper inertia" and summary["effects"][1]["simulated"] is False
     # stored: the quasi-static peak (the full model's is 2.1e-4 lower, tests/test_scenes.py)
     assert r.peak.amplitude == pytest.approx(1.5862416985e-06, rel=1e-8)
+
+
+def test_chain_3dof_from_matrix_files(tmp_path):
+    """The structure scene: five harmonics of the chain with its damper, as the API computes them."""
+    import numpy as np
+
+    from contact_models import Macroslip
+    from hbm import Contact, Structure, frequency_response
+
+    result = run("chain_3dof", tmp_path)
+    assert result.success
+    K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    scene = load_scene(SCENES / "chain_3dof.toml")
+    api = frequency_response(Structure(np.eye(3), 0.004 * K, K, force=[0.0, 0.0, 0.01]),
+                             [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0)], omega_range=(0.3, 0.8),
+                             response_dof=2, **scene.sweep["options"], harmonics=5, n_t=512)
+    assert result.runs[0].peak.amplitude == pytest.approx(api.peak().amplitude, rel=1e-12)

@@ -209,6 +209,10 @@ def slip(run: Any) -> Effect:
 
     if run.blade is None:
         return Effect("damper slip", True, "amplitude sweep: the amplitudes are given")
+    if run.scene.structure is not None:
+        return Effect("damper slip", True, "a structure from [structure]: the stuck check is made for a blade only; "
+                                           "the balance answers amplitudes within the damper's linear range from "
+                                           "its linear coefficients")
     peak, smallest = stuck_peak(run.blade, run.element, run.omega)
     if smallest == 0.0:
         return Effect("damper slip", True, "the element is nonlinear at every amplitude (linear_amplitude = 0)")

@@ -192,7 +192,8 @@ FIT_TO = Key(choice("two-region", "three-region", "auto"), "auto",
              'point-contact only: the microslip model it is fitted to ("auto", "two-region", "three-region")')
 FIT_OMEGA = Key(number(ge=0, unit="rad/s"), None,
                 "point-contact only: frequency of the fit (rad/s); default the stuck resonance "
-                "sqrt((k + k*)/m) of a frequency sweep, 0 for an amplitude sweep")
+                "sqrt((k + k*)/m) of a blade's frequency sweep, the lower end of a structure's sweep, 0 for an "
+                "amplitude sweep")
 
 
 def _build_point_contact(run):
@@ -202,6 +203,8 @@ def _build_point_contact(run):
 
     if run.params.get("fit_omega") is not None:
         w_fit = run.params["fit_omega"]
+    elif run.scene.structure is not None:
+        w_fit = min(run.omega)  # a structure has no one stuck resonance: the sweep's lower end
     elif run.blade is not None:
         w_fit = math.sqrt((run.blade.stiffness + run.bar.k_star) / run.blade.mass)
     else:

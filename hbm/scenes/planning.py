@@ -173,6 +173,8 @@ def _blade(scene):
 
     if scene.sweep["kind"] != "frequency":
         return None
+    if scene.structure is not None:
+        return _structure(scene)
     b = scene.blade
     try:
         stiffness = b["mass"] * b["frequency"] ** 2 if "frequency" in b else b["stiffness"]
@@ -182,6 +184,27 @@ def _blade(scene):
         return Blade(mass=b["mass"], stiffness=stiffness, damping=damping, force=b["force"])
     except ValueError as exc:
         raise SceneError([scene.where(f"[blade]: {exc}")]) from None
+
+
+def _structure(scene):
+    """The ``hbm.Structure`` of ``[structure]``, its DOF indices checked against its size."""
+    from ..structure import Structure
+
+    st = scene.structure
+    damping = {"damping": st.get("damping"), "modal_damping": st.get("modal_damping"),
+               "rayleigh": tuple(st["rayleigh"]) if st.get("rayleigh") is not None else None}
+    try:
+        s = Structure.from_files(st["mass"], st["stiffness"], force=list(st["force"]),
+                                 **{k: v for k, v in damping.items() if v is not None})
+    except (ValueError, OSError) as exc:
+        raise SceneError([scene.where(f"[structure]: {exc}")]) from None
+    bad = [f"{scene.where('structure.' + key)} = {show(value)}: DOF {d} is out of range for the structure's "
+           f"{s.n} DOFs (0 to {s.n - 1})"
+           for key, value in (("contact_dofs", list(st["contact_dofs"])), ("response_dof", st.get("response_dof")))
+           if value is not None for d in (value if isinstance(value, list) else [value]) if d >= s.n]
+    if bad:
+        raise SceneError(bad)
+    return s
 
 
 def _decide(ctx: RunContext, with_load: bool) -> RunPlan:

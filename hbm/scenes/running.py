@@ -191,8 +191,18 @@ def _run_frequency(scene, plan, res, emit):
     def on_point(omega, xc, xs, residual):
         emit(frf_row(omega, xc, xs, residual), omega, (omega - w0) / (w1 - w0))
 
-    frf = frequency_response(plan.blade, p.element, omega_range=(w0, w1), on_point=on_point,
-                             **scene.sweep["options"])
+    if scene.structure is None:
+        frf = frequency_response(plan.blade, p.element, omega_range=(w0, w1), on_point=on_point,
+                                 **scene.sweep["options"])
+    else:  # a structure from matrices: the damper acts at structure.contact_dofs
+        from ..structure import Contact
+
+        st = scene.structure
+        dofs = tuple(st["contact_dofs"])
+        contact = Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)
+        options = {"harmonics": scene.effects["harmonics"], **scene.sweep["options"]}  # H = 1 unless the effect set it
+        frf = frequency_response(plan.blade, [contact], omega_range=(w0, w1), on_point=on_point,
+                                 response_dof=st.get("response_dof"), **options)
     res.frf = frf
     res.success = frf.success
     res.message = frf.message

@@ -45,6 +45,21 @@ _FIXED: dict[str, dict[str, Key]] = {
                              "viscous damping ratio zeta, c = 2 zeta sqrt(k m); give this or `damping`"),
         "force": Key(number(gt=0, unit="N"), REQUIRED, "force amplitude F of F cos(omega t) (N)"),
     },
+    "structure": {
+        "mass": Key(text, REQUIRED, "mass matrix M: a file (.mtx Matrix Market, .npz, .npy; \"file.npz:key\" picks "
+                                    "an array of an .npz), relative to the scene file"),
+        "stiffness": Key(text, REQUIRED, "stiffness matrix K: a file, as structure.mass"),
+        "damping": Key(text, OPTIONAL, "damping matrix C: a file; or give structure.rayleigh or "
+                                       "structure.modal_damping (exactly one of the three)"),
+        "rayleigh": Key(number_list(nonnegative, length=2), OPTIONAL, "[alpha, beta]: C = alpha M + beta K"),
+        "modal_damping": Key(one_or_list(nonnegative, "a number >= 0"), OPTIONAL,
+                             "modal damping ratio zeta of every mode, or a list with one per mode"),
+        "force": Key(number_list(number(unit="N")), REQUIRED,
+                     "force amplitudes of F cos(omega t), one per DOF (N)"),
+        "contact_dofs": Key(lambda v: _dof_list(v), REQUIRED,
+                            "where the damper acts: [i] (DOF i to ground) or [i, j] (on x_i - x_j)"),
+        "response_dof": Key(integer(0), OPTIONAL, "the DOF whose response is reported; default the forced DOF"),
+    },
     "damper.load": {
         "kind": Key(choice("uniform", "quadratic"), "uniform",
                     '"uniform" (q = N/L) or "quadratic" (Eq. 29: q0 + q2 4x(x - L)/L^2)'),
@@ -86,6 +101,15 @@ _FIXED: dict[str, dict[str, Key]] = {
     },
 }
 
+def _dof_list(v):
+    """``structure.contact_dofs``: one DOF index, or two different ones."""
+    if (not isinstance(v, list) or len(v) not in (1, 2) or len(set(v)) != len(v)
+            or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in v)):
+        raise Invalid("must be a list of one DOF index (a contact to ground) or of two different ones "
+                      "(a contact between them), each an integer >= 0")
+    return tuple(v)
+
+
 #: Sub-tables (parent table -> child key).
 SUBTABLES = {"damper": "load"}
 #: Tables a scene must have, and what they hold at least.
@@ -114,7 +138,7 @@ def schema() -> dict[str, dict[str, Key]]:
     effects = {e.key_name: e.key for e in EFFECTS if e.key_name is not None}
     effects["tolerance"] = Key(number(gt=0, lt=1), OPTIONAL,
                                "relative change below which `auto` leaves an effect out; default sweep.tolerance")
-    out = {"": _FIXED[""], "blade": _FIXED["blade"], "damper": damper, "damper.load": _FIXED["damper.load"],
+    out = {"": _FIXED[""], "blade": _FIXED["blade"], "structure": _FIXED["structure"], "damper": damper, "damper.load": _FIXED["damper.load"],
            "effects": effects, "sweep": _FIXED["sweep"], "output": _FIXED["output"]}
     out["study"] = STUDY_KEYS  # hbm.scenes.study: a grid over, or samples of, the keys above
     return out

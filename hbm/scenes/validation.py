@@ -38,6 +38,7 @@ class Scene:
     effects: dict
     sweep: dict
     output: dict
+    structure: dict | None = None  #: [structure] of a frequency sweep of a structure from matrices (paths resolved)
     study: dict | None = None  #: the validated [study] table with its ``points`` (``hbm.scenes.study``)
 
     @property
@@ -241,6 +242,7 @@ class _Rules:
         load = self.defaults("damper.load")
         self._sweep(sweep)
         blade = self._blade(sweep["kind"])
+        structure = self._structure(sweep["kind"])
         specs = [MODELS[m] for m in damper["model"]]
         needs = set().union(*(s.needs(self.t["damper"]) for s in specs)) if specs else set()
         self._damper(specs, needs, effects)
@@ -255,7 +257,8 @@ class _Rules:
             output["folder"] = self.path.stem
         study = study_table(self) if "study" in self.tables else None
         return Scene(path=self.path, title=self.t[""].get("title", ""), blade=blade, damper=damper,
-                     load=load if has_load else None, effects=effects, sweep=sweep, output=output, study=study)
+                     load=load if has_load else None, effects=effects, sweep=sweep, output=output, study=study,
+                     structure=structure)
 
     def _sweep(self, sweep):
         kind = sweep["kind"]
@@ -294,9 +297,12 @@ class _Rules:
             for key in ("amplitude", "amplitude_unit", "points"):
                 if self.has("sweep", key):
                     self.forbid("sweep", key, 'with sweep.kind = "frequency" (it belongs to an amplitude sweep)')
-            if "blade" not in self.present:
+            if "blade" not in self.present and "structure" not in self.present:
                 self.problems.append(f"{self.path}: [blade] is missing: required for sweep.kind = \"frequency\" "
-                                     "(mass, stiffness or frequency, damping or damping_ratio, force)")
+                                     "(mass, stiffness or frequency, damping or damping_ratio, force), or "
+                                     "[structure] (matrices from files)")
+            elif "blade" in self.present and "structure" in self.present:
+                self.problems.append(f"{self.path}: [blade] and [structure] together: give one of them")
         else:
             self.need("sweep", "amplitude", 'with sweep.kind = "amplitude"')
             for key in ("max_step", "min_step", "max_steps", "accuracy"):
@@ -314,6 +320,23 @@ class _Rules:
             elif not self.has("blade", a) and not self.has("blade", b):
                 self.problems.append(f"{self.where('blade.' + a)} is missing: give blade.{a} or blade.{b}")
         return blade
+
+    def _structure(self, kind):
+        """[structure]: exactly one damping, the files relative to the scene file."""
+        if "structure" not in self.present:
+            return None
+        if kind != "frequency":
+            self.problems.append(f"{self.path}: [structure] belongs to a frequency sweep (sweep.kind = \"frequency\")")
+            return None
+        st = self.defaults("structure")
+        given = [k for k in ("damping", "rayleigh", "modal_damping") if self.has("structure", k)]
+        if len(given) != 1:
+            self.problems.append(f"{self.where('structure.damping')}: give exactly one of structure.damping, "
+                                 f"structure.rayleigh, structure.modal_damping (got {', '.join(given) or 'none'})")
+        for key in ("mass", "stiffness", "damping"):
+            if isinstance(st.get(key), str):
+                st[key] = str(self.path.parent / st[key])
+        return st
 
     def _damper(self, specs, needs, effects):
         if "bar" in needs:
