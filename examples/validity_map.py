@@ -6,7 +6,7 @@ Where the single-mode elements hold: their F_s, F_c error against AllModeMicrosl
 For bars with lambda L and beta L/EA by decades around the DESIGN.md bar (E, rho, A, L, mu
 fixed; k = (lambda L / L)^2 EA, beta = (beta L/EA) EA/L), the uniform load (TwoRegionMicroslip)
 and the concave load of ratio 12 (ThreeRegionMicroslip), over a/a_min in [0.5, 100] (a_min the
-element's static slip amplitude) and omega/omega_c in [0.01, 0.95]:
+element's static slip amplitude) and omega/omega_c in [0.01, 0.95]::
 
     e_s = |F_s(single) - F_s(all)| / max(|F_s(all)|, 0.01),
     e_c = |F_c(single) - F_c(all)| / max(F_c(all), 0.01)          (F in units of k* a),
