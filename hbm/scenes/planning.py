@@ -198,10 +198,13 @@ def _structure(scene):
                                  **{k: v for k, v in damping.items() if v is not None})
     except (ValueError, OSError) as exc:
         raise SceneError([scene.where(f"[structure]: {exc}")]) from None
-    bad = [f"{scene.where('structure.' + key)} = {show(value)}: DOF {d} is out of range for the structure's "
-           f"{s.n} DOFs (0 to {s.n - 1})"
-           for key, value in (("contact_dofs", list(st["contact_dofs"])), ("response_dof", st.get("response_dof")))
-           if value is not None for d in (value if isinstance(value, list) else [value]) if d >= s.n]
+    bad = []
+    for key, dofs in (("contact_dofs", list(st["contact_dofs"])), ("response_dof", st.get("response_dof"))):
+        shown = show(dofs)
+        for d in dofs if isinstance(dofs, list) else ([] if dofs is None else [dofs]):
+            if d >= s.n:
+                bad.append(f"{scene.where('structure.' + key)} = {shown}: DOF {d} is out of range for the "
+                           f"structure's {s.n} DOFs (0 to {s.n - 1})")
     if bad:
         raise SceneError(bad)
     return s
