@@ -90,6 +90,15 @@ class ContactElement(ABC):
     in phase ("spring") and in quadrature ("damping"); ``pi a f_c`` is the energy dissipated per
     cycle, so a passive element has ``f_c >= 0``.
 
+    Attributes
+    ----------
+    frequency_dependent : bool
+        Class attribute, default True: whether f_s, f_c depend on omega; False lets the solver
+        skip the derivative in omega.
+    has_time_law : bool
+        Class attribute, default False: True for an element with a time-domain force law
+        (``periodic_force``, used by the multi-harmonic alternating frequency-time method).
+
     Notes
     -----
     A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,

@@ -61,6 +61,22 @@ class ModelRangeWarning(UserWarning):
     F_c error against the all-mode bar may exceed 1 %, and where they snap onto gross slip early.
     Filter it like any warning, e.g. ``warnings.simplefilter("ignore", ModelRangeWarning)``, or
     turn it into an error with ``"error"``; use ``AllModeMicroslip`` there.
+
+    It carries no attributes of its own: the message names the element class, the frequency
+    (rad/s) and the error bound there, or the early snap onto gross slip.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> issubclass(ModelRangeWarning, UserWarning)
+    True
+    >>> with warnings.catch_warnings():
+    ...     warnings.simplefilter("error", ModelRangeWarning)
+    ...     try:
+    ...         warnings.warn("outside the validity map", ModelRangeWarning)
+    ...     except ModelRangeWarning as exc:
+    ...         print(exc)
+    outside the validity map
     """
 
 

@@ -48,7 +48,20 @@ class Peak(NamedTuple):
 
 
 class Response(NamedTuple):
-    """The single-harmonic response at one frequency (``response_at``)."""
+    """The single-harmonic response at one frequency (``response_at``).
+
+    Attributes
+    ----------
+    omega : float
+        Excitation frequency (rad/s).
+    x_c, x_s : float
+        Cosine and sine coefficients of the displacement (m):
+        ``x = x_c cos(omega t) + x_s sin(omega t)``.
+    amplitude : float
+        First-harmonic amplitude ``hypot(x_c, x_s)`` (m).
+    phase : float
+        Lag of the displacement behind the force (rad), ``x = amplitude cos(omega t - phase)``.
+    """
 
     omega: float
     x_c: float

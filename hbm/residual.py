@@ -72,6 +72,44 @@ class HarmonicBalance:
     The element is called through its fast path ``fourier_derivatives_unchecked`` on 1-element
     float arrays: the public method's validation and broadcasting would cost more than the balance
     itself in the Newton loop; (a, omega) are finite and >= 0 here by construction.
+
+    Parameters
+    ----------
+    blade : hbm.Blade
+        The single-DOF blade (mass kg, stiffness N/m, damping N s/m, force N).
+    element : contact_models.ContactElement or None, default None
+        The damper; None gives the bare blade.
+    rtol : float, default 1e-6
+        Relative tolerance passed to the element's Fourier coefficients.
+    x_ref : float, default 1.0
+        Displacement scale of the scaled form (m).
+    omega_ref : float, default 1.0
+        Frequency scale of the scaled form (rad/s).
+
+    Attributes
+    ----------
+    nfev : int
+        Calls of the element's Fourier routine, omega differences included.
+    nstuck : int
+        Evaluations answered by the stuck (linear) stiffness.
+    nfev_omega : int
+        Of ``nfev``, the calls made for the derivative in omega.
+    ncalls : int
+        Balance evaluations.
+
+    Notes
+    -----
+    With ``p = F_s/a`` and ``q = F_c/a`` (N/m), the element's in-phase and dissipative
+    first-harmonic stiffness at the amplitude ``a = sqrt(x_c^2 + x_s^2)``, the residual (N) is ``R_c = (k - m omega^2 + p) x_c + (c omega + q) x_s - F`` and
+    ``R_s = (k - m omega^2 + p) x_s - (c omega + q) x_c``.  The arguments are not validated.
+
+    Examples
+    --------
+    >>> from hbm import Blade
+    >>> hb = HarmonicBalance(Blade(mass=1.0, stiffness=4.0, damping=0.0, force=1.0))
+    >>> R, J = hb.physical([1.0, 0.0, 1.0])   # (k - m omega^2) x_c - F = 3 - 1
+    >>> R.tolist(), J.tolist()
+    ([2.0, 0.0], [[3.0, 0.0, -2.0], [0.0, 3.0, 0.0]])
     """
 
     def __init__(self, blade: Blade, element: ContactElement | None = None, *, rtol: float = 1e-6,

@@ -145,7 +145,24 @@ class PeriodicResponse:
 
 @dataclass
 class PeriodicPeak:
-    """The refined maximum of a periodic response measure over frequency (``periodic_peak``)."""
+    """The refined maximum of a periodic response measure over frequency (``periodic_peak``).
+
+    Attributes
+    ----------
+    omega : float
+        Frequency of the maximum (rad/s); on failure the best frequency solved, NaN when none was.
+    value : float
+        The measure there (m): first-harmonic amplitude or the largest displacement magnitude
+        over the cycle; NaN when no response was solved.
+    response : PeriodicResponse or None
+        The periodic response at ``omega`` (None when no response was solved).
+    evaluations : int
+        Periodic responses computed during the search.
+    success : bool
+        Whether an interior maximum was found to ``xtol``.
+    message : str
+        ``"maximum found"``, or what went wrong.
+    """
 
     omega: float
     value: float

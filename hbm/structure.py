@@ -245,7 +245,40 @@ class Structure:
 class ReducedStructure(Structure):
     """A :class:`Structure` from :meth:`Structure.reduce`: reduced DOF ``i < len(kept)`` is the
     original DOF ``kept[i]``; ``T`` maps reduced to original DOFs (``x = T q``); ``full`` is
-    the structure it came from."""
+    the structure it came from.
+
+    Parameters
+    ----------
+    M, C, K : array_like
+        The reduced mass (kg), damping (N s/m) and stiffness (N/m) matrices, r x r.
+    force : array_like
+        The reduced force amplitudes ``T^T f`` (N), length r.
+    T : ndarray
+        The transformation, n x r (n the original DOFs): ``x = T q``.
+    kept : tuple of int
+        The original DOFs kept as physical DOFs, in the order of the reduced DOFs.
+    full : Structure
+        The structure reduced.
+
+    Attributes
+    ----------
+    T, kept, full
+        As given.
+
+    Raises
+    ------
+    ValueError
+        As ``Structure`` for invalid matrices or force.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> s = Structure(np.eye(3), 0.01 * np.eye(3), 2 * np.eye(3) - np.eye(3, k=1) - np.eye(3, k=-1),
+    ...               force=[0.0, 0.0, 1.0])
+    >>> r = s.reduce([2], modes=1)
+    >>> r.n, r.kept, r.T.shape, r.dof(2)
+    (2, (2,), (3, 2), 0)
+    """
 
     def __init__(self, M: ArrayLike, C: ArrayLike, K: ArrayLike, *, force: ArrayLike, T: NDArray[np.float64],
                  kept: tuple[int, ...], full: Structure) -> None:

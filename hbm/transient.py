@@ -65,6 +65,36 @@ class BladeSimulation:
     (``history`` per cycle); ``distance``: the estimated relative distance of the last cycle
     from the periodic orbit (``change r / (1 - r)``, r the last ratio of changes; inf when r
     >= 1).
+
+    Attributes
+    ----------
+    omega : float
+        Excitation frequency (rad/s).
+    theta : ndarray
+        Phase ``omega t`` of each sample of the last cycle (rad), ``steps`` values in [0, 2 pi).
+    x : ndarray
+        Blade displacement at ``theta`` (m).
+    f : ndarray
+        Damper force on the blade at ``theta`` (N).
+    x_c, x_s : float
+        First harmonic of ``x`` (m): ``x_c cos(omega t) + x_s sin(omega t)``.
+    cycles : int
+        Cycles computed after the ramp.
+    converged : bool
+        Whether the cycle-to-cycle change fell to the tolerance (also ``success``).
+    change : float
+        The last relative cycle-to-cycle change of ``x`` (inf before two cycles).
+    distance : float
+        Estimated relative distance of the last cycle from the periodic orbit (inf when the
+        changes do not shrink).
+    newton_iterations : int
+        Newton iterations of the time integration, in total.
+    steps : int
+        Time steps per cycle.
+    message : str
+        ``"steady"``, or why not.
+    history : ndarray or None
+        The relative change of each cycle from the one before.
     """
 
     omega: float

@@ -30,7 +30,27 @@ def _finite(name: str, value: Any, *, positive: bool = False) -> float:
 @dataclass(frozen=True)
 class Distribution:
     """A distribution of one parameter: ``kind`` ("uniform", "normal", "lognormal") and its two
-    numbers ``a``, ``b`` (see :func:`uniform`, :func:`normal`, :func:`lognormal`)."""
+    numbers ``a``, ``b`` (see :func:`uniform`, :func:`normal`, :func:`lognormal`).
+
+    Make one with ``uniform``, ``normal`` or ``lognormal``, which check the numbers; the
+    constructor itself does not.
+
+    Attributes
+    ----------
+    kind : {"uniform", "normal", "lognormal"}
+        The family.
+    a : float
+        ``low`` (uniform), ``mean`` (normal) or ``median`` (lognormal), in the parameter's units.
+    b : float
+        ``high`` (uniform, the parameter's units), ``std`` (normal, the parameter's units) or
+        ``sigma`` (lognormal: the standard deviation of ``log(x)``, dimensionless).
+
+    Examples
+    --------
+    >>> d = normal(100.0, 5.0)
+    >>> d.kind, d.a, d.b
+    ('normal', 100.0, 5.0)
+    """
 
     kind: str
     a: float
@@ -52,6 +72,18 @@ class Distribution:
 def uniform(low: float, high: float) -> Distribution:
     """Uniform on ``[low, high)``.
 
+    Parameters
+    ----------
+    low : float
+        The smallest value, in the parameter's units.
+    high : float
+        The bound the values stay below, in the parameter's units.
+
+    Returns
+    -------
+    Distribution
+        ``Distribution("uniform", low, high)``.
+
     Raises
     ------
     ValueError
@@ -71,6 +103,23 @@ def uniform(low: float, high: float) -> Distribution:
 def normal(mean: float, std: float) -> Distribution:
     """Normal with ``mean`` and standard deviation ``std > 0``.
 
+    Parameters
+    ----------
+    mean : float
+        The mean, in the parameter's units.
+    std : float
+        The standard deviation (> 0), in the parameter's units.
+
+    Returns
+    -------
+    Distribution
+        ``Distribution("normal", mean, std)``.
+
+    Raises
+    ------
+    ValueError
+        If ``mean`` is not a finite number, or ``std`` is not a finite number > 0.
+
     Examples
     --------
     >>> normal(100.0, 5.0).as_dict()
@@ -81,6 +130,23 @@ def normal(mean: float, std: float) -> Distribution:
 
 def lognormal(median: float, sigma: float) -> Distribution:
     """Lognormal: ``log(x)`` is normal with mean ``log(median)`` and standard deviation ``sigma``.
+
+    Parameters
+    ----------
+    median : float
+        The median (> 0), in the parameter's units.
+    sigma : float
+        The standard deviation of ``log(x)`` (> 0, dimensionless).
+
+    Returns
+    -------
+    Distribution
+        ``Distribution("lognormal", median, sigma)``.
+
+    Raises
+    ------
+    ValueError
+        If ``median`` or ``sigma`` is not a finite number > 0.
 
     Notes
     -----
@@ -106,6 +172,19 @@ DISTRIBUTIONS: dict[str, tuple[Callable[..., Distribution], tuple[str, str]]] = 
 
 def grid(axes: Mapping[str, Sequence[Any]]) -> list[dict]:
     """Every combination of the values of ``axes`` (``{name: values}``), the last name fastest.
+
+    Parameters
+    ----------
+    axes : mapping of str to sequence
+        The values of each parameter, by name (a scene key in dotted form for a scene study).  A
+        list, tuple or array gives several values; anything else is one value.  NumPy scalars are
+        turned into Python numbers.
+
+    Returns
+    -------
+    list of dict
+        ``prod(len(values))`` points ``{name: value}``, names in the order of ``axes``; the first
+        name varies slowest.
 
     Raises
     ------
@@ -136,11 +215,25 @@ def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> 
     One generator ``numpy.random.default_rng(seed)`` draws all ``n`` values of each parameter in
     the order of ``distributions``, so the points depend only on ``n``, ``seed`` and that order.
 
+    Parameters
+    ----------
+    n : int
+        The number of points (>= 1).
+    distributions : mapping of str to Distribution
+        The distribution of each parameter, by name; the order sets the order of drawing.
+    seed : int
+        The seed of the generator (>= 0), keyword-only; the same seed gives the same points.
+
+    Returns
+    -------
+    list of dict
+        ``n`` points ``{name: float}``.
+
     Raises
     ------
     ValueError
-        For ``n < 1``, a negative or non-integer ``seed``, or a value that is not a
-        :class:`Distribution`.
+        For ``n < 1``, a negative or non-integer ``seed``, empty ``distributions``, or a value
+        that is not a :class:`Distribution`.
 
     Examples
     --------
@@ -167,6 +260,19 @@ def combine(first: Sequence[dict], second: Sequence[dict]) -> list[dict]:
     """Every point of ``first`` joined with every point of ``second`` (e.g. each model of a grid
     with every sample); ``second`` varies fastest.
 
+    Parameters
+    ----------
+    first : sequence of dict
+        The outer points (e.g. from ``grid``).
+    second : sequence of dict
+        The inner points (e.g. from ``samples``); where both name a parameter, ``second``'s value
+        is kept.
+
+    Returns
+    -------
+    list of dict
+        ``len(first) * len(second)`` points.
+
     Examples
     --------
     >>> combine([{"a": 1}, {"a": 2}], [{"b": 3}])
@@ -178,6 +284,18 @@ def combine(first: Sequence[dict], second: Sequence[dict]) -> list[dict]:
 def run_id(identity: Any, version: str) -> str:
     """The hash naming a run: SHA-256 of its inputs ``identity`` (JSON, keys sorted, floats
     exact) and the library ``version``, 20 hex digits.
+
+    Parameters
+    ----------
+    identity : object
+        The run's inputs, JSON-serialisable (anything else is written as its ``repr``).
+    version : str
+        The library version (``contact_models.__version__``): a new version gives new ids.
+
+    Returns
+    -------
+    str
+        The first 20 hex digits of the SHA-256 digest.
 
     Examples
     --------

@@ -26,7 +26,13 @@ DASK_MISSING = ('executor "dask" needs the packages dask and distributed, which 
 
 
 def cores() -> int:
-    """The cores this process may use (``os.sched_getaffinity`` where available)."""
+    """The cores this process may use (``os.sched_getaffinity`` where available).
+
+    Returns
+    -------
+    int
+        The number of cores (>= 1): the default number of workers of a study.
+    """
     try:
         return len(os.sched_getaffinity(0))
     except AttributeError:  # not on Linux
@@ -100,6 +106,45 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     processes, default every core), "dask" (``dask_executor``) or an executor instance (used, not
     shut down).  KeyboardInterrupt (and anything raised by ``on_done``) stops the workers and
     propagates; what ``on_done`` was given is kept.
+
+    Parameters
+    ----------
+    runner : callable
+        A picklable function of one point (a dict), as ``Study.runner``.
+    tasks : sequence of (int, dict)
+        The runs: ``(index, point)``; the index is handed back to ``on_done``.
+    on_done : callable
+        ``on_done(index, record)``, called in this process once per finished run with the
+        record of ``execute``.
+    executor : {"processes", "serial", "dask"} or concurrent.futures.Executor, default "processes"
+        Where the runs are computed; ``"processes"`` with ``workers=1`` runs serially.
+    workers : int, optional
+        Worker processes (>= 1); default every core (``cores()``), at most one per task.
+    scheduler : str, optional
+        Address of a running Dask scheduler; only with ``executor="dask"``.
+
+    Returns
+    -------
+    list of (int, str)
+        The runs lost, sorted by index, each with the exception that lost it; empty when every
+        run was handed to ``on_done``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``executor``, ``workers`` not an integer >= 1, a ``scheduler`` without
+        ``executor="dask"``, or a Dask scheduler that cannot be reached.
+    ImportError
+        For ``executor="dask"`` without dask and distributed.
+
+    Examples
+    --------
+    >>> done = {}
+    >>> run_tasks(lambda p: {"peak_amplitude_m": p["x"]}, [(0, {"x": 1.0}), (1, {"x": 2.0})],
+    ...           lambda i, rec: done.update({i: rec["peak_amplitude_m"]}), executor="serial")
+    []
+    >>> done
+    {0: 1.0, 1: 2.0}
     """
     check_executor(executor, workers, scheduler)
     fn = functools.partial(execute, runner)

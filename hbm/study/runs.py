@@ -26,6 +26,25 @@ class SceneRun:
     The scene of a point must make exactly one run (one model, one normal load).  A frequency
     sweep returns its FRF; an amplitude sweep returns the table of F_s, F_c, its "peak" the largest
     F_c (the amplitude and frequency of the most damping).
+
+    Parameters
+    ----------
+    data : mapping
+        The scene as parsed TOML (``[study]`` and ``[output]`` are dropped).
+    path : str, default "<scene>"
+        The scene file's path, named in error messages.
+
+    Attributes
+    ----------
+    data : dict
+        The scene without ``[study]`` and ``[output]``.
+    path : str
+        As given.
+
+    Raises
+    ------
+    hbm.scenes.SceneError
+        When called on a point whose scene is invalid or makes more than one run.
     """
 
     def __init__(self, data: Mapping[str, Any], path: str = "<scene>") -> None:
@@ -79,7 +98,31 @@ class SceneRun:
 def outcome(out: Any) -> dict:
     """The record fields of what a runner returned: an FRF (``hbm.FrequencyResponse``) or a dict
     with any of ``success`` (default True), ``message``, ``peak_omega_rad_s``, ``peak_amplitude_m``,
-    ``nfev`` and ``curve`` (a dict of arrays or lists of numbers, stored as lists of floats)."""
+    ``nfev`` and ``curve`` (a dict of arrays or lists of numbers, stored as lists of floats).
+
+    Parameters
+    ----------
+    out : hbm.FrequencyResponse or mapping
+        What the runner returned.  Peak frequency in rad/s, peak amplitude in m.
+
+    Returns
+    -------
+    dict
+        ``success``, ``message``, ``peak_omega_rad_s``, ``peak_amplitude_m`` (None where absent
+        or not finite), ``nfev`` (None where absent) and ``curve`` (for an FRF: ``omega_rad_s``
+        and ``amplitude_m``).
+
+    Raises
+    ------
+    ValueError
+        If ``out`` is neither an FRF nor a mapping, or the mapping holds another key.
+
+    Examples
+    --------
+    >>> rec = outcome({"peak_amplitude_m": 2e-3, "curve": {"a_m": [1, 2]}})
+    >>> rec["success"], rec["peak_amplitude_m"], rec["peak_omega_rad_s"], rec["curve"]
+    (True, 0.002, None, {'a_m': [1.0, 2.0]})
+    """
     if isinstance(out, Mapping):
         rec = {"success": bool(out.get("success", True)), "message": str(out.get("message", "")),
                "peak_omega_rad_s": _float(out.get("peak_omega_rad_s")),
@@ -111,6 +154,20 @@ def _float(v: Any) -> float | None:
 def execute(runner: Callable[[Mapping[str, Any]], Any], point: Mapping[str, Any]) -> dict:
     """Run ``runner(point)``: its record fields (:func:`outcome`) and ``time_s``; an exception
     makes a failed record whose message names it (so one bad run never stops a study).
+
+    Parameters
+    ----------
+    runner : callable
+        A function of one point, returning an ``hbm.FrequencyResponse`` or a dict (``outcome``).
+    point : mapping of str to object
+        The point, handed to ``runner`` as is.
+
+    Returns
+    -------
+    dict
+        The fields of ``outcome`` and ``time_s``, the run's wall-clock time in s.  It never
+        raises for an ``Exception`` of the runner: that makes ``success`` False and ``message``
+        ``"ExceptionType: text"``.
 
     Examples
     --------

@@ -37,6 +37,16 @@ def columns(parameters: tuple) -> tuple:
     """The table's columns: ``run`` (from 1), ``id`` (the run's hash), the parameters, then
     :data:`hbm.study.RESULT_COLUMNS`.
 
+    Parameters
+    ----------
+    parameters : tuple of str
+        The names varied, in the study's order.
+
+    Returns
+    -------
+    tuple of str
+        The column names.
+
     Examples
     --------
     >>> columns(("damper.mu",))
@@ -65,6 +75,16 @@ def read_records(path: str | Path) -> dict:
     """``{id: record}`` of a ``runs.jsonl`` (the last record of an id wins); a line cut short by
     an interruption, or not a record, is skipped.
 
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ``runs.jsonl`` file; a missing file gives ``{}``.
+
+    Returns
+    -------
+    dict
+        ``{id: record}``, a record being the dict of one JSON line.
+
     Examples
     --------
     >>> import tempfile, pathlib
@@ -90,7 +110,27 @@ def read_records(path: str | Path) -> dict:
 
 @dataclass
 class StudyProgress:
-    """Passed to the ``progress`` callback of :func:`hbm.study.run_study` after each run."""
+    """Passed to the ``progress`` callback of :func:`hbm.study.run_study` after each run.
+
+    Attributes
+    ----------
+    points : int
+        Runs finished, reused ones included.
+    runs : int
+        Runs of the study.
+    failed : int
+        Finished runs that failed.
+    reused : int
+        Runs found in the folder and not recomputed.
+    elapsed : float
+        Time since the study started, in s.
+
+    Examples
+    --------
+    >>> p = StudyProgress(points=4, runs=10, failed=1, reused=2, elapsed=3.0)
+    >>> p.eta
+    9.0
+    """
 
     points: int  #: runs finished (reused ones included)
     runs: int  #: runs of the study
@@ -122,6 +162,34 @@ class StudyResult:
     ``records`` holds one record per run in the study's order (None for a run not computed:
     interrupted, or lost with its worker); a record is a dict with ``run``, ``id``, ``params``,
     the :data:`hbm.study.RESULT_COLUMNS` and ``curve``.
+
+    Attributes
+    ----------
+    parameters : tuple of str
+        The names varied.
+    records : list of dict or None
+        One record per run, in the study's order (None for a run not computed).
+    files : dict
+        The files written, by kind (``"records"``, ``"csv"``, ``"partial"``, ``"json"``,
+        ``"png"``) as ``pathlib.Path``.
+    computed : int
+        Runs computed by this call.
+    reused : int
+        Runs found in the folder and not recomputed.
+    lost : list of (int, str)
+        ``(run number, reason)`` of the runs not computed (a worker died); a rerun into the same
+        folder computes them.
+    elapsed : float
+        Wall-clock time of the call, in s.
+    summary : dict
+        The summary written to ``study.json``.
+
+    Examples
+    --------
+    >>> r = StudyResult(parameters=("x",), records=[None], files={}, computed=0, reused=0,
+    ...                 lost=[(1, "worker died")], elapsed=0.0)
+    >>> r.complete, r.success, r.exit_code
+    (False, False, 1)
     """
 
     parameters: tuple  #: the names varied
