@@ -226,6 +226,21 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     ------
     SceneError
         When ``plan`` is None and the scene is physically impossible (see ``plan_scene``).
+
+    Examples
+    --------
+    An amplitude sweep of a Jenkins element at one frequency: 5 amplitudes, 5 rows.
+
+    >>> import tempfile
+    >>> from hbm.scenes import run_scene, scene_from_dict
+    >>> scene = scene_from_dict({"damper": {"model": "macroslip", "stiffness": 1.0e6, "slip_force": 1.0},
+    ...                          "sweep": {"kind": "amplitude", "omega": [0.0], "amplitude": [0.1, 10.0],
+    ...                                    "points": 5},
+    ...                          "output": {"formats": ["csv"]}})
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     result = run_scene(scene, out)
+    >>> result.success, result.points, result.files["csv"].name
+    (True, 5, 'coefficients.csv')
     """
     from .reporting import figure, run_summary, jsonable
 

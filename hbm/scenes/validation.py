@@ -99,6 +99,19 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
     SceneError
         When the file is missing or not TOML, or lists every problem of its content at once
         (unknown names, wrong types, values out of range, missing keys, rules between keys).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from hbm.scenes import load_scene
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder) / "jenkins.toml"
+    ...     _ = path.write_text('[damper]\\nmodel = "macroslip"\\nstiffness = 1e6\\nslip_force = 1.0\\n'
+    ...                         '[sweep]\\nkind = "amplitude"\\nomega = [0.0]\\namplitude = [0.1, 10.0]\\n')
+    ...     scene = load_scene(path, overrides={"sweep.points": 5})
+    >>> scene.name, scene.sweep["points"], scene.output["folder"]
+    ('jenkins', 5, 'jenkins')
     """
     return scene_from_dict(read_toml(path), path, overrides=overrides)
 
