@@ -206,7 +206,7 @@ def text(v: Any) -> str:
     Parameters
     ----------
     v : object
-        The value read from the scene.
+        The scene's value of a key that takes a string.
 
     Returns
     -------

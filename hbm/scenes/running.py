@@ -184,7 +184,7 @@ def columns(scene: Scene) -> tuple:
     Parameters
     ----------
     scene : Scene
-        A validated scene.
+        A validated scene (its ``sweep.kind`` decides the columns).
 
     Returns
     -------

@@ -182,7 +182,7 @@ def scene_from_dict(data: dict, path: str | Path = "<scene>", *, overrides: Mapp
     Returns
     -------
     Scene
-        The validated scene, every default filled in.
+        The validated scene, with the defaults of the keys ``data`` leaves out.
 
     Raises
     ------
