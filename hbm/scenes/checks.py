@@ -14,7 +14,22 @@ import math
 from typing import Any, Callable, Iterable, NamedTuple
 
 class SceneError(ValueError):
-    """An invalid scene: ``problems`` lists every message (file, table.key, value, what is allowed)."""
+    """An invalid scene: ``problems`` lists every message (file, table.key, value, what is allowed).
+
+    A ``ValueError``: its text is the problems, one a line.
+
+    Parameters
+    ----------
+    problems : iterable of str
+        Every problem found, each naming the file, ``table.key``, the value and what is allowed.
+
+    Examples
+    --------
+    >>> from hbm.scenes import SceneError
+    >>> err = SceneError(["a.toml: sweep.omega is missing", "a.toml: [damper] is missing"])
+    >>> len(err.problems), isinstance(err, ValueError)
+    (2, True)
+    """
 
     def __init__(self, problems: Iterable[str]) -> None:
         self.problems = list(problems)
@@ -22,7 +37,16 @@ class SceneError(ValueError):
 
 
 class Invalid(Exception):
-    """A value check failed; the argument says what is allowed."""
+    """A value check failed; the argument says what is allowed.
+
+    Raised by a key's check (``number``, ``choice``, ...); validation turns it into one problem of
+    a ``SceneError``, prefixed with the file, ``table.key`` and the value.
+
+    Parameters
+    ----------
+    *args : str
+        What is allowed, e.g. ``"must be a number > 0 (N)"``.
+    """
 
 
 #: Marker: the key must be given.
@@ -35,6 +59,22 @@ class Key(NamedTuple):
 
     ``default`` is a value, :data:`REQUIRED` (the key must be given) or :data:`OPTIONAL` (it may
     be left out; its meaning then depends on other keys).
+
+    Parameters
+    ----------
+    check : callable
+        ``check(value) -> converted value``, raising ``Invalid`` with what is allowed.
+    default : object
+        The value taken when the key is left out, ``REQUIRED`` or ``OPTIONAL``.
+    doc : str
+        One line on the key's meaning and units, for messages, ``python -m hbm keys`` and the docs.
+
+    Examples
+    --------
+    >>> from hbm.scenes import Key, number
+    >>> key = Key(number(gt=0, unit="N"), 1.0, "slip force (N)")
+    >>> key.check(2), key.default
+    (2.0, 1.0)
     """
 
     check: Callable[[Any], Any]
@@ -65,11 +105,28 @@ def number(*, gt: float | None = None, ge: float | None = None, lt: float | None
 
     The check returns the value as a float and raises :class:`Invalid` saying what is allowed.
 
+    Parameters
+    ----------
+    gt, ge, lt : float or None, optional
+        Bounds: the value must be ``> gt``, ``>= ge`` and ``< lt``; None (default) for no bound.
+    unit : str, optional
+        The unit, shown in messages (default ``""``, none).
+    allow_inf : bool, optional
+        Accept ``+inf`` (default False: finite values only; NaN is always refused).
+
+    Returns
+    -------
+    callable
+        ``check(value) -> float``; booleans and non-numbers raise ``Invalid``.  Its ``what``
+        attribute says what is allowed, in words.
+
     Examples
     --------
     >>> from hbm.scenes import number
     >>> number(gt=0, unit="N")(8)
     8.0
+    >>> number(gt=0, unit="N").what
+    'a number > 0 (N)'
     """
     parts = [p for p in (f"> {gt:g}" if gt is not None else None, f">= {ge:g}" if ge is not None else None,
                          f"< {lt:g}" if lt is not None else None) if p]
@@ -93,7 +150,24 @@ def number(*, gt: float | None = None, ge: float | None = None, lt: float | None
 
 
 def integer(minimum: int) -> Callable[[Any], int]:
-    """A check of an integer >= ``minimum`` (booleans refused); raises :class:`Invalid`."""
+    """A check of an integer >= ``minimum`` (booleans refused); raises :class:`Invalid`.
+
+    Parameters
+    ----------
+    minimum : int
+        The smallest value allowed.
+
+    Returns
+    -------
+    callable
+        ``check(value) -> int``, raising ``Invalid`` for a non-integer or a value below ``minimum``.
+
+    Examples
+    --------
+    >>> from hbm.scenes import integer
+    >>> integer(1)(3)
+    3
+    """
 
     def check(v: Any) -> Any:
         if isinstance(v, bool) or not isinstance(v, int) or v < minimum:
@@ -104,21 +178,77 @@ def integer(minimum: int) -> Callable[[Any], int]:
 
 
 def boolean(v: Any) -> bool:
-    """Check of a TOML boolean: returns ``v``, or raises :class:`Invalid` for anything else."""
+    """Check of a TOML boolean: returns ``v``, or raises :class:`Invalid` for anything else.
+
+    Parameters
+    ----------
+    v : object
+        The value read from the scene.
+
+    Returns
+    -------
+    bool
+        ``v`` itself.
+
+    Raises
+    ------
+    Invalid
+        When ``v`` is not ``True`` or ``False``.
+    """
     if not isinstance(v, bool):
         raise Invalid("must be true or false")
     return v
 
 
 def text(v: Any) -> str:
-    """Check of a string: returns ``v``, or raises :class:`Invalid` for anything else."""
+    """Check of a string: returns ``v``, or raises :class:`Invalid` for anything else.
+
+    Parameters
+    ----------
+    v : object
+        The scene's value of a key that takes a string.
+
+    Returns
+    -------
+    str
+        ``v`` itself.
+
+    Raises
+    ------
+    Invalid
+        When ``v`` is not a string.
+    """
     if not isinstance(v, str):
         raise Invalid("must be a string")
     return v
 
 
 def choice(*names: str) -> Callable[[Any], str]:
-    """A check that the value is one of ``names``; the message suggests the closest name."""
+    """A check that the value is one of ``names``; the message suggests the closest name.
+
+    Parameters
+    ----------
+    *names : str
+        The allowed values.
+
+    Returns
+    -------
+    callable
+        ``check(value) -> str``: the value, or ``Invalid`` listing ``names`` (and the closest one
+        to a misspelt string).  Its ``names`` attribute holds ``names``.
+
+    Examples
+    --------
+    >>> from hbm.scenes import Invalid, choice
+    >>> check = choice("uniform", "quadratic")
+    >>> check("quadratic")
+    'quadratic'
+    >>> try:
+    ...     check("unifrom")
+    ... except Invalid as exc:
+    ...     print(exc)
+    must be one of "uniform", "quadratic" (did you mean "uniform"?)
+    """
     allowed = ", ".join(json.dumps(n) for n in names)
 
     def check(v: Any) -> Any:
@@ -135,7 +265,28 @@ def choice(*names: str) -> Callable[[Any], str]:
 
 
 def one_or_list(item: Callable[[Any], Any], what: str) -> Callable[[Any], tuple]:
-    """A single value or a non-empty list of distinct values (a study over them); returns a tuple."""
+    """A single value or a non-empty list of distinct values (a study over them); returns a tuple.
+
+    Parameters
+    ----------
+    item : callable
+        The check of one value.
+    what : str
+        One value in words, for messages (e.g. ``"a number > 0 (N)"``).
+
+    Returns
+    -------
+    callable
+        ``check(value) -> tuple``: each value passed through ``item``; ``Invalid`` for an empty
+        list, a value ``item`` refuses, or a repeated value.
+
+    Examples
+    --------
+    >>> from hbm.scenes import number, one_or_list
+    >>> check = one_or_list(number(gt=0), "a number > 0")
+    >>> check(5), check([1, 2])
+    ((5.0,), (1.0, 2.0))
+    """
 
     def check(v: Any) -> Any:
         values = v if isinstance(v, list) else [v]
@@ -157,6 +308,26 @@ def number_list(item: Callable[[Any], float], *, length: int | None = None,
     """A check of a list of numbers, each passing ``item`` (``length`` exactly, or ``minimum`` at least).
 
     The check returns a tuple of floats and raises :class:`Invalid` saying what is allowed.
+
+    Parameters
+    ----------
+    item : callable
+        The check of one number, made by ``number`` (its ``what`` attribute is used in messages).
+    length : int or None, optional
+        The exact length required; default None (any length of at least ``minimum``).
+    minimum : int, optional
+        The smallest length allowed when ``length`` is None (default 1).
+
+    Returns
+    -------
+    callable
+        ``check(value) -> tuple of float``.
+
+    Examples
+    --------
+    >>> from hbm.scenes import number, number_list
+    >>> number_list(number(ge=0), length=2)([1, 2.5])
+    (1.0, 2.5)
     """
 
     def check(v: Any) -> Any:

@@ -36,7 +36,17 @@ SCENE_HARMONICS = 11
 
 @dataclass
 class Effect:
-    """One physical effect of a run: simulated or not, and why."""
+    """One physical effect of a run: simulated or not, and why.
+
+    Parameters
+    ----------
+    name : str
+        The effect's name (as registered with ``register_effect``).
+    simulated : bool
+        Whether the run simulates the effect.
+    reason : str
+        Why, in words (shown by ``python -m hbm run`` and written to ``summary.json``).
+    """
 
     name: str
     simulated: bool
@@ -48,7 +58,21 @@ class Effect:
 
 @dataclass(frozen=True)
 class EffectSpec:
-    """An effect: ``name``, the ``[effects]`` key that sets it (``key_name``, ``key``) and its decider."""
+    """An effect: ``name``, the ``[effects]`` key that sets it (``key_name``, ``key``) and its decider.
+
+    Parameters
+    ----------
+    name : str
+        The effect's name.
+    decide : callable
+        ``decide(run) -> Effect or None``; ``run`` is the planned run's ``RunContext``, which the
+        decider may change (its element, ``inertia``, ``topology``).  None: the effect does not
+        apply to the run.
+    key_name : str or None, optional
+        The ``[effects]`` key that sets the effect, or None.
+    key : Key or None, optional
+        That key's check, default and doc (given with ``key_name``).
+    """
 
     name: str
     decide: Callable[[Any], Effect | None]
@@ -65,6 +89,41 @@ def register_effect(name: str, decide: Callable[[Any], Effect | None], *, key_na
 
     The decider runs after the effects already registered, or just before the one named
     ``before``.  Returns the :class:`EffectSpec`.
+
+    Parameters
+    ----------
+    name : str
+        The effect's name (non-empty, not registered already).
+    decide : callable
+        ``decide(run) -> Effect or None``, called with each planned run's ``RunContext``.
+    key_name : str or None, optional
+        Name of the ``[effects]`` key that sets the effect; given with ``key``.  Default None.
+    key : Key or None, optional
+        The check, default and doc of ``effects.<key_name>``.  Default None.
+    before : str or None, optional
+        Name of a registered effect to decide just before; default None (after all of them).
+
+    Returns
+    -------
+    EffectSpec
+        The spec inserted into ``EFFECTS``.
+
+    Raises
+    ------
+    ValueError
+        When ``name`` is empty or registered already, ``decide`` is not callable, only one of
+        ``key_name`` and ``key`` is given, ``key_name`` is another effect's key, or ``before``
+        names no registered effect.
+
+    Examples
+    --------
+    >>> from hbm.scenes import EFFECTS, Effect, register_effect, unregister_effect
+    >>> spec = register_effect("note", lambda run: Effect("note", False, "a test effect"))
+    >>> EFFECTS[-1].name
+    'note'
+    >>> unregister_effect("note")
+    >>> any(e.name == "note" for e in EFFECTS)
+    False
     """
     if not isinstance(name, str) or not name:
         raise ValueError(f"name must be a non-empty string, got name={name!r}")
@@ -85,7 +144,18 @@ def register_effect(name: str, decide: Callable[[Any], Effect | None], *, key_na
 
 
 def unregister_effect(name: str) -> None:
-    """Remove the effect ``name``."""
+    """Remove the effect ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The effect's name.
+
+    Raises
+    ------
+    ValueError
+        When no effect of that name is registered.
+    """
     for i, e in enumerate(EFFECTS):
         if e.name == name:
             del EFFECTS[i]

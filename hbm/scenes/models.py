@@ -33,7 +33,17 @@ BAR_KEYS = ("E", "rho", "A", "L", "k", "mu")
 
 
 class Built(NamedTuple):
-    """What a spec's ``build`` may return instead of a bare element."""
+    """What a spec's ``build`` may return instead of a bare element.
+
+    Parameters
+    ----------
+    element : contact_models.ContactElement
+        The run's contact element.
+    label : str
+        The run's name in the CSV, the summary and the figure.
+    note : str, optional
+        One line on how the element was made, shown in the effects' reasons (default ``""``).
+    """
 
     element: Any
     label: str  #: the run's name in the CSV, the summary and the figure
@@ -107,6 +117,44 @@ def register_model(name: str, build: Callable[[Any], Any], *, keys: Mapping[str,
     may be owned by several models only as the same :class:`Key` object.  ``replace=True``
     replaces a registered model of that name.  See :class:`ModelSpec` for the rest.
 
+    Parameters
+    ----------
+    name : str
+        The value of ``damper.model`` that selects the model (non-empty, no surrounding spaces).
+    build : callable
+        ``build(run) -> element`` or ``Built``; ``run`` is the ``RunContext`` of the run.
+    keys : mapping or None, optional
+        ``[damper]`` keys the model owns: name -> ``Key``; default none.
+    needs : set, tuple or callable, optional
+        ``"bar"`` and/or ``"load"``, or ``needs(given) -> set`` of them; default nothing.
+    microslip : callable or None, optional
+        ``microslip(damper) -> "two-region" | "three-region" | "auto"``, for a model resting on
+        a microslip element; default None.
+    unit : callable or None, optional
+        ``unit(run) -> (metres, name)``, the amplitude unit of amplitude sweeps; default None
+        (the element's reference amplitude).
+    doc : str, optional
+        One line for ``python -m hbm models`` and the docs.
+    example : callable or None, optional
+        ``example() -> element``, a representative element for the property tests.
+    validate : callable or None, optional
+        ``validate(given) -> list of str``, rules between the model's keys.
+    replace : bool, optional
+        Replace a model registered under ``name`` (default False).
+
+    Returns
+    -------
+    ModelSpec
+        The spec registered in ``MODELS``.
+
+    Raises
+    ------
+    ValueError
+        When ``name`` is empty or registered already (without ``replace``), ``build`` is not
+        callable, a key is not a ``Key``, is one of the shared ``[damper]`` keys or belongs to
+        another model with another meaning, or ``needs`` names something other than ``"bar"``
+        and ``"load"``.
+
     Examples
     --------
     >>> from contact_models import Macroslip
@@ -147,7 +195,18 @@ def register_model(name: str, build: Callable[[Any], Any], *, keys: Mapping[str,
 
 
 def unregister_model(name: str) -> None:
-    """Remove the model ``name`` registered with :func:`register_model`."""
+    """Remove the model ``name`` registered with :func:`register_model`.
+
+    Parameters
+    ----------
+    name : str
+        The model's name (the value of ``damper.model``).
+
+    Raises
+    ------
+    ValueError
+        When no model of that name is registered.
+    """
     if name not in _MODELS:
         raise ValueError(f"name={name!r} is not a registered model; registered: {', '.join(_MODELS)}")
     del _MODELS[name]

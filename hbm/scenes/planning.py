@@ -25,6 +25,33 @@ class RunContext:
     The element is built by the model's spec on first use of :attr:`element` (after the deciders
     that shape it: inertia, topology); without damper inertia a frequency-dependent element is
     wrapped in ``contact_models.QuasiStatic``.
+
+    Parameters
+    ----------
+    scene : Scene
+        The validated scene.
+    spec : ModelSpec
+        The model of this run (``MODELS[name]``).
+    index : int
+        Position of the run in the plan, from 0 (the outputs number runs from 1).
+    N : float or None
+        Total normal load of this run (N), or None for a model that needs no load.
+    bar : contact_models.Bar or None
+        The bar of the scene's ``[damper]`` keys, or None.
+    blade : object
+        The ``hbm.Blade`` (or ``hbm.Structure``) of a frequency sweep; None for an amplitude sweep.
+    omega : tuple of float
+        The sweep's range (frequency sweep) or frequencies (amplitude sweep), in rad/s.
+    params : dict
+        The ``[damper]`` keys this model owns, validated, defaults filled in.
+    inertia : bool or None, optional
+        Whether damper inertia is simulated; set by the inertia decider.
+    topology : str or None, optional
+        ``"two-region"`` or ``"three-region"``; set by the topology decider.
+    micro : object, optional
+        The microslip element of a model on the bar; set by the topology decider.
+    effects : list of Effect, optional
+        The decisions made so far, in the order of ``EFFECTS``.
     """
 
     scene: Scene
@@ -109,7 +136,29 @@ class RunContext:
 
 @dataclass
 class RunPlan:
-    """One computation of a scene: a model at a normal load."""
+    """One computation of a scene: a model at a normal load.
+
+    Parameters
+    ----------
+    index : int
+        Position of the run in the plan, from 0 (the outputs number runs from 1).
+    model : str
+        The run's label (``"auto"`` resolved, e.g. ``"two-region (auto)"``).
+    N : float or None
+        Total normal load (N), or None for a model that needs no load.
+    element : contact_models.ContactElement
+        The contact element the run computes with.
+    effects : list of Effect
+        Every effect decided for the run: simulated or not, and why.
+    omega : tuple of float
+        The sweep's range (frequency sweep) or frequencies (amplitude sweep), in rad/s.
+    a_ref : float or None, optional
+        Amplitude unit of an amplitude sweep (m); None for a frequency sweep.
+    a_min : float or None, optional
+        The element's linear amplitude at the sweep's lowest frequency (m).
+    unit_name : str, optional
+        Name of the amplitude unit (default ``"a_min"``).
+    """
 
     index: int
     model: str  #: the run's label ("auto" resolved: "two-region (auto)")
@@ -128,7 +177,18 @@ class RunPlan:
 
 @dataclass
 class Plan:
-    """The runs of a scene, with its blade (None for an amplitude sweep)."""
+    """The runs of a scene, with its blade (None for an amplitude sweep).
+
+    Parameters
+    ----------
+    scene : Scene
+        The validated scene.
+    blade : object
+        The ``hbm.Blade`` (or ``hbm.Structure`` of ``[structure]``) of a frequency sweep; None
+        for an amplitude sweep.
+    runs : list of RunPlan
+        One per model and normal load, models in the order of ``damper.model``.
+    """
 
     scene: Scene
     blade: Any
@@ -139,6 +199,33 @@ def plan_scene(scene: Scene) -> Plan:
     """Decide every effect and build the element of each run.
 
     Raises :class:`SceneError` for physically impossible scenes (the message names the key).
+
+    Parameters
+    ----------
+    scene : Scene
+        A validated scene (``load_scene``, ``scene_from_dict``).
+
+    Returns
+    -------
+    Plan
+        One run per model of ``damper.model`` and, for a model that needs a load, per load of
+        ``damper.load.N``; each with its element built and its effects decided.
+
+    Raises
+    ------
+    SceneError
+        For physically impossible scenes (a blade or structure that cannot be built, an amplitude
+        unit the model does not have, a build that does not return a contact element), listing
+        every run's problems at once.
+
+    Examples
+    --------
+    >>> from hbm.scenes import plan_scene, scene_from_dict
+    >>> scene = scene_from_dict({"damper": {"model": "macroslip", "stiffness": 1.0e6, "slip_force": 1.0},
+    ...                          "sweep": {"kind": "amplitude", "omega": [0.0], "amplitude": [0.1, 10.0]}})
+    >>> plan = plan_scene(scene)
+    >>> len(plan.runs), plan.runs[0].label, plan.runs[0].a_ref
+    (1, 'macroslip', 1e-06)
     """
     from contact_models import Bar
 

@@ -115,7 +115,27 @@ def figure(scene: Any, results: list, path: str | Path) -> Path:
 
 def effect_lines(plan: Plan) -> list:
     """Per effect: simulated or not, in which runs, and why (the first run's reason when the runs'
-    reasons differ; every run's is in summary.json)."""
+    reasons differ; every run's is in summary.json).
+
+    Parameters
+    ----------
+    plan : Plan
+        The scene's plan (``plan_scene``), its effects decided.
+
+    Returns
+    -------
+    list of str
+        One line per effect and decision, ``"  name: simulated - reason"`` or
+        ``"  name: not simulated [runs 1-3] - reason"`` when the runs' decisions differ.
+
+    Examples
+    --------
+    >>> from hbm.scenes import effect_lines, plan_scene, scene_from_dict
+    >>> scene = scene_from_dict({"damper": {"model": "macroslip", "stiffness": 1.0e6, "slip_force": 1.0},
+    ...                          "sweep": {"kind": "amplitude", "omega": [0.0], "amplitude": [0.1, 10.0]}})
+    >>> len(effect_lines(plan_scene(scene)))
+    3
+    """
     n = len(plan.runs)
     groups = {}
     for r in plan.runs:
@@ -146,7 +166,20 @@ def _ranges(numbers) -> str:
 
 
 def summary_lines(result: Any) -> list:
-    """The end-of-run summary of a :class:`hbm.scenes.running.SceneResult` as lines of text."""
+    """The end-of-run summary of a :class:`hbm.scenes.running.SceneResult` as lines of text.
+
+    Parameters
+    ----------
+    result : SceneResult
+        What ``run_scene`` returned.
+
+    Returns
+    -------
+    list of str
+        The scene, every effect (``effect_lines``), each run's points, time, counters and peak
+        (omega in rad/s, amplitude in m), the files written and, after a failure, what failed
+        and which points were kept.  The command line prints them; nothing here prints.
+    """
     lines = []
     scene = result.plan.scene
     lines.append(f"scene: {scene.path}" + (f" ({scene.title})" if scene.title else ""))

@@ -23,7 +23,25 @@ from .validation import Scene
 
 @dataclass
 class Progress:
-    """Passed to the ``progress`` callback of :func:`run_scene` after each point."""
+    """Passed to the ``progress`` callback of :func:`run_scene` after each point.
+
+    Parameters
+    ----------
+    run : int
+        Number of the run the point belongs to, from 1.
+    runs : int
+        Number of runs of the scene.
+    label : str
+        The run's label (model, and normal load when the model has one).
+    omega : float
+        Frequency of the point (rad/s).
+    fraction : float
+        How far along the run's sweep the point is (0 to 1).
+    points : int
+        Points written so far, over all runs.
+    elapsed : float
+        Seconds since the scene started.
+    """
 
     run: int  #: number of the run, from 1
     runs: int
@@ -56,7 +74,30 @@ class Progress:
 
 @dataclass
 class RunResult:
-    """What one run computed: its FRF or table, success, message, points and time."""
+    """What one run computed: its FRF or table, success, message, points and time.
+
+    Parameters
+    ----------
+    plan : RunPlan
+        The planned run (model, normal load, element, effects).
+    success : bool, optional
+        True when the run finished (default False until it has).
+    message : str, optional
+        Why the run stopped: the solver's message, or the exception that ended it.
+    frf : FRF or None, optional
+        The traced response of a frequency sweep (``hbm.frequency_response``'s result), else None.
+    table : dict or None, optional
+        The table of an amplitude sweep: ``"omega"`` (rad/s), ``"a"`` (m), and the normalised
+        ``"F_s"``, ``"F_c"`` per frequency; None for a frequency sweep.
+    points : int, optional
+        Points the run wrote.
+    seconds : float, optional
+        Wall-clock time of the run (s).
+    peak : object, optional
+        The FRF's peak (``FRF.peak()``) of a frequency sweep with points, else None.
+    summary : dict, optional
+        The run's entry in ``summary.json``.
+    """
 
     plan: RunPlan
     success: bool = False
@@ -76,7 +117,26 @@ class RunResult:
 
 @dataclass
 class SceneResult:
-    """What :func:`run_scene` did: ``success``, ``message``, per-run results, files, summary."""
+    """What :func:`run_scene` did: ``success``, ``message``, per-run results, files, summary.
+
+    Parameters
+    ----------
+    plan : Plan
+        The plan that was run.
+    runs : list of RunResult
+        One result per run, in the plan's order.
+    success : bool
+        True when every run succeeded.
+    message : str
+        ``"every run succeeded"``, or which runs failed and why.
+    files : dict
+        Kind (``"csv"``, ``"png"``, ``"json"``) -> ``Path`` of the file written.  After a failed
+        run the CSV is the ``.partial.csv`` file and no figure is drawn.
+    summary : dict
+        The content of ``summary.json`` (also returned when ``"json"`` is not among the formats).
+    points : int
+        Rows written to the CSV, over all runs.
+    """
 
     plan: Plan
     runs: list
@@ -93,13 +153,45 @@ class SceneResult:
 
 
 def output_names(scene: Scene) -> dict:
-    """File names of a scene's outputs: ``{"csv", "partial", "png", "json"}``."""
+    """File names of a scene's outputs: ``{"csv", "partial", "png", "json"}``.
+
+    Parameters
+    ----------
+    scene : Scene
+        A validated scene.
+
+    Returns
+    -------
+    dict
+        Kind -> file name: ``frf.*`` for a frequency sweep, ``coefficients.*`` for an amplitude
+        sweep, and ``summary.json``.
+
+    Examples
+    --------
+    >>> from hbm.scenes import output_names, scene_from_dict
+    >>> scene = scene_from_dict({"damper": {"model": "macroslip", "stiffness": 1.0e6, "slip_force": 1.0},
+    ...                          "sweep": {"kind": "amplitude", "omega": [0.0], "amplitude": [0.1, 10.0]}})
+    >>> output_names(scene)["csv"]
+    'coefficients.csv'
+    """
     stem = "frf" if scene.sweep["kind"] == "frequency" else "coefficients"
     return {"csv": f"{stem}.csv", "partial": f"{stem}.partial.csv", "png": f"{stem}.png", "json": "summary.json"}
 
 
 def columns(scene: Scene) -> tuple:
-    """The CSV columns of ``scene``: the run's columns, then the FRF's or the table's."""
+    """The CSV columns of ``scene``: the run's columns, then the FRF's or the table's.
+
+    Parameters
+    ----------
+    scene : Scene
+        A validated scene (its ``sweep.kind`` decides the columns).
+
+    Returns
+    -------
+    tuple of str
+        Column names: ``"run"``, ``"model"``, ``"normal_load_N"``, then those of the FRF
+        (frequency sweep) or of the coefficient table (amplitude sweep).
+    """
     return RUN_COLUMNS + (FRF_COLUMNS if scene.sweep["kind"] == "frequency" else TABLE_COLUMNS)
 
 
@@ -111,6 +203,44 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     ``progress(Progress)`` is called after each point.  A run that fails (the continuation stops
     short, or the element raises) is recorded and the next run goes on; the result's
     ``success`` is False and the CSV keeps its ``.partial.csv`` name.
+
+    Parameters
+    ----------
+    scene : Scene
+        A validated scene (``load_scene``, ``scene_from_dict``).
+    out : str, Path or None, optional
+        Output folder, created if needed; files of an earlier run of the scene there are removed
+        first.  Default ``scene.output["folder"]``.
+    plan : Plan or None, optional
+        The scene's plan, when it is made already (``plan_scene(scene)``); default planned here.
+    progress : callable or None, optional
+        ``progress(Progress)``, called after each point written; default None.
+
+    Returns
+    -------
+    SceneResult
+        ``success``, ``message``, the per-run results, the files written and the summary.  A
+        failed run does not raise: it is reported here, and the points before it are kept.
+
+    Raises
+    ------
+    SceneError
+        When ``plan`` is None and the scene is physically impossible (see ``plan_scene``).
+
+    Examples
+    --------
+    An amplitude sweep of a Jenkins element at one frequency: 5 amplitudes, 5 rows.
+
+    >>> import tempfile
+    >>> from hbm.scenes import run_scene, scene_from_dict
+    >>> scene = scene_from_dict({"damper": {"model": "macroslip", "stiffness": 1.0e6, "slip_force": 1.0},
+    ...                          "sweep": {"kind": "amplitude", "omega": [0.0], "amplitude": [0.1, 10.0],
+    ...                                    "points": 5},
+    ...                          "output": {"formats": ["csv"]}})
+    >>> with tempfile.TemporaryDirectory() as out:
+    ...     result = run_scene(scene, out)
+    >>> result.success, result.points, result.files["csv"].name
+    (True, 5, 'coefficients.csv')
     """
     from .reporting import figure, run_summary, jsonable
 

@@ -124,7 +124,24 @@ def _model_names(v):
 
 
 def schema() -> dict[str, dict[str, Key]]:
-    """Every table and key of a scene as registered now: ``{table: {key: Key}}``."""
+    """Every table and key of a scene as registered now: ``{table: {key: Key}}``.
+
+    Returns
+    -------
+    dict
+        Table name -> {key name -> ``Key``}: ``""`` the top level, then ``blade``,
+        ``structure``, ``damper`` (the bar's keys and every registered model's own keys),
+        ``damper.load``, ``effects`` (every registered effect's key and ``tolerance``),
+        ``sweep``, ``output`` and ``study``.  Built anew at each call, so models and effects
+        registered since are in it.
+
+    Examples
+    --------
+    >>> from hbm.scenes import schema
+    >>> tables = schema()
+    >>> tables["sweep"]["kind"].default, tables["damper.load"]["kind"].default
+    ('frequency', 'uniform')
+    """
     from .effects import EFFECTS
     from .models import MODELS
 
@@ -145,7 +162,20 @@ def schema() -> dict[str, dict[str, Key]]:
 
 
 def all_keys() -> Iterator[str]:
-    """Every ``table.key`` of the schema (top-level keys bare)."""
+    """Every ``table.key`` of the schema (top-level keys bare).
+
+    Returns
+    -------
+    iterator of str
+        The dotted names, table by table in the order of ``schema()``.
+
+    Examples
+    --------
+    >>> from hbm.scenes import all_keys
+    >>> keys = list(all_keys())
+    >>> keys[0], "damper.load.N" in keys
+    ('title', True)
+    """
     for table, keys in schema().items():
         for key in keys:
             yield dot(table, key)

@@ -28,6 +28,31 @@ class Scene:
 
     ``sweep["options"]`` holds exactly the accuracy keyword arguments of
     :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``).
+
+    Parameters
+    ----------
+    path : Path
+        The scene file (``"<scene>"`` for a scene made from a dict), named in messages.
+    title : str
+        The top-level ``title`` (``""`` when not given).
+    blade : dict or None
+        The ``[blade]`` table of a frequency sweep of the single-DOF blade, else None.
+    damper : dict
+        The ``[damper]`` table; ``damper["model"]`` is a tuple of model names (one run each).
+    load : dict or None
+        The ``[damper.load]`` table (``N`` a tuple of loads in N, one run each), or None.
+    effects : dict
+        The ``[effects]`` table, ``tolerance`` filled in (default ``sweep.tolerance``).
+    sweep : dict
+        The ``[sweep]`` table, ``omega`` in ``sweep["unit"]``, with ``options`` (see above).
+    output : dict
+        The ``[output]`` table: ``folder`` (default the file's name without ``.toml``) and
+        ``formats``.
+    structure : dict or None, optional
+        The ``[structure]`` table of a structure from matrices (file paths resolved against the
+        scene file's folder), or None.
+    study : dict or None, optional
+        The validated ``[study]`` table with its ``points``, or None.
     """
 
     path: Path
@@ -56,6 +81,37 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
 
     ``overrides`` maps ``"table.key"`` to a value that replaces the file's (as
     ``python -m hbm run --set table.key=value``).  Raises :class:`SceneError` listing every problem.
+
+    Parameters
+    ----------
+    path : str or Path
+        The TOML scene file.
+    overrides : mapping or None, optional
+        ``"table.key"`` -> value, applied over the file's values before validation; default None.
+
+    Returns
+    -------
+    Scene
+        The validated scene, every default filled in.
+
+    Raises
+    ------
+    SceneError
+        When the file is missing or not TOML, or lists every problem of its content at once
+        (unknown names, wrong types, values out of range, missing keys, rules between keys).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from pathlib import Path
+    >>> from hbm.scenes import load_scene
+    >>> with tempfile.TemporaryDirectory() as folder:
+    ...     path = Path(folder) / "jenkins.toml"
+    ...     _ = path.write_text('[damper]\\nmodel = "macroslip"\\nstiffness = 1e6\\nslip_force = 1.0\\n'
+    ...                         '[sweep]\\nkind = "amplitude"\\nomega = [0.0]\\namplitude = [0.1, 10.0]\\n')
+    ...     scene = load_scene(path, overrides={"sweep.points": 5})
+    >>> scene.name, scene.sweep["points"], scene.output["folder"]
+    ('jenkins', 5, 'jenkins')
     """
     return scene_from_dict(read_toml(path), path, overrides=overrides)
 
@@ -75,10 +131,28 @@ def read_toml(path: str | Path) -> dict:
 def parse_override(text: str) -> tuple[str, Any]:
     """``"table.key=value"`` -> ``("table.key", value)``, the value read as TOML (a bare word as a string).
 
+    Parameters
+    ----------
+    text : str
+        One override as given to ``python -m hbm run --set``, e.g. ``"sweep.max_step=0.1"``.
+
+    Returns
+    -------
+    tuple
+        ``(name, value)``: the dotted name, stripped, and the value as TOML reads it (a number,
+        a boolean, a list, ...), or the stripped text when it is not TOML.
+
+    Raises
+    ------
+    SceneError
+        When ``text`` has no ``=`` or no name before it.
+
     Examples
     --------
     >>> parse_override("sweep.max_step=0.1")
     ('sweep.max_step', 0.1)
+    >>> parse_override("damper.model=macroslip")
+    ('damper.model', 'macroslip')
     """
     name, sep, raw = text.partition("=")
     name = name.strip()
@@ -92,7 +166,37 @@ def parse_override(text: str) -> tuple[str, Any]:
 
 
 def scene_from_dict(data: dict, path: str | Path = "<scene>", *, overrides: Mapping[str, Any] | None = None) -> Scene:
-    """Validate the parsed TOML ``data`` (file name ``path`` for messages); see :func:`load_scene`."""
+    """Validate the parsed TOML ``data`` (file name ``path`` for messages); see :func:`load_scene`.
+
+    Parameters
+    ----------
+    data : dict
+        The scene as ``tomllib`` parses it: table name -> dict of keys (``damper.load`` nested in
+        ``damper``).  Not modified.
+    path : str or Path, optional
+        The name shown in messages and the default output folder's name (its stem); default
+        ``"<scene>"``.
+    overrides : mapping or None, optional
+        ``"table.key"`` -> value, applied over ``data`` before validation; default None.
+
+    Returns
+    -------
+    Scene
+        The validated scene, with the defaults of the keys ``data`` leaves out.
+
+    Raises
+    ------
+    SceneError
+        Listing every problem of ``data`` at once (one message per key, naming ``path``).
+
+    Examples
+    --------
+    >>> from hbm.scenes import scene_from_dict
+    >>> scene = scene_from_dict({"damper": {"model": "macroslip", "stiffness": 1.0e6, "slip_force": 1.0},
+    ...                          "sweep": {"kind": "amplitude", "omega": [0.0], "amplitude": [0.1, 10.0]}})
+    >>> scene.damper["model"], scene.sweep["points"]
+    (('macroslip',), 50)
+    """
     path = Path(path)
     data = apply_overrides(data, overrides or {})
     problems: list[str] = []
