@@ -51,6 +51,8 @@ GRADE_CELLS = 14
 
 
 _EPS = float(np.finfo(float).eps)
+#: The scalar types the public methods answer in floats (``_MicroslipBar._scalar_call``).
+_FLOAT_TYPES = (float, np.float64)
 _TINY = float(np.finfo(float).tiny)
 
 
@@ -175,16 +177,49 @@ class _MicroslipBar(ContactElement):
     def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *, rtol: float = DEFAULT_RTOL) -> tuple[Any, Any]:
         """As ``ContactElement.fourier``; warns (``ModelRangeWarning``) outside the single-mode range
         (``contact_models.model_range``)."""
-        out = super().fourier(a, omega, rtol=rtol)
+        one = self._scalar_call(a, omega, rtol)
+        out = super().fourier(a, omega, rtol=rtol) if one is None else one[:2]
         check_single_mode(self, a, omega)
         return out
 
     def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
                             rtol: float = DEFAULT_RTOL) -> tuple[Any, ...]:
         """As ``ContactElement.fourier_derivatives``; warns outside the single-mode range."""
-        out = super().fourier_derivatives(a, omega, rtol=rtol)
+        one = self._scalar_call(a, omega, rtol)
+        out = super().fourier_derivatives(a, omega, rtol=rtol) if one is None else one
         check_single_mode(self, a, omega)
         return out
+
+    def _scalar_call(self, a, omega, rtol):
+        """The public methods' answer for one float ``a`` and ``omega`` (Python or numpy floats) that
+        pass their checks, in floats: ``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64``, the
+        type the general path returns for scalars.  None for anything else, which the general path
+        then validates (raising its errors) and broadcasts.
+
+        The same checks as ``ContactElement._prepare`` and ``positive("rtol")`` for these types: a
+        float is accepted there exactly when it is finite and >= 0 (rtol: > 0).
+        """
+        if (type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES and type(rtol) in _FLOAT_TYPES
+                and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
+            return tuple(map(np.float64, self._derivatives_one(float(a), float(omega), float(rtol))))
+        return None
+
+    def _derivatives_one(self, a: float, w: float, rtol: float):
+        """``(f_s, f_c, df_s/da, df_c/da)`` in floats for one amplitude at one frequency."""
+        K = self._stuck_answer(w, a)
+        if K is not None:
+            return K * a, 0.0, K, 0.0
+        return _fourier_one(self._lazy_path(w).upto(a), a, rtol)
+
+    def _stuck_answer(self, w: float, a_max: float):
+        """The stuck stiffness when amplitudes up to ``a_max`` are stuck at ``w`` and that needs no
+        loading path (none built yet), else None (the path answers; at a resonance of the stuck
+        bar, K infinite, it reports it)."""
+        if w not in self._paths and a_max <= self._onset(w)[1]:
+            K = self._stuck_stiffness(w)
+            if math.isfinite(K):
+                return K
+        return None
 
     def _stuck_stiffness(self, omega):
         # Bar.stuck_stiffness for one float omega without its array checks: the same operations.
@@ -227,14 +262,13 @@ class _MicroslipBar(ContactElement):
     def _fourier_derivatives(self, a, omega, rtol):
         if omega.size == 1 or (omega.size > 1 and np.all(omega == omega[0])):  # one frequency (the solver's call)
             w = float(omega[0])
-            a_max = float(a[0]) if a.size == 1 else float(np.max(a))
-            if w not in self._paths and a_max <= self._onset(w)[1]:  # stuck: no loading path needed
-                K = self._stuck_stiffness(w)
-                if math.isfinite(K):  # (at a resonance of the stuck bar the path reports it)
-                    return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
             if a.size == 1:  # the solver's call: one amplitude, in floats
-                return tuple(np.full_like(a, v) for v in _fourier_one(self._lazy_path(w).upto(a_max), a_max, rtol))
-            return _fourier_one_omega(self._lazy_path(w).upto(float(np.max(a))), a, rtol)
+                return tuple(np.array([v]) for v in self._derivatives_one(float(a[0]), w, rtol))
+            a_max = float(np.max(a))
+            K = self._stuck_answer(w, a_max)
+            if K is not None:  # stuck: no loading path needed
+                return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+            return _fourier_one_omega(self._lazy_path(w).upto(a_max), a, rtol)
         fs, fc, dfs, dfc = (np.empty_like(a) for _ in range(4))
         for w in np.unique(omega):
             sel = omega == w

@@ -150,3 +150,53 @@ def test_float_path_for_one_amplitude_agrees_with_the_array_path():
             F = np.hypot(v[0], v[1])
             assert np.max(np.abs(s[:2] - v[:2]) / F) < 1e-14
             assert np.max(np.abs(s[2:] - v[2:])) < 1e-10 * abs(path[5])
+
+
+def _scalar_elements():
+    bar = Bar(**BAR)
+    return (TwoRegionMicroslip(bar, UniformLoad(N=100.0)),
+            ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 12.0)),
+            TwoRegionMicroslip(Bar(**{**BAR, "beta": 0.0}), UniformLoad(N=100.0)))
+
+
+@pytest.mark.filterwarnings("ignore::contact_models.model_range.ModelRangeWarning")
+def test_scalar_call_answers_as_the_array_path():
+    """The public methods' float path (``_scalar_call``: one float a and omega) against the general
+    path (validation, broadcasting, ``_fourier_derivatives`` on arrays) on fresh elements, over
+    stuck, onset, microslip and gross slip: the same values and the same type (numpy.float64)."""
+    for fast, slow in zip(_scalar_elements(), _scalar_elements()):
+        for f in (0.0, 0.06, 0.3, 0.5):
+            w = f * fast.bar.omega_c
+            a_min = slow.slip_amplitude(w)
+            for r in (0.0, 0.5, 1.0, 1.001, 2.0, 3.0, 10.0):
+                a = r * a_min
+                got = fast.fourier_derivatives(a, np.float64(w))
+                ref = slow.fourier_derivatives(np.array(a), np.array([w]))
+                assert all(type(v) is np.float64 for v in got)
+                assert np.array_equal(np.array(got), np.concatenate(ref))
+                got2 = fast.fourier(np.float64(a), w, rtol=1e-8)
+                ref2 = slow.fourier(np.array(a), np.array(w), rtol=1e-8)
+                assert all(type(v) is np.float64 for v in got2) and all(type(v) is np.float64 for v in ref2)
+                assert got2 == ref2
+
+
+@pytest.mark.parametrize("args", [(-1e-6, 1e3, 1e-6), (math.nan, 1e3, 1e-6), (math.inf, 1e3, 1e-6),
+                                  (1e-6, -1.0, 1e-6), (1e-6, math.nan, 1e-6), (1e-6, math.inf, 1e-6),
+                                  (1e-6, 1e3, 0.0), (1e-6, 1e3, -1e-6), (1e-6, 1e3, math.nan),
+                                  (np.float64(-2e-6), np.float64(1e3), 1e-6), (-1e-6, -1.0, -1.0)])
+def test_bad_scalar_input_raises_the_general_paths_errors(args):
+    """A float that fails a check leaves the float path: the general path raises its ValueError,
+    naming the parameter and the value, for a, omega and rtol alike (a checked first, then omega,
+    then rtol), with the same message as ``ContactElement``'s own checks."""
+    a, w, rtol = args
+    from contact_models.base import ContactElement
+
+    el = TwoRegionMicroslip(Bar(**BAR), UniformLoad(N=100.0))
+    for name in ("fourier", "fourier_derivatives"):
+        with pytest.raises(ValueError) as fast:
+            getattr(el, name)(a, w, rtol=rtol)
+        with pytest.raises(ValueError) as slow:  # the general path's checks (the base class's method)
+            getattr(ContactElement, name)(el, a, w, rtol=rtol)
+        assert str(fast.value) == str(slow.value)
+        name = "a" if not 0.0 <= a < math.inf else ("omega" if not 0.0 <= w < math.inf else "rtol")
+        assert str(fast.value).startswith(f"{name} must be")
