@@ -4,7 +4,8 @@ Each shortcut is checked against an independent computation: the stuck answer ag
 stuck stiffness (and that no loading path is built for it), the closed-form onset against the
 path's first point, the one-step inversion against Newton iterated to convergence, the lazily
 built three-region path against the whole path, the cmath point against the numpy one, the
-interpolation matrix against numpy's least-squares fit.
+interpolation matrix against numpy's least-squares fit, the public methods' float path for one
+float a and omega against their general path (values, types and errors).
 """
 
 import math
