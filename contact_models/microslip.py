@@ -439,10 +439,10 @@ def _fourier_one(path, a: float, rtol):
         inside = a < p.s1
         t_end = p._invert_one(a) if inside else 1.0
         graded = not inside and (a - p.s1) < GRADE_BELOW * (p.s1 - p.s0)  # as _piece_integrals
-        (js, jc, jd), (Fe, dse, dFe) = _converged_rules(p, np.array([a]), np.array([t_end]), graded, rtol)
-        Js, Jc, Jd = Js + float(js[0]), Jc + float(jc[0]), Jd + float(jd[0])
+        (js, jc, jd), (Fe, dse, dFe) = _converged_rules(p, a, t_end, graded, rtol)
+        Js, Jc, Jd = Js + js, Jc + jc, Jd + jd
         if inside:
-            Fa, dFa = float(Fe[0]), float(dFe[0] / dse[0])
+            Fa, dFa = Fe, dFe / dse
     if gross:
         Fa, dFa = F_g + K_slip * (a - a_g), K_slip
         js, jc, jd = _stretch(a, K_slip, a_g, a, _FLOATS)
@@ -479,13 +479,14 @@ def _piece_integrals(p, a, t_end, exact_end, rtol):
 
 def _converged_rules(p, a, t_end, graded, rtol):
     """The piece's integrals by rules of doubling size until two agree to ``rtol / 10``, and the
-    curve's ``(F, s', F')`` at t_end."""
+    curve's ``(F, s', F')`` at t_end.  ``a``, ``t_end``: arrays, or floats for one amplitude (the
+    solver's call; everything is then a float)."""
     n = 2 * GAUSS_START
     (prev, cur), at_end = _graded_rules(p, a, t_end, graded, (GAUSS_START, n), with_end=True)
     while True:
-        if cur[0].size == 1:  # one amplitude: the same test in floats
-            (c0,), (c1,), (p0,), (p1,) = cur[0].tolist(), cur[1].tolist(), prev[0].tolist(), prev[1].tolist()
-            agree = max(abs(c0 - p0), abs(c1 - p1)) / max(abs(c0) + abs(c1), 1e-300) <= 0.1 * rtol
+        if isinstance(a, float):  # one amplitude: the same test in floats
+            agree = (max(abs(cur[0] - prev[0]), abs(cur[1] - prev[1])) / max(abs(cur[0]) + abs(cur[1]), 1e-300)
+                     <= 0.1 * rtol)
         else:
             scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
             err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
@@ -519,25 +520,31 @@ def _rule_nodes(graded: bool, ns: tuple, with_end: bool):
 
 def _graded_rules(p, a, t_end, graded, ns, *, with_end=False):
     """``([(J_s, J_c, J_d) for each rule of n in ns], (F, s', F') at t_end or None)``: one
-    evaluation of the loading curve at the nodes of all the rules (and at tau = 0)."""
+    evaluation of the loading curve at the nodes of all the rules (and at tau = 0).
+
+    ``a``, ``t_end``: arrays (one row of nodes per amplitude), or floats for one amplitude (one
+    row, 1-D, and float results).
+    """
     tau, wts = _rule_nodes(graded, ns, with_end)
-    te = t_end[:, None]
+    one = isinstance(a, float)
+    te, A = (t_end, a) if one else (t_end[:, None], a[:, None])
     s, F, ds, dF = p.evaluate(te * (1.0 - tau * tau))
-    A = a[:, None]
     gap = np.maximum(A - s, 0.0)
     sq = np.sqrt(np.maximum(s, 0.0))
     dFj = dF * ((2.0 * te) * tau)  # dF/dt |dt/dtau|
     rg = np.sqrt(gap)
     g_s = sq * rg * dFj
     g_c = (A - 2.0 * s) * dFj
-    with np.errstate(divide="ignore", invalid="ignore"):
-        g_d = np.where(gap > 0.0, 0.5 * sq / rg, 0.0) * dFj
+    g_d = 0.5 * sq / np.where(gap > 0.0, rg, np.inf) * dFj  # 0 at the end s = a (gap = 0)
     rules, i = [], 0
     for wt in wts:
         cols = slice(i, i + wt.size)
-        rules.append((g_s[:, cols] @ wt, g_c[:, cols] @ wt, g_d[:, cols] @ wt))
+        rule = (g_s[..., cols] @ wt, g_c[..., cols] @ wt, g_d[..., cols] @ wt)
+        rules.append(tuple(map(float, rule)) if one else rule)
         i += wt.size
-    return rules, ((F[:, -1], ds[:, -1], dF[:, -1]) if with_end else None)
+    if not with_end:
+        return rules, None
+    return rules, ((float(F[-1]), float(ds[-1]), float(dF[-1])) if one else (F[:, -1], ds[:, -1], dF[:, -1]))
 
 
 class TwoRegionMicroslip(_MicroslipBar):
