@@ -189,7 +189,7 @@ class _Piece:
                 t1 = float(res.x)
         if t1 != 1.0:  # a gross-slip fold (rare): the table anew on [t0, t1]
             self.t0, self.t1 = t0, t1
-            s, F, ds, _, r = self._evaluate(tt, left=True, table=True)
+            s, F, ds, _, r = self._evaluate(tt, left=True)  # t1 depends on omega: no friction part to keep
         elif t0 != 0.0:  # an onset fold: the table's nodes past t0, and t0 itself, in the piece's t
             self.t0 = t0
             k = int(np.searchsorted(tt, t0, side="right"))

@@ -201,3 +201,22 @@ def test_bad_scalar_input_raises_the_general_paths_errors(args):
         assert str(fast.value) == str(slow.value)
         name = "a" if not 0.0 <= a < math.inf else ("omega" if not 0.0 <= w < math.inf else "rtol")
         assert str(fast.value).startswith(f"{name} must be")
+
+
+def test_table_with_the_kept_friction_part_is_the_fresh_region_solution():
+    """The per-frequency table of a two-region piece takes the friction part of its region
+    solution from the element (computed at the first frequency): against region_solution computed
+    afresh at the same boundaries, bit for bit, at several frequencies, also with a gross-slip fold
+    (beta = 0), whose table is taken anew on [t0, t1] (t1 depends on omega: computed afresh)."""
+    for bar in (Bar(**BAR), Bar(**{**BAR, "beta": 0.0})):
+        el = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
+        for f in (0.06, 0.3, 0.5, 0.3001):
+            p = el._path(f * bar.omega_c)[1][0]
+            t = lp._table_nodes(p.table_points) + 1j * lp.CSTEP
+            L1, L2 = p.boundaries(t)
+            fresh = lp.region_solution(bar, el.load, L1, L2, p.omega, left=True)
+            for kept, new in zip(p._table_regions, fresh):
+                assert new is None and kept is None or np.array_equal(kept, new)
+        kept = el._friction_tables
+        assert list(kept) == [(("two", bar.L), 0.0, 1.0, lp.TABLE_POINTS, True)]  # the first table's only
+        assert all(not v.flags.writeable for fr in kept.values() for v in fr if isinstance(v, np.ndarray))
