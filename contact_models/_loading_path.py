@@ -153,7 +153,7 @@ class _Piece:
         t0, t1 = 0.0, 1.0
         # the common case, a rising finite curve, in one test (NaN fails it, and with finite
         # ends a rising table is finite); else look for its folds
-        rising = bool(np.all(np.diff(s) > 0.0)) and math.isfinite(s[0]) and math.isfinite(s[-1])
+        rising = bool((s[1:] > s[:-1]).all()) and math.isfinite(s[0]) and math.isfinite(s[-1])
         if not rising:
             if not np.all(np.isfinite(s)):
                 raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
@@ -231,18 +231,18 @@ class _Piece:
         """
         bar, load = self.el.bar, self.el.load
         limit = bar.mu * float(load.q(0.0))
+        k, slack, k_rounding = bar.k, limit * (1.0 + 1e-9), 1e-12 * bar.k
 
-        def excess(t, s, r=None):
+        def excess(t, s, r=None):  # (arrays: the real parts are views)
             if r is None:
                 r = self._regions(t, left=True)
-            fric = np.real(r.u1_fric) * np.real(r.t0_fric)  # the table's: complex step, real to O(h^2)
-            unit = s * np.real(r.u1_unit) * np.real(r.t0_unit)
-            L1 = np.real(r.L1)
-            rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
-            return np.real(bar.k * np.abs(fric + unit) - limit * (1.0 + 1e-9) - rounding), L1
+            fric = r.u1_fric.real * r.t0_fric.real  # the table's: complex step, real to O(h^2)
+            unit = s * r.u1_unit.real * r.t0_unit.real
+            rounding = k_rounding * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
+            return k * np.abs(fric + unit) - slack - rounding, r.L1.real
 
         over, L1 = excess(t, s, regions)
-        if np.any(over > 0.0):
+        if (over > 0.0).any():
             i = int(np.argmax(over > 0.0))
             if i > 0:  # locate the crossing between two table points
                 tc = brentq(lambda u: float(excess(np.array([u]), self._s(u))[0][0]), t[i - 1], t[i], xtol=1e-14)
