@@ -110,7 +110,7 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
     S, L, mu, k, beta = bar.EA, bar.L, bar.mu, bar.k, bar.beta
     two = L2 is None
     m = np  # the functions' module; cmath for one complex point (a complex step), 10 times faster
-    if np.ndim(L1) == 0 and np.iscomplexobj(L1):
+    if isinstance(L1, complex) or (np.ndim(L1) == 0 and np.iscomplexobj(L1)):  # (the first test is quick)
         m, L1 = cmath, complex(L1)
         L2 = None if two else complex(L2)
     # --- friction-driven part (independent of theta, no inertia)
