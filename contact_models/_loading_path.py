@@ -205,7 +205,6 @@ class _Piece:
         if t0 == 0.0 or t1 != 1.0:
             self._check_left_end(tt, s, r)
         self.t_tab, self.s_tab, self.ds_tab, self._table_regions = tt, s, ds, r
-        self._lists = None  # the table as lists, for _invert_one
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if not rising and np.any(np.diff(s) <= 0.0):
@@ -352,12 +351,12 @@ class _Piece:
     def _invert_one(self, a: float) -> float:
         """``invert`` for one amplitude in floats (the solver's call, where numpy's per-call
         cost would exceed the arithmetic): the same start, steps and stopping rule."""
-        tab = self._lists
-        if tab is None:
-            tab = self._lists = (self.t_tab.tolist(), self.s_tab.tolist(), self.ds_tab.tolist())
-        t_tab, s_tab, ds_tab = tab
+        # (bisect and six float reads of the arrays: cheaper than lists of the table, as a path
+        # mostly serves one call, the continuation moving omega at each)
+        t_tab, s_tab, ds_tab = self.t_tab, self.s_tab, self.ds_tab
         j = min(max(bisect.bisect_left(s_tab, a), 1), len(s_tab) - 1)
-        return self._root_one(a, t_tab[j - 1], t_tab[j], s_tab[j - 1], s_tab[j], ds_tab[j - 1], ds_tab[j])
+        return self._root_one(a, float(t_tab[j - 1]), float(t_tab[j]), float(s_tab[j - 1]), float(s_tab[j]),
+                              float(ds_tab[j - 1]), float(ds_tab[j]))
 
     def _root_one(self, a, lo, hi, slo, shi, dlo, dhi, start=None):
         """t in [lo, hi] with s(t) = a, from the table's values s and slopes s' at lo and hi

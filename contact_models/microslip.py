@@ -253,8 +253,11 @@ class _MicroslipBar(ContactElement):
     def _stuck_onset(self, omega):
         """Two regions: slip starts at the excited end when k u(L) = mu q(L), at any frequency
         (the two-region solution at L1 = L: no slipping length, t1 = 1, x1 = mu q(L)/k)."""
-        L = self.bar.L
-        return L, float(self.bar.mu * self.load.q(L) / self.bar.k)
+        hit = self.__dict__.get("_end_onset")  # the same at every frequency: computed once
+        if hit is None:
+            L = self.bar.L
+            hit = self._end_onset = (L, float(self.bar.mu * self.load.q(L) / self.bar.k))
+        return hit
 
     def _hysteresis(self, a, omega, n):
         return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
