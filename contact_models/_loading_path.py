@@ -256,6 +256,8 @@ class _Piece:
 
     def boundaries(self, t):
         """(L1, L2) at parameter t in [0, 1] (t = 0 at the piece's start)."""
+        if self.t0 == 0.0 and self.t1 == 1.0:  # no fold: the piece's t is the raw one (0 + 1 t = t)
+            return self._boundaries(t)
         return self._boundaries(self.t0 + (self.t1 - self.t0) * t)
 
     def evaluate(self, t):

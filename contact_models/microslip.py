@@ -503,7 +503,8 @@ def _converged_rules(p, a, t_end, graded, rtol):
 @lru_cache(maxsize=64)
 def _rule_nodes(graded: bool, ns: tuple, with_end: bool):
     """Nodes tau in [0, 1] of the Gauss-Legendre rules of sizes ``ns`` (one after the other, and
-    tau = 0 last when ``with_end``) on one cell or on the graded cells, and each rule's weights."""
+    tau = 0 last when ``with_end``) on one cell or on the graded cells, ``1 - tau^2`` at them, and
+    each rule's weights."""
     if graded:
         # cells [r^(j+1), r^j] in tau, the innermost [0, r^GRADE_CELLS]
         edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
@@ -516,9 +517,10 @@ def _rule_nodes(graded: bool, ns: tuple, with_end: bool):
         taus.append((lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel())  # nodes in (0, 1)
         wts.append(((hi - lo)[:, None] * w[None, :]).ravel())
     tau = np.concatenate(taus + ([np.zeros(1)] if with_end else []))
-    for v in [tau] + wts:
+    shrink = 1.0 - tau * tau  # t = t_end (1 - tau^2)
+    for v in [tau, shrink] + wts:
         v.flags.writeable = False
-    return tau, tuple(wts)
+    return tau, shrink, tuple(wts)
 
 
 def _graded_rules(p, a, t_end, graded, ns, *, with_end=False):
@@ -528,10 +530,10 @@ def _graded_rules(p, a, t_end, graded, ns, *, with_end=False):
     ``a``, ``t_end``: arrays (one row of nodes per amplitude), or floats for one amplitude (one
     row, 1-D, and float results).
     """
-    tau, wts = _rule_nodes(graded, ns, with_end)
+    tau, shrink, wts = _rule_nodes(graded, ns, with_end)
     one = isinstance(a, float)
     te, A = (t_end, a) if one else (t_end[:, None], a[:, None])
-    s, F, ds, dF = p.evaluate(te * (1.0 - tau * tau))
+    s, F, ds, dF = p.evaluate(te * shrink)
     gap = np.maximum(A - s, 0.0)
     sq = np.sqrt(np.maximum(s, 0.0))
     dFj = dF * ((2.0 * te) * tau)  # dF/dt |dt/dtau|
