@@ -204,7 +204,10 @@ class _Piece:
             self._check_left_end(tt[1:], s[1:], r)
         if t0 == 0.0 or t1 != 1.0:
             self._check_left_end(tt, s, r)
-        self.t_tab, self.s_tab, self.ds_tab, self._table_regions = tt, s, ds, r
+        self.t_tab, self.s_tab, self.ds_tab = tt, s, ds
+        # of the table's region solution only its last point is kept (``sliding``): a path holds
+        # as few arrays as it needs (one is built per new frequency, and kept)
+        self._table_end = (float(r.F_fric[-1].real), float(r.K_tip[-1].real))
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if not rising and np.any(np.diff(s) <= 0.0):
@@ -410,8 +413,7 @@ class _TwoRegionPiece(_Piece):
         """``(F_fric, K_slip)`` of the whole bar slipping (L1 = 0): the table's last point when
         the piece reaches L1 = 0, else a fresh region solution there."""
         if self.t1 == 1.0:
-            r = self._table_regions
-            return float(r.F_fric[-1].real), float(r.K_tip[-1].real)
+            return self._table_end
         r = region_solution(self.el.bar, self.el.load, 0.0, None, self.omega)
         return float(r.F_fric), float(r.K_tip)
 

@@ -212,11 +212,14 @@ def test_table_with_the_kept_friction_part_is_the_fresh_region_solution():
         el = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
         for f in (0.06, 0.3, 0.5, 0.3001):
             p = el._path(f * bar.omega_c)[1][0]
-            t = lp._table_nodes(p.table_points) + 1j * lp.CSTEP
-            L1, L2 = p.boundaries(t)
+            tt = lp._table_nodes(p.table_points)
+            L1, L2 = p.boundaries(tt + 1j * lp.CSTEP)
             fresh = lp.region_solution(bar, el.load, L1, L2, p.omega, left=True)
-            for kept, new in zip(p._table_regions, fresh):
-                assert new is None and kept is None or np.array_equal(kept, new)
+            assert np.array_equal(p.s_tab, fresh.x1.real) and np.array_equal(p.ds_tab, fresh.x1.imag / lp.CSTEP)
+            kept = p._evaluate(tt, left=True, table=p.t1 == 1.0)[4]
+            for k, new in zip(kept, fresh):
+                assert new is None and k is None or np.array_equal(k, new)
+            assert p.sliding() == tuple(float(v[-1].real) for v in (fresh.F_fric, fresh.K_tip)) or p.t1 < 1.0
         kept = el._friction_tables
         assert list(kept) == [(("two", bar.L), 0.0, 1.0, lp.TABLE_POINTS, True)]  # the first table's only
         assert all(not v.flags.writeable for fr in kept.values() for v in fr if isinstance(v, np.ndarray))
