@@ -51,23 +51,25 @@ class Regions(NamedTuple):
     t0_unit: Any = None  #: proportional to x, when asked for (``left=True``)
 
 
-def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float, *,
-                    left: bool = False) -> Regions:
-    """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
+class Friction(NamedTuple):
+    """The friction-driven part of the region solution (independent of theta and of omega): it
+    depends on the region boundaries alone (``friction_part``)."""
+    ell_m: Any  #: slipping length
+    k0: Any  #: static stiffness of the stuck [0, L1]
+    t0_fric: Any  #: u(0)/u(L1) of that static part (``left=True``), else None
+    d0: Any  #: friction part of u(L1)
+    F_fric: Any  #: EA u_x(L) of the friction part
+    n1: Any  #: mu q(L1)/k - d0: the slip condition at L1 less its part proportional to x
+    n2: Any  #: mu q(L2)/k - u_f(L2) for three regions (the same at L2), else None
 
-    Returns a ``Regions`` tuple: ``x1, x2`` the tip displacements at which the shear
-    force at L1 resp. L2 equals mu q (Eq. 7, 21); the tip force is F = F_fric + K_tip x;
-    u(L1) = u1_fric + u1_unit x.  ``L2=None`` is the two-region case (L2 = L; x2 None).  Accepts complex L1, L2
-    (complex-step differentiation).  docs/theory.md, sections 3 and 4, derive every line.
-    """
+
+def friction_part(bar: Bar, load: Any, L1: Any, L2: Any, *, left: bool = False, m: Any = np) -> Friction:
+    """The friction-driven part of ``region_solution`` at the boundaries L1, L2 (L2 None: two
+    regions): u'' = lam^2 u stuck, u'' = mu q/EA slipping, no inertia, so no omega.  ``m``: the
+    functions' module (numpy, or cmath for one complex point)."""
     S, L, lam, mu, k, beta = bar.EA, bar.L, bar.lam, bar.mu, bar.k, bar.beta
     two = L2 is None
-    m = np  # the functions' module; cmath for one complex point (a complex step), 10 times faster
-    if np.ndim(L1) == 0 and np.iscomplexobj(L1):
-        m, L1 = cmath, complex(L1)
-        L2 = None if two else complex(L2)
     ell_m = (L if two else L2) - L1  # slipping length
-    # --- friction-driven part (independent of theta, no inertia): u'' = lam^2 u stuck, u'' = mu q/EA slipping
     # static stiffness of [0, L1] (and u(0)/u(L1) with left=True, for the left-end check)
     k0, t0_fric = impedance_transmission(beta, lam * lam, L1, S, transmission=left, m=m)
     # D2 = Q(L2) - Q(L1) - Q'(L1) ell_m and dQ = Q'(L2) - Q'(L1), Eq. 15, by Taylor at L1 (exact, no cancellation)
@@ -80,16 +82,9 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
         q1, dq1, ddq = load.q(L1), load.dq(L1), load_curvature(load)
         D2 = mu / S * (q1 * e2 / 2 + dq1 * (e2 * ell_m) / 6 + ddq * (e2 * e2) / 24)
         dQ = mu / S * (q1 * ell_m + dq1 * e2 / 2 + ddq * (e2 * ell_m) / 6)
-    # --- part proportional to x = a sin(theta): u'' = gamma^2 u stuck, u'' = -alpha^2 u slipping
-    w2 = float(omega) * float(omega)
-    a2 = bar.rho * w2 / bar.E  # Bar.alpha2, Bar.gamma2 (Eq. 12) for one float omega
-    g2 = bar.k / S - a2
-    kap, t0_unit = impedance_transmission(beta, g2, L1, S, transmission=left, m=m)  # Eq. 14, beta'(L1)
-    k_mid, t1 = impedance_transmission(kap, -a2, ell_m, S, m=m)  # t1 = u(L1)/u(L2)
     if two:
         d0 = -D2 / (1.0 + k0 * ell_m / S)  # friction part of u(L1)
-        x1 = (mu * q1 / k - d0) / t1
-        return Regions(x1, None, S * dQ + k0 * d0, k_mid, d0, t1, L1, t0_fric, t0_unit)
+        return Friction(ell_m, k0, t0_fric, d0, S * dQ + k0 * d0, mu * q1 / k - d0, None)
     ell_2 = L - L2  # right stuck length
     e = m.exp(-lam * ell_2)
     sech2 = 2.0 * e / (1.0 + e * e)
@@ -97,11 +92,42 @@ def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, om
     d0 = -(D2 + cR * S * dQ) / (1.0 + k0 * (ell_m + cR * S) / S)
     uf2 = D2 + d0 * (1.0 + k0 * ell_m / S)  # friction part of u(L2)
     F_fric = (S * dQ + k0 * d0) * sech2  # EA u_x(L) of the friction part
-    K_tip, t2 = impedance_transmission(k_mid, g2, ell_2, S, m=m)  # t2 = u(L2)/u(L)
+    return Friction(ell_m, k0, t0_fric, d0, F_fric, mu * q1 / k - d0, mu * load.q(L2) / k - uf2)
+
+
+def region_solution(bar: Bar, load: Any, L1: ArrayLike, L2: ArrayLike | None, omega: float, *,
+                    left: bool = False, friction: Friction | None = None) -> Regions:
+    """Single-mode solution for stuck [0, L1], slipping [L1, L2], stuck [L2, L] while loading.
+
+    Returns a ``Regions`` tuple: ``x1, x2`` the tip displacements at which the shear
+    force at L1 resp. L2 equals mu q (Eq. 7, 21); the tip force is F = F_fric + K_tip x;
+    u(L1) = u1_fric + u1_unit x.  ``L2=None`` is the two-region case (L2 = L; x2 None).  Accepts complex L1, L2
+    (complex-step differentiation).  docs/theory.md, sections 3 and 4, derive every line.
+
+    ``friction``: ``friction_part(bar, load, L1, L2, left=left)`` when the caller has it (it does
+    not depend on omega: a per-frequency table at fixed boundaries keeps it); else computed here.
+    """
+    S, L, mu, k, beta = bar.EA, bar.L, bar.mu, bar.k, bar.beta
+    two = L2 is None
+    m = np  # the functions' module; cmath for one complex point (a complex step), 10 times faster
+    if isinstance(L1, complex) or (np.ndim(L1) == 0 and np.iscomplexobj(L1)):  # (the first test is quick)
+        m, L1 = cmath, complex(L1)
+        L2 = None if two else complex(L2)
+    # --- friction-driven part (independent of theta, no inertia)
+    fr = friction_part(bar, load, L1, L2, left=left, m=m) if friction is None else friction
+    ell_m, k0, d0 = fr.ell_m, fr.k0, fr.d0
+    # --- part proportional to x = a sin(theta): u'' = gamma^2 u stuck, u'' = -alpha^2 u slipping
+    w2 = float(omega) * float(omega)
+    a2 = bar.rho * w2 / bar.E  # Bar.alpha2, Bar.gamma2 (Eq. 12) for one float omega
+    g2 = bar.k / S - a2
+    kap, t0_unit = impedance_transmission(beta, g2, L1, S, transmission=left, m=m)  # Eq. 14, beta'(L1)
+    k_mid, t1 = impedance_transmission(kap, -a2, ell_m, S, m=m)  # t1 = u(L1)/u(L2)
+    if two:
+        # --- slip condition k u(L1) = mu q(L1), linear in x
+        return Regions(fr.n1 / t1, None, fr.F_fric, k_mid, d0, t1, L1, fr.t0_fric, t0_unit)
+    K_tip, t2 = impedance_transmission(k_mid, g2, L - L2, S, m=m)  # t2 = u(L2)/u(L)
     # --- slip conditions k u(L_i) = mu q(L_i), linear in x
-    x1 = (mu * q1 / k - d0) / (t1 * t2)
-    x2 = (mu * load.q(L2) / k - uf2) / t2
-    return Regions(x1, x2, F_fric, K_tip, d0, t1 * t2, L1, t0_fric, t0_unit)
+    return Regions(fr.n1 / (t1 * t2), fr.n2 / t2, fr.F_fric, K_tip, d0, t1 * t2, L1, fr.t0_fric, t0_unit)
 
 
 def load_curvature(load: Any) -> float:
@@ -123,11 +149,11 @@ class _Piece:
         self.omega = omega
         self.t0, self.t1 = 0.0, 1.0
         tt = _table_nodes(self.table_points)
-        s, F, ds, _, r = self._evaluate(tt, left=True)
+        s, F, ds, _, r = self._evaluate(tt, left=True, table=True)
         t0, t1 = 0.0, 1.0
         # the common case, a rising finite curve, in one test (NaN fails it, and with finite
         # ends a rising table is finite); else look for its folds
-        rising = bool(np.all(np.diff(s) > 0.0)) and math.isfinite(s[0]) and math.isfinite(s[-1])
+        rising = bool((s[1:] > s[:-1]).all()) and math.isfinite(s[0]) and math.isfinite(s[-1])
         if not rising:
             if not np.all(np.isfinite(s)):
                 raise FloatingPointError(f"the loading curve is not finite at omega={omega!r} "
@@ -163,7 +189,7 @@ class _Piece:
                 t1 = float(res.x)
         if t1 != 1.0:  # a gross-slip fold (rare): the table anew on [t0, t1]
             self.t0, self.t1 = t0, t1
-            s, F, ds, _, r = self._evaluate(tt, left=True)
+            s, F, ds, _, r = self._evaluate(tt, left=True)  # t1 depends on omega: no friction part to keep
         elif t0 != 0.0:  # an onset fold: the table's nodes past t0, and t0 itself, in the piece's t
             self.t0 = t0
             k = int(np.searchsorted(tt, t0, side="right"))
@@ -178,8 +204,10 @@ class _Piece:
             self._check_left_end(tt[1:], s[1:], r)
         if t0 == 0.0 or t1 != 1.0:
             self._check_left_end(tt, s, r)
-        self.t_tab, self.s_tab, self.ds_tab, self._table_regions = tt, s, ds, r
-        self._lists = None  # the table as lists, for _invert_one
+        self.t_tab, self.s_tab, self.ds_tab = tt, s, ds
+        # of the table's region solution only its last point is kept (``sliding``): a path holds
+        # as few arrays as it needs (one is built per new frequency, and kept)
+        self._table_end = (float(r.F_fric[-1].real), float(r.K_tip[-1].real))
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if not rising and np.any(np.diff(s) <= 0.0):
@@ -205,18 +233,18 @@ class _Piece:
         """
         bar, load = self.el.bar, self.el.load
         limit = bar.mu * float(load.q(0.0))
+        k, slack, k_rounding = bar.k, limit * (1.0 + 1e-9), 1e-12 * bar.k
 
-        def excess(t, s, r=None):
+        def excess(t, s, r=None):  # (arrays: the real parts are views)
             if r is None:
                 r = self._regions(t, left=True)
-            fric = np.real(r.u1_fric) * np.real(r.t0_fric)  # the table's: complex step, real to O(h^2)
-            unit = s * np.real(r.u1_unit) * np.real(r.t0_unit)
-            L1 = np.real(r.L1)
-            rounding = 1e-12 * bar.k * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
-            return np.real(bar.k * np.abs(fric + unit) - limit * (1.0 + 1e-9) - rounding), L1
+            fric = r.u1_fric.real * r.t0_fric.real  # the table's: complex step, real to O(h^2)
+            unit = s * r.u1_unit.real * r.t0_unit.real
+            rounding = k_rounding * (np.abs(fric) + np.abs(unit))  # at L1 = 0 they cancel to mu q / k
+            return k * np.abs(fric + unit) - slack - rounding, r.L1.real
 
         over, L1 = excess(t, s, regions)
-        if np.any(over > 0.0):
+        if (over > 0.0).any():
             i = int(np.argmax(over > 0.0))
             if i > 0:  # locate the crossing between two table points
                 tc = brentq(lambda u: float(excess(np.array([u]), self._s(u))[0][0]), t[i - 1], t[i], xtol=1e-14)
@@ -231,16 +259,19 @@ class _Piece:
 
     def boundaries(self, t):
         """(L1, L2) at parameter t in [0, 1] (t = 0 at the piece's start)."""
+        if self.t0 == 0.0 and self.t1 == 1.0:  # no fold: the piece's t is the raw one (0 + 1 t = t)
+            return self._boundaries(t)
         return self._boundaries(self.t0 + (self.t1 - self.t0) * t)
 
     def evaluate(self, t):
         """s, F and their derivatives in t (complex step), for real array t."""
         return self._evaluate(t)[:4]
 
-    def _evaluate(self, t, left=False):
+    def _evaluate(self, t, left=False, table=False):
         """``evaluate`` and the complex-step region solution it came from (whose real parts
-        are the region solution at t, to O(CSTEP^2))."""
-        r = self._regions(np.asarray(t, dtype=float) + 1j * CSTEP, left)
+        are the region solution at t, to O(CSTEP^2)).  ``table``: t are the per-frequency
+        table's nodes (see ``_table_friction``)."""
+        r = self._regions(np.asarray(t, dtype=float) + 1j * CSTEP, left, table)
         xc, Fc = r.x1, r.F_fric + r.K_tip * r.x1
         return xc.real, Fc.real, xc.imag / CSTEP, Fc.imag / CSTEP, r
 
@@ -250,9 +281,37 @@ class _Piece:
         x, F = complex(r.x1), complex(r.F_fric + r.K_tip * r.x1)
         return x.real, F.real, x.imag / CSTEP, F.imag / CSTEP
 
-    def _regions(self, t, left=False):
+    def _regions(self, t, left=False, table=False):
         L1, L2 = self.boundaries(t)
-        return region_solution(self.el.bar, self.el.load, L1, L2, self.omega, left=left)
+        friction = self._table_friction(L1, L2, left) if table else None
+        return region_solution(self.el.bar, self.el.load, L1, L2, self.omega, left=left, friction=friction)
+
+    def _table_key(self):
+        """What fixes the table's region boundaries besides the piece's t0, t1 (None: they depend
+        on omega, as the three-region piece's L1(L2) does)."""
+        return None
+
+    def _table_friction(self, L1, L2, left):
+        """The friction part of the region solution at the table's boundaries L1, L2, or None.
+
+        It does not depend on omega (``friction_part``), and a piece whose boundaries are fixed
+        by ``_table_key`` and t0, t1 has the same table at every frequency: the element keeps it
+        (a few entries), so a new frequency computes only the part proportional to x.
+        """
+        key = self._table_key()
+        if key is None:
+            return None
+        key = (key, self.t0, self.t1, self.table_points, left)
+        store = self.el.__dict__.setdefault("_friction_tables", {})
+        hit = store.get(key)
+        if hit is None:
+            if len(store) >= 8:
+                store.clear()
+            hit = store[key] = friction_part(self.el.bar, self.el.load, L1, L2, left=left)
+            for v in hit:  # shared by the tables of every frequency: read-only
+                if isinstance(v, np.ndarray):
+                    v.flags.writeable = False
+        return hit
 
     def invert(self, a):
         """t with s(t) = a for s0 <= a <= s1 (vectorised safeguarded Newton)."""
@@ -297,12 +356,12 @@ class _Piece:
     def _invert_one(self, a: float) -> float:
         """``invert`` for one amplitude in floats (the solver's call, where numpy's per-call
         cost would exceed the arithmetic): the same start, steps and stopping rule."""
-        tab = self._lists
-        if tab is None:
-            tab = self._lists = (self.t_tab.tolist(), self.s_tab.tolist(), self.ds_tab.tolist())
-        t_tab, s_tab, ds_tab = tab
+        # (bisect and six float reads of the arrays: cheaper than lists of the table, as a path
+        # mostly serves one call, the continuation moving omega at each)
+        t_tab, s_tab, ds_tab = self.t_tab, self.s_tab, self.ds_tab
         j = min(max(bisect.bisect_left(s_tab, a), 1), len(s_tab) - 1)
-        return self._root_one(a, t_tab[j - 1], t_tab[j], s_tab[j - 1], s_tab[j], ds_tab[j - 1], ds_tab[j])
+        return self._root_one(a, float(t_tab[j - 1]), float(t_tab[j]), float(s_tab[j - 1]), float(s_tab[j]),
+                              float(ds_tab[j - 1]), float(ds_tab[j]))
 
     def _root_one(self, a, lo, hi, slo, shi, dlo, dhi, start=None):
         """t in [lo, hi] with s(t) = a, from the table's values s and slopes s' at lo and hi
@@ -347,12 +406,14 @@ class _TwoRegionPiece(_Piece):
     def _boundaries(self, t):
         return self.L1_start * (1.0 - t), None
 
+    def _table_key(self):
+        return ("two", self.L1_start)
+
     def sliding(self):
         """``(F_fric, K_slip)`` of the whole bar slipping (L1 = 0): the table's last point when
         the piece reaches L1 = 0, else a fresh region solution there."""
         if self.t1 == 1.0:
-            r = self._table_regions
-            return float(r.F_fric[-1].real), float(r.K_tip[-1].real)
+            return self._table_end
         r = region_solution(self.el.bar, self.el.load, 0.0, None, self.omega)
         return float(r.F_fric), float(r.K_tip)
 

@@ -51,6 +51,8 @@ GRADE_CELLS = 14
 
 
 _EPS = float(np.finfo(float).eps)
+#: The scalar types the public methods answer in floats (``_MicroslipBar._scalar_call``).
+_FLOAT_TYPES = (float, np.float64)
 _TINY = float(np.finfo(float).tiny)
 
 
@@ -175,16 +177,49 @@ class _MicroslipBar(ContactElement):
     def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *, rtol: float = DEFAULT_RTOL) -> tuple[Any, Any]:
         """As ``ContactElement.fourier``; warns (``ModelRangeWarning``) outside the single-mode range
         (``contact_models.model_range``)."""
-        out = super().fourier(a, omega, rtol=rtol)
+        one = self._scalar_call(a, omega, rtol)
+        out = super().fourier(a, omega, rtol=rtol) if one is None else one[:2]
         check_single_mode(self, a, omega)
         return out
 
     def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
                             rtol: float = DEFAULT_RTOL) -> tuple[Any, ...]:
         """As ``ContactElement.fourier_derivatives``; warns outside the single-mode range."""
-        out = super().fourier_derivatives(a, omega, rtol=rtol)
+        one = self._scalar_call(a, omega, rtol)
+        out = super().fourier_derivatives(a, omega, rtol=rtol) if one is None else one
         check_single_mode(self, a, omega)
         return out
+
+    def _scalar_call(self, a, omega, rtol):
+        """The public methods' answer for one float ``a`` and ``omega`` (Python or numpy floats) that
+        pass their checks, in floats: ``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64``, the
+        type the general path returns for scalars.  None for anything else, which the general path
+        then validates (raising its errors) and broadcasts.
+
+        The same checks as ``ContactElement._prepare`` and ``positive("rtol")`` for these types: a
+        float is accepted there exactly when it is finite and >= 0 (rtol: > 0).
+        """
+        if (type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES and type(rtol) in _FLOAT_TYPES
+                and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
+            return tuple(map(np.float64, self._derivatives_one(float(a), float(omega), float(rtol))))
+        return None
+
+    def _derivatives_one(self, a: float, w: float, rtol: float):
+        """``(f_s, f_c, df_s/da, df_c/da)`` in floats for one amplitude at one frequency."""
+        K = self._stuck_answer(w, a)
+        if K is not None:
+            return K * a, 0.0, K, 0.0
+        return _fourier_one(self._lazy_path(w).upto(a), a, rtol)
+
+    def _stuck_answer(self, w: float, a_max: float):
+        """The stuck stiffness when amplitudes up to ``a_max`` are stuck at ``w`` and that needs no
+        loading path (none built yet), else None (the path answers; at a resonance of the stuck
+        bar, K infinite, it reports it)."""
+        if w not in self._paths and a_max <= self._onset(w)[1]:
+            K = self._stuck_stiffness(w)
+            if math.isfinite(K):
+                return K
+        return None
 
     def _stuck_stiffness(self, omega):
         # Bar.stuck_stiffness for one float omega without its array checks: the same operations.
@@ -218,8 +253,11 @@ class _MicroslipBar(ContactElement):
     def _stuck_onset(self, omega):
         """Two regions: slip starts at the excited end when k u(L) = mu q(L), at any frequency
         (the two-region solution at L1 = L: no slipping length, t1 = 1, x1 = mu q(L)/k)."""
-        L = self.bar.L
-        return L, float(self.bar.mu * self.load.q(L) / self.bar.k)
+        hit = self.__dict__.get("_end_onset")  # the same at every frequency: computed once
+        if hit is None:
+            L = self.bar.L
+            hit = self._end_onset = (L, float(self.bar.mu * self.load.q(L) / self.bar.k))
+        return hit
 
     def _hysteresis(self, a, omega, n):
         return masing_loop(lambda x: self.loading_curve(x, omega), a, n)
@@ -227,14 +265,13 @@ class _MicroslipBar(ContactElement):
     def _fourier_derivatives(self, a, omega, rtol):
         if omega.size == 1 or (omega.size > 1 and np.all(omega == omega[0])):  # one frequency (the solver's call)
             w = float(omega[0])
-            a_max = float(a[0]) if a.size == 1 else float(np.max(a))
-            if w not in self._paths and a_max <= self._onset(w)[1]:  # stuck: no loading path needed
-                K = self._stuck_stiffness(w)
-                if math.isfinite(K):  # (at a resonance of the stuck bar the path reports it)
-                    return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
             if a.size == 1:  # the solver's call: one amplitude, in floats
-                return tuple(np.full_like(a, v) for v in _fourier_one(self._lazy_path(w).upto(a_max), a_max, rtol))
-            return _fourier_one_omega(self._lazy_path(w).upto(float(np.max(a))), a, rtol)
+                return tuple(np.array([v]) for v in self._derivatives_one(float(a[0]), w, rtol))
+            a_max = float(np.max(a))
+            K = self._stuck_answer(w, a_max)
+            if K is not None:  # stuck: no loading path needed
+                return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
+            return _fourier_one_omega(self._lazy_path(w).upto(a_max), a, rtol)
         fs, fc, dfs, dfc = (np.empty_like(a) for _ in range(4))
         for w in np.unique(omega):
             sel = omega == w
@@ -405,10 +442,10 @@ def _fourier_one(path, a: float, rtol):
         inside = a < p.s1
         t_end = p._invert_one(a) if inside else 1.0
         graded = not inside and (a - p.s1) < GRADE_BELOW * (p.s1 - p.s0)  # as _piece_integrals
-        (js, jc, jd), (Fe, dse, dFe) = _converged_rules(p, np.array([a]), np.array([t_end]), graded, rtol)
-        Js, Jc, Jd = Js + float(js[0]), Jc + float(jc[0]), Jd + float(jd[0])
+        (js, jc, jd), (Fe, dse, dFe) = _converged_rules(p, a, t_end, graded, rtol)
+        Js, Jc, Jd = Js + js, Jc + jc, Jd + jd
         if inside:
-            Fa, dFa = float(Fe[0]), float(dFe[0] / dse[0])
+            Fa, dFa = Fe, dFe / dse
     if gross:
         Fa, dFa = F_g + K_slip * (a - a_g), K_slip
         js, jc, jd = _stretch(a, K_slip, a_g, a, _FLOATS)
@@ -445,13 +482,14 @@ def _piece_integrals(p, a, t_end, exact_end, rtol):
 
 def _converged_rules(p, a, t_end, graded, rtol):
     """The piece's integrals by rules of doubling size until two agree to ``rtol / 10``, and the
-    curve's ``(F, s', F')`` at t_end."""
+    curve's ``(F, s', F')`` at t_end.  ``a``, ``t_end``: arrays, or floats for one amplitude (the
+    solver's call; everything is then a float)."""
     n = 2 * GAUSS_START
     (prev, cur), at_end = _graded_rules(p, a, t_end, graded, (GAUSS_START, n), with_end=True)
     while True:
-        if cur[0].size == 1:  # one amplitude: the same test in floats
-            (c0,), (c1,), (p0,), (p1,) = cur[0].tolist(), cur[1].tolist(), prev[0].tolist(), prev[1].tolist()
-            agree = max(abs(c0 - p0), abs(c1 - p1)) / max(abs(c0) + abs(c1), 1e-300) <= 0.1 * rtol
+        if isinstance(a, float):  # one amplitude: the same test in floats
+            agree = (max(abs(cur[0] - prev[0]), abs(cur[1] - prev[1])) / max(abs(cur[0]) + abs(cur[1]), 1e-300)
+                     <= 0.1 * rtol)
         else:
             scale = np.maximum(np.abs(cur[0]) + np.abs(cur[1]), 1e-300)
             err = np.maximum(np.abs(cur[0] - prev[0]), np.abs(cur[1] - prev[1])) / scale
@@ -465,7 +503,8 @@ def _converged_rules(p, a, t_end, graded, rtol):
 @lru_cache(maxsize=64)
 def _rule_nodes(graded: bool, ns: tuple, with_end: bool):
     """Nodes tau in [0, 1] of the Gauss-Legendre rules of sizes ``ns`` (one after the other, and
-    tau = 0 last when ``with_end``) on one cell or on the graded cells, and each rule's weights."""
+    tau = 0 last when ``with_end``) on one cell or on the graded cells, ``1 - tau^2`` at them, and
+    each rule's weights."""
     if graded:
         # cells [r^(j+1), r^j] in tau, the innermost [0, r^GRADE_CELLS]
         edges = np.concatenate(([0.0], 0.25 ** np.arange(GRADE_CELLS, -1, -1)))
@@ -478,32 +517,39 @@ def _rule_nodes(graded: bool, ns: tuple, with_end: bool):
         taus.append((lo[:, None] + (hi - lo)[:, None] * x[None, :]).ravel())  # nodes in (0, 1)
         wts.append(((hi - lo)[:, None] * w[None, :]).ravel())
     tau = np.concatenate(taus + ([np.zeros(1)] if with_end else []))
-    for v in [tau] + wts:
+    shrink = 1.0 - tau * tau  # t = t_end (1 - tau^2)
+    for v in [tau, shrink] + wts:
         v.flags.writeable = False
-    return tau, tuple(wts)
+    return tau, shrink, tuple(wts)
 
 
 def _graded_rules(p, a, t_end, graded, ns, *, with_end=False):
     """``([(J_s, J_c, J_d) for each rule of n in ns], (F, s', F') at t_end or None)``: one
-    evaluation of the loading curve at the nodes of all the rules (and at tau = 0)."""
-    tau, wts = _rule_nodes(graded, ns, with_end)
-    te = t_end[:, None]
-    s, F, ds, dF = p.evaluate(te * (1.0 - tau * tau))
-    A = a[:, None]
+    evaluation of the loading curve at the nodes of all the rules (and at tau = 0).
+
+    ``a``, ``t_end``: arrays (one row of nodes per amplitude), or floats for one amplitude (one
+    row, 1-D, and float results).
+    """
+    tau, shrink, wts = _rule_nodes(graded, ns, with_end)
+    one = isinstance(a, float)
+    te, A = (t_end, a) if one else (t_end[:, None], a[:, None])
+    s, F, ds, dF = p.evaluate(te * shrink)
     gap = np.maximum(A - s, 0.0)
     sq = np.sqrt(np.maximum(s, 0.0))
     dFj = dF * ((2.0 * te) * tau)  # dF/dt |dt/dtau|
     rg = np.sqrt(gap)
     g_s = sq * rg * dFj
     g_c = (A - 2.0 * s) * dFj
-    with np.errstate(divide="ignore", invalid="ignore"):
-        g_d = np.where(gap > 0.0, 0.5 * sq / rg, 0.0) * dFj
+    g_d = 0.5 * sq / np.where(gap > 0.0, rg, np.inf) * dFj  # 0 at the end s = a (gap = 0)
     rules, i = [], 0
     for wt in wts:
         cols = slice(i, i + wt.size)
-        rules.append((g_s[:, cols] @ wt, g_c[:, cols] @ wt, g_d[:, cols] @ wt))
+        rule = (g_s[..., cols] @ wt, g_c[..., cols] @ wt, g_d[..., cols] @ wt)
+        rules.append(tuple(map(float, rule)) if one else rule)
         i += wt.size
-    return rules, ((F[:, -1], ds[:, -1], dF[:, -1]) if with_end else None)
+    if not with_end:
+        return rules, None
+    return rules, ((float(F[-1]), float(ds[-1]), float(dF[-1])) if one else (F[:, -1], ds[:, -1], dF[:, -1]))
 
 
 class TwoRegionMicroslip(_MicroslipBar):

@@ -4,7 +4,8 @@ Each shortcut is checked against an independent computation: the stuck answer ag
 stuck stiffness (and that no loading path is built for it), the closed-form onset against the
 path's first point, the one-step inversion against Newton iterated to convergence, the lazily
 built three-region path against the whole path, the cmath point against the numpy one, the
-interpolation matrix against numpy's least-squares fit.
+interpolation matrix against numpy's least-squares fit, the public methods' float path for one
+float a and omega against their general path (values, types and errors).
 """
 
 import math
@@ -150,3 +151,75 @@ def test_float_path_for_one_amplitude_agrees_with_the_array_path():
             F = np.hypot(v[0], v[1])
             assert np.max(np.abs(s[:2] - v[:2]) / F) < 1e-14
             assert np.max(np.abs(s[2:] - v[2:])) < 1e-10 * abs(path[5])
+
+
+def _scalar_elements():
+    bar = Bar(**BAR)
+    return (TwoRegionMicroslip(bar, UniformLoad(N=100.0)),
+            ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(100.0, 12.0)),
+            TwoRegionMicroslip(Bar(**{**BAR, "beta": 0.0}), UniformLoad(N=100.0)))
+
+
+@pytest.mark.filterwarnings("ignore::contact_models.model_range.ModelRangeWarning")
+def test_scalar_call_answers_as_the_array_path():
+    """The public methods' float path (``_scalar_call``: one float a and omega) against the general
+    path (validation, broadcasting, ``_fourier_derivatives`` on arrays) on fresh elements, over
+    stuck, onset, microslip and gross slip: the same values and the same type (numpy.float64)."""
+    for fast, slow in zip(_scalar_elements(), _scalar_elements()):
+        for f in (0.0, 0.06, 0.3, 0.5):
+            w = f * fast.bar.omega_c
+            a_min = slow.slip_amplitude(w)
+            for r in (0.0, 0.5, 1.0, 1.001, 2.0, 3.0, 10.0):
+                a = r * a_min
+                got = fast.fourier_derivatives(a, np.float64(w))
+                ref = slow.fourier_derivatives(np.array(a), np.array([w]))
+                assert all(type(v) is np.float64 for v in got)
+                assert np.array_equal(np.array(got), np.concatenate(ref))
+                got2 = fast.fourier(np.float64(a), w, rtol=1e-8)
+                ref2 = slow.fourier(np.array(a), np.array(w), rtol=1e-8)
+                assert all(type(v) is np.float64 for v in got2) and all(type(v) is np.float64 for v in ref2)
+                assert got2 == ref2
+
+
+@pytest.mark.parametrize("args", [(-1e-6, 1e3, 1e-6), (math.nan, 1e3, 1e-6), (math.inf, 1e3, 1e-6),
+                                  (1e-6, -1.0, 1e-6), (1e-6, math.nan, 1e-6), (1e-6, math.inf, 1e-6),
+                                  (1e-6, 1e3, 0.0), (1e-6, 1e3, -1e-6), (1e-6, 1e3, math.nan),
+                                  (np.float64(-2e-6), np.float64(1e3), 1e-6), (-1e-6, -1.0, -1.0)])
+def test_bad_scalar_input_raises_the_general_paths_errors(args):
+    """A float that fails a check leaves the float path: the general path raises its ValueError,
+    naming the parameter and the value, for a, omega and rtol alike (a checked first, then omega,
+    then rtol), with the same message as ``ContactElement``'s own checks."""
+    a, w, rtol = args
+    from contact_models.base import ContactElement
+
+    el = TwoRegionMicroslip(Bar(**BAR), UniformLoad(N=100.0))
+    for name in ("fourier", "fourier_derivatives"):
+        with pytest.raises(ValueError) as fast:
+            getattr(el, name)(a, w, rtol=rtol)
+        with pytest.raises(ValueError) as slow:  # the general path's checks (the base class's method)
+            getattr(ContactElement, name)(el, a, w, rtol=rtol)
+        assert str(fast.value) == str(slow.value)
+        name = "a" if not 0.0 <= a < math.inf else ("omega" if not 0.0 <= w < math.inf else "rtol")
+        assert str(fast.value).startswith(f"{name} must be")
+
+
+def test_table_with_the_kept_friction_part_is_the_fresh_region_solution():
+    """The per-frequency table of a two-region piece takes the friction part of its region
+    solution from the element (computed at the first frequency): against region_solution computed
+    afresh at the same boundaries, bit for bit, at several frequencies, also with a gross-slip fold
+    (beta = 0), whose table is taken anew on [t0, t1] (t1 depends on omega: computed afresh)."""
+    for bar in (Bar(**BAR), Bar(**{**BAR, "beta": 0.0})):
+        el = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
+        for f in (0.06, 0.3, 0.5, 0.3001):
+            p = el._path(f * bar.omega_c)[1][0]
+            tt = lp._table_nodes(p.table_points)
+            L1, L2 = p.boundaries(tt + 1j * lp.CSTEP)
+            fresh = lp.region_solution(bar, el.load, L1, L2, p.omega, left=True)
+            assert np.array_equal(p.s_tab, fresh.x1.real) and np.array_equal(p.ds_tab, fresh.x1.imag / lp.CSTEP)
+            kept = p._evaluate(tt, left=True, table=p.t1 == 1.0)[4]
+            for k, new in zip(kept, fresh):
+                assert new is None and k is None or np.array_equal(k, new)
+            assert p.sliding() == tuple(float(v[-1].real) for v in (fresh.F_fric, fresh.K_tip)) or p.t1 < 1.0
+        kept = el._friction_tables
+        assert list(kept) == [(("two", bar.L), 0.0, 1.0, lp.TABLE_POINTS, True)]  # the first table's only
+        assert all(not v.flags.writeable for fr in kept.values() for v in fr if isinstance(v, np.ndarray))
