@@ -612,6 +612,9 @@ class TwoRegionMicroslip(_MicroslipBar):
     (47.653, 7.221)
     """
 
+    #: The validity map's load for this element (``contact_models.model_range``).
+    _validity_load = "uniform"
+
     def _check_topology(self) -> None:
         bar = self.bar
         x_star = bar.slip_onset(self.load, 0.0)[0] if bar.mu * self.load.N > 0.0 else bar.L
@@ -678,6 +681,9 @@ class ThreeRegionMicroslip(_MicroslipBar):
     >>> round(float(f_s), 3), round(float(f_c), 3)      # N
     (57.478, 10.511)
     """
+
+    #: The validity map's load for this element (``contact_models.model_range``).
+    _validity_load = "concave12"
 
     def _stuck_onset(self, omega):
         x_star, a_min = self.bar.slip_onset(self.load, omega)

@@ -1,56 +1,67 @@
 """Where the single-mode elements hold, and the warning they give outside it (issue 13).
 
 The single-mode dynamic elements (``TwoRegionMicroslip``, ``ThreeRegionMicroslip``) neglect the
-phase differences along the bar.  Measured against the all-mode bar (``AllModeMicroslip``) over
-a/a_min in [0.5, 100], omega/omega_c in [0.01, 0.95] and bars with lambda L and beta L/EA by
-decades (the validity map, ``docs/validation.md``), their error in F_s, F_c,
+phase differences along the bar.  Their error against the all-mode bar (``AllModeMicroslip``),
 
     e = max(|dF_s| / max(|F_s|, 0.01), |dF_c| / max(F_c, 0.01))      (F in units of k* a),
 
-is zero while the bar is stuck (a <= a_min(omega): both are exact) and otherwise grows like the
-square of the frequency at first (faster near and above the cut-off).  The closed-form bound,
-fitted to the map's points at 0.1 to 0.3 omega_c (the largest e / (omega/omega_c)^2 there), is
+was measured once over a grid (the validity map, ``examples/validity_map.py``, stored in
+``MAP_FILE`` and shown in ``docs/validation.md``): lambda L in {0.3, 1, 3, 10} times beta L/EA in
+{0.1, 1, 10}, the uniform load (two regions) and the concave load of ratio 12 (three regions),
+omega/omega_c from 0.01 to 0.95 (14 values) and a/a_min(0) from 0.5 to 100 (10 values), with a
+reference converged to well below the 1 % the warning is about (the map stores its error too).
 
-    e <= C (omega / omega_c)^2,
-    C = ERROR_COEFFICIENT[kind] * (1 + (lambda L)^2) * (1 + BETA_WEIGHT / max(beta L/EA, BETA_FLOOR)),
+The warning reads that map.  For an element it takes the map of its kind of load and
+interpolates log10 e linearly in log(lambda L) and log(beta L/EA) (clamped to the map's ranges:
+a bar outside them is taken at the nearest edge), then, at each call, in log(omega/omega_c) and
+log(a/a_min(0)).  So at the map's own points it says what the map says, and between them what the
+neighbouring points say.  Three rules complete it:
 
-so the elements are within ``TOLERANCE`` (1 %) for omega <= omega_1 = omega_c sqrt(TOLERANCE / C)
-(DESIGN.md bar: 0.10 omega_c for the two-region element, 0.082 omega_c for the three-region
-one).  Over the map no point with e > 1 % lies below omega_1 (no missed warning); the bound
-depends on frequency only, so above omega_1 it also warns at some amplitudes where the error
-happens to be smaller (docs/validation.md counts them).  Measured for lambda L in [0.3, 10],
-beta L/EA in [0.1, 10], the uniform and the ratio-12 concave loads; beta L/EA below 0.1 is
-taken as 0.1.
+- a map point where the single-mode element refuses to evaluate (its loading curve folds there:
+  the map's e is inf) carries no error value; the interpolation takes the neighbours it has (their
+  weights renormalised), and where it has none the error is taken as infinite;
+- below the element's slip onset at the frequency asked (map ratios <= a_min(omega)/a_min(0)) the
+  map's points are stuck and exact; a slipping amplitude between them and the first slipping
+  ratio takes that ratio's error (the error just past onset is like the first slipping point's);
+- below omega/omega_c = 0.01 the error falls like (omega/omega_c)^2 (the single-mode solution is
+  exact at omega = 0); above 0.95 and beyond a/a_min of 0.5 to 100 the map's edge is used.
 
-The check costs about 0.1 ms per call (a tenth of a scalar ``fourier`` call; the element's
-a_min(omega) and snap come from its cached loading path) and is not in the solver's unchecked
-path.  Separately, an element whose loading curve folds before gross slip snaps onto the
-sliding line early (stiff shear layers, lambda L of 3 and more, with inertia); that snap
-is flagged when it happens with more than ``SNAP_TOLERANCE`` L of the bar still stuck.
+Where the bar is stuck (a <= a_min(omega)) the elements are exact: e = 0.  Scored against 240
+random points off the grid (``docs/data/validity_check.csv``, ``docs/validation.md``).
+
+Separately, an element whose loading curve folds before gross slip snaps onto the sliding line
+early (stiff shear layers, lambda L of 3 and more, with inertia); that snap is flagged when it
+happens with more than ``SNAP_TOLERANCE`` L of the bar still stuck.
+
+The check costs a few microseconds per scalar call (the element's slice of the map is
+interpolated once and kept on it; the slip onset comes from the element's cache) and is not in
+the solver's unchecked path (``fourier_derivatives_unchecked``).
 """
 
 from __future__ import annotations
 
+import bisect
+import csv
 import math
 import warnings
+from functools import lru_cache
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike
 
-__all__ = ["ModelRangeWarning", "TOLERANCE", "ERROR_COEFFICIENT", "BETA_WEIGHT", "BETA_FLOOR", "SNAP_TOLERANCE",
-           "single_mode_error_bound", "single_mode_frequency_limit", "early_snap", "check_single_mode"]
+__all__ = ["ModelRangeWarning", "TOLERANCE", "SNAP_TOLERANCE", "MAP_FILE", "validity_map",
+           "single_mode_error", "single_mode_frequency_limit", "early_snap", "check_single_mode"]
 
 #: The error (relative, with a floor of 0.01 k* a) beyond which the single-mode elements warn.
 TOLERANCE = 0.01
-#: C of the bound e <= C (omega/omega_c)^2 at lambda L -> 0 and stiff beta, per element (validity map).
-ERROR_COEFFICIENT = {"two-region": 0.42, "three-region": 0.62}
-#: Weight of the soft-beta growth of C: factor 1 + BETA_WEIGHT / max(beta L/EA, BETA_FLOOR).
-BETA_WEIGHT = 0.2
-#: beta L/EA below this (outside the map) is taken at it.
-BETA_FLOOR = 0.1
 #: An early gross-slip snap is flagged when the stuck length left at the snap exceeds this fraction of L.
 SNAP_TOLERANCE = 0.01
+#: The validity map (CSV): written by ``examples/validity_map.py``, read by the warning.
+MAP_FILE = Path(__file__).resolve().parent / "data" / "validity_map.csv"
+#: Smallest error kept in the logarithmic interpolation (the map's stuck points are rounding-level).
+_ERROR_FLOOR = 1e-9
 
 
 class ModelRangeWarning(UserWarning):
@@ -58,12 +69,12 @@ class ModelRangeWarning(UserWarning):
 
     Raised (as a warning) by the single-mode elements ``TwoRegionMicroslip`` and
     ``ThreeRegionMicroslip`` where the validity map (``docs/validation.md``) says their F_s or
-    F_c error against the all-mode bar may exceed 1 %, and where they snap onto gross slip early.
+    F_c error against the all-mode bar exceeds 1 %, and where they snap onto gross slip early.
     Filter it like any warning, e.g. ``warnings.simplefilter("ignore", ModelRangeWarning)``, or
     turn it into an error with ``"error"``; use ``AllModeMicroslip`` there.
 
     It carries no attributes of its own: the message names the element class, the frequency
-    (rad/s) and the error bound there, or the early snap onto gross slip.
+    (rad/s), the amplitude and the map's error there, or the early snap onto gross slip.
 
     Examples
     --------
@@ -80,55 +91,178 @@ class ModelRangeWarning(UserWarning):
     """
 
 
-def _kind(element: Any) -> str:
-    return "three-region" if type(element).__name__ == "ThreeRegionMicroslip" else "two-region"
+@lru_cache(maxsize=None)
+def validity_map(path: Path = MAP_FILE) -> dict[str, tuple]:
+    """The validity map as grids: ``{load: (lambda_L, beta_L, w, ratio, e)}``.
+
+    ``lambda_L``, ``beta_L`` (beta L/EA), ``w`` (omega/omega_c) and ``ratio`` (a/a_min(0)) are the
+    sorted grid values (tuples); ``e`` is an array of shape ``(len(lambda_L), len(beta_L), len(w),
+    len(ratio))`` of max(e_s, e_c), inf where the single-mode element refuses the point.  ``load``
+    is ``"uniform"`` (the two-region element's map) or ``"concave12"`` (the three-region one's).
+    Read once per process.
+
+    Examples
+    --------
+    >>> from contact_models.model_range import validity_map
+    >>> lam_L, beta_L, w, ratio, e = validity_map()["uniform"]
+    >>> lam_L, beta_L, e.shape
+    ((0.3, 1.0, 3.0, 10.0), (0.1, 1.0, 10.0), (4, 3, 14, 10))
+    """
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    out = {}
+    for load in sorted({r["load"] for r in rows}):
+        sel = [r for r in rows if r["load"] == load]
+        axes = [tuple(sorted({float(r[k]) for r in sel})) for k in ("lamL", "betaL_EA", "w", "ratio")]
+        e = np.full(tuple(len(ax) for ax in axes), np.nan)
+        for r in sel:
+            idx = tuple(ax.index(float(r[k])) for ax, k in zip(axes, ("lamL", "betaL_EA", "w", "ratio")))
+            e[idx] = max(float(r["e_s"]), float(r["e_c"]))
+        if np.isnan(e).any():
+            raise ValueError(f"{path}: the map of load {load!r} is not a full grid")
+        out[load] = (*axes, e)
+    return out
 
 
-def _coefficient(element: Any) -> float:
-    bar = element.bar
-    lam_L = bar.lam * bar.L
-    b = max(bar.beta * bar.L / bar.EA, BETA_FLOOR)
-    return ERROR_COEFFICIENT[_kind(element)] * (1.0 + lam_L**2) * (1.0 + BETA_WEIGHT / b)
+def _bracket(nodes: list[float], x: float) -> tuple[int, float]:
+    """``(i, t)``: x between nodes[i] and nodes[i + 1] at fraction t in [0, 1] (clamped to the ends)."""
+    i = min(max(bisect.bisect_right(nodes, x) - 1, 0), len(nodes) - 2)
+    t = (x - nodes[i]) / (nodes[i + 1] - nodes[i])
+    return i, min(max(t, 0.0), 1.0)
 
 
-def single_mode_error_bound(element: Any, a: ArrayLike, omega: ArrayLike) -> np.ndarray:
-    """The map's bound on the single-mode element's F_s, F_c error at (a, omega): 0 where the
-    bar is stuck (a <= a_min(omega)), else C (omega/omega_c)^2 (module docstring).
+def _mix(u: float, v: float, t: float) -> float:
+    """(1 - t) u + t v, or the one of u, v that is not NaN (a refused map point), NaN if neither is."""
+    if u != u:
+        return v
+    if v != v:
+        return u
+    return (1.0 - t) * u + t * v
+
+
+class _Slice:
+    """One element's map: log10 e on the (log w, log ratio) grid (NaN where refused), interpolated
+    in the bar's log(lambda L), log(beta L/EA), and what the check needs of the element, computed once."""
+
+    def __init__(self, element: Any) -> None:
+        bar = element.bar
+        lam_L, beta_L, w, ratio, e = validity_map()[element._validity_load]
+        log_e = np.full(e.shape, np.nan)
+        np.log10(np.maximum(e, _ERROR_FLOOR), out=log_e, where=np.isfinite(e))
+        i, t = _bracket([math.log(v) for v in lam_L], math.log(max(bar.lam * bar.L, lam_L[0])))
+        j, u = _bracket([math.log(v) for v in beta_L], math.log(max(bar.beta * bar.L / bar.EA, beta_L[0])))
+        num = den = 0.0
+        for weight, corner in (((1.0 - t) * (1.0 - u), log_e[i, j]), (t * (1.0 - u), log_e[i + 1, j]),
+                               ((1.0 - t) * u, log_e[i, j + 1]), (t * u, log_e[i + 1, j + 1])):
+            if weight > 0.0:  # refused corners carry no error value: the others' weights are renormalised
+                num = num + weight * np.nan_to_num(corner)
+                den = den + weight * np.isfinite(corner)
+        table = np.where(den > 0.0, num / np.where(den > 0.0, den, 1.0), np.nan)
+        self.log_w = [math.log(v) for v in w]
+        self.log_r = [math.log(v) for v in ratio]
+        self.rows = table.tolist()  # [w][ratio] of log10 e, NaN where refused
+        self.omega_c = bar.omega_c
+        self.a_static = element.slip_amplitude(0.0)
+        self.omega_1 = self.omega_c * self._first_crossing(math.log10(TOLERANCE))
+
+    def error(self, w: float, r: float, r_onset: float) -> float:
+        """The map's error at omega/omega_c = w > 0 and a/a_min(0) = r > r_onset, the slip onset's
+        ratio a_min(omega)/a_min(0) (the ratio nodes at or below it take the first slipping node's
+        value); inf where the map's neighbours are all refused."""
+        j, u = _bracket(self.log_r, math.log(r))
+        j0 = bisect.bisect_right(self.log_r, math.log(r_onset)) if r_onset > 0.0 else 0
+        j0 = min(j0, len(self.log_r) - 1)
+        lo, hi = max(j, j0), max(j + 1, j0)
+        lw = math.log(w)
+        if lw < self.log_w[0]:  # below the map: e falls like w^2 (exact at w = 0)
+            row = self.rows[0]
+            v = _mix(row[lo], row[hi], u) + 2.0 / math.log(10.0) * (lw - self.log_w[0])
+        else:
+            i, t = _bracket(self.log_w, lw)
+            r0, r1 = self.rows[i], self.rows[i + 1]
+            v = _mix(_mix(r0[lo], r1[lo], t), _mix(r0[hi], r1[hi], t), u)
+        return 10.0 ** v if v == v else math.inf
+
+    def _first_crossing(self, level: float) -> float:
+        """The smallest w at which some ratio node's log10 e reaches ``level`` (a refused node: at
+        once; inf if none does)."""
+        best = math.inf
+        for j in range(len(self.log_r)):
+            col = [row[j] if row[j] == row[j] else math.inf for row in self.rows]
+            if col[0] >= level:
+                best = min(best, math.exp(self.log_w[0] + (level - col[0]) * math.log(10.0) / 2.0))
+                continue
+            for i in range(1, len(col)):
+                if col[i] >= level:
+                    t = (level - col[i - 1]) / (col[i] - col[i - 1])
+                    best = min(best, math.exp(self.log_w[i - 1] + t * (self.log_w[i] - self.log_w[i - 1])))
+                    break
+        return best
+
+
+def _slice(element: Any) -> _Slice:
+    """The element's ``_Slice``, built on first use and kept on it."""
+    s = element.__dict__.get("_single_mode_map")
+    if s is None:
+        s = element.__dict__["_single_mode_map"] = _Slice(element)
+    return s
+
+
+def single_mode_error(element: Any, a: ArrayLike, omega: ArrayLike) -> np.ndarray:
+    """The validity map's error e of the single-mode ``element`` at (a, omega): 0 where the bar is
+    stuck (a <= a_min(omega)), else the map interpolated (module docstring).
+
+    Parameters
+    ----------
+    element : TwoRegionMicroslip or ThreeRegionMicroslip
+        The single-mode element.
+    a, omega : array_like
+        Amplitudes (m) and frequencies (rad/s), >= 0; they broadcast.
+
+    Returns
+    -------
+    ndarray
+        max(e_s, e_c) as a fraction (0.01 is 1 %), of the broadcast shape.
 
     Examples
     --------
     >>> from contact_models import Bar, TwoRegionMicroslip, UniformLoad
-    >>> from contact_models.model_range import single_mode_error_bound
+    >>> from contact_models.model_range import single_mode_error
     >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
     >>> two = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
-    >>> float(single_mode_error_bound(two, 0.5e-6, 0.3 * bar.omega_c))  # stuck: exact
+    >>> float(single_mode_error(two, 0.5 * 7.5e-7, 0.3 * bar.omega_c))  # stuck: exact
     0.0
+    >>> bool(single_mode_error(two, 2 * 7.5e-7, 0.05 * bar.omega_c) < 0.01)  # inside the range
+    True
     """
     a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
     out = np.zeros(a_b.shape)
-    C = _coefficient(element)
-    wc = element.bar.omega_c
+    s = _slice(element)
     for w in np.unique(w_b):
-        sel = w_b == w
-        a_min = element.linear_amplitude(float(w))  # the slip onset, without building the loading path
-        out[sel] = np.where(a_b[sel] > a_min, C * (float(w) / wc) ** 2, 0.0)
+        a_lin = element.linear_amplitude(float(w))
+        sel = (w_b == w) & (a_b > a_lin)
+        if w > 0.0 and np.any(sel):
+            w_n, r_on = float(w) / s.omega_c, a_lin / s.a_static
+            out[sel] = [s.error(w_n, r, r_on) for r in (a_b[sel] / s.a_static).tolist()]
     return out
 
 
-def single_mode_frequency_limit(element: Any, tolerance: float = TOLERANCE) -> float:
-    """omega_1 (rad/s): up to it the single-mode element's error stays within ``tolerance``.
+def single_mode_frequency_limit(element: Any) -> float:
+    """omega_1 (rad/s): the lowest frequency at which the map's error of ``element`` exceeds
+    ``TOLERANCE`` at some amplitude (between map frequencies: where its interpolation crosses).
 
-    omega_1 = omega_c sqrt(tolerance / C), C of the module docstring.
+    Below omega_1 the single-mode element is within 1 % at every amplitude; above it, at some.
 
     Examples
     --------
     >>> from contact_models import Bar, TwoRegionMicroslip, UniformLoad
     >>> from contact_models.model_range import single_mode_frequency_limit
     >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
-    >>> round(single_mode_frequency_limit(TwoRegionMicroslip(bar, UniformLoad(N=100.0))) / bar.omega_c, 4)
-    0.0996
+    >>> w1 = single_mode_frequency_limit(TwoRegionMicroslip(bar, UniformLoad(N=100.0))) / bar.omega_c
+    >>> bool(0.1 < w1 < 0.2)
+    True
     """
-    return element.bar.omega_c * math.sqrt(tolerance / _coefficient(element))
+    return _slice(element).omega_1
 
 
 def early_snap(element: Any, omega: float) -> float:
@@ -143,17 +277,6 @@ def early_snap(element: Any, omega: float) -> float:
     return float(np.real(piece.boundaries(1.0)[0])) / element.bar.L
 
 
-def _range(element: Any) -> tuple[float, float, float]:
-    """``(C, omega_c, omega_1)`` of the element, computed once and kept on it (the check runs at
-    every public ``fourier`` call, so it must cost microseconds: ``Bar.omega_c`` is a root solve)."""
-    cached = element.__dict__.get("_single_mode_range")
-    if cached is None:
-        C, wc = _coefficient(element), element.bar.omega_c
-        cached = (C, wc, wc * math.sqrt(TOLERANCE / C))
-        element.__dict__["_single_mode_range"] = cached
-    return cached
-
-
 def _snap(element: Any, w: float, a_max: float) -> float:
     """The stuck length L1/L left at an early gross-slip snap that amplitudes up to ``a_max`` reach
     at ``w``, else 0; builds no path the amplitudes did not need."""
@@ -166,32 +289,40 @@ def _snap(element: Any, w: float, a_max: float) -> float:
 
 def check_single_mode(element: Any, a: ArrayLike, omega: ArrayLike, *, stacklevel: int = 3) -> None:
     """Warn (``ModelRangeWarning``, once per call) if the single-mode ``element`` is evaluated where
-    its error bound exceeds ``TOLERANCE`` or where it takes an early gross-slip snap.
+    the validity map's error exceeds ``TOLERANCE`` or where it takes an early gross-slip snap.
 
-    Cost: a few microseconds for a scalar call (C and omega_1 are computed once per element; the
-    slip onset comes from the element's cache, the snap from its cached loading path).
+    Cost: a few microseconds for a scalar call (the element's slice of the map is computed once;
+    the slip onset comes from the element's cache, the snap from its cached loading path).
     """
-    C, wc, w1 = _range(element)
+    s = _slice(element)
     if np.ndim(a) == 0 and np.ndim(omega) == 0:  # the common scalar call: no arrays
-        pairs = [(float(omega), float(a))]
+        items = [(float(omega), float(a), None)]
     else:
         a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
-        pairs = [(float(w), float(np.max(a_b[w_b == w]))) for w in np.unique(w_b)]
-    worst_w, snap_w, snap = None, None, 0.0
-    for w, a_max in pairs:
-        if a_max <= element._linear_amplitude(w):
-            continue  # stuck at every amplitude asked: exact (and no path is built)
-        if w > w1 and (worst_w is None or w > worst_w):
-            worst_w = w
+        items = [(float(w), float(np.max(a_b[w_b == w])), a_b[w_b == w]) for w in np.unique(w_b)]
+    worst, snap_w, snap = None, None, 0.0
+    for w, a_max, amps in items:
+        a_lin = element._linear_amplitude(w)
+        if a_max <= a_lin or w <= 0.0:
+            continue  # stuck at every amplitude asked, or quasi-static: exact (and no path is built)
+        if w > s.omega_1:  # below omega_1 the map is within the tolerance at every amplitude
+            w_n, r_on = w / s.omega_c, a_lin / s.a_static
+            slipping = [a_max] if amps is None else amps[amps > a_lin].tolist()
+            e, a_e = max((s.error(w_n, a_i / s.a_static, r_on), a_i) for a_i in slipping)
+            if e > TOLERANCE and (worst is None or e > worst[0]):
+                worst = (e, w, a_e)
         if snap_w is None:
             snap = _snap(element, w, a_max)
             snap_w = w if snap > 0.0 else None
     parts = []
-    if worst_w is not None:
-        worst = C * (worst_w / wc) ** 2
-        parts.append(f"at omega = {worst_w:.6g} rad/s ({worst_w / wc:.3g} omega_c) it is outside its single-mode "
-                     f"range: F_s, F_c may be off by up to {worst:.1%} (validity map, docs/validation.md; within "
-                     f"{TOLERANCE:.0%} up to {w1 / wc:.3g} omega_c)")
+    if worst is not None:
+        e, w, a_e = worst
+        off = (f"F_s, F_c are off by about {e:.1%} there" if math.isfinite(e) else
+               "the single-mode model breaks down at the map's neighbouring points")
+        parts.append(f"at omega = {w:.6g} rad/s ({w / s.omega_c:.3g} omega_c) and a = {a_e:.4g} m "
+                     f"({a_e / s.a_static:.3g} a_min) it is outside its single-mode range: {off} (validity map, "
+                     f"docs/validation.md; within {TOLERANCE:.0%} at every amplitude up to "
+                     f"{s.omega_1 / s.omega_c:.3g} omega_c)")
     if snap_w is not None:
         parts.append(f"at omega = {snap_w:.6g} rad/s its loading curve folds before gross slip and it snaps onto "
                      f"gross slip early, with {snap:.2f} L still stuck")
