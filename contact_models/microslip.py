@@ -588,12 +588,14 @@ class TwoRegionMicroslip(_MicroslipBar):
     loop, and f_s, f_c are its Fourier integrals, evaluated to ``rtol``.  ``docs/theory.md``
     gives every coefficient (Eqs. 10-15) and where the printed paper differs.
 
-    Range (validity map, docs/validation.md): exact while stuck and at omega -> 0; otherwise its
-    F_s, F_c error against the all-mode bar stays within 1 % up to
-    omega_1 = omega_c sqrt(0.01/C), C = 0.42 (1 + (lambda L)^2)(1 + 0.2 EA/(beta L)) (0.10 omega_c
-    for the DESIGN.md bar), and grows like (omega/omega_c)^2 beyond (2.4 % at 0.2, 21 % at 0.5
-    omega_c there).  ``fourier`` and ``fourier_derivatives`` warn (``ModelRangeWarning``) beyond
-    omega_1 and at an early gross-slip snap; ``AllModeMicroslip`` holds everywhere.
+    Range (validity map, docs/validation.md, over lambda L, beta L/EA, omega and a): exact while
+    stuck and at omega -> 0; otherwise its F_s, F_c error against the all-mode bar is within 1 %
+    at every amplitude up to omega_1 (``model_range.single_mode_frequency_limit``: 0.124 omega_c
+    for the DESIGN.md bar, 0.1 to 0.22 omega_c for lambda L <= 1, 0.02 to 0.08 omega_c for
+    lambda L = 3) and grows roughly like (omega/omega_c)^2 beyond (at the worst amplitude 2.7 % at
+    0.2 and 21 % at 0.5 omega_c for the DESIGN.md bar).  ``fourier`` and ``fourier_derivatives``
+    warn (``ModelRangeWarning``) at the points where the map's error exceeds 1 % and at an early
+    gross-slip snap; ``AllModeMicroslip`` holds everywhere.
 
     References
     ----------
@@ -659,9 +661,10 @@ class ThreeRegionMicroslip(_MicroslipBar):
     Appendix A), the right stuck region vanishes first, and the interface then continues as two
     regions to gross slip.  ``docs/theory.md``, section 4, has every coefficient.
 
-    Range (validity map, docs/validation.md): as ``TwoRegionMicroslip`` with C = 0.62 (1 + (lambda
-    L)^2)(1 + 0.2 EA/(beta L)) (ratio-12 concave load; 0.082 omega_c for the DESIGN.md bar, 5.3 %
-    error at 0.2 omega_c); warns (``ModelRangeWarning``) beyond it.
+    Range (validity map, docs/validation.md): as ``TwoRegionMicroslip``, measured with the ratio-12
+    concave load: within 1 % at every amplitude up to 0.078 omega_c for the DESIGN.md bar (6.4 % at
+    0.2 omega_c at the worst amplitude); warns (``ModelRangeWarning``) where the map's error
+    exceeds 1 %.
 
     References
     ----------
