@@ -150,13 +150,32 @@ def test_off_grid_points_the_map_does_not_hold(elements):
     assert miss == 0 and false == 0
 
 
-def test_the_stored_check_points_are_reproduced():
-    """Two rows of docs/data/validity_check.csv recomputed from scratch (the script's own code)."""
+def example():
     sys.path.insert(0, str(ROOT / "examples"))
     try:
-        import validity_map as vm
+        import validity_map
     finally:
         sys.path.remove(str(ROOT / "examples"))
+    return validity_map
+
+
+def test_the_stored_map_is_reproduced(tmp_path):
+    """The script on a small grid of the DESIGN.md bar (examples/validity_map.py ``compute``) gives the
+    stored map's rows."""
+    vm = example()
+    rows, _ = vm.compute(tmp_path / "map.csv", bars=((1.0, 1.0),), ratios=(0.5, 2.0), frequencies=(0.01, 0.3),
+                         loads=("uniform",))
+    assert len(read(tmp_path / "map.csv")) == 4
+    stored = {(r["w"], r["ratio"]): r for r in read(MAP_FILE)
+              if (r["lamL"], r["betaL_EA"], r["load"]) == (1.0, 1.0, "uniform")}
+    for r in read(tmp_path / "map.csv"):
+        assert r["e"] == pytest.approx(stored[(r["w"], r["ratio"])]["e"], rel=1e-6, abs=1e-9)
+        assert r["de"] == pytest.approx(stored[(r["w"], r["ratio"])]["de"], rel=1e-6, abs=1e-9)
+
+
+def test_the_stored_check_points_are_reproduced():
+    """Two rows of docs/data/validity_check.csv recomputed from scratch (the script's own code)."""
+    vm = example()
     rows = [r for r in read(CHECK) if math.isfinite(r["e"]) and r["lamL"] < 2.0][:2]
     assert len(rows) == 2
     for r in rows:
