@@ -113,8 +113,9 @@ def errors(single, bar, load, a, w, cells):
     e = |F(single) - F(all)| / max(|F(all)|, FLOOR) (F in units of k* a); de is the reference's
     own error in the same units: the larger of the cell part |F(n) - F(n/2)|/3 and the harmonic
     part |F(H) - F(H')| H'^2/(H^2 - H'^2), H' = ``HARMONICS_CHECK`` (both second order, as measured
-    in docs/validation.md; the harmonics converge slowest in gross slip of stiff shear layers).  Where the single-mode element refuses every
-    amplitude the all-mode bar is not solved (e = inf, de = 0, F = NaN).
+    in docs/validation.md; the harmonics converge slowest in gross slip of stiff shear layers).
+    Where the single-mode element refuses every amplitude the all-mode bar is not solved (e = inf,
+    de = 0, F = NaN).
     """
     ks = bar.k_star * a
     fs_1, fc_1 = single_mode(single, a, w) if single is not None else (np.full(a.size, np.nan),) * 2
