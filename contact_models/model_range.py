@@ -41,7 +41,6 @@ the solver's unchecked path (``fourier_derivatives_unchecked``).
 from __future__ import annotations
 
 import bisect
-import csv
 import math
 import warnings
 from functools import lru_cache
@@ -108,19 +107,20 @@ def validity_map(path: Path = MAP_FILE) -> dict[str, tuple]:
     >>> lam_L, beta_L, e.shape
     ((0.3, 1.0, 3.0, 10.0), (0.1, 1.0, 10.0), (4, 3, 14, 10))
     """
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(fh))
+    with open(path) as fh:
+        head = fh.readline().strip().split(",")
+        cells = np.array(fh.read().strip().replace("\n", ",").split(",")).reshape(-1, len(head))
+    num = cells[:, [head.index(k) for k in ("lamL", "betaL_EA", "w", "ratio", "e_s", "e_c")]].astype(float)
+    load = cells[:, head.index("load")]
     out = {}
-    for load in sorted({r["load"] for r in rows}):
-        sel = [r for r in rows if r["load"] == load]
-        axes = [tuple(sorted({float(r[k]) for r in sel})) for k in ("lamL", "betaL_EA", "w", "ratio")]
+    for name in sorted(set(load.tolist())):
+        sel = num[load == name]
+        axes, index = zip(*(np.unique(sel[:, k], return_inverse=True) for k in range(4)))
         e = np.full(tuple(len(ax) for ax in axes), np.nan)
-        for r in sel:
-            idx = tuple(ax.index(float(r[k])) for ax, k in zip(axes, ("lamL", "betaL_EA", "w", "ratio")))
-            e[idx] = max(float(r["e_s"]), float(r["e_c"]))
-        if np.isnan(e).any():
-            raise ValueError(f"{path}: the map of load {load!r} is not a full grid")
-        out[load] = (*axes, e)
+        e[index] = np.maximum(sel[:, 4], sel[:, 5])
+        if np.isnan(e).any() or len(sel) != e.size:
+            raise ValueError(f"{path}: the map of load {name!r} is not a full grid")
+        out[name] = (*(tuple(ax.tolist()) for ax in axes), e)
     return out
 
 
@@ -299,7 +299,7 @@ def check_single_mode(element: Any, a: ArrayLike, omega: ArrayLike, *, stackleve
         items = [(float(omega), float(a), None)]
     else:
         a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
-        items = [(float(w), float(np.max(a_b[w_b == w])), a_b[w_b == w]) for w in np.unique(w_b)]
+        items = [(float(w), float(amps.max()), amps) for w in np.unique(w_b) for amps in (a_b[w_b == w],)]
     worst, snap_w, snap = None, None, 0.0
     for w, a_max, amps in items:
         a_lin = element._linear_amplitude(w)
