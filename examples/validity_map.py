@@ -69,8 +69,8 @@ COLUMNS = ["lamL", "betaL_EA", "load", "w", "ratio", "e_s", "e_c", "de_s", "de_c
 
 
 def reference_cells(lam_L: float) -> int:
-    """All-mode reference cells: 160 up to lambda L = 1.5, then 16 per decay length 1/lambda x 10/1.5
-    (320 at lambda L = 3, 1066 at 10), even."""
+    """All-mode reference cells: 160 up to lambda L = 1.5, beyond it in proportion to lambda L (about
+    107 cells per decay length 1/lambda: 320 at lambda L = 3, 1066 at 10), even."""
     return 160 if lam_L <= 1.5 else 2 * round(80 * lam_L / 1.5)
 
 
@@ -78,7 +78,7 @@ def make_bar(lam_L: float, beta_L: float) -> Bar:
     return Bar(E=E, rho=RHO, A=A, L=L, k=(lam_L / L) ** 2 * EA, beta=beta_L * EA / L, mu=MU)
 
 
-def static_slip_amplitude(bar, load, cls, single):
+def static_slip_amplitude(bar, load, single):
     """a_min(0), the map's amplitude unit: the element's, or where it refuses the bar the
     stuck bar's slip onset (the all-mode bar's, which is the same model at omega = 0)."""
     if single is not None:
@@ -146,7 +146,7 @@ def compute(path: Path = DATA, bars=BARS, ratios=RATIOS, frequencies=FREQUENCIES
         for name in loads:
             load, cls = LOADS[name]
             single = single_element(cls, bar, load)
-            a = np.array(ratios) * static_slip_amplitude(bar, load, cls, single)
+            a = np.array(ratios) * static_slip_amplitude(bar, load, single)
             for fw in frequencies:
                 cols = errors(single, bar, load, a, fw * bar.omega_c, reference_cells(lam_L))
                 rows += [(lam_L, beta_L, name, fw, r, *vals) for r, *vals in zip(ratios, *cols)]
@@ -170,7 +170,7 @@ def compute_check(path: Path = CHECK, n: int = 240, seed: int = 20261125):
         bar = make_bar(lam_L, beta_L)
         load, cls = LOADS[name]
         single = single_element(cls, bar, load)
-        a = np.array([ratio * static_slip_amplitude(bar, load, cls, single)])
+        a = np.array([ratio * static_slip_amplitude(bar, load, single)])
         cols = errors(single, bar, load, a, fw * bar.omega_c, reference_cells(lam_L))
         rows.append((lam_L, beta_L, name, fw, ratio, *(float(v[0]) for v in cols)))
     write_rows(path, rows)
