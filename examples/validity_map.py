@@ -212,10 +212,10 @@ def summary(rows):
     return out
 
 
-def score(rows, path: Path = CHECK):
+def score(path: Path = CHECK):
     """The warning's interpolation against the off-grid points: ``(scored, agree, missed, false,
     missed above 3 %, false below 1/3 %)`` over the points where the element slips and the
-    reference's error does not straddle 1 %."""
+    reference's error does not straddle 1 % (tests/test_model_range.py asserts the last two are 0)."""
     counts = [0] * 6
     elements = {}
     with open(path) as fh:
@@ -313,7 +313,7 @@ def main(recompute: bool = False, outdir: Path = FIGURES):
     print(f"\n{len(rows)} map points, {len(finite)} the single-mode element evaluates; reference error below "
           f"0.1 % at {np.mean([r[6] < 0.001 for r in finite]):.1%} of them, straddling 1 % at "
           f"{sum(abs(r[5] - FLOOR) <= r[6] for r in finite)}")
-    n, agree, missed, false, missed3, false3 = score(rows)
+    n, agree, missed, false, missed3, false3 = score()
     print(f"off-grid check: {n} slipping points scored, the warning agrees at {agree}; missed {missed} "
           f"(above 3 %: {missed3}), false {false} (below 1/3 %: {false3})")
     return rows

@@ -127,25 +127,13 @@ def test_fourier_warns_where_the_map_says_and_not_elsewhere(load):
     assert fired > 40 and quiet > 40
 
 
-def test_off_grid_points_the_map_does_not_hold(elements):
+def test_off_grid_points_the_map_does_not_hold():
     """240 random bars, loads, frequencies and amplitudes off the map's grid (stored with their
-    all-mode errors, not read by the warning): the interpolated map misses no point with more
-    than 3 % error and raises no warning where the error is below 1/3 %; between those it may
-    err (a factor 3 is what the map's grid, a decade apart in lambda L and beta L/EA, resolves)."""
-    miss = false = scored = 0
-    for r in read(CHECK):
-        el = elements(r["lamL"], r["betaL_EA"], r["load"])
-        if el is None or not math.isfinite(r["e"]):
-            continue
-        omega, a = r["w"] * el.bar.omega_c, r["ratio"] * el.slip_amplitude(0.0)
-        if a <= el.linear_amplitude(omega):
-            continue
-        scored += 1
-        warned = float(single_mode_error(el, a, omega)) > TOLERANCE
-        if r["e"] - r["de"] > 3 * TOLERANCE:
-            miss += not warned
-        elif r["e"] + r["de"] < TOLERANCE / 3:
-            false += warned
+    all-mode errors, not read by the warning), scored by the script's ``score``: the interpolated
+    map misses no point with more than 3 % error and raises no warning where the error is below
+    1/3 %; between those it may err (a factor 3 is what the map's grid, a decade apart in lambda L
+    and beta L/EA, resolves)."""
+    scored, _, _, _, miss, false = example().score(CHECK)
     assert scored > 100
     assert miss == 0 and false == 0
 
