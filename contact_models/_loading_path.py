@@ -19,7 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 from numpy.polynomial import chebyshev as cheb
 
-from ._roots import brentq
+from .numerics.roots import brentq
 from .bar import Bar, impedance_transmission
 
 #: Complex-step size for derivatives along the loading curve (relative to a unit parameter).

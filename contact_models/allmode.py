@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._fe_bar import _Discretisation
 from ._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_periodic
-from ._validation import count, nonnegative, positive
+from .numerics.checks import count, nonnegative, positive
 from .bar import Bar
 from .base import ContactElement
 

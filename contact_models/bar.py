@@ -24,8 +24,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._roots import brentq
-from ._validation import nonnegative, positive
+from .numerics.roots import brentq
+from .numerics.checks import nonnegative, positive
 
 if TYPE_CHECKING:
     from .loads import QuadraticLoad, UniformLoad

@@ -66,7 +66,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import count, nonnegative, nonnegative_array, positive
+from .numerics.checks import count, nonnegative, nonnegative_array, positive
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
@@ -369,12 +369,12 @@ class ContactElement(ABC):
         H = (X.size - 1) // 2
         if H == 1 and (not self.has_time_law or self._is_masing()):
             return self._describing_force(X, omega, rtol)
-        from ._masing import aft_matrices, diagonal_product, to_harmonics, to_time
+        from .numerics.masing import aft_matrices, diagonal_product, to_harmonics, to_time
 
         x = to_time(X, n_t)  # to time (inverse real FFT)
         Einv = aft_matrices(H, n_t)[1]
         if self._is_masing():  # the force law, with the outer loop's tips at the true extremes
-            from ._masing import true_extremes
+            from .numerics.masing import true_extremes
 
             ext, b_max, b_min = true_extremes(X, x)
             if not np.isfinite(b_max[0]):
@@ -409,7 +409,7 @@ class ContactElement(ABC):
         return float(k(omega)) if callable(k) else 0.0
 
     def _periodic_force(self, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
-        from ._masing import dense_jacobian
+        from .numerics.masing import dense_jacobian
 
         f, d, idx, C = self._periodic_tangent(x, omega)
         return f, dense_jacobian(d, idx, C)
@@ -422,7 +422,7 @@ class ContactElement(ABC):
         return f, np.zeros_like(f), np.arange(f.size), J
 
     def _masing_tangent(self, x: NDArray, omega: float, extremes):
-        from ._masing import masing_periodic
+        from .numerics.masing import masing_periodic
 
         loading = self.loading_curve
         return masing_periodic(x, lambda u: loading(u, omega), lambda u: self._loading_slope(u, omega),

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ._validation import finite, positive
+from .numerics.checks import finite, positive
 from .base import ContactElement
 
 

@@ -61,7 +61,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import finite, nonnegative, positive
+from .numerics.checks import finite, nonnegative, positive
 from .base import ContactElement, masing_loop
 
 

@@ -19,7 +19,7 @@ from typing import Any, Self
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import finite, nonnegative, positive
+from .numerics.checks import finite, nonnegative, positive
 
 
 class _Load:

@@ -26,7 +26,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import positive
+from .numerics.checks import positive
 from .base import ContactElement, masing_loop
 
 #: Below this value of z = 2 psi, z - sin z is summed as its Taylor series (no cancellation).

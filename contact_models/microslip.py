@@ -38,7 +38,7 @@ from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, R
 from .bar import Bar, impedance_transmission
 from .base import DEFAULT_RTOL, ContactElement, masing_loop
 from .model_range import check_single_mode
-from ._validation import nonnegative
+from .numerics.checks import nonnegative
 
 #: Gauss-Legendre nodes of the first rule; doubled until two rules agree to rtol.
 GAUSS_START = 12

@@ -75,9 +75,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._fe_bar import NodalData, _Discretisation
-from ._genalpha import GeneralizedAlpha
-from ._stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tangent, return_map, solve_step
-from ._validation import nonnegative, positive
+from .numerics.genalpha import GeneralizedAlpha
+from .numerics.stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tangent, return_map, solve_step
+from .numerics.checks import nonnegative, positive
 from .bar import Bar
 from .base import ContactElement
 

@@ -30,7 +30,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import nonnegative
+from .numerics.checks import nonnegative
 from .base import ContactElement
 
 #: Relative step (of x + a_min) of the central difference giving a loading curve's slope.

@@ -137,7 +137,7 @@ def regions_figure(outdir: Path = FIGURES, w: float = 0.5, r: float = 3.0, cells
 def _numerical_slip(num, a, omega):
     """Slip mask (nodes, steps) of the steady cycle of a time integration: the nodes that slipped
     in the step ending at theta_k = 2 pi k / steps (recorded from the integrator's steps)."""
-    from contact_models import _stepping
+    from contact_models.numerics import stepping as _stepping
 
     record = []
     original = _stepping._Batch.step

@@ -17,8 +17,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from contact_models._genalpha import GeneralizedAlpha
-from contact_models._stepping import return_map
+from contact_models.numerics.genalpha import GeneralizedAlpha
+from contact_models.numerics.stepping import return_map
 
 from ._piecewise import Model
 

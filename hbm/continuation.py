@@ -37,7 +37,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from contact_models._roots import brentq  # scipy's algorithm without importing scipy.optimize
+from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8

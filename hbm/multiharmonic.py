@@ -139,7 +139,7 @@ class MultiHarmonicBalance:
         differs only in the static term, where the centring convention of a Masing element's
         periodic state (``contact_models._masing``) gives ``K_inf``.
         """
-        from contact_models._masing import to_time
+        from contact_models.numerics.masing import to_time
 
         na, L = self.na, self.L
         F = np.zeros((na, L))

@@ -46,7 +46,7 @@ def _cases():
 def test_own_brentq_matches_scipy_to_the_bit(case):
     from scipy.optimize import brentq as scipy_brentq
 
-    from contact_models._roots import brentq
+    from contact_models.numerics.roots import brentq
 
     f, a, b, kw = _cases()[case]
     calls_own, calls_scipy = [], []
@@ -59,7 +59,7 @@ def test_own_brentq_matches_scipy_to_the_bit(case):
 def test_own_brentq_refuses_like_scipy():
     import math
 
-    from contact_models._roots import brentq
+    from contact_models.numerics.roots import brentq
 
     with pytest.raises(ValueError, match="different signs"):
         brentq(lambda x: x * x + 1.0, -1.0, 1.0)

@@ -13,7 +13,7 @@ import pytest
 
 from contact_models import (CubicSpring, Macroslip, NumericalMicroslip, PointContact, QuasiStatic,
                             TwoRegionMicroslip, UniformLoad)
-from contact_models._masing import aft_matrices, diagonal_product, to_harmonics, to_time
+from contact_models.numerics.masing import aft_matrices, diagonal_product, to_harmonics, to_time
 
 N_T = 64
 THETA = 2.0 * np.pi * np.arange(N_T) / N_T

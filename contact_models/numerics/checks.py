@@ -1,0 +1,68 @@
+"""Shared input checks: every failure is a ValueError naming the parameter and its value."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+
+def positive(name: str, value: object) -> float:
+    """Return ``value`` as float if it is finite and > 0, else raise ValueError."""
+    v = _scalar(name, value)
+    if not v > 0.0:
+        raise ValueError(f"{name} must be positive, got {name}={value!r}")
+    return v
+
+
+def nonnegative(name: str, value: object) -> float:
+    """Return ``value`` as float if it is finite and >= 0, else raise ValueError."""
+    v = _scalar(name, value)
+    if not v >= 0.0:
+        raise ValueError(f"{name} must be >= 0, got {name}={value!r}")
+    return v
+
+
+def finite(name: str, value: object) -> float:
+    """Return ``value`` as a finite float, else raise ValueError."""
+    return _scalar(name, value)
+
+
+def count(name: str, value: object, minimum: int = 1) -> int:
+    """Return ``value`` as an int >= ``minimum``, else raise ValueError."""
+    ok = not isinstance(value, bool)
+    try:
+        ok = ok and float(value) == int(value) and int(value) >= minimum
+    except (TypeError, ValueError, OverflowError):
+        ok = False
+    if not ok:
+        raise ValueError(f"{name} must be an integer >= {minimum}, got {name}={value!r}")
+    return int(value)
+
+
+def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    """Return ``value`` as a float array whose entries are finite and >= 0."""
+    if type(value) is float and 0.0 <= value < math.inf:  # the common scalar, without numpy's checks
+        return np.array(value)
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={value!r}") from None
+    bad = ~np.isfinite(arr) | (arr < 0.0)
+    if np.any(bad):
+        first = arr[bad].flat[0] if arr.ndim else float(arr)
+        raise ValueError(f"{name} must be finite and >= 0, got {name}={first!r}")
+    return arr
+
+
+def _scalar(name: str, value: object) -> float:
+    if isinstance(value, bool):
+        raise ValueError(f"{name} must be a number, got {name}={value!r}")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a number, got {name}={value!r}") from None
+    if not math.isfinite(v):
+        raise ValueError(f"{name} must be finite, got {name}={value!r}")
+    return v

@@ -1,0 +1,264 @@
+"""Masing's rules with memory for a sampled periodic displacement, and the AFT matrices.
+
+Used by :class:`contact_models.base.ContactElement` (``periodic_force``, ``harmonic_force``);
+derivation in ``docs/multiharmonic.md``, "Masing's rules with memory" and "AFT".
+
+Masing with memory (extended Masing rules; Iwan 1966, Jayakumar & Stelson 1988): an element with
+the odd virgin loading curve ``F`` follows, after a reversal at ``(x_r, f_r)``, the branch
+
+    f = f_r + 2 F((x - x_r)/2);
+
+when the displacement passes the reversal point that opened the branch it came from, the inner
+loop closes and the older branch is followed again (the turning-point stack pops two entries).
+
+Periodic state, reached in one pass (the stated criterion): the march starts at the sample of
+the global maximum ``x_M``.  Any history that has reached ``x_M`` since ``x_m`` (the global
+minimum) has wiped every inner loop, so the state there is the tip of the outer loop,
+``f_M = f_centre + F(a)``, ``a = (x_M - x_m)/2``, with the branch from ``(x_m, f_centre - F(a))``
+below it on the stack.  ``f_centre = K_inf x_c`` (``x_c = (x_M + x_m)/2``, ``K_inf`` the slope
+of the loading curve past full slip): the state of an element that has slipped fully, which is
+exact for every periodic path that gross-slips once per period and, for a path that does not,
+the state left by a decaying shake-down about ``x_c`` (a mean displacement carried only by the
+element's elastic part).  One pass over the samples then gives the periodic force, with no
+iteration over periods.  Between samples the displacement is taken monotone (as in the time
+steppers ``Macroslip.step``), so the sampled map is exact for sampled paths.
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Callable
+
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray[np.float64]
+
+
+def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable[[Array], Array],
+                    k_inf: float, extremes: tuple[float, float, bool, bool] | None = None
+                    ) -> tuple[Array, Array, NDArray[np.intp], Array]:
+    """Periodic force of a Masing element for the samples ``x`` of one period, with its tangent.
+
+    ``extremes = (x_max, x_min, after_max, after_min)``: the true extreme values of the
+    continuous path (between samples) and whether the sample of the largest (smallest) value
+    lies after the true maximum (minimum); None takes the sampled extremes.  The outer loop's
+    tips are then at the true extremes, which removes the O(dtheta^2) error of sampled tips.
+
+    Returns ``(f, d, idx, C)``: the force samples and the exact Jacobian in the structured form
+    ``J = diag(d) + S``, ``S`` zero except in the columns ``idx`` (reversal samples and the tips),
+    ``S[:, idx] = C``.  Column ``n`` stands for ``x_min`` and ``n + 1`` for ``x_max`` when
+    ``extremes`` is given (their derivatives are the caller's); otherwise the tips are samples.
+    """
+    n = x.size
+    m0 = int(np.argmax(x))
+    xr = np.concatenate((x[m0:], x[:m0]))  # sample 0 holds the largest value
+    im = int(np.argmin(xr))
+    if extremes is None:
+        xM, xm, after_max, after_min = float(xr[0]), float(xr[im]), True, False
+        colT, colB = 0, im
+    else:
+        xM, xm, after_max, after_min = extremes
+        colT, colB = n + 1, n
+    half, xc = 0.5 * (xM - xm), 0.5 * (xM + xm)
+    B, T = n, n + 1  # the outer loop's lower and upper tips (virtual reversal points)
+
+    # ---- directions of the steps k -> k+1 (flat steps keep the previous direction), reversals
+    d = np.sign(np.diff(xr))
+    if d.size and d[0] == 0.0:
+        d[0] = -1.0  # leaving the maximum: downwards
+    if d.size and not np.all(d):
+        nz = np.flatnonzero(d)
+        d = d[nz[np.maximum(np.searchsorted(nz, np.arange(d.size), side="right") - 1, 0)]]
+    rev = (1 + np.flatnonzero(d[1:] != d[:-1])).tolist()
+
+    # ---- branch origin of every sample: march the monotone segments with the turning-point stack
+    xext = np.concatenate((xr, (xm, xM)))
+    origin = np.zeros(n, dtype=np.intp)
+    stack = [B, T]
+    starts, ends = [0] + rev, rev + [n - 1]
+    pushed = []
+    for s, e in zip(starts, ends):
+        if e <= s:
+            continue
+        sgn = d[s]
+        cur = s + 1
+        seg = sgn * xr[cur:e + 1]
+        while True:
+            if len(stack) >= 3:
+                p = int(np.searchsorted(seg, sgn * xext[stack[-2]], side="right"))
+                if p < seg.size:  # the inner loop closes at sample cur + p
+                    origin[cur:cur + p] = stack[-1]
+                    del stack[-2:]
+                    seg = seg[p:]
+                    cur += p
+                    continue
+            origin[cur:e + 1] = stack[-1]
+            break
+        if e < n - 1:
+            top = B if xr[e] == xr[im] and stack[-1] == T else e  # the global minimum: the lower tip
+            stack.append(top)
+            if top == e:
+                pushed.append(e)
+    origin[0] = T if after_max else B
+    if after_min and origin[im] == T:
+        origin[im] = B
+
+    # ---- branch forces and slopes, vectorised over the samples
+    dx = xr - xext[origin]
+    u = np.append(0.5 * np.abs(dx), half)
+    Fu = np.asarray(loading(u), dtype=float)
+    Su = np.asarray(slope(u), dtype=float)
+    g = 2.0 * np.sign(dx) * Fu[:n]
+    sl = Su[:n].copy()
+    Fa, Sa = float(Fu[n]), float(Su[n])
+
+    # ---- reversal forces in order (each depends on its origin only), then every sample
+    fext = np.empty(n + 2)
+    fext[T] = k_inf * xc + Fa
+    fext[B] = k_inf * xc - Fa
+    for r in pushed:
+        fext[r] = g[r] + fext[origin[r]]
+    f = g + fext[origin]
+
+    # ---- Jacobian rows of the reversal points in the columns idx
+    idx = np.array(sorted(set([colT, colB] + pushed)), dtype=np.intp)
+    col_of = np.full(n + 2, -1, dtype=np.intp)
+    col_of[idx[idx < n]] = np.flatnonzero(idx < n)
+    col_of[T], col_of[B] = int(np.searchsorted(idx, colT)), int(np.searchsorted(idx, colB))
+    rows = np.zeros((n + 2, idx.size))  # only the rows of the tips and the pushed reversals are used
+    rows[T, col_of[T]] += 0.5 * (k_inf + Sa)
+    rows[T, col_of[B]] += 0.5 * (k_inf - Sa)
+    rows[B, col_of[T]] += 0.5 * (k_inf - Sa)
+    rows[B, col_of[B]] += 0.5 * (k_inf + Sa)
+    for r in pushed:
+        o = origin[r]
+        rows[r] = rows[o]
+        rows[r, col_of[r]] += sl[r]
+        rows[r, col_of[o]] -= sl[r]
+    C = rows[origin]
+    C[np.arange(n), col_of[origin]] -= sl
+    # ---- back to the caller's sample order
+    back = np.r_[n - m0:n, 0:n - m0]  # undo the rotation: sample i is rotated sample (i - m0) mod n
+    idx = np.where(idx < n, (idx + m0) % n, idx)
+    return f[back], sl[back], idx, C[back]
+
+
+#: Newton iterations locating a true extremum between samples (quadratic convergence from
+#: within half a sample spacing: 4 reach rounding for any smooth periodic path).
+EXTREMUM_ITERATIONS = 4
+
+
+def true_extremes(X: Array, x: Array) -> tuple[tuple[float, float, bool, bool], Array, Array]:
+    """The extremes of the trigonometric polynomial ``X`` near its largest and smallest samples
+    ``x``: ``((x_max, x_min, after_max, after_min), basis(theta_max), basis(theta_min))``.
+
+    Newton on ``x'(theta) = 0`` from the sample, kept within one sample spacing;
+    ``basis(theta) = [1, cos theta, sin theta, ...]`` is also ``d x_max / dX`` (``x'`` vanishes
+    there).  ``after_*``: the sample lies after the extremum.
+    """
+    n = x.size
+    H = (X.size - 1) // 2
+    hh = np.arange(1, H + 1)
+    Xc, Xs = X[1::2], X[2::2]
+    dth = 2.0 * np.pi / n
+    th0 = dth * np.array([int(np.argmax(x)), int(np.argmin(x))], dtype=float)
+    th = th0.copy()
+    for _ in range(EXTREMUM_ITERATIONS):  # both extremes at once
+        ang = np.outer(th, hh)
+        c, s = np.cos(ang), np.sin(ang)
+        d1 = (s * -Xc + c * Xs) @ hh
+        d2 = -((c * Xc + s * Xs) @ (hh * hh))
+        step = np.divide(d1, d2, out=np.zeros(2), where=d2 != 0.0)
+        th = np.clip(th - step, th0 - dth, th0 + dth)
+    ang = np.outer(th, hh)
+    basis = np.empty((2, 2 * H + 1))
+    basis[:, 0] = 1.0
+    basis[:, 1::2], basis[:, 2::2] = np.cos(ang), np.sin(ang)
+    xM, xm = basis @ X
+    if not (xM >= x.max() and xm <= x.min()):  # Newton went astray (flat top): keep the samples
+        return (float(x.max()), float(x.min()), True, False), basis[0] * np.nan, basis[1] * np.nan
+    return (float(xM), float(xm), bool(th0[0] > th[0]), bool(th0[1] > th[1])), basis[0], basis[1]
+
+
+def dense_jacobian(d: Array, idx: NDArray[np.intp], C: Array) -> Array:
+    """``diag(d)`` plus the columns ``C`` at ``idx``: the structured tangent as a dense matrix."""
+    J = np.diag(d)
+    J[:, idx] += C
+    return J
+
+
+@lru_cache(maxsize=64)
+def aft_matrices(harmonics: int, n_t: int) -> tuple[Array, Array]:
+    """``(E, E_inv)``: harmonic coefficients from samples, and samples from coefficients.
+
+    Layout ``X = [X0, Xc1, Xs1, ..., XcH, XsH]``, samples at ``theta_k = 2 pi k / n_t``:
+    ``x = E_inv X`` (n_t, 2H+1) and ``X = E x`` (2H+1, n_t), ``E E_inv = I`` for n_t >= 2H+1.
+    The forward map is the real FFT: ``E x`` equals :func:`to_harmonics` of ``x``.
+    """
+    k = np.arange(n_t)
+    h = np.arange(1, harmonics + 1)
+    ang = 2.0 * np.pi * np.outer(k, h) / n_t
+    Einv = np.empty((n_t, 2 * harmonics + 1))
+    Einv[:, 0] = 1.0
+    Einv[:, 1::2] = np.cos(ang)
+    Einv[:, 2::2] = np.sin(ang)
+    E = Einv.T * (2.0 / n_t)
+    E[0] *= 0.5
+    Einv.setflags(write=False)
+    E.setflags(write=False)
+    return E, Einv
+
+
+@lru_cache(maxsize=64)
+def _product_index(harmonics: int, n_t: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """``((p - h) mod n_t, (p + h) mod n_t)`` for p, h = 1..H (rows p, columns h)."""
+    h = np.arange(1, harmonics + 1)
+    return (h[:, None] - h[None, :]) % n_t, (h[:, None] + h[None, :]) % n_t
+
+
+def diagonal_product(d: Array, harmonics: int) -> Array:
+    """``E diag(d) E^-1`` (2H+1, 2H+1) without forming it.
+
+    The sampled product ``d x`` is the discrete convolution of the DFT coefficients
+    ``D_m = (1/n_t) sum_k d_k exp(-i m theta_k)`` (exact for samples, indices mod n_t).  With
+    ``D-`` = ``D_(p-h)``, ``D+`` = ``D_(p+h)``: column X0 is ``(Re D_0; 2 Re D_p; -2 Im D_p)``,
+    column Xc_h is ``(Re D_h; Re(D- + D+); -Im(D- + D+))``, column Xs_h is
+    ``(-Im D_h; Im D- - Im D+; Re D- - Re D+)`` (rows: F0, Fc_p, Fs_p).  Index arithmetic only
+    (no BLAS call: small threaded products are slow on a loaded machine).
+    """
+    H = harmonics
+    D = np.fft.fft(d) / d.size
+    im, ip = _product_index(H, d.size)
+    Dm, Dp = D[im], D[ip]
+    Dh = D[1:H + 1]
+    J = np.empty((2 * H + 1, 2 * H + 1))
+    J[0, 0] = D[0].real
+    J[0, 1::2], J[0, 2::2] = Dh.real, -Dh.imag
+    J[1::2, 0], J[2::2, 0] = 2.0 * Dh.real, -2.0 * Dh.imag
+    J[1::2, 1::2] = Dm.real + Dp.real
+    J[2::2, 1::2] = -(Dm.imag + Dp.imag)
+    J[1::2, 2::2] = Dm.imag - Dp.imag
+    J[2::2, 2::2] = Dm.real - Dp.real
+    return J
+
+
+def to_time(X: Array, n_t: int) -> Array:
+    """Samples at ``theta_k = 2 pi k / n_t`` of the coefficients ``X`` (layout above), by the
+    inverse real FFT (``E_inv X``)."""
+    H = (X.size - 1) // 2
+    c = np.zeros(n_t // 2 + 1, dtype=complex)
+    c[0] = X[0] * n_t
+    c[1:H + 1] = (X[1::2] - 1j * X[2::2]) * (0.5 * n_t)
+    return np.fft.irfft(c, n=n_t)
+
+
+def to_harmonics(f: Array, harmonics: int) -> Array:
+    """Harmonic coefficients (layout above) of the samples ``f`` of one period, by the real FFT."""
+    n_t = f.shape[-1]
+    c = np.fft.rfft(f, axis=-1) / n_t
+    out = np.empty(f.shape[:-1] + (2 * harmonics + 1,))
+    out[..., 0] = c[..., 0].real
+    out[..., 1::2] = 2.0 * c[..., 1:harmonics + 1].real
+    out[..., 2::2] = -2.0 * c[..., 1:harmonics + 1].imag
+    return out
