@@ -28,7 +28,7 @@ from bench_mhb_peers import PROBLEMS, PYHARM_PYTHON, REFERENCE, run_peer  # noqa
 
 from contact_models import Macroslip  # noqa: E402
 from hbm import Contact, Structure, frequency_response  # noqa: E402
-from hbm.presets import harmonic_knobs  # noqa: E402
+from hbm.balance.presets import harmonic_knobs  # noqa: E402
 
 
 def ours(name: str) -> tuple[float, float]:

@@ -66,6 +66,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .numerics.describing import stiffness_terms
 from .numerics.checks import count, nonnegative, nonnegative_array, positive
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
@@ -367,7 +368,7 @@ class ContactElement(ABC):
         """:meth:`harmonic_force` without validation: the solver's fast path (float64 ``X`` of
         length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1)."""
         H = (X.size - 1) // 2
-        if H == 1 and (not self.has_time_law or self._is_masing()):
+        if H == 1 and self.exact_describing_function:
             return self._describing_force(X, omega, rtol)
         from .numerics.masing import aft_matrices, diagonal_product, to_harmonics, to_time
 
@@ -395,6 +396,12 @@ class ContactElement(ABC):
     def _require_time_law(self, detail: str = "") -> None:
         if not self.has_time_law:
             raise ValueError(f"element={self!r}: {type(self).__name__} has no time-domain force law{detail}")
+
+    @property
+    def exact_describing_function(self) -> bool:
+        """Whether :meth:`harmonic_force` at H = 1 answers with the describing function: an element
+        without a time law, or a Masing element (whose describing function is exact at H = 1)."""
+        return not self.has_time_law or self._is_masing()
 
     def _is_masing(self) -> bool:
         return type(self)._periodic_force is ContactElement._periodic_force
@@ -455,10 +462,7 @@ class ContactElement(ABC):
         if a == 0.0 or a <= self.linear_amplitude(omega):
             ks, kc = self.linear_coefficients(omega)
             return float(ks), float(kc), 0.0, 0.0
-        fs, fc, dfs, dfc = (float(v[0]) for v in self.fourier_derivatives_unchecked(
-            np.array([a]), np.array([omega]), rtol))
-        p, q = fs / a, fc / a
-        return p, q, (dfs - p) / a, (dfc - q) / a
+        return stiffness_terms(self.fourier_derivatives_unchecked, a, omega, rtol)
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)

@@ -38,7 +38,7 @@ from contact_models import TwoRegionMicroslip, UniformLoad  # noqa: E402
 from contact_models.point_contact import PointContact  # noqa: E402
 from hbm import frequency_response  # noqa: E402
 from hbm.cases import default_case  # noqa: E402
-from hbm.residual import linear_response  # noqa: E402
+from hbm.balance.residual import linear_response  # noqa: E402
 
 from contact_models import Macroslip  # noqa: E402
 

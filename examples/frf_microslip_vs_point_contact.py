@@ -30,7 +30,7 @@ from contact_models import TwoRegionMicroslip, UniformLoad  # noqa: E402
 from contact_models.point_contact import PointContact  # noqa: E402
 from hbm import frequency_response  # noqa: E402
 from hbm.cases import default_case  # noqa: E402
-from hbm.residual import linear_response  # noqa: E402
+from hbm.balance.residual import linear_response  # noqa: E402
 
 from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 #: Normal loads (N) drawn.

@@ -1,24 +1,29 @@
-"""Harmonic balance of a blade with a friction damper, and pseudo-arclength continuation.
+"""One harmonic balance for friction-damped structures, with continuation, references and scenes.
 
-``Blade`` and ``frequency_response`` are the entry points; ``hbm.continuation`` is the generic
-continuation core (it knows nothing of friction); ``hbm.residual`` states the balance.
-``response_at`` solves the balance at one frequency; ``simulate_blade`` (``hbm.transient``)
-integrates the blade with the discretised bar in time, the balance's independent check.
+A blade with a damper is the one-DOF case of a structure with contacts; ``frequency_response``
+traces the FRF of either (``hbm.frf``, front of the balance in ``hbm.balance``) and returns one
+result type, :class:`FrequencyResponse`.  ``hbm.continuation`` is the generic continuation core
+(it knows nothing of friction).  ``response_at`` solves a blade's balance at one frequency;
+``simulate_blade`` integrates the blade with the discretised bar in time and ``periodic_response``
+finds the true periodic response by shooting, the balance's independent checks.  Scenes
+(``hbm.scenes``), studies (``hbm.study``) and the command line build on these.
 """
 
 from contact_models import __version__  # one version for both packages
 
-from .blade import Blade
 from . import continuation
-from .frf import FrequencyResponse, Peak, Response, frequency_response, response_at
-from .transient import BladeSimulation, simulate_blade
-from .residual import HarmonicBalance
+from .balance import HarmonicBalance
+from .blade import Blade
+from .frf import frequency_response, response_at
+from .result import FrequencyResponse, Peak, Response
 from .shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
+from .structure import Contact, ReducedStructure, Structure
+from .transient import BladeSimulation, simulate_blade
+
+#: The result of a structure's solve is the one result type (this name is kept for old code).
+MultiHarmonicResponse = FrequencyResponse
 
 __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
-from .structure import Contact, ReducedStructure, Structure
-from .mhresult import MultiHarmonicResponse
-
 __all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse"]

@@ -1,7 +1,8 @@
 """The blade: a single-degree-of-freedom oscillator ``m x'' + c x' + k x = F cos(omega t)``.
 
 The damper's excited end moves with the blade, so the damper force ``f_d(x)`` adds to the
-left-hand side (``hbm.residual``).
+left-hand side (``hbm.balance``).  To the balance a blade is the one-DOF structure
+:meth:`Blade.as_structure`.
 """
 
 from __future__ import annotations
@@ -10,6 +11,7 @@ import math
 from dataclasses import dataclass
 
 from ._validation import nonnegative, positive
+from .structure import Structure
 
 
 @dataclass(frozen=True)
@@ -69,6 +71,25 @@ class Blade:
         zeta = nonnegative("damping_ratio", damping_ratio)
         m = positive("mass", mass)
         return cls(mass=m, stiffness=m * w * w, damping=2.0 * zeta * m * w, force=force)
+
+    def as_structure(self) -> Structure:
+        """The blade as a one-DOF :class:`hbm.Structure`, solved at one harmonic unless asked for more.
+
+        Returns
+        -------
+        Structure
+            ``M = [[mass]]``, ``C = [[damping]]``, ``K = [[stiffness]]``, ``force = [force]``, with
+            ``default_harmonics = 1`` (the single-harmonic model of the paper).
+
+        Examples
+        --------
+        >>> s = Blade(mass=2.0, stiffness=8.0, damping=0.1, force=1.0).as_structure()
+        >>> s.n, s.K.tolist(), s.default_harmonics
+        (1, [[8.0]], 1)
+        """
+        s = Structure([[self.mass]], [[self.damping]], [[self.stiffness]], force=[self.force])
+        s.default_harmonics = 1
+        return s
 
     @property
     def natural_frequency(self) -> float:

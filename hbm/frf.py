@@ -1,358 +1,59 @@
-"""Frequency response of the blade with a damper: continuation of the single-harmonic balance.
+"""``frequency_response``: the front of the harmonic balance (validate, pick, run, wrap).
 
-``frequency_response(blade, element, omega_range=(w0, w1))`` traces the branch of
-``hbm.residual.HarmonicBalance`` from ``w0`` to ``w1`` with ``hbm.continuation`` and returns a
-:class:`FrequencyResponse`.  The continuation measures arclength in
-``(x_c/a, x_s/a, omega/|w1 - w0|)`` at each point (``a`` the current amplitude), so the number
-of points depends on the logarithm of the resonant amplification, not on the amplification.
+``frequency_response(system, contacts, omega_range=(w0, w1))`` validates its options, builds the
+one balance :class:`hbm.balance.HarmonicBalance` of the system (a blade is a one-DOF structure)
+with its contacts, picks its scales and the stuck start at ``w0``, traces the branch from ``w0``
+to ``w1`` through any folds with pseudo-arclength continuation (``hbm.continuation``) and wraps
+it in one result type, :class:`hbm.FrequencyResponse`, whatever the number of DOFs and harmonics.
+The continuation measures arclength with every coefficient scaled by the current first-harmonic
+amplitude and omega by the range width, so the number of points depends on the logarithm of the
+resonant amplification, not on the amplification.  ``response_at`` solves a blade's balance at
+one frequency by Brent's method, for elements without derivatives.
 """
 
 from __future__ import annotations
 
 import math
-from pathlib import Path
-from typing import TYPE_CHECKING, Any, Callable, NamedTuple
+from typing import Any, Callable
 
 import numpy as np
 
+from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
+
 from . import continuation as cont  # the module (hbm.continuation)
 from ._validation import count, nonnegative, omega_range_pair, positive
+from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
+                              harmonic_knobs)
+from .balance.residual import HarmonicBalance, as_structure
+from .balance.start import force_homotopy
 from .blade import Blade
-from .output import write_frf_csv
-from .presets import DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply
-from .residual import HarmonicBalance
+from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
-if TYPE_CHECKING:
-    from contact_models import ContactElement
-
-#: Newton tolerance on |R|/F (Euclidean, R = (R_c, R_s)) as a fraction of ``rtol``.
+#: Newton tolerance on the scaled residual (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref``
+#: otherwise) as a fraction of ``rtol``.
 NEWTON_TOL_FACTOR = 5e-3
-#: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
-#: amplitude error is quadratic in that distance.
-PEAK_XTOL_FACTOR = 1e-3
 
 
-class Peak(NamedTuple):
-    """The largest first-harmonic amplitude on the branch and its frequency.
-
-    Attributes
-    ----------
-    omega : float
-        Frequency (rad/s).
-    amplitude : float
-        First-harmonic amplitude (m).
-    """
-
-    omega: float
-    amplitude: float
-
-
-class Response(NamedTuple):
-    """The single-harmonic response at one frequency (``response_at``).
-
-    Attributes
-    ----------
-    omega : float
-        Excitation frequency (rad/s).
-    x_c, x_s : float
-        Cosine and sine coefficients of the displacement (m):
-        ``x = x_c cos(omega t) + x_s sin(omega t)``.
-    amplitude : float
-        First-harmonic amplitude ``hypot(x_c, x_s)`` (m).
-    phase : float
-        Lag of the displacement behind the force (rad), ``x = amplitude cos(omega t - phase)``.
-    """
-
-    omega: float
-    x_c: float
-    x_s: float
-    amplitude: float
-    phase: float  #: lag of the displacement behind the force, x = a cos(omega t - phase)
-
-
-class FrequencyResponse:
-    """The FRF: arrays along the branch, in continuation order, and how the run went.
-
-    ``omega`` (rad/s), ``amplitude`` (m, first harmonic), ``phase`` (rad, lag of the displacement
-    behind the force, ``x = a cos(omega t - phase)``), ``x_c``, ``x_s``, ``residual_norm``
-    (``|R|/F`` at each point, R = (R_c, R_s)), ``folds_omega``/``folds_amplitude`` (located turning points),
-    ``success``, ``status``, ``message``, counters ``nsteps`` (accepted steps), ``nit`` (Newton
-    iterations), ``nfev`` (element evaluations), ``nstuck`` (evaluations answered by the
-    stuck stiffness); the counters include the work of :meth:`peak` once it has been called.
-
-    Made by :func:`frequency_response`, not by hand.
-
-    Attributes
-    ----------
-    omega, amplitude, phase, x_c, x_s, residual_norm : ndarray
-        One value per point along the branch (rad/s, m, rad, m, m, dimensionless).
-    folds_omega, folds_amplitude : ndarray
-        The located turning points of the branch (rad/s, m).
-    success : bool
-        Whether the branch reached the end of ``omega_range``.
-    status, message
-        How the continuation ended, as a code and in words; on failure the points computed
-        before are kept.
-    nsteps, nit, nfev, nstuck : int
-        Accepted steps, Newton iterations, element evaluations, stuck evaluations.
-
-    Examples
-    --------
-    >>> from hbm import Blade, frequency_response
-    >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
-    ...                          omega_range=(90.0, 110.0))
-    >>> frf.success, len(frf.omega) == len(frf.amplitude) > 100
-    (True, True)
-    >>> float(frf.residual_norm.max()) < 1e-6              # |R|/F at every point
-    True
-    >>> round(float(frf.amplitude.max()), 6)           # largest sampled point, m (peak() refines it)
-    0.005
-    """
-
-    def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
-                 scale: Callable[[np.ndarray], np.ndarray]) -> None:
-        self._problem = problem
-        self._run = run
-        self._scale = scale
-        self.rtol = rtol
-        self.tol = tol
-        self.blade = problem.blade
-        self.element = problem.element
-        xc, xs, w = problem.to_physical(run.y) if len(run.y) else (np.empty(0),) * 3
-        self.x_c, self.x_s, self.omega = xc, xs, w
-        self.amplitude = np.hypot(xc, xs)
-        self.phase = np.arctan2(xs, xc)
-        self.residual_norm = run.residual_norm
-        fx, fs_, fw = problem.to_physical(run.folds) if len(run.folds) else (np.empty(0),) * 3
-        self.folds_omega = fw
-        self.folds_amplitude = np.hypot(fx, fs_)
-        self._take_run(run)
-
-    def _take_run(self, run: cont.ContinuationResult) -> None:
-        """Status, message (with where a failed branch stops), counters; the peak not yet located."""
-        w = self.omega
-        self.status = run.status
-        self.message = run.message
-        if not run.success and len(w):
-            self.message += f"; the branch stops at omega = {w[-1]:.9g} rad/s, amplitude {self.amplitude[-1]:.6g} m"
-        self.nsteps = run.nsteps
-        self._nit0 = run.nit
-        self._peak = None
-        self._peak_nit = 0
-        self.peak_refined = False  #: whether peak() located the maximum between samples
-        self._stable = None
-
-    # ------------------------------------------------------------------ counters
-    @property
-    def success(self) -> bool:
-        return self._run.success
-
-    @property
-    def nit(self) -> int:
-        return self._nit0 + self._peak_nit
-
-    @property
-    def nfev(self) -> int:
-        return self._problem.nfev
-
-    @property
-    def nstuck(self) -> int:
-        return self._problem.nstuck
-
-    def __len__(self):
-        return len(self.omega)
-
-    def __repr__(self):
-        return (f"FrequencyResponse({len(self)} points, omega {self.omega[0]:.6g}..{self.omega[-1]:.6g} rad/s, "
-                f"success={self.success}, message={self.message!r})" if len(self) else
-                f"FrequencyResponse(0 points, success=False, message={self.message!r})")
-
-    # ------------------------------------------------------------------ peak
-    #: Indices in the unknowns of the response's (x_c, x_s) (``peak`` maximises their norm).
-    _peak_components = (0, 1)
-
-    def _peak_point(self, y: np.ndarray) -> tuple[float, float]:
-        """``(omega, amplitude)`` of the scaled point ``y``."""
-        xc, xs, w = self._problem.to_physical(y)
-        return float(w), float(math.hypot(xc, xs))
-
-    def peak(self) -> Peak:
-        """``(omega, amplitude)`` of the largest response, located on the branch.
-
-        Between the neighbours of the largest sampled point the branch is parametrised by its
-        chord and the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a
-        fresh omega-derivative) is found by Brent's method; every trial point is a converged
-        Newton point.  A maximum at an end of the branch is returned as sampled.
-
-        Returns
-        -------
-        Peak
-            ``(omega, amplitude)`` in rad/s and m; cached after the first call.
-
-        Raises
-        ------
-        ValueError
-            If the response has no points.
-
-        Examples
-        --------
-        The default case of ``python -m hbm``: the damper is in microslip at resonance, the
-        peak at about twice its slip amplitude a_min = 7.5e-7 m.
-
-        >>> from hbm import frequency_response
-        >>> from hbm.cases import default_case
-        >>> case = default_case()
-        >>> frf = frequency_response(case.blade, case.element, omega_range=case.omega_range)
-        >>> pk = frf.peak()
-        >>> round(pk.omega, -1), round(pk.amplitude / 7.5e-7, 2)     # rad/s, a/a_min
-        (38770.0, 2.02)
-        """
-        if self._peak is not None:
-            return self._peak
-        if len(self) == 0:
-            raise ValueError("the frequency response has no points")
-        i = int(np.argmax(self.amplitude))
-        best = Peak(float(self.omega[i]), float(self.amplitude[i]))
-        if 0 < i < len(self) - 1:
-            pr = self._problem
-            pr.fresh_omega_derivative = True
-            counter = cont._Count()
-            y = self._run.y
-
-            c, s_ = self._peak_components  # the scaled (x_c, x_s) of the response in y
-
-            def slope(u, t):  # proportional to d(a^2)/ds along the branch
-                return u[c] * t[c] + u[s_] * t[s_]
-
-            try:
-                xtol = PEAK_XTOL_FACTOR * math.sqrt(self.rtol)
-                loc = None
-                for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
-                    loc = cont.locate(pr, y[ja], y[jb], slope, tol=self.tol, scale=self._scale,
-                                      xtol=xtol, count=counter)
-                    if loc is not None:
-                        break
-            finally:
-                pr.fresh_omega_derivative = False
-                self._peak_nit += counter.nit
-            if loc is not None:
-                w, a = self._peak_point(loc.y)
-                if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
-                    best = Peak(float(w), a)
-                    self.peak_refined = True
-        self._peak = best
-        return best
-
-    # ------------------------------------------------------------------ output
-    def to_csv(self, path: str | Path) -> Path:
-        """Write the points as ``hbm.output.FRF_COLUMNS`` (omega, amplitude, phase, x_c, x_s,
-        residual, units in the header); returns the path.
-
-        Parameters
-        ----------
-        path : str or Path
-            The CSV file to write.
-
-        Returns
-        -------
-        Path
-            The file written.
-
-        Examples
-        --------
-        >>> import tempfile, pathlib
-        >>> from hbm import Blade, frequency_response
-        >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
-        ...                          omega_range=(90.0, 110.0))
-        >>> path = frf.to_csv(pathlib.Path(tempfile.mkdtemp()) / "frf.csv")
-        >>> lines = path.read_text().splitlines()
-        >>> lines[0].split(",")[:2], len(lines) == len(frf.omega) + 1
-        (['omega_rad_s', 'amplitude_m'], True)
-        >>> float(lines[1].split(",")[0]), float(lines[-1].split(",")[0])   # omega_range, rad/s
-        (90.0, 110.0)
-        """
-        return write_frf_csv(path, self)
-
-    def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
-        """Amplitude against omega on ``ax`` (a new figure if None): stable stretches solid, unstable
-        dashed (:attr:`stable`); marks the peak. Returns ax.
-
-        Parameters
-        ----------
-        ax : matplotlib.axes.Axes, optional
-            Where to draw; default a new figure.
-        label : str, optional
-            Legend label of the curve.
-        peak : bool, optional
-            Mark the peak (:meth:`peak`) with a dot.  Default True.
-        **kwargs
-            Passed to ``ax.plot`` (colour, line style).
-
-        Returns
-        -------
-        matplotlib.axes.Axes
-            The axes drawn on.
-
-        Examples
-        --------
-        >>> import matplotlib
-        >>> matplotlib.use("Agg")
-        >>> from hbm import Blade, frequency_response
-        >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
-        ...                          omega_range=(90.0, 110.0))
-        >>> ax = frf.plot(label="bare blade")
-        >>> ax.get_ylabel(), len(ax.lines)                 # the curve and its peak
-        ('amplitude (m)', 2)
-        """
-        from .output import plot_branch
-
-        # a single DOF at H = 1 with a passive element loses stability only at folds (the sum of
-        # its two exponents is minus its damping): stability is computed only on a folded branch
-        folded = self._stable is not None or len(getattr(self._run, "fold_after", ())) > 0
-        ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable if folded else None, label=label,
-                                **kwargs)
-        if peak and len(self):
-            pk = self.peak()
-            ax.plot([pk.omega], [pk.amplitude], "o", color=color, ms=4)
-        return ax
-
-    @property
-    def stable(self) -> np.ndarray:
-        """Stability of every point (bool), by Hill's method at H = 1 (``hbm.stability``), computed on
-        first use; unstable stretches are drawn dashed by :meth:`plot`."""
-        if self._stable is None:
-            from .stability import single_harmonic_stability
-
-            self._stable = single_harmonic_stability(self.blade, self.element, self.omega, self.x_c, self.x_s)
-        return self._stable
-
-
-def frequency_response(blade: Blade, element: ContactElement | None = None,
-                       omega_range: tuple[float, float] | None = None, *, rtol: float = DEFAULT_RTOL,
-                       max_step: float = DEFAULT_MAX_STEP, min_step: float = DEFAULT_MIN_STEP,
-                       max_steps: int = DEFAULT_MAX_STEPS, locate_folds: bool = True,
-                       on_point: Callable[[float, float, float, float], None] | None = None,
-                       accuracy: str | float | None = None, harmonics: int | None = None,
-                       n_t: int | None = None, response_dof: int | None = None,
-                       stability: bool = True) -> FrequencyResponse:
-    """FRF of ``blade`` with the contact element ``element`` (None: the bare blade) over
+def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[float, float] | None = None, *,
+                       rtol: float = DEFAULT_RTOL, max_step: float = DEFAULT_MAX_STEP,
+                       min_step: float = DEFAULT_MIN_STEP, max_steps: int = DEFAULT_MAX_STEPS,
+                       locate_folds: bool = True, on_point: Callable[[float, float, float, float], None] | None = None,
+                       accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
+                       response_dof: int | None = None, stability: bool = True) -> FrequencyResponse:
+    """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
-    ``rtol``: relative accuracy; the element is evaluated to ``rtol`` and every point solves
-    the balance to ``|R|/F <= NEWTON_TOL_FACTOR * rtol``.  ``max_step``/``min_step``: step
-    limits in scaled arclength (module docstring); ``max_steps``: step budget.
-    ``on_point(omega, x_c, x_s, residual)``: called with each accepted point and its ``|R|/F`` as soon
-    as it is accepted, in continuation order (the same points as the result's), so a caller can
-    stream them.
-    ``accuracy``: "fast", "default", "precise" or an rtol; sets rtol, max_step, min_step and
-    max_steps together (``hbm.presets``; not combined with them).
+    One balance for every system (``hbm.balance``): a blade is a one-DOF structure, a contact
+    element given alone attaches to its DOF.  The element is evaluated to ``rtol`` and every point
+    solves the balance to ``NEWTON_TOL_FACTOR * rtol`` in its scaled residual.
 
     Parameters
     ----------
-    blade : Blade
-        The blade (mass, stiffness, damping, force).
-    element : ContactElement or None, optional
-        The damper at the blade's tip (any ``contact_models`` element); None for the bare blade.
+    system : Blade or Structure
+        The linear system: a blade (mass, stiffness, damping, force) or a structure (M, C, K, force).
+    contacts : ContactElement, Contact, sequence of Contact, or None, optional
+        The contacts: ``hbm.Contact(element, dof=i)`` or ``dofs=(i, j)``; a bare element (any
+        ``contact_models`` element) on a one-DOF system is the damper at its DOF; None for none.
     omega_range : tuple of float
         ``(w0, w1)`` in rad/s, >= 0 and different; traced from w0 to w1 (either way).
     rtol : float, optional
@@ -364,49 +65,52 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
     locate_folds : bool, optional
         Locate the turning points of the branch.  Default True.
     on_point : callable, optional
-        ``on_point(omega, x_c, x_s, residual)`` for each accepted point, as it is accepted.
+        ``on_point(omega, x_c, x_s, residual)`` with each accepted point (the response DOF's first
+        harmonic, in m) and its scaled residual, as soon as it is accepted, in continuation order.
     accuracy : {"fast", "default", "precise"} or float, optional
-        A preset of ``hbm.presets`` instead of ``rtol`` and the step settings.
-    harmonics, n_t, response_dof, stability : optional
-        The multi-harmonic balance's options (see below): the number of harmonics H (default the
-        accuracy preset's), the AFT samples per period, the DOF whose response is reported (default
-        the forced DOF) and whether Hill's stability is computed at every point (default True).
+        A preset of ``hbm.balance.presets`` instead of ``rtol`` and the step settings (not combined
+        with them); for a structure it also sets H and n_t unless they are given.
+    harmonics : int, optional
+        The number of harmonics H.  Default: 1 for a blade, the accuracy preset's for a structure
+        (``Structure.default_harmonics``).  Above 1 every contact needs a time law.
+    n_t : int, optional
+        AFT samples per period, >= 2H + 2.  Default the preset's with the preset's H, else
+        ``contact_models.base.default_samples(H)``.
+    response_dof : int, optional
+        The DOF whose response is reported.  Default the forced DOF.
+    stability : bool, optional
+        Whether Hill's stability is available (computed on first use of ``stable``).  Default True.
 
     Returns
     -------
     FrequencyResponse
         The branch, with ``success`` and ``message``; a run that stops early keeps the points it
-        computed.  For the multi-harmonic balance an ``hbm.mhresult.MultiHarmonicResponse``.
+        computed.
 
     Raises
     ------
     ValueError
-        If ``blade`` is not a :class:`Blade`, ``element`` has no ``fourier``, ``omega_range`` is
-        missing or invalid, or an option is out of range; the message names it and its value.
+        If ``system`` is neither a Blade nor a Structure, a contact is not a contact element or
+        ``hbm.Contact``, ``omega_range`` is missing or invalid, or an option is out of range; the
+        message names it and its value.
 
     See Also
     --------
-    response_at : the balance at one frequency.
+    response_at : a blade's balance at one frequency.
     simulate_blade : the blade and the discretised bar integrated in time, the independent check.
 
     Notes
     -----
-    With an ``hbm.Structure`` first and a sequence of ``hbm.Contact`` second (or a ``Blade``
-    with ``harmonics``/``n_t``/``response_dof`` given) this is the multi-harmonic balance
-    (``hbm.multiharmonic``): ``harmonics`` H (default: the accuracy preset's), ``n_t`` AFT
-    samples per period, ``response_dof`` (default the forced DOF), ``stability`` (Hill's method
-    at every point); it returns an ``hbm.mhresult.MultiHarmonicResponse``.
-
-    Single-harmonic balance: with ``x = x_c cos(omega t) + x_s sin(omega t)``,
+    Single harmonic, one DOF: with ``x = x_c cos(omega t) + x_s sin(omega t)``,
     ``a = sqrt(x_c^2 + x_s^2)`` and the element's ``p = f_s/a``, ``q = f_c/a``,
 
     .. math::
 
         (k - m\\omega^2 + p + i(c\\omega + q))\\,(x_c - i x_s) = F,
 
-    two real equations in ``y = (x_c, x_s, omega)``, traced by pseudo-arclength continuation
-    through folds; each point solves it to ``|R|/F <= NEWTON_TOL_FACTOR * rtol``.
-    ``docs/hbm.md`` derives the Jacobian and the step control.
+    two real equations in ``y = (x_c, x_s, omega)``.  Any structure and H: the balance condensed
+    to the contact DOFs, ``X - X_lin + G F(X) = 0`` (``hbm.balance.residual``).  ``docs/hbm.md``
+    and ``docs/multiharmonic.md`` derive the Jacobians and the step control.
 
     Examples
     --------
@@ -425,59 +129,65 @@ def frequency_response(blade: Blade, element: ContactElement | None = None,
     With the two-region microslip damper (the default case of ``python -m hbm``):
 
     >>> from contact_models import Bar, UniformLoad, TwoRegionMicroslip
-    >>> from hbm import Blade, frequency_response
     >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
     >>> two = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
     >>> blade = Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0)
     >>> frf = frequency_response(blade, two, omega_range=(3.2e4, 4.4e4))
     >>> frf.success, round(frf.peak().amplitude, 9)    # m
     (True, 1.512e-06)
-    """
-    if not isinstance(blade, Blade) or harmonics is not None or n_t is not None or response_dof is not None:
-        from .mhdispatch import structure_response
 
-        return structure_response(blade, element, omega_range, rtol=rtol, max_step=max_step, min_step=min_step,
-                                  max_steps=max_steps, locate_folds=locate_folds, on_point=on_point,
-                                  accuracy=accuracy, harmonics=harmonics, n_t=n_t, response_dof=response_dof,
-                                  stability=stability)
-    if not isinstance(blade, Blade):
-        raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
+    A structure with a Jenkins element at three harmonics:
+
+    >>> import numpy as np
+    >>> from contact_models import Macroslip
+    >>> from hbm import Contact, Structure
+    >>> s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    >>> frf = frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), harmonics=3)
+    >>> frf.success, frf.harmonics, frf.coefficients(0).shape[1]
+    (True, 3, 4)
+    """
+    # ---- validate
+    structure = as_structure(system)
     w0, w1 = omega_range_pair(omega_range)
+    H_preset, n_t_preset = harmonic_knobs(accuracy if accuracy is not None else "default")
     if accuracy is not None:
-        rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step,
-                                                    min_step=min_step, max_steps=max_steps)
+        rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step, min_step=min_step,
+                                                    max_steps=max_steps)
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
-    max_step = positive("max_step", max_step)
-    min_step = positive("min_step", min_step)
+    max_step, min_step = positive("max_step", max_step), positive("min_step", min_step)
     max_steps = count("max_steps", max_steps)
-    if element is not None and not callable(getattr(element, "fourier", None)):
-        raise ValueError(f"element must be a contact element (with fourier(a, omega)), got element={element!r}")
-
-    # ---- scales: x by the static deflection, omega by the range width
-    k0 = blade.stiffness + _finite_or_zero(element.stuck_stiffness(0.0) if element is not None else 0.0)
-    k_ref = k0 if k0 > 0.0 else blade.mass * max(w0, w1) ** 2
-    x_ref = blade.force / k_ref
-    w_ref = abs(w1 - w0)
-    problem = HarmonicBalance(blade, element, rtol=rtol, x_ref=x_ref, omega_ref=w_ref)
-
-    # ---- start: the stuck (linear) solution at w0, corrected by the continuation
-    kd = _finite_or_zero(element.stuck_stiffness(w0)) if element is not None else 0.0
-    z = blade.force / (blade.stiffness + kd - blade.mass * w0 * w0 + 1j * blade.damping * w0)
-    u0 = np.array([z.real / x_ref, -z.imag / x_ref, w0 / w_ref])
+    # ---- pick: H and n_t (an explicit knob overrides only itself), the balance, its scales
+    if harmonics is None:
+        harmonics = structure.default_harmonics
+        if harmonics is None:
+            harmonics = H_preset
+            if n_t is None:
+                n_t = n_t_preset
+    problem = HarmonicBalance(system, contacts, harmonics=harmonics, n_t=n_t, response_dof=response_dof,
+                              rtol=rtol)
+    problem.set_scales(w0, w1)
     tol = NEWTON_TOL_FACTOR * rtol
+    scale = problem.arclength_scale()
+    w_ref = problem.omega_ref
+    # ---- run: from the stuck solution at w0 (else a homotopy in the force) to w1
+    report = None if on_point is None else _reporter(on_point, problem)
 
-    def scale(u):
-        a = max(math.hypot(u[0], u[1]), 1e-300)
-        return np.array([a, a, 1.0])
+    def trace(u_start):
+        return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
+                                 bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref), direction=1 if w1 > w0 else -1,
+                                 max_step=max_step, min_step=min_step, max_steps=max_steps, tol=tol, scale=scale,
+                                 locate_folds=locate_folds, fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
+                                 on_point=report)
 
-    run = cont.continuation(problem, u0, parameter=2, bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
-                            direction=1 if w1 > w0 else -1, max_step=max_step, min_step=min_step,
-                            max_steps=max_steps, tol=tol, scale=scale, locate_folds=locate_folds,
-                            fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
-                            on_point=None if on_point is None else _physical(on_point, problem))
-    return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale)
+    run = trace(problem.stuck_start(w0))
+    if run.status == cont.Status.START_FAILED:
+        u_h = force_homotopy(problem, w0, tol, scale)
+        if u_h is not None:
+            run = trace(u_h)
+    # ---- wrap
+    return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale, stability=stability)
 
 
 def response_at(blade: Blade, element: ContactElement, omega: float,
@@ -530,8 +240,6 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     >>> round(r.amplitude, 10), round(r.phase, 3)      # m, rad
     (7.371e-07, 0.041)
     """
-    from scipy.optimize import brentq
-
     if not isinstance(blade, Blade):
         raise ValueError(f"blade must be an hbm.Blade, got blade={blade!r}")
     if element is None or not callable(getattr(element, "fourier", None)):
@@ -562,17 +270,16 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
                     phase=math.atan2(-z.imag, z.real))
 
 
-def _physical(on_point, problem):
-    """``on_point(omega, x_c, x_s, residual)`` for the continuation's ``on_point(y, rnorm)`` in scaled unknowns."""
+def _reporter(on_point: Callable, problem: HarmonicBalance) -> Callable:
+    """``on_point(omega, x_c, x_s, residual)`` for the continuation's ``on_point(u, rnorm)`` in scaled unknowns."""
+    c, s = problem.response_components()
+    x_ref, w_ref = problem.x_ref, problem.omega_ref
 
-    def report(y, rnorm):
-        xc, xs, w = problem.to_physical(y)
-        on_point(float(w), float(xc), float(xs), float(rnorm))
+    def report(u, rnorm):
+        on_point(float(u[-1] * w_ref), float(u[c] * x_ref), float(u[s] * x_ref), float(rnorm))
 
     return report
 
 
-def _finite_or_zero(k) -> float:
-    """A stuck stiffness for scales and the first guess (a rigid stuck contact gives none: 0)."""
-    k = float(k)
-    return k if math.isfinite(k) else 0.0
+__all__ = ["frequency_response", "response_at", "FrequencyResponse", "Peak", "Response", "NEWTON_TOL_FACTOR",
+           "PEAK_XTOL_FACTOR", "DEFAULT_RTOL", "DEFAULT_MAX_STEP", "DEFAULT_MIN_STEP", "DEFAULT_MAX_STEPS"]

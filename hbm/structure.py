@@ -89,6 +89,10 @@ class Structure:
     (2, [0.618, 1.618])
     """
 
+    #: Harmonics of a solve that names none: None takes the accuracy preset's (``hbm.balance.presets``);
+    #: a blade's structure says 1 (:meth:`hbm.Blade.as_structure`).
+    default_harmonics: int | None = None
+
     def __init__(self, M: ArrayLike, C: ArrayLike, K: ArrayLike, *, force: ArrayLike) -> None:
         self.M = _check_matrix("M", M, None)
         n = self.M.shape[0]

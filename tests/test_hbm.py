@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from contact_models import ContactElement
 from hbm import Blade, FrequencyResponse, HarmonicBalance, frequency_response
-from hbm.residual import linear_response
+from hbm.balance.residual import linear_response
 
 
 def macroslip(stiffness, slip_force):

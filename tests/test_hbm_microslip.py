@@ -6,7 +6,7 @@ import pytest
 from hbm import frequency_response
 from hbm.__main__ import main
 from hbm.cases import default_case
-from hbm.residual import linear_response
+from hbm.balance.residual import linear_response
 
 
 @pytest.fixture(scope="module")

@@ -15,7 +15,7 @@ import pytest
 from contact_models import CubicSpring, Macroslip
 from hbm import Blade, Contact, Structure, frequency_response
 from hbm import continuation as cont
-from hbm.presets import harmonic_knobs
+from hbm.balance.presets import harmonic_knobs
 
 DATA = json.loads((Path(__file__).parent / "data" / "periodic_reference.json").read_text())
 CHAIN = DATA["chain"]["parameters"]
@@ -93,7 +93,7 @@ def test_precise_peak_within_1e5_of_the_true_periodic_peak(name):
     # Hill against the shooting's monodromy at the true peak: the verdict, and the dominant
     # multiplier within 2 % (the documented accuracy of the periodic-perturbation linearisation
     # of the slider, docs/multiharmonic.md "Stability"; the second multiplier is not claimed)
-    from hbm.stability import hill_exponents
+    from hbm.balance.stability import hill_exponents
 
     ref = DATA["jenkins"][name]["at_peak"]
     w = DATA["jenkins"][name]["peak_amplitude"]["omega"]
@@ -143,7 +143,7 @@ def test_duffing_branches_stability_and_floquet_multipliers():
             i = int(np.argmin(np.abs(frf.omega - w) + np.abs(frf.amplitude - branch["amplitude"])))
             assert bool(frf.stable[i]) == branch["stable"]
     # Hill's multipliers exp(lambda T) at the reference points, against the monodromy's
-    from hbm.stability import hill_exponents
+    from hbm.balance.stability import hill_exponents
 
     pr = frf._problem
     for point in DATA["duffing"]["points"]:

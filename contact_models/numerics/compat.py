@@ -27,6 +27,12 @@ def moved_module(old: str, new: str) -> None:
     >>> caught[0].category.__name__, str(caught[0].message).split(";")[0]
     ('DeprecationWarning', 'contact_models._example_old_path moved to contact_models.numerics.roots')
     """
-    warnings.warn(f"{old} moved to {new}; import it from there (this path will be removed)",
-                  DeprecationWarning, stacklevel=3)
+    warn_moved(old, new, stacklevel=4)
     sys.modules[old] = importlib.import_module(new)
+
+
+def warn_moved(old: str, new: str, *, stacklevel: int = 3) -> None:
+    """Warn (``DeprecationWarning``) that module ``old`` moved to ``new``; for a module left at the
+    old path that re-exports the old names from their new homes."""
+    warnings.warn(f"{old} moved to {new}; import it from there (this path will be removed)",
+                  DeprecationWarning, stacklevel=stacklevel)

@@ -1,0 +1,86 @@
+"""Condensation of a structure onto the DOFs its contacts touch (and the response DOF).
+
+With ``Z(s) = K + s C + s^2 M`` and the compliance ``G_h = [Z(i h omega)^-1]_aa`` at the
+condensation DOFs ``a``, the linear DOFs are eliminated exactly, harmonic by harmonic: the
+response at ``a`` is ``X = X_lin(omega) - G(omega) F``, ``F`` the contact forces' harmonics.
+``G`` and its omega-derivative come from the state-space modes of (M, C, K), computed once
+(:func:`hbm.structure.modal_compliance`), so an evaluation costs ``O(n_a^2 n H)`` whatever
+the structure's size (``docs/multiharmonic.md`` derives every coefficient).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ..structure import Structure, modal_compliance
+from .layout import to_complex
+
+
+class Condensed:
+    """The structure's compliance at a set of DOFs for harmonics 0..H (state-space modes).
+
+    Parameters
+    ----------
+    structure : hbm.Structure
+        The linear structure.
+    dofs : sequence of int
+        The condensation DOFs ``a``.
+    harmonics : int
+        The highest harmonic H.
+    """
+
+    def __init__(self, structure: Structure, dofs: Sequence[int], harmonics: int) -> None:
+        self.lam, V, B = modal_compliance(structure.M, structure.C, structure.K)
+        self.V, self.B = V, B
+        self.dofs = np.asarray(dofs, dtype=int)
+        self.Va = V[self.dofs]  # (n_a, 2n)
+        self.Ba = B[:, self.dofs]  # (2n, n_a)
+        self.bf = B @ structure.force  # (2n,)
+        self.h = np.arange(harmonics + 1)
+        self._cache: tuple | None = None
+
+    def at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+        """``(G, dG/domega, x_lin, dx_lin/domega)``: G (H+1, n_a, n_a) complex, x_lin (n_a,) complex."""
+        if self._cache is not None and self._cache[0] == omega:
+            return self._cache[1]
+        S = 1.0 / (1j * self.h[:, None] * omega - self.lam[None, :])  # (H+1, 2n)
+        dS = -1j * self.h[:, None] * S * S
+        G = np.einsum("aj,hj,jb->hab", self.Va, S, self.Ba)
+        dG = np.einsum("aj,hj,jb->hab", self.Va, dS, self.Ba)
+        G[0] = G[0].real
+        xl = self.Va @ (S[1] * self.bf)
+        dxl = self.Va @ (dS[1] * self.bf)
+        out = (G, dG, xl, dxl)
+        self._cache = (omega, out)
+        return out
+
+    def response(self, omega: float, F: NDArray) -> NDArray[np.complex128]:
+        """Complex harmonics (n, H+1) of every DOF for contact-force harmonics F (n_a, 2H+1)."""
+        S = 1.0 / (1j * self.h[:, None] * omega - self.lam[None, :])
+        c = to_complex(F)  # (n_a, H+1)
+        Xall = -np.einsum("nj,hj,ja,ah->nh", self.V, S, self.Ba, c)
+        Xall[:, 1] += self.V @ (S[1] * self.bf)
+        Xall[:, 0] = Xall[:, 0].real
+        return Xall
+
+
+def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float) -> NDArray[np.complex128]:
+    """Complex stiffness (n_a, n_a) of the contacts held in their linear range at omega (rigid: 0)."""
+    pos = {d: i for i, d in enumerate(dofs)}
+    Kc = np.zeros((len(dofs), len(dofs)), dtype=complex)
+    for c in contacts:
+        ks, kc = c.element.linear_coefficients(omega)
+        k = complex(ks, kc) if math.isfinite(ks) and math.isfinite(kc) else 0.0
+        ix = [pos[d] for d in c.dofs]
+        sg = [1.0, -1.0][:len(ix)]
+        for i, si in zip(ix, sg):
+            for j, sj in zip(ix, sg):
+                Kc[i, j] += si * sj * k
+    return Kc
+
+
+__all__ = ["Condensed", "stuck_matrix"]

@@ -1,0 +1,151 @@
+"""Defaults and accuracy presets of :func:`hbm.frequency_response`: the one source of both.
+
+``hbm.frf`` and the scenes read their defaults here; this module imports neither.
+One name, or one ``rtol``, sets every knob:
+
+``frequency_response(blade, element, omega_range, accuracy="fast" | "default" | "precise")``
+or ``accuracy=1e-5`` (a relative tolerance).  Chosen from the measurements of
+``benchmarks/bench_frf_accuracy.py`` (``docs/performance.md``, "What accuracy costs"), which
+say of the knobs (default case, 2026-11-21):
+
+- ``rtol`` (the element's ``fourier`` tolerance, and the Newton tolerance
+  ``NEWTON_TOL_FACTOR * rtol`` of every point) sets the accuracy of the points and of the peak:
+  the peak frequency's error falls like ``sqrt(rtol)`` (6e-6 at 1e-2, 6e-8 at 1e-6, 4e-10 at
+  1e-10; the peak is located to ``PEAK_XTOL_FACTOR * sqrt(rtol)`` of its bracket), the peak
+  amplitude's stays far below rtol.  It costs little time: 1.3 to 1.4 times the default's at
+  1e-8 to 1e-10, and the point count does not change.
+- ``max_step`` sets the number of points, hence the time (about proportional above ~65 points,
+  where the curvature control takes over) and the drawn curve's error (chord error, about
+  ``max_step**2``: 4e-4 at 0.1, 5e-5 at 0.03, 5e-6 at 0.01), but not the peak, which is
+  refined between points.
+- ``min_step`` never binds on a branch that converges; ``max_steps`` is a budget (too small
+  a budget stops the branch early and the peak may be missed).
+- The microslip elements reach about 1e-14 (three-region: 1e-9, set by its table, not by
+  rtol) at any ``rtol``, so handing them the preset's ``rtol`` costs nothing in accuracy.
+
+So a preset is one ``rtol``, and ``max_step`` follows it along the measured error/time front,
+``max_step = DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT`` (clipped to
+``[MIN_PRESET_STEP, MAX_PRESET_STEP]``): per 1000 times in rtol, about 30 times in the peak
+frequency's error, 10 times in the curve's and 2 to 4 times in time.  The step budget is scaled so
+that the same arclength fits; ``min_step`` stays at its default.  "default" is exactly
+``frequency_response``'s defaults.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from dataclasses import asdict, dataclass
+
+from contact_models.base import DEFAULT_RTOL  # the elements' default rtol is the FRF's too
+
+#: Default largest step (scaled arclength, ``hbm.frf``'s module docstring).
+DEFAULT_MAX_STEP = 0.03
+#: Default smallest step.
+DEFAULT_MIN_STEP = 1e-9
+#: Default step budget.
+DEFAULT_MAX_STEPS = 5000
+#: max_step grows like rtol ** STEP_EXPONENT (0.03 at 1e-6, 0.095 at 1e-3, 0.0095 at 1e-9).
+STEP_EXPONENT = 1.0 / 6.0
+#: Limits of the preset max_step.
+MIN_PRESET_STEP = 0.005
+MAX_PRESET_STEP = 0.1
+#: Largest rtol accepted (``frequency_response`` needs rtol < 0.1).
+MAX_RTOL = 0.1
+
+#: The named presets, as the rtol they stand for.
+NAMED = {"fast": 1e-3, "default": DEFAULT_RTOL, "precise": 1e-9}
+
+#: Documented bound of the peak's relative error (max of amplitude and frequency) on
+#: ``hbm.cases.default_case()`` against a tight reference (rtol 1e-11): measured 1.9e-6, 6.0e-8
+#: and 1.7e-9 (docs/performance.md, which the benchmark regenerates; tests/test_presets.py).
+PEAK_ERROR_BOUND = {"fast": 1e-5, "default": 3e-7, "precise": 1e-8}
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """Values of ``frequency_response``'s accuracy knobs."""
+
+    rtol: float
+    max_step: float
+    min_step: float
+    max_steps: int
+
+    def options(self) -> dict:
+        """Keyword arguments for ``frequency_response``.
+
+        Examples
+        --------
+        >>> from hbm.presets import resolve
+        >>> resolve("default").options()
+        {'rtol': 1e-06, 'max_step': 0.03, 'min_step': 1e-09, 'max_steps': 5000}
+        """
+        return asdict(self)
+
+
+def from_rtol(rtol: float) -> Accuracy:
+    """The knobs for a relative tolerance ``rtol`` (0 < rtol < 0.1)."""
+    max_step = max_step_for(rtol)
+    max_steps = math.ceil(DEFAULT_MAX_STEPS * DEFAULT_MAX_STEP / max_step * (1.0 - 1e-12))
+    return Accuracy(rtol=float(rtol), max_step=max_step, min_step=DEFAULT_MIN_STEP, max_steps=max_steps)
+
+
+def max_step_for(rtol: float) -> float:
+    """``DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT``, clipped; the default at 1e-6."""
+    if rtol == DEFAULT_RTOL:
+        return DEFAULT_MAX_STEP  # exactly the default, not a rounding of it
+    step = DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT
+    return min(max(step, MIN_PRESET_STEP), MAX_PRESET_STEP)
+
+
+def resolve(accuracy: str | float) -> Accuracy:
+    """``accuracy``: "fast", "default", "precise" or a number 0 < rtol < 0.1."""
+    if isinstance(accuracy, str):
+        if accuracy not in NAMED:
+            raise ValueError(f"accuracy must be one of {', '.join(map(repr, NAMED))} or an rtol "
+                             f"0 < rtol < {MAX_RTOL}, got accuracy={accuracy!r}")
+        return from_rtol(NAMED[accuracy])
+    if isinstance(accuracy, bool) or not isinstance(accuracy, numbers.Real):
+        raise ValueError(f"accuracy must be one of {', '.join(map(repr, NAMED))} or an rtol "
+                         f"0 < rtol < {MAX_RTOL}, got accuracy={accuracy!r}")
+    value = float(accuracy)
+    if not 0.0 < value < MAX_RTOL:  # also rejects nan
+        raise ValueError(f"accuracy as an rtol must satisfy 0 < rtol < {MAX_RTOL}, got accuracy={accuracy!r}")
+    return from_rtol(value)
+
+
+def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: float,
+          max_steps: int) -> tuple[float, float, float, int]:
+    """``(rtol, max_step, min_step, max_steps)`` for ``frequency_response(..., accuracy=...)``.
+
+    The preset sets all four; passing one of them too (with a value other than its default)
+    is ambiguous and raises ValueError: to adjust a preset, start from
+    ``resolve(accuracy).options()`` and pass the knobs themselves.
+    """
+    preset = resolve(accuracy)
+    given = {"rtol": (rtol, DEFAULT_RTOL), "max_step": (max_step, DEFAULT_MAX_STEP),
+             "min_step": (min_step, DEFAULT_MIN_STEP), "max_steps": (max_steps, DEFAULT_MAX_STEPS)}
+    clash = [f"{k}={v!r}" for k, (v, d) in given.items() if v != d]
+    if clash:
+        raise ValueError(f"accuracy={accuracy!r} sets rtol, max_step, min_step and max_steps; got also "
+                         f"{', '.join(clash)} (pass either accuracy or the knobs, e.g. "
+                         f"**hbm.presets.resolve({accuracy!r}).options() with changes)")
+    return preset.rtol, preset.max_step, preset.min_step, preset.max_steps
+
+
+#: Harmonics H and AFT samples per period n_t of each named preset for the multi-harmonic balance
+#: (``frequency_response`` with an ``hbm.Structure``).  Chosen from ``benchmarks/bench_mhb_accuracy.py``
+#: (``docs/performance.md``, "What accuracy costs: harmonics"); a number (an rtol) takes "default"'s.
+HARMONICS = {"fast": (3, 256), "default": (7, 512), "precise": (15, 2048)}
+
+
+def harmonic_knobs(accuracy: str | float) -> tuple[int, int | None]:
+    """``(harmonics, n_t)`` of a preset name, or of "default" for an rtol (validated by :func:`resolve`).
+
+    Examples
+    --------
+    >>> harmonic_knobs("precise")
+    (15, 2048)
+    """
+    resolve(accuracy)
+    return HARMONICS[accuracy] if isinstance(accuracy, str) else HARMONICS["default"]

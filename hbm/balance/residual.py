@@ -1,0 +1,482 @@
+"""One harmonic balance for a structure with contacts, any number of DOFs and harmonics.
+
+Model (``hbm.structure``; ``docs/multiharmonic.md`` derives every coefficient)::
+
+    M x'' + C x' + K x + sum_k P_k f_k(x) = f cos(omega t)
+
+A blade (``hbm.Blade``) is the one-DOF structure ``m x'' + c x' + k x + f_d(x) = F cos(omega t)``.
+
+Unknowns: the harmonic coefficients of the *condensation DOFs* ``a`` (every DOF a contact
+touches, and the response DOF), DOF-major, then omega::
+
+    y = (X_a0, X_a1, ..., omega),   X = [X0, Xc1, Xs1, ..., XcH, XsH] per DOF.
+
+The balance, harmonic by harmonic on the complex coefficients ``c_h = Xc_h - i Xs_h``::
+
+    Z_h(omega) c_h + F_h(X, omega) = f_h,     Z_h = K - (h omega)^2 M + i h omega C,
+
+with the linear DOFs eliminated exactly (``hbm.balance.condensation``). The contacts answer
+``F``: at H = 1 an element whose describing function is exact (``exact_describing_function``)
+answers with it, ``F_c = p x_c + q x_s``, ``F_s = p x_s - q x_c`` (``p = f_s/a``, ``q = f_c/a``,
+``contact_models.numerics.describing``); otherwise its time law enters through alternating
+frequency-time (AFT, ``ContactElement.harmonic_force``) with the analytic Jacobian
+``E J_t E^-1``.  The balance asks each element what it can do; the solver has no switch over
+element types or system types.
+
+Two evaluations of this one balance, chosen by the problem's size:
+
+- **condensed** (any structure, any H, any contacts): premultiplied by the compliance
+  ``G_h = Z_h^-1`` restricted to the DOFs a, ``R = X - X_lin(omega) + G(omega) F(X)``, which
+  stays bounded at the resonances of the eliminated DOFs; R is scaled by ``x_ref sigma``
+  (``sigma = max(1, |X_1|/x_ref)``, so the Newton tolerance is relative to the response).
+- **one DOF at H = 1** with at most one contact answering by its describing function (the
+  blade of the paper): the same equations in stiffness form, in floats,
+
+  ``R_c = (k - m omega^2 + p) x_c + (c omega + q) x_s - F``,
+  ``R_s = (k - m omega^2 + p) x_s - (c omega + q) x_c``,
+
+  scaled by F (no static term: it is exactly zero).  An array evaluation of three unknowns costs
+  more than the element's own call, so this is twenty times faster; ``tests/test_balance.py``
+  checks that both evaluations give the same branch.
+
+In the one-DOF form the element's omega-derivative (a frequency-dependent element gives none)
+is a forward difference of relative step ``sqrt(rtol)``, taken at most once per
+``OMEGA_REFRESH`` relative change of omega or ``AMP_REFRESH`` of a and reused in between; it
+enters only the Newton matrix and the tangent, never the residual, so it does not move the
+converged points.  ``fresh_omega_derivative = True`` takes it anew at every call (peaks,
+folds).  Up to the element's ``linear_amplitude(omega)`` the element is linear and its
+``linear_coefficients(omega)`` are used without calling its Fourier routine.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Callable, Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from contact_models import ContactElement
+from contact_models.base import DEFAULT_RTOL, default_samples
+from contact_models.numerics.describing import stiffness_terms as describing_terms
+from contact_models.numerics.masing import to_time
+
+from .._validation import count
+from ..structure import Contact, Structure
+from .condensation import Condensed, stuck_matrix
+from .layout import from_complex, to_complex
+
+#: omega-derivative of the stuck stiffness: central difference of this relative step.
+STUCK_FD_STEP = 1e-5
+#: Relative change of omega (or, next, of a) after which the element's omega-derivative is retaken.
+OMEGA_REFRESH = 3e-3
+AMP_REFRESH = 3e-2
+
+
+def as_structure(system: Any) -> Structure:
+    """The :class:`hbm.Structure` of ``system`` (a Structure, or a Blade: its one-DOF structure)."""
+    if isinstance(system, Structure):
+        return system
+    as_s = getattr(system, "as_structure", None)
+    if callable(as_s):
+        return as_s()
+    raise ValueError(f"system must be an hbm.Blade or an hbm.Structure (a blade is a one-DOF structure), "
+                     f"got system={system!r}")
+
+
+def as_contacts(contacts: Any, n: int) -> list[Contact]:
+    """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or (one-DOF
+    system) a bare element attached at DOF 0."""
+    if contacts is None:
+        return []
+    if isinstance(contacts, Contact):
+        return [contacts]
+    if isinstance(contacts, ContactElement):
+        if n != 1:
+            raise ValueError(f"a bare element attaches only to a one-DOF system; give "
+                             f"hbm.Contact(element, dof=...) for a structure of {n} DOFs, got contacts={contacts!r}")
+        return [Contact(contacts, dof=0)]
+    if callable(getattr(contacts, "fourier", None)) or isinstance(contacts, (str, bytes, dict)):
+        raise ValueError(f"element must be a contact element (a contact_models.ContactElement), got element={contacts!r}")
+    try:
+        contacts = list(contacts)
+    except TypeError:
+        raise ValueError(f"contacts must be a contact element or a sequence of hbm.Contact, "
+                         f"got contacts={contacts!r}") from None
+    for c in contacts:
+        if not isinstance(c, Contact):
+            raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
+    return contacts
+
+
+def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any, n_t: Any,
+                  response_dof: Any) -> tuple[int, int, int]:
+    """Validate H, n_t, the contacts' DOFs and the response DOF; returns ``(H, n_t, response_dof)``."""
+    for c in contacts:
+        for d in c.dofs:
+            if d >= structure.n:
+                raise ValueError(f"dof must be a DOF index in 0..{structure.n - 1}, got dof={d!r} in {c!r}")
+    H = count("harmonics", harmonics, 1)
+    if n_t is None:
+        n_t = default_samples(H)
+    if isinstance(n_t, bool) or not isinstance(n_t, (int, np.integer)) or n_t < 2 * H + 2:
+        raise ValueError(f"n_t must be an integer >= 2H + 2 = {2 * H + 2} (aliasing), got n_t={n_t!r}")
+    if H > 1:
+        for c in contacts:
+            if not c.element.has_time_law:
+                raise ValueError(f"element={c.element!r}: {type(c.element).__name__} has no time-domain force law, "
+                                 f"so it works at harmonics=1 only, got harmonics={H}")
+    if response_dof is None:
+        if not np.any(structure.force):
+            raise ValueError("force must not be all zero (nothing excites the structure), got force=0")
+        response_dof = int(np.argmax(np.abs(structure.force)))
+    response_dof = structure._dof("response_dof", response_dof)
+    return H, int(n_t), response_dof
+
+
+class HarmonicBalance:
+    """``R(u)`` and ``dR/du`` of the harmonic balance of a structure with contacts (module docstring).
+
+    Parameters
+    ----------
+    system : hbm.Structure or hbm.Blade
+        The linear structure (a blade is its one-DOF structure).
+    contacts : sequence of hbm.Contact, hbm.Contact, contact element or None, default None
+        The contacts; a bare element attaches to the DOF of a one-DOF system.
+    harmonics : int, default 1
+        The highest harmonic H.
+    n_t : int, optional
+        AFT samples per period, >= 2H + 2; default ``contact_models.base.default_samples(H)``.
+    response_dof : int, optional
+        The DOF whose response is reported; default the forced DOF.
+    rtol : float, default 1e-6
+        Relative tolerance passed to the elements.
+    x_ref : float, default 1.0
+        Displacement scale of the scaled unknowns (m).
+    omega_ref : float, default 1.0
+        Frequency scale of the scaled unknowns (rad/s).
+
+    Attributes
+    ----------
+    structure : hbm.Structure
+        The system as a structure.
+    contacts : list of hbm.Contact
+        The contacts.
+    H, n_t, L : int
+        Harmonics, AFT samples, real coefficients per DOF ``2H + 1``.
+    dofs : list of int
+        The condensation DOFs; ``na`` their number.
+    one_dof : bool
+        Whether the one-DOF, H = 1 evaluation is used (module docstring).
+    nfev : int
+        Element evaluations (Fourier routine or harmonic force; omega differences included).
+    nstuck : int
+        Evaluations answered by the stuck (linear) stiffness (one-DOF form).
+    nfev_omega : int
+        Of ``nfev``, the calls made for the omega-derivative (one-DOF form).
+    ncalls : int
+        Balance evaluations.
+
+    Notes
+    -----
+    In the one-DOF form ``physical(y)`` takes ``y = (x_c, x_s, omega)`` and returns ``R`` (2,)
+    in N and ``J`` (2, 3); in the condensed form ``y = (X_a (n_a (2H+1)), omega)`` and ``R``
+    is in m.  The arguments are not validated.
+
+    Examples
+    --------
+    >>> from hbm import Blade
+    >>> hb = HarmonicBalance(Blade(mass=1.0, stiffness=4.0, damping=0.0, force=1.0))
+    >>> R, J = hb.physical([1.0, 0.0, 1.0])   # (k - m omega^2) x_c - F = 3 - 1
+    >>> R.tolist(), J.tolist()
+    ([2.0, 0.0], [[3.0, 0.0, -2.0], [0.0, 3.0, 0.0]])
+    """
+
+    def __init__(self, system: Any, contacts: Any = None, *, harmonics: int = 1, n_t: int | None = None,
+                 response_dof: int | None = None, rtol: float = DEFAULT_RTOL, x_ref: float = 1.0,
+                 omega_ref: float = 1.0) -> None:
+        s = self.structure = as_structure(system)
+        self.system = system
+        self.contacts = as_contacts(contacts, s.n)
+        self.H, self.n_t, self.response_dof = check_problem(s, self.contacts, harmonics, n_t, response_dof)
+        self.L = 2 * self.H + 1
+        self.dofs = sorted({d for c in self.contacts for d in c.dofs} | {self.response_dof})
+        self.na = len(self.dofs)
+        self.rtol = float(rtol)
+        self.x_ref = float(x_ref)
+        self.omega_ref = float(omega_ref)
+        pos = {d: i for i, d in enumerate(self.dofs)}
+        self._attach = [(c.element, [pos[d] for d in c.dofs]) for c in self.contacts]
+        self.one_dof = (s.n == 1 and self.H == 1 and len(self.contacts) <= 1
+                        and all(c.element.exact_describing_function for c in self.contacts))
+        self.element = self.contacts[0].element if len(self.contacts) == 1 else None
+        self.fresh_omega_derivative = False
+        self.nfev = 0
+        self.nstuck = 0
+        self.nfev_omega = 0
+        self.ncalls = 0
+        if self.one_dof:
+            self._init_one_dof()
+        else:
+            self.cond = Condensed(s, self.dofs, self.H)
+
+    # ------------------------------------------------------------------ layout
+    @property
+    def unknowns(self) -> int:
+        """Number of unknowns, omega included."""
+        return 3 if self.one_dof else self.na * self.L + 1
+
+    @property
+    def first_harmonic(self) -> NDArray[np.intp]:
+        """Indices in ``u`` of the first-harmonic (cos, sin) coefficients of every condensation DOF."""
+        if self.one_dof:
+            return np.array([0, 1])
+        return np.concatenate([np.arange(self.na) * self.L + 1, np.arange(self.na) * self.L + 2])
+
+    def response_components(self) -> tuple[int, int]:
+        """Indices in ``u`` of the response DOF's first-harmonic (cos, sin) coefficients."""
+        if self.one_dof:
+            return 0, 1
+        r = self.dofs.index(self.response_dof)
+        return r * self.L + 1, r * self.L + 2
+
+    def to_physical(self, u: ArrayLike) -> tuple[NDArray, NDArray]:
+        """``(X (..., n_a, 2H+1), omega (...))`` in m and rad/s from scaled points ``u`` (..., unknowns)."""
+        u = np.asarray(u, dtype=float)
+        if self.one_dof:
+            X = np.zeros(u.shape[:-1] + (1, 3))
+            X[..., 0, 1] = u[..., 0] * self.x_ref
+            X[..., 0, 2] = u[..., 1] * self.x_ref
+            return X, u[..., 2] * self.omega_ref
+        return (u[..., :-1] * self.x_ref).reshape(u.shape[:-1] + (self.na, self.L)), u[..., -1] * self.omega_ref
+
+    # ------------------------------------------------------------------ evaluation
+    def physical(self, y: ArrayLike) -> tuple[NDArray, NDArray]:
+        """``R`` and ``J = dR/dy`` at the physical unknowns ``y`` (class Notes)."""
+        if self.one_dof:
+            R, J = self.balance(float(y[0]), float(y[1]), float(y[2]))
+            return np.array(R), np.array(J).reshape(2, 3)
+        y = np.asarray(y, dtype=float)
+        return self._condensed(y[:-1].reshape(self.na, self.L), float(y[-1]))
+
+    def __call__(self, u: ArrayLike) -> tuple[NDArray, NDArray]:
+        """Scaled residual and its Jacobian in ``u = (X/x_ref, omega/omega_ref)``."""
+        if self.one_dof:
+            return self._scaled_one_dof(u)
+        xr, wr = self.x_ref, self.omega_ref
+        X = (u[:-1] * xr).reshape(self.na, self.L)
+        R, J = self._condensed(X, float(u[-1]) * wr)
+        # sigma's own derivative multiplies R and vanishes on the branch: left out of J
+        sigma = max(1.0, math.sqrt(float(np.sum(X[:, 1:3] ** 2))) / xr)
+        J[:, -1] *= wr / xr
+        return R / (xr * sigma), J / sigma
+
+    # ------------------------------------------------------------------ the contacts' forces
+    def forces(self, X: NDArray, omega: float, *, perturbation: bool = False) -> tuple[NDArray, NDArray, NDArray]:
+        """Contact forces' harmonics F (n_a, L), dF/dX (n_a L, n_a L), dF/domega (n_a, L).
+
+        ``perturbation=True`` (Hill's method): an element whose displacement stays within its
+        linear range all period is a linear spring for a perturbation (nothing slips, its
+        internal state does not move), so its Jacobian is ``k_s I``; the balance's own Jacobian
+        differs only in the static term, where the centring convention of a Masing element's
+        periodic state (``contact_models.numerics.masing``) gives ``K_inf``.
+        """
+        na, L = self.na, self.L
+        F = np.zeros((na, L))
+        dF = np.zeros((na, L, na, L))
+        Fw = np.zeros((na, L))
+        for el, ix in self._attach:
+            Xrel = X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]]
+            f, J, fw = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), omega, self.n_t, self.rtol)
+            self.nfev += 1
+            if perturbation:
+                x = to_time(np.ascontiguousarray(Xrel), max(self.n_t, 4 * L))
+                if 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega):
+                    J = float(el.linear_coefficients(omega)[0]) * np.eye(L)
+            signs = ((ix[0], 1.0), (ix[1], -1.0)) if len(ix) == 2 else ((ix[0], 1.0),)
+            for i, si in signs:
+                F[i] += si * f
+                Fw[i] += si * fw
+                for j, sj in signs:
+                    dF[i, :, j, :] += (si * sj) * J
+        return F, dF.reshape(na * L, na * L), Fw
+
+    # ------------------------------------------------------------------ condensed form
+    def _condensed(self, X: NDArray, omega: float) -> tuple[NDArray, NDArray]:
+        """``R = X - X_lin + G F(X)`` (n_a L,) and ``J`` (n_a L, n_a L + 1), physical units."""
+        self.ncalls += 1
+        na, L = self.na, self.L
+        G, dG, xl, dxl = self.cond.at(omega)
+        F, dF, Fw = self.forces(X, omega)
+        cF = to_complex(F)  # (n_a, H+1)
+        R = X + from_complex(np.einsum("hab,bh->ah", G, cF))
+        R[:, 1] -= xl.real
+        R[:, 2] += xl.imag
+        # dR/domega = -dX_lin/domega + (dG/domega) F + G dF/domega
+        Rw = from_complex(np.einsum("hab,bh->ah", dG, cF)) + from_complex(np.einsum("hab,bh->ah", G, to_complex(Fw)))
+        Rw[:, 1] -= dxl.real
+        Rw[:, 2] += dxl.imag
+        # dR/dX = I + G dF/dX
+        cdF = to_complex(dF.reshape(na, L, na * L))  # (n_a, H+1, n_a L)
+        J = np.empty((na * L, na * L + 1))
+        J[:, :-1] = from_complex(np.einsum("hab,bhk->ahk", G, cdF)).reshape(na * L, na * L)
+        J[np.arange(na * L), np.arange(na * L)] += 1.0
+        J[:, -1] = Rw.ravel()
+        return R.ravel(), J
+
+    # ------------------------------------------------------------------ one-DOF form
+    def _init_one_dof(self) -> None:
+        s = self.structure
+        self._m, self._c, self._k = (float(np.asarray(A.toarray() if hasattr(A, "toarray") else A)[0, 0])
+                                     for A in (s.M, s.C, s.K))
+        self._F = float(s.force[0])
+        el = self.element
+        self._freq_dep = el is not None and bool(getattr(el, "frequency_dependent", True))
+        self._derivs = el.fourier_derivatives_unchecked if el is not None else None
+        self._dw: tuple | None = None  # (omega, a, dp/domega, dq/domega) of the last omega difference
+        self._stuck_dw_cache: tuple | None = None  # (omega, (dk_s/domega, dk_c/domega))
+        self.omega_fd_step = math.sqrt(max(self.rtol, 1e-14))
+
+    def stiffness_terms(self, a: float, omega: float) -> tuple[float, float, float, float, float, float]:
+        """``(p, q, dp/da, dq/da, dp/domega, dq/domega)`` of the element at amplitude ``a`` (one-DOF form)."""
+        el = self.element
+        if el is None:
+            return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+        if a == 0.0 or a <= el.linear_amplitude(omega):
+            self.nstuck += 1
+            p, q = self._linear(omega)
+            dpw, dqw = self._linear_dw(omega)
+            return p, q, 0.0, 0.0, dpw, dqw
+        p, q, dp, dq = self._pq(a, omega)
+        if not self._freq_dep:
+            return p, q, dp, dq, 0.0, 0.0
+        c = self._dw
+        if (self.fresh_omega_derivative or c is None or abs(omega - c[0]) > OMEGA_REFRESH * omega
+                or abs(a - c[1]) > AMP_REFRESH * a):
+            h = self.omega_fd_step * omega if omega > 0.0 else self.omega_fd_step * self.omega_ref
+            self.nfev_omega += 1
+            p_h, q_h, _, _ = self._pq(a, omega + h)
+            c = self._dw = (omega, a, (p_h - p) / h, (q_h - q) / h)
+        return p, q, dp, dq, c[2], c[3]
+
+    def _pq(self, a: float, omega: float) -> tuple[float, float, float, float]:
+        self.nfev += 1
+        return describing_terms(self._derivs, a, omega, self.rtol)
+
+    def _linear(self, omega: float) -> tuple[float, float]:
+        k_s, k_c = self.element.linear_coefficients(omega)
+        return float(k_s), float(k_c)
+
+    def _linear_dw(self, omega: float) -> tuple[float, float]:
+        """d(k_s, k_c)/domega of the linear range: central difference, retaken after a relative
+        change OMEGA_REFRESH of omega."""
+        if not self._freq_dep:
+            return 0.0, 0.0
+        c = self._stuck_dw_cache
+        if c is not None and not self.fresh_omega_derivative and abs(omega - c[0]) <= OMEGA_REFRESH * omega:
+            return c[1]
+        h = STUCK_FD_STEP * max(omega, 1e-3 * self.omega_ref)
+        lo = omega - h if omega >= h else omega
+        (ps_hi, pc_hi), (ps_lo, pc_lo) = self._linear(omega + h), self._linear(lo)
+        d = ((ps_hi - ps_lo) / (omega + h - lo), (pc_hi - pc_lo) / (omega + h - lo))
+        self._stuck_dw_cache = (omega, d)
+        return d
+
+    def balance(self, xc: float, xs: float, omega: float) -> tuple[tuple[float, float], tuple[float, ...]]:
+        """Physical ``(R_c, R_s)`` and ``dR/d(x_c, x_s, omega)`` as a flat 6-tuple, row-major (one-DOF form)."""
+        self.ncalls += 1
+        a = math.hypot(xc, xs)
+        p, q, dp, dq, dpw, dqw = self.stiffness_terms(a, omega)
+        kr = self._k - self._m * omega * omega + p  # real part of the dynamic stiffness
+        ki = self._c * omega + q  # imaginary part
+        Rc = kr * xc + ki * xs - self._F
+        Rs = kr * xs - ki * xc
+        if a > 0.0:
+            gc, gs = xc / a, xs / a  # da/dx_c, da/dx_s
+        else:
+            gc = gs = 0.0
+        u = dp * xc + dq * xs  # d(R_c)/da (through p and q)
+        v = dp * xs - dq * xc  # d(R_s)/da
+        krw = -2.0 * self._m * omega + dpw
+        kiw = self._c + dqw
+        J = (kr + u * gc, ki + u * gs, krw * xc + kiw * xs,
+             -ki + v * gc, kr + v * gs, krw * xs - kiw * xc)
+        return (Rc, Rs), J
+
+    def _scaled_one_dof(self, u: ArrayLike) -> tuple[NDArray, NDArray]:
+        xr, wr, F = self.x_ref, self.omega_ref, self._F
+        (Rc, Rs), J = self.balance(float(u[0]) * xr, float(u[1]) * xr, float(u[2]) * wr)
+        cx, cw = xr / F, wr / F
+        return (np.array((Rc / F, Rs / F)),
+                np.array(((J[0] * cx, J[1] * cx, J[2] * cw), (J[3] * cx, J[4] * cx, J[5] * cw))))
+
+    # ------------------------------------------------------------------ scales and start
+    def set_scales(self, w0: float, w1: float) -> None:
+        """``x_ref`` from the stuck system's static deflection, ``omega_ref = |w1 - w0|``."""
+        self.omega_ref = abs(w1 - w0)
+        if self.one_dof:
+            el = self.element
+            k0 = self._k + _finite_or_zero(el.stuck_stiffness(0.0) if el is not None else 0.0)
+            k_ref = k0 if k0 > 0.0 else self._m * max(w0, w1) ** 2
+            self.x_ref = self._F / k_ref
+            return
+        s = self.structure
+        Kd = s.K.toarray() if hasattr(s.K, "toarray") else np.asarray(s.K)
+        try:
+            x_static = np.linalg.solve(Kd, s.force)
+            if not np.all(np.isfinite(x_static)):
+                raise np.linalg.LinAlgError
+        except np.linalg.LinAlgError:
+            raise ValueError("K must be nonsingular (a structure held only by its contacts has no static "
+                             "compliance to condense with), got a singular K") from None
+        G = self.cond.at(0.0)[0]
+        Kc = stuck_matrix(self.contacts, self.dofs, 0.0).real
+        x0 = np.linalg.solve(np.eye(self.na) + G[0].real @ Kc, x_static[self.dofs])
+        self.x_ref = float(np.max(np.abs(x0))) or float(np.max(np.abs(x_static))) or 1.0
+
+    def stuck_start(self, w0: float) -> NDArray[np.float64]:
+        """Scaled unknowns of the stuck (linear) first-harmonic response at ``w0``."""
+        xr = self.x_ref
+        if self.one_dof:
+            el = self.element
+            kd = _finite_or_zero(el.stuck_stiffness(w0)) if el is not None else 0.0
+            z = self._F / (self._k + kd - self._m * w0 * w0 + 1j * self._c * w0)
+            return np.array([z.real / xr, -z.imag / xr, w0 / self.omega_ref])
+        G, _, xl, _ = self.cond.at(w0)
+        c1 = np.linalg.solve(np.eye(self.na) + G[1] @ stuck_matrix(self.contacts, self.dofs, w0), xl)
+        u0 = np.zeros(self.unknowns)
+        u0[1:self.na * self.L:self.L] = c1.real / xr
+        u0[2:self.na * self.L:self.L] = -c1.imag / xr
+        u0[-1] = w0 / self.omega_ref
+        return u0
+
+    def arclength_scale(self) -> Callable[[NDArray], NDArray]:
+        """The continuation's scale: every coefficient by the current first-harmonic amplitude of
+        the condensation DOFs (one weight for all harmonics), omega by 1."""
+        first = self.first_harmonic
+
+        def scale(u):
+            a = max(math.hypot(*u[first]), 1e-300)
+            s = np.full(u.size, a)
+            s[-1] = 1.0
+            return s
+
+        return scale
+
+
+def linear_response(blade: Any, omega: ArrayLike,
+                    stiffness: complex | Callable[[np.ndarray], ArrayLike] = 0.0) -> np.ndarray:
+    """Closed-form complex amplitude ``x_c - i x_s = F / (k + k_d - m w^2 + i c w)`` of the blade
+    with a linear spring ``stiffness`` (a number or a function of omega) in place of the damper."""
+    omega = np.asarray(omega, dtype=float)
+    kd = stiffness(omega) if callable(stiffness) else stiffness
+    return blade.force / (blade.stiffness + kd - blade.mass * omega**2 + 1j * blade.damping * omega)
+
+
+def _finite_or_zero(k: Any) -> float:
+    """A stuck stiffness for scales and the first guess (a rigid stuck contact gives none: 0)."""
+    k = float(k)
+    return k if math.isfinite(k) else 0.0
+
+
+__all__ = ["HarmonicBalance", "as_structure", "as_contacts", "check_problem", "linear_response"]

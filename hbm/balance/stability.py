@@ -1,0 +1,170 @@
+"""Stability of periodic solutions by Hill's method (``docs/multiharmonic.md``, "Stability").
+
+A perturbation ``x(t) = exp(lambda t) p(t)`` of a periodic solution, ``p`` periodic with the
+balance's H harmonics (coefficients ``P``, DOF-major layout ``[P0, Pc1, Ps1, ...]`` per DOF),
+satisfies the quadratic eigenvalue problem
+
+    (lambda^2 D2 + lambda D1 + D0) P = 0,
+    D2 = M (x) I,   D1 = C (x) I + 2 omega M (x) N,   D0 = K (x) I + omega C (x) N
+         + omega^2 M (x) N^2 + dF/dX,
+
+``N`` the derivative operator on the layout (``d/dtheta``: ``c_h' = h s_h``, ``s_h' = -h c_h``)
+and ``dF/dX`` the contact forces' Jacobian of the balance (AFT).  ``D0`` is the balance's own
+Jacobian in X, so a fold (a real exponent through 0) is exactly where that Jacobian is singular.
+For rate-independent friction the perturbation force is taken from that Jacobian (the
+linearisation about the periodic motion with the perturbation held periodic), the standard
+choice of Hill's method for non-smooth forces (Krack & Gross 2019, ch. 5).
+
+The QEP has ``2 n (2H+1)`` eigenvalues, in families ``lambda + i k omega`` (one Floquet
+exponent each, defined modulo ``i omega``).  The ``2 n`` exponents are selected by the
+symmetry of their eigenvectors (Lazarus & Thomas, "A harmonic-based method for computing the
+stability of periodic solutions of dynamical systems", C. R. Mecanique 338 (2010) 510-517):
+writing an eigenvector in complex exponentials ``p(t) = sum_k z_k exp(i k omega t)``, the
+member of a family whose weights ``|z_k|^2`` are centred on ``k = 0`` is the one the truncation
+represents best; the ``2 n`` eigenvalues with the smallest ``|sum_k k |z_k|^2| / sum_k |z_k|^2``
+are kept, ties (to 0.01) going to the smaller ``|Im lambda|``.  (The imaginary-part criterion, "smallest |Im lambda|", fails when a mode's frequency
+exceeds ``H omega``: its family's member in the strip ``|Im| <= omega/2`` is then missing from
+the truncated problem and copies of other families are picked instead.)  The solution is stable
+when every selected exponent has ``Re lambda <= STABILITY_TOL * omega``.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+#: A Floquet exponent with ``Re lambda > STABILITY_TOL * omega`` makes the solution unstable.
+STABILITY_TOL = 1e-7
+#: A stability change whose critical exponent has ``|Im lambda| > NS_IMAG_TOL * omega`` is a
+#: Neimark-Sacker bifurcation (a complex pair crosses); otherwise a real exponent crosses (fold).
+NS_IMAG_TOL = 1e-3
+
+
+def derivative_operator(harmonics: int) -> NDArray[np.float64]:
+    """``N`` (2H+1, 2H+1): coefficients of ``dx/dtheta`` from those of ``x`` (layout above)."""
+    L = 2 * harmonics + 1
+    N = np.zeros((L, L))
+    for h in range(1, harmonics + 1):
+        N[2 * h - 1, 2 * h] = h
+        N[2 * h, 2 * h - 1] = -h
+    return N
+
+
+def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray,
+                   harmonics: int) -> NDArray[np.complex128]:
+    """The ``2 n`` Floquet exponents (1/s) of the periodic solution at ``omega`` (rad/s).
+
+    Parameters
+    ----------
+    M, C, K : ndarray
+        Dense n x n matrices of the model the exponents are computed on.
+    omega : float
+        Fundamental frequency of the solution (rad/s).
+    dF : ndarray
+        Jacobian (n(2H+1), n(2H+1)) of the nonlinear forces' harmonics in the displacement
+        harmonics, DOF-major layout.
+    harmonics : int
+        H.
+
+    Returns
+    -------
+    ndarray
+        The 2n exponents with the most centred eigenvectors (module docstring), sorted by real
+        part, largest first.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> lam = hill_exponents(np.eye(1), 0.2 * np.eye(1), np.eye(1), 1.3, np.zeros((3, 3)), 1)
+    >>> np.round(lam.real, 6).tolist()  # -c/(2m) for the linear oscillator, at any omega
+    [-0.1, -0.1]
+    """
+    from scipy.linalg import eig
+
+    n = M.shape[0]
+    L = 2 * harmonics + 1
+    Nop = derivative_operator(harmonics)
+    I = np.eye(L)
+    D1 = np.kron(C, I) + 2.0 * omega * np.kron(M, Nop)
+    D0 = np.kron(K, I) + omega * np.kron(C, Nop) + omega * omega * np.kron(M, Nop @ Nop) + dF
+    Minv = np.kron(np.linalg.inv(M), I)
+    size = n * L
+    A = np.zeros((2 * size, 2 * size))
+    A[:size, size:] = np.eye(size)
+    A[size:, :size] = -Minv @ D0
+    A[size:, size:] = -Minv @ D1
+    lam, V = eig(A)
+    P = V[:size].reshape(n, L, 2 * size)  # displacement part of each eigenvector, per DOF and harmonic
+    zp = P[:, 1::2] - 1j * P[:, 2::2]  # 2 z_{+h}
+    zm = P[:, 1::2] + 1j * P[:, 2::2]  # 2 z_{-h}
+    h = np.arange(1, harmonics + 1)[None, :, None]
+    wp, wm = np.sum(np.abs(zp) ** 2, axis=0), np.sum(np.abs(zm) ** 2, axis=0)
+    total = 4.0 * np.sum(np.abs(P[:, 0]) ** 2, axis=0) + np.sum(wp + wm, axis=0)
+    centre = np.abs(np.sum(h[0] * (wp - wm), axis=0)) / np.maximum(total, 1e-300)
+    # ties (equally centred members, e.g. a real exponent's symmetric +-1 content and a spurious
+    # purely static member at H = 1) go to the smaller |Im lambda|
+    lam = lam[np.lexsort((np.abs(lam.imag), np.round(centre, 2)))[:2 * n]]
+    return lam[np.argsort(-lam.real, kind="stable")]
+
+
+class StabilityChange(NamedTuple):
+    """A change of stability along a branch, located between two points."""
+
+    omega: float  #: rad/s
+    amplitude: float  #: m, first harmonic of the response DOF
+    kind: str  #: "fold" (a real exponent crosses 0) or "Neimark-Sacker" (a complex pair crosses)
+    after: int  #: index of the point before the change
+
+
+def stability_changes(omega: NDArray, amplitude: NDArray, exponents: NDArray, stable: NDArray,
+                      fold_after: NDArray, folds: list[tuple[float, float]]) -> list[StabilityChange]:
+    """Locate and classify each change of ``stable`` between neighbouring points.
+
+    Location: the zero of the critical exponent's real part, linear between the two points (at
+    a located fold when one lies between them).  Kind: "fold" when a fold lies between the
+    points or the critical exponent is real, "Neimark-Sacker" when it is a complex pair.
+    """
+    out = []
+    for i in np.flatnonzero(stable[1:] != stable[:-1]):
+        lo, hi = exponents[i], exponents[i + 1]
+        crit = hi[0] if not stable[i + 1] else lo[0]  # the exponent with the largest real part
+        if i in set(np.asarray(fold_after).tolist()):
+            j = list(np.asarray(fold_after)).index(i)
+            w, a = folds[j] if j < len(folds) and np.all(np.isfinite(folds[j])) else (omega[i], amplitude[i])
+            out.append(StabilityChange(float(w), float(a), "fold", int(i)))
+            continue
+        r0, r1 = lo[0].real, hi[0].real
+        s = r0 / (r0 - r1) if r0 != r1 else 0.5
+        s = min(max(s, 0.0), 1.0)
+        w = omega[i] + s * (omega[i + 1] - omega[i])
+        a = amplitude[i] + s * (amplitude[i + 1] - amplitude[i])
+        kind = "Neimark-Sacker" if abs(crit.imag) > NS_IMAG_TOL * max(omega[i], 1e-300) else "fold"
+        out.append(StabilityChange(float(w), float(a), kind, int(i)))
+    return out
+
+
+def single_harmonic_stability(blade: Any, element: Any, omega: NDArray, x_c: NDArray,
+                               x_s: NDArray) -> NDArray[np.bool_]:
+    """Hill's method at H = 1 for the points of a blade's single-harmonic FRF (``FrequencyResponse.stable``).
+
+    The element's Jacobian is that of its describing function (``harmonic_force`` at H = 1); an
+    element within its linear range is a spring ``k_s`` for a perturbation (static term included).
+    """
+    M, C, K = (np.array([[v]]) for v in (blade.mass, blade.damping, blade.stiffness))
+    out = np.ones(len(omega), dtype=bool)
+    for i, (w, xc, xs) in enumerate(zip(omega, x_c, x_s)):
+        w = float(w)
+        dF = np.zeros((3, 3))
+        if element is not None:
+            if float(np.hypot(xc, xs)) <= element.linear_amplitude(w):
+                dF = float(element.linear_coefficients(w)[0]) * np.eye(3)
+            else:
+                dF = element.harmonic_force(np.array([0.0, xc, xs]), w)[1]
+        lam = hill_exponents(M, C, K, w, dF, 1)
+        out[i] = lam[0].real <= STABILITY_TOL * max(w, 1e-300)
+    return out
+
+
+__all__ = ["single_harmonic_stability", "hill_exponents", "derivative_operator", "StabilityChange", "stability_changes", "STABILITY_TOL"]

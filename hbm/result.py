@@ -1,0 +1,408 @@
+"""The result of a frequency response, whatever the system and the number of harmonics.
+
+:class:`FrequencyResponse` holds the branch traced by :func:`hbm.frequency_response`: the
+response DOF's first harmonic along the branch, every harmonic of every DOF
+(:meth:`~FrequencyResponse.coefficients`), stability by Hill's method, the peak located between
+points, how the run went, and the CSV and plot of the points.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, Callable, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from . import continuation as cont  # the module (hbm.continuation)
+from .balance.layout import to_complex
+from .balance.residual import HarmonicBalance
+from .balance.stability import STABILITY_TOL, hill_exponents, stability_changes
+from .output import plot_branch, write_frf_csv
+
+#: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
+#: amplitude error is quadratic in that distance.
+PEAK_XTOL_FACTOR = 1e-3
+#: Hill's method runs on the structure itself up to this many DOFs, else on a Craig-Bampton
+#: model of the condensation DOFs plus ``STABILITY_MODES`` fixed-interface modes.
+STABILITY_FULL_DOFS = 6
+STABILITY_MODES = 4
+
+
+class Peak(NamedTuple):
+    """The largest first-harmonic amplitude on the branch and its frequency.
+
+    Attributes
+    ----------
+    omega : float
+        Frequency (rad/s).
+    amplitude : float
+        First-harmonic amplitude (m).
+    """
+
+    omega: float
+    amplitude: float
+
+
+class Response(NamedTuple):
+    """The single-harmonic response at one frequency (``response_at``).
+
+    Attributes
+    ----------
+    omega : float
+        Excitation frequency (rad/s).
+    x_c, x_s : float
+        Cosine and sine coefficients of the displacement (m):
+        ``x = x_c cos(omega t) + x_s sin(omega t)``.
+    amplitude : float
+        First-harmonic amplitude ``hypot(x_c, x_s)`` (m).
+    phase : float
+        Lag of the displacement behind the force (rad), ``x = amplitude cos(omega t - phase)``.
+    """
+
+    omega: float
+    x_c: float
+    x_s: float
+    amplitude: float
+    phase: float  #: lag of the displacement behind the force, x = a cos(omega t - phase)
+
+
+class FrequencyResponse:
+    """The FRF: arrays along the branch, in continuation order, and how the run went.
+
+    Made by :func:`hbm.frequency_response`, not by hand.  The same type for a blade and a
+    structure, at one harmonic or many.
+
+    Attributes
+    ----------
+    omega, amplitude, phase, x_c, x_s, residual_norm : ndarray
+        One value per point along the branch: frequency (rad/s), first-harmonic amplitude of the
+        response DOF (m), its lag behind the force (rad, ``x = a cos(omega t - phase)``), its
+        cosine and sine coefficients (m, ``x ~ x_c cos + x_s sin``), and the scaled residual of
+        the point (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref`` otherwise; dimensionless).
+    folds_omega, folds_amplitude : ndarray
+        The located turning points of the branch (rad/s, m).
+    harmonics, n_t : int
+        The number of harmonics H and the AFT samples per period.
+    dofs : list of int
+        The condensation DOFs (the contacts' DOFs and the response DOF).
+    response_dof : int
+        The DOF whose response ``amplitude`` is.
+    structure : hbm.Structure
+        The system solved (a blade's one-DOF structure).
+    system : hbm.Blade or hbm.Structure
+        The system as given.
+    contacts : list of hbm.Contact
+        The contacts.
+    element : contact_models.ContactElement or None
+        The contact's element when there is exactly one contact.
+    stable : ndarray of bool
+        Stability of every point by Hill's method (computed on first use).
+    exponents : ndarray
+        Floquet exponents per point (points, 2 n_s), computed with :attr:`stable`.
+    stability_changes : list
+        Located, classified changes of stability (``hbm.balance.stability.StabilityChange``).
+    success : bool
+        Whether the branch reached the end of ``omega_range``.
+    status, message
+        How the continuation ended, as a code and in words; on failure the points computed
+        before are kept.
+    nsteps, nit, nfev, nstuck : int
+        Accepted steps, Newton iterations, element evaluations, stuck evaluations; they include
+        the work of :meth:`peak` once it has been called.
+
+    Examples
+    --------
+    >>> from hbm import Blade, frequency_response
+    >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
+    ...                          omega_range=(90.0, 110.0))
+    >>> frf.success, len(frf.omega) == len(frf.amplitude) > 100
+    (True, True)
+    >>> float(frf.residual_norm.max()) < 1e-6              # |R|/F at every point
+    True
+    >>> round(float(frf.amplitude.max()), 6)           # largest sampled point, m (peak() refines it)
+    0.005
+    >>> frf.harmonics, frf.coefficients(0).shape[1]    # H, and H + 1 complex coefficients
+    (1, 2)
+    """
+
+    def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
+                 scale: Callable[[np.ndarray], np.ndarray], stability: bool = True) -> None:
+        self._problem = problem
+        self._run = run
+        self._scale = scale
+        self.rtol = rtol
+        self.tol = tol
+        self.structure = problem.structure
+        self.system = problem.system
+        self.contacts = problem.contacts
+        self.element = problem.element
+        self.harmonics, self.n_t = problem.H, problem.n_t
+        self.dofs = list(problem.dofs)
+        self.response_dof = problem.response_dof
+        self._r = self.dofs.index(self.response_dof)
+        X, w = problem.to_physical(run.y) if len(run.y) else (np.empty((0, problem.na, problem.L)), np.empty(0))
+        self._X, self.omega = X, w
+        self.x_c, self.x_s = X[:, self._r, 1], X[:, self._r, 2]
+        self.amplitude = np.hypot(self.x_c, self.x_s)
+        self.phase = np.arctan2(self.x_s, self.x_c)
+        self.residual_norm = run.residual_norm
+        self.fold_after = run.fold_after
+        if len(run.folds):
+            FX, Fw = problem.to_physical(run.folds)
+            self.folds_omega, self.folds_amplitude = Fw, np.hypot(FX[:, self._r, 1], FX[:, self._r, 2])
+        else:
+            self.folds_omega = self.folds_amplitude = np.empty(0)
+        self.status = run.status
+        self.message = run.message
+        if not run.success and len(w):
+            self.message += f"; the branch stops at omega = {w[-1]:.9g} rad/s, amplitude {self.amplitude[-1]:.6g} m"
+        self.nsteps = run.nsteps
+        self._nit0 = run.nit
+        self._peak: Peak | None = None
+        self._peak_nit = 0
+        self.peak_refined = False  #: whether peak() located the maximum between samples
+        self._with_stability = bool(stability)
+        self._stable: NDArray | None = None
+        self._exponents: NDArray | None = None
+        self._changes: list = []
+        self.stability_dofs: list = []
+
+    # ------------------------------------------------------------------ counters
+    @property
+    def success(self) -> bool:
+        return self._run.success
+
+    @property
+    def nit(self) -> int:
+        return self._nit0 + self._peak_nit
+
+    @property
+    def nfev(self) -> int:
+        return self._problem.nfev
+
+    @property
+    def nstuck(self) -> int:
+        return self._problem.nstuck
+
+    def __len__(self) -> int:
+        return len(self.omega)
+
+    def __repr__(self) -> str:
+        return (f"FrequencyResponse({len(self)} points, H={self.harmonics}, omega {self.omega[0]:.6g}.."
+                f"{self.omega[-1]:.6g} rad/s, success={self.success}, message={self.message!r})" if len(self) else
+                f"FrequencyResponse(0 points, H={self.harmonics}, success=False, message={self.message!r})")
+
+    # ------------------------------------------------------------------ harmonics
+    def coefficients(self, dof: int) -> NDArray[np.complex128]:
+        """Complex harmonics ``c_h`` (points, H+1) of DOF ``dof``: ``x = Re sum_h c_h exp(i h omega t)``,
+        ``c_0 = X0``, ``c_h = Xc_h - i Xs_h``.  DOFs outside the condensation set are recovered
+        exactly from the contact forces (``Z_h^-1 (f - P F_h)``)."""
+        dof = self.structure._dof("dof", dof)
+        if dof in self.dofs:
+            return to_complex(self._X[:, self.dofs.index(dof)])
+        pr = self._problem
+        out = np.empty((len(self), self.harmonics + 1), dtype=complex)
+        for i, (X, w) in enumerate(zip(self._X, self.omega)):
+            F = pr.forces(X, float(w))[0]
+            out[i] = pr.cond.response(float(w), F)[dof]
+        return out
+
+    # ------------------------------------------------------------------ stability
+    @property
+    def stable(self) -> NDArray[np.bool_]:
+        """Stability of every point (bool), by Hill's method, computed on first use (all True when
+        the solve was asked for ``stability=False``); unstable stretches are drawn dashed by :meth:`plot`."""
+        if self._stable is None:
+            self._stability()
+        return self._stable
+
+    @property
+    def exponents(self) -> NDArray[np.complex128]:
+        """Floquet exponents (points, 2 n_s) by Hill's method, largest real part first."""
+        if self._stable is None:
+            self._stability()
+        return self._exponents
+
+    @property
+    def stability_changes(self) -> list:
+        """The located, classified changes of stability along the branch."""
+        if self._stable is None:
+            self._stability()
+        return self._changes
+
+    def _stability(self) -> None:
+        n = len(self)
+        self._stable = np.ones(n, dtype=bool)
+        self._exponents = np.empty((n, 0), dtype=complex)
+        if not (self._with_stability and n):
+            return
+        pr, s = self._problem, self.structure
+        L = pr.L
+        if s.n <= STABILITY_FULL_DOFS:
+            model, place = s, self.dofs
+        else:
+            model = s.reduce(self.dofs, modes=min(STABILITY_MODES, s.n - len(self.dofs)))
+            place = list(range(len(self.dofs)))
+        self.stability_dofs = list(range(model.n)) if model is s else [f"CB:{d}" for d in self.dofs] + [
+            f"mode {j}" for j in range(model.n - len(self.dofs))]
+        M, C, K = (np.asarray(A.toarray() if hasattr(A, "toarray") else A) for A in (model.M, model.C, model.K))
+        idx = (np.asarray(place)[:, None] * L + np.arange(L)[None, :]).ravel()
+        lams = []
+        for X, w in zip(self._X, self.omega):
+            dFa = pr.forces(X, float(w), perturbation=True)[1]
+            dF = np.zeros((model.n * L, model.n * L))
+            dF[np.ix_(idx, idx)] = dFa
+            lams.append(hill_exponents(M, C, K, float(w), dF, self.harmonics))
+        self._exponents = np.array(lams)
+        self._stable = self._exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)
+        folds = list(zip(self.folds_omega, self.folds_amplitude))
+        self._changes = stability_changes(self.omega, self.amplitude, self._exponents, self._stable,
+                                          self.fold_after, folds)
+
+    # ------------------------------------------------------------------ peak
+    def peak(self) -> Peak:
+        """``(omega, amplitude)`` of the largest response, located on the branch.
+
+        Between the neighbours of the largest sampled point the branch is parametrised by its
+        chord and the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a
+        fresh omega-derivative) is found by Brent's method; every trial point is a converged
+        Newton point.  A maximum at an end of the branch is returned as sampled.
+
+        Returns
+        -------
+        Peak
+            ``(omega, amplitude)`` in rad/s and m; cached after the first call.
+
+        Raises
+        ------
+        ValueError
+            If the response has no points.
+
+        Examples
+        --------
+        The default case of ``python -m hbm``: the damper is in microslip at resonance, the
+        peak at about twice its slip amplitude a_min = 7.5e-7 m.
+
+        >>> from hbm import frequency_response
+        >>> from hbm.cases import default_case
+        >>> case = default_case()
+        >>> frf = frequency_response(case.blade, case.element, omega_range=case.omega_range)
+        >>> pk = frf.peak()
+        >>> round(pk.omega, -1), round(pk.amplitude / 7.5e-7, 2)     # rad/s, a/a_min
+        (38770.0, 2.02)
+        """
+        if self._peak is not None:
+            return self._peak
+        if len(self) == 0:
+            raise ValueError("the frequency response has no points")
+        i = int(np.argmax(self.amplitude))
+        best = Peak(float(self.omega[i]), float(self.amplitude[i]))
+        if 0 < i < len(self) - 1:
+            loc = self._locate_peak(i)
+            if loc is not None:
+                X, w = self._problem.to_physical(loc.y)
+                a = float(math.hypot(X[self._r, 1], X[self._r, 2]))
+                if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
+                    best = Peak(float(w), a)
+                    self.peak_refined = True
+        self._peak = best
+        return best
+
+    def _locate_peak(self, i: int) -> cont.Located | None:
+        """The zero of d(a^2)/ds near the sampled maximum ``i``, or None."""
+        pr = self._problem
+        pr.fresh_omega_derivative = True
+        counter = cont._Count()
+        y = self._run.y
+        c, s_ = pr.response_components()
+
+        def slope(u, t):  # proportional to d(a^2)/ds along the branch
+            return u[c] * t[c] + u[s_] * t[s_]
+
+        try:
+            xtol = PEAK_XTOL_FACTOR * math.sqrt(self.rtol)
+            for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
+                loc = cont.locate(pr, y[ja], y[jb], slope, tol=self.tol, scale=self._scale, xtol=xtol,
+                                  count=counter)
+                if loc is not None:
+                    return loc
+            return None
+        finally:
+            pr.fresh_omega_derivative = False
+            self._peak_nit += counter.nit
+
+    # ------------------------------------------------------------------ output
+    def to_csv(self, path: str | Path) -> Path:
+        """Write the points as ``hbm.output.FRF_COLUMNS`` (omega, amplitude, phase, x_c, x_s,
+        residual, units in the header); returns the path.
+
+        Parameters
+        ----------
+        path : str or Path
+            The CSV file to write.
+
+        Returns
+        -------
+        Path
+            The file written.
+
+        Examples
+        --------
+        >>> import tempfile, pathlib
+        >>> from hbm import Blade, frequency_response
+        >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
+        ...                          omega_range=(90.0, 110.0))
+        >>> path = frf.to_csv(pathlib.Path(tempfile.mkdtemp()) / "frf.csv")
+        >>> lines = path.read_text().splitlines()
+        >>> lines[0].split(",")[:2], len(lines) == len(frf.omega) + 1
+        (['omega_rad_s', 'amplitude_m'], True)
+        >>> float(lines[1].split(",")[0]), float(lines[-1].split(",")[0])   # omega_range, rad/s
+        (90.0, 110.0)
+        """
+        return write_frf_csv(path, self)
+
+    def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
+        """Amplitude against omega on ``ax`` (a new figure if None): stable stretches solid, unstable
+        dashed (:attr:`stable`); marks the peak. Returns ax.
+
+        Parameters
+        ----------
+        ax : matplotlib.axes.Axes, optional
+            Where to draw; default a new figure.
+        label : str, optional
+            Legend label of the curve.
+        peak : bool, optional
+            Mark the peak (:meth:`peak`) with a dot.  Default True.
+        **kwargs
+            Passed to ``ax.plot`` (colour, line style).
+
+        Returns
+        -------
+        matplotlib.axes.Axes
+            The axes drawn on.
+
+        Examples
+        --------
+        >>> import matplotlib
+        >>> matplotlib.use("Agg")
+        >>> from hbm import Blade, frequency_response
+        >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
+        ...                          omega_range=(90.0, 110.0))
+        >>> ax = frf.plot(label="bare blade")
+        >>> ax.get_ylabel(), len(ax.lines)                 # the curve and its peak
+        ('amplitude (m)', 2)
+        """
+        # a single DOF at H = 1 with a passive element loses stability only at folds (the sum of
+        # its two exponents is minus its damping): its stability is computed only on a folded branch
+        known = (self._stable is not None or not self._problem.one_dof or len(self.fold_after) > 0)
+        ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable if known else None, label=label,
+                                **kwargs)
+        if peak and len(self):
+            pk = self.peak()
+            ax.plot([pk.omega], [pk.amplitude], "o", color=color, ms=4)
+        return ax
+
+
+__all__ = ["FrequencyResponse", "Peak", "Response", "PEAK_XTOL_FACTOR"]
