@@ -91,8 +91,8 @@ class FrequencyResponse:
         The DOF whose response ``amplitude`` is.
     structure : hbm.Structure
         The system solved (a blade's one-DOF structure).
-    system : hbm.Blade or hbm.Structure
-        The system as given.
+    system, blade : hbm.Blade or hbm.Structure
+        The system as given (``blade``: the same object, under the name of a blade's result).
     contacts : list of hbm.Contact
         The contacts.
     element : contact_models.ContactElement or None
@@ -135,7 +135,7 @@ class FrequencyResponse:
         self.rtol = rtol
         self.tol = tol
         self.structure = problem.structure
-        self.system = problem.system
+        self.system = self.blade = problem.system
         self.contacts = problem.contacts
         self.element = problem.element
         self.harmonics, self.n_t = problem.H, problem.n_t

@@ -1,0 +1,108 @@
+"""The one harmonic balance: one front function, one result type, for a blade and a structure.
+
+A blade is its one-DOF structure; the balance evaluates a one-DOF system at H = 1 in floats and
+every other problem in the condensed form.  These tests check that both evaluations solve the
+same equation (a physical identity that sends the same blade through each), that the choice is
+made by the problem and not by the system's type, and that the old module paths still import.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+import contact_models
+import hbm
+from contact_models import Bar, Macroslip, TwoRegionMicroslip, UniformLoad
+from hbm import Blade, Contact, FrequencyResponse, HarmonicBalance, Structure, frequency_response
+
+
+def blade():
+    return Blade.from_modal(frequency=1.0, damping_ratio=2e-3, mass=1.0, force=0.01)
+
+
+def test_two_half_jenkins_in_parallel_equal_one_jenkins():
+    """Two Jenkins elements (k/2, F/2) in parallel are one Jenkins (k, F): the blade with the pair
+    is solved in the condensed form, with the one in the one-DOF form; same branch."""
+    one = frequency_response(blade(), Macroslip(1.0, 0.02), omega_range=(0.6, 1.8))
+    s = blade().as_structure()
+    pair = [Contact(Macroslip(0.5, 0.01), dof=0), Contact(Macroslip(0.5, 0.01), dof=0)]
+    two = frequency_response(s, pair, omega_range=(0.6, 1.8), harmonics=1)
+    assert one._problem.one_dof and not two._problem.one_dof
+    p1, p2 = one.peak(), two.peak()
+    assert p2.omega == pytest.approx(p1.omega, rel=1e-7)
+    assert p2.amplitude == pytest.approx(p1.amplitude, rel=1e-6)
+    # every point of the pair's branch solves the one-DOF balance of the single element
+    hb = HarmonicBalance(blade(), Macroslip(1.0, 0.02))
+    R = np.array([hb.physical([xc, xs, w])[0] for xc, xs, w in zip(two.x_c, two.x_s, two.omega)])
+    assert np.max(np.hypot(R[:, 0], R[:, 1])) / 0.01 < 1e-7
+
+
+def test_the_form_follows_the_problem_not_the_system_type():
+    el = Macroslip(1.0, 0.02)
+    assert HarmonicBalance(blade(), el).one_dof
+    assert HarmonicBalance(blade().as_structure(), [Contact(el, dof=0)]).one_dof  # a Structure of one DOF
+    assert not HarmonicBalance(blade(), el, harmonics=3).one_dof
+    two_dof = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], force=[0.0, 1.0])
+    assert not HarmonicBalance(two_dof, [Contact(el, dof=0)]).one_dof
+
+
+def test_one_result_type_with_harmonics_and_stability():
+    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    frf = frequency_response(Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0),
+                             TwoRegionMicroslip(bar, UniformLoad(N=100.0)), omega_range=(3.2e4, 4.4e4))
+    mh = frequency_response(blade(), Macroslip(1.0, 0.02), omega_range=(0.6, 1.8), harmonics=3)
+    for r, H in ((frf, 1), (mh, 3)):
+        assert type(r) is FrequencyResponse and r.harmonics == H
+        c = r.coefficients(0)
+        assert c.shape == (len(r), H + 1)
+        assert np.allclose(np.abs(c[:, 1]), r.amplitude, rtol=1e-15, atol=0.0)
+        assert r.stable.shape == (len(r),) and r.exponents.shape[0] == len(r)
+    assert hbm.MultiHarmonicResponse is FrequencyResponse
+    assert frf.stable.all()  # a single DOF at H = 1 without folds is stable everywhere
+
+
+def test_a_bare_element_needs_a_one_dof_system():
+    two_dof = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 1.0]], force=[0.0, 1.0])
+    with pytest.raises(ValueError, match="a bare element attaches only to a one-DOF system"):
+        frequency_response(two_dof, Macroslip(1.0, 0.02), omega_range=(0.5, 1.5))
+    with pytest.raises(ValueError, match="system must be an hbm.Blade or an hbm.Structure"):
+        frequency_response("blade", None, omega_range=(0.5, 1.5))
+    with pytest.raises(ValueError, match="contacts must hold hbm.Contact objects, got 3"):
+        frequency_response(two_dof, [3], omega_range=(0.5, 1.5))
+
+
+OLD_PATHS = {  # old module path -> (a name it held, the new module, the name there)
+    "hbm.residual": ("HarmonicBalance", "hbm.balance.residual", "HarmonicBalance"),
+    "hbm.stability": ("hill_exponents", "hbm.balance.stability", "hill_exponents"),
+    "hbm.presets": ("harmonic_knobs", "hbm.balance.presets", "harmonic_knobs"),
+    "hbm.multiharmonic": ("Condensed", "hbm.balance.condensation", "Condensed"),
+    "hbm.mhresult": ("MultiHarmonicResponse", "hbm.result", "FrequencyResponse"),
+    "hbm.mhdispatch": ("structure_response", "hbm.frf", "frequency_response"),
+    "contact_models._roots": ("brentq", "contact_models.numerics.roots", "brentq"),
+    "contact_models._validation": ("positive", "contact_models.numerics.checks", "positive"),
+    "contact_models._masing": ("to_time", "contact_models.numerics.masing", "to_time"),
+    "contact_models._stepping": ("return_map", "contact_models.numerics.stepping", "return_map"),
+    "contact_models._genalpha": ("GeneralizedAlpha", "contact_models.numerics.genalpha", "GeneralizedAlpha"),
+}
+
+
+@pytest.mark.parametrize("old", sorted(OLD_PATHS))
+def test_old_module_paths_import_with_a_deprecation_warning(old):
+    held, new, name = OLD_PATHS[old]
+    sys.modules.pop(old, None)
+    with pytest.warns(DeprecationWarning, match=f"{old} moved to"):
+        mod = importlib.import_module(old)
+    assert getattr(mod, held) is getattr(importlib.import_module(new), name)
+
+
+@pytest.mark.parametrize("package", [hbm, contact_models])
+def test_every_public_name_still_imports_from_its_package(package):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)
+        for name in package.__all__:
+            assert getattr(package, name) is not None, name
