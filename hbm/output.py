@@ -15,6 +15,8 @@ import math
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
+import numpy as np
+
 #: Columns of an FRF point: frequency, first-harmonic amplitude, phase lag, x_c, x_s and the
 #: balance residual |R|/F of the point (dimensionless).
 FRF_COLUMNS = ("omega_rad_s", "amplitude_m", "phase_rad", "x_c_m", "x_s_m", "residual_rel")
@@ -92,7 +94,7 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     which marks its peak.
     """
     if ax is None:
-        import matplotlib.pyplot as plt
+        import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
 
         _, ax = plt.subplots(figsize=(6.4, 4.2))
     curves = list(curves)
@@ -100,7 +102,7 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     values = [c[3] for c in curves if c[3] is not None]
     by_value = len(curves) > LEGEND_LIMIT and len(values) == len(curves) and len(set(values)) > 1
     if by_value:
-        from matplotlib import cm, colormaps, colors
+        from matplotlib import cm, colormaps, colors  # lazily, as pyplot above
 
         norm = (colors.LogNorm if min(values) > 0 and max(values) / min(values) > 20 else colors.Normalize)(
             min(values), max(values))
@@ -116,7 +118,7 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
         bar = ax.figure.colorbar(cm.ScalarMappable(norm=norm, cmap=cmap), ax=ax)
         bar.set_label(parameter or "parameter")
         if len(models) > 1:
-            from matplotlib.lines import Line2D
+            from matplotlib.lines import Line2D  # lazily, as pyplot above
 
             ax.legend([Line2D([], [], ls=STYLES[i % len(STYLES)], color="0.3") for i in range(len(models))],
                       models, fontsize=7)
@@ -133,8 +135,7 @@ def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, labe
     A ``ls``/``linestyle`` given in ``kwargs`` styles the stable stretches (the model's style in
     :func:`plot_frfs`); unstable stretches are always dashed.
     """
-    import matplotlib.pyplot as plt
-    import numpy as np
+    import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
 
     if ax is None:
         _, ax = plt.subplots(figsize=(6.4, 4.2))

@@ -26,6 +26,8 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from contact_models import ContactElement
+
 from ._validation import count, nonnegative
 
 #: Relative asymmetry ``max|A - A^T| / max|A|`` above which a matrix is refused as not symmetric.
@@ -148,7 +150,7 @@ class Structure:
         >>> float(s.C[0, 0])  # 2 zeta omega m
         0.2
         """
-        from scipy.linalg import eigh
+        from scipy.linalg import eigh  # lazily: import hbm stays light
 
         M = _check_matrix("M", M, None)
         K = _check_matrix("K", K, M.shape[0])
@@ -193,7 +195,7 @@ class Structure:
     # ------------------------------------------------------------ properties
     def natural_frequencies(self) -> NDArray[np.float64]:
         """Undamped natural frequencies (rad/s) of (K, M), ascending (dense eigensolver)."""
-        from scipy.linalg import eigh
+        from scipy.linalg import eigh  # lazily: import hbm stays light
 
         lam = eigh(_dense(self.K), _dense(self.M), eigvals_only=True)
         return np.sqrt(np.clip(lam, 0.0, None))
@@ -217,7 +219,7 @@ class Structure:
         >>> r.n, np.allclose(np.linalg.solve(r.K, r.force)[:2], np.linalg.solve(K, f)[[0, n - 1]])
         (6, True)
         """
-        from scipy.linalg import eigh
+        from scipy.linalg import eigh  # lazily: import hbm stays light
 
         keep = [self._dof("keep", d) for d in keep]
         if len(set(keep)) != len(keep) or not keep:
@@ -318,8 +320,6 @@ class Contact:
     """
 
     def __init__(self, element: Any, *, dof: int | None = None, dofs: tuple[int, int] | None = None) -> None:
-        from contact_models import ContactElement
-
         if not isinstance(element, ContactElement):
             raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
         if (dof is None) == (dofs is None):
@@ -361,7 +361,7 @@ def load_matrix(path: str | Path) -> Any:
         raise ValueError(f"path must name an existing matrix file, got path={str(path)!r}")
     suffix = p.suffix.lower()
     if suffix == ".mtx":
-        from scipy.io import mmread
+        from scipy.io import mmread  # lazily: only for Matrix Market files
 
         return mmread(str(p))
     if suffix == ".npy":
@@ -370,7 +370,7 @@ def load_matrix(path: str | Path) -> Any:
         with np.load(p, allow_pickle=False) as z:
             names = list(z.keys())
             if key is None and {"format", "shape", "data"} <= set(names):
-                from scipy.sparse import load_npz
+                from scipy.sparse import load_npz  # lazily: only for sparse .npz files
 
                 return load_npz(p)
             if key is None:
@@ -394,7 +394,7 @@ def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], ND
     Classical damping (``Phi^T C Phi`` diagonal for the mass-normalised undamped modes ``Phi``,
     Rayleigh and modal damping) takes the symmetric eigensolver instead: two poles per mode.
     """
-    from scipy.linalg import eig, eigh, lu_factor, lu_solve
+    from scipy.linalg import eig, eigh, lu_factor, lu_solve  # lazily: import hbm stays light
 
     Md, Cd, Kd = _dense(M), _dense(C), _dense(K)
     n = Md.shape[0]

@@ -81,7 +81,7 @@ def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray
     >>> np.round(lam.real, 6).tolist()  # -c/(2m) for the linear oscillator, at any omega
     [-0.1, -0.1]
     """
-    from scipy.linalg import eig
+    from scipy.linalg import eig  # lazily: import hbm stays light
 
     n = M.shape[0]
     L = 2 * harmonics + 1
