@@ -410,6 +410,18 @@ class HarmonicBalance:
         return (np.array((Rc / F, Rs / F)),
                 np.array(((J[0] * cx, J[1] * cx, J[2] * cw), (J[3] * cx, J[4] * cx, J[5] * cw))))
 
+    def forcing_part(self, u: NDArray) -> NDArray[np.float64]:
+        """The excitation's part of the scaled residual ``self(u)`` (``-F/F`` in R_c in the one-DOF
+        form, ``-X_lin/(x_ref sigma)`` condensed): the force homotopy scales it from 0 to 1."""
+        if self.one_dof:
+            return np.array([-1.0, 0.0])
+        X = (u[:-1] * self.x_ref).reshape(self.na, self.L)
+        sigma = max(1.0, math.sqrt(float(np.sum(X[:, 1:3] ** 2))) / self.x_ref)
+        xl = self.cond.at(float(u[-1]) * self.omega_ref)[2]
+        lin = np.zeros((self.na, self.L))
+        lin[:, 1], lin[:, 2] = -xl.real, xl.imag
+        return lin.ravel() / (self.x_ref * sigma)
+
     # ------------------------------------------------------------------ scales and start
     def set_scales(self, w0: float, w1: float) -> None:
         """``x_ref`` from the stuck system's static deflection, ``omega_ref = |w1 - w0|``."""

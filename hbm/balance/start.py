@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from typing import Callable
 
 import numpy as np
@@ -13,27 +12,21 @@ from .residual import HarmonicBalance
 
 
 def force_homotopy(problem: HarmonicBalance, w0: float, tol: float, scale: Callable) -> NDArray | None:
-    """A start at ``w0`` by continuation in the force scale ``s`` from 0 (X = 0) to 1 of
-    ``R = X - s X_lin + G F(X)`` at fixed omega (the condensed form); None if it does not reach
-    s = 1, or for the one-DOF form (which starts from the stuck solution only)."""
-    if problem.one_dof:
-        return None
-    wr, xr = problem.omega_ref, problem.x_ref
-    n = problem.na * problem.L
+    """A start at ``w0`` by continuation in the force scale ``s`` from 0 (X = 0 solves the balance
+    without forcing) to 1 of ``R(X) - (1 - s) R_f`` at fixed omega, ``R_f`` the forcing's part of
+    the scaled residual (:meth:`HarmonicBalance.forcing_part`); None if it does not reach s = 1."""
+    wr = problem.omega_ref
+    n = problem.unknowns - 1
 
     def residual(v):
         u = np.append(v[:-1], w0 / wr)
         s = float(v[-1])
         R, J = problem(u)  # s = 1
-        sigma = max(1.0, math.sqrt(float(np.sum(u[:-1].reshape(problem.na, problem.L)[:, 1:3] ** 2))))
-        xl = problem.cond.at(w0)[2]
-        lin = np.zeros((problem.na, problem.L))
-        lin[:, 1], lin[:, 2] = xl.real, -xl.imag
-        lin = lin.ravel() / (xr * sigma)
-        Jh = np.empty((n, n + 1))
+        Rf = problem.forcing_part(u)
+        Jh = np.empty((R.size, n + 1))
         Jh[:, :-1] = J[:, :-1]
-        Jh[:, -1] = -lin
-        return R + (1.0 - s) * lin, Jh
+        Jh[:, -1] = Rf
+        return R - (1.0 - s) * Rf, Jh
 
     def hscale(v):  # every X component by max(its first-harmonic amplitude, x_ref), s by 1
         out = np.maximum(scale(np.append(v[:-1], 1.0)), 1.0)
