@@ -436,7 +436,7 @@ class ContactElement(ABC):
                                self._masing_centre_stiffness(omega), extremes)
 
     def _describing_force(self, X: NDArray, omega: float, rtol: float):
-        """H = 1 from the describing function (``hbm.residual``'s algebra), with the omega-derivative
+        """H = 1 from the describing function (``contact_models.numerics.describing``), with the omega-derivative
         of a frequency-dependent element as a forward difference of relative step sqrt(rtol)."""
         X0, xc, xs = (float(v) for v in X)
         k_inf = self._masing_centre_stiffness(omega)

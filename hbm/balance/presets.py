@@ -76,7 +76,7 @@ class Accuracy:
 
         Examples
         --------
-        >>> from hbm.presets import resolve
+        >>> from hbm.balance.presets import resolve
         >>> resolve("default").options()
         {'rtol': 1e-06, 'max_step': 0.03, 'min_step': 1e-09, 'max_steps': 5000}
         """
@@ -129,7 +129,7 @@ def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: floa
     if clash:
         raise ValueError(f"accuracy={accuracy!r} sets rtol, max_step, min_step and max_steps; got also "
                          f"{', '.join(clash)} (pass either accuracy or the knobs, e.g. "
-                         f"**hbm.presets.resolve({accuracy!r}).options() with changes)")
+                         f"**hbm.balance.presets.resolve({accuracy!r}).options() with changes)")
     return preset.rtol, preset.max_step, preset.min_step, preset.max_steps
 
 
