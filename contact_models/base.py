@@ -60,6 +60,7 @@ overrides ``_periodic_force`` (and, for speed, ``_periodic_tangent``).
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from typing import Callable
 
@@ -73,6 +74,9 @@ DEFAULT_RTOL = 1e-6
 
 #: Relative step of the central difference used by the default ``fourier_derivatives``.
 FD_REL_STEP = 1e-6
+
+#: The scalar types the public methods answer through an element's float path (``_scalar_call``).
+_FLOAT_TYPES = (float, np.float64)
 
 
 class ContactElement(ABC):
@@ -164,23 +168,35 @@ class ContactElement(ABC):
         >>> jen.fourier([0.5e-6, 1.0e-6], 0.0)[1]          # stuck up to a_min = 1e-6 m: no dissipation
         array([0., 0.])
         """
-        a_b, w_b, shape = self._prepare(a, omega)
-        rtol = positive("rtol", rtol)
-        fs, fc = self._fourier(a_b, w_b, rtol)
-        return _shaped(fs, shape), _shaped(fc, shape)
+        one = self._scalar_call(a, omega, rtol)
+        if one is None:
+            a_b, w_b, shape = self._prepare(a, omega)
+            rtol = positive("rtol", rtol)
+            fs, fc = self._fourier(a_b, w_b, rtol)
+            out = _shaped(fs, shape), _shaped(fc, shape)
+        else:
+            out = one[:2]
+        self._check_range(a, omega)
+        return out
 
     def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
                             rtol: float = DEFAULT_RTOL) -> tuple[float | NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)``, broadcasting like :meth:`fourier`.
 
-        Elements override ``_fourier_derivatives`` with analytic derivatives; the
+        Elements implement ``_fourier_derivatives`` with analytic derivatives; the
         fallback (for elements that implement only ``_fourier``) is a central difference
-        of relative step ``FD_REL_STEP`` in ``a``.
+        of relative step ``FD_REL_STEP`` in ``a``.  Validation, the float path of
+        ``_derivatives_one`` and the model-range check are those of :meth:`fourier`.
         """
-        a_b, w_b, shape = self._prepare(a, omega)
-        rtol = positive("rtol", rtol)
-        out = self._fourier_derivatives(a_b, w_b, rtol)
-        return tuple(_shaped(v, shape) for v in out)
+        one = self._scalar_call(a, omega, rtol)
+        if one is None:
+            a_b, w_b, shape = self._prepare(a, omega)
+            rtol = positive("rtol", rtol)
+            out = tuple(_shaped(v, shape) for v in self._fourier_derivatives(a_b, w_b, rtol))
+        else:
+            out = one
+        self._check_range(a, omega)
+        return out
 
     def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)`` on flat float64 arrays ``a``, ``omega`` of one size.
@@ -360,12 +376,19 @@ class ContactElement(ABC):
         if n_t is None:
             n_t = default_samples(H)
         n_t = count("n_t", n_t, 2 * H + 2)
-        return self.harmonic_force_unchecked(X, omega, n_t, rtol)
+        return self._harmonic_force(X, omega, n_t, rtol)
 
     def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int,
                                  rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:
         """:meth:`harmonic_force` without validation: the solver's fast path (float64 ``X`` of
         length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1)."""
+        return self._harmonic_force(X, omega, n_t, rtol)
+
+    # ------------------------------------------------------------------ hooks
+    def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
+        """``(F, dF/dX, dF/domega)`` for checked input: the describing function at H = 1 (no time
+        law, or a Masing element), else AFT of the time law.  An element with its own harmonic
+        balance (``AllModeMicroslip``) implements this instead."""
         H = (X.size - 1) // 2
         if H == 1 and (not self.has_time_law or self._is_masing()):
             return self._describing_force(X, omega, rtol)
@@ -461,10 +484,58 @@ class ContactElement(ABC):
         return p, q, (dfs - p) / a, (dfc - q) / a
 
     def __init_subclass__(cls, **kwargs):
+        """Refuse a subclass that breaks the contract, when it is defined rather than when solved.
+
+        (a) It overrides a public method of the contract (``PUBLIC_HOOKS``): the base's method
+        validates, broadcasts and checks the model range before calling the hook, so an override
+        would bypass all three.  (b) It implements neither ``_fourier`` nor
+        ``_fourier_derivatives``.  (c) It declares ``has_time_law = True`` and has no time law:
+        neither ``_periodic_force`` (or ``_harmonic_force``) nor both Masing hooks
+        ``loading_curve`` and ``_loading_slope``.
+        """
         super().__init_subclass__(**kwargs)
+        for name, hook in PUBLIC_HOOKS.items():
+            if name in cls.__dict__:
+                raise TypeError(f"{cls.__name__} overrides {name}(), which ContactElement defines (it validates "
+                                f"and broadcasts the input and checks the model range); implement the hook "
+                                f"{hook}() instead (docs/extending.md, section 1)")
         if (cls._fourier is ContactElement._fourier
                 and cls._fourier_derivatives is ContactElement._fourier_derivatives):
             raise TypeError(f"{cls.__name__} must implement _fourier or _fourier_derivatives")
+        missing = _missing_time_law(cls)
+        if missing:
+            raise TypeError(f"{cls.__name__} declares has_time_law = True but has no time law: implement "
+                            f"{' and '.join(m + '()' for m in missing)} (Masing's rules with memory), or "
+                            f"_periodic_force() (any other law; docs/extending.md, section 1)")
+
+    def _scalar_call(self, a, omega, rtol):
+        """The answer of ``fourier_derivatives`` for one float ``a`` and ``omega`` (Python or numpy
+        floats) that pass their checks, from the element's float path ``_derivatives_one``:
+        ``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64``, the type the general path returns
+        for scalars.  None for an element without that path and for anything else, which the
+        general path then validates (raising its errors) and broadcasts.
+
+        The same checks as ``_prepare`` and ``positive("rtol")`` for these types: a float is
+        accepted there exactly when it is finite and >= 0 (rtol: > 0).
+        """
+        one = self._derivatives_one
+        if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES
+                and type(rtol) in _FLOAT_TYPES
+                and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
+            return tuple(map(np.float64, one(float(a), float(omega), float(rtol))))
+        return None
+
+    #: Optional hook ``_derivatives_one(a, omega, rtol)``: ``(f_s, f_c, df_s/da, df_c/da)`` in Python
+    #: floats for one amplitude (m) and one frequency (rad/s), checked.  An element that has such a
+    #: float path (no arrays) defines it as a method, and the public methods answer a float ``a``
+    #: and ``omega`` through it; None: every call takes the array hooks.
+    _derivatives_one: Callable[[float, float, float], tuple[float, float, float, float]] | None = None
+
+    def _check_range(self, a: ArrayLike, omega: ArrayLike) -> None:
+        """Hook called by ``fourier`` and ``fourier_derivatives`` after the evaluation, with the
+        caller's ``a`` and ``omega``: warn (``ModelRangeWarning``) where the element's model is
+        outside its range.  Default: no range, no warning.  The warning's ``stacklevel`` is 4
+        (the caller of the public method)."""
 
     def _fourier(self, a: np.ndarray, omega: np.ndarray, rtol: float):
         """Flat float arrays in, ``(f_s, f_c)`` flat arrays out.
@@ -508,6 +579,38 @@ class ContactElement(ABC):
         a_b, w_b = np.broadcast_arrays(a, omega)
         shape = a_b.shape
         return a_b.ravel().astype(float), w_b.ravel().astype(float), shape
+
+
+#: The public methods of the contract, defined once here, and the hook each calls: a subclass
+#: implements the hook and may not override the method (``__init_subclass__`` refuses it).
+PUBLIC_HOOKS = {
+    "fourier": "_fourier",
+    "fourier_derivatives": "_fourier_derivatives",
+    "fourier_derivatives_unchecked": "_fourier_derivatives",
+    "stuck_stiffness": "_stuck_stiffness",
+    "slip_amplitude": "_slip_amplitude",
+    "linear_amplitude": "_linear_amplitude",
+    "linear_coefficients": "_linear_coefficients",
+    "reference_amplitude": "_reference_amplitude",
+    "hysteresis": "_hysteresis",
+    "periodic_force": "_periodic_force",
+    "harmonic_force": "_harmonic_force",
+    "harmonic_force_unchecked": "_harmonic_force",
+}
+
+
+def _missing_time_law(cls: type) -> list[str]:
+    """The time-law hooks a class that declares ``has_time_law = True`` lacks (empty when it has a
+    time law, or does not declare one as a plain class attribute, e.g. a property)."""
+    if getattr(cls, "has_time_law", False) is not True:
+        return []
+    if (cls._periodic_force is not ContactElement._periodic_force
+            or cls._harmonic_force is not ContactElement._harmonic_force):
+        return []
+    missing = [] if callable(getattr(cls, "loading_curve", None)) else ["loading_curve"]
+    if cls._loading_slope is ContactElement._loading_slope:
+        missing.append("_loading_slope")
+    return missing
 
 
 def masing_loop(loading: Callable[[NDArray], NDArray], a: float, n: int) -> tuple[NDArray, NDArray]:

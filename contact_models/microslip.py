@@ -28,15 +28,13 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
-from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, Regions,  # noqa: F401 (public here)
                             _ThreeRegionPiece, _TwoRegionPiece, load_curvature, region_solution)
 from .bar import Bar, impedance_transmission
-from .base import DEFAULT_RTOL, ContactElement, masing_loop
+from .base import ContactElement, masing_loop
 from .model_range import check_single_mode
 from .numerics.checks import nonnegative
 
@@ -51,8 +49,6 @@ GRADE_CELLS = 14
 
 
 _EPS = float(np.finfo(float).eps)
-#: The scalar types the public methods answer in floats (``_MicroslipBar._scalar_call``).
-_FLOAT_TYPES = (float, np.float64)
 _TINY = float(np.finfo(float).tiny)
 
 
@@ -174,38 +170,13 @@ class _MicroslipBar(ContactElement):
         return theta, L1, L2
 
     # ------------------------------------------------------------ interface
-    def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *, rtol: float = DEFAULT_RTOL) -> tuple[Any, Any]:
-        """As ``ContactElement.fourier``; warns (``ModelRangeWarning``) outside the single-mode range
-        (``contact_models.model_range``)."""
-        one = self._scalar_call(a, omega, rtol)
-        out = super().fourier(a, omega, rtol=rtol) if one is None else one[:2]
-        check_single_mode(self, a, omega)
-        return out
-
-    def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
-                            rtol: float = DEFAULT_RTOL) -> tuple[Any, ...]:
-        """As ``ContactElement.fourier_derivatives``; warns outside the single-mode range."""
-        one = self._scalar_call(a, omega, rtol)
-        out = super().fourier_derivatives(a, omega, rtol=rtol) if one is None else one
-        check_single_mode(self, a, omega)
-        return out
-
-    def _scalar_call(self, a, omega, rtol):
-        """The public methods' answer for one float ``a`` and ``omega`` (Python or numpy floats) that
-        pass their checks, in floats: ``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64``, the
-        type the general path returns for scalars.  None for anything else, which the general path
-        then validates (raising its errors) and broadcasts.
-
-        The same checks as ``ContactElement._prepare`` and ``positive("rtol")`` for these types: a
-        float is accepted there exactly when it is finite and >= 0 (rtol: > 0).
-        """
-        if (type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES and type(rtol) in _FLOAT_TYPES
-                and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
-            return tuple(map(np.float64, self._derivatives_one(float(a), float(omega), float(rtol))))
-        return None
+    def _check_range(self, a, omega):
+        """Warn (``ModelRangeWarning``) outside the single-mode range (``contact_models.model_range``)."""
+        check_single_mode(self, a, omega, stacklevel=4)
 
     def _derivatives_one(self, a: float, w: float, rtol: float):
-        """``(f_s, f_c, df_s/da, df_c/da)`` in floats for one amplitude at one frequency."""
+        """``(f_s, f_c, df_s/da, df_c/da)`` in floats for one amplitude at one frequency: the float
+        path of the public methods (``ContactElement._scalar_call``) and of the solver's call."""
         K = self._stuck_answer(w, a)
         if K is not None:
             return K * a, 0.0, K, 0.0
