@@ -68,6 +68,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.checks import count, nonnegative, nonnegative_array, positive
+from .numerics.masing import (aft_matrices, dense_jacobian, diagonal_product, masing_periodic, to_harmonics,
+                              to_time, true_extremes)
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
@@ -392,13 +394,9 @@ class ContactElement(ABC):
         H = (X.size - 1) // 2
         if H == 1 and (not self.has_time_law or self._is_masing()):
             return self._describing_force(X, omega, rtol)
-        from .numerics.masing import aft_matrices, diagonal_product, to_harmonics, to_time
-
         x = to_time(X, n_t)  # to time (inverse real FFT)
         Einv = aft_matrices(H, n_t)[1]
         if self._is_masing():  # the force law, with the outer loop's tips at the true extremes
-            from .numerics.masing import true_extremes
-
             ext, b_max, b_min = true_extremes(X, x)
             if not np.isfinite(b_max[0]):
                 ext = None
@@ -432,8 +430,6 @@ class ContactElement(ABC):
         return float(k(omega)) if callable(k) else 0.0
 
     def _periodic_force(self, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
-        from .numerics.masing import dense_jacobian
-
         f, d, idx, C = self._periodic_tangent(x, omega)
         return f, dense_jacobian(d, idx, C)
 
@@ -445,8 +441,6 @@ class ContactElement(ABC):
         return f, np.zeros_like(f), np.arange(f.size), J
 
     def _masing_tangent(self, x: NDArray, omega: float, extremes):
-        from .numerics.masing import masing_periodic
-
         loading = self.loading_curve
         return masing_periodic(x, lambda u: loading(u, omega), lambda u: self._loading_slope(u, omega),
                                self._masing_centre_stiffness(omega), extremes)
