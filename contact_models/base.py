@@ -9,53 +9,17 @@ An element answers the first-harmonic question: for the steady displacement
 with ``f`` the force the element needs at that point.  ``pi * a * f_c`` is the
 energy dissipated per cycle, so a passive element has ``f_c >= 0``.
 
-Public methods validate and broadcast, then call the private ``_fourier`` and
-friends on flat float arrays (the scipy ``OdeSolver.step``/``_step_impl`` split).
-
-The contract: everything a solver or a scene reads of an element
-------------------------------------------------------------------
-A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,
-``_slip_amplitude`` and ``_hysteresis``, and may override the documented defaults below.
-Nothing else of an element is read by ``hbm``:
-
-===============================  ==========================================================
-``frequency_dependent``          class attribute, default True.  False tells the solver that
-                                 f_s, f_c do not depend on omega (no omega-derivative taken).
-``fourier(a, omega)``            f_s, f_c (N); validated, broadcasting.
-``fourier_derivatives(a, omega)``  f_s, f_c, df_s/da, df_c/da; validated, broadcasting.
-``fourier_derivatives_unchecked``  the same on flat float64 arrays, no validation: the
-                                 solver's fast path (its Newton loop calls it per point).
-``stuck_stiffness(omega)``       dynamic stiffness while nothing slips (N/m); k* at 0.
-``slip_amplitude(omega)``        a_min (m): the physical amplitude at which slip begins;
-                                 0 for an element that slips at any amplitude (Iwan).
-``linear_amplitude(omega)``      the amplitude (m) up to which the element is linear, so
-                                 that ``f_s + i f_c = (k_s + i k_c) a`` with
-                                 ``(k_s, k_c) = linear_coefficients(omega)``; the solver
-                                 answers amplitudes up to it without calling ``fourier``.
-                                 Default ``slip_amplitude(omega)``; 0 means "never linear".
-``linear_coefficients(omega)``   ``(k_s, k_c)`` (N/m) of that linear range; default
-                                 ``(stuck_stiffness(omega), 0)``.  An element with damping
-                                 while stuck returns its k_c here.
-``reference_amplitude(omega)``   an amplitude (m) at which the element is clearly
-                                 nonlinear: the unit of amplitude sweeps and of property
-                                 tests.  Default ``slip_amplitude(omega)``; an element with
-                                 a_min = 0 must override it.
-``hysteresis(a, omega)``         one closed loop (x, f) of the steady response.
-``has_time_law``                 class attribute, default False.  True for an element that
-                                 owns a time-domain force law (multi-harmonic balance).
-``periodic_force(x, omega)``     the periodic force samples for the samples ``x`` of one
-                                 period, and the exact Jacobian of that sampled map.
-``harmonic_force(X, omega)``     the force's harmonic coefficients (layout
-                                 ``[X0, Xc1, Xs1, ...]``), Jacobian and omega-derivative.
-===============================  ==========================================================
-
-Time laws (``docs/multiharmonic.md``).  A rate-independent element obeying Masing's rules with
-memory implements only its virgin ``loading_curve(x, omega)`` and ``_loading_slope(x, omega)``
-(and sets ``has_time_law = True``); the shared routine ``contact_models._masing`` marches the
-turning-point stack from the sample of the global maximum, which gives the periodic state in
-one pass.  The outer loop's force centre is ``K_inf x_c`` with ``K_inf`` the element's
-``slip_stiffness(omega)`` where it has one (the slope past full slip), else 0.  Any other law
-overrides ``_periodic_force`` (and, for speed, ``_periodic_tangent``).
+The public methods are defined here, once: they validate and broadcast, then call the element's
+private hooks (``_fourier`` and friends) on flat float arrays (the scipy
+``OdeSolver.step``/``_step_impl`` split), and check the element's model range after the
+evaluation.  An element implements hooks and may not override a public method
+(``__init_subclass__`` refuses it, and a class that declares ``has_time_law = True`` without a
+time law).  ``PUBLIC_HOOKS`` pairs each public method with its hook; docs/extending.md, section 1
+("The contract"), says for every hook what it receives, in which units, which are optional and
+their defaults, and what the base does before calling it, and describes the time laws
+(section 1, "Time laws"): a Masing element implements ``loading_curve`` and ``_loading_slope``,
+and the shared march of ``contact_models.numerics.masing`` gives its periodic force; any other
+law implements ``_periodic_force``.
 """
 
 from __future__ import annotations
@@ -108,12 +72,14 @@ class ContactElement(ABC):
     Notes
     -----
     A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,
-    ``_slip_amplitude`` and ``_hysteresis``; the public methods validate and broadcast, then
-    call them on flat float arrays.  What a solver or a scene reads of an element (and nothing
-    else): :attr:`frequency_dependent`, :meth:`fourier`, :meth:`fourier_derivatives`,
-    :meth:`fourier_derivatives_unchecked`, :meth:`stuck_stiffness`, :meth:`slip_amplitude`,
-    :meth:`linear_amplitude`, :meth:`linear_coefficients`, :meth:`reference_amplitude` and
-    :meth:`hysteresis`; the module docstring of ``contact_models.base`` states each default.
+    ``_slip_amplitude`` and ``_hysteresis``, and may implement the optional hooks; the public
+    methods, defined here only, validate and broadcast, then call them on flat float arrays
+    (``PUBLIC_HOOKS``).  What a solver reads of an element (and nothing else):
+    :attr:`frequency_dependent`, :attr:`has_time_law`, :meth:`fourier`,
+    :meth:`fourier_derivatives`, :meth:`fourier_derivatives_unchecked`, :meth:`stuck_stiffness`,
+    :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
+    :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force` and
+    :meth:`harmonic_force_unchecked`; docs/extending.md, section 1, states each hook and default.
 
     Examples
     --------
@@ -304,7 +270,7 @@ class ContactElement(ABC):
         Notes
         -----
         Masing elements: turning-point stack marched from the global maximum
-        (``contact_models._masing``; ``docs/multiharmonic.md``).
+        (``contact_models.numerics.masing``; ``docs/multiharmonic.md``).
 
         Examples
         --------
@@ -353,7 +319,7 @@ class ContactElement(ABC):
         AFT: ``x = E^-1 X`` at ``t_k = 2 pi k/(n_t omega)``, ``f = periodic_force(x)``,
         ``F = E f`` (real FFT), ``dF/dX = E J_t E^-1``; ``dF/domega = 0`` (rate-independent).
         A Masing element puts its outer loop's tips at the true extremes of ``x(t)`` (Newton
-        between samples, ``contact_models._masing.true_extremes``) instead of the sampled ones,
+        between samples, ``contact_models.numerics.masing.true_extremes``) instead of the sampled ones,
         removing an O((2 pi/n_t)^2) error that moves with the phase of the sample grid.
         At H = 1 an element without a time law, and a Masing element (exactly), answer from the
         describing function ``fourier_derivatives``: ``F0 = K_inf X0``,
@@ -478,15 +444,9 @@ class ContactElement(ABC):
         return p, q, (dfs - p) / a, (dfc - q) / a
 
     def __init_subclass__(cls, **kwargs):
-        """Refuse a subclass that breaks the contract, when it is defined rather than when solved.
-
-        (a) It overrides a public method of the contract (``PUBLIC_HOOKS``): the base's method
-        validates, broadcasts and checks the model range before calling the hook, so an override
-        would bypass all three.  (b) It implements neither ``_fourier`` nor
-        ``_fourier_derivatives``.  (c) It declares ``has_time_law = True`` and has no time law:
-        neither ``_periodic_force`` (or ``_harmonic_force``) nor both Masing hooks
-        ``loading_curve`` and ``_loading_slope``.
-        """
+        """Refuse, when it is defined, a subclass that overrides a method of ``PUBLIC_HOOKS`` (it would
+        bypass the checks), implements neither ``_fourier`` nor ``_fourier_derivatives``, or declares
+        ``has_time_law = True`` without ``_periodic_force`` or ``loading_curve`` and ``_loading_slope``."""
         super().__init_subclass__(**kwargs)
         for name, hook in PUBLIC_HOOKS.items():
             if name in cls.__dict__:
@@ -503,15 +463,10 @@ class ContactElement(ABC):
                             f"_periodic_force() (any other law; docs/extending.md, section 1)")
 
     def _scalar_call(self, a, omega, rtol):
-        """The answer of ``fourier_derivatives`` for one float ``a`` and ``omega`` (Python or numpy
-        floats) that pass their checks, from the element's float path ``_derivatives_one``:
-        ``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64``, the type the general path returns
-        for scalars.  None for an element without that path and for anything else, which the
-        general path then validates (raising its errors) and broadcasts.
-
-        The same checks as ``_prepare`` and ``positive("rtol")`` for these types: a float is
-        accepted there exactly when it is finite and >= 0 (rtol: > 0).
-        """
+        """``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64`` (the general path's scalar type) from
+        the element's float path ``_derivatives_one``, for float ``a``, ``omega``, ``rtol`` passing the
+        checks of ``_prepare`` and ``positive`` (for floats: finite and >= 0; rtol > 0).  None for an
+        element without that path and for anything else: the general path validates and raises."""
         one = self._derivatives_one
         if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES
                 and type(rtol) in _FLOAT_TYPES
