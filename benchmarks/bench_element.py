@@ -31,6 +31,7 @@ import sys
 
 import numpy as np
 
+import contact_models._path_integrals as quadrature
 import contact_models.microslip as ms
 from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
 
@@ -68,15 +69,17 @@ def elements():
 
 @contextlib.contextmanager
 def constants(**values):
-    """Set module constants of ``contact_models.microslip`` for the duration of the block."""
-    old = {k: getattr(ms, k) for k in values}
+    """Set module constants of ``contact_models.microslip`` for the duration of the block, in the
+    module that reads them (the quadrature's live in ``contact_models._path_integrals``)."""
+    owner = {k: quadrature if hasattr(quadrature, k) else ms for k in values}
+    old = {k: getattr(owner[k], k) for k in values}
     try:
         for k, v in values.items():
-            setattr(ms, k, v)
+            setattr(owner[k], k, v)
         yield
     finally:
         for k, v in old.items():
-            setattr(ms, k, v)
+            setattr(owner[k], k, v)
 
 
 def amplitudes(el, omega):

@@ -1,7 +1,7 @@
 """Harmonic-balance pieces of the all-mode bar: the AFT matrices, the periodic Jenkins force of
 many nodes at once with its exact Jacobian, and the block-tridiagonal (block Thomas) solver.
 
-Layout (CONTRACT.md): a real vector ``[X0, Xc1, Xs1, ..., XcH, XsH]`` means
+Layout (docs/extending.md, section 1, "Time laws"): a real vector ``[X0, Xc1, Xs1, ..., XcH, XsH]`` means
 ``x(t) = X0 + sum_h Xc_h cos(h theta) + Xs_h sin(h theta)``; samples at
 ``theta_k = 2 pi k / n_t``.
 """

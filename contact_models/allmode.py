@@ -46,7 +46,7 @@ from ._fe_bar import _Discretisation
 from ._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_periodic
 from .numerics.checks import count, nonnegative, positive
 from .bar import Bar
-from .base import ContactElement
+from .base import DEFAULT_RTOL, ContactElement
 
 if TYPE_CHECKING:
     from .loads import QuadraticLoad, UniformLoad
@@ -183,7 +183,7 @@ class AllModeMicroslip(ContactElement):
     """
 
     #: It owns a force law for any periodic end motion (a nested harmonic balance), so the
-    #: multi-harmonic solver may use it at H > 1 (``harmonic_force`` is overridden).
+    #: multi-harmonic solver may use it at H > 1 (it implements the hook ``_harmonic_force``).
     has_time_law = True
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int = CELLS, *,
@@ -257,27 +257,20 @@ class AllModeMicroslip(ContactElement):
             sol.error = max(sol.error_parts.values())
         return sol
 
-    def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None, rtol: float = 1e-6
-                       ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    def _harmonic_force(self, X: NDArray[np.float64], omega: float, n_t: int, rtol: float
+                        ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
         """End force coefficients ``F`` (2H+1), ``dF/dX`` (2H+1, 2H+1) and ``dF/domega`` (2H+1)
-        for the end displacement coefficients ``X`` (length 2H+1, H >= 1) at ``omega`` (rad/s).
+        for the end displacement coefficients ``X`` (length 2H+1, H >= 1) at ``omega`` (rad/s),
+        checked by ``harmonic_force`` (or trusted by ``harmonic_force_unchecked``).
 
-        The multi-harmonic contract (CONTRACT.md) with a nested solve: the bar is solved with
-        ``max(H, harmonics)`` harmonics (its internal motion needs its own resolution) and its
-        own sample count (``n_t`` and ``rtol`` of the caller are accepted and not used: the
-        nested AFT samples every node, and Newton converges to rounding); the result is
-        truncated to H.  Derivatives by the implicit function theorem (exact for the discrete
-        model).  Raises ValueError for bad input, FloatingPointError when the nested solve fails
-        (the solver's continuation then shortens its step).
+        The multi-harmonic hook (docs/extending.md, section 1, "Time laws") with a nested solve:
+        the bar is solved with ``max(H, harmonics)`` harmonics (its internal motion needs its own
+        resolution) and its own sample count (``n_t`` and ``rtol`` of the caller are accepted and
+        not used: the nested AFT samples every node, and Newton converges to rounding); the result
+        is truncated to H.  Derivatives by the implicit function theorem (exact for the discrete
+        model).  Raises FloatingPointError when the nested solve fails (the solver's continuation
+        then shortens its step).
         """
-        X = np.asarray(X, dtype=float)
-        if X.ndim != 1 or X.size < 3 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
-            raise ValueError(f"X must be a finite vector of odd length 2H+1 >= 3, got X with shape {X.shape}")
-        return self.harmonic_force_unchecked(X, nonnegative("omega", omega), n_t or 0, rtol)
-
-    def harmonic_force_unchecked(self, X: NDArray[np.float64], omega: float, n_t: int = 0, rtol: float = 1e-6
-                                 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """``harmonic_force`` without validation (the solver's fast path)."""
         H = (X.size - 1) // 2
         Hi = max(H, self.harmonics)
         Xp = np.pad(X, (0, 2 * (Hi - H)))
@@ -312,7 +305,7 @@ class AllModeMicroslip(ContactElement):
         n = x.size
         H = max(1, (n - 2) // 2)
         E, P, _ = aft_matrices(H, n)
-        F, J, _ = self.harmonic_force_unchecked(P @ x, float(omega))
+        F, J, _ = self._harmonic_force(P @ x, float(omega), n, DEFAULT_RTOL)
         return E @ F, E @ J @ P
 
     def stick_slip_map(self, a: float, omega: float = 0.0) -> tuple[NDArray[np.float64], NDArray[np.float64],

@@ -9,57 +9,22 @@ An element answers the first-harmonic question: for the steady displacement
 with ``f`` the force the element needs at that point.  ``pi * a * f_c`` is the
 energy dissipated per cycle, so a passive element has ``f_c >= 0``.
 
-Public methods validate and broadcast, then call the private ``_fourier`` and
-friends on flat float arrays (the scipy ``OdeSolver.step``/``_step_impl`` split).
-
-The contract: everything a solver or a scene reads of an element
-------------------------------------------------------------------
-A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,
-``_slip_amplitude`` and ``_hysteresis``, and may override the documented defaults below.
-Nothing else of an element is read by ``hbm``:
-
-===============================  ==========================================================
-``frequency_dependent``          class attribute, default True.  False tells the solver that
-                                 f_s, f_c do not depend on omega (no omega-derivative taken).
-``fourier(a, omega)``            f_s, f_c (N); validated, broadcasting.
-``fourier_derivatives(a, omega)``  f_s, f_c, df_s/da, df_c/da; validated, broadcasting.
-``fourier_derivatives_unchecked``  the same on flat float64 arrays, no validation: the
-                                 solver's fast path (its Newton loop calls it per point).
-``stuck_stiffness(omega)``       dynamic stiffness while nothing slips (N/m); k* at 0.
-``slip_amplitude(omega)``        a_min (m): the physical amplitude at which slip begins;
-                                 0 for an element that slips at any amplitude (Iwan).
-``linear_amplitude(omega)``      the amplitude (m) up to which the element is linear, so
-                                 that ``f_s + i f_c = (k_s + i k_c) a`` with
-                                 ``(k_s, k_c) = linear_coefficients(omega)``; the solver
-                                 answers amplitudes up to it without calling ``fourier``.
-                                 Default ``slip_amplitude(omega)``; 0 means "never linear".
-``linear_coefficients(omega)``   ``(k_s, k_c)`` (N/m) of that linear range; default
-                                 ``(stuck_stiffness(omega), 0)``.  An element with damping
-                                 while stuck returns its k_c here.
-``reference_amplitude(omega)``   an amplitude (m) at which the element is clearly
-                                 nonlinear: the unit of amplitude sweeps and of property
-                                 tests.  Default ``slip_amplitude(omega)``; an element with
-                                 a_min = 0 must override it.
-``hysteresis(a, omega)``         one closed loop (x, f) of the steady response.
-``has_time_law``                 class attribute, default False.  True for an element that
-                                 owns a time-domain force law (multi-harmonic balance).
-``periodic_force(x, omega)``     the periodic force samples for the samples ``x`` of one
-                                 period, and the exact Jacobian of that sampled map.
-``harmonic_force(X, omega)``     the force's harmonic coefficients (layout
-                                 ``[X0, Xc1, Xs1, ...]``), Jacobian and omega-derivative.
-===============================  ==========================================================
-
-Time laws (``docs/multiharmonic.md``).  A rate-independent element obeying Masing's rules with
-memory implements only its virgin ``loading_curve(x, omega)`` and ``_loading_slope(x, omega)``
-(and sets ``has_time_law = True``); the shared routine ``contact_models._masing`` marches the
-turning-point stack from the sample of the global maximum, which gives the periodic state in
-one pass.  The outer loop's force centre is ``K_inf x_c`` with ``K_inf`` the element's
-``slip_stiffness(omega)`` where it has one (the slope past full slip), else 0.  Any other law
-overrides ``_periodic_force`` (and, for speed, ``_periodic_tangent``).
+The public methods are defined here, once: they validate and broadcast, then call the element's
+private hooks (``_fourier`` and friends) on flat float arrays (the scipy
+``OdeSolver.step``/``_step_impl`` split), and check the element's model range after the
+evaluation.  An element implements hooks and may not override a public method
+(``__init_subclass__`` refuses it, and a class that declares ``has_time_law = True`` without a
+time law).  ``PUBLIC_HOOKS`` pairs each public method with its hook; docs/extending.md, section 1
+("The contract"), says for every hook what it receives, in which units, which are optional and
+their defaults, and what the base does before calling it, and describes the time laws
+(section 1, "Time laws"): a Masing element implements ``loading_curve`` and ``_loading_slope``,
+and the shared march of ``contact_models.numerics.masing`` gives its periodic force; any other
+law implements ``_periodic_force``.
 """
 
 from __future__ import annotations
 
+import math
 from abc import ABC, abstractmethod
 from typing import Callable
 
@@ -68,12 +33,17 @@ from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import stiffness_terms
 from .numerics.checks import count, nonnegative, nonnegative_array, positive
+from .numerics.masing import (aft_matrices, dense_jacobian, diagonal_product, masing_periodic, to_harmonics,
+                              to_time, true_extremes)
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
 
 #: Relative step of the central difference used by the default ``fourier_derivatives``.
 FD_REL_STEP = 1e-6
+
+#: The scalar types the public methods answer through an element's float path (``_scalar_call``).
+_FLOAT_TYPES = (float, np.float64)
 
 
 class ContactElement(ABC):
@@ -103,12 +73,14 @@ class ContactElement(ABC):
     Notes
     -----
     A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,
-    ``_slip_amplitude`` and ``_hysteresis``; the public methods validate and broadcast, then
-    call them on flat float arrays.  What a solver or a scene reads of an element (and nothing
-    else): :attr:`frequency_dependent`, :meth:`fourier`, :meth:`fourier_derivatives`,
-    :meth:`fourier_derivatives_unchecked`, :meth:`stuck_stiffness`, :meth:`slip_amplitude`,
-    :meth:`linear_amplitude`, :meth:`linear_coefficients`, :meth:`reference_amplitude` and
-    :meth:`hysteresis`; the module docstring of ``contact_models.base`` states each default.
+    ``_slip_amplitude`` and ``_hysteresis``, and may implement the optional hooks; the public
+    methods, defined here only, validate and broadcast, then call them on flat float arrays
+    (``PUBLIC_HOOKS``).  What a solver reads of an element (and nothing else):
+    :attr:`frequency_dependent`, :attr:`has_time_law`, :meth:`fourier`,
+    :meth:`fourier_derivatives`, :meth:`fourier_derivatives_unchecked`, :meth:`stuck_stiffness`,
+    :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
+    :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force` and
+    :meth:`harmonic_force_unchecked`; docs/extending.md, section 1, states each hook and default.
 
     Examples
     --------
@@ -165,23 +137,35 @@ class ContactElement(ABC):
         >>> jen.fourier([0.5e-6, 1.0e-6], 0.0)[1]          # stuck up to a_min = 1e-6 m: no dissipation
         array([0., 0.])
         """
-        a_b, w_b, shape = self._prepare(a, omega)
-        rtol = positive("rtol", rtol)
-        fs, fc = self._fourier(a_b, w_b, rtol)
-        return _shaped(fs, shape), _shaped(fc, shape)
+        one = self._scalar_call(a, omega, rtol)
+        if one is None:
+            a_b, w_b, shape = self._prepare(a, omega)
+            rtol = positive("rtol", rtol)
+            fs, fc = self._fourier(a_b, w_b, rtol)
+            out = _shaped(fs, shape), _shaped(fc, shape)
+        else:
+            out = one[:2]
+        self._check_range(a, omega)
+        return out
 
     def fourier_derivatives(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
                             rtol: float = DEFAULT_RTOL) -> tuple[float | NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)``, broadcasting like :meth:`fourier`.
 
-        Elements override ``_fourier_derivatives`` with analytic derivatives; the
+        Elements implement ``_fourier_derivatives`` with analytic derivatives; the
         fallback (for elements that implement only ``_fourier``) is a central difference
-        of relative step ``FD_REL_STEP`` in ``a``.
+        of relative step ``FD_REL_STEP`` in ``a``.  Validation, the float path of
+        ``_derivatives_one`` and the model-range check are those of :meth:`fourier`.
         """
-        a_b, w_b, shape = self._prepare(a, omega)
-        rtol = positive("rtol", rtol)
-        out = self._fourier_derivatives(a_b, w_b, rtol)
-        return tuple(_shaped(v, shape) for v in out)
+        one = self._scalar_call(a, omega, rtol)
+        if one is None:
+            a_b, w_b, shape = self._prepare(a, omega)
+            rtol = positive("rtol", rtol)
+            out = tuple(_shaped(v, shape) for v in self._fourier_derivatives(a_b, w_b, rtol))
+        else:
+            out = one
+        self._check_range(a, omega)
+        return out
 
     def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)`` on flat float64 arrays ``a``, ``omega`` of one size.
@@ -287,7 +271,7 @@ class ContactElement(ABC):
         Notes
         -----
         Masing elements: turning-point stack marched from the global maximum
-        (``contact_models._masing``; ``docs/multiharmonic.md``).
+        (``contact_models.numerics.masing``; ``docs/multiharmonic.md``).
 
         Examples
         --------
@@ -336,7 +320,7 @@ class ContactElement(ABC):
         AFT: ``x = E^-1 X`` at ``t_k = 2 pi k/(n_t omega)``, ``f = periodic_force(x)``,
         ``F = E f`` (real FFT), ``dF/dX = E J_t E^-1``; ``dF/domega = 0`` (rate-independent).
         A Masing element puts its outer loop's tips at the true extremes of ``x(t)`` (Newton
-        between samples, ``contact_models._masing.true_extremes``) instead of the sampled ones,
+        between samples, ``contact_models.numerics.masing.true_extremes``) instead of the sampled ones,
         removing an O((2 pi/n_t)^2) error that moves with the phase of the sample grid.
         At H = 1 an element without a time law, and a Masing element (exactly), answer from the
         describing function ``fourier_derivatives``: ``F0 = K_inf X0``,
@@ -361,22 +345,25 @@ class ContactElement(ABC):
         if n_t is None:
             n_t = default_samples(H)
         n_t = count("n_t", n_t, 2 * H + 2)
-        return self.harmonic_force_unchecked(X, omega, n_t, rtol)
+        return self._harmonic_force(X, omega, n_t, rtol)
 
     def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int,
                                  rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:
         """:meth:`harmonic_force` without validation: the solver's fast path (float64 ``X`` of
         length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1)."""
+        return self._harmonic_force(X, omega, n_t, rtol)
+
+    # ------------------------------------------------------------------ hooks
+    def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
+        """``(F, dF/dX, dF/domega)`` for checked input: the describing function at H = 1 (no time
+        law, or a Masing element), else AFT of the time law.  An element with its own harmonic
+        balance (``AllModeMicroslip``) implements this instead."""
         H = (X.size - 1) // 2
         if H == 1 and self.exact_describing_function:
             return self._describing_force(X, omega, rtol)
-        from .numerics.masing import aft_matrices, diagonal_product, to_harmonics, to_time
-
         x = to_time(X, n_t)  # to time (inverse real FFT)
         Einv = aft_matrices(H, n_t)[1]
         if self._is_masing():  # the force law, with the outer loop's tips at the true extremes
-            from .numerics.masing import true_extremes
-
             ext, b_max, b_min = true_extremes(X, x)
             if not np.isfinite(b_max[0]):
                 ext = None
@@ -416,8 +403,6 @@ class ContactElement(ABC):
         return float(k(omega)) if callable(k) else 0.0
 
     def _periodic_force(self, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
-        from .numerics.masing import dense_jacobian
-
         f, d, idx, C = self._periodic_tangent(x, omega)
         return f, dense_jacobian(d, idx, C)
 
@@ -429,8 +414,6 @@ class ContactElement(ABC):
         return f, np.zeros_like(f), np.arange(f.size), J
 
     def _masing_tangent(self, x: NDArray, omega: float, extremes):
-        from .numerics.masing import masing_periodic
-
         loading = self.loading_curve
         return masing_periodic(x, lambda u: loading(u, omega), lambda u: self._loading_slope(u, omega),
                                self._masing_centre_stiffness(omega), extremes)
@@ -465,10 +448,47 @@ class ContactElement(ABC):
         return stiffness_terms(self.fourier_derivatives_unchecked, a, omega, rtol)
 
     def __init_subclass__(cls, **kwargs):
+        """Refuse, when it is defined, a subclass that overrides a method of ``PUBLIC_HOOKS`` (it would
+        bypass the checks), implements neither ``_fourier`` nor ``_fourier_derivatives``, or declares
+        ``has_time_law = True`` without ``_periodic_force`` or ``loading_curve`` and ``_loading_slope``."""
         super().__init_subclass__(**kwargs)
+        for name, hook in PUBLIC_HOOKS.items():
+            if name in cls.__dict__:
+                raise TypeError(f"{cls.__name__} overrides {name}(), which ContactElement defines (it validates "
+                                f"and broadcasts the input and checks the model range); implement the hook "
+                                f"{hook}() instead (docs/extending.md, section 1)")
         if (cls._fourier is ContactElement._fourier
                 and cls._fourier_derivatives is ContactElement._fourier_derivatives):
             raise TypeError(f"{cls.__name__} must implement _fourier or _fourier_derivatives")
+        missing = _missing_time_law(cls)
+        if missing:
+            raise TypeError(f"{cls.__name__} declares has_time_law = True but has no time law: implement "
+                            f"{' and '.join(m + '()' for m in missing)} (Masing's rules with memory), or "
+                            f"_periodic_force() (any other law; docs/extending.md, section 1)")
+
+    def _scalar_call(self, a, omega, rtol):
+        """``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64`` (the general path's scalar type) from
+        the element's float path ``_derivatives_one``, for float ``a``, ``omega``, ``rtol`` passing the
+        checks of ``_prepare`` and ``positive`` (for floats: finite and >= 0; rtol > 0).  None for an
+        element without that path and for anything else: the general path validates and raises."""
+        one = self._derivatives_one
+        if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES
+                and type(rtol) in _FLOAT_TYPES
+                and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
+            return tuple(map(np.float64, one(float(a), float(omega), float(rtol))))
+        return None
+
+    #: Optional hook ``_derivatives_one(a, omega, rtol)``: ``(f_s, f_c, df_s/da, df_c/da)`` in Python
+    #: floats for one amplitude (m) and one frequency (rad/s), checked.  An element that has such a
+    #: float path (no arrays) defines it as a method, and the public methods answer a float ``a``
+    #: and ``omega`` through it; None: every call takes the array hooks.
+    _derivatives_one: Callable[[float, float, float], tuple[float, float, float, float]] | None = None
+
+    def _check_range(self, a: ArrayLike, omega: ArrayLike) -> None:
+        """Hook called by ``fourier`` and ``fourier_derivatives`` after the evaluation, with the
+        caller's ``a`` and ``omega``: warn (``ModelRangeWarning``) where the element's model is
+        outside its range.  Default: no range, no warning.  The warning's ``stacklevel`` is 4
+        (the caller of the public method)."""
 
     def _fourier(self, a: np.ndarray, omega: np.ndarray, rtol: float):
         """Flat float arrays in, ``(f_s, f_c)`` flat arrays out.
@@ -512,6 +532,38 @@ class ContactElement(ABC):
         a_b, w_b = np.broadcast_arrays(a, omega)
         shape = a_b.shape
         return a_b.ravel().astype(float), w_b.ravel().astype(float), shape
+
+
+#: The public methods of the contract, defined once here, and the hook each calls: a subclass
+#: implements the hook and may not override the method (``__init_subclass__`` refuses it).
+PUBLIC_HOOKS = {
+    "fourier": "_fourier",
+    "fourier_derivatives": "_fourier_derivatives",
+    "fourier_derivatives_unchecked": "_fourier_derivatives",
+    "stuck_stiffness": "_stuck_stiffness",
+    "slip_amplitude": "_slip_amplitude",
+    "linear_amplitude": "_linear_amplitude",
+    "linear_coefficients": "_linear_coefficients",
+    "reference_amplitude": "_reference_amplitude",
+    "hysteresis": "_hysteresis",
+    "periodic_force": "_periodic_force",
+    "harmonic_force": "_harmonic_force",
+    "harmonic_force_unchecked": "_harmonic_force",
+}
+
+
+def _missing_time_law(cls: type) -> list[str]:
+    """The time-law hooks a class that declares ``has_time_law = True`` lacks (empty when it has a
+    time law, or does not declare one as a plain class attribute, e.g. a property)."""
+    if getattr(cls, "has_time_law", False) is not True:
+        return []
+    if (cls._periodic_force is not ContactElement._periodic_force
+            or cls._harmonic_force is not ContactElement._harmonic_force):
+        return []
+    missing = [] if callable(getattr(cls, "loading_curve", None)) else ["loading_curve"]
+    if cls._loading_slope is ContactElement._loading_slope:
+        missing.append("_loading_slope")
+    return missing
 
 
 def masing_loop(loading: Callable[[NDArray], NDArray], a: float, n: int) -> tuple[NDArray, NDArray]:

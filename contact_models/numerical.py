@@ -160,7 +160,7 @@ class SimulationResult:
 
     def plot(self, ax: Axes | None = None) -> Axes:
         """Hysteresis loop f against x."""
-        import matplotlib.pyplot as plt
+        import matplotlib.pyplot as plt  # lazily: heavy, and only plotting needs it
 
         ax = ax if ax is not None else plt.gca()
         x, f = self.loop()

@@ -121,7 +121,25 @@ def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable
         fext[r] = g[r] + fext[origin[r]]
     f = g + fext[origin]
 
-    # ---- Jacobian rows of the reversal points in the columns idx
+    idx, C = _reversal_columns(origin, pushed, sl, colT, colB, k_inf, Sa)
+    # ---- back to the caller's sample order
+    back = np.r_[n - m0:n, 0:n - m0]  # undo the rotation: sample i is rotated sample (i - m0) mod n
+    idx = np.where(idx < n, (idx + m0) % n, idx)
+    return f[back], sl[back], idx, C[back]
+
+
+def _reversal_columns(origin: NDArray[np.intp], pushed: list[int], sl: Array, colT: int, colB: int,
+                      k_inf: float, Sa: float) -> tuple[NDArray[np.intp], Array]:
+    """The non-diagonal part of ``masing_periodic``'s Jacobian: ``(idx, C)``, the columns ``idx`` (the
+    tips' columns ``colT``, ``colB`` and the pushed reversal samples, in rotated sample order) and
+    their entries ``C`` (n, idx.size).
+
+    The tips ``T = n + 1``, ``B = n`` move with both extremes (``f = K_inf x_c +- F(a)``); a pushed
+    reversal ``r`` takes the row of its origin plus ``sl[r] (dx_r - dx_origin)``; every sample then
+    takes the row of its origin minus ``sl`` in its origin's column (``d`` carries ``+sl``).
+    """
+    n = origin.size
+    B, T = n, n + 1
     idx = np.array(sorted(set([colT, colB] + pushed)), dtype=np.intp)
     col_of = np.full(n + 2, -1, dtype=np.intp)
     col_of[idx[idx < n]] = np.flatnonzero(idx < n)
@@ -138,10 +156,7 @@ def masing_periodic(x: Array, loading: Callable[[Array], Array], slope: Callable
         rows[r, col_of[o]] -= sl[r]
     C = rows[origin]
     C[np.arange(n), col_of[origin]] -= sl
-    # ---- back to the caller's sample order
-    back = np.r_[n - m0:n, 0:n - m0]  # undo the rotation: sample i is rotated sample (i - m0) mod n
-    idx = np.where(idx < n, (idx + m0) % n, idx)
-    return f[back], sl[back], idx, C[back]
+    return idx, C
 
 
 #: Newton iterations locating a true extremum between samples (quadratic convergence from

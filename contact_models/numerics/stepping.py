@@ -238,7 +238,7 @@ def solve_step(ab: NDArray[np.float64], base: NDArray[np.float64], off: float, k
         if np.all(small | same):
             return u, it
         ab[1] = (base + kc * stuck).ravel()
-        from scipy.linalg import solve_banded
+        from scipy.linalg import solve_banded  # lazily: import contact_models stays light
 
         delta = solve_banded((1, 1), ab, -R.ravel(), overwrite_b=True, check_finite=False).reshape(P, m)
         assumed = stuck
