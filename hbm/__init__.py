@@ -11,9 +11,9 @@ from contact_models import __version__  # one version for both packages
 from .blade import Blade
 from . import continuation
 from .frf import FrequencyResponse, Peak, Response, frequency_response, response_at
-from .transient import BladeSimulation, simulate_blade
+from .reference.transient import BladeSimulation, simulate_blade
 from .residual import HarmonicBalance
-from .shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
+from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 
 __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
