@@ -200,7 +200,7 @@ class FrequencyResponse:
         peak at about twice its slip amplitude a_min = 7.5e-7 m.
 
         >>> from hbm import frequency_response
-        >>> from hbm.cases import default_case
+        >>> from hbm.cli.cases import default_case
         >>> case = default_case()
         >>> frf = frequency_response(case.blade, case.element, omega_range=case.omega_range)
         >>> pk = frf.peak()
@@ -524,7 +524,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     Examples
     --------
     >>> from hbm import response_at
-    >>> from hbm.cases import default_case
+    >>> from hbm.cli.cases import default_case
     >>> case = default_case()                          # the blade and damper of python -m hbm
     >>> r = response_at(case.blade, case.element, 38000.0, (1.0e-7, 1.0e-5))
     >>> round(r.amplitude, 10), round(r.phase, 3)      # m, rad

@@ -1,6 +1,6 @@
 """Reporting a scene: the per-run summary, ``summary.json``, the figure and the text of the command line.
 
-Nothing here prints: the functions return dicts and lines, and ``hbm.__main__`` prints them.
+Nothing here prints: the functions return dicts and lines, and ``hbm.cli`` prints them.
 """
 
 from __future__ import annotations

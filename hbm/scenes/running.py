@@ -64,8 +64,6 @@ class Progress:
 
     def line(self) -> str:
         """``run i/n label: omega ... rad/s (xx %), N points, t s, about T left``."""
-        from ..progress import duration
-
         eta = self.eta
         return (f"run {self.run}/{self.runs} {self.label}: omega {self.omega:.6g} rad/s "
                 f"({100.0 * min(max(self.fraction, 0.0), 1.0):.0f} %), {self.points} points, {self.elapsed:.1f} s"
@@ -360,6 +358,16 @@ def _run_amplitude(scene, plan, res, emit):
     res.table = table
     res.success = True
     res.message = "table complete"
+
+
+def duration(seconds: float) -> str:
+    """``42 s``, ``3 min 5 s``, ``2 h 10 min``: a time left, for the progress lines of a scene and a study."""
+    s = int(round(seconds))
+    if s < 60:
+        return f"{s} s"
+    if s < 3600:
+        return f"{s // 60} min {s % 60} s"
+    return f"{s // 3600} h {s % 3600 // 60} min"
 
 
 def thin(omega: Any, n: int = 33) -> np.ndarray:
