@@ -17,7 +17,16 @@ from typing import Any, Callable
 
 import numpy as np
 
+from contact_models import AllModeMicroslip, Bar, ThreeRegionMicroslip, TwoRegionMicroslip
+from contact_models.base import default_samples
+from contact_models.microslip import region_solution
+from contact_models.model_range import TOLERANCE, single_mode_frequency_limit
+from contact_models.quasi_static import StuckContact
+
+from ..presets import harmonic_knobs
+from ..residual import linear_response
 from .checks import Key, SceneError, boolean, choice, integer, Invalid, show
+from .models import Built
 
 #: Slip starts at the excited end when Bar.slip_onset's x* lies within this fraction of L of L.
 ONSET_AT_END = 1e-9
@@ -170,7 +179,6 @@ def strain_hardening(run: Any) -> Effect | None:
         return None
     beta = run.bar.beta
     if not run.scene.effects["strain_hardening"]:
-        from contact_models import Bar
 
         b = run.bar
         run.bar = Bar(E=b.E, rho=b.rho, A=b.A, L=b.L, k=b.k, beta=0.0, mu=b.mu)
@@ -227,7 +235,6 @@ def topology(run: Any) -> Effect | None:
     """Two or three regions, from where slip starts on the bar (Section 2.1); builds ``run.micro``."""
     if run.spec.microslip is None:
         return None
-    from contact_models import ThreeRegionMicroslip, TwoRegionMicroslip
 
     asked = run.spec.microslip(run.params)
     key = "damper.fit_to" if "fit_to" in run.spec.keys else "damper.model"
@@ -275,7 +282,6 @@ def topology(run: Any) -> Effect | None:
 
 def slip(run: Any) -> Effect:
     """A damper whose stuck (linear) response never reaches its linear amplitude is a linear spring."""
-    from contact_models.quasi_static import StuckContact
 
     if run.blade is None:
         return Effect("damper slip", True, "amplitude sweep: the amplitudes are given")
@@ -309,11 +315,6 @@ def phase_differences(run: Any) -> Effect | None:
     """
     if run.spec.microslip is None or run.spec.name not in ("auto", "two-region", "three-region"):
         return None
-    from contact_models import AllModeMicroslip
-    from contact_models.model_range import TOLERANCE, single_mode_frequency_limit
-    from contact_models.quasi_static import StuckContact
-
-    from .models import Built
 
     setting = run.scene.effects["phase_differences"]
     name = "phase differences along the bar"
@@ -370,8 +371,6 @@ def harmonics(run: Any) -> Effect:
                           f"time-domain force law, but the {run.label} element {type(element).__name__} has none "
                           "(with damper inertia the single-mode bar is a first-harmonic element); use "
                           "harmonics = 1 or effects.inertia = \"off\""])
-    from ..presets import harmonic_knobs
-    from contact_models.base import default_samples
 
     options = run.scene.sweep["options"]
     options["harmonics"] = H
@@ -385,7 +384,6 @@ def harmonics(run: Any) -> Effect:
 def _sliding_change(bar, load, omega):
     """|K_slip(omega)/K_slip(0) - 1| of the bar sliding as a whole (the slope of the loading curve
     past gross slip, which F_s tends to at large amplitude), or None where it is not defined."""
-    from contact_models.microslip import region_solution
 
     try:
         with np.errstate(all="ignore"):
@@ -409,9 +407,7 @@ def linear_amplitude(element: Any, omega: float) -> float:
 def stuck_peak(blade: Any, element: Any, omega: tuple) -> tuple[float, float]:
     """(largest amplitude of the blade with the damper linear over the range, smallest linear
     amplitude there)."""
-    from scipy.optimize import minimize_scalar
-
-    from ..residual import linear_response
+    from scipy.optimize import minimize_scalar  # heavy (0.1-0.5 s), lazily: import hbm stays light
 
     w0, w1 = min(omega), max(omega)
     lins = [linear_amplitude(element, w) for w in np.linspace(w0, w1, AMIN_SAMPLES)]

@@ -26,10 +26,25 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Callable, Mapping, NamedTuple
 
-from .checks import Key, choice, number
+from contact_models import (Bar, Iwan, Macroslip, PointContact, QuadraticLoad, ThreeRegionMicroslip,
+                            TwoRegionMicroslip, UniformLoad)
+
+from .checks import OPTIONAL, Key, SceneError, choice, number
 
 #: The bar's keys in ``[damper]`` (E, rho, A, L, k, mu; beta for the strain-hardening spring).
 BAR_KEYS = ("E", "rho", "A", "L", "k", "mu")
+
+#: Keys of ``[damper]`` that every model shares: the bar (Eq. 1-2) and its strain-hardening spring.
+BASE_DAMPER_KEYS: dict[str, Key] = {
+    "E": Key(number(gt=0, unit="Pa"), OPTIONAL, "Young's modulus of the bar (Pa)"),
+    "rho": Key(number(gt=0, unit="kg/m^3"), OPTIONAL, "density of the bar (kg/m^3)"),
+    "A": Key(number(gt=0, unit="m^2"), OPTIONAL, "cross-section of the bar (m^2)"),
+    "L": Key(number(gt=0, unit="m"), OPTIONAL, "length of the bar and the contact (m)"),
+    "k": Key(number(gt=0, unit="N/m^2"), OPTIONAL, "shear-layer stiffness per length (N/m^2)"),
+    "beta": Key(number(ge=0, unit="N/m"), OPTIONAL,
+                "strain-hardening spring at x = 0 (N/m); needed while effects.strain_hardening = true"),
+    "mu": Key(number(ge=0), OPTIONAL, "friction coefficient"),
+}
 
 
 class Built(NamedTuple):
@@ -171,8 +186,6 @@ def register_model(name: str, build: Callable[[Any], Any], *, keys: Mapping[str,
     if not callable(build):
         raise ValueError(f"build must be callable as build(run) -> element, got build={build!r}")
     keys = dict(keys or {})
-    from .schema import BASE_DAMPER_KEYS  # the bar's and the shared keys
-
     for key, spec in keys.items():
         if not isinstance(spec, Key):
             raise ValueError(f"keys[{key!r}] must be an hbm.scenes.Key, got {spec!r}")
@@ -220,8 +233,6 @@ def _bar_a_min(run) -> tuple[float, str]:
 
 
 def _example_bar():
-    from contact_models import Bar
-
     return Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 
 
@@ -236,14 +247,10 @@ def _microslip_model(topology: str):
 
 
 def _example_two():
-    from contact_models import TwoRegionMicroslip, UniformLoad
-
     return TwoRegionMicroslip(_example_bar(), UniformLoad(N=100.0))
 
 
 def _example_three():
-    from contact_models import QuadraticLoad, ThreeRegionMicroslip
-
     return ThreeRegionMicroslip(_example_bar(), QuadraticLoad.from_ratio(N=100.0, ratio=12.0))
 
 
@@ -256,9 +263,7 @@ FIT_OMEGA = Key(number(ge=0, unit="rad/s"), None,
 
 
 def _build_point_contact(run):
-    from contact_models import PointContact
 
-    from .checks import SceneError
 
     if run.params.get("fit_omega") is not None:
         w_fit = run.params["fit_omega"]
@@ -277,8 +282,6 @@ def _build_point_contact(run):
 
 
 def _example_point_contact():
-    from contact_models import PointContact
-
     return PointContact.fit(_example_two())
 
 
@@ -306,8 +309,6 @@ def _macroslip_pair(given) -> list:
 
 
 def _build_macroslip(run):
-    from contact_models import Macroslip
-
     if _macroslip_own(run.params):
         return Built(Macroslip(stiffness=run.params["stiffness"], slip_force=run.params["slip_force"]),
                      "macroslip", "damper.stiffness and damper.slip_force")
@@ -322,14 +323,10 @@ def _macroslip_unit(run) -> tuple[float, str]:
 
 
 def _example_macroslip():
-    from contact_models import Macroslip
-
     return Macroslip(stiffness=1.0e7, slip_force=30.0)
 
 
 def _build_iwan(run):
-    from contact_models import Iwan
-
     p = run.params
     if _macroslip_own(p):
         K, F, how = p["stiffness"], p["slip_force"], "damper.stiffness and damper.slip_force"
@@ -340,8 +337,6 @@ def _build_iwan(run):
 
 
 def _example_iwan():
-    from contact_models import Iwan
-
     return Iwan(slip_force=30.0, stiffness=1.0e7, chi=-0.5, beta=0.1)
 
 

@@ -12,6 +12,11 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from contact_models import Bar, ContactElement, QuadraticLoad, QuasiStatic, UniformLoad
+from contact_models.quasi_static import StuckContact
+
+from ..blade import Blade
+from ..structure import Structure
 from .checks import SceneError, show
 from .effects import EFFECTS, Effect, linear_amplitude
 from .models import BAR_KEYS, Built, MODELS, ModelSpec
@@ -78,8 +83,6 @@ class RunContext:
     def load(self) -> Any:
         """The normal load of this run (``contact_models`` load object), or None without [damper.load]."""
         if self._load is None and self.scene.load is not None:
-            from contact_models import QuadraticLoad, UniformLoad
-
             ld = self.scene.load
             if ld["kind"] == "uniform":
                 self._load = UniformLoad(N=self.N)
@@ -103,8 +106,6 @@ class RunContext:
         if self._built is None:
             out = self.spec.build(self)
             self._built = out if isinstance(out, Built) else Built(out, self.spec.name)
-            from contact_models import ContactElement, QuasiStatic
-
             element = self._built.element
             if not isinstance(element, ContactElement):
                 raise SceneError([f"{self.where('damper.model')} = {show(self.spec.name)}: its build returned "
@@ -227,8 +228,6 @@ def plan_scene(scene: Scene) -> Plan:
     >>> len(plan.runs), plan.runs[0].label, plan.runs[0].a_ref
     (1, 'macroslip', 1e-06)
     """
-    from contact_models import Bar
-
     problems = []
     blade = _blade(scene)
     d = scene.damper
@@ -256,8 +255,6 @@ def plan_scene(scene: Scene) -> Plan:
 
 
 def _blade(scene):
-    from ..blade import Blade
-
     if scene.sweep["kind"] != "frequency":
         return None
     if scene.structure is not None:
@@ -275,8 +272,6 @@ def _blade(scene):
 
 def _structure(scene):
     """The ``hbm.Structure`` of ``[structure]``, its DOF indices checked against its size."""
-    from ..structure import Structure
-
     st = scene.structure
     damping = {"damping": st.get("damping"), "modal_damping": st.get("modal_damping"),
                "rayleigh": tuple(st["rayleigh"]) if st.get("rayleigh") is not None else None}
@@ -304,8 +299,6 @@ def _decide(ctx: RunContext, with_load: bool) -> RunPlan:
             if not isinstance(decision, Effect):
                 raise SceneError([f"effect {effect.name!r}: its decider returned {decision!r}, not an Effect"])
             ctx.effects.append(decision)
-    from contact_models.quasi_static import StuckContact
-
     element = ctx.element
     inner = element.element if isinstance(element, StuckContact) else element
     a_ref, unit_name = None, "a_min"

@@ -16,8 +16,11 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ..frf import frequency_response
 from ..output import FRF_COLUMNS, RUN_COLUMNS, TABLE_COLUMNS, CsvStream, frf_row
+from ..structure import Contact
 from .planning import Plan, RunPlan, plan_scene
+from .reporting import figure, jsonable, run_summary
 from .validation import Scene
 
 
@@ -240,8 +243,6 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     >>> result.success, result.points, result.files["csv"].name
     (True, 5, 'coefficients.csv')
     """
-    from .reporting import figure, run_summary, jsonable
-
     plan = plan if plan is not None else plan_scene(scene)
     folder = Path(out if out is not None else scene.output["folder"])
     formats = scene.output["formats"]
@@ -311,8 +312,6 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
 
 
 def _run_frequency(scene, plan, res, emit):
-    from ..frf import frequency_response
-
     p = res.plan
     w0, w1 = p.omega
 
@@ -323,8 +322,6 @@ def _run_frequency(scene, plan, res, emit):
         frf = frequency_response(plan.blade, p.element, omega_range=(w0, w1), on_point=on_point,
                                  **scene.sweep["options"])
     else:  # a structure from matrices: the damper acts at structure.contact_dofs
-        from ..structure import Contact
-
         st = scene.structure
         dofs = tuple(st["contact_dofs"])
         contact = Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)
@@ -368,12 +365,6 @@ def duration(seconds: float) -> str:
     if s < 3600:
         return f"{s // 60} min {s % 60} s"
     return f"{s // 3600} h {s % 3600 // 60} min"
-
-
-def thin(omega: Any, n: int = 33) -> np.ndarray:
-    """A few frequencies of the branch (the linear amplitude varies slowly with omega)."""
-    omega = np.asarray(omega)
-    return omega[np.unique(np.linspace(0, len(omega) - 1, min(n, len(omega))).astype(int))]
 
 
 __all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns"]

@@ -19,7 +19,7 @@ from .. import presets
 from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
-from .study import study_table
+from .sampling import study_table
 
 
 @dataclass(frozen=True)
@@ -64,7 +64,7 @@ class Scene:
     sweep: dict
     output: dict
     structure: dict | None = None  #: [structure] of a frequency sweep of a structure from matrices (paths resolved)
-    study: dict | None = None  #: the validated [study] table with its ``points`` (``hbm.scenes.study``)
+    study: dict | None = None  #: the validated [study] table with its ``points`` (``hbm.scenes.sampling``)
 
     @property
     def name(self) -> str:
