@@ -81,8 +81,8 @@ class ModelSpec:
     build : callable
         ``build(run) -> element`` or :class:`Built`; ``run`` is the
         :class:`hbm.scenes.planning.RunContext` (``run.params`` holds this spec's keys, ``run.bar``,
-        ``run.load``, ``run.N``, ``run.micro`` (the microslip element, for a spec with
-        ``microslip``), ``run.inertia``, ``run.blade``, ``run.omega``).
+        ``run.load``, ``run.N``, ``run.micro`` (the single-mode microslip element of the decided
+        topology, for a spec with ``microslip``), ``run.inertia``, ``run.blade``, ``run.omega``).
     doc : str
         One line for ``python -m hbm models`` and the docs.
     keys : mapping
@@ -92,7 +92,7 @@ class ModelSpec:
         ``[damper]`` keys the scene sets.
     microslip : callable or None
         ``microslip(damper) -> "two-region" | "three-region" | "auto"``: the microslip element
-        the model rests on (the topology effect decides and builds it), or None.
+        the model rests on (the topology effect decides it; ``run.micro`` is its element), or None.
     unit : callable or None
         ``unit(run) -> (metres, name)``: the amplitude unit of amplitude sweeps.  None: the
         element's ``reference_amplitude`` at the lowest frequency, named "reference amplitude".

@@ -23,6 +23,9 @@ from .planning import Plan, RunPlan, plan_scene
 from .reporting import figure, jsonable, run_summary
 from .validation import Scene
 
+#: The accuracy keyword arguments of ``frequency_response`` in ``sweep["options"]`` (``hbm.presets``).
+ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps")
+
 
 @dataclass
 class Progress:
@@ -318,16 +321,15 @@ def _run_frequency(scene, plan, res, emit):
     def on_point(omega, xc, xs, residual):
         emit(frf_row(omega, xc, xs, residual), omega, (omega - w0) / (w1 - w0))
 
-    if scene.structure is None:
-        frf = frequency_response(plan.blade, p.element, omega_range=(w0, w1), on_point=on_point,
-                                 **scene.sweep["options"])
-    else:  # a structure from matrices: the damper acts at structure.contact_dofs
+    accuracy = {k: v for k, v in scene.sweep["options"].items() if k in ACCURACY_OPTIONS}
+    damper, response_dof = p.element, None
+    if scene.structure is not None:  # a structure from matrices: the damper acts at structure.contact_dofs
         st = scene.structure
         dofs = tuple(st["contact_dofs"])
-        contact = Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)
-        options = {"harmonics": scene.effects["harmonics"], **scene.sweep["options"]}  # H = 1 unless the effect set it
-        frf = frequency_response(plan.blade, [contact], omega_range=(w0, w1), on_point=on_point,
-                                 response_dof=st.get("response_dof"), **options)
+        damper = [Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)]
+        response_dof = st.get("response_dof")
+    frf = frequency_response(plan.blade, damper, (w0, w1), harmonics=p.harmonics, n_t=p.n_t,
+                             response_dof=response_dof, on_point=on_point, **accuracy)
     res.frf = frf
     res.success = frf.success
     res.message = frf.message

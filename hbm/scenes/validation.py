@@ -27,7 +27,8 @@ class Scene:
     """A validated scene: each table as a dict with every default filled in.
 
     ``sweep["options"]`` holds exactly the accuracy keyword arguments of
-    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``).
+    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``); the
+    balance's harmonics and samples are each run's (``RunPlan.harmonics``, ``RunPlan.n_t``).
 
     Parameters
     ----------
