@@ -28,7 +28,7 @@ from contact_models.quasi_static import StuckContact
 from ..presets import harmonic_knobs
 from ..residual import linear_response
 from .checks import Key, SceneError, boolean, choice, integer, Invalid, show
-from .models import Built
+from .models import SCENE_HARMONICS, Built
 
 #: Slip starts at the excited end when Bar.slip_onset's x* lies within this fraction of L of L.
 ONSET_AT_END = 1e-9
@@ -38,11 +38,6 @@ STUCK_GRID = 4001
 AMIN_SAMPLES = 65
 #: The stuck response must stay below the linear amplitude by this relative margin to call the damper stuck.
 STUCK_MARGIN = 1e-6
-#: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
-#: differences the element's omega-derivative; at the element's default H = 15 the default blade's
-#: peak sits where the 13th harmonic meets a bar mode, and that balance stalls there
-#: (docs/validation.md, "The default blade with the all-mode damper"); H = 11 traces it.
-SCENE_HARMONICS = 11
 
 
 @dataclass

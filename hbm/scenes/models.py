@@ -17,6 +17,17 @@ scene machinery reads only the spec, never the model's name, so adding a model i
 >>> unregister_model("soft-jenkins")
 
 ``docs/extending.md`` walks through it with the Iwan element.
+
+Every element of ``contact_models`` is a model here (the property suite of
+``tests/test_element_registry_properties.py`` runs over each ``example``), but one:
+``NumericalMicroslip``, the time-integrated discretised bar, is not registered.  Each of its
+evaluations integrates the bar to its periodic steady state (about a second even at 8 cells),
+so a scene's sweep (hundreds of evaluations) and the property suite would take hours; it is the
+reference the models are checked against (``docs/validation.md``), used directly, not a damper a
+scene computes with.  ``"cubic"`` (``CubicSpring``) is a model without an ``example``: the suite
+measures every tolerance in units of the element's stuck stiffness (``k* a``), and a cubic spring
+has none (``stuck_stiffness`` is 0: it is nonlinear at every amplitude), so its checks would ask
+for exact equality; ``contact_models``' own tests check it against its closed forms.
 """
 
 from __future__ import annotations
@@ -26,10 +37,17 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Callable, Mapping, NamedTuple
 
-from contact_models import (Bar, Iwan, Macroslip, PointContact, QuadraticLoad, ThreeRegionMicroslip,
-                            TwoRegionMicroslip, UniformLoad)
+from contact_models import (AllModeMicroslip, Bar, CubicSpring, Iwan, Macroslip, PointContact, QuadraticLoad,
+                            ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
+from contact_models.allmode import CELLS
 
-from .checks import OPTIONAL, Key, SceneError, choice, number
+from .checks import OPTIONAL, Invalid, Key, SceneError, choice, integer, number
+
+#: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
+#: differences the element's omega-derivative; at the element's default H = 15 the default blade's
+#: peak sits where the 13th harmonic meets a bar mode, and that balance stalls there
+#: (docs/validation.md, "The default blade with the all-mode damper"); H = 11 traces it.
+SCENE_HARMONICS = 11
 
 #: The bar's keys in ``[damper]`` (E, rho, A, L, k, mu; beta for the strain-hardening spring).
 BAR_KEYS = ("E", "rho", "A", "L", "k", "mu")
@@ -340,6 +358,34 @@ def _example_iwan():
     return Iwan(slip_force=30.0, stiffness=1.0e7, chi=-0.5, beta=0.1)
 
 
+def _nonzero_k3(v: Any) -> float:
+    x = number(unit="N/m^3")(v)
+    if x == 0.0:
+        raise Invalid("must be a nonzero number (N/m^3): negative softens, positive stiffens")
+    return x
+
+
+K3 = Key(_nonzero_k3, OPTIONAL, "cubic only: k3 of the cubic spring f = k3 x^3 (N/m^3), nonzero; required")
+CELLS_KEY = Key(integer(2), CELLS, "all-mode only: finite cells along the bar of AllModeMicroslip")
+
+
+def _cubic_needs_k3(given) -> list:
+    return [] if "k3" in given else ['damper.k3 is missing: required with damper.model = "cubic"']
+
+
+def _build_cubic(run):
+    return Built(CubicSpring(k3=run.params["k3"]), "cubic", f"k3 = {run.params['k3']:g} N/m^3")
+
+
+def _build_all_mode(run):
+    element = AllModeMicroslip(run.bar, run.load, cells=run.params["cells"], harmonics=SCENE_HARMONICS)
+    return Built(element, "all-mode", f"{element.cells} cells, H = {element.harmonics}")
+
+
+def _example_all_mode():
+    return AllModeMicroslip(_example_bar(), UniformLoad(N=100.0), cells=8, harmonics=SCENE_HARMONICS)
+
+
 def _register_builtins():
     bar_and_load = {"bar", "load"}
     for name, doc, example in (
@@ -361,6 +407,11 @@ def _register_builtins():
                    needs=lambda given: set() if _macroslip_own(given) else {"bar", "load"},
                    doc="Segalman's four-parameter Iwan element: parallel Jenkins elements, slip at any amplitude",
                    example=_example_iwan, validate=_macroslip_pair)
+    register_model("all-mode", _build_all_mode, keys={"cells": CELLS_KEY}, needs=bar_and_load, unit=_bar_a_min,
+                   doc="the microslip bar with all its modes (AllModeMicroslip: phase differences along it)",
+                   example=_example_all_mode)
+    register_model("cubic", _build_cubic, keys={"k3": K3}, doc="a cubic spring f = k3 x^3 (no friction)",
+                   validate=_cubic_needs_k3)  # no example: see the module docstring
 
 
 _register_builtins()
