@@ -19,15 +19,18 @@ scene machinery reads only the spec, never the model's name, so adding a model i
 ``docs/extending.md`` walks through it with the Iwan element.
 
 Every element of ``contact_models`` is a model here (the property suite of
-``tests/test_element_registry_properties.py`` runs over each ``example``), but one:
-``NumericalMicroslip``, the time-integrated discretised bar, is not registered.  Each of its
-evaluations integrates the bar to its periodic steady state (about a second even at 8 cells),
-so a scene's sweep (hundreds of evaluations) and the property suite would take hours; it is the
-reference the models are checked against (``docs/validation.md``), used directly, not a damper a
-scene computes with.  ``"cubic"`` (``CubicSpring``) is a model without an ``example``: the suite
-measures every tolerance in units of the element's stuck stiffness (``k* a``), and a cubic spring
-has none (``stuck_stiffness`` is 0: it is nonlinear at every amplitude), so its checks would ask
-for exact equality; ``contact_models``' own tests check it against its closed forms.
+``tests/test_element_registry_properties.py`` runs over each ``example``), but two:
+
+- ``NumericalMicroslip``, the time-integrated discretised bar: each of its evaluations integrates
+  the bar to its periodic steady state (about a second even at 8 cells), so a scene's sweep
+  (hundreds of evaluations) and the property suite would take hours; it is the reference the
+  models are checked against (``docs/validation.md``), used directly.
+- ``CubicSpring``, f = k3 x^3: not a friction damper.  The registry's contract is a damper with a
+  stuck state: every library model has an example for the property suite, which measures its
+  tolerances in units of the stuck stiffness (``k* a``), and the amplitude sweep tabulates
+  ``F_s = f_s/(k* a)``; a cubic spring's stuck stiffness is 0 (nonlinear at every amplitude), so
+  both would divide by zero.  It enters the structure's balance and the shooting reference
+  directly (``hbm.Contact``), where ``contact_models``' tests check it against its closed forms.
 """
 
 from __future__ import annotations
@@ -37,11 +40,11 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Callable, Mapping, NamedTuple
 
-from contact_models import (AllModeMicroslip, Bar, CubicSpring, Iwan, Macroslip, PointContact, QuadraticLoad,
+from contact_models import (AllModeMicroslip, Bar, Iwan, Macroslip, PointContact, QuadraticLoad,
                             ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models.allmode import CELLS
 
-from .checks import OPTIONAL, Invalid, Key, SceneError, choice, integer, number
+from .checks import OPTIONAL, Key, SceneError, choice, integer, number
 
 #: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
 #: differences the element's omega-derivative; at the element's default H = 15 the default blade's
@@ -358,23 +361,7 @@ def _example_iwan():
     return Iwan(slip_force=30.0, stiffness=1.0e7, chi=-0.5, beta=0.1)
 
 
-def _nonzero_k3(v: Any) -> float:
-    x = number(unit="N/m^3")(v)
-    if x == 0.0:
-        raise Invalid("must be a nonzero number (N/m^3): negative softens, positive stiffens")
-    return x
-
-
-K3 = Key(_nonzero_k3, OPTIONAL, "cubic only: k3 of the cubic spring f = k3 x^3 (N/m^3), nonzero; required")
 CELLS_KEY = Key(integer(2), CELLS, "all-mode only: finite cells along the bar of AllModeMicroslip")
-
-
-def _cubic_needs_k3(given) -> list:
-    return [] if "k3" in given else ['damper.k3 is missing: required with damper.model = "cubic"']
-
-
-def _build_cubic(run):
-    return Built(CubicSpring(k3=run.params["k3"]), "cubic", f"k3 = {run.params['k3']:g} N/m^3")
 
 
 def _build_all_mode(run):
@@ -410,8 +397,6 @@ def _register_builtins():
     register_model("all-mode", _build_all_mode, keys={"cells": CELLS_KEY}, needs=bar_and_load, unit=_bar_a_min,
                    doc="the microslip bar with all its modes (AllModeMicroslip: phase differences along it)",
                    example=_example_all_mode)
-    register_model("cubic", _build_cubic, keys={"k3": K3}, doc="a cubic spring f = k3 x^3 (no friction)",
-                   validate=_cubic_needs_k3)  # no example: see the module docstring
 
 
 _register_builtins()
