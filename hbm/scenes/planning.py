@@ -34,8 +34,8 @@ class RunContext:
     """One run while it is planned: what the deciders and the model's ``build`` read.
 
     The deciders do not change it: each returns an :class:`Effect` whose ``decided`` names the
-    settings it decides (:data:`DECISIONS`), and the planner applies them with :meth:`apply`, in
-    the order of ``EFFECTS``.  :attr:`element` is the element of the run as decided so far, made on
+    settings it decides (``hbm.scenes.planning.DECISIONS``), and the planner applies them with
+    :meth:`apply`, in the order of ``EFFECTS``.  :attr:`element` is the element of the run as decided so far, made on
     first use from the model's spec (or the model a decider chose) and made again after a
     decision it depends on; without damper inertia a frequency-dependent element is wrapped in
     ``contact_models.QuasiStatic``.  The plan's element is the one left after the last decider,
@@ -99,7 +99,7 @@ class RunContext:
         return self.scene.where(dotted)
 
     def apply(self, decided: dict) -> None:
-        """Apply a decider's decisions (names of :data:`DECISIONS` -> value), in order.
+        """Apply a decider's decisions (names of ``DECISIONS`` -> value), in order.
 
         ``"element"`` makes the given element the run's from here on (a decider that wraps
         :attr:`element`); ``"stuck"`` wraps the element as it is now in ``StuckContact``; the
