@@ -23,7 +23,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from hbm import Blade, frequency_response
-from hbm.cases import default_case
+from hbm.cli.cases import default_case
 
 REPEATS = 5
 

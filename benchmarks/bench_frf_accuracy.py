@@ -2,7 +2,7 @@
 
 Cases:
 
-- the default case (``hbm.cases.default_case()``: blade + two-region microslip damper);
+- the default case (``hbm.cli.cases.default_case()``: blade + two-region microslip damper);
 - a Jenkins blade: m = k = 1, zeta = 1e-4, F = 0.5, ``Macroslip(stiffness=1, slip_force=1)``
   over 0.5..2 rad/s (a sharp peak, amplification ~1e3).
 
@@ -34,7 +34,7 @@ import numpy as np
 from hbm import Blade, frequency_response
 from hbm import frf as frf_module
 from hbm import presets
-from hbm.cases import default_case
+from hbm.cli.cases import default_case
 
 from bench_frf import jenkins_peak, macroslip
 from common import FIGURES, REPEATS, interleaved, machine, machine_line, once, plot_curves, save_figure, sci, table

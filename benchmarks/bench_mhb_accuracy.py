@@ -3,7 +3,7 @@ versus time, for H in 1, 3, 5, 7, 11, 15, 21 and two sample counts (issue 12, it
 
 Problems P1-P3 (m = k = 1, F = 0.01, Jenkins k = 1 to ground, omega 0.6..1.8; P1 c = 0.004,
 F_s = 0.02; P2 c = 0.004, F_s = 0.005; P3 c = 0.0002, F_s = 0.02).  True peaks:
-``tests/data/periodic_reference.json`` (``hbm.shooting``).  Each configuration is timed
+``tests/data/periodic_reference.json`` (``hbm.reference.shooting``).  Each configuration is timed
 ``--repeats`` times (median; the whole FRF with the refined peak, ``max_step`` 0.1, stability off
 and, in a separate column, on); the load average is recorded.
 

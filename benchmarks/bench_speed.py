@@ -11,7 +11,7 @@ medians of the same run.
 
 Measured:
 
-- ``default FRF``: ``frequency_response`` + ``peak()`` of ``hbm.cases.default_case()`` (a fresh
+- ``default FRF``: ``frequency_response`` + ``peak()`` of ``hbm.cli.cases.default_case()`` (a fresh
   case each time, so no loading path is cached), with the number of points and the peak, which
   must agree with the earlier code (same points, peak to 1e-9 relative);
 - ``three-region FRF``: the same for ``examples/scenes/three_region_concave_frf.toml`` (the
@@ -67,7 +67,7 @@ def _cpu(fn):
 
 
 def _default_frf():
-    from hbm.cases import default_case
+    from hbm.cli.cases import default_case
     from hbm.frf import frequency_response
 
     case = default_case()
@@ -260,7 +260,7 @@ class _Replay:
 
 
 def _free_task(repeats):
-    from hbm.cases import default_case
+    from hbm.cli.cases import default_case
     from hbm.frf import frequency_response
 
     case = default_case()

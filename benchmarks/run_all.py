@@ -128,7 +128,7 @@ single-harmonic, `hbm.residual`); they join these tables with multi-harmonic bal
 and the Newton tolerance, `max_step = 0.03 (rtol/1e-6)^(1/6)` (clipped to
 [{presets.MIN_PRESET_STEP:g}, {presets.MAX_PRESET_STEP:g}]), `max_steps` scaled to the same arclength budget, `min_step`
 {presets.resolve('default').min_step:g}; `"default"` is exactly `frequency_response`'s defaults. On the default case
-(`hbm.cases.default_case()`), against its FRF at rtol {bench_frf_accuracy.REFERENCE['rtol']:g}, max_step {bench_frf_accuracy.REFERENCE['max_step']:g}:
+(`hbm.cli.cases.default_case()`), against its FRF at rtol {bench_frf_accuracy.REFERENCE['rtol']:g}, max_step {bench_frf_accuracy.REFERENCE['max_step']:g}:
 
 | preset | rtol | max_step | min_step | max_steps | points | peak a error | peak omega error | peak error | curve error | CPU (s) | wall (s) | CPU / default |
 |---|---|---|---|---|---|---|---|---|---|---|---|---|

@@ -37,7 +37,7 @@ import numpy as np  # noqa: E402
 from contact_models import TwoRegionMicroslip, UniformLoad  # noqa: E402
 from contact_models.point_contact import PointContact  # noqa: E402
 from hbm import frequency_response  # noqa: E402
-from hbm.cases import default_case  # noqa: E402
+from hbm.cli.cases import default_case  # noqa: E402
 from hbm.balance.residual import linear_response  # noqa: E402
 
 from contact_models import Macroslip  # noqa: E402

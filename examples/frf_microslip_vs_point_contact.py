@@ -4,7 +4,7 @@
 FRFs of the blade with a two-region microslip damper and with its fitted point contact,
 at several normal loads, on one figure (issue 4, example a).
 
-The blade is the default case of ``python -m hbm`` (``hbm.cases.default_case``: stuck resonance
+The blade is the default case of ``python -m hbm`` (``hbm.cli.cases.default_case``: stuck resonance
 at 0.3 omega_c, zeta = 2e-3, F = 8 N); the damper is ``TwoRegionMicroslip(bar,
 UniformLoad(N))`` and ``PointContact.fit(two, omega_fit)``: equal stuck stiffness,
 fully-slipping stiffness and gross-slip amplitude (Section 3.4), fitted at the blade's stuck
@@ -29,7 +29,7 @@ import numpy as np  # noqa: E402
 from contact_models import TwoRegionMicroslip, UniformLoad  # noqa: E402
 from contact_models.point_contact import PointContact  # noqa: E402
 from hbm import frequency_response  # noqa: E402
-from hbm.cases import default_case  # noqa: E402
+from hbm.cli.cases import default_case  # noqa: E402
 from hbm.balance.residual import linear_response  # noqa: E402
 
 from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)

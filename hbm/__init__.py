@@ -4,7 +4,7 @@ A blade with a damper is the one-DOF case of a structure with contacts; ``freque
 traces the FRF of either (``hbm.frf``, front of the balance in ``hbm.balance``) and returns one
 result type, :class:`FrequencyResponse`.  ``hbm.continuation`` is the generic continuation core
 (it knows nothing of friction).  ``response_at`` solves a blade's balance at one frequency;
-``simulate_blade`` integrates the blade with the discretised bar in time and ``periodic_response``
+``simulate_blade`` (``hbm.reference``) integrates the blade with the discretised bar in time and ``periodic_response``
 finds the true periodic response by shooting, the balance's independent checks.  Scenes
 (``hbm.scenes``), studies (``hbm.study``) and the command line build on these.
 """
@@ -16,9 +16,9 @@ from .balance import HarmonicBalance
 from .blade import Blade
 from .frf import frequency_response, response_at
 from .result import FrequencyResponse, Peak, Response
-from .shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
+from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 from .structure import Contact, ReducedStructure, Structure
-from .transient import BladeSimulation, simulate_blade
+from .reference.transient import BladeSimulation, simulate_blade
 
 #: The result of a structure's solve is the one result type (this name is kept for old code).
 MultiHarmonicResponse = FrequencyResponse

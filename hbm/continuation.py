@@ -159,125 +159,168 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
         raise ValueError(f"need 0 < min_step <= max_step, got min_step={min_step!r}, max_step={max_step!r}")
     scale = scale if scale is not None else (lambda y: np.ones(n))
     count = _Count()
-    fun = _counted(residual, count)
+    trace = _Trace(_counted(residual, count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
+                   on_point if on_point is not None else (lambda y, rnorm: None))
+    failed = trace.start(y0, direction, step)
+    if failed is not None:
+        return failed
+    while trace.status is None:
+        trace.advance(max_steps)
+    # ---- locate the folds between their neighbouring points
+    folds = []
+    if locate_folds:
+        for i in trace.fold_after:
+            loc = locate(residual, trace.ys[i], trace.ys[i + 1], lambda yy, tt: tt[p], tol=tol, scale=scale,
+                         xtol=fold_xtol, max_iter=max_iter, count=count)
+            folds.append(loc.y if loc is not None else np.full(n, np.nan))
+    return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
+                   MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
+                   trace.corners)
 
-    # ---- starting point: Newton with the parameter held at y0[p]
-    e_p = np.zeros(n)
-    e_p[p] = 1.0
-    start = _newton(fun, y0, e_p, y0[p], tol, max_iter, count)
-    if not start.converged:
-        return _result([], [], [], [], [], [], Status.START_FAILED,
-                       f"{MESSAGES[Status.START_FAILED]} ({start.reason}; |R|={start.rnorm:.3e}, "
-                       f"tol={tol:.3e})", 0, 0, count, 0.0)
-    y = start.y
-    s = _scale(scale, y)
-    try:
-        t = _tangent(start.J, s, None)
-    except np.linalg.LinAlgError as exc:
-        return _result([], [], [], [], [], [], Status.START_FAILED,
-                       f"{MESSAGES[Status.START_FAILED]} ({exc})", 0, 0, count, 0.0)
-    if t[p] * direction < 0.0:
-        t = -t
-    ys, ts, rn, its = [y], [t], [start.rnorm], [start.iterations]
-    report = on_point if on_point is not None else (lambda y, rnorm: None)
-    report(y, start.rnorm)
-    fold_after = []
-    h = min(max(step if step is not None else FIRST_STEP * max_step, min_step), max_step)
-    zero = np.zeros(n)
-    c2 = c3 = zero  # curvature terms of the predictor
-    normal = t  # normal of the corrector's hyperplane
-    nsteps = nrejected = 0
-    corners = []
-    rejected = None  # (turn, step) of the last step rejected for turning
-    status = None
-    detail = ""
 
-    while status is None:
-        if nsteps >= max_steps:
-            status = Status.MAX_STEPS
-            break
+class _Trace:
+    """The state of :func:`continuation` along the branch, and its steps: the start, one step
+    attempt (predictor, corrector, the turn test), a rejection, an acceptance (with the point on
+    the bound at the end of the parameter range) and the step control."""
+
+    def __init__(self, fun, p, lo, hi, tol, max_iter, scale, min_step, max_step, count, report):
+        self.fun, self.p, self.lo, self.hi = fun, p, lo, hi
+        self.tol, self.max_iter, self.scale, self.count, self.report = tol, max_iter, scale, count, report
+        self.min_step, self.max_step = min_step, max_step
+        self.status: Status | None = None
+        self.detail = ""
+
+    def start(self, y0, direction, step) -> ContinuationResult | None:
+        """Newton with the parameter held at ``y0[p]``, then the tangent; a result if that fails."""
+        n, p, count = y0.size, self.p, self.count
+        self.e_p = np.zeros(n)
+        self.e_p[p] = 1.0
+        start = _newton(self.fun, y0, self.e_p, y0[p], self.tol, self.max_iter, count)
+        if not start.converged:
+            return _result([], [], [], [], [], [], Status.START_FAILED,
+                           f"{MESSAGES[Status.START_FAILED]} ({start.reason}; |R|={start.rnorm:.3e}, "
+                           f"tol={self.tol:.3e})", 0, 0, count, 0.0)
+        y = start.y
+        s = _scale(self.scale, y)
+        try:
+            t = _tangent(start.J, s, None)
+        except np.linalg.LinAlgError as exc:
+            return _result([], [], [], [], [], [], Status.START_FAILED,
+                           f"{MESSAGES[Status.START_FAILED]} ({exc})", 0, 0, count, 0.0)
+        if t[p] * direction < 0.0:
+            t = -t
+        self.y, self.s, self.t = y, s, t
+        self.ys, self.ts, self.rn, self.its = [y], [t], [start.rnorm], [start.iterations]
+        self.report(y, start.rnorm)
+        self.fold_after = []
+        self.h = min(max(step if step is not None else FIRST_STEP * self.max_step, self.min_step), self.max_step)
+        self.zero = np.zeros(n)
+        self.c2 = self.c3 = self.zero  # curvature terms of the predictor
+        self.normal = t  # normal of the corrector's hyperplane
+        self.nsteps = self.nrejected = 0
+        self.corners = []
+        self.rejected = None  # (turn, step) of the last step rejected for turning
+        return None
+
+    def advance(self, max_steps: int) -> None:
+        """One step attempt: accepted, rejected (a shorter step next), or the end of the run."""
+        if self.nsteps >= max_steps:
+            self.status = Status.MAX_STEPS
+            return
         # ---- predictor along the tangent (+ curvature), in the coordinates scaled at y
-        y_pred = y + h * s * (t + h * (c2 + h * c3))
-        w = normal / s  # the constraint normal . (u - u_p) = 0 in physical coordinates
-        new = _newton(fun, y_pred, w, float(w @ y_pred), tol, max_iter, count)
-        ok, reason = new.converged, new.reason
+        y, s, h = self.y, self.s, self.h
+        y_pred = y + h * s * (self.t + h * (self.c2 + h * self.c3))
+        w = self.normal / s  # the constraint normal . (u - u_p) = 0 in physical coordinates
+        new = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
+        ok, reason, t_new, turn = self._judge(new)
+        if not ok:
+            self._reject(new, reason)
+            return
+        self._accept(new, t_new, turn)
+
+    def _judge(self, new):
+        """``(ok, reason, t_new, turn)`` of a corrected point: converged, with a tangent, and a turn
+        of the tangent that is either small or a corner (a second, larger turn after a rejection)."""
+        ok, reason, t_new, turn = new.converged, new.reason, None, None
         if ok:
             try:
-                t_new = _tangent(new.J, s, t)
+                t_new = _tangent(new.J, self.s, self.t)
             except np.linalg.LinAlgError:
                 t_new = None
                 ok, reason = False, "the Jacobian has no one-dimensional null space"
         if ok:
-            turn = math.acos(min(1.0, abs(float(t_new @ t))))
+            turn = math.acos(min(1.0, abs(float(t_new @ self.t))))
             if turn > REJECT_TURN:
-                if rejected is not None and turn > CORNER_RATIO * rejected[0]:
-                    corners.append(len(ys))
-                    rejected = None
+                if self.rejected is not None and turn > CORNER_RATIO * self.rejected[0]:
+                    self.corners.append(len(self.ys))
+                    self.rejected = None
                 else:
                     ok, reason = False, f"tangent turned by {turn:.3g} rad"
-                    rejected = (turn, h)
-        if not ok:
-            normal = _corner_normal(new.J0, s, t)
-            nrejected += 1
-            h *= FAIL_FACTOR
-            if h < min_step:
-                status = Status.STEP_TOO_SMALL
-                detail = (f" (last failure: {reason}; near y={np.array2string(y, precision=8)}, "
-                          f"step {h / FAIL_FACTOR:.3g})")
-            continue
-        nsteps += 1
-        if rejected is not None and h >= rejected[1]:
-            rejected = None  # back at the step that turned too much: not approaching a corner
-        y_prev = y
-        y, s_old = new.y, s
-        s = _scale(scale, y)
+                    self.rejected = (turn, self.h)
+        return ok, reason, t_new, turn
+
+    def _reject(self, new, reason) -> None:
+        self.normal = _corner_normal(new.J0, self.s, self.t)
+        self.nrejected += 1
+        self.h *= FAIL_FACTOR
+        if self.h < self.min_step:
+            self.status = Status.STEP_TOO_SMALL
+            self.detail = (f" (last failure: {reason}; near y={np.array2string(self.y, precision=8)}, "
+                           f"step {self.h / FAIL_FACTOR:.3g})")
+
+    def _accept(self, new, t_new, turn) -> None:
+        p, ys, ts = self.p, self.ys, self.ts
+        self.nsteps += 1
+        if self.rejected is not None and self.h >= self.rejected[1]:
+            self.rejected = None  # back at the step that turned too much: not approaching a corner
+        y_prev = self.y
+        y, s_old = new.y, self.s
+        s = _scale(self.scale, y)
         t = _rescale(t_new, s_old, s)
+        self.y, self.s, self.t = y, s, t
         if ts[-1][p] * t[p] < 0.0:  # the parameter turned back: a fold
-            fold_after.append(len(ys) - 1)
-        # ---- end of the parameter range: the last point goes on the bound
-        if not lo <= y[p] <= hi:
-            bound = hi if y[p] > hi else lo
-            frac = (bound - y_prev[p]) / (y[p] - y_prev[p])
-            guess = y_prev + frac * (y - y_prev)
-            end = _newton(fun, guess, e_p, bound, tol, max_iter, count)
-            if end.converged:
-                s_end = _scale(scale, end.y)
-                ys.append(end.y)
-                ts.append(_tangent(end.J, s_end, _rescale(t, s, s_end)))
-                rn.append(end.rnorm)
-                its.append(end.iterations)
-                report(end.y, end.rnorm)
-                detail = f" (at its {'upper' if bound == hi else 'lower'} end)"
-            else:
-                detail = f" (the point on the bound {bound!r} did not converge: {end.reason}; kept the last inside)"
-                if fold_after and fold_after[-1] == len(ys) - 1:
-                    fold_after.pop()
-            status = Status.REACHED_END
-            break
+            self.fold_after.append(len(ys) - 1)
+        if not self.lo <= y[p] <= self.hi:
+            self._end_on_bound(y_prev)
+            return
         ys.append(y)
         ts.append(t)
-        rn.append(new.rnorm)
-        its.append(new.iterations)
-        report(y, new.rnorm)
-        normal = t
-        if corners and corners[-1] == len(ys) - 1:
-            c2 = c3 = zero
+        self.rn.append(new.rnorm)
+        self.its.append(new.iterations)
+        self.report(y, new.rnorm)
+        self.normal = t
+        at_corner = bool(self.corners) and self.corners[-1] == len(ys) - 1
+        if at_corner:
+            self.c2 = self.c3 = self.zero
         else:
-            c2, c3 = _hermite(y_prev, _rescale(ts[-2], _scale(scale, y_prev), s), y, t, s)
+            self.c2, self.c3 = _hermite(y_prev, _rescale(ts[-2], _scale(self.scale, y_prev), s), y, t, s)
         # ---- step control from corrector effort and curvature
         f_newton = NEWTON_TARGET / max(new.iterations, 1)
-        f_turn = MAX_TURN / max(turn, 1e-12) if not (corners and corners[-1] == len(ys) - 1) else 1.0
-        h = min(max(h * min(max(min(f_newton, f_turn), MIN_FACTOR), MAX_FACTOR), min_step), max_step)
+        f_turn = MAX_TURN / max(turn, 1e-12) if not at_corner else 1.0
+        self.h = min(max(self.h * min(max(min(f_newton, f_turn), MIN_FACTOR), MAX_FACTOR), self.min_step),
+                     self.max_step)
 
-    # ---- locate the folds between their neighbouring points
-    folds = []
-    if locate_folds:
-        for i in fold_after:
-            loc = locate(residual, ys[i], ys[i + 1], lambda yy, tt: tt[p], tol=tol, scale=scale,
-                         xtol=fold_xtol, max_iter=max_iter, count=count)
-            folds.append(loc.y if loc is not None else np.full(n, np.nan))
-    return _result(ys, ts, rn, its, fold_after, folds, status, MESSAGES[status] + detail,
-                   nsteps, nrejected, count, h, corners)
+    def _end_on_bound(self, y_prev) -> None:
+        """The end of the parameter range: the last point goes on the bound."""
+        y, s, t, p, hi = self.y, self.s, self.t, self.p, self.hi
+        bound = hi if y[p] > hi else self.lo
+        frac = (bound - y_prev[p]) / (y[p] - y_prev[p])
+        guess = y_prev + frac * (y - y_prev)
+        end = _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count)
+        if end.converged:
+            s_end = _scale(self.scale, end.y)
+            self.ys.append(end.y)
+            self.ts.append(_tangent(end.J, s_end, _rescale(t, s, s_end)))
+            self.rn.append(end.rnorm)
+            self.its.append(end.iterations)
+            self.report(end.y, end.rnorm)
+            self.detail = f" (at its {'upper' if bound == hi else 'lower'} end)"
+        else:
+            self.detail = (f" (the point on the bound {bound!r} did not converge: {end.reason}; kept the last "
+                           "inside)")
+            if self.fold_after and self.fold_after[-1] == len(self.ys) - 1:
+                self.fold_after.pop()
+        self.status = Status.REACHED_END
 
 
 @dataclass

@@ -23,7 +23,7 @@ from contact_models.numerics.roots import brentq  # scipy's algorithm without im
 from . import continuation as cont  # the module (hbm.continuation)
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
-                              harmonic_knobs)
+                              harmonic_knobs, samples_for)
 from .balance.residual import HarmonicBalance, as_structure
 from .balance.start import force_homotopy
 from .blade import Blade
@@ -74,8 +74,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         The number of harmonics H.  Default: 1 for a blade, the accuracy preset's for a structure
         (``Structure.default_harmonics``).  Above 1 every contact needs a time law.
     n_t : int, optional
-        AFT samples per period, >= 2H + 2.  Default the preset's with the preset's H, else
-        ``contact_models.base.default_samples(H)``.
+        AFT samples per period, >= 2H + 2.  Default ``hbm.balance.presets.samples_for(H, accuracy)``:
+        the element's floor for H, and above H = 1 at least the accuracy preset's n_t.
     response_dof : int, optional
         The DOF whose response is reported.  Default the forced DOF.
     stability : bool, optional
@@ -149,7 +149,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     # ---- validate
     structure = as_structure(system)
     w0, w1 = omega_range_pair(omega_range)
-    H_preset, n_t_preset = harmonic_knobs(accuracy if accuracy is not None else "default")
+    preset = accuracy if accuracy is not None else "default"
+    H_preset = harmonic_knobs(preset)[0]
     if accuracy is not None:
         rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step, min_step=min_step,
                                                     max_steps=max_steps)
@@ -160,11 +161,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     max_steps = count("max_steps", max_steps)
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance, its scales
     if harmonics is None:
-        harmonics = structure.default_harmonics
-        if harmonics is None:
-            harmonics = H_preset
-            if n_t is None:
-                n_t = n_t_preset
+        harmonics = structure.default_harmonics if structure.default_harmonics is not None else H_preset
+    if n_t is None and isinstance(harmonics, (int, np.integer)) and not isinstance(harmonics, bool) and harmonics >= 1:
+        n_t = samples_for(int(harmonics), preset)
     problem = HarmonicBalance(system, contacts, harmonics=harmonics, n_t=n_t, response_dof=response_dof,
                               rtol=rtol)
     problem.set_scales(w0, w1)
@@ -234,7 +233,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     Examples
     --------
     >>> from hbm import response_at
-    >>> from hbm.cases import default_case
+    >>> from hbm.cli.cases import default_case
     >>> case = default_case()                          # the blade and damper of python -m hbm
     >>> r = response_at(case.blade, case.element, 38000.0, (1.0e-7, 1.0e-5))
     >>> round(r.amplitude, 10), round(r.phase, 3)      # m, rad

@@ -286,7 +286,7 @@ class FrequencyResponse:
         peak at about twice its slip amplitude a_min = 7.5e-7 m.
 
         >>> from hbm import frequency_response
-        >>> from hbm.cases import default_case
+        >>> from hbm.cli.cases import default_case
         >>> case = default_case()
         >>> frf = frequency_response(case.blade, case.element, omega_range=case.omega_range)
         >>> pk = frf.peak()

@@ -308,7 +308,7 @@ def test_blade_with_the_all_mode_damper_at_three_harmonics():
     agrees with the single-harmonic all-mode FRF (the blade's motion is nearly harmonic: 3rd
     harmonic 0.15 % of the first, docs/validation.md)."""
     from hbm import Contact, Structure, frequency_response
-    from hbm.cases import default_case
+    from hbm.cli.cases import default_case
 
     case = default_case()
     el = AllModeMicroslip(case.element.bar, UNIFORM, cells=8, harmonics=5)

@@ -15,7 +15,7 @@ import pytest
 
 from contact_models import Macroslip, NumericalMicroslip, UniformLoad
 from hbm import Blade, frequency_response, response_at, simulate_blade
-from hbm.cases import default_case
+from hbm.cli.cases import default_case
 from hbm.balance.residual import HarmonicBalance, linear_response
 
 FLANK = 40000.0  # rad/s, on the falling flank of the default case's resonance (a = 1.59 a_min)

@@ -7,7 +7,7 @@ from pathlib import Path
 import pytest
 
 import hbm
-from hbm.__main__ import build_parser, main, program_name
+from hbm.cli.main import build_parser, main, program_name
 from hbm.scenes import MODELS, all_keys, load_scene, plan_scene, run_scene, scene_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent

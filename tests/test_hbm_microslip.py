@@ -4,8 +4,8 @@ import numpy as np
 import pytest
 
 from hbm import frequency_response
-from hbm.__main__ import main
-from hbm.cases import default_case
+from hbm.cli.main import main
+from hbm.cli.cases import default_case
 from hbm.balance.residual import linear_response
 
 

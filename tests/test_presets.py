@@ -14,7 +14,7 @@ import pytest
 
 from hbm import Blade, frequency_response, presets
 from hbm import frf as frf_module
-from hbm.cases import default_case
+from hbm.cli.cases import default_case
 
 NAMES = ("fast", "default", "precise")
 

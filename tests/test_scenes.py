@@ -20,8 +20,8 @@ from contact_models import (Bar, ContactElement, QuasiStatic, ThreeRegionMicrosl
                             UniformLoad)
 from contact_models.quasi_static import StuckContact
 from hbm import Blade, frequency_response
-from hbm.__main__ import main
-from hbm.progress import ProgressLine
+from hbm.cli.main import main
+from hbm.cli.progress import ProgressLine
 from hbm.balance.residual import HarmonicBalance, linear_response
 from hbm.scenes import EFFECTS, Progress, columns, load_scene, plan_scene, run_scene, scene_from_dict, summary_lines
 

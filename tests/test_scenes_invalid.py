@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from hbm.__main__ import main
+from hbm.cli.main import main
 from hbm.scenes import SceneError, all_keys, load_scene, schema
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"

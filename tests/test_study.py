@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hbm.__main__ import main
+from hbm.cli.main import main
 from hbm.scenes import SceneError
 from hbm.study import (DASK_MISSING, Study, grid, lognormal, normal, read_records, run_study, samples, uniform)
 
@@ -318,7 +318,7 @@ def test_amplitude_sweep_study_records_the_largest_F_c(tmp_path):
 def test_progress_line_counts_runs_with_an_eta():
     import io
 
-    from hbm.progress import ProgressLine
+    from hbm.cli.progress import ProgressLine
     from hbm.study import StudyProgress
 
     p = StudyProgress(points=3, runs=10, failed=1, reused=1, elapsed=6.0)

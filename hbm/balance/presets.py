@@ -37,7 +37,7 @@ import math
 import numbers
 from dataclasses import asdict, dataclass
 
-from contact_models.base import DEFAULT_RTOL  # the elements' default rtol is the FRF's too
+from contact_models.base import DEFAULT_RTOL, default_samples  # the elements' default rtol is the FRF's too
 
 #: Default largest step (scaled arclength, ``hbm.frf``'s module docstring).
 DEFAULT_MAX_STEP = 0.03
@@ -149,3 +149,20 @@ def harmonic_knobs(accuracy: str | float) -> tuple[int, int | None]:
     """
     resolve(accuracy)
     return HARMONICS[accuracy] if isinstance(accuracy, str) else HARMONICS["default"]
+
+
+def samples_for(harmonics: int, accuracy: str | float = "default") -> int:
+    """AFT samples per period for ``harmonics`` harmonics under the preset ``accuracy``.
+
+    The element's floor ``contact_models.base.default_samples(H)``, raised above H = 1 to the
+    preset's own ``n_t`` (:data:`HARMONICS`): a harmonic count given explicitly never lowers the
+    sampling the accuracy asks for.  At H = 1 the floor (the describing functions need no samples).
+
+    Examples
+    --------
+    >>> samples_for(1), samples_for(5), samples_for(15, "precise"), samples_for(31)
+    (32, 512, 2048, 1024)
+    """
+    floor = default_samples(harmonics)
+    return floor if harmonics == 1 else max(floor, harmonic_knobs(accuracy)[1])
+

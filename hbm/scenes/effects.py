@@ -3,21 +3,31 @@
 A scene simulates only the effects it calls for.  Each entry of :data:`EFFECTS` is an
 :class:`EffectSpec`: its name, the ``[effects]`` key that sets it (if any) and a decider
 ``decide(run) -> Effect | None`` that looks at one planned run (an
-:class:`hbm.scenes.planning.RunContext`), may change it (switch the damper's inertia off, pick
-the microslip topology, hold a damper stuck) and says what it decided and why; None means the
-effect does not concern this run's model.  The deciders run in the order of :data:`EFFECTS`;
+:class:`hbm.scenes.planning.RunContext`) and returns what it decided and why: the
+:class:`Effect`'s ``decided`` names the run settings it decides (switch the damper's inertia off,
+pick the microslip topology, hold a damper stuck, take the all-mode bar, the balance's harmonics)
+and the planner applies them; a decider changes nothing itself.  None means the effect does not
+concern this run's model.  The deciders run in the order of :data:`EFFECTS`;
 adding an effect is one :func:`register_effect` call (``docs/extending.md``).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
 
+from contact_models import AllModeMicroslip, Bar, ThreeRegionMicroslip, TwoRegionMicroslip
+from contact_models.microslip import region_solution
+from contact_models.model_range import TOLERANCE, single_mode_frequency_limit
+from contact_models.quasi_static import StuckContact
+
+from ..balance.presets import samples_for
+from ..balance.residual import linear_response
 from .checks import Key, SceneError, boolean, choice, integer, Invalid, show
+from .models import SCENE_HARMONICS, Built
 
 #: Slip starts at the excited end when Bar.slip_onset's x* lies within this fraction of L of L.
 ONSET_AT_END = 1e-9
@@ -27,11 +37,6 @@ STUCK_GRID = 4001
 AMIN_SAMPLES = 65
 #: The stuck response must stay below the linear amplitude by this relative margin to call the damper stuck.
 STUCK_MARGIN = 1e-6
-#: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
-#: differences the element's omega-derivative; at the element's default H = 15 the default blade's
-#: peak sits where the 13th harmonic meets a bar mode, and that balance stalls there
-#: (docs/validation.md, "The default blade with the all-mode damper"); H = 11 traces it.
-SCENE_HARMONICS = 11
 
 
 @dataclass
@@ -46,11 +51,16 @@ class Effect:
         Whether the run simulates the effect.
     reason : str
         Why, in words (shown by ``python -m hbm run`` and written to ``summary.json``).
+    decided : dict, optional
+        The run settings decided, name -> value (``hbm.scenes.planning.DECISIONS``: ``"bar"``,
+        ``"inertia"``, ``"topology"``, ``"element"``, ``"stuck"``, ``"model"``, ``"harmonics"``,
+        ``"n_t"``); the planner applies them in order.  Default none.
     """
 
     name: str
     simulated: bool
     reason: str
+    decided: dict = field(default_factory=dict)
 
     def as_dict(self) -> dict:
         return {"effect": self.name, "simulated": self.simulated, "reason": self.reason}
@@ -66,8 +76,8 @@ class EffectSpec:
         The effect's name.
     decide : callable
         ``decide(run) -> Effect or None``; ``run`` is the planned run's ``RunContext``, which the
-        decider may change (its element, ``inertia``, ``topology``).  None: the effect does not
-        apply to the run.
+        decider reads; what it decides for the run (its element, ``inertia``, ``topology``) it
+        returns in ``Effect.decided``.  None: the effect does not apply to the run.
     key_name : str or None, optional
         The ``[effects]`` key that sets the effect, or None.
     key : Key or None, optional
@@ -170,12 +180,10 @@ def strain_hardening(run: Any) -> Effect | None:
         return None
     beta = run.bar.beta
     if not run.scene.effects["strain_hardening"]:
-        from contact_models import Bar
-
         b = run.bar
-        run.bar = Bar(E=b.E, rho=b.rho, A=b.A, L=b.L, k=b.k, beta=0.0, mu=b.mu)
         return Effect("strain-hardening spring", False, "effects.strain_hardening = false: beta = 0" +
-                      (f" (damper.beta = {beta:g} N/m left out)" if beta else ""))
+                      (f" (damper.beta = {beta:g} N/m left out)" if beta else ""),
+                      decided={"bar": Bar(E=b.E, rho=b.rho, A=b.A, L=b.L, k=b.k, beta=0.0, mu=b.mu)})
     if beta == 0.0:
         return Effect("strain-hardening spring", False, "damper.beta = 0")
     return Effect("strain-hardening spring", True, f"beta = {beta:g} N/m")
@@ -202,44 +210,35 @@ def inertia(run: Any) -> Effect:
     else:
         element = run.element
         if not element.frequency_dependent:
-            run.inertia = False
             note = f" ({run.note})" if run.note else ""
-            return Effect("damper inertia", False, f"{run.label} element: massless, frequency independent{note}")
+            return Effect("damper inertia", False, f"{run.label} element: massless, frequency independent{note}",
+                          decided={"inertia": False})
         K0 = float(element.stuck_stiffness(0.0))
         change = abs(float(element.stuck_stiffness(w_hi)) / K0 - 1.0) if K0 else math.inf
         at = f"|K*(omega_max)/K*(0) - 1| = {change:.3g} at omega_max = {w_hi:.6g} rad/s"
         info = ""
     if setting == "auto":
-        run.inertia = change > tol
-        reason = f"auto: {at}, {'above' if run.inertia else 'not above'} the tolerance {tol:g}"
+        simulated = change > tol
+        reason = f"auto: {at}, {'above' if simulated else 'not above'} the tolerance {tol:g}"
     else:
-        run.inertia = setting == "on"
+        simulated = setting == "on"
         reason = f"effects.inertia = {show(setting)} ({at})"
-    if not run.inertia:
+    if not simulated:
         reason += ": quasi-static damper (omega = 0 in the damper)"
     reason += info
     if run.spec.name == "point-contact":
         reason += "; the point contact itself is massless: inertia enters through its fit"
-    return Effect("damper inertia", run.inertia, reason)
+    return Effect("damper inertia", simulated, reason, decided={"inertia": simulated})
 
 
 def topology(run: Any) -> Effect | None:
-    """Two or three regions, from where slip starts on the bar (Section 2.1); builds ``run.micro``."""
+    """Two or three regions, from where slip starts on the bar (Section 2.1), at the damper
+    frequencies the element will see (``run.probe_frequencies()``)."""
     if run.spec.microslip is None:
         return None
-    from contact_models import ThreeRegionMicroslip, TwoRegionMicroslip
-
     asked = run.spec.microslip(run.params)
-    key = "damper.fit_to" if "fit_to" in run.spec.keys else "damper.model"
     bar, load = run.bar, run.load
-    lo, hi = min(run.omega), max(run.omega)
-    if not run.inertia:
-        probe = (0.0,)
-    elif run.blade is not None:
-        probe = (lo, 0.5 * (lo + hi), hi)
-    else:
-        probe = tuple(sorted(set(run.omega)))
-    onsets = [(w, bar.slip_onset(load, w)[0] / bar.L) for w in probe]
+    onsets = [(w, bar.slip_onset(load, w)[0] / bar.L) for w in run.probe_frequencies()]
     interior = [w for w, x in onsets if x < 1.0 - ONSET_AT_END]
     where = ", ".join(f"x*/L = {x:.4g} at {w:.6g} rad/s" for w, x in onsets)
     if asked == "auto":
@@ -248,34 +247,15 @@ def topology(run: Any) -> Effect | None:
                f"auto: slip starts at the excited end ({where}): two regions")
     else:
         name = asked
-        why = f"{key} = {show(asked)} ({where})"
+        why = f"{run.micro_key} = {show(asked)} ({where})"
         if name == "three-region" and not interior:
             why += "; slip starts at the excited end, so the element follows its two-region path"
-    cls = ThreeRegionMicroslip if name == "three-region" else TwoRegionMicroslip
-    text = run.load_text
-    try:
-        run.micro = cls(bar, load)
-    except ValueError as exc:
-        static_interior = bar.mu * load.on(bar.L).N > 0.0 and bar.slip_onset(load, 0.0)[0] < bar.L * (1.0 - ONSET_AT_END)
-        if cls is TwoRegionMicroslip and static_interior:  # the model asked for cannot follow this load
-            raise SceneError([f"{run.where(key)} = {show(asked)} with the {text}: {exc}; "
-                              'allowed here: "three-region" or "auto"']) from None
-        # the bar and load themselves are outside what the microslip elements describe
-        raise SceneError([f"{run.where('damper.load')}: {exc} (damper.model = {show(run.spec.name)}, {text})"]) from None
-    run.topology = name
-    for w in probe:  # the damper frequencies the element will see: its path must exist there
-        try:
-            run.micro.slip_amplitude(w)
-            run.micro.gross_slip_amplitude(w)
-        except (ValueError, FloatingPointError) as exc:
-            where_key = "damper.load" if isinstance(exc, ValueError) else "sweep.omega"
-            raise SceneError([f"{run.where(where_key)}: {exc} (damper.model = {show(run.spec.name)}, {text})"]) from None
-    return Effect("interior slip onset (three regions)", name == "three-region", f"{why}; {text}")
+    return Effect("interior slip onset (three regions)", name == "three-region", f"{why}; {run.load_text}",
+                  decided={"topology": name})
 
 
 def slip(run: Any) -> Effect:
     """A damper whose stuck (linear) response never reaches its linear amplitude is a linear spring."""
-    from contact_models.quasi_static import StuckContact
 
     if run.blade is None:
         return Effect("damper slip", True, "amplitude sweep: the amplitudes are given")
@@ -288,10 +268,10 @@ def slip(run: Any) -> Effect:
         return Effect("damper slip", True, "the element is nonlinear at every amplitude (linear_amplitude = 0)")
     ratio = peak / smallest
     if ratio < 1.0 - STUCK_MARGIN:
-        run.element = StuckContact(run.element)
         return Effect("damper slip", False,
                       f"damper stayed stuck: linear spring (the stuck response peaks at {peak:.4g} m = "
-                      f"{ratio:.4g} of the smallest slip amplitude {smallest:.4g} m in the sweep)")
+                      f"{ratio:.4g} of the smallest slip amplitude {smallest:.4g} m in the sweep)",
+                      decided={"stuck": True})
     return Effect("damper slip", True, f"the stuck response reaches {ratio:.4g} times the slip amplitude "
                                        f"({peak:.4g} m against {smallest:.4g} m)")
 
@@ -309,17 +289,12 @@ def phase_differences(run: Any) -> Effect | None:
     """
     if run.spec.microslip is None or run.spec.name not in ("auto", "two-region", "three-region"):
         return None
-    from contact_models import AllModeMicroslip
-    from contact_models.model_range import TOLERANCE, single_mode_frequency_limit
-    from contact_models.quasi_static import StuckContact
-
-    from .models import Built
 
     setting = run.scene.effects["phase_differences"]
     name = "phase differences along the bar"
     if not run.inertia:
         return Effect(name, False, "no damper inertia: the quasi-static bar is in phase along its length")
-    if isinstance(run.element, StuckContact):
+    if run.stuck:
         return Effect(name, False, "the damper stays stuck: the single-mode stuck stiffness is exact")
     micro = run.micro
     w_hi = max(run.omega)
@@ -330,12 +305,10 @@ def phase_differences(run: Any) -> Effect | None:
     out_of_range = w_hi > w_1
     if setting == "on" or (setting == "auto" and out_of_range and run.spec.name == "auto"):
         element = AllModeMicroslip(micro.bar, micro.load, harmonics=SCENE_HARMONICS)
-        run.micro = element
-        run._built = Built(element, "all-mode" if setting == "on" else "all-mode (auto)", run.note)
-        run.element = element
+        model = Built(element, "all-mode" if setting == "on" else "all-mode (auto)", run.note)
         why = 'effects.phase_differences = "on"' if setting == "on" else "auto"
         return Effect(name, True, f"{why}: {at}; AllModeMicroslip (all modes, {element.cells} cells, "
-                                  f"H = {element.harmonics})")
+                                  f"H = {element.harmonics})", decided={"model": model})
     if setting == "off":
         return Effect(name, False, f'effects.phase_differences = "off": {at}')
     if out_of_range:
@@ -355,14 +328,15 @@ def harmonics(run: Any) -> Effect:
     balance with AFT (``hbm.multiharmonic``) for a frequency sweep, where the element (after the
     inertia decider: ``QuasiStatic`` without damper inertia) must own a time-domain law."""
     H = run.scene.effects["harmonics"]
-    if H == 1:
+    if H == 1:  # a structure's balance is the multi-harmonic one at H = 1; a blade's the single-harmonic one
         return Effect("higher harmonics", False,
-                      "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c)")
+                      "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c)",
+                      decided={"harmonics": 1} if run.scene.structure is not None else {})
     if run.blade is None:
         return Effect("higher harmonics", False, f"effects.harmonics = {H}: an amplitude sweep tabulates the "
                                                  "first-harmonic f_s, f_c of the element; no balance is solved")
     element = run.element
-    if type(element).__name__ == "StuckContact":
+    if isinstance(element, StuckContact):
         return Effect("higher harmonics", False, f"effects.harmonics = {H}: the damper stays stuck (a linear "
                                                  "spring), so the response has no higher harmonics")
     if not getattr(element, "has_time_law", False):
@@ -370,22 +344,24 @@ def harmonics(run: Any) -> Effect:
                           f"time-domain force law, but the {run.label} element {type(element).__name__} has none "
                           "(with damper inertia the single-mode bar is a first-harmonic element); use "
                           "harmonics = 1 or effects.inertia = \"off\""])
-    from ..presets import harmonic_knobs
-    from contact_models.base import default_samples
 
-    options = run.scene.sweep["options"]
-    options["harmonics"] = H
-    options.setdefault("n_t", max(default_samples(H), harmonic_knobs("default")[1]))
+    n_t = harmonic_samples(H)
     return Effect("higher harmonics", True, f"effects.harmonics = {H}: multi-harmonic balance with AFT, "
-                                            f"n_t = {options['n_t']} samples per period "
-                                            f"({type(element).__name__} has a time-domain law)")
+                                            f"n_t = {n_t} samples per period "
+                                            f"({type(element).__name__} has a time-domain law)",
+                  decided={"harmonics": H, "n_t": n_t})
+
+
+def harmonic_samples(H: int) -> int:
+    """The AFT samples per period of a scene's balance at ``H`` harmonics: what
+    ``frequency_response`` takes for H (``hbm.balance.presets.samples_for``)."""
+    return samples_for(H)
 
 
 # ====================================================================== helpers
 def _sliding_change(bar, load, omega):
     """|K_slip(omega)/K_slip(0) - 1| of the bar sliding as a whole (the slope of the loading curve
     past gross slip, which F_s tends to at large amplitude), or None where it is not defined."""
-    from contact_models.microslip import region_solution
 
     try:
         with np.errstate(all="ignore"):
@@ -409,9 +385,7 @@ def linear_amplitude(element: Any, omega: float) -> float:
 def stuck_peak(blade: Any, element: Any, omega: tuple) -> tuple[float, float]:
     """(largest amplitude of the blade with the damper linear over the range, smallest linear
     amplitude there)."""
-    from scipy.optimize import minimize_scalar
-
-    from ..residual import linear_response
+    from scipy.optimize import minimize_scalar  # heavy (0.1-0.5 s), lazily: import hbm stays light
 
     w0, w1 = min(omega), max(omega)
     lins = [linear_amplitude(element, w) for w in np.linspace(w0, w1, AMIN_SAMPLES)]

@@ -17,6 +17,20 @@ scene machinery reads only the spec, never the model's name, so adding a model i
 >>> unregister_model("soft-jenkins")
 
 ``docs/extending.md`` walks through it with the Iwan element.
+
+Every element of ``contact_models`` is a model here (the property suite of
+``tests/test_element_registry_properties.py`` runs over each ``example``), but two:
+
+- ``NumericalMicroslip``, the time-integrated discretised bar: each of its evaluations integrates
+  the bar to its periodic steady state (about a second even at 8 cells), so a scene's sweep
+  (hundreds of evaluations) and the property suite would take hours; it is the reference the
+  models are checked against (``docs/validation.md``), used directly.
+- ``CubicSpring``, f = k3 x^3: not a friction damper.  The registry's contract is a damper with a
+  stuck state: every library model has an example for the property suite, which measures its
+  tolerances in units of the stuck stiffness (``k* a``), and the amplitude sweep tabulates
+  ``F_s = f_s/(k* a)``; a cubic spring's stuck stiffness is 0 (nonlinear at every amplitude), so
+  both would divide by zero.  It enters the structure's balance and the shooting reference
+  directly (``hbm.Contact``), where ``contact_models``' tests check it against its closed forms.
 """
 
 from __future__ import annotations
@@ -26,10 +40,32 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Callable, Mapping, NamedTuple
 
-from .checks import Key, choice, number
+from contact_models import (AllModeMicroslip, Bar, Iwan, Macroslip, PointContact, QuadraticLoad,
+                            ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
+from contact_models.allmode import CELLS
+
+from .checks import OPTIONAL, Key, SceneError, choice, integer, number
+
+#: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
+#: differences the element's omega-derivative; at the element's default H = 15 the default blade's
+#: peak sits where the 13th harmonic meets a bar mode, and that balance stalls there
+#: (docs/validation.md, "The default blade with the all-mode damper"); H = 11 traces it.
+SCENE_HARMONICS = 11
 
 #: The bar's keys in ``[damper]`` (E, rho, A, L, k, mu; beta for the strain-hardening spring).
 BAR_KEYS = ("E", "rho", "A", "L", "k", "mu")
+
+#: Keys of ``[damper]`` that every model shares: the bar (Eq. 1-2) and its strain-hardening spring.
+BASE_DAMPER_KEYS: dict[str, Key] = {
+    "E": Key(number(gt=0, unit="Pa"), OPTIONAL, "Young's modulus of the bar (Pa)"),
+    "rho": Key(number(gt=0, unit="kg/m^3"), OPTIONAL, "density of the bar (kg/m^3)"),
+    "A": Key(number(gt=0, unit="m^2"), OPTIONAL, "cross-section of the bar (m^2)"),
+    "L": Key(number(gt=0, unit="m"), OPTIONAL, "length of the bar and the contact (m)"),
+    "k": Key(number(gt=0, unit="N/m^2"), OPTIONAL, "shear-layer stiffness per length (N/m^2)"),
+    "beta": Key(number(ge=0, unit="N/m"), OPTIONAL,
+                "strain-hardening spring at x = 0 (N/m); needed while effects.strain_hardening = true"),
+    "mu": Key(number(ge=0), OPTIONAL, "friction coefficient"),
+}
 
 
 class Built(NamedTuple):
@@ -66,8 +102,8 @@ class ModelSpec:
     build : callable
         ``build(run) -> element`` or :class:`Built`; ``run`` is the
         :class:`hbm.scenes.planning.RunContext` (``run.params`` holds this spec's keys, ``run.bar``,
-        ``run.load``, ``run.N``, ``run.micro`` (the microslip element, for a spec with
-        ``microslip``), ``run.inertia``, ``run.blade``, ``run.omega``).
+        ``run.load``, ``run.N``, ``run.micro`` (the single-mode microslip element of the decided
+        topology, for a spec with ``microslip``), ``run.inertia``, ``run.blade``, ``run.omega``).
     doc : str
         One line for ``python -m hbm models`` and the docs.
     keys : mapping
@@ -77,7 +113,7 @@ class ModelSpec:
         ``[damper]`` keys the scene sets.
     microslip : callable or None
         ``microslip(damper) -> "two-region" | "three-region" | "auto"``: the microslip element
-        the model rests on (the topology effect decides and builds it), or None.
+        the model rests on (the topology effect decides it; ``run.micro`` is its element), or None.
     unit : callable or None
         ``unit(run) -> (metres, name)``: the amplitude unit of amplitude sweeps.  None: the
         element's ``reference_amplitude`` at the lowest frequency, named "reference amplitude".
@@ -171,8 +207,6 @@ def register_model(name: str, build: Callable[[Any], Any], *, keys: Mapping[str,
     if not callable(build):
         raise ValueError(f"build must be callable as build(run) -> element, got build={build!r}")
     keys = dict(keys or {})
-    from .schema import BASE_DAMPER_KEYS  # the bar's and the shared keys
-
     for key, spec in keys.items():
         if not isinstance(spec, Key):
             raise ValueError(f"keys[{key!r}] must be an hbm.scenes.Key, got {spec!r}")
@@ -220,8 +254,6 @@ def _bar_a_min(run) -> tuple[float, str]:
 
 
 def _example_bar():
-    from contact_models import Bar
-
     return Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 
 
@@ -236,14 +268,10 @@ def _microslip_model(topology: str):
 
 
 def _example_two():
-    from contact_models import TwoRegionMicroslip, UniformLoad
-
     return TwoRegionMicroslip(_example_bar(), UniformLoad(N=100.0))
 
 
 def _example_three():
-    from contact_models import QuadraticLoad, ThreeRegionMicroslip
-
     return ThreeRegionMicroslip(_example_bar(), QuadraticLoad.from_ratio(N=100.0, ratio=12.0))
 
 
@@ -256,9 +284,7 @@ FIT_OMEGA = Key(number(ge=0, unit="rad/s"), None,
 
 
 def _build_point_contact(run):
-    from contact_models import PointContact
 
-    from .checks import SceneError
 
     if run.params.get("fit_omega") is not None:
         w_fit = run.params["fit_omega"]
@@ -277,8 +303,6 @@ def _build_point_contact(run):
 
 
 def _example_point_contact():
-    from contact_models import PointContact
-
     return PointContact.fit(_example_two())
 
 
@@ -306,8 +330,6 @@ def _macroslip_pair(given) -> list:
 
 
 def _build_macroslip(run):
-    from contact_models import Macroslip
-
     if _macroslip_own(run.params):
         return Built(Macroslip(stiffness=run.params["stiffness"], slip_force=run.params["slip_force"]),
                      "macroslip", "damper.stiffness and damper.slip_force")
@@ -322,14 +344,10 @@ def _macroslip_unit(run) -> tuple[float, str]:
 
 
 def _example_macroslip():
-    from contact_models import Macroslip
-
     return Macroslip(stiffness=1.0e7, slip_force=30.0)
 
 
 def _build_iwan(run):
-    from contact_models import Iwan
-
     p = run.params
     if _macroslip_own(p):
         K, F, how = p["stiffness"], p["slip_force"], "damper.stiffness and damper.slip_force"
@@ -340,9 +358,19 @@ def _build_iwan(run):
 
 
 def _example_iwan():
-    from contact_models import Iwan
-
     return Iwan(slip_force=30.0, stiffness=1.0e7, chi=-0.5, beta=0.1)
+
+
+CELLS_KEY = Key(integer(2), CELLS, "all-mode only: finite cells along the bar of AllModeMicroslip")
+
+
+def _build_all_mode(run):
+    element = AllModeMicroslip(run.bar, run.load, cells=run.params["cells"], harmonics=SCENE_HARMONICS)
+    return Built(element, "all-mode", f"{element.cells} cells, H = {element.harmonics}")
+
+
+def _example_all_mode():
+    return AllModeMicroslip(_example_bar(), UniformLoad(N=100.0), cells=8, harmonics=SCENE_HARMONICS)
 
 
 def _register_builtins():
@@ -366,6 +394,9 @@ def _register_builtins():
                    needs=lambda given: set() if _macroslip_own(given) else {"bar", "load"},
                    doc="Segalman's four-parameter Iwan element: parallel Jenkins elements, slip at any amplitude",
                    example=_example_iwan, validate=_macroslip_pair)
+    register_model("all-mode", _build_all_mode, keys={"cells": CELLS_KEY}, needs=bar_and_load, unit=_bar_a_min,
+                   doc="the microslip bar with all its modes (AllModeMicroslip: phase differences along it)",
+                   example=_example_all_mode)
 
 
 _register_builtins()

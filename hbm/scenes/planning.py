@@ -1,8 +1,9 @@
 """Planning a scene: one run per model and load, its effects decided and its element built.
 
 :func:`plan_scene` makes a :class:`RunContext` for every model at every normal load, passes it
-through the deciders of :data:`hbm.scenes.effects.EFFECTS` in order, and freezes it into a
-:class:`RunPlan`.  Physically impossible scenes raise :class:`SceneError` naming the key, every
+through the deciders of :data:`hbm.scenes.effects.EFFECTS` in order, applies what each decided
+(the deciders change nothing themselves), builds the element they decided and freezes it all into
+a :class:`RunPlan`: the model, the element, the harmonics and samples of the balance.  Physically impossible scenes raise :class:`SceneError` naming the key, every
 run's problems at once.
 """
 
@@ -12,19 +13,33 @@ import math
 from dataclasses import dataclass, field
 from typing import Any
 
+from contact_models import (Bar, ContactElement, QuadraticLoad, QuasiStatic, ThreeRegionMicroslip, TwoRegionMicroslip,
+                            UniformLoad)
+from contact_models.quasi_static import StuckContact
+
+from ..blade import Blade
+from ..structure import Structure
 from .checks import SceneError, show
-from .effects import EFFECTS, Effect, linear_amplitude
+from .effects import EFFECTS, ONSET_AT_END, Effect, linear_amplitude
 from .models import BAR_KEYS, Built, MODELS, ModelSpec
 from .validation import Scene
 
 
+#: What a decider may decide for its run (``Effect.decided``), applied by the planner in order.
+DECISIONS = ("bar", "inertia", "topology", "element", "stuck", "model", "harmonics", "n_t")
+
+
 @dataclass
 class RunContext:
-    """One run while it is planned: what the deciders and the model's ``build`` read and set.
+    """One run while it is planned: what the deciders and the model's ``build`` read.
 
-    The element is built by the model's spec on first use of :attr:`element` (after the deciders
-    that shape it: inertia, topology); without damper inertia a frequency-dependent element is
-    wrapped in ``contact_models.QuasiStatic``.
+    The deciders do not change it: each returns an :class:`Effect` whose ``decided`` names the
+    settings it decides (``hbm.scenes.planning.DECISIONS``), and the planner applies them with
+    :meth:`apply`, in the order of ``EFFECTS``.  :attr:`element` is the element of the run as decided so far, made on
+    first use from the model's spec (or the model a decider chose) and made again after a
+    decision it depends on; without damper inertia a frequency-dependent element is wrapped in
+    ``contact_models.QuasiStatic``.  The plan's element is the one left after the last decider,
+    and only that one is checked along the sweep.
 
     Parameters
     ----------
@@ -37,7 +52,7 @@ class RunContext:
     N : float or None
         Total normal load of this run (N), or None for a model that needs no load.
     bar : contact_models.Bar or None
-        The bar of the scene's ``[damper]`` keys, or None.
+        The bar of the scene's ``[damper]`` keys, or None (decided: ``"bar"``).
     blade : object
         The ``hbm.Blade`` (or ``hbm.Structure``) of a frequency sweep; None for an amplitude sweep.
     omega : tuple of float
@@ -45,11 +60,16 @@ class RunContext:
     params : dict
         The ``[damper]`` keys this model owns, validated, defaults filled in.
     inertia : bool or None, optional
-        Whether damper inertia is simulated; set by the inertia decider.
+        Whether damper inertia is simulated (decided: ``"inertia"``).
     topology : str or None, optional
-        ``"two-region"`` or ``"three-region"``; set by the topology decider.
-    micro : object, optional
-        The microslip element of a model on the bar; set by the topology decider.
+        ``"two-region"`` or ``"three-region"`` (decided: ``"topology"``).
+    stuck : bool, optional
+        The damper stays stuck: the element is wrapped in ``StuckContact`` (decided: ``"stuck"``).
+    model : Built or None, optional
+        A model a decider chose in place of the spec's build (decided: ``"model"``; the all-mode bar).
+    harmonics, n_t : int or None, optional
+        Harmonics and AFT samples of the balance; None: the single-harmonic balance of a blade
+        (decided: ``"harmonics"``, ``"n_t"``).
     effects : list of Effect, optional
         The decisions made so far, in the order of ``EFFECTS``.
     """
@@ -62,24 +82,49 @@ class RunContext:
     blade: Any  #: ``hbm.Blade`` of a frequency sweep, None for an amplitude sweep
     omega: tuple  #: the sweep's range (frequency) or frequencies (amplitude), rad/s
     params: dict  #: the [damper] keys of this model (validated, defaults filled in)
-    inertia: bool | None = None  #: set by the inertia decider
-    topology: str | None = None  #: "two-region" or "three-region", set by the topology decider
-    micro: Any = None  #: the microslip element of a model on the bar, set by the topology decider
+    inertia: bool | None = None  #: decided by the inertia decider
+    topology: str | None = None  #: "two-region" or "three-region", decided by the topology decider
+    stuck: bool = False  #: decided by the slip decider: the damper is a linear spring
+    model: Built | None = None  #: a model chosen by a decider (the all-mode bar), else the spec's
+    harmonics: int | None = None  #: harmonics of the balance (None: single-harmonic balance of a blade)
+    n_t: int | None = None  #: AFT samples per period of the multi-harmonic balance
     effects: list = field(default_factory=list)
-    _built: Built | None = None
+    _spec_built: Built | None = None  # caches, made again after the decisions they depend on
     _element: Any = None
+    _micro: Any = None
     _load: Any = None
 
     def where(self, dotted: str) -> str:
         """``file: table.key`` for messages."""
         return self.scene.where(dotted)
 
+    def apply(self, decided: dict) -> None:
+        """Apply a decider's decisions (names of ``DECISIONS`` -> value), in order.
+
+        ``"element"`` makes the given element the run's from here on (a decider that wraps
+        :attr:`element`); ``"stuck"`` wraps the element as it is now in ``StuckContact``; the
+        others set the field of that name, and the element is made again from them on next use."""
+        for name, value in decided.items():
+            if name not in DECISIONS:
+                raise SceneError([f"{self.where('effects')}: a decider decided {name!r}, which is not one of "
+                                  f"{', '.join(DECISIONS)}"])
+            if name == "element":
+                self._element = self._checked(value)
+            elif name == "stuck":
+                if value and not self.stuck:
+                    self._element = StuckContact(self.element)
+                self.stuck = bool(value)
+            else:
+                setattr(self, name, value)
+                if name in ("bar", "topology"):
+                    self._spec_built, self._micro, self._element = None, None, None
+                elif name in ("model", "inertia"):
+                    self._element = None
+
     @property
     def load(self) -> Any:
         """The normal load of this run (``contact_models`` load object), or None without [damper.load]."""
         if self._load is None and self.scene.load is not None:
-            from contact_models import QuadraticLoad, UniformLoad
-
             ld = self.scene.load
             if ld["kind"] == "uniform":
                 self._load = UniformLoad(N=self.N)
@@ -99,39 +144,85 @@ class RunContext:
         shape = "concave" if r > 1 else ("convex" if r < 1 else "uniform")
         return f"quadratic load N = {load.N:g} N, ratio q0/(q0 - q2) = {r:g} ({shape})"
 
-    def _build(self) -> Built:
-        if self._built is None:
-            out = self.spec.build(self)
-            self._built = out if isinstance(out, Built) else Built(out, self.spec.name)
-            from contact_models import ContactElement, QuasiStatic
+    @property
+    def micro_key(self) -> str:
+        """The key that chose the microslip model: ``damper.fit_to`` or ``damper.model``."""
+        return "damper.fit_to" if "fit_to" in self.spec.keys else "damper.model"
 
-            element = self._built.element
-            if not isinstance(element, ContactElement):
-                raise SceneError([f"{self.where('damper.model')} = {show(self.spec.name)}: its build returned "
-                                  f"{element!r}, not a contact_models.ContactElement"])
-            if self.inertia is False and element.frequency_dependent:
-                element = QuasiStatic(element)
-            self._element = element
-        return self._built
+    @property
+    def micro(self) -> Any:
+        """The single-mode microslip element of the decided topology, for a model on the bar (made
+        on first use; checked along the sweep only if the plan keeps it, :meth:`check_micro`)."""
+        if self._micro is None:
+            bar, load = self.bar, self.load
+            cls = ThreeRegionMicroslip if self.topology == "three-region" else TwoRegionMicroslip
+            try:
+                self._micro = cls(bar, load)
+            except ValueError as exc:
+                static_interior = (bar.mu * load.on(bar.L).N > 0.0
+                                   and bar.slip_onset(load, 0.0)[0] < bar.L * (1.0 - ONSET_AT_END))
+                asked = self.spec.microslip(self.params)
+                if cls is TwoRegionMicroslip and static_interior:  # the model asked for cannot follow this load
+                    raise SceneError([f"{self.where(self.micro_key)} = {show(asked)} with the {self.load_text}: "
+                                      f'{exc}; allowed here: "three-region" or "auto"']) from None
+                # the bar and load themselves are outside what the microslip elements describe
+                raise SceneError([f"{self.where('damper.load')}: {exc} (damper.model = {show(self.spec.name)}, "
+                                  f"{self.load_text})"]) from None
+        return self._micro
+
+    def probe_frequencies(self) -> tuple:
+        """The damper frequencies the element will see: 0 without inertia, the sweep's ends and
+        middle for a frequency sweep, the table's frequencies for an amplitude sweep."""
+        lo, hi = min(self.omega), max(self.omega)
+        if not self.inertia:
+            return (0.0,)
+        if self.blade is not None:
+            return (lo, 0.5 * (lo + hi), hi)
+        return tuple(sorted(set(self.omega)))
+
+    def check_micro(self) -> None:
+        """The single-mode element's path must exist at every frequency it will see."""
+        for w in self.probe_frequencies():
+            try:
+                self.micro.slip_amplitude(w)
+                self.micro.gross_slip_amplitude(w)
+            except (ValueError, FloatingPointError) as exc:
+                key = "damper.load" if isinstance(exc, ValueError) else "sweep.omega"
+                raise SceneError([f"{self.where(key)}: {exc} (damper.model = {show(self.spec.name)}, "
+                                  f"{self.load_text})"]) from None
+
+    def built(self) -> Built:
+        """The run's model as decided so far: a decider's choice, else the spec's build."""
+        if self.model is not None:
+            return self.model
+        if self._spec_built is None:
+            out = self.spec.build(self)
+            self._spec_built = out if isinstance(out, Built) else Built(out, self.spec.name)
+        return self._spec_built
+
+    def _checked(self, element: Any) -> Any:
+        if not isinstance(element, ContactElement):
+            raise SceneError([f"{self.where('damper.model')} = {show(self.spec.name)}: its build returned "
+                              f"{element!r}, not a contact_models.ContactElement"])
+        return element
 
     @property
     def element(self) -> Any:
-        """The contact element of this run (built on first use)."""
-        self._build()
+        """The contact element of this run as decided so far (made on first use)."""
+        if self._element is None:
+            element = self._checked(self.built().element)
+            if self.inertia is False and element.frequency_dependent:
+                element = QuasiStatic(element)
+            self._element = StuckContact(element) if self.stuck else element
         return self._element
-
-    @element.setter
-    def element(self, value: Any) -> None:
-        self._build()
-        self._element = value
 
     @property
     def label(self) -> str:
-        return self._build().label
+        return self.built().label
 
     @property
     def note(self) -> str:
-        return self._build().note
+        return self.built().note
 
 
 @dataclass
@@ -158,6 +249,10 @@ class RunPlan:
         The element's linear amplitude at the sweep's lowest frequency (m).
     unit_name : str, optional
         Name of the amplitude unit (default ``"a_min"``).
+    harmonics : int or None, optional
+        Harmonics H of the balance; None: the single-harmonic balance of a blade (default).
+    n_t : int or None, optional
+        AFT samples per period of the multi-harmonic balance; None: its default.
     """
 
     index: int
@@ -169,6 +264,8 @@ class RunPlan:
     a_ref: float | None = None  #: amplitude unit of an amplitude sweep (m)
     a_min: float | None = None  #: the damper's linear amplitude at the sweep's lowest frequency (m)
     unit_name: str = "a_min"  #: name of the amplitude unit
+    harmonics: int | None = None  #: harmonics of the balance (None: the single-harmonic balance of a blade)
+    n_t: int | None = None  #: AFT samples per period (None: the balance's default)
 
     @property
     def label(self) -> str:
@@ -227,8 +324,6 @@ def plan_scene(scene: Scene) -> Plan:
     >>> len(plan.runs), plan.runs[0].label, plan.runs[0].a_ref
     (1, 'macroslip', 1e-06)
     """
-    from contact_models import Bar
-
     problems = []
     blade = _blade(scene)
     d = scene.damper
@@ -256,8 +351,6 @@ def plan_scene(scene: Scene) -> Plan:
 
 
 def _blade(scene):
-    from ..blade import Blade
-
     if scene.sweep["kind"] != "frequency":
         return None
     if scene.structure is not None:
@@ -275,8 +368,6 @@ def _blade(scene):
 
 def _structure(scene):
     """The ``hbm.Structure`` of ``[structure]``, its DOF indices checked against its size."""
-    from ..structure import Structure
-
     st = scene.structure
     damping = {"damping": st.get("damping"), "modal_damping": st.get("modal_damping"),
                "rayleigh": tuple(st["rayleigh"]) if st.get("rayleigh") is not None else None}
@@ -298,22 +389,25 @@ def _structure(scene):
 
 
 def _decide(ctx: RunContext, with_load: bool) -> RunPlan:
+    """Pass the run through the deciders, apply each decision, then make the plan's element."""
     for effect in EFFECTS:
         decision = effect.decide(ctx)
         if decision is not None:
             if not isinstance(decision, Effect):
                 raise SceneError([f"effect {effect.name!r}: its decider returned {decision!r}, not an Effect"])
             ctx.effects.append(decision)
-    from contact_models.quasi_static import StuckContact
-
+            ctx.apply(decision.decided)
     element = ctx.element
+    if ctx.spec.microslip is not None and ctx.model is None and not ctx.stuck:
+        ctx.check_micro()  # the plan keeps the single-mode element along its path (held stuck it needs none)
     inner = element.element if isinstance(element, StuckContact) else element
     a_ref, unit_name = None, "a_min"
     if ctx.blade is None:
         a_ref, unit_name = _amplitude_unit(ctx)
     return RunPlan(index=ctx.index, model=ctx.label, N=ctx.N if with_load else None, element=element,
                    effects=ctx.effects, omega=ctx.omega, a_ref=a_ref,
-                   a_min=linear_amplitude(inner, min(ctx.omega)), unit_name=unit_name)
+                   a_min=linear_amplitude(inner, min(ctx.omega)), unit_name=unit_name,
+                   harmonics=ctx.harmonics, n_t=ctx.n_t)
 
 
 def _amplitude_unit(ctx: RunContext) -> tuple[float, str]:

@@ -1,6 +1,6 @@
 """Reporting a scene: the per-run summary, ``summary.json``, the figure and the text of the command line.
 
-Nothing here prints: the functions return dicts and lines, and ``hbm.__main__`` prints them.
+Nothing here prints: the functions return dicts and lines, and ``hbm.cli`` prints them.
 """
 
 from __future__ import annotations
@@ -11,17 +11,16 @@ from typing import Any
 
 import numpy as np
 
+from contact_models import QuasiStatic
+from contact_models.quasi_static import StuckContact
+
+from ..output import plot_frfs
 from .effects import linear_amplitude
 from .planning import Plan
 
 
 def run_summary(res: Any) -> dict:
     """The summary.json entry of one :class:`hbm.scenes.running.RunResult`."""
-    from contact_models import QuasiStatic
-    from contact_models.quasi_static import StuckContact
-
-    from .running import thin
-
     p = res.plan
     out = {"run": res.number, "model": p.model, "normal_load_N": p.N, "element": repr(p.element),
            "success": res.success, "message": res.message, "points": res.points, "time_s": res.seconds}
@@ -50,6 +49,12 @@ def run_summary(res: Any) -> dict:
     return out
 
 
+def thin(omega: Any, n: int = 33) -> np.ndarray:
+    """A few frequencies of the branch (the linear amplitude varies slowly with omega)."""
+    omega = np.asarray(omega)
+    return omega[np.unique(np.linspace(0, len(omega) - 1, min(n, len(omega))).astype(int))]
+
+
 def jsonable(v: Any) -> Any:
     """``v`` with numpy scalars as Python numbers and non-finite floats as strings."""
     if isinstance(v, dict):
@@ -70,12 +75,10 @@ def _model_of(label: str) -> str:
 
 def figure(scene: Any, results: list, path: str | Path) -> Path:
     """The scene's figure: FRFs (and peaks against the load for several loads), or F_s, F_c tables."""
-    import matplotlib
+    import matplotlib  # heavy (0.1-0.5 s), lazily: only when the figure is drawn
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from ..output import plot_frfs
+    import matplotlib.pyplot as plt  # heavy, lazily (above)
 
     title = scene.title or scene.name
     if scene.sweep["kind"] == "frequency":

@@ -16,9 +16,15 @@ from typing import Any, Callable
 
 import numpy as np
 
+from ..frf import frequency_response
 from ..output import FRF_COLUMNS, RUN_COLUMNS, TABLE_COLUMNS, CsvStream, frf_row
+from ..structure import Contact
 from .planning import Plan, RunPlan, plan_scene
+from .reporting import figure, jsonable, run_summary
 from .validation import Scene
+
+#: The accuracy keyword arguments of ``frequency_response`` in ``sweep["options"]`` (``hbm.presets``).
+ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps")
 
 
 @dataclass
@@ -64,8 +70,6 @@ class Progress:
 
     def line(self) -> str:
         """``run i/n label: omega ... rad/s (xx %), N points, t s, about T left``."""
-        from ..progress import duration
-
         eta = self.eta
         return (f"run {self.run}/{self.runs} {self.label}: omega {self.omega:.6g} rad/s "
                 f"({100.0 * min(max(self.fraction, 0.0), 1.0):.0f} %), {self.points} points, {self.elapsed:.1f} s"
@@ -242,8 +246,6 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     >>> result.success, result.points, result.files["csv"].name
     (True, 5, 'coefficients.csv')
     """
-    from .reporting import figure, run_summary, jsonable
-
     plan = plan if plan is not None else plan_scene(scene)
     folder = Path(out if out is not None else scene.output["folder"])
     formats = scene.output["formats"]
@@ -313,26 +315,21 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
 
 
 def _run_frequency(scene, plan, res, emit):
-    from ..frf import frequency_response
-
     p = res.plan
     w0, w1 = p.omega
 
     def on_point(omega, xc, xs, residual):
         emit(frf_row(omega, xc, xs, residual), omega, (omega - w0) / (w1 - w0))
 
-    if scene.structure is None:
-        frf = frequency_response(plan.blade, p.element, omega_range=(w0, w1), on_point=on_point,
-                                 **scene.sweep["options"])
-    else:  # a structure from matrices: the damper acts at structure.contact_dofs
-        from ..structure import Contact
-
+    accuracy = {k: v for k, v in scene.sweep["options"].items() if k in ACCURACY_OPTIONS}
+    damper, response_dof = p.element, None
+    if scene.structure is not None:  # a structure from matrices: the damper acts at structure.contact_dofs
         st = scene.structure
         dofs = tuple(st["contact_dofs"])
-        contact = Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)
-        options = {"harmonics": scene.effects["harmonics"], **scene.sweep["options"]}  # H = 1 unless the effect set it
-        frf = frequency_response(plan.blade, [contact], omega_range=(w0, w1), on_point=on_point,
-                                 response_dof=st.get("response_dof"), **options)
+        damper = [Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)]
+        response_dof = st.get("response_dof")
+    frf = frequency_response(plan.blade, damper, (w0, w1), harmonics=p.harmonics, n_t=p.n_t,
+                             response_dof=response_dof, on_point=on_point, **accuracy)
     res.frf = frf
     res.success = frf.success
     res.message = frf.message
@@ -362,10 +359,14 @@ def _run_amplitude(scene, plan, res, emit):
     res.message = "table complete"
 
 
-def thin(omega: Any, n: int = 33) -> np.ndarray:
-    """A few frequencies of the branch (the linear amplitude varies slowly with omega)."""
-    omega = np.asarray(omega)
-    return omega[np.unique(np.linspace(0, len(omega) - 1, min(n, len(omega))).astype(int))]
+def duration(seconds: float) -> str:
+    """``42 s``, ``3 min 5 s``, ``2 h 10 min``: a time left, for the progress lines of a scene and a study."""
+    s = int(round(seconds))
+    if s < 60:
+        return f"{s} s"
+    if s < 3600:
+        return f"{s // 60} min {s % 60} s"
+    return f"{s // 3600} h {s % 3600 // 60} min"
 
 
 __all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns"]

@@ -2,7 +2,8 @@
 
 :func:`schema` returns ``{table: {key: Key}}`` (``""`` the top level, ``damper.load`` a sub-table of
 ``damper``).  The ``[damper]`` table holds the bar's keys plus every registered model's own keys
-(``hbm.scenes.models``); the ``[effects]`` table the keys of the registered effects
+(``hbm.scenes.models``, which also holds the keys every model shares, ``BASE_DAMPER_KEYS``); the
+``[effects]`` table the keys of the registered effects
 (``hbm.scenes.effects``) plus ``tolerance``.  ``python -m hbm keys`` prints it.
 """
 
@@ -10,25 +11,15 @@ from __future__ import annotations
 
 from typing import Iterator
 
-from .. import presets
+from ..balance import presets
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
                      one_or_list, positive, text, choice)
-from .study import STUDY_KEYS
+from .effects import EFFECTS
+from .models import BASE_DAMPER_KEYS, MODELS
+from .sampling import study_keys
 
 #: Sweep units of ``sweep.omega``: name -> factor to rad/s (``omega_c`` is the bar's, set per scene).
 OMEGA_UNITS = ("rad/s", "Hz", "omega_c")
-
-#: Keys of ``[damper]`` that every model shares: the bar (Eq. 1-2) and its strain-hardening spring.
-BASE_DAMPER_KEYS: dict[str, Key] = {
-    "E": Key(number(gt=0, unit="Pa"), OPTIONAL, "Young's modulus of the bar (Pa)"),
-    "rho": Key(number(gt=0, unit="kg/m^3"), OPTIONAL, "density of the bar (kg/m^3)"),
-    "A": Key(number(gt=0, unit="m^2"), OPTIONAL, "cross-section of the bar (m^2)"),
-    "L": Key(number(gt=0, unit="m"), OPTIONAL, "length of the bar and the contact (m)"),
-    "k": Key(number(gt=0, unit="N/m^2"), OPTIONAL, "shear-layer stiffness per length (N/m^2)"),
-    "beta": Key(number(ge=0, unit="N/m"), OPTIONAL,
-                "strain-hardening spring at x = 0 (N/m); needed while effects.strain_hardening = true"),
-    "mu": Key(number(ge=0), OPTIONAL, "friction coefficient"),
-}
 
 _FIXED: dict[str, dict[str, Key]] = {
     "": {
@@ -118,8 +109,6 @@ REQUIRED_TABLES = {"damper": "the damper: model, bar parameters, [damper.load]",
 
 
 def _model_names(v):
-    from .models import MODELS
-
     return choice(*MODELS)(v)
 
 
@@ -142,9 +131,6 @@ def schema() -> dict[str, dict[str, Key]]:
     >>> tables["sweep"]["kind"].default, tables["damper.load"]["kind"].default
     ('frequency', 'uniform')
     """
-    from .effects import EFFECTS
-    from .models import MODELS
-
     damper = {"model": Key(one_or_list(_model_names, "a model name"), ("auto",),
                            "contact model: " + ", ".join(f'"{m}"' for m in MODELS) +
                            ", or a list of them (one run each)")}
@@ -157,7 +143,8 @@ def schema() -> dict[str, dict[str, Key]]:
                                "relative change below which `auto` leaves an effect out; default sweep.tolerance")
     out = {"": _FIXED[""], "blade": _FIXED["blade"], "structure": _FIXED["structure"], "damper": damper, "damper.load": _FIXED["damper.load"],
            "effects": effects, "sweep": _FIXED["sweep"], "output": _FIXED["output"]}
-    out["study"] = STUDY_KEYS  # hbm.scenes.study: a grid over, or samples of, the keys above
+    # hbm.scenes.sampling: a grid over, or samples of, the keys above
+    out["study"] = study_keys({dot(table, key) for table, keys in out.items() for key in keys})
     return out
 
 

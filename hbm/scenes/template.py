@@ -1,7 +1,7 @@
 """An annotated template scene, generated from the schema (``python -m hbm new SCENE.toml``).
 
 Every key of every table is written with its meaning: the keys of the default case
-(``hbm.cases``, a blade with a two-region microslip damper) with their values, so the template
+(``hbm.cli.cases``, a blade with a two-region microslip damper) with their values, so the template
 runs as written; every other key commented out with its default.  Because it is generated from
 :func:`hbm.scenes.schema`, a key added to a model or an effect appears in it at once.
 """

@@ -15,11 +15,11 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
 
-from .. import presets
+from ..balance import presets
 from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
-from .study import study_table
+from .sampling import study_table
 
 
 @dataclass(frozen=True)
@@ -27,7 +27,8 @@ class Scene:
     """A validated scene: each table as a dict with every default filled in.
 
     ``sweep["options"]`` holds exactly the accuracy keyword arguments of
-    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``).
+    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``); the
+    balance's harmonics and samples are each run's (``RunPlan.harmonics``, ``RunPlan.n_t``).
 
     Parameters
     ----------
@@ -64,7 +65,7 @@ class Scene:
     sweep: dict
     output: dict
     structure: dict | None = None  #: [structure] of a frequency sweep of a structure from matrices (paths resolved)
-    study: dict | None = None  #: the validated [study] table with its ``points`` (``hbm.scenes.study``)
+    study: dict | None = None  #: the validated [study] table with its ``points`` (``hbm.scenes.sampling``)
 
     @property
     def name(self) -> str:

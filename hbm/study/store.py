@@ -149,7 +149,7 @@ class StudyProgress:
         notes = ", ".join(s for s in (f"{self.failed} failed" if self.failed else "",
                                       f"{self.reused} reused" if self.reused else "") if s)
         eta = self.eta
-        from ..progress import duration
+        from ..scenes.running import duration
 
         return (f"run {self.points}/{self.runs}" + (f" ({notes})" if notes else "") + f", {self.elapsed:.1f} s"
                 + ("" if eta is None else f", about {duration(eta)} left"))
