@@ -161,7 +161,7 @@ def samples_for(harmonics: int, accuracy: str | float = "default") -> int:
     Examples
     --------
     >>> samples_for(1), samples_for(5), samples_for(15, "precise"), samples_for(31)
-    (32, 512, 2048, 1024)
+    (32, 512, 2048, 512)
     """
     floor = default_samples(harmonics)
     return floor if harmonics == 1 else max(floor, harmonic_knobs(accuracy)[1])
