@@ -12,7 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from hbm import Blade, frequency_response, presets
+from hbm import Blade, frequency_response
+from hbm.balance import presets
 from hbm import frf as frf_module
 from hbm.cli.cases import default_case
 
