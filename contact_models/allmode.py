@@ -1,7 +1,7 @@
 """The all-mode dynamic microslip bar in the frequency domain (the paper's future work).
 
 ``AllModeMicroslip`` is the bar of Eq. 30 with every mode: the same finite-element bar as
-``NumericalMicroslip`` (``_fe_bar``: n equal cells, lumped mass rho A c_i, a Jenkins element of
+``NumericalMicroslip`` (``numerics.fe_bar``: n equal cells, lumped mass rho A c_i, a Jenkins element of
 stiffness k c_i and slip force mu q(x_i) c_i at node i, the beta spring at node 0, node n
 driven), but solved for its steady periodic state directly, by multi-harmonic balance with
 alternating frequency-time (AFT) at the nodes, instead of integrated in time.  It resolves the
@@ -42,7 +42,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._fe_bar import _Discretisation
+from .numerics.fe_bar import _Discretisation
 from ._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_periodic
 from .numerics.checks import count, nonnegative, positive
 from .bar import Bar

@@ -58,7 +58,7 @@ utilisation tau/(mu q) (signed with the slip) linearly to 1.
 Quasi-static runs of several amplitudes step in lockstep, their tridiagonal systems stacked
 into one banded solve; dynamic runs go one (a, omega) pair at a time.
 
-Code: the nodal data in ``_fe_bar``, the integrator's coefficients in ``_genalpha`` (shared
+Code: the nodal data in ``numerics.fe_bar``, the integrator's coefficients in ``numerics.genalpha`` (shared
 with ``hbm.transient``), the step (return mapping, Newton, lockstep batch and its tangent) in
 ``_stepping``; here the element, its runs to the steady state (with the shooting) and the
 result.  The names ``hbm.transient`` uses are re-exported here.
@@ -74,7 +74,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._fe_bar import NodalData, _Discretisation
+from .numerics.fe_bar import NodalData, _Discretisation
 from .numerics.genalpha import GeneralizedAlpha
 from .numerics.stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tangent, return_map, solve_step
 from .numerics.checks import nonnegative, positive

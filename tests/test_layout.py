@@ -1,9 +1,10 @@
 """The layout of both packages: no import circles, every module importable alone, modules and
 functions of a readable size, and the old paths of moved modules still answering (with a warning).
 
-The import graph is read from the source with ``ast`` (every ``import`` and ``from ... import``,
-at module level, under ``if TYPE_CHECKING:`` and inside functions alike), so a circle held open
-by an import inside a function counts as a circle.
+The import graph is read from the source with ``ast`` by ``docs/_ext/import_graph.py`` (every
+``import`` and ``from ... import``, at module level, under ``if TYPE_CHECKING:`` and inside
+functions alike), so a circle held open by an import inside a function counts as a circle; the
+architecture page's tables are written from the same graph.
 """
 
 from __future__ import annotations
@@ -21,7 +22,10 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("contact_models", "hbm")
+sys.path.insert(0, str(ROOT / "docs" / "_ext"))
+import import_graph as ig  # noqa: E402  (the graph the architecture page is written from)
+
+PACKAGES = ig.PACKAGES
 #: No library module above this many lines.
 MAX_MODULE_LINES = 600
 #: No function above this many lines of code (docstrings, comments and blank lines not counted).
@@ -40,123 +44,11 @@ MOVED = {
 
 # ------------------------------------------------------------------------------ the import graph
 def module_files() -> dict[str, Path]:
-    """Every module of both packages: dotted name -> file (a package's name -> its ``__init__.py``)."""
-    out = {}
-    for package in PACKAGES:
-        for path in sorted((ROOT / package).rglob("*.py")):
-            parts = list(path.relative_to(ROOT).with_suffix("").parts)
-            if parts[-1] == "__init__":
-                parts = parts[:-1]
-            out[".".join(parts)] = path
-    return out
-
-
-def _resolve(module: str, is_package: bool, node: ast.ImportFrom) -> str:
-    """The absolute module named by ``from <node.module> import ...`` in ``module``."""
-    if node.level == 0:
-        return node.module or ""
-    base = module.split(".")
-    if not is_package:
-        base = base[:-1]
-    base = base[:len(base) - (node.level - 1)]
-    return ".".join(base + ([node.module] if node.module else []))
-
-
-def _known(name: str, modules) -> str | None:
-    """The longest prefix of ``name`` that is one of ``modules`` (an attribute import names its module)."""
-    parts = name.split(".")
-    for k in range(len(parts), 0, -1):
-        candidate = ".".join(parts[:k])
-        if candidate in modules:
-            return candidate
-    return None
-
-
-def import_edges(name: str, path: Path, modules) -> set[str]:
-    """The modules of both packages that ``name`` imports anywhere in its source.
-
-    ``from . import x`` is an edge to the submodule ``x`` when ``x`` is a module, else to the
-    package; an edge to a package is an edge to its ``__init__``."""
-    tree = ast.parse(path.read_text(), str(path))
-    is_package = path.name == "__init__.py"
-    edges = set()
-    for node in ast.walk(tree):
-        if isinstance(node, ast.Import):
-            targets = [alias.name for alias in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            base = _resolve(name, is_package, node)
-            targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names]
-        else:
-            continue
-        for target in targets:
-            found = _known(target, modules)
-            if found is not None and found != name:
-                edges.add(found)
-    return edges
+    return ig.module_files(ROOT)
 
 
 def import_graph() -> dict[str, set[str]]:
-    files = module_files()
-    return {name: import_edges(name, path, files) for name, path in files.items()}
-
-
-def circles(graph: dict[str, set[str]]) -> list[list[str]]:
-    """One circle ``[a, b, ..., a]`` per strongly connected component of more than one module."""
-    index, low, stack, on_stack, components = {}, {}, [], set(), []
-    counter = [0]
-
-    def visit(v):  # Tarjan's algorithm, iteratively (deep graphs would exhaust the recursion)
-        work = [(v, iter(sorted(graph[v])))]
-        index[v] = low[v] = counter[0]
-        counter[0] += 1
-        stack.append(v)
-        on_stack.add(v)
-        while work:
-            node, children = work[-1]
-            for w in children:
-                if w not in index:
-                    index[w] = low[w] = counter[0]
-                    counter[0] += 1
-                    stack.append(w)
-                    on_stack.add(w)
-                    work.append((w, iter(sorted(graph[w]))))
-                    break
-                if w in on_stack:
-                    low[node] = min(low[node], index[w])
-            else:
-                work.pop()
-                if work:
-                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
-                if low[node] == index[node]:
-                    component = []
-                    while True:
-                        w = stack.pop()
-                        on_stack.discard(w)
-                        component.append(w)
-                        if w == node:
-                            break
-                    if len(component) > 1:
-                        components.append(component)
-
-    for v in sorted(graph):
-        if v not in index:
-            visit(v)
-    return [_cycle_in(sorted(c), graph) for c in components]
-
-
-def _cycle_in(component: list[str], graph: dict[str, set[str]]) -> list[str]:
-    """A shortest circle through the component's first module, staying inside the component."""
-    members, start = set(component), component[0]
-    paths, seen = [[start]], {start}
-    while paths:
-        path = paths.pop(0)
-        for w in sorted(graph[path[-1]] & members):
-            if w == start:
-                return path + [start]
-            if w not in seen:
-                seen.add(w)
-                paths.append(path + [w])
-    return component
+    return ig.import_graph(ROOT)
 
 
 def test_the_graph_sees_relative_and_function_level_imports():
@@ -166,11 +58,22 @@ def test_the_graph_sees_relative_and_function_level_imports():
     assert "hbm.cli.main" in graph["hbm.__main__"]
     # the check can fail: a circle through a function-level import is found and named
     graph = {"a": {"b"}, "b": {"c"}, "c": {"a"}, "d": {"a"}}
-    assert circles(graph) == [["a", "b", "c", "a"]]
+    assert ig.circles(graph) == [["a", "b", "c", "a"]]
+
+
+def test_each_part_imports_only_what_the_architecture_allows():
+    edges = ig.part_edges(ig.read_graph(ROOT))
+    extra = {part: sorted(edges[part] - ig.MAY_IMPORT[part]) for part in ig.PARTS if edges[part] - ig.MAY_IMPORT[part]}
+    assert not extra, f"imports the architecture does not allow (docs/architecture.md): {extra}"
+
+
+def test_every_module_belongs_to_a_part():
+    for name in module_files():
+        assert ig.part_of(name) in ig.PARTS
 
 
 def test_no_import_circles():
-    found = circles(import_graph())
+    found = ig.circles(import_graph())
     assert not found, "import circles:\n" + "\n".join(" -> ".join(c) for c in found)
 
 

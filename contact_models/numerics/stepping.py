@@ -15,7 +15,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from .._fe_bar import _Discretisation
+from .fe_bar import _Discretisation
 from .genalpha import GeneralizedAlpha
 
 #: Plain semismooth Newton iterations before switching to the energy line search.

@@ -4,10 +4,10 @@ Used by the documentation (``docs/architecture.md``'s tables are written from it
 so they cannot drift from the code) and by ``tests/test_layout.py`` (no circles; each part
 imports only what :data:`MAY_IMPORT` allows).
 
-An edge ``a -> b`` is an ``import b`` or ``from b import ...`` in module ``a``, at module level or
-inside a function; ``from pkg import name`` is an edge to ``pkg.name`` when that is a module,
-else to ``pkg`` (its ``__init__``).  Imports under ``if TYPE_CHECKING:`` are not edges (they do
-not run).
+An edge ``a -> b`` is an ``import b`` or ``from b import ...`` in module ``a``, at module level,
+under ``if TYPE_CHECKING:`` or inside a function alike (a circle held open by an import inside a
+function is a circle); ``from pkg import name`` is an edge to ``pkg.name`` when that is a
+module, else to ``pkg`` (its ``__init__``).
 """
 
 from __future__ import annotations
@@ -30,7 +30,8 @@ PARTS = {
     "balance": (("hbm.balance",), "the one harmonic balance: residual, condensation, layout, start, stability, presets"),
     "reference": (("hbm.reference",), "time-domain references: shooting, the event integrator, Newmark, blade in time"),
     "scenes": (("hbm.scenes",), "scene files: schema, validation, models, effects, planning, running, reporting"),
-    "study": (("hbm.study",), "parameter studies: designs, runs, the store, executors"),
+    "designs": (("hbm.study.design",), "what a study runs: grids and random samples of scene keys, run ids"),
+    "study": (("hbm.study",), "parameter studies: runs, the store, executors, figures"),
     "cli": (("hbm.cli", "hbm.__main__"), "the command line: main, progress, the default case"),
     "front": (("hbm",), "frequency_response (validate, pick, run, wrap), its result, CSV and plots"),
 }
@@ -44,9 +45,10 @@ MAY_IMPORT = {
     "balance": {"elements", "numerics", "continuation", "systems"},
     "front": {"elements", "numerics", "continuation", "systems", "balance", "reference"},
     "reference": {"elements", "numerics", "continuation", "systems", "balance"},
-    "scenes": {"elements", "numerics", "systems", "balance", "front", "reference"},
-    "study": {"elements", "numerics", "systems", "balance", "front", "scenes"},
-    "cli": {"elements", "numerics", "systems", "balance", "front", "reference", "scenes", "study"},
+    "designs": set(),
+    "scenes": {"elements", "numerics", "systems", "balance", "front", "reference", "designs"},
+    "study": {"elements", "numerics", "systems", "balance", "front", "scenes", "designs"},
+    "cli": {"elements", "numerics", "systems", "balance", "front", "reference", "scenes", "study", "designs"},
 }
 
 
@@ -59,6 +61,7 @@ class Module:
     summary: str
     imports: set[str] = field(default_factory=set)  # at module level
     lazy: set[str] = field(default_factory=set)  # inside a function
+    types: set[str] = field(default_factory=set)  # under ``if TYPE_CHECKING:`` (never run)
 
 
 def part_of(module: str) -> str:
@@ -69,7 +72,8 @@ def part_of(module: str) -> str:
     raise KeyError(module)
 
 
-def _modules(root: Path) -> dict[str, Path]:
+def module_files(root: Path) -> dict[str, Path]:
+    """Every module of both packages: dotted name -> file (a package's name -> its ``__init__.py``)."""
     out = {}
     for package in PACKAGES:
         for path in sorted((root / package).rglob("*.py")):
@@ -80,92 +84,127 @@ def _modules(root: Path) -> dict[str, Path]:
     return out
 
 
-def _targets(node: ast.AST, module: str, is_package: bool, known: dict) -> list[str]:
-    if isinstance(node, ast.Import):
-        return [a.name for a in node.names if a.name.split(".")[0] in PACKAGES]
-    assert isinstance(node, ast.ImportFrom)
-    if node.level:
-        base = module.split(".") if is_package else module.split(".")[:-1]
-        base = base[:len(base) - (node.level - 1)]
-        name = ".".join(base + ([node.module] if node.module else []))
-    else:
-        name = node.module or ""
-    if name.split(".")[0] not in PACKAGES:
-        return []
-    subs = [f"{name}.{a.name}" for a in node.names if f"{name}.{a.name}" in known]
-    return subs if len(subs) == len(node.names) else [name] + subs
+def _resolve(module: str, is_package: bool, node: ast.ImportFrom) -> str:
+    """The absolute module named by ``from <node.module> import ...`` in ``module``."""
+    if node.level == 0:
+        return node.module or ""
+    base = module.split(".")
+    if not is_package:
+        base = base[:-1]
+    base = base[:len(base) - (node.level - 1)]
+    return ".".join(base + ([node.module] if node.module else []))
 
 
-def _type_checking_nodes(tree: ast.AST) -> set[int]:
-    skip = set()
+def _known(name: str, modules) -> str | None:
+    """The longest prefix of ``name`` that is one of ``modules`` (an attribute import names its module)."""
+    parts = name.split(".")
+    for k in range(len(parts), 0, -1):
+        candidate = ".".join(parts[:k])
+        if candidate in modules:
+            return candidate
+    return None
+
+
+def read_module(name: str, path: Path, modules) -> Module:
+    """``name`` with the modules of both packages it imports at module level, inside functions
+    and under ``if TYPE_CHECKING:``."""
+    tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+    doc = (ast.get_docstring(tree) or "").strip()
+    mod = Module(name, path, doc.splitlines()[0] if doc else "")
+    inside = {id(n) for f in ast.walk(tree) if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef))
+              for n in ast.walk(f)}
+    typing_only = {id(n) for f in ast.walk(tree) if isinstance(f, ast.If) and "TYPE_CHECKING" in ast.unparse(f.test)
+                   for stmt in f.body for n in ast.walk(stmt)}
+    is_package = path.name == "__init__.py"
     for node in ast.walk(tree):
-        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
-            skip.update(id(n) for stmt in node.body for n in ast.walk(stmt))
-    return skip
+        if isinstance(node, ast.Import):
+            targets = [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = _resolve(name, is_package, node)
+            targets = [f"{base}.{alias.name}" if f"{base}.{alias.name}" in modules else base for alias in node.names]
+        else:
+            continue
+        for target in targets:
+            found = _known(target, modules)
+            if found is not None and found != name:
+                where = mod.types if id(node) in typing_only else mod.lazy if id(node) in inside else mod.imports
+                where.add(found)
+    return mod
 
 
 def read_graph(root: Path) -> dict[str, Module]:
     """Every module of the two packages under ``root`` with its imports."""
-    known = _modules(root)
-    graph = {}
-    for name, path in known.items():
-        tree = ast.parse(path.read_text(encoding="utf-8"))
-        doc = ast.get_docstring(tree) or ""
-        mod = Module(name, path, doc.strip().splitlines()[0] if doc.strip() else "")
-        skip = _type_checking_nodes(tree)
-        inside = {id(n) for f in ast.walk(tree) if isinstance(f, (ast.FunctionDef, ast.AsyncFunctionDef))
-                  for n in ast.walk(f)}
-        for node in ast.walk(tree):
-            if isinstance(node, (ast.Import, ast.ImportFrom)) and id(node) not in skip:
-                for t in _targets(node, name, path.name == "__init__.py", known):
-                    if t != name:
-                        (mod.lazy if id(node) in inside else mod.imports).add(t)
-        graph[name] = mod
-    return graph
+    files = module_files(root)
+    return {name: read_module(name, path, files) for name, path in files.items()}
 
 
-def circles(graph: dict[str, Module]) -> list[list[str]]:
-    """The import circles (strongly connected components of more than one module, or a module
-    importing itself), module-level and lazy imports together."""
-    index: dict[str, int] = {}
-    low: dict[str, int] = {}
-    stack: list[str] = []
-    on: set[str] = set()
-    out: list[list[str]] = []
+def import_graph(root: Path) -> dict[str, set[str]]:
+    """``{module: modules it imports anywhere}``."""
+    return {name: m.imports | m.lazy | m.types for name, m in read_graph(root).items()}
+
+
+def circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """One circle ``[a, b, ..., a]`` per strongly connected component of more than one module."""
+    index, low, stack, on_stack, components = {}, {}, [], set(), []
     counter = [0]
 
-    def visit(v: str) -> None:  # Tarjan's algorithm, iterative over the edges of v
+    def visit(v):  # Tarjan's algorithm, iteratively (deep graphs would exhaust the recursion)
+        work = [(v, iter(sorted(graph[v])))]
         index[v] = low[v] = counter[0]
         counter[0] += 1
         stack.append(v)
-        on.add(v)
-        for w in sorted(graph[v].imports | graph[v].lazy):
-            if w not in graph:
-                continue
-            if w not in index:
-                visit(w)
-                low[v] = min(low[v], low[w])
-            elif w in on:
-                low[v] = min(low[v], index[w])
-        if low[v] == index[v]:
-            comp = []
-            while True:
-                w = stack.pop()
-                on.discard(w)
-                comp.append(w)
-                if w == v:
+        on_stack.add(v)
+        while work:
+            node, children = work[-1]
+            for w in children:
+                if w not in index:
+                    index[w] = low[w] = counter[0]
+                    counter[0] += 1
+                    stack.append(w)
+                    on_stack.add(w)
+                    work.append((w, iter(sorted(graph[w]))))
                     break
-            if len(comp) > 1:
-                out.append(sorted(comp))
+                if w in on_stack:
+                    low[node] = min(low[node], index[w])
+            else:
+                work.pop()
+                if work:
+                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
+                if low[node] == index[node]:
+                    component = []
+                    while True:
+                        w = stack.pop()
+                        on_stack.discard(w)
+                        component.append(w)
+                        if w == node:
+                            break
+                    if len(component) > 1:
+                        components.append(component)
 
     for v in sorted(graph):
         if v not in index:
             visit(v)
-    return out
+    return [_cycle_in(sorted(c), graph) for c in components]
+
+
+def _cycle_in(component: list[str], graph: dict[str, set[str]]) -> list[str]:
+    """A shortest circle through the component's first module, staying inside the component."""
+    members, start = set(component), component[0]
+    paths, seen = [[start]], {start}
+    while paths:
+        path = paths.pop(0)
+        for w in sorted(graph[path[-1]] & members):
+            if w == start:
+                return path + [start]
+            if w not in seen:
+                seen.add(w)
+                paths.append(path + [w])
+    return component
 
 
 def part_edges(graph: dict[str, Module]) -> dict[str, set[str]]:
-    """``{part: parts it imports}`` (module-level and lazy imports, a part's own left out)."""
+    """``{part: parts it imports}`` (module-level and lazy imports, a part's own left out; an import
+    for type hints only does not make a part depend on another)."""
     edges: dict[str, set[str]] = {p: set() for p in PARTS}
     for mod in graph.values():
         here = part_of(mod.name)
