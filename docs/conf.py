@@ -2,7 +2,7 @@
 
 Build (no network needed): ``python3 -m sphinx -W -n -b html docs docs/_build/html``, then open
 ``docs/_build/html/index.html``.  The API reference (``docs/generated/api``), the scene-keys page
-and the guides' toctree are written here at build time from the code (``_ext/frictiondamp_docs.py``);
+the guides' toctree and the architecture page's import tables are written here at build time from the code (``_ext/frictiondamp_docs.py``);
 the gallery (``docs/auto_examples``) from ``examples/*.py`` by sphinx-gallery.  None of them is
 committed.  ``FRICTIONDAMP_GALLERY_RUN=False`` builds without running the examples (quick drafts).
 """
@@ -20,6 +20,7 @@ GENERATED = DOCS / "generated"
 sys.path[:0] = [str(ROOT), str(DOCS / "_ext"), str(EXAMPLES)]  # the worktree's packages first
 
 import frictiondamp_docs as fd  # noqa: E402
+import import_graph  # noqa: E402
 from contact_models import __version__  # noqa: E402
 
 project = "frictiondamp"
@@ -49,6 +50,7 @@ GENERATED.mkdir(exist_ok=True)
 API_NAMES = fd.write_api_pages(GENERATED / "api")
 SCENE_KEY_COUNT = fd.write_scene_keys(GENERATED / "scene_keys.md")
 GUIDES = fd.write_guides_toctree(DOCS, GENERATED / "guides_toctree.md")
+MODULE_COUNT = import_graph.write_import_tables(ROOT, GENERATED / "imports.md")  # docs/architecture.md
 
 # --------------------------------------------------------------------------------- theme (furo)
 # furo: maintained, one self-contained package (its CSS, JS and fonts ship in the wheel, nothing is

@@ -13,6 +13,7 @@ import ast
 import importlib
 import io
 import json
+import re
 import subprocess
 import sys
 import tokenize
@@ -179,3 +180,35 @@ def test_an_old_path_warns_and_gives_the_new_module(old, new):
             assert getattr(shim, name) is getattr(module, name), name
         exec(f"from {old} import {names[0]} as got", scope := {})
     assert scope["got"] is getattr(module, names[0])
+
+
+# ----------------------------------------------------------------------------- the architecture page
+def test_every_name_on_the_architecture_page_exists():
+    """The dotted names ``docs/architecture.md`` walks a frequency response through import."""
+    text = (ROOT / "docs" / "architecture.md").read_text()
+    names = set(re.findall(r"`((?:hbm|contact_models)(?:\.[A-Za-z_]\w*)+)", text))
+    names |= {f"contact_models.ContactElement.{n}" for n in re.findall(r"`ContactElement\.(\w+)", text)}
+    assert len(names) > 25
+    missing = []
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the old paths are named too
+        for name in sorted(names):
+            parts = name.split(".")
+            for k in range(len(parts), 0, -1):
+                try:
+                    obj = importlib.import_module(".".join(parts[:k]))
+                except ImportError:
+                    continue
+                for attr in parts[k:]:
+                    obj = getattr(obj, attr, None)
+                if obj is None:
+                    missing.append(name)
+                break
+    assert not missing, f"names on docs/architecture.md that do not exist: {missing}"
+
+
+def test_hbm_imports_no_private_module_of_contact_models():
+    graph = import_graph()
+    private = {(a, b) for a, targets in graph.items() if a.startswith("hbm")
+               for b in targets if b.startswith("contact_models") and any(p.startswith("_") for p in b.split(".")[1:])}
+    assert not private, f"hbm imports private modules of contact_models: {sorted(private)}"
