@@ -106,3 +106,32 @@ def test_every_public_name_still_imports_from_its_package(package):
         warnings.simplefilter("error", DeprecationWarning)
         for name in package.__all__:
             assert getattr(package, name) is not None, name
+
+
+def test_a_very_stiff_jenkins_on_the_default_blade_traces_at_one_harmonic():
+    """A Jenkins element of 1e12 N/m (slip amplitude 1e-12 m) slips everywhere on the default blade:
+    the stuck start is far off, the force homotopy starts the branch.  Gross slip: f_s -> 0,
+    f_c = 4 F_s/pi, so at the blade's own resonance a = (F - 4 F_s/pi)/(c omega_n)."""
+    from hbm.cli.cases import default_case
+
+    case = default_case()
+    b = case.blade
+    frf = frequency_response(b, Macroslip(stiffness=1e12, slip_force=1.0), omega_range=case.omega_range)
+    assert frf.success and len(frf) > 100
+    wn = np.sqrt(b.stiffness / b.mass)
+    pk = frf.peak()
+    assert pk.amplitude == pytest.approx((b.force - 4.0 / np.pi) / (b.damping * wn), rel=1e-5)
+    assert pk.omega == pytest.approx(wn, rel=1e-5)
+
+
+def test_the_chain_at_three_harmonics_traces_with_the_default_sampling():
+    """The 3-DOF chain with a Jenkins element at H = 3: an explicit H takes the default preset's
+    sampling (512), which traces the whole window, and the peak agrees with n_t = 2048."""
+    K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    s = Structure(np.eye(3), 0.004 * K, K, force=[0.0, 0.0, 0.01])
+    contacts = [Contact(Macroslip(1.0, 0.02), dof=0)]
+    frf = frequency_response(s, contacts, omega_range=(0.3, 0.8), harmonics=3)
+    assert frf.success and frf.n_t == 512 and frf.omega[-1] == pytest.approx(0.8)
+    ref = frequency_response(s, contacts, omega_range=(0.3, 0.8), harmonics=3, n_t=2048).peak()
+    assert frf.peak().amplitude == pytest.approx(ref.amplitude, rel=1e-4)
+    assert frf.peak().omega == pytest.approx(ref.omega, rel=1e-3)
