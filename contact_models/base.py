@@ -167,6 +167,33 @@ class ContactElement(ABC):
         self._check_range(a, omega)
         return out
 
+    def model_error(self, a: ArrayLike, omega: ArrayLike = 0.0) -> float | NDArray:
+        """Relative error of ``(f_s, f_c)`` against the physical contact the element stands for.
+
+        0 for an element that is exact for what it models (the Jenkins element, the all-mode
+        bar); for the single-mode microslip elements the validity map's error against the
+        all-mode bar (``contact_models.model_range``), amplitude by amplitude.  The solver's error
+        estimate reads it (``FrequencyResponse.error_sources["model"]``).
+
+        Parameters
+        ----------
+        a, omega : array_like
+            Amplitudes (m) and frequencies (rad/s), >= 0; they broadcast.
+
+        Returns
+        -------
+        float or ndarray
+            The relative error (0.01 is 1 %), of the broadcast shape.
+
+        Examples
+        --------
+        >>> from contact_models import Macroslip
+        >>> float(Macroslip(stiffness=1.0, slip_force=0.5).model_error(2.0, 1.0))
+        0.0
+        """
+        a_b, w_b, shape = self._prepare(a, omega)
+        return _shaped(self._model_error(a_b, w_b), shape)
+
     def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)`` on flat float64 arrays ``a``, ``omega`` of one size.
 
@@ -490,6 +517,12 @@ class ContactElement(ABC):
         outside its range.  Default: no range, no warning.  The warning's ``stacklevel`` is 4
         (the caller of the public method)."""
 
+    def _model_error(self, a: np.ndarray, omega: np.ndarray) -> np.ndarray:
+        """Hook of :meth:`model_error`: flat float arrays in (m, rad/s), the relative error of
+        ``(f_s, f_c)`` against the physical contact the element stands for out.  Default: zeros
+        (the element is exact for what it models)."""
+        return np.zeros(np.shape(a))
+
     def _fourier(self, a: np.ndarray, omega: np.ndarray, rtol: float):
         """Flat float arrays in, ``(f_s, f_c)`` flat arrays out.
 
@@ -547,6 +580,7 @@ PUBLIC_HOOKS = {
     "reference_amplitude": "_reference_amplitude",
     "hysteresis": "_hysteresis",
     "periodic_force": "_periodic_force",
+    "model_error": "_model_error",
     "harmonic_force": "_harmonic_force",
     "harmonic_force_unchecked": "_harmonic_force",
 }

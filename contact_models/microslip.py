@@ -36,7 +36,7 @@ from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, R
 from ._path_integrals import GAUSS_MAX, GAUSS_START, _fourier_one, _fourier_one_omega  # noqa: F401 (public here)
 from .bar import Bar, impedance_transmission
 from .base import ContactElement, masing_loop
-from .model_range import check_single_mode
+from .model_range import check_single_mode, single_mode_error
 from .numerics.checks import nonnegative
 
 
@@ -155,6 +155,10 @@ class _MicroslipBar(ContactElement):
     def _check_range(self, a, omega):
         """Warn (``ModelRangeWarning``) outside the single-mode range (``contact_models.model_range``)."""
         check_single_mode(self, a, omega, stacklevel=4)
+
+    def _model_error(self, a, omega):
+        """The validity map's error against the all-mode bar (``contact_models.model_range``)."""
+        return single_mode_error(self, a, omega)
 
     def _derivatives_one(self, a: float, w: float, rtol: float):
         """``(f_s, f_c, df_s/da, df_c/da)`` in floats for one amplitude at one frequency: the float
