@@ -14,10 +14,12 @@ one frequency by Brent's method, for elements without derivatives.
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any, Callable
 
 import numpy as np
 
+from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import continuation as cont  # the module (hbm.continuation)
@@ -29,6 +31,14 @@ from .balance.start import force_homotopy
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
+#: The target relative error of a solve that names none (``tol``): the warning's threshold.
+DEFAULT_TOL = 1e-3
+#: With ``tol`` given and no ``harmonics``, a structure's balance starts at this H and doubles
+#: (H -> 2H + 1) while the harmonics' estimate exceeds ``HARMONICS_SHARE * tol``, up to ``MAX_HARMONICS``.
+ADAPT_START = 3
+HARMONICS_SHARE = 0.5
+MAX_HARMONICS = 31
+
 #: Newton tolerance on the scaled residual (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref``
 #: otherwise) as a fraction of ``rtol``.
 NEWTON_TOL_FACTOR = 5e-3
@@ -39,7 +49,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                        min_step: float = DEFAULT_MIN_STEP, max_steps: int = DEFAULT_MAX_STEPS,
                        locate_folds: bool = True, on_point: Callable[[float, float, float, float], None] | None = None,
                        accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
-                       response_dof: int | None = None, stability: bool = True) -> FrequencyResponse:
+                       response_dof: int | None = None, stability: bool = True, tol: float | None = None,
+                       estimate_error: bool = True) -> FrequencyResponse:
     """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -80,6 +91,16 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         The DOF whose response is reported.  Default the forced DOF.
     stability : bool, optional
         Whether Hill's stability is available (computed on first use of ``stable``).  Default True.
+    tol : float, optional
+        The target relative error of the response amplitude against the true periodic response
+        of the physical system (all harmonics, the physical contact).  Given (and ``harmonics``
+        not), a structure's H is chosen: 3, 7, 15, 31 until the harmonics' estimate is below half
+        of it.  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
+        the worst point, its largest source and the fix.  Default ``DEFAULT_TOL`` (1e-3), for the
+        warning only.
+    estimate_error : bool, optional
+        Estimate the error of every point (``error_estimate``, ``error_sources``;
+        ``hbm.balance.errors``).  Default True; False skips it (and the warning).
 
     Returns
     -------
@@ -157,36 +178,93 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
-    max_step, min_step = positive("max_step", max_step), positive("min_step", min_step)
-    max_steps = count("max_steps", max_steps)
-    # ---- pick: H and n_t (an explicit knob overrides only itself), the balance, its scales
+    tolerance = _tolerance(tol, estimate_error)
+    steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
+                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds)
+    # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
+    adapt = harmonics is None and structure.default_harmonics is None and tol is not None
     if harmonics is None:
         harmonics = structure.default_harmonics if structure.default_harmonics is not None else H_preset
-    if n_t is None and isinstance(harmonics, (int, np.integer)) and not isinstance(harmonics, bool) and harmonics >= 1:
-        n_t = samples_for(int(harmonics), preset)
-    problem = HarmonicBalance(system, contacts, harmonics=harmonics, n_t=n_t, response_dof=response_dof,
-                              rtol=rtol)
+        if adapt:
+            harmonics = ADAPT_START
+    n_t_given = n_t
+
+    def solve(H):
+        nt = n_t_given if n_t_given is not None else _samples(H, preset)
+        problem = HarmonicBalance(system, contacts, harmonics=H, n_t=nt, response_dof=response_dof, rtol=rtol)
+        return _trace(problem, w0, w1, rtol, steps, on_point, stability, tolerance)
+
+    frf = solve(harmonics)
+    # ---- adapt H to the tolerance (time laws through AFT): 3, 7, 15, 31 harmonics
+    while (adapt and not frf._problem.one_dof and frf.harmonics < MAX_HARMONICS and len(frf)
+           and float(np.max(frf.error_sources["harmonics"])) > HARMONICS_SHARE * tolerance):
+        frf = solve(2 * frf.harmonics + 1)
+    if tolerance is not None:
+        _warn_if_above(frf, tolerance)
+    return frf
+
+
+def _tolerance(tol: Any, estimate_error: bool) -> float | None:
+    """The target relative error: ``tol``, else ``DEFAULT_TOL``; None without an estimate."""
+    if tol is None:
+        return DEFAULT_TOL if estimate_error else None
+    tol = positive("tol", tol)
+    if tol >= 1.0:
+        raise ValueError(f"tol must be < 1 (a relative error), got tol={tol!r}")
+    return tol
+
+
+def _samples(H: Any, preset: Any) -> Any:
+    """``samples_for(H, preset)`` for a valid H; an invalid H goes on to the balance's own check."""
+    if isinstance(H, (int, np.integer)) and not isinstance(H, bool) and H >= 1:
+        return samples_for(int(H), preset)
+    return None
+
+
+def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: dict, on_point: Any,
+           stability: bool, tolerance: float | None) -> FrequencyResponse:
+    """Scales, the stuck start at w0 (else a homotopy in the force), the continuation to w1, the result."""
     problem.set_scales(w0, w1)
     tol = NEWTON_TOL_FACTOR * rtol
     scale = problem.arclength_scale()
     w_ref = problem.omega_ref
-    # ---- run: from the stuck solution at w0 (else a homotopy in the force) to w1
     report = None if on_point is None else _reporter(on_point, problem)
 
     def trace(u_start):
         return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
                                  bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref), direction=1 if w1 > w0 else -1,
-                                 max_step=max_step, min_step=min_step, max_steps=max_steps, tol=tol, scale=scale,
-                                 locate_folds=locate_folds, fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
-                                 on_point=report)
+                                 tol=tol, scale=scale, fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
+                                 on_point=report, **steps)
 
     run = trace(problem.stuck_start(w0))
     if run.status == cont.Status.START_FAILED:
         u_h = force_homotopy(problem, w0, tol, scale)
         if u_h is not None:
             run = trace(u_h)
-    # ---- wrap
-    return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale, stability=stability)
+    return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale, stability=stability, tolerance=tolerance)
+
+
+#: What brings each source of error down (the warning's advice).
+REMEDY = {
+    "harmonics": "more harmonics (give tol= and no harmonics= to let the balance choose, or raise harmonics=)",
+    "sampling": "more AFT samples (raise n_t=)",
+    "element": "a tighter element tolerance (lower rtol=)",
+    "model": "contact_models.AllModeMicroslip (the bar with every mode) for this damper",
+    "peak": "a tighter rtol=",
+}
+
+
+def _warn_if_above(frf: FrequencyResponse, tolerance: float) -> None:
+    """One ``AccuracyWarning`` when the estimate exceeds the tolerance somewhere: the worst point,
+    its largest source and what would fix it."""
+    if not len(frf) or not np.any(frf.error_estimate > tolerance):
+        return
+    i = int(np.nanargmax(frf.error_estimate))
+    source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
+    warnings.warn(f"frequency_response: estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at "
+                  f"omega = {frf.omega[i]:.6g} rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: "
+                  f"{source}, {frf.error_sources[source][i]:.2g}; H = {frf.harmonics}); for a closer answer use "
+                  f"{REMEDY[source]}", AccuracyWarning, stacklevel=3)
 
 
 def response_at(blade: Blade, element: ContactElement, omega: float,

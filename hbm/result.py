@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont  # the module (hbm.continuation)
+from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
 from .balance.stability import STABILITY_TOL, hill_exponents, stability_changes
@@ -111,6 +112,17 @@ class FrequencyResponse:
     nsteps, nit, nfev, nstuck : int
         Accepted steps, Newton iterations, element evaluations, stuck evaluations; they include
         the work of :meth:`peak` once it has been called.
+    tolerance : float or None
+        The target relative error asked for (``frequency_response(..., tol=...)``; None:
+        ``estimate_error=False``, no estimate).
+    error_estimate : ndarray
+        Per point, the estimated relative error of ``amplitude`` against the true periodic
+        response of the physical system (all sources; NaN without an estimate).
+    error_sources : dict of ndarray
+        The estimate per source, ``"harmonics"``, ``"sampling"``, ``"element"``, ``"model"``,
+        ``"peak"`` (``hbm.balance.errors``).
+    rtol, tol : float
+        The elements' tolerance and the Newton tolerance on the scaled residual.
 
     Examples
     --------
@@ -128,7 +140,8 @@ class FrequencyResponse:
     """
 
     def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
-                 scale: Callable[[np.ndarray], np.ndarray], stability: bool = True) -> None:
+                 scale: Callable[[np.ndarray], np.ndarray], stability: bool = True,
+                 tolerance: float | None = None) -> None:
         self._problem = problem
         self._run = run
         self._scale = scale
@@ -168,6 +181,9 @@ class FrequencyResponse:
         self._exponents: NDArray | None = None
         self._changes: list = []
         self.stability_dofs: list = []
+        self.tolerance = tolerance
+        self.error_sources = errors.estimate(problem, X, w, rtol) if tolerance is not None else {}
+        self.error_estimate = errors.total(self.error_sources) if tolerance is not None else np.full(len(w), np.nan)
 
     # ------------------------------------------------------------------ counters
     @property

@@ -394,13 +394,16 @@ def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], ND
     Classical damping (``Phi^T C Phi`` diagonal for the mass-normalised undamped modes ``Phi``,
     Rayleigh and modal damping) takes the symmetric eigensolver instead: two poles per mode.
     """
-    from scipy.linalg import eig, eigh, lu_factor, lu_solve  # lazily: import hbm stays light
-
     Md, Cd, Kd = _dense(M), _dense(C), _dense(K)
     n = Md.shape[0]
+    if n == 1:  # one DOF (a blade): its mode without scipy's eigensolvers
+        w2, Phi = Kd[0] / Md[0, 0], np.array([[1.0 / math.sqrt(Md[0, 0])]])
+    else:
+        from scipy.linalg import eigh  # lazily: import hbm stays light
+
+        w2, Phi = eigh(Kd, Md)
     # classical damping (C diagonal in the undamped modes): two poles per mode from eigh, with
     # 1/(s^2 + c s + w^2) = (1/(s - l+) - 1/(s - l-)) / (l+ - l-)
-    w2, Phi = eigh(Kd, Md)
     c = Phi.T @ Cd @ Phi
     cd = np.diag(c).copy()
     off = np.max(np.abs(c - np.diag(cd))) if n > 1 else 0.0
@@ -412,6 +415,8 @@ def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], ND
         V = np.hstack([Phi, Phi]).astype(complex)
         B = np.vstack([inv[:, None] * Phi.T, -inv[:, None] * Phi.T])
         return np.concatenate([lp, lm]), V, B
+    from scipy.linalg import eig, lu_factor, lu_solve  # lazily: import hbm stays light
+
     MinvK = np.linalg.solve(Md, Kd)
     MinvC = np.linalg.solve(Md, Cd)
     A = np.zeros((2 * n, 2 * n))

@@ -1,0 +1,238 @@
+"""Error estimates of a frequency response, point by point and source by source.
+
+Each source is a relative error of the response DOF's first-harmonic amplitude against the true
+periodic response of the physical system, at the point's frequency (``docs/validation.md``,
+"Error estimates", derives them and checks them against the references):
+
+- ``harmonics``: the harmonics the balance leaves out.  Condensed form: one Newton step of the
+  balance at ``2H + 1`` harmonics from the converged point padded with zeros (the residual's
+  new harmonics are the missing response, to first order, and the step carries their effect
+  back into the first harmonic).  One-DOF form (a describing function, no time law): the
+  element's own loop gives its force harmonics ``F_h`` (``hysteresis``), the blade's dynamic
+  stiffness at ``h omega`` the missing response ``X_h``, and the element's stuck stiffness
+  ``k*`` bounds their effect on the first harmonic, ``|dX_1| <= k* sum |X_h| / s_min(J)``.
+- ``sampling``: the AFT's samples: the balance at ``2 n_t`` samples, one Newton step.
+- ``element``: the tolerance ``rtol`` the elements are evaluated to, through the balance.
+- ``model``: the element's error against the physical contact it stands for
+  (``ContactElement.model_error``: the validity map of the single-mode bars), through the balance:
+  ``|dX_1| <= e |F_1| / s_min(J)``.
+- ``peak``: the refined peak's amplitude is accepted within ``10 rtol`` of the sampled maximum.
+
+``J`` is the balance's Jacobian in the unknowns of the point (frequency fixed) and ``s_min`` its
+smallest singular value: a force error ``dF`` moves the response by at most ``|dF| / s_min``.
+The estimates are computed at ``NODES`` points spread along the branch, the sampled maximum and
+its neighbours, and interpolated between them in the branch's order; ``error_estimate`` is their
+sum.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from contact_models.base import default_samples
+from contact_models import QuasiStatic
+
+from ..structure import Contact
+from .residual import HarmonicBalance
+
+#: The sources of error, in the order of ``FrequencyResponse.error_sources``.
+SOURCES = ("harmonics", "sampling", "element", "model", "peak")
+#: Points along the branch at which the estimates are computed (plus the maximum and its neighbours).
+NODES = 24
+#: Samples of the element's loop for its force harmonics (one-DOF form).
+LOOP_SAMPLES = 64
+#: Highest harmonic of the loop counted (one-DOF form).
+LOOP_HARMONICS = 9
+#: The refined peak is accepted within this many rtol of the sampled maximum (``FrequencyResponse.peak``).
+PEAK_ACCEPT = 10.0
+
+
+def nodes(amplitude: NDArray) -> NDArray[np.intp]:
+    """Indices where the estimates are computed: ``NODES`` spread along the branch, the maximum
+    and its neighbours."""
+    n = len(amplitude)
+    if n == 0:
+        return np.empty(0, dtype=np.intp)
+    i = int(np.argmax(amplitude))
+    idx = np.round(np.linspace(0, n - 1, min(NODES, n))).astype(np.intp)
+    return np.unique(np.concatenate([idx, [max(i - 1, 0), i, min(i + 1, n - 1)]]))
+
+
+def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> dict[str, NDArray]:
+    """``{source: relative error per point}`` for the converged points ``X`` (points, n_a, 2H+1),
+    ``omega`` (points,) of ``problem``'s balance."""
+    n = len(omega)
+    out = {s: np.zeros(n) for s in SOURCES}
+    if n == 0:
+        return out
+    out["peak"][:] = PEAK_ACCEPT * rtol
+    idx = nodes(np.hypot(X[:, problem.dofs.index(problem.response_dof), 1],
+                         X[:, problem.dofs.index(problem.response_dof), 2]))
+    at = _one_dof if problem.one_dof else _condensed
+    values = at(problem, X[idx], omega[idx], rtol)
+    for s, v in values.items():
+        out[s] = np.interp(np.arange(n), idx, v) if len(idx) > 1 else np.full(n, v[0])
+    return out
+
+
+def total(sources: dict[str, NDArray]) -> NDArray:
+    """The estimate of all sources together: their sum (each is a bound of its own part)."""
+    return np.sum([sources[s] for s in SOURCES], axis=0)
+
+
+# ------------------------------------------------------------------ one DOF, describing function
+def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> dict[str, NDArray]:
+    fresh = HarmonicBalance(problem.system, problem.contacts, harmonics=1, rtol=rtol)  # no shared caches
+    el = fresh.element
+    n = len(omega)
+    out = {s: np.zeros(n) for s in ("harmonics", "element", "model")}
+    if el is None:
+        return out
+    k_star = abs(float(el.linear_coefficients(0.0)[0]))
+    proxy = _harmonic_proxy(problem, el, rtol)
+    for j, (x, w) in enumerate(zip(X[:, 0], omega)):
+        xc, xs, w = float(x[1]), float(x[2]), float(w)
+        a = math.hypot(xc, xs)
+        if a == 0.0 or a <= el.linear_amplitude(w):
+            continue  # the element is linear: exact, no higher harmonics
+        _, J = fresh.balance(xc, xs, w)
+        Jx = np.array([[J[0], J[1]], [J[3], J[4]]])
+        p, q = fresh.stiffness_terms(a, w)[:2]
+        e = float(el.model_error(a, w))
+        # a change dp, dq of the element's stiffness is the force (x_c, x_s) dp + (x_s, -x_c) dq
+        out["element"][j] = _amplitude_change(Jx, xc, xs, rtol * abs(p), rtol * abs(q)) / a
+        floor = 0.01 * k_star  # the validity map's floor of 0.01 k* a on each coefficient
+        out["model"][j] = _amplitude_change(Jx, xc, xs, e * max(abs(p), floor), e * max(abs(q), floor)) / a
+        if proxy is not None:
+            Xp = np.zeros((1, 7))
+            Xp[0, 1], Xp[0, 2] = xc, xs
+            out["harmonics"][j] = abs(_truncation_step(proxy, Xp, w, 0, 1)) / a
+        else:
+            s_min = float(np.linalg.svd(Jx, compute_uv=False)[-1])
+            out["harmonics"][j] = _loop_truncation(fresh, el, a, w) / (s_min * a)
+    return out
+
+
+def _amplitude_change(Jx: NDArray, xc: float, xs: float, dp: float, dq: float) -> float:
+    """``|da|`` (m) from stiffness errors ``dp``, ``dq`` (signs unknown: their effects add)."""
+    a = math.hypot(xc, xs)
+    g = np.array([xc, xs]) / a
+    try:
+        Jinv = np.linalg.inv(Jx)
+    except np.linalg.LinAlgError:
+        return math.inf
+    return abs(g @ Jinv @ np.array([xc, xs])) * dp + abs(g @ Jinv @ np.array([xs, -xc])) * dq
+
+
+def _harmonic_proxy(problem: HarmonicBalance, el: Any, rtol: float) -> HarmonicBalance | None:
+    """The balance at H = 3 (condensed form) of the one-DOF system with a time law standing for the
+    element: the element itself, or for a dynamic bar without one its quasi-static bar, whose
+    Masing loop carries the same higher harmonics to order (omega/omega_c)^2; None if neither."""
+    law = el if el.has_time_law else None
+    if law is None and getattr(el, "bar", None) is not None:
+        try:
+            law = QuasiStatic(el)
+        except (TypeError, ValueError):
+            law = None
+    if law is None:
+        return None
+    return HarmonicBalance(problem.structure, [Contact(law, dof=0)], harmonics=3, n_t=default_samples(3), rtol=rtol)
+
+
+def _loop_truncation(fresh: HarmonicBalance, el: Any, a: float, w: float) -> float:
+    """``k* sum_h |X_h|`` (N): the element's higher force harmonics through the system at ``h omega``
+    (an element with neither a time law nor a quasi-static bar: a bound)."""
+    _, f = el.hysteresis(a, w, n=LOOP_SAMPLES + 1)
+    F = np.abs(np.fft.rfft(f[:-1])) * (2.0 / LOOP_SAMPLES)
+    k_star = abs(float(el.linear_coefficients(0.0)[0]))
+    missing = 0.0
+    for h in range(2, min(LOOP_HARMONICS, len(F) - 1) + 1):
+        wh = h * w
+        Z = complex(fresh._k - fresh._m * wh * wh, fresh._c * wh)
+        Zc = Z + complex(*(float(v) for v in el.linear_coefficients(wh)))
+        missing += F[h] / max(min(abs(Z), abs(Zc)), 1e-300)
+    return k_star * missing
+
+
+# ------------------------------------------------------------------ condensed, AFT
+def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> dict[str, NDArray]:
+    H, n_t, L = problem.H, problem.n_t, problem.L
+    kw = dict(response_dof=problem.response_dof, rtol=rtol)
+    same = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, **kw)
+    H2 = 2 * H + 1
+    more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2, n_t=max(n_t, default_samples(H2)), **kw)
+    finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw)
+    r = problem.dofs.index(problem.response_dof)
+    n = len(omega)
+    out = {s: np.zeros(n) for s in ("harmonics", "sampling", "element", "model")}
+    for j, (x, w) in enumerate(zip(X, omega)):
+        w = float(w)
+        a = math.hypot(x[r, 1], x[r, 2])
+        if a == 0.0:
+            continue
+        _, J = same._condensed(x, w)
+        Jx = J[:, :-1]
+        Xp = np.zeros((problem.na, 2 * H2 + 1))
+        Xp[:, :L] = x
+        out["harmonics"][j] = abs(_truncation_step(more, Xp, w, r, H)) / a
+        Rf, _ = finer._condensed(x, w)
+        out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
+        out["element"][j] = rtol
+        out["model"][j] = _model(problem, same, x, w, Jx) / a
+    return out
+
+
+def _truncation_step(big: HarmonicBalance, Xp: NDArray, w: float, r: int, H: int) -> float:
+    """The response amplitude's change (m) in one Newton step of the balance ``big`` (more harmonics)
+    from ``Xp``, driven by the residual of the harmonics above H only (the first H are converged)."""
+    R, J = big._condensed(Xp, w)
+    L2 = Xp.shape[1]
+    R = R.reshape(-1, L2)
+    R[:, :2 * H + 1] = 0.0
+    return _amplitude_step(J[:, :-1], R.ravel(), Xp, r, L2)
+
+
+def _amplitude_step(Jx: NDArray, R: NDArray, x: NDArray, r: int, L: int) -> float:
+    """The response amplitude's change (m) in the Newton step ``Jx dX = -R`` from ``x``."""
+    try:
+        dX = np.linalg.solve(Jx, -R)
+    except np.linalg.LinAlgError:
+        dX = np.linalg.lstsq(Jx, -R, rcond=None)[0]
+    xc, xs = x[r, 1], x[r, 2]
+    return float((xc * dX[r * L + 1] + xs * dX[r * L + 2]) / math.hypot(xc, xs))
+
+
+def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float, Jx: NDArray) -> float:
+    """The response amplitude's change (m) from each contact's model error ``e`` as errors
+    ``e max(|p|, 0.01 k*)``, ``e max(|q|, 0.01 k*)`` of its first-harmonic stiffness, through the
+    condensed balance (``R = X + G F``, so ``dR = G dF``); the contacts' effects add."""
+    G1 = same.cond.at(w)[0][1]
+    L, na = same.L, same.na
+    r = same.dofs.index(same.response_dof)
+    total = 0.0
+    for el, ix in same._attach:
+        Xrel = x[ix[0]] - x[ix[1]] if len(ix) == 2 else x[ix[0]]
+        xc, xs = float(Xrel[1]), float(Xrel[2])
+        a_c = math.hypot(xc, xs)
+        e = float(el.model_error(a_c, w)) if a_c > 0.0 else 0.0
+        if e == 0.0:
+            continue
+        Fc, Fs = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), w, same.n_t, same.rtol)[0][1:3]
+        p, q = (Fc * xc + Fs * xs) / a_c**2, (Fc * xs - Fs * xc) / a_c**2
+        floor = 0.01 * abs(float(el.linear_coefficients(0.0)[0]))
+        for dk, direction in ((e * max(abs(p), floor), (xc, xs)), (e * max(abs(q), floor), (xs, -xc))):
+            dF = np.zeros(na, dtype=complex)  # the force error's first harmonic c = Fc - i Fs on the DOFs
+            for i, sign in zip(ix, (1.0, -1.0)):
+                dF[i] += sign * dk * complex(direction[0], -direction[1])
+            dR = np.zeros((na, L))
+            gdF = G1 @ dF
+            dR[:, 1], dR[:, 2] = gdF.real, -gdF.imag
+            total += abs(_amplitude_step(Jx, dR.ravel(), x, r, L))
+    return total
+
+
+__all__ = ["SOURCES", "NODES", "estimate", "total", "nodes"]
