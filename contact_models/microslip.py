@@ -36,6 +36,7 @@ from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, R
 from ._path_integrals import GAUSS_MAX, GAUSS_START, _fourier_one, _fourier_one_omega  # noqa: F401 (public here)
 from .bar import Bar, impedance_transmission
 from .base import ContactElement, masing_loop
+from .loads import QuadraticLoad, UniformLoad
 from .model_range import check_single_mode, single_mode_error
 from .numerics.checks import nonnegative
 
@@ -49,6 +50,10 @@ class _MicroslipBar(ContactElement):
         if not isinstance(bar, Bar):
             raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
         self.bar = bar
+        if not isinstance(load, (UniformLoad, QuadraticLoad)):
+            raise ValueError(f"load={load!r}: {type(self).__name__} solves the bar under a uniform or a quadratic "
+                             f"normal load (Eq. 29) only; for any other distribution use "
+                             f"contact_models.AllModeMicroslip (the bar with every mode, any load)")
         self.load = load.on(bar.L)
         if self.load.minimum() < 0.0:
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")

@@ -10,6 +10,7 @@ finds the true periodic response by shooting, the balance's independent checks. 
 """
 
 from contact_models import __version__  # one version for both packages
+from contact_models.accuracy import AccuracyWarning  # the library's one accuracy category
 
 from . import continuation
 from .balance import HarmonicBalance
@@ -26,4 +27,4 @@ MultiHarmonicResponse = FrequencyResponse
 __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
-__all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse"]
+__all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]

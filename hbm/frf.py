@@ -37,6 +37,9 @@ DEFAULT_TOL = 1e-3
 #: (H -> 2H + 1) while the harmonics' estimate exceeds ``HARMONICS_SHARE * tol``, up to ``MAX_HARMONICS``.
 ADAPT_START = 3
 HARMONICS_SHARE = 0.5
+#: With ``tol`` given, the elements' tolerance rtol is at most this share of it (the peak is
+#: accepted within 10 rtol: ``hbm.balance.errors``).
+RTOL_SHARE = 1e-2
 MAX_HARMONICS = 31
 
 #: Newton tolerance on the scaled residual (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref``
@@ -179,6 +182,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
     tolerance = _tolerance(tol, estimate_error)
+    if tol is not None:  # the elements and the Newton points well inside the tolerance asked for
+        rtol = min(rtol, RTOL_SHARE * tolerance)
     steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
                  max_steps=count("max_steps", max_steps), locate_folds=locate_folds)
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
@@ -208,6 +213,8 @@ def _tolerance(tol: Any, estimate_error: bool) -> float | None:
     """The target relative error: ``tol``, else ``DEFAULT_TOL``; None without an estimate."""
     if tol is None:
         return DEFAULT_TOL if estimate_error else None
+    if isinstance(tol, (str, bytes, bool)):
+        raise ValueError(f"tol must be a number in (0, 1), got tol={tol!r}")
     tol = positive("tol", tol)
     if tol >= 1.0:
         raise ValueError(f"tol must be < 1 (a relative error), got tol={tol!r}")

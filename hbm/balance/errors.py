@@ -18,7 +18,7 @@ periodic response of the physical system, at the point's frequency (``docs/valid
   ``|dX_1| <= e |F_1| / s_min(J)``.
 - ``peak``: the refined peak's amplitude is accepted within ``10 rtol`` of the sampled maximum.
 
-``J`` is the balance's Jacobian in the unknowns of the point (frequency fixed) and ``s_min`` its
+The estimate's element evaluations are counted in the result's ``nfev``.  ``J`` is the balance's Jacobian in the unknowns of the point (frequency fixed) and ``s_min`` its
 smallest singular value: a force error ``dF`` moves the response by at most ``|dF| / s_min``.
 The estimates are computed at ``NODES`` points spread along the branch, the sampled maximum and
 its neighbours, and interpolated between them in the branch's order; ``error_estimate`` is their
@@ -114,7 +114,16 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         else:
             s_min = float(np.linalg.svd(Jx, compute_uv=False)[-1])
             out["harmonics"][j] = _loop_truncation(fresh, el, a, w) / (s_min * a)
+    _count(problem, fresh, proxy)
     return out
+
+
+def _count(problem: HarmonicBalance, *helpers: HarmonicBalance | None) -> None:
+    """The estimate's element evaluations join the problem's counters (``FrequencyResponse.nfev``)."""
+    for h in helpers:
+        if h is not None:
+            problem.nfev += h.nfev
+            problem.nstuck += h.nstuck
 
 
 def _amplitude_change(Jx: NDArray, xc: float, xs: float, dp: float, dq: float) -> float:
@@ -183,6 +192,7 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
         out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
         out["element"][j] = rtol
         out["model"][j] = _model(problem, same, x, w, Jx) / a
+    _count(problem, same, more, finer)
     return out
 
 
