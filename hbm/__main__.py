@@ -162,16 +162,12 @@ def _interrupted_code(exc: BaseException) -> int:
 
 def _run_study(args, overrides) -> int:
     from .progress import ProgressLine
-    from .scenes import effect_lines, plan_scene
-    from .study import FILES, Study, read_records, run_study
+    from .study import FILES, Study, check_scene, read_records, run_study
 
-    study = Study.from_scene(args.scene, overrides=overrides)
-    if args.check:
-        print(f"scene {args.scene} is valid: a study of {len(study.points)} run(s) over "
-              f"{', '.join(study.parameters)}")
-        print("effects of run 1:")
-        print("\n".join(effect_lines(plan_scene(study.runner.scene(study.points[0])))))
+    if args.check:  # makes no run's point but the first: the same time for any number of runs
+        print("\n".join(check_scene(args.scene, overrides=overrides)))
         return 0
+    study = Study.from_scene(args.scene, overrides=overrides)
     folder = Path(args.out if args.out is not None else study.settings["folder"])
     line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
 
