@@ -124,9 +124,15 @@ def _run(args) -> int:
 def _compute(line, compute, kept, report) -> int:
     """Run ``compute()`` behind the progress ``line``; print ``report(result)``, or after Ctrl-C or
     SIGTERM ``kept()`` (what is on disk).  Returns the exit code."""
+    def interrupt_once(signum, frame):  # a second Ctrl-C must not cut the shutdown and its message short
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, interrupt_once)
     try:
         result = compute()
     except KeyboardInterrupt as exc:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # the process ends: say what was kept, once
         line.clear()
         print(f"{_stopped(exc)}: {kept()}", file=sys.stderr)
         return _interrupted_code(exc)
@@ -138,6 +144,9 @@ def _compute(line, compute, kept, report) -> int:
         line.clear()
         print(f"error: cannot write the outputs: {exc}", file=sys.stderr)
         return 1
+    finally:
+        if signal.getsignal(signal.SIGINT) is interrupt_once:
+            signal.signal(signal.SIGINT, previous)
     line.clear()
     print("\n".join(report(result)))
     return result.exit_code
