@@ -29,6 +29,7 @@ import numpy as np
 from .design import (DISTRIBUTIONS, MAX_RUNS, Distribution, Points, combine, grid, lognormal, normal, run_id,
                      samples, uniform)
 from .execute import DASK_MISSING, EXECUTORS, check_executor, cores, run_tasks
+from .lock import FolderInUse
 from .runs import RESULT_COLUMNS, SceneRun, execute, outcome
 from .store import FILES, StudyProgress, StudyResult, columns, read_records, run_into
 
@@ -227,8 +228,13 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
 
     Raises
     ------
+    FolderInUse
+        If another live process is writing a study into ``out`` (a ``ValueError``; nothing is
+        changed there).  The folder's ``study.lock`` holds this process's PID for the call and is
+        removed when it ends, however it ends; a lock left by a killed process is taken over.
     ValueError
-        For an unknown executor or invalid ``workers``, ``scheduler`` or ``formats``.
+        For an unknown executor or invalid ``workers``, ``scheduler`` or ``formats``, or a Dask
+        scheduler that cannot be reached or is not one (the folder is then left as it was).
     ImportError
         For ``executor="dask"`` without dask and distributed (the message says how to install them).
 
@@ -237,7 +243,9 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
     Points are drawn before any run starts and every run is the pure function
     :func:`hbm.study.runs.execute` of its point, so the table (apart from ``time_s``) is the same
     to the last bit on every executor.  Ctrl-C (KeyboardInterrupt) stops the workers and
-    propagates; every run finished before it is in ``runs.jsonl`` and ``study.partial.csv``.
+    propagates (a further Ctrl-C while the workers stop is ignored); every run finished before
+    it is in ``runs.jsonl`` and ``study.partial.csv``.  Worker processes end on their own within
+    a second when this process is killed (SIGKILL).
     """
     if not isinstance(study, Study):
         raise ValueError(f"study must be an hbm.study.Study, got study={study!r}")
@@ -262,13 +270,15 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
     local = executor in ("processes", "dask") and scheduler is None
     describe["workers"] = 1 if executor == "serial" else workers or (cores() if local else None)
 
-    def run(tasks, on_done):
-        return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler)
+    def run(tasks, on_done, on_start):
+        return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler,
+                         on_start=on_start)
 
     return run_into(study, folder, run=run, formats=formats, retry_failed=retry_failed, progress=progress,
                     describe=describe)
 
 
-__all__ = ["Study", "run_study", "check_scene", "MAX_RUNS", "Points", "StudyResult", "StudyProgress", "grid", "samples", "combine", "uniform", "normal",
-           "lognormal", "Distribution", "DISTRIBUTIONS", "SceneRun", "execute", "outcome", "run_id", "columns",
-           "read_records", "run_tasks", "cores", "EXECUTORS", "DASK_MISSING", "RESULT_COLUMNS", "FILES"]
+__all__ = ["Study", "run_study", "check_scene", "MAX_RUNS", "Points", "StudyResult", "StudyProgress", "grid",
+           "samples", "combine", "uniform", "normal", "lognormal", "Distribution", "DISTRIBUTIONS", "SceneRun",
+           "execute", "outcome", "run_id", "columns", "read_records", "run_tasks", "cores", "FolderInUse",
+           "EXECUTORS", "DASK_MISSING", "RESULT_COLUMNS", "FILES"]

@@ -421,5 +421,5 @@ def run_id(identity: Any, version: str) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:20]
 
 
-__all__ = ["MAX_RUNS", "Points", "Distribution", "uniform", "normal", "lognormal", "DISTRIBUTIONS", "grid", "samples", "combine",
-           "run_id"]
+__all__ = ["MAX_RUNS", "Points", "Distribution", "uniform", "normal", "lognormal", "DISTRIBUTIONS", "grid",
+           "samples", "combine", "run_id"]
