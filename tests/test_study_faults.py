@@ -129,7 +129,7 @@ def test_check_costs_the_same_for_any_number_of_runs_and_a_study_over_max_runs_i
         times[n] = time.monotonic() - t0
         assert done.returncode == 0, done.stderr
         assert f"a study of {n} run(s) over damper.mu" in done.stdout and "effects of run 1:" in done.stdout
-    assert times[MAX_RUNS] < times[10] + 1.0, times
+    assert times[MAX_RUNS] < 2.0 * times[10] + 1.0, times  # loose for a busy machine; it was over 120 s
     out = tmp_path / "out"
     for check in ((), ("--check",)):
         t0 = time.monotonic()
@@ -227,7 +227,7 @@ def _square(point):
     return {"peak_amplitude_m": point["x"] ** 2}
 
 
-def _contend(folder, start, results):
+def _contend(folder, start, finish, results):
     from hbm.study.lock import FolderInUse, acquire, release
 
     start.wait()
@@ -237,7 +237,7 @@ def _contend(folder, start, results):
         results.put(("refused", exc.pid))
         return
     results.put(("held", os.getpid()))
-    time.sleep(0.5)
+    finish.wait(30)  # held until every process has tried
     release(path)
 
 
@@ -250,12 +250,13 @@ def test_of_processes_that_find_one_stale_lock_at_once_exactly_one_takes_it(tmp_
     ctx = multiprocessing.get_context("fork")
     for _ in range(3):
         (tmp_path / "study.lock").write_text(f"{_dead_pid()}\n")
-        start, results = ctx.Event(), ctx.Queue()
-        procs = [ctx.Process(target=_contend, args=(tmp_path, start, results)) for _ in range(8)]
+        start, finish, results = ctx.Event(), ctx.Event(), ctx.Queue()
+        procs = [ctx.Process(target=_contend, args=(tmp_path, start, finish, results)) for _ in range(8)]
         for p in procs:
             p.start()
         start.set()
         got = [results.get(timeout=30) for _ in procs]
+        finish.set()
         for p in procs:
             p.join(timeout=30)
         held = [pid for what, pid in got if what == "held"]
@@ -297,15 +298,15 @@ def test_a_runs_jsonl_line_that_is_not_utf8_is_skipped_and_counted_like_a_cut_li
     is now one damaged line, skipped and counted as a line cut short is, and its run recomputed."""
     path = scene(tmp_path, 6)
     out = tmp_path / "out"
-    cmd = [sys.executable, "-m", "hbm", "run", str(path), "--out", str(out), "--quiet", "--executor", "serial"]
-    done = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=60)
-    assert done.returncode == 0, done.stderr
+    assert run_study(Study.from_scene(path), out, executor="serial", formats=("csv",)).success
     lines = (out / "runs.jsonl").read_bytes().splitlines(keepends=True)
     assert len(lines) == 6
     lines[2] = b'{"run": 3, "id": "\xff\xfe\xfd"}\n'  # not UTF-8
     lines[5] = lines[5][:40]  # cut short
     (out / "runs.jsonl").write_bytes(b"".join(lines))
-    done = subprocess.run(cmd, capture_output=True, text=True, env=ENV, timeout=60)
+    done = subprocess.run([sys.executable, "-m", "hbm", "run", str(path), "--out", str(out), "--quiet",
+                           "--executor", "serial", "--set", 'output.formats=["csv", "json"]'],
+                          capture_output=True, text=True, env=ENV, timeout=60)
     assert done.returncode == 0, done.stderr
     assert "2 computed now, 4 found in the folder" in done.stdout
     assert json.loads((out / "study.json").read_text())["damaged_lines"] == 2
@@ -349,9 +350,7 @@ def test_a_scheduler_that_is_not_dask_is_a_clear_error_and_leaves_the_folder_as_
     an earlier study keeps its outputs as they were (runs.jsonl was left empty)."""
     path = scene(tmp_path, 2)
     fresh, used = tmp_path / "fresh", tmp_path / "used"
-    done = subprocess.run([sys.executable, "-m", "hbm", "run", str(path), "--out", str(used), "--quiet",
-                           "--executor", "serial"], capture_output=True, text=True, env=ENV, timeout=60)
-    assert done.returncode == 0, done.stderr
+    assert run_study(Study.from_scene(path), used, executor="serial", formats=("csv", "json")).success
     before = sorted((p.name, p.read_bytes()) for p in used.iterdir())
     more = scene(tmp_path, 3, "three.toml")  # the 2 runs of the first and one more
     for out in (fresh, used):

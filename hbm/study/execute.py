@@ -75,12 +75,15 @@ def _watch_parent(period: float = PARENT_CHECK_S) -> threading.Thread:
     task from the pool's pipe never sees the pipe close (its siblings hold the other end).  The
     kernel gives an orphan a new parent, so ``os.getppid()`` changes: the thread then ends the
     process with ``os._exit`` (nothing is left to hand a result to)."""
+    from .lock import alive
+
     parent = os.getppid()
+    windows = os.name == "nt"  # no new parent there: ask whether the old one still runs
 
     def watch() -> None:
         while True:
             time.sleep(period)
-            if os.getppid() != parent:
+            if os.getppid() != parent or (windows and not alive(parent)):
                 os._exit(1)
 
     thread = threading.Thread(target=watch, name="hbm-study-parent-watch", daemon=True)

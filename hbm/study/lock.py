@@ -75,6 +75,8 @@ def alive(pid: int, started: str = "") -> bool:
     and known: its PID was reused)."""
     if pid == os.getpid():
         return True
+    if os.name == "nt":  # there os.kill(pid, 0) would send Ctrl-C (0 is CTRL_C_EVENT)
+        return _alive_windows(pid)
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
@@ -89,6 +91,20 @@ def alive(pid: int, started: str = "") -> bool:
     if fields[0] in ("Z", "X"):
         return False
     return not (started and _started(pid) and _started(pid) != started)
+
+
+def _alive_windows(pid: int) -> bool:
+    import ctypes
+
+    kernel32 = ctypes.windll.kernel32  # type: ignore[attr-defined]
+    handle = kernel32.OpenProcess(0x1000, False, pid)  # PROCESS_QUERY_LIMITED_INFORMATION
+    if not handle:
+        return ctypes.GetLastError() == 5  # type: ignore[attr-defined]  # access denied: it exists
+    try:
+        code = ctypes.c_ulong()
+        return not kernel32.GetExitCodeProcess(handle, ctypes.byref(code)) or code.value == 259  # STILL_ACTIVE
+    finally:
+        kernel32.CloseHandle(handle)
 
 
 def _held_by_other(path: Path) -> int | None:
@@ -120,9 +136,9 @@ def _move_stale(path: Path, pid: int | None) -> None:
 def acquire(folder: str | Path, *, wait_for_pid: float = 2.0) -> Path:
     """Create the lock of ``folder`` (which exists) for this process; its path.
 
-    Raises :class:`FolderInUse` if a live process holds it.  A lock file without a PID is
-    taken for one being written, for up to ``wait_for_pid`` seconds after it was last changed;
-    after that, or if its process is gone, it is stale and replaced.
+    Raises :class:`FolderInUse` if a live process holds it.  An empty lock file is taken for
+    one being written, for up to ``wait_for_pid`` seconds after it was made; after that, or if
+    it holds no PID, or if its process is gone, it is stale and replaced.
     """
     folder = Path(folder)
     path = Path(os.path.abspath(folder)) / LOCK
@@ -137,10 +153,11 @@ def acquire(folder: str | Path, *, wait_for_pid: float = 2.0) -> Path:
             pid = holder(path)
             if pid is None:
                 try:
-                    age = time.time() - path.stat().st_mtime
+                    st = path.stat()
                 except FileNotFoundError:
                     continue
-                if age < wait_for_pid and time.monotonic() - t0 < wait_for_pid:
+                young = time.time() - st.st_mtime < wait_for_pid and time.monotonic() - t0 < wait_for_pid
+                if st.st_size == 0 and young:
                     time.sleep(0.01)  # its creator is writing its PID
                     continue
             _move_stale(path, pid)
