@@ -364,7 +364,7 @@ def test_a_scheduler_that_is_not_dask_is_a_clear_error_and_leaves_the_folder_as_
 
 # 6. two quick Ctrl-C ------------------------------------------------------------------------------
 
-@pytest.mark.parametrize("to, tries", [("group", 3), ("process", 2)])
+@pytest.mark.parametrize("to, tries", [("group", 3), ("process", 1)])
 def test_two_ctrl_c_10_ms_apart_print_no_traceback_and_say_kept_once(tmp_path, to, tries):
     """Two SIGINTs 10 ms apart, to the process group (a terminal's Ctrl-C: the workers get it
     too) or to the study's process alone: one "kept N runs" message, no traceback, exit 130,
