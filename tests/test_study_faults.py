@@ -215,6 +215,12 @@ def test_a_stale_lock_is_taken_over_and_the_lock_is_released_on_error(tmp_path):
         sleeper.kill()
         sleeper.wait()
 
+    dead = _dead_pid()
+    (out / "study.lock").write_text(f"{dead}\n-\nanother-machine\n")  # a shared folder: not ours to judge
+    with pytest.raises(FolderInUse, match=f"process {dead} on another-machine holds"):
+        run_study(study, out, executor="serial", formats=("csv",))
+    (out / "study.lock").write_text(f"{dead}\n")
+
     def boom(progress):
         raise RuntimeError("a progress callback fails")
 

@@ -6,13 +6,16 @@ folder is refused at once with :class:`FolderInUse`, naming the folder and that 
 process is gone (``os.kill(pid, 0)`` fails; killed: SIGKILL, a power cut), or whose PID is now
 another process's (on Linux the file also holds the process's start time), is stale: it is
 moved aside with ``os.rename`` (atomic: of several processes only one moves a given file) and
-the lock created anew, as above.  The lock is removed when the study ends, however it ends (an error, Ctrl-C, SIGTERM).
+the lock created anew, as above.  A lock written on another host (a folder shared between
+machines) cannot be checked and is never taken for stale.  The lock is removed when the study
+ends, however it ends (an error, Ctrl-C, SIGTERM).
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import socket
 import time
 from pathlib import Path
 from typing import Iterator
@@ -32,9 +35,10 @@ class FolderInUse(ValueError):
         The PID of the process that holds its lock.
     """
 
-    def __init__(self, folder: Path, pid: int) -> None:
+    def __init__(self, folder: Path, pid: int, host: str = "") -> None:
         self.folder, self.pid = Path(folder), pid
-        super().__init__(f"the folder {self.folder} is in use by another study (process {pid} holds "
+        on = f" on {host}" if host and host != socket.gethostname() else ""
+        super().__init__(f"the folder {self.folder} is in use by another study (process {pid}{on} holds "
                          f"{self.folder / LOCK}): wait for it to end, or write into another folder (--out)")
 
 
@@ -61,12 +65,15 @@ def holder(path: str | Path) -> int | None:
 
 
 def _read(path: str | Path) -> tuple:
+    """``(pid, started, host)`` of a lock file (its words: the PID, the start time or "-", the
+    host name); ``(None, "", "")`` without a PID."""
     try:
-        words = Path(path).read_bytes().split()
+        words = [w.decode("utf-8", "replace") for w in Path(path).read_bytes().split()]
         pid = int(words[0])
     except (OSError, IndexError, ValueError):
-        return None, ""
-    return (pid if pid > 0 else None), (words[1].decode("ascii", "replace") if len(words) > 1 else "")
+        return None, "", ""
+    started = words[1] if len(words) > 1 and words[1] != "-" else ""
+    return (pid if pid > 0 else None), started, (words[2] if len(words) > 2 else "")
 
 
 def alive(pid: int, started: str = "") -> bool:
@@ -109,9 +116,11 @@ def _alive_windows(pid: int) -> bool:
 
 def _held_by_other(path: Path) -> int | None:
     """The PID of the live process, not this one, that holds the lock ``path``; None if stale."""
-    pid, started = _read(path)
+    pid, started, host = _read(path)
     if pid is None:
         return None
+    if host and host != socket.gethostname():  # a folder shared between machines: cannot look
+        return pid
     if pid == os.getpid():
         return pid if path in _HELD else None
     return pid if alive(pid, started) else None
@@ -149,7 +158,7 @@ def acquire(folder: str | Path, *, wait_for_pid: float = 2.0) -> Path:
         except FileExistsError:
             live = _held_by_other(path)
             if live is not None:
-                raise FolderInUse(folder, live) from None
+                raise FolderInUse(folder, live, _read(path)[2]) from None
             pid = holder(path)
             if pid is None:
                 try:
@@ -165,7 +174,7 @@ def acquire(folder: str | Path, *, wait_for_pid: float = 2.0) -> Path:
                 raise FolderInUse(folder, pid or 0) from None
             continue
         with os.fdopen(fd, "w") as fh:
-            fh.write(f"{os.getpid()} {_started(os.getpid())}\n")
+            fh.write(f"{os.getpid()}\n{_started(os.getpid()) or '-'}\n{socket.gethostname()}\n")
         _HELD.add(path)
         return path
 
