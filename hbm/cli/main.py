@@ -32,7 +32,7 @@ from ..scenes import (MODELS, REQUIRED, SceneError, effect_lines, load_scene, ou
                       plan_scene, run_scene, schema, summary_lines)
 from ..scenes.checks import dot, show
 from ..scenes.template import template
-from ..study import FILES, Study, read_records, run_study
+from ..study import FILES, Study, check_scene, read_records, run_study
 from .cases import Case, default_case
 from .progress import ProgressLine
 
@@ -131,9 +131,15 @@ def _run(args) -> int:
 def _compute(line, compute, kept, report) -> int:
     """Run ``compute()`` behind the progress ``line``; print ``report(result)``, or after Ctrl-C or
     SIGTERM ``kept()`` (what is on disk).  Returns the exit code."""
+    def interrupt_once(signum, frame):  # a second Ctrl-C must not cut the shutdown and its message short
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        raise KeyboardInterrupt
+
+    previous = signal.signal(signal.SIGINT, interrupt_once)
     try:
         result = compute()
     except KeyboardInterrupt as exc:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # the process ends: say what was kept, once
         line.clear()
         print(f"{_stopped(exc)}: {kept()}", file=sys.stderr)
         return _interrupted_code(exc)
@@ -145,6 +151,9 @@ def _compute(line, compute, kept, report) -> int:
         line.clear()
         print(f"error: cannot write the outputs: {exc}", file=sys.stderr)
         return 1
+    finally:
+        if signal.getsignal(signal.SIGINT) is interrupt_once:
+            signal.signal(signal.SIGINT, previous)
     line.clear()
     print("\n".join(report(result)))
     return result.exit_code
@@ -168,13 +177,10 @@ def _interrupted_code(exc: BaseException) -> int:
 
 
 def _run_study(args, overrides) -> int:
-    study = Study.from_scene(args.scene, overrides=overrides)
-    if args.check:
-        print(f"scene {args.scene} is valid: a study of {len(study.points)} run(s) over "
-              f"{', '.join(study.parameters)}")
-        print("effects of run 1:")
-        print("\n".join(effect_lines(plan_scene(study.runner.scene(study.points[0])))))
+    if args.check:  # makes no run's point but the first: the same time for any number of runs
+        print("\n".join(check_scene(args.scene, overrides=overrides)))
         return 0
+    study = Study.from_scene(args.scene, overrides=overrides)
     folder = Path(args.out if args.out is not None else study.settings["folder"])
     line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
 

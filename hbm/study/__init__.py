@@ -26,9 +26,10 @@ from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from .design import (DISTRIBUTIONS, Distribution, combine, grid, lognormal, normal, run_id, samples,
-                     uniform)
+from .design import (DISTRIBUTIONS, MAX_RUNS, Distribution, Points, combine, grid, lognormal, normal, run_id,
+                     samples, uniform)
 from .execute import DASK_MISSING, EXECUTORS, check_executor, cores, run_tasks
+from .lock import FolderInUse
 from .runs import RESULT_COLUMNS, SceneRun, execute, outcome
 from .store import FILES, StudyProgress, StudyResult, columns, read_records, run_into
 
@@ -57,7 +58,8 @@ class Study:
     Raises
     ------
     ValueError
-        If ``runner`` is not callable, ``points`` is empty, or the points' names differ.
+        If ``runner`` is not callable, ``points`` is empty or longer than :data:`MAX_RUNS`, or the
+        points' names differ.
     """
 
     runner: Callable[[Mapping[str, Any]], Any]
@@ -69,6 +71,8 @@ class Study:
     def __post_init__(self) -> None:
         if not callable(self.runner):
             raise ValueError(f"runner must be callable, got runner={self.runner!r}")
+        if len(self.points) > MAX_RUNS:  # refused before a single point is made
+            raise ValueError(f"points = {len(self.points)} runs, more than a study may make (MAX_RUNS = {MAX_RUNS})")
         self.points = [{k: v.item() if isinstance(v, np.generic) else v for k, v in p.items()} for p in self.points]
         if not self.points:
             raise ValueError("points must hold at least one point, got points=[]")
@@ -104,32 +108,91 @@ class Study:
 
         ``overrides`` as for :func:`hbm.scenes.load_scene`.  Raises :class:`hbm.scenes.SceneError`
         for an invalid scene, one without ``[study]``, or a point whose scene is invalid or makes
-        more than one run (every problem at once, naming the run).
+        more than one run (every problem at once, naming the run); ``ValueError`` for a study of
+        more than :data:`MAX_RUNS` runs.
         """
-        from ..scenes import SceneError, scene_from_dict
-        from ..scenes.validation import apply_overrides, read_toml
-
-        path = Path(path)
-        data = read_toml(path)
-        scene = scene_from_dict(data, path, overrides=overrides)
-        if scene.study is None:
-            raise SceneError([f"{path}: [study] is missing: a study needs study.grid or study.samples"])
-        runner = SceneRun(apply_overrides(data, overrides or {}), str(path))
+        scene, runner = _scene_study(path, overrides)
         problems = []
         for i, point in enumerate(scene.study["points"]):
-            try:
-                runner.scene(point)
-            except SceneError as exc:
-                where = ", ".join(f"{k} = {v!r}" for k, v in point.items())
-                problems += [f"run {i + 1} ({where}): {p}" for p in exc.problems]
-        if problems:
-            raise SceneError(list(dict.fromkeys(problems)))
+            problems += _problems(runner, i, point)
+        _refuse(problems)
         st = scene.study
         settings = {k: st.get(k) for k in ("executor", "workers", "scheduler")}
         settings.update(folder=scene.output["folder"], formats=scene.output["formats"])
         design = {"grid": st.get("grid"), "n": st.get("n"), "seed": st.get("seed"),
                   "samples": {k: d.as_dict() for k, d in (st.get("samples") or {}).items()} or None}
         return cls(runner, scene.study["points"], title=scene.title, settings=settings, design=design)
+
+
+def _scene_study(path: str | Path, overrides: Mapping[str, Any] | None) -> tuple:
+    """``(scene, runner)`` of a study scene; its points are made when asked for (``Points``)."""
+    from ..scenes import SceneError, scene_from_dict
+    from ..scenes.validation import apply_overrides, read_toml
+
+    path = Path(path)
+    data = read_toml(path)
+    scene = scene_from_dict(data, path, overrides=overrides)
+    if scene.study is None:
+        raise SceneError([f"{path}: [study] is missing: a study needs study.grid or study.samples"])
+    return scene, SceneRun(apply_overrides(data, overrides or {}), str(path))
+
+
+def _problems(runner: SceneRun, i: int, point: Mapping[str, Any]) -> list:
+    """The problems of the scene of run ``i + 1``, each naming the run."""
+    from ..scenes import SceneError
+
+    try:
+        runner.scene(point)
+    except SceneError as exc:
+        where = ", ".join(f"{k} = {v!r}" for k, v in point.items())
+        return [f"run {i + 1} ({where}): {p}" for p in exc.problems]
+    return []
+
+
+def _refuse(problems: list) -> None:
+    from ..scenes import SceneError
+
+    if problems:
+        raise SceneError(list(dict.fromkeys(problems)))
+
+
+def check_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) -> list[str]:
+    """Validate a study scene without making its runs: what ``python -m hbm run SCENE --check``
+    prints for a scene with ``[study]``.
+
+    It checks the scene, its ``[study]`` table, the number of runs (at most :data:`MAX_RUNS`)
+    and the scene of run 1, whose effects it lists; it costs the same for ten runs as for a
+    million, since no other run's point is made.  The scene of every run is checked when the
+    study starts (:meth:`Study.from_scene`).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The scene file.
+    overrides : mapping, optional
+        As for :func:`hbm.scenes.load_scene`.
+
+    Returns
+    -------
+    list of str
+        The lines to print.
+
+    Raises
+    ------
+    hbm.scenes.SceneError
+        For an invalid scene, one without ``[study]``, or an invalid scene of run 1.
+    ValueError
+        For a study of more than :data:`MAX_RUNS` runs.
+    """
+    from ..scenes import effect_lines, plan_scene
+
+    scene, runner = _scene_study(path, overrides)
+    points = scene.study["points"]
+    first = points[0]
+    _refuse(_problems(runner, 0, first))
+    return [f"scene {path} is valid: a study of {len(points)} run(s) over {', '.join(first)}",
+            "(checked: the scene, its [study] table and run 1; every run's scene is checked when the study starts)",
+            "effects of run 1:", *effect_lines(plan_scene(runner.scene(first)))]
 
 
 def run_study(study: Study, out: str | Path | None = None, *, executor: Any = None, workers: int | None = None,
@@ -165,8 +228,13 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
 
     Raises
     ------
+    FolderInUse
+        If another live process is writing a study into ``out`` (a ``ValueError``; nothing is
+        changed there).  The folder's ``study.lock`` holds this process's PID for the call and is
+        removed when it ends, however it ends; a lock left by a killed process is taken over.
     ValueError
-        For an unknown executor or invalid ``workers``, ``scheduler`` or ``formats``.
+        For an unknown executor or invalid ``workers``, ``scheduler`` or ``formats``, or a Dask
+        scheduler that cannot be reached or is not one (the folder is then left as it was).
     ImportError
         For ``executor="dask"`` without dask and distributed (the message says how to install them).
 
@@ -175,7 +243,9 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
     Points are drawn before any run starts and every run is the pure function
     :func:`hbm.study.runs.execute` of its point, so the table (apart from ``time_s``) is the same
     to the last bit on every executor.  Ctrl-C (KeyboardInterrupt) stops the workers and
-    propagates; every run finished before it is in ``runs.jsonl`` and ``study.partial.csv``.
+    propagates (a further Ctrl-C while the workers stop is ignored); every run finished before
+    it is in ``runs.jsonl`` and ``study.partial.csv``.  Worker processes end on their own within
+    a second when this process is killed (SIGKILL).
     """
     if not isinstance(study, Study):
         raise ValueError(f"study must be an hbm.study.Study, got study={study!r}")
@@ -200,13 +270,15 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
     local = executor in ("processes", "dask") and scheduler is None
     describe["workers"] = 1 if executor == "serial" else workers or (cores() if local else None)
 
-    def run(tasks, on_done):
-        return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler)
+    def run(tasks, on_done, on_start):
+        return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler,
+                         on_start=on_start)
 
     return run_into(study, folder, run=run, formats=formats, retry_failed=retry_failed, progress=progress,
                     describe=describe)
 
 
-__all__ = ["Study", "run_study", "StudyResult", "StudyProgress", "grid", "samples", "combine", "uniform", "normal",
-           "lognormal", "Distribution", "DISTRIBUTIONS", "SceneRun", "execute", "outcome", "run_id", "columns",
-           "read_records", "run_tasks", "cores", "EXECUTORS", "DASK_MISSING", "RESULT_COLUMNS", "FILES"]
+__all__ = ["Study", "run_study", "check_scene", "MAX_RUNS", "Points", "StudyResult", "StudyProgress", "grid",
+           "samples", "combine", "uniform", "normal", "lognormal", "Distribution", "DISTRIBUTIONS", "SceneRun",
+           "execute", "outcome", "run_id", "columns", "read_records", "run_tasks", "cores", "FolderInUse",
+           "EXECUTORS", "DASK_MISSING", "RESULT_COLUMNS", "FILES"]

@@ -8,13 +8,114 @@ A point is a dict ``{name: value}``; for a scene study the names are scene keys 
 from __future__ import annotations
 
 import hashlib
-import itertools
 import json
 import math
+from collections.abc import Sequence as _Sequence
 from dataclasses import dataclass
 from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
+
+#: The most runs a study may make (points of :func:`grid`, :func:`samples`, :func:`combine` and
+#: :class:`hbm.study.Study`); a larger one is refused before any point is made.
+MAX_RUNS = 1_000_000
+
+
+def _too_many(count: int, what: str, scene: str = "") -> None:
+    """Refuse ``count`` runs over :data:`MAX_RUNS`: ``what`` says what made them, ``scene`` the
+    scene keys that did."""
+    if count > MAX_RUNS:
+        raise ValueError(f"{what} = {count} runs, more than a study may make (MAX_RUNS = {MAX_RUNS}"
+                         + (f"; in a scene: {scene}" if scene else "") + ")")
+
+
+class Points(_Sequence):
+    """The points of a study, each made when it is asked for: what :func:`grid`, :func:`samples`
+    and :func:`combine` return.
+
+    A sequence of dicts (``len``, indexing, slicing, iteration) equal to the list of the same
+    dicts; ``+`` and ``*`` give lists.  Only the drawn numbers are stored (``n`` floats per
+    sampled parameter), so counting the runs of a large study, or making its first point,
+    costs the same as for a small one.
+
+    Examples
+    --------
+    >>> pts = grid({"a": [1, 2], "b": ["x", "y", "z"]})
+    >>> len(pts), pts[4], pts[-1] == {"a": 2, "b": "z"}
+    (6, {'a': 2, 'b': 'y'}, True)
+    >>> pts[:2]
+    [{'a': 1, 'b': 'x'}, {'a': 1, 'b': 'y'}]
+    """
+
+    __hash__ = None  # type: ignore[assignment]
+
+    def __init__(self, length: int, make: Callable[[int], dict]) -> None:
+        self._length = int(length)
+        self._make = make
+
+    def __len__(self) -> int:
+        return self._length
+
+    def __getitem__(self, index: Any) -> Any:
+        if isinstance(index, slice):
+            return [self._make(i) for i in range(*index.indices(self._length))]
+        i = int(index)
+        if i < 0:
+            i += self._length
+        if not 0 <= i < self._length:
+            raise IndexError(f"point index out of range: {index} of {self._length} points")
+        return self._make(i)
+
+    def __iter__(self):
+        return (self._make(i) for i in range(self._length))
+
+    def __eq__(self, other: Any) -> bool:
+        if not isinstance(other, _Sequence) or isinstance(other, (str, bytes)):
+            return NotImplemented
+        return len(self) == len(other) and all(a == b for a, b in zip(self, other))
+
+    def __add__(self, other: Any) -> list:
+        return list(self) + list(other)
+
+    def __radd__(self, other: Any) -> list:
+        return list(other) + list(self)
+
+    def __mul__(self, times: int) -> list:
+        return list(self) * times
+
+    __rmul__ = __mul__
+
+    def __repr__(self) -> str:
+        return repr(list(self))
+
+
+class _Grid:  # the i-th combination, the last name fastest (as itertools.product)
+    def __init__(self, names: list, values: list) -> None:
+        self.names, self.values = names, values
+
+    def __call__(self, i: int) -> dict:
+        out = {}
+        for name, vals in zip(reversed(self.names), reversed(self.values)):
+            i, j = divmod(i, len(vals))
+            out[name] = vals[j]
+        return {name: out[name] for name in self.names}
+
+
+class _Drawn:  # the i-th of the drawn values
+    def __init__(self, drawn: dict) -> None:
+        self.drawn = drawn
+
+    def __call__(self, i: int) -> dict:
+        return {name: float(v[i]) for name, v in self.drawn.items()}
+
+
+class _Joined:  # every point of first with every point of second, second fastest
+    def __init__(self, first: Sequence, second: Sequence) -> None:
+        self.first, self.second = first, second
+
+    def __call__(self, i: int) -> dict:
+        a, b = divmod(i, len(self.second))
+        return {**self.first[a], **self.second[b]}
 
 
 def _finite(name: str, value: Any, *, positive: bool = False) -> float:
@@ -182,14 +283,14 @@ def grid(axes: Mapping[str, Sequence[Any]]) -> list[dict]:
 
     Returns
     -------
-    list of dict
-        ``prod(len(values))`` points ``{name: value}``, names in the order of ``axes``; the first
-        name varies slowest.
+    Points
+        ``prod(len(values))`` points ``{name: value}`` (a sequence of dict, each made when asked
+        for), names in the order of ``axes``; the first name varies slowest.
 
     Raises
     ------
     ValueError
-        If ``axes`` is empty or a name has no values.
+        If ``axes`` is empty, a name has no values, or the points are more than :data:`MAX_RUNS`.
 
     Examples
     --------
@@ -206,7 +307,10 @@ def grid(axes: Mapping[str, Sequence[Any]]) -> list[dict]:
         if not vals:
             raise ValueError(f"grid: parameter {name!r} has no values, got {name}={vals!r}")
         values.append([v.item() if isinstance(v, np.generic) else v for v in vals])
-    return [dict(zip(axes, combo)) for combo in itertools.product(*values)]
+    count = math.prod(len(v) for v in values)
+    _too_many(count, "grid: " + " x ".join(f"{name} ({len(v)} values)" for name, v in zip(axes, values)),
+              "study.grid")
+    return Points(count, _Grid(list(axes), values))
 
 
 def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> list[dict]:
@@ -226,14 +330,16 @@ def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> 
 
     Returns
     -------
-    list of dict
-        ``n`` points ``{name: float}``.
+    Points
+        ``n`` points ``{name: float}`` (a sequence of dict, each made when asked for; the values
+        are drawn here).
 
     Raises
     ------
     ValueError
-        For ``n < 1``, a negative or non-integer ``seed``, empty ``distributions``, or a value
-        that is not a :class:`Distribution`.
+        For ``n < 1`` or ``n`` more than :data:`MAX_RUNS` (nothing is drawn), a negative or
+        non-integer ``seed``, empty ``distributions``, or a value that is not a
+        :class:`Distribution`.
 
     Examples
     --------
@@ -243,6 +349,7 @@ def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> 
     """
     if isinstance(n, bool) or not isinstance(n, (int, np.integer)) or n < 1:
         raise ValueError(f"samples needs an integer n >= 1, got n={n!r}")
+    _too_many(int(n), "samples: n", f"study.n = {int(n)}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"samples needs an integer seed >= 0, got seed={seed!r}")
     if not distributions:
@@ -253,7 +360,7 @@ def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> 
         if not isinstance(dist, Distribution):
             raise ValueError(f"samples: {name} must be a Distribution (uniform, normal, lognormal), got {dist!r}")
         drawn[name] = dist.draw(rng, int(n))
-    return [{name: float(v[i]) for name, v in drawn.items()} for i in range(int(n))]
+    return Points(int(n), _Drawn(drawn))
 
 
 def combine(first: Sequence[dict], second: Sequence[dict]) -> list[dict]:
@@ -270,15 +377,22 @@ def combine(first: Sequence[dict], second: Sequence[dict]) -> list[dict]:
 
     Returns
     -------
-    list of dict
-        ``len(first) * len(second)`` points.
+    Points
+        ``len(first) * len(second)`` points (a sequence of dict, each made when asked for).
+
+    Raises
+    ------
+    ValueError
+        If they are more than :data:`MAX_RUNS`.
 
     Examples
     --------
     >>> combine([{"a": 1}, {"a": 2}], [{"b": 3}])
     [{'a': 1, 'b': 3}, {'a': 2, 'b': 3}]
     """
-    return [{**p, **q} for p in first for q in second]
+    _too_many(len(first) * len(second), f"combine: {len(first)} x {len(second)} points",
+              f"the points of study.grid x study.n = {len(second)}")
+    return Points(len(first) * len(second), _Joined(first, second))
 
 
 def run_id(identity: Any, version: str) -> str:
@@ -307,5 +421,5 @@ def run_id(identity: Any, version: str) -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:20]
 
 
-__all__ = ["Distribution", "uniform", "normal", "lognormal", "DISTRIBUTIONS", "grid", "samples", "combine",
-           "run_id"]
+__all__ = ["MAX_RUNS", "Points", "Distribution", "uniform", "normal", "lognormal", "DISTRIBUTIONS", "grid",
+           "samples", "combine", "run_id"]

@@ -11,10 +11,13 @@ retries a dead worker's runs on the others first).
 from __future__ import annotations
 
 import concurrent.futures as cf
+import contextlib
 import functools
 import os
 import signal
-from typing import Any, Callable, Mapping, Sequence
+import threading
+import time
+from typing import Any, Callable, Iterator, Mapping, Sequence
 
 from .runs import execute
 
@@ -51,10 +54,71 @@ def check_executor(executor: Any, workers: int | None, scheduler: str | None) ->
                          f"scheduler={scheduler!r} with executor={executor!r}")
 
 
+#: Seconds between two looks of a worker process at its parent (it ends when the parent is gone).
+PARENT_CHECK_S = 0.2
+
+
 def _worker_init() -> None:
-    """A worker process leaves Ctrl-C to its parent (which stops it) and dies on SIGTERM."""
+    """A worker process leaves Ctrl-C to its parent (which stops it), dies on SIGTERM, and ends
+    on its own when its parent is gone (:func:`_watch_parent`)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if hasattr(signal, "pthread_sigmask"):  # blocked by the parent while it started us (_sigint_blocked)
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+    _watch_parent()
+
+
+def _watch_parent(period: float = PARENT_CHECK_S) -> threading.Thread:
+    """Start a daemon thread that ends this process as soon as its parent is gone.
+
+    A parent killed by SIGKILL cannot stop its workers, and a worker blocked reading its next
+    task from the pool's pipe never sees the pipe close (its siblings hold the other end).  The
+    kernel gives an orphan a new parent, so ``os.getppid()`` changes: the thread then ends the
+    process with ``os._exit`` (nothing is left to hand a result to)."""
+    from .lock import alive
+
+    parent = os.getppid()
+    windows = os.name == "nt"  # no new parent there: ask whether the old one still runs
+
+    def watch() -> None:
+        while True:
+            time.sleep(period)
+            if os.getppid() != parent or (windows and not alive(parent)):
+                os._exit(1)
+
+    thread = threading.Thread(target=watch, name="hbm-study-parent-watch", daemon=True)
+    thread.start()
+    return thread
+
+
+@contextlib.contextmanager
+def _sigint_blocked() -> Iterator[None]:
+    """Hold Ctrl-C back (``pthread_sigmask``) while worker processes start: a process started
+    now inherits the mask and ignores Ctrl-C before unblocking it (:func:`_worker_init`), so a
+    Ctrl-C at the start prints no worker's traceback; this process gets it once unblocked."""
+    if not hasattr(signal, "pthread_sigmask") or threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+@contextlib.contextmanager
+def _sigint_deferred() -> Iterator[None]:
+    """Let a further Ctrl-C pass unheeded while an interrupted study stops its workers: the first
+    one is already on its way up, and a second must not cut the cleanup short (it would leave
+    workers running and print a second traceback)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: None)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Executor, Callable[[], None]]:
@@ -70,6 +134,10 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
             client, cluster = Client(scheduler), None
         except OSError as exc:  # refused, unreachable, timed out
             raise ValueError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
+        except Exception as exc:  # noqa: BLE001 - something answered that does not speak Dask's protocol
+            what = f"{type(exc).__name__}: {exc}"
+            raise ValueError(f"cannot use the Dask scheduler at scheduler={scheduler!r}: what answers there is "
+                             f"not a Dask scheduler (reading its answer failed with {what[:200]})") from None
     else:
         cluster = LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,
                                dashboard_address=":0")
@@ -97,7 +165,7 @@ def _stop(pool: cf.Executor) -> None:
 
 def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[int, Mapping[str, Any]]],
               on_done: Callable[[int, dict], None], *, executor: Any = "processes", workers: int | None = None,
-              scheduler: str | None = None) -> list[tuple[int, str]]:
+              scheduler: str | None = None, on_start: Callable[[], None] | None = None) -> list[tuple[int, str]]:
     """Run ``execute(runner, point)`` for each ``(index, point)`` of ``tasks``; ``on_done(index,
     record)`` in this process as each finishes.  Returns the runs lost (not computed) as
     ``[(index, reason)]``: a worker process that died, a cluster that failed.
@@ -105,7 +173,8 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     ``executor``: "serial" (here, in order), "processes" (a ``ProcessPoolExecutor`` of ``workers``
     processes, default every core), "dask" (``dask_executor``) or an executor instance (used, not
     shut down).  KeyboardInterrupt (and anything raised by ``on_done``) stops the workers and
-    propagates; what ``on_done`` was given is kept.
+    propagates; what ``on_done`` was given is kept; a further Ctrl-C while the workers are
+    stopped is ignored.  Worker processes end on their own when this process is killed.
 
     Parameters
     ----------
@@ -122,6 +191,9 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
         Worker processes (>= 1); default every core (``cores()``), at most one per task.
     scheduler : str, optional
         Address of a running Dask scheduler; only with ``executor="dask"``.
+    on_start : callable, optional
+        Called once with no argument when the executor is up, before the first run (also when
+        ``tasks`` is empty); not called if the executor cannot start.
 
     Returns
     -------
@@ -148,22 +220,34 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     """
     check_executor(executor, workers, scheduler)
     fn = functools.partial(execute, runner)
+    start = on_start if on_start is not None else (lambda: None)
     if executor == "serial" or (executor == "processes" and workers == 1):
+        start()
         for index, point in tasks:
             on_done(index, fn(point))
         return []
     if not tasks:
+        start()
         return []
     close = None
+    first = 0  # tasks submitted with Ctrl-C held back: those that start the worker processes
     if executor == "processes":
-        pool = cf.ProcessPoolExecutor(max_workers=workers or min(cores(), len(tasks)), initializer=_worker_init)
+        first = workers or min(cores(), len(tasks))
+        pool = cf.ProcessPoolExecutor(max_workers=first, initializer=_worker_init)
     elif executor == "dask":
         pool, close = dask_executor(workers, scheduler)
     else:
         pool = executor
     lost = []
+    interrupted = False
     try:
-        futures = {pool.submit(fn, point): index for index, point in tasks}
+        start()
+        futures = {}
+        with _sigint_blocked() if first else contextlib.nullcontext():
+            for index, point in tasks[:first]:
+                futures[pool.submit(fn, point)] = index
+        for index, point in tasks[first:]:
+            futures[pool.submit(fn, point)] = index
         for fut in cf.as_completed(futures):
             exc = fut.exception()
             if exc is None:
@@ -171,15 +255,17 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
             else:
                 lost.append((futures[fut], f"{type(exc).__name__}: {exc}".rstrip(": ")))
     except BaseException:
-        if executor == "processes":
-            _stop(pool)
+        interrupted = True
         raise
     finally:
-        if close is not None:
-            close()
-        elif executor == "processes":
-            pool.shutdown(wait=True, cancel_futures=True)
+        with _sigint_deferred() if interrupted else contextlib.nullcontext():
+            if interrupted and executor == "processes":
+                _stop(pool)
+            if close is not None:
+                close()
+            elif executor == "processes":
+                pool.shutdown(wait=True, cancel_futures=True)
     return sorted(lost)
 
 
-__all__ = ["EXECUTORS", "DASK_MISSING", "cores", "check_executor", "dask_executor", "run_tasks"]
+__all__ = ["EXECUTORS", "DASK_MISSING", "PARENT_CHECK_S", "cores", "check_executor", "dask_executor", "run_tasks"]

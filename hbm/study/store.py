@@ -7,7 +7,8 @@ Files (``docs/studies.md``):
 - ``study.partial.csv`` while runs are missing, ``study.csv`` once every run is recorded: the
   tidy table, one row per run (:func:`columns`);
 - ``study.json`` (written last, atomically): the summary and the table without curves;
-- ``study.png``: the figure (``hbm.study.figures``).
+- ``study.png``: the figure (``hbm.study.figures``);
+- ``study.lock`` while a study writes there: the PID of its process (``hbm.study.lock``).
 
 A run is named by :func:`hbm.study.design.run_id` of its inputs and the library version; a
 rerun into the same folder reuses the records whose id it finds and computes the rest (failed
@@ -16,6 +17,7 @@ runs again when ``retry_failed``).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import time
@@ -26,11 +28,12 @@ from typing import Any, Callable
 import numpy as np
 
 from ..output import CsvStream
+from .lock import LOCK, hold
 from .runs import RESULT_COLUMNS
 
 #: File names in a study's folder.
 FILES = {"records": "runs.jsonl", "csv": "study.csv", "partial": "study.partial.csv", "json": "study.json",
-         "png": "study.png"}
+         "png": "study.png", "lock": LOCK}
 
 
 def columns(parameters: tuple) -> tuple:
@@ -72,8 +75,8 @@ def csv_row(record: dict, parameters: tuple) -> list[str]:
 
 
 def read_records(path: str | Path) -> dict:
-    """``{id: record}`` of a ``runs.jsonl`` (the last record of an id wins); a line cut short by
-    an interruption, or not a record, is skipped.
+    """``{id: record}`` of a ``runs.jsonl`` (the last record of an id wins); a damaged line (cut
+    short by an interruption, not UTF-8, not JSON, or not a record) is skipped.
 
     Parameters
     ----------
@@ -93,19 +96,43 @@ def read_records(path: str | Path) -> dict:
     >>> sorted(read_records(path))
     ['a', 'b']
     """
-    out = {}
+    return scan_records(path)[0]
+
+
+def scan_records(path: str | Path) -> tuple[dict, int]:
+    """``(records, damaged)``: :func:`read_records` and the number of damaged lines it skipped.
+
+    The file is read as bytes and each line decoded as UTF-8 on its own, so one line that is not
+    UTF-8 (a disk fault, a foreign write) is one damaged line like any other.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "runs.jsonl"
+    >>> _ = path.write_bytes(b'{"id": "a"}\\n\\xff\\xfe\\n[1, 2]\\n{"id": "b"}\\n{"id": "c", "ru')
+    >>> records, damaged = scan_records(path)
+    >>> sorted(records), damaged
+    (['a', 'b'], 3)
+    """
+    out: dict = {}
+    damaged = 0
     try:
-        lines = Path(path).read_text().splitlines()
+        data = Path(path).read_bytes()
     except FileNotFoundError:
-        return out
-    for line in lines:
+        return out, damaged
+    for line in data.split(b"\n"):
+        if not line.strip():
+            continue
         try:
-            rec = json.loads(line)
-        except json.JSONDecodeError:
+            rec = json.loads(line.decode("utf-8"))
+        except (UnicodeDecodeError, json.JSONDecodeError):
+            damaged += 1
             continue
         if isinstance(rec, dict) and isinstance(rec.get("id"), str):
             out[rec["id"]] = rec
-    return out
+        else:
+            damaged += 1
+    return out, damaged
 
 
 @dataclass
@@ -183,6 +210,9 @@ class StudyResult:
         Wall-clock time of the call, in s.
     summary : dict
         The summary written to ``study.json``.
+    damaged : int
+        Damaged lines of the folder's ``runs.jsonl`` skipped when it was read (cut short, not
+        UTF-8, not JSON, not a record); they are dropped from it.
 
     Examples
     --------
@@ -200,6 +230,7 @@ class StudyResult:
     lost: list  #: ``[(run number, reason)]`` of runs not computed
     elapsed: float
     summary: dict = field(default_factory=dict)
+    damaged: int = 0  #: damaged lines of runs.jsonl skipped (cut short, not UTF-8, not a record)
 
     @property
     def complete(self) -> bool:
@@ -260,60 +291,89 @@ def _write_json(path: Path, data: Any) -> Path:
 
 def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_failed: bool,
              progress: Callable[[StudyProgress], None] | None, describe: dict) -> StudyResult:
-    """The bookkeeping of :func:`hbm.study.run_study`: reuse, record, write.  ``run(tasks,
-    on_done)`` computes ``tasks`` (an executor of ``hbm.study.execute``) and returns the lost runs."""
-    t_start = time.perf_counter()
+    """The bookkeeping of :func:`hbm.study.run_study`: lock, reuse, record, write.
+
+    ``run(tasks, on_done, on_start)`` computes ``tasks`` (an executor of ``hbm.study.execute``),
+    calls ``on_start()`` once, when its executor is up and before the first run, and returns the
+    lost runs.  Nothing in the folder changes before ``on_start``: a study whose executor cannot
+    start (a Dask scheduler that cannot be reached) leaves the folder as it was (and no folder
+    where there was none).  The folder is locked for the call (:mod:`hbm.study.lock`):
+    :class:`hbm.study.lock.FolderInUse` if another process writes a study there.
+    """
+    created = not folder.exists()
     folder.mkdir(parents=True, exist_ok=True)
+    started: list = []
+    try:
+        with hold(folder):
+            return _run_locked(study, folder, run, formats, retry_failed, progress, describe, started)
+    finally:
+        if created and not started:
+            with contextlib.suppress(OSError):
+                folder.rmdir()  # only if empty
+
+
+def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_failed: bool,
+                progress: Callable[[StudyProgress], None] | None, describe: dict, started: list) -> StudyResult:
+    t_start = time.perf_counter()
     ids = study.ids()
     params = study.parameters
-    old = read_records(folder / FILES["records"])
+    log_path = folder / FILES["records"]
+    old, damaged = scan_records(log_path)
     records: list = [None] * len(ids)
     for i, rid in enumerate(ids):
         rec = old.get(rid)
         if rec is not None and (rec.get("success") or not retry_failed):
             records[i] = {**rec, "run": i + 1, "params": study.points[i]}
     reused = sum(r is not None for r in records)
-    for key in ("csv", "partial", "json", "png"):  # outputs of an earlier run of this folder
-        (folder / FILES[key]).unlink(missing_ok=True)
-    log_path = folder / FILES["records"]
-    tmp = log_path.with_name(log_path.name + ".tmp")  # keep only this study's records, atomically
-    tmp.write_text("".join(json.dumps(r) + "\n" for r in records if r is not None))
-    tmp.replace(log_path)
-    stream = CsvStream(folder / FILES["partial"], columns(params)) if "csv" in formats else None
     counts = {"points": reused, "failed": sum(not r["success"] for r in records if r is not None)}
-    log = log_path.open("a")
-    try:
+    out: dict = {}  # "log", "stream": open once the executor is up
+
+    def on_start() -> None:
+        if started:
+            return
+        started.append(True)
+        for key in ("csv", "partial", "json", "png"):  # outputs of an earlier run of this folder
+            (folder / FILES[key]).unlink(missing_ok=True)
+        tmp = log_path.with_name(log_path.name + ".tmp")  # keep only this study's records, atomically
+        tmp.write_text("".join(json.dumps(r) + "\n" for r in records if r is not None))
+        tmp.replace(log_path)
+        out["stream"] = stream = CsvStream(folder / FILES["partial"], columns(params)) if "csv" in formats else None
+        out["log"] = log_path.open("a")
         if stream is not None:
             for r in records:
                 if r is not None:
                     stream.write(csv_row(r, params))
 
-        def on_done(i: int, rec: dict) -> None:
-            rec = {"run": i + 1, "id": ids[i], "params": study.points[i], **rec}
-            log.write(json.dumps(rec) + "\n")
-            log.flush()
-            if stream is not None:
-                stream.write(csv_row(rec, params))
-            records[i] = rec
-            counts["points"] += 1
-            counts["failed"] += not rec["success"]
-            if progress is not None:
-                progress(StudyProgress(counts["points"], len(ids), counts["failed"], reused,
-                                       time.perf_counter() - t_start))
+    def on_done(i: int, rec: dict) -> None:
+        rec = {"run": i + 1, "id": ids[i], "params": study.points[i], **rec}
+        out["log"].write(json.dumps(rec) + "\n")
+        out["log"].flush()
+        if out["stream"] is not None:
+            out["stream"].write(csv_row(rec, params))
+        records[i] = rec
+        counts["points"] += 1
+        counts["failed"] += not rec["success"]
+        if progress is not None:
+            progress(StudyProgress(counts["points"], len(ids), counts["failed"], reused,
+                                   time.perf_counter() - t_start))
 
-        lost = run([(i, study.points[i]) for i, r in enumerate(records) if r is None], on_done)
+    try:
+        lost = run([(i, study.points[i]) for i, r in enumerate(records) if r is None], on_done, on_start)
+        on_start()  # a run() that had nothing to start
     finally:
-        log.close()
-        if stream is not None:
-            stream.close()
+        if out.get("log") is not None:
+            out["log"].close()
+        if out.get("stream") is not None:
+            out["stream"].close()
+    stream = out["stream"]
     result = StudyResult(params, records, {}, counts["points"] - reused, reused,
-                         [(i + 1, why) for i, why in lost], time.perf_counter() - t_start)
+                         [(i + 1, why) for i, why in lost], time.perf_counter() - t_start, damaged=damaged)
     if stream is not None:
         result.files["csv"] = folder / FILES["partial"]
         if result.complete:
-            with CsvStream(folder / (FILES["csv"] + ".tmp"), columns(params)) as out:
+            with CsvStream(folder / (FILES["csv"] + ".tmp"), columns(params)) as csv_out:
                 for r in records:
-                    out.write(csv_row(r, params))
+                    csv_out.write(csv_row(r, params))
             result.files["csv"] = (folder / (FILES["csv"] + ".tmp")).replace(folder / FILES["csv"])
             (folder / FILES["partial"]).unlink()
     result.files["records"] = log_path
@@ -326,8 +386,8 @@ def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_f
     result.summary = {**describe, "status": "success" if result.success else "failed", "message": result.message,
                       "runs": len(records), "succeeded": ok, "failed": counts["failed"],
                       "not_computed": sum(r is None for r in records), "computed": result.computed,
-                      "reused": reused, "lost": [list(x) for x in result.lost], "elapsed_s": result.elapsed,
-                      "columns": list(result.columns),
+                      "reused": reused, "lost": [list(x) for x in result.lost], "damaged_lines": damaged,
+                      "elapsed_s": result.elapsed, "columns": list(result.columns),
                       "outputs": {k: str(v) for k, v in result.files.items()}, "table": result.rows}
     if "json" in formats:
         result.files["json"] = folder / FILES["json"]
@@ -336,4 +396,4 @@ def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_f
     return result
 
 
-__all__ = ["FILES", "columns", "csv_row", "read_records", "StudyProgress", "StudyResult", "run_into"]
+__all__ = ["FILES", "columns", "csv_row", "read_records", "scan_records", "StudyProgress", "StudyResult", "run_into"]
