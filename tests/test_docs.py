@@ -89,6 +89,60 @@ def test_api_pages_name_every_public_name(tmp_path):
                     assert name in _directives(text) or f"{package}.{name}" in _directives(text)
 
 
+def _public_modules():
+    """Every public module of both packages, listed from the code: no part of its dotted name starts
+    with ``_``, and it is not a deprecated old-path shim (whose source calls ``moved_module(__name__``
+    or ``warn_moved(__name__``)."""
+    import pkgutil
+
+    found = []
+    for root in ("contact_models", "hbm"):
+        package = importlib.import_module(root)
+        files = [(root, package.__file__)] + [(m.name, m.module_finder.find_spec(m.name).origin)
+                                              for m in pkgutil.walk_packages(package.__path__, root + ".")]
+        for name, origin in files:  # the file on disk: an imported shim's sys.modules entry is its target
+            if any(part.startswith("_") for part in name.split(".")):
+                continue
+            source = Path(origin).read_text()
+            if "moved_module(__name__" not in source and "warn_moved(__name__" not in source:
+                found.append(name)
+    return found
+
+
+def test_api_reference_has_a_page_for_every_public_module(tmp_path):
+    pytest.importorskip("sphinx", reason="the docs extra (pip install -e '.[docs]'); .ci/run installs it")
+    modules = _public_modules()
+    assert {"hbm.balance.stability", "contact_models.model_range", "hbm.balance.presets",
+            "contact_models.numerics.roots", "hbm.reference.shooting"} <= set(modules)
+    documented = fd.write_api_pages(tmp_path)
+    automodules = set()
+    for page in tmp_path.glob("*.rst"):
+        automodules |= set(re.findall(r"^\.\. automodule:: (\S+)", page.read_text(), re.MULTILINE))
+    missing = [m for m in modules if m not in automodules]
+    assert not missing, f"public modules without a page in the API reference: {missing}"
+    assert set(modules) <= set(documented["modules"])
+    index = (tmp_path / "index.rst").read_text()
+    for module in modules:  # every page is reachable from the reference's index
+        assert f"   {module}\n" in index or any(f"   {module}\n" in (tmp_path / f"{p}.rst").read_text()
+                                                for p in fd.PACKAGES), module
+
+
+def test_built_reference_names_every_public_module():
+    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
+    if not html:
+        pytest.skip("set FRICTIONDAMP_DOCS_HTML to a built site (.ci/run does) to check its inventory")
+    from sphinx.util.inventory import InventoryFile
+
+    path = Path(html)
+    path = path if path.is_absolute() else ROOT / path
+    with open(path / "objects.inv", "rb") as f:
+        inventory = InventoryFile.load(f, str(path), lambda base, uri: uri)
+    data = inventory.data if hasattr(inventory, "data") else inventory
+    modules = set(data.get("py:module", {}))
+    missing = [m for m in _public_modules() if m not in modules]
+    assert not missing, f"public modules not in the built reference: {missing}"
+
+
 def test_every_public_class_and_function_has_a_docstring():
     for package in PACKAGES:
         module = importlib.import_module(package)
