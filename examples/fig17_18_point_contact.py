@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from paper_figures import DEFAULT_OUTDIR, amplitude_grid, new_figure, save, setup
+from paper_figures import DEFAULT_OUTDIR, amplitude_grid, new_figure, save, setup, show
 
 from contact_models.point_contact import PointContact
 
@@ -84,4 +84,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

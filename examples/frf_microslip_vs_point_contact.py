@@ -32,7 +32,7 @@ from hbm import frequency_response  # noqa: E402
 from hbm.cli.cases import default_case  # noqa: E402
 from hbm.balance.residual import linear_response  # noqa: E402
 
-from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
+from paper_figures import DEFAULT_OUTDIR, display_path  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 #: Normal loads (N) drawn.
 LOADS = (50.0, 100.0, 200.0, 400.0)
 
@@ -85,4 +85,4 @@ if __name__ == "__main__":
     out = main()
     for N, (m, p) in out["peaks"].items():
         print(f"N = {N:6g} N: peak amplitude microslip {m:.4e} m, point contact {p:.4e} m (ratio {m / p:.3f})")
-    print(f"wrote {out['path']}")
+    print(f"wrote {display_path(out['path'])}")
