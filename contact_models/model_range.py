@@ -1,4 +1,4 @@
-"""Where the single-mode elements hold, and the warning they give outside it (issue 13).
+"""Where the single-mode elements hold, and the warning they give outside it.
 
 The single-mode dynamic elements (``TwoRegionMicroslip``, ``ThreeRegionMicroslip``) neglect the
 phase differences along the bar.  Their error against the all-mode bar (``AllModeMicroslip``),

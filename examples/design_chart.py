@@ -2,7 +2,7 @@
 ====================================================
 
 The damper design chart: resonant amplitude of the blade against the damper's normal load,
-for the microslip, point-contact and macroslip models (issue 4, example b).
+for the microslip, point-contact and macroslip models.
 
 Blade: the default case of ``python -m hbm`` (stuck resonance at 0.3 omega_c, zeta = 2e-3,
 F = 8 N).  Dampers at normal load N:

@@ -19,7 +19,7 @@ from paper_figures import DEFAULT_OUTDIR, amplitude_grid, new_figure, save, setu
 
 from contact_models.point_contact import PointContact
 
-#: Multiples of the gross-slip amplitude at which the two models are compared (issue 3).
+#: Multiples of the gross-slip amplitude at which the two models are compared.
 GROSS_MULTIPLES = (3.0, 10.0, 30.0)
 #: Line styles of the paper: solid microslip, dashed point contact.
 MICRO_STYLE = dict(ls="-", color="k")

@@ -2,7 +2,7 @@
 ===============================================
 
 FRFs of the blade with a two-region microslip damper and with its fitted point contact,
-at several normal loads, on one figure (issue 4, example a).
+at several normal loads, on one figure.
 
 The blade is the default case of ``python -m hbm`` (``hbm.cli.cases.default_case``: stuck resonance
 at 0.3 omega_c, zeta = 2e-3, F = 8 N); the damper is ``TwoRegionMicroslip(bar,

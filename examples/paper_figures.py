@@ -35,7 +35,7 @@ from contact_models import (  # noqa: E402
     UniformLoad,
 )
 
-#: The bar of every figure (DESIGN.md).
+#: The bar of every figure (the reference bar of docs/theory.md).
 BAR_PARAMETERS = dict(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 #: Total normal load (N) of both elements.
 NORMAL_LOAD = 100.0

@@ -1,10 +1,10 @@
 """Where the single-mode elements hold: the validity map
 =====================================================
 
-Where the single-mode elements hold: their F_s, F_c error against AllModeMicroslip (issue 13).
+Where the single-mode elements hold: their F_s, F_c error against AllModeMicroslip.
 
 For bars with lambda L in {0.3, 1, 3, 10} and beta L/EA in {0.1, 1, 10}, every pair (E, rho, A,
-L, mu of the DESIGN.md bar; k = (lambda L / L)^2 EA, beta = (beta L/EA) EA/L), the uniform load
+L, mu of the reference bar, ``E = 2e11, rho = 7850, A = 1e-5, L = 0.05, mu = 0.3``; k = (lambda L / L)^2 EA, beta = (beta L/EA) EA/L), the uniform load
 (TwoRegionMicroslip) and the concave load of ratio 12 (ThreeRegionMicroslip), over a/a_min in
 [0.5, 100] (a_min the element's static slip amplitude) and omega/omega_c in [0.01, 0.95]::
 
@@ -53,7 +53,7 @@ DATA = MAP_FILE
 CHECK = Path(__file__).resolve().parent.parent / "docs" / "data" / "validity_check.csv"
 E, RHO, A, L, MU = 2.0e11, 7850.0, 1.0e-5, 0.05, 0.3
 EA = E * A
-#: lambda L and beta L/EA of the bars, every pair (the DESIGN.md bar is (1, 1)).
+#: lambda L and beta L/EA of the bars, every pair (the reference bar is (1, 1)).
 LAMBDA_L = (0.3, 1.0, 3.0, 10.0)
 BETA_L = (0.1, 1.0, 10.0)
 BARS = tuple((lL, bL) for lL in LAMBDA_L for bL in BETA_L)

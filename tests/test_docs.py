@@ -244,3 +244,51 @@ def test_getting_started_scripts_run_and_print_what_the_page_says(tmp_path, monk
     other = namespace["pc"].peak()
     assert (other.omega, other.amplitude) == pytest.approx((39697.0, 2.195e-6), rel=5e-4)
     assert (tmp_path / "frf.csv").is_file()
+
+
+#: A citation of a document that is not in the repository, or of a tracker's issue number.
+INTERNAL_CITATION = re.compile(r"DESIGN\.md|CONTRACT\.md|\bissues? [0-9]+|\bissue-[0-9]+", re.IGNORECASE)
+
+
+def test_no_page_example_or_docstring_cites_internal_documents_or_tracker_numbers():
+    files = [*DOCS.glob("*.md"), ROOT / "README.md", *(ROOT / "examples").rglob("*.py"),
+             *(ROOT / "examples").rglob("*.toml"), *(ROOT / "examples").rglob("*.mtx")]
+    files += [*(ROOT / "hbm").rglob("*.py"), *(ROOT / "contact_models").rglob("*.py")]
+    found = []
+    for path in files:
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            if INTERNAL_CITATION.search(line):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert not found, "\n".join(found)
+
+
+def test_gallery_headers_show_command_lines_as_literal_blocks():
+    """A command line with options (``--cells 100``) in a gallery page's header is a literal block,
+    so the page shows ``--`` as typed, not turned into an en dash."""
+    from docutils.core import publish_doctree
+    from docutils.nodes import literal_block
+
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    for name in executed + shown:
+        header = fd.example_header(ROOT / "examples" / name)
+        commands = [line.strip() for line in header.splitlines() if line.strip().startswith("python ")]
+        tree = publish_doctree(header, settings_overrides={"report_level": 5})
+        literal = "\n".join(node.astext() for node in tree.findall(literal_block))
+        for command in commands:
+            assert command in literal, f"{name}: {command!r} is not in a literal block"
+
+
+def test_examples_print_readable_lines_with_paths_relative_to_the_repository(tmp_path, capsys):
+    sys.path.insert(0, str(ROOT / "examples"))
+    try:
+        import paper_figures
+    finally:
+        sys.path.remove(str(ROOT / "examples"))
+    paper_figures.show({"force_ratio_x0": {0.01: 0.123456789, 0.2: 2.0}, "path": str(DOCS / "figures" / "fig02.png"),
+                        "mode_shape_x0": 0.5})
+    out = capsys.readouterr().out
+    assert out.splitlines()[0] == "wrote: docs/figures/fig02.png"
+    assert "force ratio x0: 0.01: 0.123457, 0.2: 2" in out
+    assert str(ROOT) not in out and "{" not in out
+    assert paper_figures.display_path(ROOT / "docs" / "figures" / "x.png") == "docs/figures/x.png"
+
