@@ -292,3 +292,18 @@ def test_examples_print_readable_lines_with_paths_relative_to_the_repository(tmp
     assert str(ROOT) not in out and "{" not in out
     assert paper_figures.display_path(ROOT / "docs" / "figures" / "x.png") == "docs/figures/x.png"
 
+
+def test_quasi_static_validation_draws_a_figure_and_prints_an_aligned_table(tmp_path):
+    sys.path.insert(0, str(ROOT / "examples"))
+    try:
+        import validation_quasi_static as vqs
+    finally:
+        sys.path.remove(str(ROOT / "examples"))
+    rows = vqs.main(small=True, ratios=(1.5, 3.0))
+    path = vqs.figure(rows, tmp_path)
+    assert path.is_file() and path.stat().st_size > 10_000
+    text = vqs.table(rows, markdown=False)
+    lines = text.splitlines()
+    assert "|" not in text and set(lines[1]) <= {"-", " "}
+    assert len({len(line) for line in lines[:2]}) == 1  # the rule is as wide as the header
+    assert vqs.table(rows).startswith("| load |")  # the Markdown of docs/validation.md, on request
