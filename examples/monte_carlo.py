@@ -8,7 +8,7 @@ coefficient mu (uniform 0.2 .. 0.4) and the normal load N (lognormal, median 60 
 of the two-region microslip damper on the blade of the default case; each run the FRF's peak.
 Cheap on purpose: the damper is quasi-static (``effects.inertia = "off"``) and the accuracy the
 "fast" preset: about 0.06 s of one core per run, 1000 runs in about 30 s on two quiet cores.
-The figure (drawn here by :func:`figure`) shows the histogram of the peak amplitude in um with its
+The figure (drawn here by ``figure()``) shows the histogram of the peak amplitude in um with its
 5th, 50th and 95th percentiles, and the peak against mu coloured by N (in N).
 
 Run ``python examples/monte_carlo.py``; writes ``docs/figures/monte_carlo.png``.

@@ -17,6 +17,7 @@ repository root with ``python examples/paper_figures.py`` (or one script alone).
 from __future__ import annotations
 
 import importlib
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -138,6 +139,15 @@ def display_path(path) -> str:
     it (``docs/figures/fig02.png``), so no machine's absolute folder shows in the output."""
     path = Path(path).resolve()
     return path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else path.name
+
+
+def _format_warning(message, category, filename, lineno, line=None) -> str:
+    """Warnings (a paper figure goes beyond the single-mode range on purpose) name the file as
+    :func:`display_path` does, so the output shows no machine's absolute folder."""
+    return f"{display_path(filename)}:{lineno}: {category.__name__}: {message}\n"
+
+
+warnings.formatwarning = _format_warning
 
 
 def _shown(value) -> str:

@@ -143,6 +143,20 @@ def test_built_reference_names_every_public_module():
     assert not missing, f"public modules not in the built reference: {missing}"
 
 
+def test_built_pages_show_no_absolute_path_of_the_build_machine():
+    """Neither the reference (a data value that is a path) nor the gallery (a printed path, a
+    warning's file name) shows the folder the site was built in."""
+    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
+    if not html:
+        pytest.skip("set FRICTIONDAMP_DOCS_HTML to a built site (.ci/run does) to check its pages")
+    path = Path(html)
+    path = path if path.is_absolute() else ROOT / path
+    pages = [*(path / "generated" / "api").glob("*.html"), *(path / "auto_examples").glob("*.html")]
+    assert len(pages) > 20
+    showing = [p.relative_to(path).as_posix() for p in pages if str(ROOT) in p.read_text()]
+    assert not showing, f"pages showing {ROOT}: {showing}"
+
+
 def test_every_public_class_and_function_has_a_docstring():
     for package in PACKAGES:
         module = importlib.import_module(package)
@@ -291,6 +305,10 @@ def test_examples_print_readable_lines_with_paths_relative_to_the_repository(tmp
     assert "force ratio x0: 0.01: 0.123457, 0.2: 2" in out
     assert str(ROOT) not in out and "{" not in out
     assert paper_figures.display_path(ROOT / "docs" / "figures" / "x.png") == "docs/figures/x.png"
+    import warnings  # a warning an example shows names its file relative to the repository too
+
+    text = warnings.formatwarning("outside", UserWarning, str(ROOT / "examples" / "paper_figures.py"), 97)
+    assert text == "examples/paper_figures.py:97: UserWarning: outside\n"
 
 
 def test_quasi_static_validation_draws_a_figure_and_prints_an_aligned_table(tmp_path):

@@ -170,7 +170,7 @@ def _data_doc(package: str, name: str) -> tuple[str, str]:
     if name == "__version__" and not description:
         description = "The version of the installed package (``pyproject.toml``)."
     value = repr(obj)
-    if len(value) > 70 or " at 0x" in value:
+    if len(value) > 70 or " at 0x" in value or "Path(" in value:  # a path would show this machine's folders
         value = ""
     return value, description
 
@@ -290,7 +290,7 @@ def _other_module_pages(packages, paged: set, described: dict) -> dict[str, str]
             text += f".. currentmodule:: {modname}\n\n"
             for name in data:
                 value = repr(getattr(module, name))
-                text += f".. autodata:: {name}\n" + ("   :no-value:\n" if len(value) > 70 or " at 0x" in value else "") + "\n"
+                text += f".. autodata:: {name}\n" + ("   :no-value:\n" if len(value) > 70 or " at 0x" in value or "Path(" in value else "") + "\n"
             for name, kind in own:
                 if kind == "class":
                     text += (f".. autoclass:: {name}\n   :members:\n   :inherited-members: {FOREIGN_BASES}\n"
