@@ -267,8 +267,7 @@ def draw(rows, beta_L: float = FIGURE_BETA_L):
     freqs = sorted({r[3] for r in rows})
     w_fine = np.linspace(freqs[0], freqs[-1], 90)
     r_fine = np.geomspace(ratios[0], ratios[-1], 90)
-    cmap = plt.get_cmap("viridis").copy()
-    cmap.set_bad("lightgrey")
+    cmap = plt.get_cmap("viridis").with_extremes(bad="lightgrey")
     m = None
     for k, name in enumerate(LOADS):
         for j, lam_L in enumerate(LAMBDA_L):
