@@ -87,7 +87,7 @@ nitpicky = True
 nitpick_ignore_regex = [
     ("py:.*", r"(numpy|np|numpy\.typing|npt)\..*"),  # type hints: np.ndarray, npt.ArrayLike
     ("py:.*", r"(scipy|matplotlib)\..*"),  # type hints: matplotlib.axes.Axes
-    ("py:.*", r"(pathlib|os|collections\.abc|typing|types|dataclasses|enum|abc)\..*"),  # stdlib, no inventory
+    ("py:.*", r"(pathlib|os|collections\.abc|typing|types|dataclasses|enum|abc|argparse|concurrent)\..*"),  # stdlib, no inventory
     # Private helper types in signatures (a counter passed between the continuation's own calls).
     ("py:class", r"(contact_models|hbm)(\.\w+)*\._\w+"),
     ("py:class", "Axes"),  # matplotlib.axes.Axes imported for type checking only: the hint stays a bare name

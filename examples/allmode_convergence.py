@@ -3,7 +3,7 @@
 
 Convergence of AllModeMicroslip in cells, harmonics H and samples n_t, with observed rates.
 
-At 0.5 omega_c (the DESIGN.md bar, uniform and concave12 loads, a/a_min in {1.5, 3, 10, 30}):
+At 0.5 omega_c (the reference bar, uniform and concave12 loads, a/a_min in {1.5, 3, 10, 30}):
 each knob is varied with the others at a fine setting, and the error is
 ``max |F(level) - F(finest)|`` over the amplitudes, in units of k* a.  Prints markdown tables
 (docs/validation.md) and writes docs/figures/allmode_convergence.png.

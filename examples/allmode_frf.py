@@ -2,10 +2,10 @@
 =========================================
 
 FRF of the default blade with the all-mode damper (AllModeMicroslip), against the single-mode
-FRF and the time integration of blade + bar (issue 13).
+FRF and the time integration of blade + bar.
 
 The default case of ``python -m hbm`` (hbm.cli.cases.default_case): blade k = 1e8 N/m, zeta = 2e-3,
-F = 8 N, uniform 100 N load on the DESIGN.md bar.  The time-integration numbers are the ones
+F = 8 N, uniform 100 N load on the reference bar (``paper_figures.BAR_PARAMETERS``).  The time-integration numbers are the ones
 stored in docs/validation.md ("The blade in time against the FRF": ``hbm.simulate_blade``,
 160 cells, 1024 steps per cycle, a 345 s run), not re-run here.  Writes
 docs/figures/allmode_frf.png and prints the comparison table.

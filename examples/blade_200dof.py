@@ -1,7 +1,7 @@
 """A 200-DOF blade with an under-platform damper
 =============================================
 
-A 200-DOF Euler-Bernoulli cantilever blade with an under-platform friction damper (issue 12).
+A 200-DOF Euler-Bernoulli cantilever blade with an under-platform friction damper.
 
 The blade: a steel cantilever (length 0.1 m, section 20 x 4 mm) of 100 Hermite beam elements,
 transverse displacement and rotation at each free node (200 DOFs), modal damping 0.5 %.  The

@@ -1,7 +1,7 @@
 """A 3-DOF chain with two friction contacts
 ========================================
 
-Multi-harmonic balance of a 3-DOF chain with two friction contacts (issue 12).
+Multi-harmonic balance of a 3-DOF chain with two friction contacts.
 
 Unit masses and springs ground-0-1-2, damping C = 0.004 K, forced at DOF 2 by 0.01 cos(omega t);
 a Jenkins element (k = 1, slip force 0.02) ties DOF 0 to ground and another (k = 1, slip force

@@ -27,7 +27,7 @@ from scipy.optimize import fsolve  # noqa: E402
 
 from hbm.continuation import continuation  # noqa: E402
 
-from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
+from paper_figures import DEFAULT_OUTDIR, display_path  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 M, C, K, K3, F = 1.0, 0.02, 1.0, 0.5, 0.1  # a lightly damped hardening oscillator
 
 
@@ -88,4 +88,4 @@ if __name__ == "__main__":
     print(f"largest |G|/F^2 on the branch: {out['relation_error']:.2e}")
     for fw, fa, rw, ra in out["folds"]:
         print(f"fold at omega = {fw:.12f}, a = {fa:.12f} (fsolve: {rw:.12f}, {ra:.12f})")
-    print(f"wrote {out['path']}")
+    print(f"wrote {display_path(out['path'])}")

@@ -2,7 +2,7 @@
 ====================================================
 
 The damper design chart: resonant amplitude of the blade against the damper's normal load,
-for the microslip, point-contact and macroslip models (issue 4, example b).
+for the microslip, point-contact and macroslip models.
 
 Blade: the default case of ``python -m hbm`` (stuck resonance at 0.3 omega_c, zeta = 2e-3,
 F = 8 N).  Dampers at normal load N:
@@ -42,7 +42,7 @@ from hbm.balance.residual import linear_response  # noqa: E402
 
 from contact_models import Macroslip  # noqa: E402
 
-from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
+from paper_figures import DEFAULT_OUTDIR, display_path  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 #: Normal loads (N) of the chart: log-spaced.
 LOADS = tuple(np.geomspace(10.0, 3000.0, 19))
 SMALL_LOADS = (30.0, 100.0, 1000.0)
@@ -137,4 +137,4 @@ if __name__ == "__main__":
     print(f"damper stuck: {out['stuck_peak']:.4e} m")
     N, r = out["heavy_load_ratio"]
     print(f"microslip / point contact, smallest above the optimum load: {r:.3f} at N = {N:.4g} N")
-    print(f"wrote {out['path']}")
+    print(f"wrote {display_path(out['path'])}")

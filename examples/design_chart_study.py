@@ -34,6 +34,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from design_chart import optimum  # noqa: E402  (the parabola through the best grid points)
 
 from hbm.study import Study, run_study  # noqa: E402
+from paper_figures import display_path  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 SCENE = HERE / "scenes" / "design_chart_study.toml"
@@ -90,4 +91,4 @@ if __name__ == "__main__":
           f"{r.elapsed:.1f} s ({r.summary['executor']})")
     for m, (N, a) in out["optimum"].items():
         print(f"optimum {MODELS[m][0]}: N = {N:.4g} N, resonant amplitude {a:.4e} m")
-    print(f"wrote {out['path']}")
+    print(f"wrote {display_path(out['path'])}")

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from paper_figures import DEFAULT_OUTDIR, new_figure, save, setup
+from paper_figures import DEFAULT_OUTDIR, new_figure, save, setup, show
 
 #: Frequencies (fractions of omega_c) and line styles: the paper's 1, 1500, 5000, 10000 Hz
 #: curves are solid, dotted, dash-dot and dashed.
@@ -51,4 +51,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

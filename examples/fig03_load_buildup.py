@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from contact_models import QuadraticLoad, UniformLoad
-from paper_figures import DEFAULT_OUTDIR, NORMAL_LOAD, new_figure, save, setup
+from paper_figures import DEFAULT_OUTDIR, NORMAL_LOAD, new_figure, save, setup, show
 
 #: Frequency (fraction of omega_c): "low-frequency excitation".
 RATIO = 0.01
@@ -64,4 +64,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from paper_figures import DEFAULT_OUTDIR, new_figure, save, setup
+from paper_figures import DEFAULT_OUTDIR, new_figure, save, setup, show
 
 RATIO = 0.01
 #: Amplitudes (fractions of a_min): the first is the one whose numbers are returned.
@@ -63,4 +63,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from fig06_two_region_history import theta_axis, wrapped_cycle
-from paper_figures import DEFAULT_OUTDIR, new_figure, save, setup
+from paper_figures import DEFAULT_OUTDIR, new_figure, save, setup, show
 
 RATIO = 0.01
 AMPLITUDE = 4.0  # a/a_min
@@ -60,4 +60,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

@@ -12,7 +12,7 @@ frequency the loops rotate clockwise (lower f_s) and enclose more area (higher f
 
 from __future__ import annotations
 
-from paper_figures import DEFAULT_OUTDIR, plot_hysteresis_figure, setup
+from paper_figures import DEFAULT_OUTDIR, plot_hysteresis_figure, setup, show
 
 AMPLITUDE = 2.0  # a/a_min
 
@@ -27,4 +27,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

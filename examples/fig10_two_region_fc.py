@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from paper_figures import DEFAULT_OUTDIR, FREQUENCY_RATIOS, plot_fourier_figure, setup, static_gross_slip
+from paper_figures import DEFAULT_OUTDIR, FREQUENCY_RATIOS, plot_fourier_figure, setup, show, static_gross_slip
 
 
 def main(outdir=DEFAULT_OUTDIR, small=False):
@@ -34,4 +34,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

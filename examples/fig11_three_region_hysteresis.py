@@ -12,7 +12,7 @@ the loops rotate clockwise and open up with frequency.
 
 from __future__ import annotations
 
-from paper_figures import DEFAULT_OUTDIR, plot_hysteresis_figure, setup
+from paper_figures import DEFAULT_OUTDIR, plot_hysteresis_figure, setup, show
 
 AMPLITUDE = 3.0  # a/a_min
 
@@ -27,4 +27,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from paper_figures import DEFAULT_OUTDIR, FREQUENCY_RATIOS, plot_fourier_figure, setup
+from paper_figures import DEFAULT_OUTDIR, FREQUENCY_RATIOS, plot_fourier_figure, setup, show
 
 #: Left end of the amplitude axis (a/a_min), below the three-region slip onset (0.35).
 LOWEST = 0.2
@@ -38,4 +38,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from paper_figures import DEFAULT_OUTDIR, fourier_curves, new_figure, save, setup, amplitude_grid
+from paper_figures import DEFAULT_OUTDIR, amplitude_grid, fourier_curves, new_figure, save, setup, show
 
 RATIO = 0.3
 LOWEST = 0.2
@@ -54,4 +54,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

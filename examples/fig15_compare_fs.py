@@ -15,7 +15,7 @@ from __future__ import annotations
 import numpy as np
 
 from fig14_compare_fc import compare
-from paper_figures import DEFAULT_OUTDIR
+from paper_figures import DEFAULT_OUTDIR, show
 
 WHICH, YLABEL, NUMBER = 0, r"$F_s = f_s/(k^* a)$", 15
 
@@ -31,4 +31,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

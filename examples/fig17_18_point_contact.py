@@ -15,11 +15,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from paper_figures import DEFAULT_OUTDIR, amplitude_grid, new_figure, save, setup
+from paper_figures import DEFAULT_OUTDIR, amplitude_grid, new_figure, save, setup, show
 
 from contact_models.point_contact import PointContact
 
-#: Multiples of the gross-slip amplitude at which the two models are compared (issue 3).
+#: Multiples of the gross-slip amplitude at which the two models are compared.
 GROSS_MULTIPLES = (3.0, 10.0, 30.0)
 #: Line styles of the paper: solid microslip, dashed point contact.
 MICRO_STYLE = dict(ls="-", color="k")
@@ -84,4 +84,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

@@ -2,7 +2,7 @@
 ===============================================
 
 FRFs of the blade with a two-region microslip damper and with its fitted point contact,
-at several normal loads, on one figure (issue 4, example a).
+at several normal loads, on one figure.
 
 The blade is the default case of ``python -m hbm`` (``hbm.cli.cases.default_case``: stuck resonance
 at 0.3 omega_c, zeta = 2e-3, F = 8 N); the damper is ``TwoRegionMicroslip(bar,
@@ -32,7 +32,7 @@ from hbm import frequency_response  # noqa: E402
 from hbm.cli.cases import default_case  # noqa: E402
 from hbm.balance.residual import linear_response  # noqa: E402
 
-from paper_figures import DEFAULT_OUTDIR  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
+from paper_figures import DEFAULT_OUTDIR, display_path  # noqa: E402  (docs/figures; no __file__ here: the gallery runs this)
 #: Normal loads (N) drawn.
 LOADS = (50.0, 100.0, 200.0, 400.0)
 
@@ -85,4 +85,4 @@ if __name__ == "__main__":
     out = main()
     for N, (m, p) in out["peaks"].items():
         print(f"N = {N:6g} N: peak amplitude microslip {m:.4e} m, point contact {p:.4e} m (ratio {m / p:.3f})")
-    print(f"wrote {out['path']}")
+    print(f"wrote {display_path(out['path'])}")

@@ -17,6 +17,7 @@ repository root with ``python examples/paper_figures.py`` (or one script alone).
 from __future__ import annotations
 
 import importlib
+import warnings
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
@@ -35,7 +36,7 @@ from contact_models import (  # noqa: E402
     UniformLoad,
 )
 
-#: The bar of every figure (DESIGN.md).
+#: The bar of every figure (the reference bar of docs/theory.md).
 BAR_PARAMETERS = dict(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 #: Total normal load (N) of both elements.
 NORMAL_LOAD = 100.0
@@ -129,6 +130,52 @@ def save(fig, outdir, number: int) -> Path:
     return path
 
 
+#: The repository's root: paths under it are printed relative to it.
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def display_path(path) -> str:
+    """``path`` as printed by the examples: relative to the repository's root when it lies inside
+    it (``docs/figures/fig02.png``), so no machine's absolute folder shows in the output."""
+    path = Path(path).resolve()
+    return path.relative_to(ROOT).as_posix() if path.is_relative_to(ROOT) else path.name
+
+
+def _format_warning(message, category, filename, lineno, line=None) -> str:
+    """Warnings (a paper figure goes beyond the single-mode range on purpose) name the file as
+    :func:`display_path` does, so the output shows no machine's absolute folder."""
+    return f"{display_path(filename)}:{lineno}: {category.__name__}: {message}\n"
+
+
+warnings.formatwarning = _format_warning
+
+
+def _shown(value) -> str:
+    if isinstance(value, (str, Path)) and Path(value).suffix in (".png", ".csv", ".json"):
+        return display_path(value)
+    if isinstance(value, (bool, np.bool_)):
+        return str(bool(value))
+    if isinstance(value, (float, np.floating)):
+        return f"{float(value):.6g}"
+    if isinstance(value, (int, np.integer, str)):
+        return str(value)
+    if isinstance(value, dict):
+        return ", ".join(f"{_shown(k)}: {_shown(v)}" for k, v in value.items())
+    if isinstance(value, (list, tuple, np.ndarray)):
+        values = list(np.asarray(value).ravel()) if isinstance(value, np.ndarray) else list(value)
+        text = ", ".join(_shown(v) for v in values[:8])
+        return f"[{text}{', ...' if len(values) > 8 else ''}] ({len(values)} values)" if len(values) > 8 else f"[{text}]"
+    return str(value)
+
+
+def show(out: dict) -> None:
+    """Print what an example's ``main()`` returned, one readable line per entry (``path`` first,
+    relative to the repository; numbers to 6 digits; a dict of numbers as ``key: value`` pairs)."""
+    for key in sorted(out, key=lambda k: k != "path"):
+        name = "wrote" if key == "path" else key.replace("_", " ")
+        print(f"{name}: {_shown(out[key])}")
+
+
 def frequency_label(ratio: float) -> str:
     return rf"$\omega = {ratio:g}\,\omega_c$"
 
@@ -197,4 +244,5 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 if __name__ == "__main__":
     for name, numbers in main().items():
-        print(name, numbers)
+        print(f"{name}:")
+        show(numbers)

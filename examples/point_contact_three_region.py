@@ -18,7 +18,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 
 from fig17_18_point_contact import compare, draw
-from paper_figures import DEFAULT_OUTDIR, DPI, amplitude_grid, setup
+from paper_figures import DEFAULT_OUTDIR, DPI, amplitude_grid, setup, show
 
 #: Range of a/a_min: from below the three-region slip onset (0.35) to past 30 gross-slip amplitudes.
 A_OVER_RANGE = (0.1, 300.0)
@@ -53,4 +53,4 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

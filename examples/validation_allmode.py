@@ -1,7 +1,7 @@
 """Validation: the all-mode bar against time integration
 =====================================================
 
-AllModeMicroslip against converged time integration (NumericalMicroslip), issue 13.
+AllModeMicroslip against converged time integration (NumericalMicroslip).
 
 The reference runs (NumericalMicroslip, 200 cells, 1024 steps per cycle: about 5e-5 k* a from
 its own convergence study) are slow (10-40 s per point), so they run once and are stored in

@@ -1,10 +1,10 @@
 """Validation: blade and bar in time against the FRF
 =================================================
 
-Issue 5 item 5: the blade and the discretised bar integrated in time against the
+The blade and the discretised bar integrated in time against the
 harmonic-balance FRF, at three frequencies around resonance.
 
-The default case of ``python -m hbm`` (blade k = 1e8 N/m, zeta = 2e-3, F = 8 N; the DESIGN.md
+The default case of ``python -m hbm`` (blade k = 1e8 N/m, zeta = 2e-3, F = 8 N; the reference
 bar under a uniform 100 N load as the damper).  At each frequency:
 
 - HBM, analytic element: ``response_at(blade, TwoRegionMicroslip, omega)``, the FRF's value;

@@ -1,6 +1,6 @@
 """Shared set-up of the validation scripts (``validation_*.py``, docs/validation.md).
 
-The DESIGN.md bar, the two analytic elements and their numerical counterparts:
+The reference bar (docs/theory.md), the two analytic elements and their numerical counterparts:
 
 - bar ``Bar(E=2e11, rho=7850, A=1e-5, L=0.05, k=8e8, beta=4e7, mu=0.3)``;
 - ``"uniform"``: ``UniformLoad(N=100)``, analytic ``TwoRegionMicroslip``;
@@ -25,7 +25,7 @@ LOADS = {
     "uniform": (UniformLoad(N=100.0), TwoRegionMicroslip),
     "concave12": (QuadraticLoad.from_ratio(N=100.0, ratio=12.0), ThreeRegionMicroslip),
 }
-#: The amplitudes (a/a_min) and frequencies (omega/omega_c) of the issue-2 and issue-5 tables.
+#: The amplitudes (a/a_min) and frequencies (omega/omega_c) of the quasi-static and dynamic tables (docs/validation.md).
 RATIOS = (1.5, 3.0, 10.0, 30.0)
 FREQUENCIES = (0.01, 0.2, 0.3, 0.5)
 #: Where the PNGs go: docs/figures of the repository.
@@ -41,4 +41,14 @@ def markdown_table(header, rows) -> str:
     """A GitHub markdown table from a header list and rows of already formatted cells."""
     lines = ["| " + " | ".join(header) + " |", "|" + "|".join("---" for _ in header) + "|"]
     lines += ["| " + " | ".join(str(c) for c in row) + " |" for row in rows]
+    return "\n".join(lines)
+
+
+def text_table(header, rows) -> str:
+    """The same table as plain text, its columns aligned (for a terminal or the gallery's output)."""
+    cells = [list(map(str, header))] + [[str(c) for c in row] for row in rows]
+    widths = [max(len(row[j]) for row in cells) for j in range(len(header))]
+    lines = ["  ".join(c.rjust(w) if j else c.ljust(w) for j, (c, w) in enumerate(zip(row, widths))).rstrip()
+             for row in cells]
+    lines.insert(1, "  ".join("-" * w for w in widths))
     return "\n".join(lines)

@@ -7,7 +7,7 @@ Quasi-static (omega = 0): errors against the analytic elements, which are exact 
 n = 50 ... 1600 cells (4096 steps per cycle, so the theta quadrature does not interfere), and
 for 256 ... 4096 steps at n = 400.  Dynamic (omega = 0.3 omega_c): successive differences of
 F_s, F_c as n doubles at 1024 steps per cycle, and as the steps per cycle double at n = 100.
-Observed rates are log2 of successive ratios.  Writes ``validation_convergence.png``.
+Observed rates are log2 of successive ratios.  Writes ``validation_convergence.png``::
 
     python examples/validation_convergence.py          # the full study (a few minutes)
 

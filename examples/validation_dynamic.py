@@ -1,7 +1,7 @@
 """Validation: single-mode elements against all modes
 ==================================================
 
-Issue 5's table: F_s, F_c of the single-mode analytic elements against the full numerical
+The table of F_s, F_c of the single-mode analytic elements against the full numerical
 solution (``NumericalMicroslip``, all modes) at omega/omega_c in {0.01, 0.2, 0.3, 0.5} and
 a/a_min in {1.5, 3, 10, 30}, for the uniform and the ratio-12 concave load.
 
@@ -9,7 +9,7 @@ The numerical values are computed at (cells, steps_per_cycle) and again at half 
 change is quoted as the numerical solution's error bar (conservative: with second-order
 convergence the finer run's own error is about a third of it).  Writes
 ``validation_dynamic.png`` (F_s, F_c against a/a_min: analytic lines, numerical points) and
-returns the rows; ``python examples/validation_dynamic.py`` prints the markdown table.
+returns the rows; ``python examples/validation_dynamic.py`` prints the markdown table::
 
     python examples/validation_dynamic.py                     # cells 200, 1024 steps (~15 min)
     python examples/validation_dynamic.py --cells 100 --steps 512

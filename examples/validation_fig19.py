@@ -17,6 +17,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from validation_common import BAR, FIGURES, LOADS, analytic
+from paper_figures import show
 
 from contact_models.numerical import NumericalMicroslip
 
@@ -77,4 +78,4 @@ def main(cells: int = 100, steps: int = 512, outdir=FIGURES, every: int = 8, sma
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

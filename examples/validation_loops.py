@@ -15,6 +15,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 
 from validation_common import BAR, FIGURES, LOADS, analytic
+from paper_figures import show
 
 from contact_models.numerical import NumericalMicroslip
 
@@ -55,4 +56,4 @@ def main(cells: int = 100, steps: int = 512, outdir=FIGURES, small: bool = False
 
 
 if __name__ == "__main__":
-    print(main())
+    show(main())

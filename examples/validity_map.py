@@ -1,10 +1,10 @@
 """Where the single-mode elements hold: the validity map
 =====================================================
 
-Where the single-mode elements hold: their F_s, F_c error against AllModeMicroslip (issue 13).
+Where the single-mode elements hold: their F_s, F_c error against AllModeMicroslip.
 
 For bars with lambda L in {0.3, 1, 3, 10} and beta L/EA in {0.1, 1, 10}, every pair (E, rho, A,
-L, mu of the DESIGN.md bar; k = (lambda L / L)^2 EA, beta = (beta L/EA) EA/L), the uniform load
+L, mu of the reference bar, ``E = 2e11, rho = 7850, A = 1e-5, L = 0.05, mu = 0.3``; k = (lambda L / L)^2 EA, beta = (beta L/EA) EA/L), the uniform load
 (TwoRegionMicroslip) and the concave load of ratio 12 (ThreeRegionMicroslip), over a/a_min in
 [0.5, 100] (a_min the element's static slip amplitude) and omega/omega_c in [0.01, 0.95]::
 
@@ -53,7 +53,7 @@ DATA = MAP_FILE
 CHECK = Path(__file__).resolve().parent.parent / "docs" / "data" / "validity_check.csv"
 E, RHO, A, L, MU = 2.0e11, 7850.0, 1.0e-5, 0.05, 0.3
 EA = E * A
-#: lambda L and beta L/EA of the bars, every pair (the DESIGN.md bar is (1, 1)).
+#: lambda L and beta L/EA of the bars, every pair (the reference bar is (1, 1)).
 LAMBDA_L = (0.3, 1.0, 3.0, 10.0)
 BETA_L = (0.1, 1.0, 10.0)
 BARS = tuple((lL, bL) for lL in LAMBDA_L for bL in BETA_L)
@@ -242,56 +242,81 @@ def score(path: Path = CHECK):
     return tuple(counts)
 
 
-def figure(rows, outdir: Path = FIGURES):
-    """Per load (two blocks of rows) and beta L/EA (rows) and lambda L (columns): the map's error
-    (colour), its 1 % contour (white), the warning's 1 % contour from ``single_mode_error`` on a fine
-    grid (red dashed: it follows the map), and omega_1 (red dotted)."""
+#: The figure shows the bars of this beta L/EA (the reference bar's); the table lists all twelve.
+FIGURE_BETA_L = 1.0
+#: Resolution of the saved PNG.
+DPI = 150
+#: Short row labels of the figure.
+LOAD_LABELS = {"uniform": "uniform load", "concave12": "concave load (ratio 12)"}
+
+
+def draw(rows, beta_L: float = FIGURE_BETA_L):
+    """The map at one ``beta_L`` (beta L/EA): a row per load, a column per lambda L; the map's error
+    (colour), its 1 % contour (white), the warning's 1 % contour from ``single_mode_error`` on a
+    fine grid (red dashed: it follows the map), omega_1 (red dotted), refused points grey.
+    Returns the matplotlib figure."""
     import matplotlib.pyplot as plt
     from matplotlib.colors import LogNorm
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
 
-    nb, nl = len(BETA_L), len(LAMBDA_L)
-    fig, axes = plt.subplots(2 * nb, nl, figsize=(3.2 * nl, 2.4 * 2 * nb), sharex=True, sharey=True,
-                             layout="constrained")
+    nl = len(LAMBDA_L)
+    fig, axes = plt.subplots(len(LOADS), nl, figsize=(3.0 * nl + 1.4, 2.9 * len(LOADS) + 0.9), sharex=True,
+                             sharey=True, layout="constrained", squeeze=False)
     ratios = sorted({r[4] for r in rows})
     freqs = sorted({r[3] for r in rows})
     w_fine = np.linspace(freqs[0], freqs[-1], 90)
     r_fine = np.geomspace(ratios[0], ratios[-1], 90)
+    cmap = plt.get_cmap("viridis").with_extremes(bad="lightgrey")
     m = None
     for k, name in enumerate(LOADS):
-        for i, beta_L in enumerate(BETA_L):
-            for j, lam_L in enumerate(LAMBDA_L):
-                ax = axes[k * nb + i, j]
-                Z = np.full((len(ratios), len(freqs)), np.nan)
-                for r in rows:
-                    if (r[0], r[1], r[2]) == (lam_L, beta_L, name):
-                        Z[ratios.index(r[4]), freqs.index(r[3])] = r[5]
-                refused = ~np.isfinite(Z)
-                Zp = np.where(refused, 10.0, np.maximum(Z, 1e-5))
-                cmap = plt.get_cmap("viridis").copy()
-                cmap.set_bad("lightgrey")
-                m = ax.pcolormesh(freqs, ratios, np.ma.masked_where(refused, Zp), norm=LogNorm(1e-4, 1.0),
-                                  cmap=cmap, shading="nearest")
-                if np.any(Zp > FLOOR) and np.any(Zp <= FLOOR):
-                    ax.contour(freqs, ratios, Zp, levels=[FLOOR], colors="w", linewidths=1.5)
-                el = single_element(LOADS[name][1], make_bar(lam_L, beta_L), LOADS[name][0])
-                if el is not None:
-                    a0, wc = el.slip_amplitude(0.0), el.bar.omega_c
-                    W = np.array([single_mode_error(el, r_fine * a0, w * wc) for w in w_fine]).T
-                    if np.any(W > FLOOR) and np.any(W <= FLOOR):
-                        ax.contour(w_fine, r_fine, W, levels=[FLOOR], colors="r", linestyles="--", linewidths=1)
-                    w1 = single_mode_frequency_limit(el) / wc
-                    if w1 < freqs[-1]:
-                        ax.axvline(w1, color="r", ls=":", lw=1)
-                ax.set_yscale("log")
-                ax.set_title(f"{name}, lL={lam_L:g}, bL/EA={beta_L:g}", fontsize=8)
-                if k * nb + i == 2 * nb - 1:
-                    ax.set_xlabel("omega / omega_c")
-                if j == 0:
-                    ax.set_ylabel("a / a_min")
-    fig.colorbar(m, ax=axes, shrink=0.5, label="max(e_s, e_c); white: the map's 1 %; red dashed: the warning's "
-                                              "1 %; red dotted: omega_1; grey: refused")
-    fig.savefig(outdir / "validity_map.png", dpi=80)
+        for j, lam_L in enumerate(LAMBDA_L):
+            ax = axes[k, j]
+            Z = np.full((len(ratios), len(freqs)), np.nan)
+            for r in rows:
+                if (r[0], r[1], r[2]) == (lam_L, beta_L, name):
+                    Z[ratios.index(r[4]), freqs.index(r[3])] = r[5]
+            refused = ~np.isfinite(Z)
+            Zp = np.where(refused, 10.0, np.maximum(Z, 1e-5))
+            m = ax.pcolormesh(freqs, ratios, np.ma.masked_where(refused, Zp), norm=LogNorm(1e-4, 1.0),
+                              cmap=cmap, shading="nearest")
+            if np.any(Zp > FLOOR) and np.any(Zp <= FLOOR):
+                ax.contour(freqs, ratios, Zp, levels=[FLOOR], colors="w", linewidths=1.8)
+            el = single_element(LOADS[name][1], make_bar(lam_L, beta_L), LOADS[name][0])
+            if el is not None:
+                a0, wc = el.slip_amplitude(0.0), el.bar.omega_c
+                W = np.array([single_mode_error(el, r_fine * a0, w * wc) for w in w_fine]).T
+                if np.any(W > FLOOR) and np.any(W <= FLOOR):
+                    ax.contour(w_fine, r_fine, W, levels=[FLOOR], colors="r", linestyles="--", linewidths=1.2)
+                w1 = single_mode_frequency_limit(el) / wc
+                if w1 < freqs[-1]:
+                    ax.axvline(w1, color="r", ls=":", lw=1.5)
+            ax.set_yscale("log")
+            if k == 0:
+                ax.set_title(f"λL = {lam_L:g}")
+            if k == len(LOADS) - 1:
+                ax.set_xlabel("ω / ω_c")
+            if j == 0:
+                ax.set_ylabel(f"{LOAD_LABELS[name]}\na / a_min")
+    fig.colorbar(m, ax=axes, shrink=0.8, label="error max(e_s, e_c)")
+    handles = [Line2D([], [], color="w", lw=1.8, label="map: 1 % contour"),
+               Line2D([], [], color="r", ls="--", lw=1.2, label="warning: 1 % contour"),
+               Line2D([], [], color="r", ls=":", lw=1.5, label="ω_1 (the warning's frequency limit)"),
+               Patch(facecolor="lightgrey", label="refused by the single-mode element")]
+    fig.legend(handles=handles, loc="outside lower center", ncols=4, facecolor="0.55", framealpha=1.0)
+    fig.suptitle(f"Single-mode error against the all-mode bar, βL/EA = {beta_L:g}")
+    return fig
+
+
+def figure(rows, outdir: Path = FIGURES, beta_L: float = FIGURE_BETA_L) -> Path:
+    """Draw the map (:func:`draw`) to ``outdir/validity_map.png`` at ``DPI``; returns the path."""
+    import matplotlib.pyplot as plt
+
+    fig = draw(rows, beta_L)
+    path = Path(outdir) / "validity_map.png"
+    fig.savefig(path, dpi=DPI)
     plt.close(fig)
+    return path
 
 
 def main(recompute: bool = False, outdir: Path = FIGURES):

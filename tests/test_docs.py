@@ -89,6 +89,74 @@ def test_api_pages_name_every_public_name(tmp_path):
                     assert name in _directives(text) or f"{package}.{name}" in _directives(text)
 
 
+def _public_modules():
+    """Every public module of both packages, listed from the code: no part of its dotted name starts
+    with ``_``, and it is not a deprecated old-path shim (whose source calls ``moved_module(__name__``
+    or ``warn_moved(__name__``)."""
+    import pkgutil
+
+    found = []
+    for root in ("contact_models", "hbm"):
+        package = importlib.import_module(root)
+        files = [(root, package.__file__)] + [(m.name, m.module_finder.find_spec(m.name).origin)
+                                              for m in pkgutil.walk_packages(package.__path__, root + ".")]
+        for name, origin in files:  # the file on disk: an imported shim's sys.modules entry is its target
+            if any(part.startswith("_") for part in name.split(".")):
+                continue
+            source = Path(origin).read_text()
+            if "moved_module(__name__" not in source and "warn_moved(__name__" not in source:
+                found.append(name)
+    return found
+
+
+def test_api_reference_has_a_page_for_every_public_module(tmp_path):
+    pytest.importorskip("sphinx", reason="the docs extra (pip install -e '.[docs]'); .ci/run installs it")
+    modules = _public_modules()
+    assert {"hbm.balance.stability", "contact_models.model_range", "hbm.balance.presets",
+            "contact_models.numerics.roots", "hbm.reference.shooting"} <= set(modules)
+    documented = fd.write_api_pages(tmp_path)
+    automodules = set()
+    for page in tmp_path.glob("*.rst"):
+        automodules |= set(re.findall(r"^\.\. automodule:: (\S+)", page.read_text(), re.MULTILINE))
+    missing = [m for m in modules if m not in automodules]
+    assert not missing, f"public modules without a page in the API reference: {missing}"
+    assert set(modules) <= set(documented["modules"])
+    index = (tmp_path / "index.rst").read_text()
+    for module in modules:  # every page is reachable from the reference's index
+        assert f"   {module}\n" in index or any(f"   {module}\n" in (tmp_path / f"{p}.rst").read_text()
+                                                for p in fd.PACKAGES), module
+
+
+def test_built_reference_names_every_public_module():
+    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
+    if not html:
+        pytest.skip("set FRICTIONDAMP_DOCS_HTML to a built site (.ci/run does) to check its inventory")
+    from sphinx.util.inventory import InventoryFile
+
+    path = Path(html)
+    path = path if path.is_absolute() else ROOT / path
+    with open(path / "objects.inv", "rb") as f:
+        inventory = InventoryFile.load(f, str(path), lambda base, uri: uri)
+    data = inventory.data if hasattr(inventory, "data") else inventory
+    modules = set(data.get("py:module", {}))
+    missing = [m for m in _public_modules() if m not in modules]
+    assert not missing, f"public modules not in the built reference: {missing}"
+
+
+def test_built_pages_show_no_absolute_path_of_the_build_machine():
+    """Neither the reference (a data value that is a path) nor the gallery (a printed path, a
+    warning's file name) shows the folder the site was built in."""
+    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
+    if not html:
+        pytest.skip("set FRICTIONDAMP_DOCS_HTML to a built site (.ci/run does) to check its pages")
+    path = Path(html)
+    path = path if path.is_absolute() else ROOT / path
+    pages = [*(path / "generated" / "api").glob("*.html"), *(path / "auto_examples").glob("*.html")]
+    assert len(pages) > 20
+    showing = [p.relative_to(path).as_posix() for p in pages if str(ROOT) in p.read_text()]
+    assert not showing, f"pages showing {ROOT}: {showing}"
+
+
 def test_every_public_class_and_function_has_a_docstring():
     for package in PACKAGES:
         module = importlib.import_module(package)
@@ -190,3 +258,70 @@ def test_getting_started_scripts_run_and_print_what_the_page_says(tmp_path, monk
     other = namespace["pc"].peak()
     assert (other.omega, other.amplitude) == pytest.approx((39697.0, 2.195e-6), rel=5e-4)
     assert (tmp_path / "frf.csv").is_file()
+
+
+#: A citation of a document that is not in the repository, or of a tracker's issue number.
+INTERNAL_CITATION = re.compile(r"DESIGN\.md|CONTRACT\.md|\bissues? [0-9]+|\bissue-[0-9]+", re.IGNORECASE)
+
+
+def test_no_page_example_or_docstring_cites_internal_documents_or_tracker_numbers():
+    files = [*DOCS.glob("*.md"), ROOT / "README.md", *(ROOT / "examples").rglob("*.py"),
+             *(ROOT / "examples").rglob("*.toml"), *(ROOT / "examples").rglob("*.mtx")]
+    files += [*(ROOT / "hbm").rglob("*.py"), *(ROOT / "contact_models").rglob("*.py")]
+    found = []
+    for path in files:
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            if INTERNAL_CITATION.search(line):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {line.strip()}")
+    assert not found, "\n".join(found)
+
+
+def test_gallery_headers_show_command_lines_as_literal_blocks():
+    """A command line with options (``--cells 100``) in a gallery page's header is a literal block,
+    so the page shows ``--`` as typed, not turned into an en dash."""
+    from docutils.core import publish_doctree
+    from docutils.nodes import literal_block
+
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    for name in executed + shown:
+        header = fd.example_header(ROOT / "examples" / name)
+        commands = [line.strip() for line in header.splitlines() if line.strip().startswith("python ")]
+        tree = publish_doctree(header, settings_overrides={"report_level": 5})
+        literal = "\n".join(node.astext() for node in tree.findall(literal_block))
+        for command in commands:
+            assert command in literal, f"{name}: {command!r} is not in a literal block"
+
+
+def test_examples_print_readable_lines_with_paths_relative_to_the_repository(tmp_path, capsys):
+    sys.path.insert(0, str(ROOT / "examples"))
+    try:
+        import paper_figures
+    finally:
+        sys.path.remove(str(ROOT / "examples"))
+    paper_figures.show({"force_ratio_x0": {0.01: 0.123456789, 0.2: 2.0}, "path": str(DOCS / "figures" / "fig02.png"),
+                        "mode_shape_x0": 0.5})
+    out = capsys.readouterr().out
+    assert out.splitlines()[0] == "wrote: docs/figures/fig02.png"
+    assert "force ratio x0: 0.01: 0.123457, 0.2: 2" in out
+    assert str(ROOT) not in out and "{" not in out
+    assert paper_figures.display_path(ROOT / "docs" / "figures" / "x.png") == "docs/figures/x.png"
+    import warnings  # a warning an example shows names its file relative to the repository too
+
+    text = warnings.formatwarning("outside", UserWarning, str(ROOT / "examples" / "paper_figures.py"), 97)
+    assert text == "examples/paper_figures.py:97: UserWarning: outside\n"
+
+
+def test_quasi_static_validation_draws_a_figure_and_prints_an_aligned_table(tmp_path):
+    sys.path.insert(0, str(ROOT / "examples"))
+    try:
+        import validation_quasi_static as vqs
+    finally:
+        sys.path.remove(str(ROOT / "examples"))
+    rows = vqs.main(small=True, ratios=(1.5, 3.0))
+    path = vqs.figure(rows, tmp_path)
+    assert path.is_file() and path.stat().st_size > 10_000
+    text = vqs.table(rows, markdown=False)
+    lines = text.splitlines()
+    assert "|" not in text and set(lines[1]) <= {"-", " "}
+    assert len({len(line) for line in lines[:2]}) == 1  # the rule is as wide as the header
+    assert vqs.table(rows).startswith("| load |")  # the Markdown of docs/validation.md, on request

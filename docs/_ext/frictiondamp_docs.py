@@ -4,7 +4,9 @@ Everything here is generated from the code at build time, so that a new public n
 or a new scene key appears on the site with no edit of the documentation:
 
 - :func:`write_api_pages` writes one reST page per public name of each package's ``__all__`` (a
-  class, a function, a public module) and one page per package with a summary table;
+  class, a function, a public module), one page per package with a summary table, and one page
+  per other public module of the two packages (:func:`public_modules`), so that no module a page or
+  a docstring names is missing from the reference;
 - :func:`gallery_examples` reads the examples' headers: a script whose docstring opens with a reST
   title is a gallery page; it is executed at build time unless its header shows the figure of a
   committed run (``.. image:: /figures/...``), which is what the long scripts do;
@@ -28,6 +30,12 @@ from pathlib import Path
 
 #: Packages whose ``__all__`` makes the API reference (public modules found in them are added).
 PACKAGES = ("contact_models", "hbm", "hbm.scenes", "hbm.study")
+
+#: The top-level packages: every public module under them has a page (:func:`public_modules`).
+ROOTS = ("contact_models", "hbm")
+
+#: The source of a deprecated old-path module (a shim kept for old imports) calls one of these.
+SHIM_MARKERS = ("moved_module(__name__", "warn_moved(__name__")
 
 #: Members of these base classes are left out of a class page (a NamedTuple's ``count``, an
 #: exception's ``args``): they are Python's, not the library's.
@@ -162,7 +170,7 @@ def _data_doc(package: str, name: str) -> tuple[str, str]:
     if name == "__version__" and not description:
         description = "The version of the installed package (``pyproject.toml``)."
     value = repr(obj)
-    if len(value) > 70 or " at 0x" in value:
+    if len(value) > 70 or " at 0x" in value or "Path(" in value:  # a path would show this machine's folders
         value = ""
     return value, description
 
@@ -198,35 +206,155 @@ def _package_page(package: str, names: list[tuple[str, str]], pages: list[str], 
     return text
 
 
+# ------------------------------------------------------------------------------ public modules
+def public_modules(roots=ROOTS) -> list[str]:
+    """Every public module of ``roots``, sorted: no part of its dotted name starts with ``_``, and it
+    is not a deprecated old-path shim (its source calls one of :data:`SHIM_MARKERS`; read as text,
+    so the shim's deprecation warning is not raised).  The source is found on disk, not through
+    ``sys.modules``, where an imported shim stands for the module it moved to."""
+    import pkgutil
+
+    out = []
+    for root in roots:
+        package = importlib.import_module(root)
+        found = [(root, package.__file__)]
+        for info in pkgutil.walk_packages(package.__path__, root + "."):
+            found.append((info.name, info.module_finder.find_spec(info.name).origin))
+        for name, origin in found:
+            if any(part.startswith("_") for part in name.split(".")):
+                continue
+            source = Path(origin).read_text() if origin and origin.endswith(".py") else ""
+            if not any(marker in source for marker in SHIM_MARKERS):
+                out.append(name)
+    return sorted(out)
+
+
+def _module_members(module) -> list[str]:
+    """The public names of ``module``: its ``__all__``; else the classes and functions it defines
+    and the data it documents with a ``#:`` comment."""
+    if hasattr(module, "__all__"):
+        return list(module.__all__)
+    from sphinx.pycode import ModuleAnalyzer
+
+    try:
+        commented = {name for scope, name in ModuleAnalyzer.for_module(module.__name__).find_attr_docs() if not scope}
+    except Exception:  # a module without source
+        commented = set()
+    return [n for n, obj in vars(module).items() if not n.startswith("_")
+            and (((inspect.isclass(obj) or inspect.isroutine(obj)) and getattr(obj, "__module__", None) == module.__name__)
+                 or (n in commented and _kind(obj) == "data"))]
+
+
+def _other_module_pages(packages, paged: set, described: dict) -> dict[str, str]:
+    """``{module: reST page}`` of every public module without a page yet.
+
+    Each class or function is described once: where the packages' pages already describe it, a
+    module page links there; else on the page of the module that defines it (or, when that module
+    is not public, of the first module that lists it), and the other pages link to it.
+    """
+    modules = [m for m in public_modules() if m not in paged]
+    home: dict[int, str] = {}
+    for pass_ in ("defined", "listed"):  # the defining module first, then the first that lists it
+        for modname in modules:
+            module = importlib.import_module(modname)
+            for name in _module_members(module):
+                obj = getattr(module, name, None)
+                if not (inspect.isclass(obj) or inspect.isroutine(obj)) or id(obj) in described or id(obj) in home:
+                    continue
+                if pass_ == "listed" or getattr(obj, "__module__", None) == modname:
+                    home[id(obj)] = f"{modname}.{name}"
+    roles = {"class": "class", "function": "func", "module": "mod"}
+    pages = {}
+    for modname in modules:
+        module = importlib.import_module(modname)
+        text = _underline(f"``{modname}``") + f"\n.. automodule:: {modname}\n   :no-members:\n\n"
+        links, own, data = [], [], []
+        for name in _module_members(module):
+            obj = getattr(module, name, None)
+            kind = _kind(obj)
+            if kind == "data":
+                data.append(name)
+            elif kind == "module":
+                if obj.__name__ in paged or obj.__name__ in modules:
+                    links.append((f":mod:`~{obj.__name__}`", obj))
+            elif kind in ("class", "function"):
+                where = described.get(id(obj)) or home[id(obj)]
+                if id(obj) not in described and where == f"{modname}.{name}":
+                    own.append((name, kind))
+                else:
+                    links.append((f":{roles[kind]}:`{name} <{where}>`", obj))
+        if links:
+            text += (_underline("Documented elsewhere", "-") + "\n.. list-table::\n   :widths: 30 70\n\n"
+                     + "".join(f"   * - {ref}\n     - {_summary(obj) or ' '}\n" for ref, obj in links) + "\n")
+        if own or data:
+            text += f".. currentmodule:: {modname}\n\n"
+            for name in data:
+                value = repr(getattr(module, name))
+                text += f".. autodata:: {name}\n" + ("   :no-value:\n" if len(value) > 70 or " at 0x" in value or "Path(" in value else "") + "\n"
+            for name, kind in own:
+                if kind == "class":
+                    text += (f".. autoclass:: {name}\n   :members:\n   :inherited-members: {FOREIGN_BASES}\n"
+                             "   :show-inheritance:\n\n")
+                else:
+                    text += f".. autofunction:: {name}\n\n"
+        pages[modname] = text
+    return pages
+
+
 def write_api_pages(outdir: Path, packages=PACKAGES) -> dict[str, list[str]]:
     """Write ``outdir/index.rst`` and one page per package and per public class, function, module.
 
     Returns ``{package: [qualified name of every entry of its __all__]}``, the names the reference
-    documents (``tests/test_docs.py`` compares them with ``__all__`` and the built inventory).
+    documents (``tests/test_docs.py`` compares them with ``__all__`` and the built inventory), and
+    under the key ``"modules"`` every public module that has a page.
     """
     outdir.mkdir(parents=True, exist_ok=True)
     documented: dict[str, list[str]] = {}
     written = {"index.rst"}
     others = returned_types(packages)
+    paged = set(packages)  # modules with a page
+    described: dict[int, str] = {}  # id of a class or function -> the name it is described under
     for package in packages:
         names = public_names(package)
         documented[package] = [q for q, _ in names]
+        module = importlib.import_module(package)
         pages = []
         for qualified, kind in names:
+            obj = getattr(module, qualified.rsplit(".", 1)[1])
+            if kind in ("class", "function"):
+                described.setdefault(id(obj), qualified)
             if kind == "data":
                 continue
             if kind == "module" and qualified in packages:
                 pages.append(qualified)
                 continue
+            if kind == "module":
+                paged.add(obj.__name__)
+                for member in vars(obj).values():  # automodule :members: describes what it defines
+                    if ((inspect.isclass(member) or inspect.isroutine(member))
+                            and getattr(member, "__module__", None) == obj.__name__
+                            and not member.__name__.startswith("_")):
+                        described.setdefault(id(member), f"{obj.__name__}.{member.__qualname__}")
             text = _module_page(qualified) if kind == "module" else _name_page(qualified, kind)
             _write(outdir / f"{qualified}.rst", text)
             written.add(f"{qualified}.rst")
             pages.append(qualified)
         _write(outdir / f"{package}.rst", _package_page(package, names, pages, others[package]))
         written.add(f"{package}.rst")
-    index = (_underline("API reference") + "\nGenerated at build time from each package's ``__all__``: every "
-             "public name has its page, with the numpydoc sections of its docstring.\n\n"
-             ".. toctree::\n   :maxdepth: 2\n\n" + "".join(f"   {p}\n" for p in packages))
+        for qualified in others[package]:
+            owner, qualname = qualified.rsplit(".", 1)
+            described.setdefault(id(getattr(importlib.import_module(owner), qualname)), qualified)
+    modules = _other_module_pages(packages, paged, described)
+    for modname, text in modules.items():
+        _write(outdir / f"{modname}.rst", text)
+        written.add(f"{modname}.rst")
+    documented["modules"] = sorted(paged | set(modules))
+    index = (_underline("API reference") + "\nGenerated at build time from the code: each package's ``__all__`` "
+             "(every public name has its page, with the numpydoc sections of its docstring), then every "
+             "other public module of ``contact_models`` and ``hbm`` (its docstring, the classes and functions "
+             "it defines, links to those documented on another page).\n\n"
+             ".. toctree::\n   :maxdepth: 2\n   :caption: Packages\n\n" + "".join(f"   {p}\n" for p in packages)
+             + "\n.. toctree::\n   :maxdepth: 1\n   :caption: Modules\n\n" + "".join(f"   {m}\n" for m in modules))
     _write(outdir / "index.rst", index)
     for stale in outdir.glob("*.rst"):  # a name removed from __all__ loses its page
         if stale.name not in written:
@@ -488,17 +616,84 @@ def _public_paths() -> dict[str, str]:
     return _PUBLIC
 
 
+_OBJECTS: list = []
+
+
+def _public_objects() -> list[tuple[object, str]]:
+    """``[(object, public path)]`` of every class, function and container in the packages' ``__all__``
+    (numbers and strings left out: equal values are not the same name)."""
+    if not _OBJECTS:
+        for package in PACKAGES:
+            module = importlib.import_module(package)
+            for name in module.__all__:
+                obj = getattr(module, name)
+                if inspect.isclass(obj) or inspect.isroutine(obj) or isinstance(obj, (list, dict, tuple, set)):
+                    _OBJECTS.append((obj, f"{package}.{name}"))
+    return _OBJECTS
+
+
+def _documented_as(obj) -> str | None:
+    for candidate, path in _public_objects():
+        if candidate is obj:
+            return path
+    real = f"{getattr(obj, '__module__', '')}.{getattr(obj, '__qualname__', '')}"
+    if inspect.isclass(obj) or inspect.isroutine(obj):
+        return _public_paths().get(real)
+    return None
+
+
+def _in_namespace(module: str, target: str) -> list[str]:
+    """Where a name written in ``module``'s docstrings is documented, read as Python would read it
+    there: ``Blade`` in ``hbm.frf`` is the ``hbm.blade.Blade`` that module imports, documented as
+    ``hbm.Blade``; ``EFFECTS`` in ``hbm.scenes.effects`` is ``hbm.scenes.EFFECTS``; a dotted name
+    not in the module's namespace is read from its package (``hbm.balance.HarmonicBalance``).  A
+    bare name the module does not hold is the public name of that name, if there is one
+    (``Structure``), else the member of the first public class of the module that has it (``on``
+    in ``contact_models.loads``)."""
+    try:
+        namespace = importlib.import_module(module)
+    except Exception:
+        return []
+    parts = target.split(".")
+    starts = [namespace]
+    if not hasattr(namespace, parts[0]) and parts[0] in ROOTS:
+        starts = [importlib.import_module(parts[0])]
+        parts = parts[1:]
+    for obj in starts:
+        for i, part in enumerate(parts):
+            if not hasattr(obj, part):
+                break
+            obj = getattr(obj, part)
+            public = _documented_as(obj)
+            if public:
+                return [".".join([public, *parts[i + 1:]])]
+    if len(parts) == 1 and not hasattr(namespace, target):
+        named = [path for _, path in _public_objects() if path.rsplit(".", 1)[1] == target]
+        if len(set(named)) == 1:
+            return named[:1]
+        owners = [c for c in vars(namespace).values() if inspect.isclass(c) and c.__module__ == module
+                  and hasattr(c, target) and _documented_as(c)]
+        return [f"{_documented_as(owners[0])}.{target}"] if owners else []
+    return []
+
+
 def public_reference(app, env, node, contnode):
     """``missing-reference``: a reference written with a class's defining module
     (``contact_models.allmode.AllModeMicroslip.solve``, or ``AllModeMicroslip.solve`` inside that
-    module) resolves to the class's public page (``contact_models.AllModeMicroslip.solve``)."""
+    module) resolves to the class's public page (``contact_models.AllModeMicroslip.solve``); a
+    name in a module's docstrings as that module's namespace reads it (:func:`_in_namespace`)."""
     if node.get("refdomain") != "py":
         return None
     target = node["reftarget"].lstrip("~.")
+    domain = env.get_domain("py")
+    if node.get("py:module"):
+        for new in _in_namespace(node["py:module"], target):
+            found = domain.resolve_xref(env, node["refdoc"], app.builder, node["reftype"], new, node, contnode)
+            if found is not None:
+                return found
     candidates = [target]
     if node.get("py:module"):
         candidates.append(f"{node['py:module']}.{target}")
-    domain = env.get_domain("py")
     for candidate in candidates:
         for real, public in _public_paths().items():
             if candidate == real or candidate.startswith(real + "."):

@@ -2,7 +2,7 @@
 
 A perturbation ``x(t) = exp(lambda t) p(t)`` of a periodic solution, ``p`` periodic with the
 balance's H harmonics (coefficients ``P``, DOF-major layout ``[P0, Pc1, Ps1, ...]`` per DOF),
-satisfies the quadratic eigenvalue problem
+satisfies the quadratic eigenvalue problem::
 
     (lambda^2 D2 + lambda D1 + D0) P = 0,
     D2 = M (x) I,   D1 = C (x) I + 2 omega M (x) N,   D0 = K (x) I + omega C (x) N

@@ -116,7 +116,7 @@ def _run(args) -> int:
         print(f"scene {scene.path} is valid: {len(plan.runs)} run(s)")
         print("\n".join(effect_lines(plan)))
         return 0
-    line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
+    line = ProgressLine(sys.stderr, enabled=not args.quiet, plain=not sys.stderr.isatty())
     folder = Path(args.out if args.out is not None else scene.output["folder"])
 
     def kept():  # counted on disk: the signal may come between a row's write and its progress call
@@ -182,7 +182,7 @@ def _run_study(args, overrides) -> int:
         return 0
     study = Study.from_scene(args.scene, overrides=overrides)
     folder = Path(args.out if args.out is not None else study.settings["folder"])
-    line = ProgressLine(sys.stderr, enabled=not args.quiet and sys.stderr.isatty())
+    line = ProgressLine(sys.stderr, enabled=not args.quiet, plain=not sys.stderr.isatty())
 
     def kept():
         files = [folder / FILES[k] for k in ("records", "partial") if (folder / FILES[k]).exists()]

@@ -1,5 +1,5 @@
 """The true periodic steady response of a structure with Jenkins contacts, by time integration and
-shooting: the independent reference the harmonic balance is checked against (issue 12).
+shooting: the independent reference the harmonic balance is checked against.
 
 Model (n DOFs; SI units; ``t`` in s, ``omega`` in rad/s)::
 
