@@ -31,10 +31,11 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.describing import stiffness_terms
+from .numerics.describing import first_harmonic, stiffness_terms
 from .numerics.checks import count, nonnegative, nonnegative_array, positive
-from .numerics.masing import (aft_matrices, dense_jacobian, diagonal_product, masing_periodic, to_harmonics,
-                              to_time, true_extremes)
+from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, default_samples, dense_jacobian,  # noqa: F401
+                              diagonal_product, masing_loop, masing_periodic, to_harmonics, to_time,  # (public here)
+                              true_extremes)
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
@@ -446,26 +447,8 @@ class ContactElement(ABC):
                                self._masing_centre_stiffness(omega), extremes)
 
     def _describing_force(self, X: NDArray, omega: float, rtol: float):
-        """H = 1 from the describing function (``contact_models.numerics.describing``), with the omega-derivative
-        of a frequency-dependent element as a forward difference of relative step sqrt(rtol)."""
-        X0, xc, xs = (float(v) for v in X)
-        k_inf = self._masing_centre_stiffness(omega)
-        F = np.empty(3)
-        J = np.zeros((3, 3))
-        F[0], J[0, 0] = k_inf * X0, k_inf
-        a = float(np.hypot(xc, xs))
-        p, q, dp, dq = self._pq(a, omega, rtol)
-        F[1], F[2] = p * xc + q * xs, p * xs - q * xc
-        gc, gs = (xc / a, xs / a) if a > 0.0 else (0.0, 0.0)
-        u, v = dp * xc + dq * xs, dp * xs - dq * xc
-        J[1, 1:] = p + u * gc, q + u * gs
-        J[2, 1:] = -q + v * gc, p + v * gs
-        Fw = np.zeros(3)
-        if self.frequency_dependent:
-            h = np.sqrt(rtol) * max(omega, 1e-3)
-            ph, qh, _, _ = self._pq(a, omega + h, rtol)
-            Fw[1], Fw[2] = ((ph - p) * xc + (qh - q) * xs) / h, ((ph - p) * xs - (qh - q) * xc) / h
-        return F, J, Fw
+        """H = 1 from the describing function (``contact_models.numerics.describing.first_harmonic``)."""
+        return first_harmonic(self._pq, X, omega, rtol, self._masing_centre_stiffness(omega), self.frequency_dependent)
 
     def _pq(self, a: float, omega: float, rtol: float):
         """``(p, q, dp/da, dq/da)``, ``p = f_s/a``, ``q = f_c/a``; the linear range without ``fourier``."""
@@ -598,34 +581,6 @@ def _missing_time_law(cls: type) -> list[str]:
     if cls._loading_slope is ContactElement._loading_slope:
         missing.append("_loading_slope")
     return missing
-
-
-def masing_loop(loading: Callable[[NDArray], NDArray], a: float, n: int) -> tuple[NDArray, NDArray]:
-    """Closed loop from a loading curve by the Masing rule.
-
-    ``loading(x)`` is the virgin loading curve F(x) for x >= 0 (vectorised).  The
-    branch from x = -a upwards is ``-F(a) + 2 F((a + x)/2)``, the branch down from
-    x = +a is ``F(a) - 2 F((a - x)/2)``.  Returns ``(x, f)`` for theta from -pi/2
-    to 3 pi/2 with ``x = a sin(theta)``.
-    """
-    theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)
-    x = a * np.sin(theta)
-    fa = float(np.asarray(loading(np.array([a])))[0])
-    up = theta <= 0.5 * np.pi
-    f = np.empty_like(x)
-    f[up] = -fa + 2.0 * loading(0.5 * (a + x[up]))
-    f[~up] = fa - 2.0 * loading(0.5 * (a - x[~up]))
-    return x, f
-
-
-#: Default AFT samples per period: at least this many per harmonic, a power of two.
-SAMPLES_PER_HARMONIC = 16
-
-
-def default_samples(harmonics: int) -> int:
-    """Default AFT samples per period for ``harmonics`` harmonics: the power of two
-    ``>= SAMPLES_PER_HARMONIC * (harmonics + 1)`` (and so >= 2H+2)."""
-    return 1 << int(np.ceil(np.log2(SAMPLES_PER_HARMONIC * (harmonics + 1))))
 
 
 def _shaped(v, shape):

@@ -30,4 +30,32 @@ def stiffness_terms(derivatives: Callable, a: float, omega: float, rtol: float) 
     return p, q, (dfs - p) / a, (dfc - q) / a
 
 
-__all__ = ["stiffness_terms"]
+def first_harmonic(pq: Callable, X: np.ndarray, omega: float, rtol: float, k_inf: float,
+                   frequency_dependent: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """An element's harmonic force at H = 1 from its describing function: ``(F, dF/dX, dF/domega)``
+    for ``X = [X0, Xc, Xs]``.
+
+    ``pq(a, omega, rtol)`` gives ``(p, q, dp/da, dq/da)``; the static term is ``K_inf X0`` (a Masing
+    element's slope past full slip); the omega-derivative of a frequency-dependent element is a
+    forward difference of relative step sqrt(rtol).
+    """
+    X0, xc, xs = (float(v) for v in X)
+    F = np.empty(3)
+    J = np.zeros((3, 3))
+    F[0], J[0, 0] = k_inf * X0, k_inf
+    a = float(np.hypot(xc, xs))
+    p, q, dp, dq = pq(a, omega, rtol)
+    F[1], F[2] = p * xc + q * xs, p * xs - q * xc
+    gc, gs = (xc / a, xs / a) if a > 0.0 else (0.0, 0.0)
+    u, v = dp * xc + dq * xs, dp * xs - dq * xc
+    J[1, 1:] = p + u * gc, q + u * gs
+    J[2, 1:] = -q + v * gc, p + v * gs
+    Fw = np.zeros(3)
+    if frequency_dependent:
+        h = np.sqrt(rtol) * max(omega, 1e-3)
+        ph, qh, _, _ = pq(a, omega + h, rtol)
+        Fw[1], Fw[2] = ((ph - p) * xc + (qh - q) * xs) / h, ((ph - p) * xs - (qh - q) * xc) / h
+    return F, J, Fw
+
+
+__all__ = ["stiffness_terms", "first_harmonic"]

@@ -277,3 +277,31 @@ def to_harmonics(f: Array, harmonics: int) -> Array:
     out[..., 1::2] = 2.0 * c[..., 1:harmonics + 1].real
     out[..., 2::2] = -2.0 * c[..., 1:harmonics + 1].imag
     return out
+
+
+def masing_loop(loading: Callable[[NDArray], NDArray], a: float, n: int) -> tuple[NDArray, NDArray]:
+    """Closed loop from a loading curve by the Masing rule.
+
+    ``loading(x)`` is the virgin loading curve F(x) for x >= 0 (vectorised).  The
+    branch from x = -a upwards is ``-F(a) + 2 F((a + x)/2)``, the branch down from
+    x = +a is ``F(a) - 2 F((a - x)/2)``.  Returns ``(x, f)`` for theta from -pi/2
+    to 3 pi/2 with ``x = a sin(theta)``.
+    """
+    theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)
+    x = a * np.sin(theta)
+    fa = float(np.asarray(loading(np.array([a])))[0])
+    up = theta <= 0.5 * np.pi
+    f = np.empty_like(x)
+    f[up] = -fa + 2.0 * loading(0.5 * (a + x[up]))
+    f[~up] = fa - 2.0 * loading(0.5 * (a - x[~up]))
+    return x, f
+
+
+#: Default AFT samples per period: at least this many per harmonic, a power of two.
+SAMPLES_PER_HARMONIC = 16
+
+
+def default_samples(harmonics: int) -> int:
+    """Default AFT samples per period for ``harmonics`` harmonics: the power of two
+    ``>= SAMPLES_PER_HARMONIC * (harmonics + 1)`` (and so >= 2H+2)."""
+    return 1 << int(np.ceil(np.log2(SAMPLES_PER_HARMONIC * (harmonics + 1))))
