@@ -465,6 +465,12 @@ class HarmonicBalance:
     def arclength_scale(self) -> Callable[[NDArray], NDArray]:
         """The continuation's scale: every coefficient by the current first-harmonic amplitude of
         the condensation DOFs (one weight for all harmonics), omega by 1."""
+        if self.one_dof:
+            def scale(u):  # (a, a, 1): one array, no copies (the continuation calls it at every step)
+                a = max(math.hypot(u[0], u[1]), 1e-300)
+                return np.array([a, a, 1.0])
+
+            return scale
         first = self.first_harmonic
 
         def scale(u):
