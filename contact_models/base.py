@@ -171,9 +171,8 @@ class ContactElement(ABC):
     def model_error(self, a: ArrayLike, omega: ArrayLike = 0.0) -> float | NDArray:
         """Relative error of ``(f_s, f_c)`` against the physical contact the element stands for.
 
-        0 for an element that is exact for what it models (the Jenkins element, the all-mode
-        bar); for the single-mode microslip elements the validity map's error against the
-        all-mode bar (``contact_models.model_range``), amplitude by amplitude.  The solver's error
+        0 for an element exact for what it models (Jenkins); the single-mode bars: the validity
+        map's error against the all-mode bar (``contact_models.model_range``).  The solver's error
         estimate reads it (``FrequencyResponse.error_sources["model"]``).
 
         Parameters
@@ -500,6 +499,16 @@ class ContactElement(ABC):
         outside its range.  Default: no range, no warning.  The warning's ``stacklevel`` is 4
         (the caller of the public method)."""
 
+    def refined_model(self) -> ContactElement | None:
+        """The more complete element this one stands for, or None: the solver's ``model="auto"``
+        solves with it where this element's ``model_error`` exceeds the tolerance (the single-mode
+        microslip bars return the all-mode bar of the same bar and load)."""
+        return self._refined_model()
+
+    def _refined_model(self) -> ContactElement | None:
+        """Hook of :meth:`refined_model`.  Default: None (the element is the complete model)."""
+        return None
+
     def _model_error(self, a: np.ndarray, omega: np.ndarray) -> np.ndarray:
         """Hook of :meth:`model_error`: flat float arrays in (m, rad/s), the relative error of
         ``(f_s, f_c)`` against the physical contact the element stands for out.  Default: zeros
@@ -564,6 +573,7 @@ PUBLIC_HOOKS = {
     "hysteresis": "_hysteresis",
     "periodic_force": "_periodic_force",
     "model_error": "_model_error",
+    "refined_model": "_refined_model",
     "harmonic_force": "_harmonic_force",
     "harmonic_force_unchecked": "_harmonic_force",
 }

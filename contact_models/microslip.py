@@ -34,6 +34,7 @@ import numpy as np
 from ._loading_path import (CSTEP, MAX_GROSS_DIP, MAX_ONSET_DIP, TABLE_POINTS, Regions,  # noqa: F401 (public here)
                             _ThreeRegionPiece, _TwoRegionPiece, load_curvature, region_solution)
 from ._path_integrals import GAUSS_MAX, GAUSS_START, _fourier_one, _fourier_one_omega  # noqa: F401 (public here)
+from .allmode import AllModeMicroslip
 from .bar import Bar, impedance_transmission
 from .base import ContactElement, masing_loop
 from .loads import QuadraticLoad, UniformLoad
@@ -160,6 +161,10 @@ class _MicroslipBar(ContactElement):
     def _check_range(self, a, omega):
         """Warn (``ModelRangeWarning``) outside the single-mode range (``contact_models.model_range``)."""
         check_single_mode(self, a, omega, stacklevel=4)
+
+    def _refined_model(self):
+        """The all-mode bar of the same bar and load (every mode, the phase along the bar)."""
+        return AllModeMicroslip(self.bar, self.load)
 
     def _model_error(self, a, omega):
         """The validity map's error against the all-mode bar (``contact_models.model_range``)."""

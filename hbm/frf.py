@@ -28,6 +28,7 @@ from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_S
                               harmonic_knobs, samples_for)
 from .balance.residual import HarmonicBalance, as_structure
 from .balance.start import force_homotopy
+from .structure import Contact
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
@@ -42,6 +43,11 @@ HARMONICS_SHARE = 0.5
 RTOL_SHARE = 1e-2
 MAX_HARMONICS = 31
 
+#: ``model``: "given" solves with the elements as given; "auto" solves again with each element's
+#: refined model (``ContactElement.refined_model``) where the model error exceeds ``MODEL_SHARE * tol``.
+MODELS = ("given", "auto")
+MODEL_SHARE = 0.5
+
 #: Newton tolerance on the scaled residual (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref``
 #: otherwise) as a fraction of ``rtol``.
 NEWTON_TOL_FACTOR = 5e-3
@@ -53,7 +59,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                        locate_folds: bool = True, on_point: Callable[[float, float, float, float], None] | None = None,
                        accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
                        response_dof: int | None = None, stability: bool = True, tol: float | None = None,
-                       estimate_error: bool = True) -> FrequencyResponse:
+                       estimate_error: bool = True, model: str = "given") -> FrequencyResponse:
     """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -104,6 +110,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     estimate_error : bool, optional
         Estimate the error of every point (``error_estimate``, ``error_sources``;
         ``hbm.balance.errors``).  Default True; False skips it (and the warning).
+    model : {"given", "auto"}, optional
+        "given" (default): the elements as given.  "auto": where the estimate's model source
+        exceeds half the tolerance, solve again with each element's refined model
+        (``ContactElement.refined_model``: the all-mode bar for a single-mode microslip bar).
 
     Returns
     -------
@@ -182,6 +192,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
     tolerance = _tolerance(tol, estimate_error)
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
+    if model == "auto" and tolerance is None:
+        raise ValueError("model='auto' chooses the model by its error estimate: it needs estimate_error=True")
     if tol is not None:  # the elements and the Newton points well inside the tolerance asked for
         rtol = min(rtol, RTOL_SHARE * tolerance)
     steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
@@ -200,6 +214,12 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         return _trace(problem, w0, w1, rtol, steps, on_point, stability, tolerance)
 
     frf = solve(harmonics)
+    # ---- the model: the elements' refined models where their error exceeds a share of the tolerance
+    if model == "auto" and len(frf) and float(np.max(frf.error_sources["model"])) > MODEL_SHARE * tolerance:
+        refined = _refined_contacts(frf._problem.contacts)
+        if refined is not None:
+            contacts = refined
+            frf = solve(harmonics)
     # ---- adapt H to the tolerance (time laws through AFT): 3, 7, 15, 31 harmonics
     while (adapt and not frf._problem.one_dof and frf.harmonics < MAX_HARMONICS and len(frf)
            and float(np.max(frf.error_sources["harmonics"])) > HARMONICS_SHARE * tolerance):
@@ -207,6 +227,17 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if tolerance is not None:
         _warn_if_above(frf, tolerance)
     return frf
+
+
+def _refined_contacts(contacts: list) -> list | None:
+    """The contacts with each element that offers one replaced by its refined model; None if none does."""
+    out, changed = [], False
+    for c in contacts:
+        better = c.element.refined_model()
+        changed |= better is not None
+        el = better if better is not None else c.element
+        out.append(Contact(el, dof=c.dofs[0]) if len(c.dofs) == 1 else Contact(el, dofs=c.dofs))
+    return out if changed else None
 
 
 def _tolerance(tol: Any, estimate_error: bool) -> float | None:

@@ -43,7 +43,7 @@ class _Linear:
 
 
 def test_the_contract_table_names_methods_and_hooks_of_the_base():
-    assert len(PUBLIC_HOOKS) == 13  # model_error joined the twelve of the first contract
+    assert len(PUBLIC_HOOKS) == 14  # model_error and refined_model joined the twelve of the first contract
     for name, hook in PUBLIC_HOOKS.items():
         assert name in ContactElement.__dict__ and hook.startswith("_") and hasattr(ContactElement, hook)
 
