@@ -104,7 +104,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         The target relative error of the response amplitude against the true periodic response
         of the physical system (all harmonics, the physical contact).  Given (and ``harmonics``
         not), a structure's H is chosen: 3, 7, 15, 31 until the harmonics' estimate is below half
-        of it.  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
+        of it (a blade starts at 1).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
         the worst point, its largest source and the fix.  Default ``DEFAULT_TOL`` (1e-3), for the
         warning only.
     estimate_error : bool, optional
@@ -201,10 +201,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
                  max_steps=count("max_steps", max_steps), locate_folds=locate_folds)
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
-    adapt = harmonics is None and structure.default_harmonics is None and tol is not None
+    adapt = harmonics is None and tol is not None
     if harmonics is None:
         harmonics = structure.default_harmonics if structure.default_harmonics is not None else H_preset
-        if adapt:
+        if adapt and structure.default_harmonics is None:
             harmonics = ADAPT_START
     n_t_given = n_t
 
@@ -220,7 +220,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         if refined is not None:
             contacts = refined
             frf = solve(harmonics)
-    # ---- adapt H to the tolerance (time laws through AFT): 3, 7, 15, 31 harmonics
+    # ---- adapt H to the tolerance (time laws through AFT): 1 (a blade), 3, 7, 15, 31 harmonics
     while (adapt and not frf._problem.one_dof and frf.harmonics < MAX_HARMONICS and len(frf)
            and float(np.max(frf.error_sources["harmonics"])) > HARMONICS_SHARE * tolerance):
         frf = solve(2 * frf.harmonics + 1)
