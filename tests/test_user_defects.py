@@ -1,0 +1,171 @@
+"""Defects users reported on inputs, outputs and the command line: each test fails without its fix.
+
+The scenes here are the 3-DOF chain of ``examples/scenes/chain_3dof.toml`` (unit masses and
+springs ground-0-1-2, C = 0.004 K, forced at DOF 2, a Jenkins damper to ground at DOF 0) with one
+of its files or keys spoilt.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+import scipy.sparse
+
+from contact_models import Macroslip, SampledLoad
+from hbm import Contact, Structure, frequency_response
+from hbm.cli.main import main
+from hbm.scenes import SceneError, load_scene, plan_scene, scene_from_dict
+from hbm.structure import load_matrix
+
+K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+F = [0.0, 0.0, 0.01]
+
+
+def chain(folder, **structure):
+    np.save(folder / "M.npy", np.eye(3))
+    np.save(folder / "K.npy", K)
+    table = {"mass": "M.npy", "stiffness": "K.npy", "rayleigh": [0.0, 0.004], "force": F,
+             "contact_dofs": [0], "response_dof": 2}
+    table.update(structure)
+    return {"structure": table, "damper": {"model": "macroslip", "stiffness": 1.0, "slip_force": 0.02},
+            "effects": {"harmonics": 3}, "sweep": {"omega": [0.3, 0.8]}}
+
+
+def problems(data, folder):
+    with pytest.raises(SceneError) as info:
+        plan_scene(scene_from_dict(data, folder / "chain.toml"))
+    return info.value.problems
+
+
+# ----------------------------------------------------------------------------- inputs
+@pytest.mark.parametrize("sparse", [False, True])
+def test_complex_stiffness_is_refused_by_name(sparse):
+    Kc = K + 1j
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no ComplexWarning on the way: refused before any cast
+        with pytest.raises(ValueError, match=r"^K must be real, got a complex matrix \(max\|Im K\| = 1\)"):
+            Structure(np.eye(3), 0.01 * np.eye(3), scipy.sparse.csr_matrix(Kc) if sparse else Kc, force=F)
+
+
+def test_complex_force_is_refused_by_name():
+    with pytest.raises(ValueError, match=r"^force must be real, got a complex vector \(max\|Im force\| = 2\)"):
+        Structure(np.eye(3), 0.01 * np.eye(3), K, force=[0.0, 0.0, 1.0 + 2.0j])
+
+
+def test_complex_matrix_with_zero_imaginary_part_is_its_real_part():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = Structure(np.eye(3), 0.01 * np.eye(3), K + 0j, force=np.array(F, dtype=complex))
+    assert s.K.dtype == np.float64 and np.array_equal(s.K, K)
+    assert s.force.tolist() == F
+
+
+def test_complex_npy_in_a_scene_names_structure_stiffness(tmp_path):
+    data = chain(tmp_path)
+    np.save(tmp_path / "K.npy", K + 1j)
+    assert problems(data, tmp_path) == [
+        f"{tmp_path / 'chain.toml'}: structure.stiffness: K must be real, got a complex matrix (max|Im K| = 1)"]
+
+
+def test_sampled_load_nan_names_values():
+    with pytest.raises(ValueError, match=r"^values must be finite, got values=\[1.0, nan, 1.0\]"):
+        SampledLoad(x=[0.0, 0.025, 0.05], values=[1.0, float("nan"), 1.0])
+    with pytest.raises(ValueError, match=r"^x must be finite"):
+        SampledLoad(x=[0.0, float("nan"), 0.05], values=[1.0, 1.0, 1.0])
+
+
+def test_garbage_npy_names_the_parameter_and_the_file(tmp_path):
+    bad = tmp_path / "K.npy"
+    bad.write_bytes(b"\x80\x04garbage, not an array")
+    with pytest.raises(ValueError, match="^stiffness must name a matrix file that numpy can read, got stiffness="):
+        load_matrix(bad, name="stiffness")
+    with pytest.raises(ValueError, match=r"^mass must name a matrix file that numpy can read, got mass='.*K\.npy'"):
+        Structure.from_files(bad, bad, force=F, rayleigh=(0.0, 0.004))
+
+
+def test_garbage_npy_in_a_scene_names_the_key_and_the_file(tmp_path):
+    data = chain(tmp_path)
+    (tmp_path / "K.npy").write_bytes(b"garbage")
+    (message,) = problems(data, tmp_path)
+    assert message.startswith(f"{tmp_path / 'chain.toml'}: [structure]: structure.stiffness must name a matrix file that numpy "
+                              f"can read, got structure.stiffness={str(tmp_path / 'K.npy')!r}")
+
+
+def test_pickled_npy_in_a_scene_is_not_loaded_and_named(tmp_path):
+    data = chain(tmp_path)
+    np.save(tmp_path / "K.npy", np.array([{"K": 1}], dtype=object), allow_pickle=True)
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a matrix file" in message
+    assert "pickled Python objects, which are not loaded" in message
+
+
+def test_singular_stiffness_fails_the_check_and_writes_nothing(tmp_path, capsys):
+    data = chain(tmp_path)
+    np.save(tmp_path / "K.npy", np.array([[1.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]))  # free-free
+    expected = (f"{tmp_path / 'chain.toml'}: structure.stiffness: K must be nonsingular (a structure held only by "
+                "its contacts has no static compliance to condense with), got a singular K")
+    assert problems(data, tmp_path) == [expected]
+    path = tmp_path / "chain.toml"
+    path.write_text('[structure]\nmass = "M.npy"\nstiffness = "K.npy"\nrayleigh = [0.0, 0.004]\n'
+                    'force = [0.0, 0.0, 0.01]\ncontact_dofs = [0]\n[damper]\nmodel = "macroslip"\n'
+                    'stiffness = 1.0\nslip_force = 0.02\n[effects]\nharmonics = 3\n[sweep]\nomega = [0.3, 0.8]\n')
+    assert main(["run", str(path), "--check"]) == 2
+    assert expected in capsys.readouterr().err
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 2
+    assert not out.exists()
+
+
+def test_singular_stiffness_of_one_dof_at_one_harmonic_still_runs(tmp_path):
+    # the one-DOF single-harmonic balance needs no K^-1: k = 0 with a damper is a valid scene
+    np.save(tmp_path / "M1.npy", np.eye(1))
+    np.save(tmp_path / "K1.npy", np.zeros((1, 1)))
+    data = {"structure": {"mass": "M1.npy", "stiffness": "K1.npy", "rayleigh": [0.01, 0.0], "force": [0.01],
+                          "contact_dofs": [0]},
+            "damper": {"model": "macroslip", "stiffness": 1.0, "slip_force": 0.02}, "sweep": {"omega": [0.3, 0.8]}}
+    assert len(plan_scene(scene_from_dict(data, tmp_path / "one.toml")).runs) == 1
+
+
+def test_harmonics_string_is_refused_by_key(tmp_path):
+    data = chain(tmp_path)
+    data["effects"]["harmonics"] = "3"
+    with pytest.raises(SceneError) as info:
+        scene_from_dict(data, tmp_path / "chain.toml")
+    assert info.value.problems == [f"{tmp_path / 'chain.toml'}: effects.harmonics = \"3\": must be an integer >= 1"]
+
+
+@pytest.mark.parametrize("H", ["3", b"3"])
+def test_harmonics_string_is_refused_by_the_api(H):
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with pytest.raises(ValueError, match=r"^harmonics must be an integer >= 1, got harmonics="):
+        frequency_response(s, [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0)], (0.3, 0.8), harmonics=H)
+
+
+def test_binary_scene_file_is_named(tmp_path):
+    path = tmp_path / "binary.toml"
+    path.write_bytes(b'title = "\xff\xfe"\n')
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    assert info.value.problems == [f"{path}: not valid TOML: not UTF-8 text (byte b'\\xff' at offset 9); a scene "
+                                   "is a UTF-8 text file"]
+
+
+def test_binary_scene_file_is_named_on_the_command_line(tmp_path, capsys):
+    path = tmp_path / "binary.toml"
+    path.write_bytes(bytes(range(256)))
+    assert main(["run", str(path), "--check"]) == 2
+    assert f"{path}: not valid TOML: not UTF-8 text" in capsys.readouterr().err
+
+
+def test_natural_frequencies_refuse_a_negative_stiffness_mode():
+    Kn = np.array([[2.0, -1.0], [-1.0, -3.0]])  # eigenvalues 2.19, -3.19
+    s = Structure(np.eye(2), 0.01 * np.eye(2), Kn, force=[1.0, 0.0])
+    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -3.19 \(K x = lambda M x\): the structure is "
+                                         "unstable; natural_frequencies needs K positive semi-definite"):
+        s.natural_frequencies()
+
+
+def test_natural_frequencies_keep_a_rigid_body_mode_at_zero():
+    s = Structure(np.eye(2), 0.01 * np.eye(2), [[1.0, -1.0], [-1.0, 1.0]], force=[1.0, 0.0])
+    w = s.natural_frequencies()
+    assert w[0] == 0.0 and w[1] == pytest.approx(np.sqrt(2.0), rel=1e-14)
