@@ -169,3 +169,33 @@ def test_natural_frequencies_keep_a_rigid_body_mode_at_zero():
     s = Structure(np.eye(2), 0.01 * np.eye(2), [[1.0, -1.0], [-1.0, 1.0]], force=[1.0, 0.0])
     w = s.natural_frequencies()
     assert w[0] == 0.0 and w[1] == pytest.approx(np.sqrt(2.0), rel=1e-14)
+
+
+# ----------------------------------------------------------------------------- the command line
+@pytest.mark.parametrize("argv", [["new", "{path}", "--out", "sub"], ["--out", "sub", "new", "{path}"],
+                                  ["new", "{path}", "--rtol", "1e-3"], ["models", "--rtol", "1e-3"],
+                                  ["keys", "--out", "sub"], ["--rtol", "1e-3", "keys"]])
+def test_subcommands_refuse_options_they_do_not_take(tmp_path, capsys, argv):
+    path = tmp_path / "s2.toml"
+    with pytest.raises(SystemExit) as stop:
+        main([a.format(path=path) for a in argv])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert "unrecognized arguments: --" in err or "does not apply to" in err
+    assert not path.exists() and not (tmp_path / "sub").exists()
+
+
+def test_new_writes_where_it_is_told_and_nothing_else(tmp_path):
+    path = tmp_path / "s2.toml"
+    assert main(["new", str(path)]) == 0 and path.exists()
+    assert main(["new", str(path), "--force"]) == 0
+
+
+def test_help_lists_every_option_of_run():
+    from hbm.cli.main import build_parser
+
+    text = " ".join(build_parser("python -m hbm").format_help().split())
+    run = text[text.index("run run a scene file"):text.index("new write")]
+    for option in ("--out DIR", "--set TABLE.KEY=VALUE", "--rtol X", "--quiet", "--check", "--workers N",
+                   "--scheduler ADDRESS", "--executor NAME"):
+        assert option in run, option
