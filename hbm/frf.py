@@ -39,7 +39,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                        min_step: float = DEFAULT_MIN_STEP, max_steps: int = DEFAULT_MAX_STEPS,
                        locate_folds: bool = True, on_point: Callable[[float, float, float, float], None] | None = None,
                        accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
-                       response_dof: int | None = None, stability: bool = True) -> FrequencyResponse:
+                       response_dof: int | None = None, stability: bool = True,
+                       on_harmonics: Callable[[float, Any], None] | None = None) -> FrequencyResponse:
     """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -80,6 +81,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         The DOF whose response is reported.  Default the forced DOF.
     stability : bool, optional
         Whether Hill's stability is available (computed on first use of ``stable``).  Default True.
+    on_harmonics : callable, optional
+        ``on_harmonics(omega, X)`` with each accepted point, right after ``on_point``: ``X`` the
+        response DOF's harmonics in m, ``(X0, Xc1, Xs1, ..., XcH, XsH)`` (``c_h = Xc_h - i Xs_h`` of
+        ``FrequencyResponse.coefficients``), as it is accepted (a scene streams them to its CSV).
 
     Returns
     -------
@@ -171,7 +176,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     scale = problem.arclength_scale()
     w_ref = problem.omega_ref
     # ---- run: from the stuck solution at w0 (else a homotopy in the force) to w1
-    report = None if on_point is None else _reporter(on_point, problem)
+    report = None if on_point is None and on_harmonics is None else _reporter(on_point, on_harmonics, problem)
 
     def trace(u_start):
         return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
@@ -269,13 +274,19 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
                     phase=math.atan2(-z.imag, z.real))
 
 
-def _reporter(on_point: Callable, problem: HarmonicBalance) -> Callable:
-    """``on_point(omega, x_c, x_s, residual)`` for the continuation's ``on_point(u, rnorm)`` in scaled unknowns."""
+def _reporter(on_point: Callable | None, on_harmonics: Callable | None, problem: HarmonicBalance) -> Callable:
+    """``on_point(omega, x_c, x_s, residual)`` and ``on_harmonics(omega, X)`` for the continuation's
+    ``on_point(u, rnorm)`` in scaled unknowns."""
     c, s = problem.response_components()
     x_ref, w_ref = problem.x_ref, problem.omega_ref
+    r = problem.dofs.index(problem.response_dof)
 
     def report(u, rnorm):
-        on_point(float(u[-1] * w_ref), float(u[c] * x_ref), float(u[s] * x_ref), float(rnorm))
+        if on_point is not None:
+            on_point(float(u[-1] * w_ref), float(u[c] * x_ref), float(u[s] * x_ref), float(rnorm))
+        if on_harmonics is not None:
+            X, w = problem.to_physical(u)
+            on_harmonics(float(w), X[r].copy())
 
     return report
 

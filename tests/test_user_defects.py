@@ -199,3 +199,150 @@ def test_help_lists_every_option_of_run():
     for option in ("--out DIR", "--set TABLE.KEY=VALUE", "--rtol X", "--quiet", "--check", "--workers N",
                    "--scheduler ADDRESS", "--executor NAME"):
         assert option in run, option
+
+
+# ----------------------------------------------------------------------------- outputs
+import csv  # noqa: E402
+import math  # noqa: E402
+import tomllib  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+from matplotlib.figure import Figure  # noqa: E402
+
+from hbm.output import FRF_COLUMNS, harmonic_columns  # noqa: E402
+from hbm.scenes import run_scene, summary_lines  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
+DEFAULT = EXAMPLES / "default_microslip_frf.toml"
+
+
+def read_csv(path):
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    return rows[0], rows[1:]
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures a scene saves, kept for inspection."""
+    figures = []
+    save = Figure.savefig
+
+    def keep(self, *args, **kwargs):
+        figures.append(self)
+        return save(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", keep)
+    return figures
+
+
+def test_multiharmonic_scene_csv_holds_every_harmonic_and_the_stability(tmp_path):
+    data = tomllib.loads((EXAMPLES / "chain_3dof.toml").read_text())
+    data["effects"]["harmonics"] = 3
+    data["output"] = {"formats": ["csv"]}
+    result = run_scene(scene_from_dict(data, EXAMPLES / "chain_3dof.toml"), tmp_path)
+    assert result.success
+    header, rows = read_csv(tmp_path / "frf.csv")
+    assert tuple(header) == ("run", "model", "normal_load_N") + FRF_COLUMNS + (
+        "X0_m", "Xc1_m", "Xs1_m", "Xc2_m", "Xs2_m", "Xc3_m", "Xs3_m", "stable")
+    frf = result.runs[0].frf
+    c = frf.coefficients(2)
+    table = np.array([r[9:16] for r in rows], dtype=float)
+    assert len(rows) == len(frf) > 50
+    assert np.array_equal(table[:, 0], c[:, 0].real)
+    assert np.array_equal(table[:, 1::2], c[:, 1:].real) and np.array_equal(table[:, 2::2], -c[:, 1:].imag)
+    assert np.array_equal(table[:, 1], frf.x_c) and np.array_equal(table[:, 2], frf.x_s)
+    assert [r[-1] for r in rows] == [str(int(s)) for s in frf.stable]
+    assert float(np.max(np.abs(table[:, 5:7]))) > 1e-4  # the third harmonic is there, not zeros
+    assert not (tmp_path / "frf.csv.tmp").exists()
+
+
+def test_to_csv_of_a_multiharmonic_response_holds_every_harmonic_and_the_stability(tmp_path):
+    s = Structure.with_rayleigh(np.eye(3), K, alpha=0.0, beta=0.004, force=F)
+    frf = frequency_response(s, [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0)], (0.3, 0.8),
+                             harmonics=3, response_dof=2)
+    header, rows = read_csv(frf.to_csv(tmp_path / "frf.csv"))
+    assert tuple(header) == FRF_COLUMNS + harmonic_columns(3) + ("stable",)
+    table = np.array([r[:-1] for r in rows], dtype=float)
+    c = frf.coefficients(2)
+    assert np.array_equal(table[:, 0], frf.omega) and np.array_equal(table[:, 6], c[:, 0].real)
+    assert np.array_equal(table[:, 7::2], c[:, 1:].real) and np.array_equal(table[:, 8::2], -c[:, 1:].imag)
+    assert [r[-1] for r in rows] == ["1" if s else "0" for s in frf.stable]
+
+
+def test_to_csv_at_one_harmonic_keeps_the_library_columns(tmp_path):
+    s = Structure.with_rayleigh(np.eye(3), K, alpha=0.0, beta=0.004, force=F)
+    frf = frequency_response(s, [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0)], (0.3, 0.8),
+                             harmonics=1, response_dof=2)
+    header, rows = read_csv(frf.to_csv(tmp_path / "frf.csv"))
+    assert tuple(header) == FRF_COLUMNS and len(rows) == len(frf)
+
+
+def hz_scene(**sweep):
+    data = tomllib.loads(DEFAULT.read_text())
+    data["sweep"].update({"unit": "Hz", "omega": [5000.0, 6500.0], "max_step": 0.1, **sweep})
+    return scene_from_dict(data, DEFAULT)
+
+
+def test_sweep_in_hz_is_reported_in_hz(tmp_path, drawn):
+    result = run_scene(hz_scene(), tmp_path)
+    header, rows = read_csv(tmp_path / "frf.csv")
+    assert header[3:5] == ["omega_rad_s", "f_Hz"] and header[5:] == list(FRF_COLUMNS[1:])
+    omega, f = (np.array([r[i] for r in rows], dtype=float) for i in (3, 4))
+    assert np.array_equal(f, omega / (2.0 * math.pi)) and f[0] == pytest.approx(5000.0, rel=1e-15)
+    peak = result.summary["runs"][0]["peak"]
+    assert peak["frequency_Hz"] == peak["omega_rad_s"] / (2.0 * math.pi)
+    assert peak["frequency_Hz"] == pytest.approx(6170.17, rel=1e-5)
+    line = next(x for x in summary_lines(result) if "peak:" in x)
+    assert line.startswith(f"  peak: f = {peak['frequency_Hz']:.9g} Hz (omega = {peak['omega_rad_s']:.9g} rad/s)")
+    (fig,) = drawn
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "frequency (Hz)" and ax.get_ylabel() == "amplitude (\u00b5m)"
+    curve = next(line for line in ax.lines if line.get_label() == "two-region, N = 100 N")
+    assert curve.get_xdata()[0] == pytest.approx(5000.0, rel=1e-15)
+    assert max(curve.get_ydata()) == pytest.approx(float(np.max(result.runs[0].frf.amplitude)) * 1e6, rel=1e-15)
+
+
+def test_sweep_in_rad_per_second_keeps_its_columns(tmp_path):
+    data = tomllib.loads(DEFAULT.read_text())
+    data["sweep"]["max_step"] = 0.1
+    data["output"] = {"formats": ["csv"]}
+    run_scene(scene_from_dict(data, DEFAULT), tmp_path)
+    assert tuple(read_csv(tmp_path / "frf.csv")[0]) == ("run", "model", "normal_load_N") + FRF_COLUMNS
+
+
+def test_sweep_unit_in_lower_case_suggests_hz(tmp_path):
+    with pytest.raises(SceneError) as info:
+        hz_scene(unit="hz")
+    assert info.value.problems == [f'{DEFAULT}: sweep.unit = "hz": must be one of "rad/s", "Hz", "omega_c" '
+                                   '(did you mean "Hz"?)']
+
+
+def test_scene_figure_draws_the_stuck_response_and_a_min_as_the_main_job(tmp_path, drawn):
+    from hbm.balance.residual import linear_response
+
+    result = run_scene(hz_scene(), tmp_path)
+    (fig,) = drawn
+    ax = fig.axes[0]
+    by_label = {line.get_label(): line for line in ax.lines}
+    stuck, a_min = by_label["damper stuck (linear)"], by_label["$a_{min}$ (slip begins)"]
+    plan = result.runs[0].plan
+    assert a_min.get_ydata()[0] == pytest.approx(plan.a_min * 1e6, rel=1e-15)
+    assert plan.a_min == pytest.approx(7.5e-7, rel=1e-3)
+    w = np.array(stuck.get_xdata()) * 2.0 * math.pi
+    el = plan.element
+    expected = np.abs(linear_response(result.plan.blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
+    np.testing.assert_allclose(np.array(stuck.get_ydata()), expected * 1e6, rtol=1e-12)
+    assert max(stuck.get_ydata()) == pytest.approx(17.04, rel=1e-3)  # the stuck resonance on 600 points, um
+
+
+def test_main_job_figure_draws_the_same_references(tmp_path, drawn):
+    assert main(["--out", str(tmp_path)]) == 0
+    (fig,) = drawn
+    labels = [line.get_label() for line in fig.axes[0].lines]
+    assert "damper stuck (linear)" in labels and "$a_{min}$ (slip begins)" in labels
+    a_min = next(line for line in fig.axes[0].lines if line.get_label() == "$a_{min}$ (slip begins)")
+    assert a_min.get_ydata()[0] == pytest.approx(7.5e-7, rel=1e-12)

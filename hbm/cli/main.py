@@ -25,9 +25,8 @@ import numpy as np
 from contact_models import __version__
 
 from ..frf import frequency_response
-from ..output import plot_frfs
+from ..output import plot_frfs, plot_linear_reference
 from ..balance.presets import DEFAULT_RTOL
-from ..balance.residual import linear_response
 from ..scenes import (MODELS, REQUIRED, SceneError, effect_lines, load_scene, output_names, parse_override,
                       plan_scene, run_scene, schema, summary_lines)
 from ..scenes.checks import dot, show
@@ -82,14 +81,11 @@ def _figure(frf: Any, case: Case, path: Path) -> Path:
     # figure once more to measure it (0.06 s of the job's 0.7 s of CPU)
     from matplotlib.figure import Figure  # heavy (0.1-0.5 s), lazily: only when the figure is drawn
 
-    el, blade = case.element, case.blade
-    w = np.linspace(*case.omega_range, 600)
-    stuck = np.abs(linear_response(blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
+    el = case.element
     fig = Figure(figsize=(6.4, 4.2))
     ax = fig.subplots()
-    ax.plot(w, stuck, "--", color="0.6", lw=1, label="damper stuck (linear)")
+    plot_linear_reference(ax, case.blade, el, case.omega_range, a_min=el.slip_amplitude(0.0))
     plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
-    ax.axhline(el.slip_amplitude(0.0), color="C3", lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)")
     ax.set_title("Blade with a two-region microslip damper")
     ax.legend(fontsize=8)
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.93)
