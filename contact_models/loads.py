@@ -327,8 +327,10 @@ class SampledLoad(_Load):
             raise ValueError(f"x and values must be arrays of numbers, got x={self.x!r}, values={self.values!r}") from None
         if x.ndim != 1 or x.size < 2 or v.shape != x.shape:
             raise ValueError(f"x and values must be 1-d of one length >= 2, got x={self.x!r}, values={self.values!r}")
-        if not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))) or np.any(np.diff(x) <= 0) or x[0] != 0.0:
+        if not np.all(np.isfinite(x)) or np.any(np.diff(x) <= 0) or x[0] != 0.0:
             raise ValueError(f"x must be finite, increasing and start at 0, got x={self.x!r}")
+        if not np.all(np.isfinite(v)):
+            raise ValueError(f"values must be finite, got values={self.values!r}")
         if np.any(v < 0):
             raise ValueError(f"values must be >= 0, got values={self.values!r}")
         L = float(x[-1]) if self.L is None else positive("L", self.L)

@@ -59,7 +59,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                        locate_folds: bool = True, on_point: Callable[[float, float, float, float], None] | None = None,
                        accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
                        response_dof: int | None = None, stability: bool = True, tol: float | None = None,
-                       estimate_error: bool = True, model: str = "given") -> FrequencyResponse:
+                       estimate_error: bool = True, model: str = "given",
+                       on_harmonics: Callable[[float, Any], None] | None = None) -> FrequencyResponse:
     """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -114,6 +115,12 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         "given" (default): the elements as given.  "auto": where the estimate's model source
         exceeds half the tolerance, solve again with each element's refined model
         (``ContactElement.refined_model``: the all-mode bar for a single-mode microslip bar).
+    on_harmonics : callable, optional
+        ``on_harmonics(omega, X)`` with each accepted point, right after ``on_point``: ``X`` the
+        response DOF's harmonics in m, ``(X0, Xc1, Xs1, ..., XcH, XsH)`` (``c_h = Xc_h - i Xs_h`` of
+        ``FrequencyResponse.coefficients``), as it is accepted (a scene streams them to its CSV).  Where the balance may solve again
+        (``model="auto"``, or ``tol`` without ``harmonics``), both callbacks get the final solve's points
+        once it ends, in order.
 
     Returns
     -------
@@ -207,11 +214,13 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         if adapt and structure.default_harmonics is None:
             harmonics = ADAPT_START
     n_t_given = n_t
+    again = adapt or model == "auto"  # the balance may solve again: stream the final solve's points at its end
+    live = dict(on_point=None, on_harmonics=None) if again else dict(on_point=on_point, on_harmonics=on_harmonics)
 
     def solve(H):
         nt = n_t_given if n_t_given is not None else _samples(H, preset)
         problem = HarmonicBalance(system, contacts, harmonics=H, n_t=nt, response_dof=response_dof, rtol=rtol)
-        return _trace(problem, w0, w1, rtol, steps, on_point, stability, tolerance)
+        return _trace(problem, w0, w1, rtol, steps, stability, tolerance, **live)
 
     frf = solve(harmonics)
     # ---- the model: the elements' refined models where their error exceeds a share of the tolerance
@@ -224,6 +233,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     while (adapt and not frf._problem.one_dof and frf.harmonics < MAX_HARMONICS and len(frf)
            and float(np.max(frf.error_sources["harmonics"])) > HARMONICS_SHARE * tolerance):
         frf = solve(2 * frf.harmonics + 1)
+    if again and (on_point is not None or on_harmonics is not None):
+        report = _reporter(on_point, on_harmonics, frf._problem)
+        for u, rnorm in zip(frf._run.y, frf.residual_norm):
+            report(u, rnorm)
     if tolerance is not None:
         _warn_if_above(frf, tolerance)
     return frf
@@ -259,14 +272,14 @@ def _samples(H: Any, preset: Any) -> Any:
     return None
 
 
-def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: dict, on_point: Any,
-           stability: bool, tolerance: float | None) -> FrequencyResponse:
+def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: dict, stability: bool,
+           tolerance: float | None, *, on_point: Any, on_harmonics: Any) -> FrequencyResponse:
     """Scales, the stuck start at w0 (else a homotopy in the force), the continuation to w1, the result."""
     problem.set_scales(w0, w1)
     tol = NEWTON_TOL_FACTOR * rtol
     scale = problem.arclength_scale()
     w_ref = problem.omega_ref
-    report = None if on_point is None else _reporter(on_point, problem)
+    report = None if on_point is None and on_harmonics is None else _reporter(on_point, on_harmonics, problem)
 
     def trace(u_start):
         return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
@@ -385,13 +398,19 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
                     phase=math.atan2(-z.imag, z.real))
 
 
-def _reporter(on_point: Callable, problem: HarmonicBalance) -> Callable:
-    """``on_point(omega, x_c, x_s, residual)`` for the continuation's ``on_point(u, rnorm)`` in scaled unknowns."""
+def _reporter(on_point: Callable | None, on_harmonics: Callable | None, problem: HarmonicBalance) -> Callable:
+    """``on_point(omega, x_c, x_s, residual)`` and ``on_harmonics(omega, X)`` for the continuation's
+    ``on_point(u, rnorm)`` in scaled unknowns."""
     c, s = problem.response_components()
     x_ref, w_ref = problem.x_ref, problem.omega_ref
+    r = problem.dofs.index(problem.response_dof)
 
     def report(u, rnorm):
-        on_point(float(u[-1] * w_ref), float(u[c] * x_ref), float(u[s] * x_ref), float(rnorm))
+        if on_point is not None:
+            on_point(float(u[-1] * w_ref), float(u[c] * x_ref), float(u[s] * x_ref), float(rnorm))
+        if on_harmonics is not None:
+            X, w = problem.to_physical(u)
+            on_harmonics(float(w), X[r].copy())
 
     return report
 

@@ -20,14 +20,73 @@ import numpy as np
 #: Columns of an FRF point: frequency, first-harmonic amplitude, phase lag, x_c, x_s and the
 #: balance residual |R|/F of the point (dimensionless).
 FRF_COLUMNS = ("omega_rad_s", "amplitude_m", "phase_rad", "x_c_m", "x_s_m", "residual_rel")
+#: Column of the frequency in Hz, after ``omega_rad_s``, in a scene swept in Hz (``sweep.unit = "Hz"``).
+HZ_COLUMN = "f_Hz"
+#: Column of a point's stability by Hill's method (1 stable, 0 unstable; empty while not yet known)
+#: in a multi-harmonic table.
+STABLE_COLUMN = "stable"
 #: Columns naming a scene's run in front of its rows.
 RUN_COLUMNS = ("run", "model", "normal_load_N")
 #: Columns of an amplitude sweep's table (F_s, F_c normalised by k* a).
 TABLE_COLUMNS = ("omega_rad_s", "a_m", "a_over_unit", "f_s_N", "f_c_N", "F_s", "F_c")
+#: Frequency units of a figure's axis: name -> (factor from rad/s, axis label).
+OMEGA_UNITS = {"rad/s": (1.0, r"$\omega$ (rad/s)"), "Hz": (1.0 / (2.0 * math.pi), "frequency (Hz)")}
+#: Amplitude units of a figure's axis: name -> (factor from m, axis label).
+AMPLITUDE_UNITS = {"m": (1.0, "amplitude (m)"), "um": (1.0e6, "amplitude (\u00b5m)")}
+#: A figure draws amplitudes in micrometres when every one is below this (m).
+MICROMETRE_BELOW = 1.0e-3
 #: At most this many curves get a legend; beyond, colour follows the swept parameter.
 LEGEND_LIMIT = 8
 #: Line styles by model, in order of first appearance.
 STYLES = ("-", "--", "-.", ":")
+
+
+def harmonic_columns(harmonics: int) -> tuple[str, ...]:
+    """The columns of the response DOF's harmonics at H = ``harmonics``: ``X0_m``, ``Xc1_m``,
+    ``Xs1_m``, ..., ``XcH_m``, ``XsH_m`` (``x = X0 + sum_h Xc_h cos(h omega t) + Xs_h sin(h omega t)``,
+    so ``c_h = Xc_h - i Xs_h`` of ``FrequencyResponse.coefficients``).
+
+    Examples
+    --------
+    >>> harmonic_columns(2)
+    ('X0_m', 'Xc1_m', 'Xs1_m', 'Xc2_m', 'Xs2_m')
+    """
+    return ("X0_m",) + tuple(f"X{cs}{h}_m" for h in range(1, harmonics + 1) for cs in "cs")
+
+
+def frf_columns(harmonics: int = 1, *, hz: bool = False) -> tuple[str, ...]:
+    """The columns of an FRF table: :data:`FRF_COLUMNS`, with ``f_Hz`` after ``omega_rad_s`` when
+    ``hz``, and above one harmonic every harmonic of the response DOF (:func:`harmonic_columns`)
+    and ``stable`` (0/1).  At H = 1 in rad/s exactly :data:`FRF_COLUMNS`.
+
+    Examples
+    --------
+    >>> frf_columns() == FRF_COLUMNS
+    True
+    >>> frf_columns(2, hz=True)[:3], frf_columns(2)[-6:]
+    (('omega_rad_s', 'f_Hz', 'amplitude_m'), ('X0_m', 'Xc1_m', 'Xs1_m', 'Xc2_m', 'Xs2_m', 'stable'))
+    """
+    cols = (FRF_COLUMNS[0], HZ_COLUMN) + FRF_COLUMNS[1:] if hz else FRF_COLUMNS
+    return cols + (harmonic_columns(harmonics) + (STABLE_COLUMN,) if harmonics > 1 else ())
+
+
+def with_hz(row: list[str], omega: float) -> list[str]:
+    """``row`` (text, omega first) with ``f_Hz = omega / (2 pi)`` inserted after omega."""
+    return row[:1] + [repr(float(omega) / (2.0 * math.pi))] + row[1:]
+
+
+def harmonic_values(X: Any, harmonics: int) -> list[str]:
+    """The :func:`harmonic_columns` values, as text, of one point's real layout ``X = (X0, Xc1, Xs1,
+    ...)``; a layout with fewer harmonics (a run held linear, H = 1) is padded with exact zeros."""
+    X = np.asarray(X, dtype=float)
+    out = np.zeros(2 * harmonics + 1)
+    out[:min(X.size, out.size)] = X[:out.size]
+    return [repr(float(v)) for v in out]
+
+
+def stable_value(stable: Any) -> str:
+    """The ``stable`` cell: ``"1"``, ``"0"``, or ``""`` when not known (None)."""
+    return "" if stable is None else str(int(bool(stable)))
 
 
 def frf_row(omega: float, x_c: float, x_s: float, residual: float, *, amplitude: float | None = None,
@@ -77,27 +136,55 @@ class CsvStream:
 
 
 def write_frf_csv(path: str | Path, frf: Any) -> Path:
-    """Write a :class:`hbm.FrequencyResponse` as :data:`FRF_COLUMNS`; returns the path."""
-    with CsvStream(path, FRF_COLUMNS) as out:
-        for w, xc, xs, r, a, ph in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude, frf.phase):
-            out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph))
+    """Write a :class:`hbm.FrequencyResponse` as :func:`frf_columns` (:data:`FRF_COLUMNS` at one
+    harmonic; above one, also every harmonic of the response DOF, from
+    ``frf.coefficients(frf.response_dof)``, and its stability); returns the path."""
+    H = int(frf.harmonics)
+    with CsvStream(path, frf_columns(H)) as out:
+        if H == 1:
+            for w, xc, xs, r, a, ph in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude, frf.phase):
+                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph))
+        else:
+            C = frf.coefficients(frf.response_dof)
+            X = np.empty((len(C), 2 * H + 1))
+            X[:, 0], X[:, 1::2], X[:, 2::2] = C[:, 0].real, C[:, 1:].real, -C[:, 1:].imag
+            for w, xc, xs, r, a, ph, x, st in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude,
+                                                  frf.phase, X, frf.stable):
+                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph) + harmonic_values(x, H) + [stable_value(st)])
     return Path(path)
 
 
+def amplitude_unit_for(amplitudes: Iterable[float]) -> str:
+    """``"um"`` when every amplitude (m) is below :data:`MICROMETRE_BELOW`, else ``"m"``.
+
+    Examples
+    --------
+    >>> amplitude_unit_for([1.5e-6, 2e-6]), amplitude_unit_for([0.002])
+    ('um', 'm')
+    """
+    values = [float(a) for a in amplitudes if math.isfinite(float(a))]
+    return "um" if values and max(abs(v) for v in values) < MICROMETRE_BELOW else "m"
+
+
 def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]], ax: Any = None, *,
-              parameter: str | None = None, log: bool = True) -> Any:
+              parameter: str | None = None, log: bool = True, omega_unit: str = "rad/s",
+              amplitude_unit: str = "m") -> Any:
     """Amplitude against omega of several FRFs on ``ax`` (a new figure if None); returns ``ax``.
 
     ``curves`` is a sequence of ``(frf, label, model, value)``: ``model`` sets the line style,
     ``value`` (a number or None) the colour when there are more than :data:`LEGEND_LIMIT` curves,
     with a colour bar titled ``parameter``.  Each curve is drawn by ``FrequencyResponse.plot``,
-    which marks its peak.
+    which marks its peak; ``omega_unit`` (:data:`OMEGA_UNITS`) and ``amplitude_unit``
+    (:data:`AMPLITUDE_UNITS`) set the axes' units.
     """
     if ax is None:
         import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
 
         _, ax = plt.subplots(figsize=(6.4, 4.2))
     curves = list(curves)
+    # units passed on only when asked: a curve may be any object with plot(ax, label=, peak=, **style)
+    units = {k: v for k, v in (("omega_unit", omega_unit), ("amplitude_unit", amplitude_unit))
+             if v != {"omega_unit": "rad/s", "amplitude_unit": "m"}[k]}
     models = list(dict.fromkeys(c[2] for c in curves))
     values = [c[3] for c in curves if c[3] is not None]
     by_value = len(curves) > LEGEND_LIMIT and len(values) == len(curves) and len(set(values)) > 1
@@ -111,7 +198,7 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
         style = STYLES[models.index(model) % len(STYLES)]
         color = cmap(norm(value)) if by_value else f"C{i % 10}"
         frf.plot(ax, label=None if by_value else label, peak=bool(frf.success), ls=style, color=color,
-                 lw=0.9 if by_value else 1.2)
+                 lw=0.9 if by_value else 1.2, **units)
     if log:
         ax.set_yscale("log")
     if by_value:
@@ -122,15 +209,45 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
 
             ax.legend([Line2D([], [], ls=STYLES[i % len(STYLES)], color="0.3") for i in range(len(models))],
                       models, fontsize=7)
-    elif curves and any(c[1] for c in curves):
+    elif curves and any(c[1] for c in curves) or any(line.get_label()[:1] not in ("_", "") for line in ax.lines):
         ax.legend(fontsize=7)
     return ax
 
 
+def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[float, float], *,
+                          a_min: float | None = None, omega_unit: str = "rad/s", amplitude_unit: str = "m",
+                          points: int = 600, label: bool = True, stiffness: Any = None,
+                          a_min_color: Any = "C3") -> Any:
+    """Draw on ``ax`` what the damper's linear range says of a blade's FRF: the response with the
+    damper stuck (a linear spring of stiffness ``element.stuck_stiffness(omega)``), dashed grey,
+    and the amplitude ``a_min`` at which slip begins, a dotted horizontal line (left out when
+    ``a_min`` is None, 0 or not finite).  The one drawing of both for ``python -m hbm``'s figure
+    and a scene's; returns ``ax``.  ``label`` False draws them without legend entries (a second
+    run's references); ``stiffness(omega array) -> array`` replaces ``element.stuck_stiffness``
+    (a scene's quasi-static damper, whose own evaluations are counted as the run's); ``a_min_color``
+    colours the a_min line (a scene of several runs: the run's colour)."""
+    from .balance.residual import linear_response  # lazily: the balance is not needed to write tables
+
+    w_scale = OMEGA_UNITS[omega_unit][0]
+    a_scale = AMPLITUDE_UNITS[amplitude_unit][0]
+    w = np.linspace(*omega_range, points)
+    if stiffness is None:
+        stiffness = lambda om: np.array([element.stuck_stiffness(x) for x in om])  # noqa: E731
+    stuck = np.abs(linear_response(blade, w, stiffness))
+    if np.all(np.isfinite(stuck)):
+        ax.plot(w * w_scale, stuck * a_scale, "--", color="0.6", lw=1,
+                label="damper stuck (linear)" if label else None)
+    if a_min is not None and math.isfinite(a_min) and a_min > 0.0:
+        ax.axhline(a_min * a_scale, color=a_min_color, lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)" if label else None)
+    return ax
+
+
 def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, label: str | None = None,
-                **kwargs: Any) -> tuple[Any, Any]:
+                omega_unit: str = "rad/s", amplitude_unit: str = "m", **kwargs: Any) -> tuple[Any, Any]:
     """Draw one branch on ``ax`` (a new figure if None): stable stretches solid, unstable
     stretches dashed in the same colour (``stable`` None: all solid).  Returns ``(ax, colour)``.
+    ``omega`` (rad/s) and ``amplitude`` (m) are drawn in ``omega_unit`` (:data:`OMEGA_UNITS`) and
+    ``amplitude_unit`` (:data:`AMPLITUDE_UNITS`).
 
     A ``ls``/``linestyle`` given in ``kwargs`` styles the stable stretches (the model's style in
     :func:`plot_frfs`); unstable stretches are always dashed.
@@ -139,7 +256,8 @@ def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, labe
 
     if ax is None:
         _, ax = plt.subplots(figsize=(6.4, 4.2))
-    omega, amplitude = np.asarray(omega), np.asarray(amplitude)
+    (w_scale, w_label), (a_scale, a_label) = OMEGA_UNITS[omega_unit], AMPLITUDE_UNITS[amplitude_unit]
+    omega, amplitude = np.asarray(omega) * w_scale, np.asarray(amplitude) * a_scale
     stable = np.ones(omega.size, dtype=bool) if stable is None else np.asarray(stable, dtype=bool)
     ls = kwargs.pop("ls", kwargs.pop("linestyle", "-"))
     cuts = np.flatnonzero(stable[1:] != stable[:-1]) + 1
@@ -151,6 +269,6 @@ def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, labe
                         color=color, label=label if start == 0 else None, **kwargs)
         color = line.get_color()  # one colour for the whole branch
         start = end
-    ax.set_xlabel(r"$\omega$ (rad/s)")
-    ax.set_ylabel("amplitude (m)")
+    ax.set_xlabel(w_label)
+    ax.set_ylabel(a_label)
     return ax, color

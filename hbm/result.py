@@ -20,7 +20,7 @@ from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
 from .balance.stability import STABILITY_TOL, hill_exponents, stability_changes
-from .output import plot_branch, write_frf_csv
+from .output import AMPLITUDE_UNITS, OMEGA_UNITS, plot_branch, write_frf_csv
 
 #: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
 #: amplitude error is quadratic in that distance.
@@ -352,7 +352,9 @@ class FrequencyResponse:
     # ------------------------------------------------------------------ output
     def to_csv(self, path: str | Path) -> Path:
         """Write the points as ``hbm.output.FRF_COLUMNS`` (omega, amplitude, phase, x_c, x_s,
-        residual, units in the header); returns the path.
+        residual, units in the header); above one harmonic also every harmonic of the response DOF
+        (``X0_m, Xc1_m, Xs1_m, ..., XcH_m, XsH_m`` from :meth:`coefficients`) and ``stable`` (0/1,
+        :attr:`stable`).  Returns the path.
 
         Parameters
         ----------
@@ -379,7 +381,8 @@ class FrequencyResponse:
         """
         return write_frf_csv(path, self)
 
-    def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, **kwargs: Any) -> Any:
+    def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, omega_unit: str = "rad/s",
+             amplitude_unit: str = "m", **kwargs: Any) -> Any:
         """Amplitude against omega on ``ax`` (a new figure if None): stable stretches solid, unstable
         dashed (:attr:`stable`); marks the peak. Returns ax.
 
@@ -391,6 +394,10 @@ class FrequencyResponse:
             Legend label of the curve.
         peak : bool, optional
             Mark the peak (:meth:`peak`) with a dot.  Default True.
+        omega_unit : {"rad/s", "Hz"}, optional
+            Unit of the frequency axis.  Default "rad/s".
+        amplitude_unit : {"m", "um"}, optional
+            Unit of the amplitude axis.  Default "m".
         **kwargs
             Passed to ``ax.plot`` (colour, line style).
 
@@ -414,10 +421,11 @@ class FrequencyResponse:
         # its two exponents is minus its damping): its stability is computed only on a folded branch
         known = (self._stable is not None or not self._problem.one_dof or len(self.fold_after) > 0)
         ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable if known else None, label=label,
-                                **kwargs)
+                                omega_unit=omega_unit, amplitude_unit=amplitude_unit, **kwargs)
         if peak and len(self):
             pk = self.peak()
-            ax.plot([pk.omega], [pk.amplitude], "o", color=color, ms=4)
+            ax.plot([pk.omega * OMEGA_UNITS[omega_unit][0]], [pk.amplitude * AMPLITUDE_UNITS[amplitude_unit][0]], "o",
+                    color=color, ms=4)
         return ax
 
 

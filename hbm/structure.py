@@ -30,6 +30,10 @@ from contact_models import ContactElement
 
 from ._validation import count, nonnegative
 
+#: An eigenvalue of (K, M) below ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest one in magnitude
+#: is negative (K indefinite: :meth:`Structure.natural_frequencies` raises); above it, rounding of
+#: a zero (rigid-body) eigenvalue.
+NEGATIVE_EIGENVALUE_RTOL = 1e-10
 #: Relative asymmetry ``max|A - A^T| / max|A|`` above which a matrix is refused as not symmetric.
 SYMMETRY_RTOL = 1e-10
 
@@ -38,14 +42,34 @@ def _dense(A: Any) -> NDArray[np.float64]:
     return np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
 
 
+def _real(name: str, A: Any, what: str) -> Any:
+    """``A`` itself, or the real part of a complex ``A`` whose imaginary parts are all zero; a
+    ValueError naming ``name`` if one is not (casting to float would drop it with only numpy's
+    ComplexWarning: a silently wrong structure)."""
+    data = A.data if hasattr(A, "tocsr") and hasattr(A, "nnz") else A
+    if not np.iscomplexobj(data):
+        return A
+    imag = np.abs(np.imag(data))
+    if imag.size and float(np.max(imag)) != 0.0:
+        raise ValueError(f"{name} must be real, got a complex {what} (max|Im {name}| = {float(np.max(imag)):.3g})")
+    return A.real
+
+
 def _check_matrix(name: str, A: Any, n: int | None) -> Any:
-    """Validate one of M, C, K (dense or scipy.sparse): square, size n, finite, symmetric."""
+    """Validate one of M, C, K (dense or scipy.sparse): real, square, size n, finite, symmetric."""
     sparse = hasattr(A, "tocsr") and hasattr(A, "nnz")
     if not sparse:
         try:
-            A = np.asarray(A, dtype=float)
+            raw = np.asarray(A)
         except (TypeError, ValueError):
             raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
+        raw = _real(name, raw, "matrix")
+        try:
+            A = np.asarray(raw, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
+    else:
+        A = _real(name, A, "matrix")
     shape = A.shape
     if len(shape) != 2 or shape[0] != shape[1] or shape[0] < 1:
         raise ValueError(f"{name} must be a square matrix, got {name} of shape {shape}")
@@ -106,7 +130,12 @@ class Structure:
             raise ValueError("M must be positive definite, got M with a non-positive eigenvalue "
                              f"(smallest {float(np.linalg.eigvalsh(_dense(self.M))[0]):.3g})") from None
         try:
-            f = np.asarray(force, dtype=float).ravel()
+            f = np.asarray(force)
+        except (TypeError, ValueError):
+            raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
+        f = _real("force", f, "vector")
+        try:
+            f = np.asarray(f, dtype=float).ravel()
         except (TypeError, ValueError):
             raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
         if f.size != n:
@@ -177,13 +206,28 @@ class Structure:
         ``.npy``.  Damping: a ``damping`` file, ``rayleigh=(alpha, beta)`` or ``modal_damping``
         (ratios), exactly one.
         """
-        given = [v is not None for v in (damping, rayleigh, modal_damping)]
-        if sum(given) != 1:
-            raise ValueError(f"give exactly one of damping, rayleigh and modal_damping, got damping={damping!r}, "
-                             f"rayleigh={rayleigh!r}, modal_damping={modal_damping!r}")
-        M, K = load_matrix(mass), load_matrix(stiffness)
+        _one_damping(damping, rayleigh, modal_damping)
+        return cls.from_matrices(load_matrix(mass, name="mass"), load_matrix(stiffness, name="stiffness"), force=force,
+                                 damping=None if damping is None else load_matrix(damping, name="damping"),
+                                 rayleigh=rayleigh, modal_damping=modal_damping)
+
+    @classmethod
+    def from_matrices(cls, M: Any, K: Any, *, force: ArrayLike, damping: Any = None,
+                      rayleigh: tuple[float, float] | None = None,
+                      modal_damping: float | Sequence[float] | None = None) -> Structure:
+        """Structure from M and K with a damping matrix ``damping``, ``rayleigh=(alpha, beta)`` or
+        ``modal_damping`` (ratios), exactly one: what :meth:`from_files` builds once it has read
+        the files.
+
+        Examples
+        --------
+        >>> s = Structure.from_matrices([[1.0]], [[4.0]], force=[1.0], rayleigh=(0.1, 0.01))
+        >>> float(s.C[0, 0])
+        0.14
+        """
+        _one_damping(damping, rayleigh, modal_damping)
         if damping is not None:
-            return cls(M, load_matrix(damping), K, force=force)
+            return cls(M, damping, K, force=force)
         if rayleigh is not None:
             try:
                 alpha, beta = rayleigh
@@ -194,10 +238,36 @@ class Structure:
 
     # ------------------------------------------------------------ properties
     def natural_frequencies(self) -> NDArray[np.float64]:
-        """Undamped natural frequencies (rad/s) of (K, M), ascending (dense eigensolver)."""
+        """Undamped natural frequencies (rad/s) of (K, M), ascending (dense eigensolver).
+
+        A rigid-body mode (K singular, eigenvalue zero within rounding, ``NEGATIVE_EIGENVALUE_RTOL``
+        times the largest) has frequency 0.
+
+        Raises
+        ------
+        ValueError
+            When K has a negative eigenvalue (``K x = lambda M x`` with lambda < 0): the structure
+            is statically unstable and that mode has no real natural frequency, so none is
+            returned for it rather than a 0 that would look like a rigid-body mode.
+
+        Examples
+        --------
+        >>> import numpy as np
+        >>> Structure(np.eye(2), 0.0 * np.eye(2), [[1.0, -1.0], [-1.0, 1.0]], force=[1.0, 0.0]).natural_frequencies()
+        array([0.        , 1.41421356])
+        >>> try:
+        ...     Structure(np.eye(1), np.zeros((1, 1)), [[-3.2]], force=[1.0]).natural_frequencies()
+        ... except ValueError as exc:
+        ...     print(exc)
+        K has a negative eigenvalue -3.2 (K x = lambda M x): the structure is unstable; natural_frequencies needs K positive semi-definite
+        """
         from scipy.linalg import eigh  # lazily: import hbm stays light
 
         lam = eigh(_dense(self.K), _dense(self.M), eigvals_only=True)
+        scale = float(np.max(np.abs(lam))) if lam.size else 0.0
+        if lam.size and lam[0] < -NEGATIVE_EIGENVALUE_RTOL * scale:
+            raise ValueError(f"K has a negative eigenvalue {float(lam[0]):.3g} (K x = lambda M x): the structure is "
+                             "unstable; natural_frequencies needs K positive semi-definite")
         return np.sqrt(np.clip(lam, 0.0, None))
 
     def reduce(self, keep: Sequence[int], *, modes: int) -> ReducedStructure:
@@ -246,6 +316,13 @@ class Structure:
         if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or not 0 <= int(d) < self.n:
             raise ValueError(f"{name} must be a DOF index in 0..{self.n - 1}, got {name}={d!r}")
         return int(d)
+
+
+def _one_damping(damping: Any, rayleigh: Any, modal_damping: Any) -> None:
+    if sum(v is not None for v in (damping, rayleigh, modal_damping)) != 1:
+        shown = "a matrix" if damping is not None and not isinstance(damping, (str, Path)) else repr(damping)
+        raise ValueError(f"give exactly one of damping, rayleigh and modal_damping, got damping={shown}, "
+                         f"rayleigh={rayleigh!r}, modal_damping={modal_damping!r}")
 
 
 class ReducedStructure(Structure):
@@ -348,9 +425,25 @@ class Contact:
         return f"Contact({self.element!r}, {where})"
 
 
-def load_matrix(path: str | Path) -> Any:
+def load_matrix(path: str | Path, *, name: str = "path") -> Any:
     """A matrix from ``.mtx`` (Matrix Market), ``.npz`` (``scipy.sparse.save_npz``, or
-    ``numpy.savez`` with one array or ``"file.npz:key"``) or ``.npy``."""
+    ``numpy.savez`` with one array or ``"file.npz:key"``) or ``.npy``.
+
+    ``name`` is the parameter (or scene key) that gave ``path``: every ValueError names it and the
+    file, including a file the reader cannot parse (a corrupt file, pickled objects, which are never
+    loaded).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> bad = pathlib.Path(tempfile.mkdtemp()) / "K.npy"
+    >>> _ = bad.write_bytes(b"not a matrix")
+    >>> try:
+    ...     load_matrix(bad, name="stiffness")
+    ... except ValueError as exc:
+    ...     print(str(exc).split(" (")[0].replace(str(bad), "K.npy"))
+    stiffness must name a matrix file that numpy can read, got stiffness='K.npy'
+    """
     text = str(path)
     key = None
     if ".npz:" in text:
@@ -358,29 +451,51 @@ def load_matrix(path: str | Path) -> Any:
         text += ".npz"
     p = Path(text)
     if not p.is_file():
-        raise ValueError(f"path must name an existing matrix file, got path={str(path)!r}")
+        raise ValueError(f"{name} must name an existing matrix file, got {name}={str(path)!r}")
     suffix = p.suffix.lower()
+    if suffix not in (".mtx", ".npy", ".npz"):
+        raise ValueError(f"{name} must end in .mtx, .npz or .npy, got {name}={str(path)!r}")
+    try:
+        return _read_matrix(p, suffix, key, name, path)
+    except ValueError as exc:
+        if str(exc).startswith(f"{name} "):
+            raise
+        reader = "scipy.io.mmread" if suffix == ".mtx" else "numpy"
+        raise ValueError(f"{name} must name a matrix file that {reader} can read, got {name}={str(path)!r} "
+                         f"({_reason(exc)})") from None
+    except (OSError, EOFError, UnicodeError, TypeError, IndexError, KeyError) as exc:
+        raise ValueError(f"{name} must name a matrix file that can be read, got {name}={str(path)!r} "
+                         f"({type(exc).__name__}: {exc})") from None
+
+
+def _reason(exc: Exception) -> str:
+    text = str(exc)
+    if "pickled" in text or "allow_pickle" in text:
+        return "the file holds pickled Python objects, which are not loaded: not a numeric array"
+    return text or type(exc).__name__
+
+
+def _read_matrix(p: Path, suffix: str, key: str | None, name: str, path: Any) -> Any:
     if suffix == ".mtx":
         from scipy.io import mmread  # lazily: only for Matrix Market files
 
         return mmread(str(p))
     if suffix == ".npy":
-        return np.load(p)
-    if suffix == ".npz":
-        with np.load(p, allow_pickle=False) as z:
-            names = list(z.keys())
-            if key is None and {"format", "shape", "data"} <= set(names):
-                from scipy.sparse import load_npz  # lazily: only for sparse .npz files
+        return np.load(p, allow_pickle=False)
+    with np.load(p, allow_pickle=False) as z:
+        names = list(z.keys())
+        if key is None and {"format", "shape", "data"} <= set(names):
+            from scipy.sparse import load_npz  # lazily: only for sparse .npz files
 
-                return load_npz(p)
-            if key is None:
-                if len(names) != 1:
-                    raise ValueError(f"path must name one array as 'file.npz:key' (keys {names}), got path={str(path)!r}")
-                key = names[0]
-            if key not in names:
-                raise ValueError(f"path names key {key!r} not in {names}, got path={str(path)!r}")
-            return z[key]
-    raise ValueError(f"path must end in .mtx, .npz or .npy, got path={str(path)!r}")
+            return load_npz(p)
+        if key is None:
+            if len(names) != 1:
+                raise ValueError(f"{name} must name one array as 'file.npz:key' (keys {names}), "
+                                 f"got {name}={str(path)!r}")
+            key = names[0]
+        if key not in names:
+            raise ValueError(f"{name} names key {key!r} not in {names}, got {name}={str(path)!r}")
+        return z[key]
 
 
 def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], NDArray[np.complex128],

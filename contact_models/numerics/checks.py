@@ -30,8 +30,12 @@ def finite(name: str, value: object) -> float:
 
 
 def count(name: str, value: object, minimum: int = 1) -> int:
-    """Return ``value`` as an int >= ``minimum``, else raise ValueError."""
-    ok = not isinstance(value, bool)
+    """Return ``value`` as an int >= ``minimum``, else raise ValueError.
+
+    A number only: an integer, or a float with an integral value; booleans and strings (``"3"``,
+    which ``int()`` would read) are refused.
+    """
+    ok = not isinstance(value, (bool, str, bytes))
     try:
         ok = ok and float(value) == int(value) and int(value) >= minimum
     except (TypeError, ValueError, OverflowError):

@@ -207,8 +207,7 @@ class HarmonicBalance:
         self.omega_ref = float(omega_ref)
         pos = {d: i for i, d in enumerate(self.dofs)}
         self._attach = [(c.element, [pos[d] for d in c.dofs]) for c in self.contacts]
-        self.one_dof = (s.n == 1 and self.H == 1 and len(self.contacts) <= 1
-                        and all(c.element.exact_describing_function for c in self.contacts))
+        self.one_dof = solved_as_one_dof(s, self.contacts, self.H)
         self.element = self.contacts[0].element if len(self.contacts) == 1 else None
         self.fresh_omega_derivative = False
         self.nfev = 0
@@ -433,14 +432,7 @@ class HarmonicBalance:
             self.x_ref = self._F / k_ref
             return
         s = self.structure
-        Kd = s.K.toarray() if hasattr(s.K, "toarray") else np.asarray(s.K)
-        try:
-            x_static = np.linalg.solve(Kd, s.force)
-            if not np.all(np.isfinite(x_static)):
-                raise np.linalg.LinAlgError
-        except np.linalg.LinAlgError:
-            raise ValueError("K must be nonsingular (a structure held only by its contacts has no static "
-                             "compliance to condense with), got a singular K") from None
+        x_static = static_deflection(s)
         G = self.cond.at(0.0)[0]
         Kc = stuck_matrix(self.contacts, self.dofs, 0.0).real
         x0 = np.linalg.solve(np.eye(self.na) + G[0].real @ Kc, x_static[self.dofs])
@@ -482,6 +474,30 @@ class HarmonicBalance:
         return scale
 
 
+def solved_as_one_dof(structure: Structure, contacts: Sequence[Contact], H: int) -> bool:
+    """Whether the balance of ``structure`` with ``contacts`` at ``H`` harmonics is the one-DOF
+    single-harmonic balance (which needs no static compliance; every other needs K nonsingular,
+    :func:`static_deflection`)."""
+    return (structure.n == 1 and H == 1 and len(contacts) <= 1
+            and all(c.element.exact_describing_function for c in contacts))
+
+
+def static_deflection(structure: Structure) -> NDArray[np.float64]:
+    """``K^-1 force`` of ``structure``; ValueError naming K if K is singular (the condensation of a
+    structure held only by its contacts has no static compliance).  The balance calls it to set
+    its scales; a scene's planning calls it so that ``--check`` refuses what the run would."""
+    K = structure.K
+    Kd = K.toarray() if hasattr(K, "toarray") else np.asarray(K)
+    try:
+        x_static = np.linalg.solve(Kd, structure.force)
+        if not np.all(np.isfinite(x_static)):
+            raise np.linalg.LinAlgError
+    except np.linalg.LinAlgError:
+        raise ValueError("K must be nonsingular (a structure held only by its contacts has no static "
+                         "compliance to condense with), got a singular K") from None
+    return x_static
+
+
 def linear_response(blade: Any, omega: ArrayLike,
                     stiffness: complex | Callable[[np.ndarray], ArrayLike] = 0.0) -> np.ndarray:
     """Closed-form complex amplitude ``x_c - i x_s = F / (k + k_d - m w^2 + i c w)`` of the blade
@@ -497,4 +513,5 @@ def _finite_or_zero(k: Any) -> float:
     return k if math.isfinite(k) else 0.0
 
 
-__all__ = ["HarmonicBalance", "as_structure", "as_contacts", "check_problem", "linear_response"]
+__all__ = ["HarmonicBalance", "as_structure", "as_contacts", "check_problem", "linear_response",
+           "solved_as_one_dof", "static_deflection"]

@@ -25,9 +25,8 @@ import numpy as np
 from contact_models import __version__
 
 from ..frf import frequency_response
-from ..output import plot_frfs
+from ..output import plot_frfs, plot_linear_reference
 from ..balance.presets import DEFAULT_RTOL
-from ..balance.residual import linear_response
 from ..scenes import (MODELS, REQUIRED, SceneError, effect_lines, load_scene, output_names, parse_override,
                       plan_scene, run_scene, schema, summary_lines)
 from ..scenes.checks import dot, show
@@ -82,14 +81,11 @@ def _figure(frf: Any, case: Case, path: Path) -> Path:
     # figure once more to measure it (0.06 s of the job's 0.7 s of CPU)
     from matplotlib.figure import Figure  # heavy (0.1-0.5 s), lazily: only when the figure is drawn
 
-    el, blade = case.element, case.blade
-    w = np.linspace(*case.omega_range, 600)
-    stuck = np.abs(linear_response(blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
+    el = case.element
     fig = Figure(figsize=(6.4, 4.2))
     ax = fig.subplots()
-    ax.plot(w, stuck, "--", color="0.6", lw=1, label="damper stuck (linear)")
+    plot_linear_reference(ax, case.blade, el, case.omega_range, a_min=el.slip_amplitude(0.0))
     plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
-    ax.axhline(el.slip_amplitude(0.0), color="C3", lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)")
     ax.set_title("Blade with a two-region microslip damper")
     ax.legend(fontsize=8)
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.93)
@@ -214,7 +210,12 @@ def study_lines(result: Any) -> list:
     return lines
 
 
+def _default_arguments(parser):
+    _common(parser, suppress=True)
+
+
 def _run_arguments(parser):
+    _common(parser, suppress=True)
     parser.add_argument("scene", help="the scene file (TOML, docs/scenes.md)")
     parser.add_argument("--set", action="append", default=[], metavar="TABLE.KEY=VALUE",
                         help="override a key of the scene (VALUE in TOML syntax), e.g. --set sweep.max_step=0.1")
@@ -261,18 +262,23 @@ def _keys(args) -> int:
     return 0
 
 
-#: Subcommands: name -> (help, handler[, add_arguments]).  No subcommand runs ``default``.
-COMMANDS = {"default": ("run the built-in default case (the same as no subcommand)", _default),
-            "run": ("run a scene file: run SCENE.toml [--out DIR] [--set TABLE.KEY=VALUE] [--quiet] [--check]",
-                    _run, _run_arguments),
-            "new": ("write an annotated template scene that runs as written: new SCENE.toml", _new,
+#: Subcommands: name -> (help, handler[, add_arguments]).  Each subcommand takes only the options
+#: its ``add_arguments`` declares (``--out`` and ``--rtol`` only ``default`` and ``run``).  No
+#: subcommand runs ``default``.
+COMMANDS = {"default": ("run the built-in default case (the same as no subcommand): default [--out DIR] [--rtol X]",
+                        _default, _default_arguments),
+            "run": ("run a scene file: run SCENE.toml [--out DIR] [--set TABLE.KEY=VALUE] [--rtol X] [--quiet] "
+                    "[--check] [--workers N] [--scheduler ADDRESS] [--executor NAME] (the last three for a "
+                    "scene with [study])", _run, _run_arguments),
+            "new": ("write an annotated template scene that runs as written: new SCENE.toml [--force]", _new,
                     _new_arguments),
             "models": ("list the damper models a scene can name", _models),
             "keys": ("list every key of a scene with its default and meaning", _keys)}
 
 
 def _common(parser, suppress=False):
-    """Options accepted before and after the subcommand (after it they override)."""
+    """``--out`` and ``--rtol``: options of the default job, given before any subcommand or after
+    ``default`` or ``run`` (after it they override); the other subcommands refuse them."""
     default = (lambda v: argparse.SUPPRESS) if suppress else (lambda v: v)
     parser.add_argument("--out", default=default(None),
                         help="output folder (default: the current folder; for run, the scene's output.folder)")
@@ -297,17 +303,26 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (text, handler, *arguments) in COMMANDS.items():
         p = sub.add_parser(name, help=text, description=text)
-        _common(p, suppress=True)
         for add in arguments:
             add(p)
-        p.set_defaults(handler=handler)
-    parser.set_defaults(handler=_default, prog=prog)
+        p.set_defaults(handler=handler, takes=frozenset(a.dest for a in p._actions))
+    parser.set_defaults(handler=_default, prog=prog, takes=frozenset({"out", "rtol"}))
     return parser
+
+
+def _parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.Namespace:
+    """Parse ``argv``; ``--out``/``--rtol`` given before a subcommand that does not take them is an
+    error (exit code 2), not an option silently ignored."""
+    args = parser.parse_args(argv)
+    for dest in ("out", "rtol"):
+        if getattr(args, dest) is not None and dest not in args.takes:
+            parser.error(f"--{dest} does not apply to {args.command} (only to the default job and run)")
+    return args
 
 
 def main(argv: list[str] | None = None) -> int:
     """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
-    args = build_parser().parse_args(argv)
+    args = _parse(build_parser(), argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
     try:
         return args.handler(args)

@@ -235,7 +235,7 @@ def choice(*names: str) -> Callable[[Any], str]:
     -------
     callable
         ``check(value) -> str``: the value, or ``Invalid`` listing ``names`` (and the closest one
-        to a misspelt string).  Its ``names`` attribute holds ``names``.
+        to a misspelt string: the same name in other case first, as "Hz" for "hz").  Its ``names`` attribute holds ``names``.
 
     Examples
     --------
@@ -254,8 +254,8 @@ def choice(*names: str) -> Callable[[Any], str]:
     def check(v: Any) -> Any:
         if not isinstance(v, str) or v not in names:
             hint = ""
-            if isinstance(v, str):
-                close = difflib.get_close_matches(v, names, n=1)
+            if isinstance(v, str):  # a name spelt in other case first ("hz": "Hz"), then the closest
+                close = [n for n in names if n.lower() == v.lower()] or difflib.get_close_matches(v, names, n=1)
                 hint = f" (did you mean {json.dumps(close[0])}?)" if close else ""
             raise Invalid(f"must be one of {allowed}{hint}")
         return v

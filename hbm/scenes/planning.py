@@ -18,7 +18,8 @@ from contact_models import (Bar, ContactElement, QuadraticLoad, QuasiStatic, Thr
 from contact_models.quasi_static import StuckContact
 
 from ..blade import Blade
-from ..structure import Structure
+from ..balance.residual import solved_as_one_dof, static_deflection
+from ..structure import Contact, Structure, load_matrix
 from .checks import SceneError, show
 from .effects import EFFECTS, ONSET_AT_END, Effect, linear_amplitude
 from .models import BAR_KEYS, Built, MODELS, ModelSpec
@@ -345,9 +346,27 @@ def plan_scene(scene: Scene) -> Plan:
                 runs.append(_decide(ctx, "load" in needs))
             except SceneError as exc:
                 problems.extend(exc.problems)
+    if isinstance(blade, Structure) and not problems:
+        problems += _static_compliance(scene, blade, runs)
     if problems:
         raise SceneError(list(dict.fromkeys(problems)))
     return Plan(scene, blade, runs)
+
+
+def _static_compliance(scene, structure, runs):
+    """The balance of a structure condenses with K^-1 (every run but a one-DOF single-harmonic
+    one): a singular K is refused here, as the run would refuse it, so that ``--check`` says so and
+    a run creates no folder for it."""
+    dofs = tuple(scene.structure["contact_dofs"])
+    for run in runs:
+        contact = Contact(run.element, dof=dofs[0]) if len(dofs) == 1 else Contact(run.element, dofs=dofs)
+        if not solved_as_one_dof(structure, [contact], run.harmonics or 1):
+            try:
+                static_deflection(structure)
+            except ValueError as exc:
+                return [scene.where(f"structure.stiffness: {exc}")]
+            return []
+    return []
 
 
 def _blade(scene):
@@ -366,16 +385,33 @@ def _blade(scene):
         raise SceneError([scene.where(f"[blade]: {exc}")]) from None
 
 
+#: The [structure] key that gives each matrix of ``hbm.Structure`` (its messages name the matrix).
+_MATRIX_KEYS = {"M": "structure.mass", "K": "structure.stiffness", "C": "structure.damping",
+                "force": "structure.force"}
+
+
 def _structure(scene):
-    """The ``hbm.Structure`` of ``[structure]``, its DOF indices checked against its size."""
+    """The ``hbm.Structure`` of ``[structure]``, its DOF indices checked against its size; a file
+    that cannot be read, or a matrix the structure refuses, is named by its key."""
     st = scene.structure
-    damping = {"damping": st.get("damping"), "modal_damping": st.get("modal_damping"),
+    matrices, problems = {}, []
+    for key in ("mass", "stiffness", "damping"):
+        if st.get(key) is not None:
+            try:
+                matrices[key] = load_matrix(st[key], name=f"structure.{key}")
+            except ValueError as exc:
+                problems.append(scene.where(f"[structure]: {exc}"))
+    if problems:
+        raise SceneError(problems)
+    damping = {"damping": matrices.get("damping"), "modal_damping": st.get("modal_damping"),
                "rayleigh": tuple(st["rayleigh"]) if st.get("rayleigh") is not None else None}
     try:
-        s = Structure.from_files(st["mass"], st["stiffness"], force=list(st["force"]),
-                                 **{k: v for k, v in damping.items() if v is not None})
-    except (ValueError, OSError) as exc:
-        raise SceneError([scene.where(f"[structure]: {exc}")]) from None
+        s = Structure.from_matrices(matrices["mass"], matrices["stiffness"], force=list(st["force"]),
+                                    **{k: v for k, v in damping.items() if v is not None})
+    except ValueError as exc:
+        text = str(exc)
+        key = next((k for m, k in _MATRIX_KEYS.items() if text.startswith(f"{m} ")), "[structure]")
+        raise SceneError([scene.where(f"{key}: {text}")]) from None
     bad = []
     for key, dofs in (("contact_dofs", list(st["contact_dofs"])), ("response_dof", st.get("response_dof"))):
         shown = show(dofs)

@@ -14,13 +14,15 @@ import numpy as np
 from contact_models import QuasiStatic
 from contact_models.quasi_static import StuckContact
 
-from ..output import plot_frfs
+from ..blade import Blade
+from ..output import AMPLITUDE_UNITS, LEGEND_LIMIT, amplitude_unit_for, plot_frfs, plot_linear_reference
 from .effects import linear_amplitude
 from .planning import Plan
 
 
-def run_summary(res: Any) -> dict:
-    """The summary.json entry of one :class:`hbm.scenes.running.RunResult`."""
+def run_summary(res: Any, *, hz: bool = False) -> dict:
+    """The summary.json entry of one :class:`hbm.scenes.running.RunResult`; ``hz``: the scene's
+    frequencies are in Hz, and its peak says ``frequency_Hz`` beside ``omega_rad_s``."""
     p = res.plan
     out = {"run": res.number, "model": p.model, "normal_load_N": p.N, "element": repr(p.element),
            "success": res.success, "message": res.message, "points": res.points, "time_s": res.seconds}
@@ -33,6 +35,8 @@ def run_summary(res: Any) -> dict:
             a_min = p.a_min
             out["peak"] = {"omega_rad_s": res.peak.omega, "amplitude_m": res.peak.amplitude,
                            "amplitude_over_a_min": res.peak.amplitude / a_min if a_min else None}
+            if hz:
+                out["peak"] = {"frequency_Hz": res.peak.omega / (2.0 * math.pi), **out["peak"]}
             slip = next((e for e in p.effects if e.name == "damper slip"), None)
             if slip is not None and slip.simulated and "computed:" not in slip.reason:
                 smallest = min(linear_amplitude(el, w) for w in thin(frf.omega))
@@ -42,6 +46,8 @@ def run_summary(res: Any) -> dict:
                                     f"; computed: every amplitude stayed below a_min (largest {top:.4g} a_min)")
     if res.table is not None:
         out["omega_rad_s"] = list(map(float, res.table["omega"]))
+        if hz:
+            out["frequency_Hz"] = [float(w) / (2.0 * math.pi) for w in res.table["omega"]]
         out["amplitude_unit"] = {"name": p.unit_name, "m": p.a_ref}
     out["effects"] = [e.as_dict() for e in p.effects]
     if isinstance(inner, QuasiStatic):
@@ -73,34 +79,48 @@ def _model_of(label: str) -> str:
     return label.split(" (")[0]
 
 
-def figure(scene: Any, results: list, path: str | Path) -> Path:
-    """The scene's figure: FRFs (and peaks against the load for several loads), or F_s, F_c tables."""
+def figure(scene: Any, results: list, path: str | Path, *, blade: Any = None) -> Path:
+    """The scene's figure: FRFs (and peaks against the load for several loads), or F_s, F_c tables.
+
+    Frequencies in Hz when the scene gives them in Hz, amplitudes in micrometres when every one is
+    below 1 mm (``hbm.output.amplitude_unit_for``); for a ``blade`` (``Plan.blade``) with up to
+    ``hbm.output.LEGEND_LIMIT`` runs, each run's stuck (linear) response and its a_min line, as
+    ``python -m hbm`` draws them.
+    """
     import matplotlib  # heavy (0.1-0.5 s), lazily: only when the figure is drawn
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt  # heavy, lazily (above)
 
     title = scene.title or scene.name
+    omega_unit = "Hz" if scene.sweep["unit"] == "Hz" else "rad/s"
     if scene.sweep["kind"] == "frequency":
         loads = sorted({r.plan.N for r in results if r.plan.N is not None})
         chart = len(loads) > 1
         fig, axes = plt.subplots(1, 2 if chart else 1, figsize=(11.0 if chart else 6.4, 4.4), squeeze=False)
-        plot_frfs([(r.frf, r.plan.label, _model_of(r.plan.model), r.plan.N) for r in results], axes[0][0],
-                  parameter="normal load N (N)")
+        amps = [a for r in results if r.frf is not None for a in r.frf.amplitude]
+        amplitude_unit = amplitude_unit_for(amps)
+        curves = [(r.frf, r.plan.label, _model_of(r.plan.model), r.plan.N) for r in results]
+        if len(curves) <= LEGEND_LIMIT:
+            _linear_references(axes[0][0], blade, results, omega_unit, amplitude_unit)
+        plot_frfs(curves, axes[0][0], parameter="normal load N (N)", omega_unit=omega_unit,
+                  amplitude_unit=amplitude_unit)
         if chart:
             bx = axes[0][1]
+            scale, label = AMPLITUDE_UNITS[amplitude_unit]
             for m in dict.fromkeys(_model_of(r.plan.model) for r in results):
                 rs = [r for r in results if _model_of(r.plan.model) == m and r.plan.N is not None]
-                bx.loglog([r.plan.N for r in rs], [r.peak.amplitude for r in rs], "o-", ms=3, label=m)
+                bx.loglog([r.plan.N for r in rs], [r.peak.amplitude * scale for r in rs], "o-", ms=3, label=m)
             bx.set_xlabel("normal load N (N)")
-            bx.set_ylabel("resonant amplitude (m)")
+            bx.set_ylabel("resonant " + label)
             bx.legend(fontsize=8)
     else:
         fig, axes = plt.subplots(1, 2, figsize=(11.0, 4.4), squeeze=False)
         for r in results:
             over = r.table["a"] / r.plan.a_ref
             for w, Fs, Fc in zip(r.table["omega"], r.table["F_s"], r.table["F_c"]):
-                lab = f"{r.plan.label}, {w:.4g} rad/s"
+                lab = (f"{r.plan.label}, {w / (2.0 * math.pi):.4g} Hz" if omega_unit == "Hz" else
+                       f"{r.plan.label}, {w:.4g} rad/s")
                 axes[0][0].semilogx(over, Fs, label=lab)
                 axes[0][1].semilogx(over, Fc, label=lab)
         unit = "a (m)" if scene.sweep["amplitude_unit"] == "m" else f"a / {results[0].plan.unit_name}"
@@ -114,6 +134,47 @@ def figure(scene: Any, results: list, path: str | Path) -> Path:
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return Path(path)
+
+
+def _linear_references(ax: Any, blade: Any, results: list, omega_unit: str, amplitude_unit: str) -> None:
+    """The stuck (linear) response and the a_min line of each run of a blade with its damper
+    (``hbm.output.plot_linear_reference``, as ``python -m hbm`` draws them), each distinct curve
+    and level once, a_min in the run's colour when there are several runs; none for a structure
+    from matrices (its stuck response is not a blade's)."""
+    drawn_stuck, drawn_levels = [], []
+    if not isinstance(blade, Blade):
+        return
+    for i, r in enumerate(results):
+        if r.frf is None:
+            continue
+        element = r.plan.element
+        inner = element.element if isinstance(element, StuckContact) else element
+        key = (repr(inner), tuple(r.plan.omega))
+        a_min = r.plan.a_min if r.plan.a_min not in drawn_levels else None
+        if key in drawn_stuck and a_min is None:
+            continue
+        try:
+            with np.errstate(all="ignore"):
+                plot_linear_reference(ax, blade, element, r.plan.omega, a_min=a_min, omega_unit=omega_unit,
+                                      amplitude_unit=amplitude_unit, label=not drawn_stuck,
+                                      stiffness=_stuck_stiffness(element),
+                                      a_min_color="C3" if len(results) == 1 else f"C{i % 10}")
+        except (ArithmeticError, ValueError, NotImplementedError):
+            continue  # an element without a stuck stiffness: no reference to draw
+        drawn_stuck.append(key)
+        drawn_levels.append(r.plan.a_min)
+
+
+def _stuck_stiffness(element: Any) -> Any:
+    """``omega -> K*(omega)`` of a run's element for the figure, without touching the counter of a
+    quasi-static damper (``QuasiStatic.calls`` reports the run's evaluations in summary.json):
+    a damper held stuck has its element's stiffness, a quasi-static one its element's at omega = 0."""
+    if isinstance(element, StuckContact):
+        element = element.element
+    if isinstance(element, QuasiStatic):
+        k = float(element.element.stuck_stiffness(0.0))
+        return lambda om: np.full(np.shape(om), k)
+    return lambda om: np.array([element.stuck_stiffness(x) for x in om])
 
 
 def effect_lines(plan: Plan) -> list:
@@ -180,7 +241,7 @@ def summary_lines(result: Any) -> list:
     -------
     list of str
         The scene, every effect (``effect_lines``), each run's points, time, counters and peak
-        (omega in rad/s, amplitude in m), the files written and, after a failure, what failed
+        (omega in rad/s, and the frequency in Hz first when the scene is swept in Hz; amplitude in m), the files written and, after a failure, what failed
         and which points were kept.  The command line prints them; nothing here prints.
     """
     lines = []
@@ -197,7 +258,9 @@ def summary_lines(result: Any) -> list:
         lines.append(head + ("" if r.success else f": FAILED: {r.message}"))
         if "peak" in s:
             pk = s["peak"]
-            lines.append(f"  peak: omega = {pk['omega_rad_s']:.9g} rad/s, amplitude = {pk['amplitude_m']:.9g} m"
+            where = (f"f = {pk['frequency_Hz']:.9g} Hz (omega = {pk['omega_rad_s']:.9g} rad/s)" if "frequency_Hz" in pk
+                     else f"omega = {pk['omega_rad_s']:.9g} rad/s")
+            lines.append(f"  peak: {where}, amplitude = {pk['amplitude_m']:.9g} m"
                          + (f" (= {pk['amplitude_over_a_min']:.4g} a_min)" if pk["amplitude_over_a_min"] else ""))
     for path in result.files.values():
         lines.append(f"wrote {Path(path).resolve()}" + ("  (partial: failed run)" if path.name.endswith(".partial.csv")

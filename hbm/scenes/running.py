@@ -8,6 +8,7 @@ counters and timing.  Runs are numbered from 1 in every output.
 
 from __future__ import annotations
 
+import csv
 import json
 import time
 from dataclasses import dataclass, field
@@ -17,7 +18,8 @@ from typing import Any, Callable
 import numpy as np
 
 from ..frf import frequency_response
-from ..output import FRF_COLUMNS, RUN_COLUMNS, TABLE_COLUMNS, CsvStream, frf_row
+from ..output import (HZ_COLUMN, RUN_COLUMNS, TABLE_COLUMNS, CsvStream, frf_columns, frf_row, harmonic_values,
+                      stable_value, with_hz)
 from ..structure import Contact
 from .planning import Plan, RunPlan, plan_scene
 from .reporting import figure, jsonable, run_summary
@@ -194,9 +196,25 @@ def columns(scene: Scene) -> tuple:
     -------
     tuple of str
         Column names: ``"run"``, ``"model"``, ``"normal_load_N"``, then those of the FRF
-        (frequency sweep) or of the coefficient table (amplitude sweep).
+        (frequency sweep, ``hbm.output.frf_columns``: with every harmonic of the response DOF and
+        ``stable`` when ``effects.harmonics`` > 1) or of the coefficient table (amplitude sweep);
+        ``f_Hz`` after ``omega_rad_s`` when ``sweep.unit = "Hz"``.
     """
-    return RUN_COLUMNS + (FRF_COLUMNS if scene.sweep["kind"] == "frequency" else TABLE_COLUMNS)
+    hz = in_hz(scene)
+    if scene.sweep["kind"] == "frequency":
+        return RUN_COLUMNS + frf_columns(scene_harmonics(scene), hz=hz)
+    return RUN_COLUMNS + ((TABLE_COLUMNS[0], HZ_COLUMN) + TABLE_COLUMNS[1:] if hz else TABLE_COLUMNS)
+
+
+def in_hz(scene: Scene) -> bool:
+    """Whether the scene gives its frequencies in Hz (``sweep.unit = "Hz"``): its outputs then
+    report them in Hz too (beside rad/s)."""
+    return scene.sweep["unit"] == "Hz"
+
+
+def scene_harmonics(scene: Scene) -> int:
+    """The harmonics of a frequency sweep's table: ``effects.harmonics`` (1 for an amplitude sweep)."""
+    return int(scene.effects["harmonics"]) if scene.sweep["kind"] == "frequency" else 1
 
 
 def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None = None,
@@ -281,15 +299,17 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
                 res.success = False
                 res.message = f"{type(exc).__name__}: {exc}"
             res.seconds = time.perf_counter() - t0
-            res.summary = run_summary(res)
+            res.summary = run_summary(res, hz=in_hz(scene))
     finally:
         if stream is not None:
             stream.close()
+    if stream is not None and freq and scene_harmonics(scene) > 1:
+        _fill_stability(partial, results)
     success = all(r.success for r in results)
     if "csv" in formats:
         files["csv"] = partial.replace(folder / names["csv"]) if success else partial
     if success and "png" in formats:
-        files["png"] = figure(scene, results, folder / names["png"])
+        files["png"] = figure(scene, results, folder / names["png"], blade=plan.blade)
     message = ("every run succeeded" if success else
                "; ".join(f"run {r.number} ({r.plan.label}) failed: {r.message}" for r in results if not r.success))
     summary = {
@@ -317,9 +337,19 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
 def _run_frequency(scene, plan, res, emit):
     p = res.plan
     w0, w1 = p.omega
+    H, hz = scene_harmonics(scene), in_hz(scene)
+    first = []  # above one harmonic, a point's first-harmonic columns wait for its harmonics
 
     def on_point(omega, xc, xs, residual):
-        emit(frf_row(omega, xc, xs, residual), omega, (omega - w0) / (w1 - w0))
+        row = frf_row(omega, xc, xs, residual)
+        row = with_hz(row, omega) if hz else row
+        if H == 1:
+            emit(row, omega, (omega - w0) / (w1 - w0))
+        else:
+            first.append(row)
+
+    def on_harmonics(omega, X):  # stability is known once the run ends (_fill_stability)
+        emit(first.pop() + harmonic_values(X, H) + [stable_value(None)], omega, (omega - w0) / (w1 - w0))
 
     accuracy = {k: v for k, v in scene.sweep["options"].items() if k in ACCURACY_OPTIONS}
     damper, response_dof = p.element, None
@@ -329,12 +359,32 @@ def _run_frequency(scene, plan, res, emit):
         damper = [Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)]
         response_dof = st.get("response_dof")
     frf = frequency_response(plan.blade, damper, (w0, w1), harmonics=p.harmonics, n_t=p.n_t,
-                             response_dof=response_dof, on_point=on_point, **accuracy)
+                             response_dof=response_dof, on_point=on_point,
+                             on_harmonics=on_harmonics if H > 1 else None, **accuracy)
     res.frf = frf
     res.success = frf.success
     res.message = frf.message
     if len(frf):
         res.peak = frf.peak()
+
+
+def _fill_stability(path, results):
+    """Fill the ``stable`` column (the last) of a multi-harmonic scene's CSV from each run's
+    ``frf.stable`` (Hill's method, known once the run ends), rewriting the file through a temporary
+    name; a run without a result, or whose points differ from its rows, keeps it empty."""
+    with path.open(newline="") as fh:
+        rows = list(csv.reader(fh))
+    by_number = {r.number: r for r in results}
+    seen = {}
+    for row in rows[1:]:
+        res = by_number.get(int(row[0]))
+        k = seen[res.number] = seen.get(res.number, -1) + 1
+        if res.frf is not None and len(res.frf) == res.points:
+            row[-1] = stable_value(res.frf.stable[k])
+    tmp = path.with_name(path.name + ".tmp")
+    with tmp.open("w", newline="") as fh:
+        csv.writer(fh).writerows(rows)
+    tmp.replace(path)
 
 
 def _run_amplitude(scene, plan, res, emit):
@@ -349,8 +399,8 @@ def _run_amplitude(scene, plan, res, emit):
         fs, fc = el.fourier(a, w, rtol=scene.sweep["tolerance"])
         Fs, Fc = fs / (k_star * a), fc / (k_star * a)
         for i in range(len(a)):
-            emit([repr(float(v)) for v in (w, a[i], over[i], fs[i], fc[i], Fs[i], Fc[i])],
-                 w, (j + (i + 1) / len(a)) / len(p.omega))
+            row = [repr(float(v)) for v in (w, a[i], over[i], fs[i], fc[i], Fs[i], Fc[i])]
+            emit(with_hz(row, w) if in_hz(scene) else row, w, (j + (i + 1) / len(a)) / len(p.omega))
         table["omega"].append(w)
         table["F_s"].append(Fs)
         table["F_c"].append(Fc)
@@ -369,4 +419,4 @@ def duration(seconds: float) -> str:
     return f"{s // 3600} h {s % 3600 // 60} min"
 
 
-__all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns"]
+__all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns", "in_hz", "scene_harmonics"]

@@ -118,7 +118,8 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
 
 
 def read_toml(path: str | Path) -> dict:
-    """The parsed TOML file ``path``; :class:`SceneError` if it is missing or not TOML."""
+    """The parsed TOML file ``path``; :class:`SceneError` naming the file if it is missing, unreadable,
+    not UTF-8 text or not TOML."""
     path = Path(path)
     try:
         with path.open("rb") as fh:
@@ -127,6 +128,11 @@ def read_toml(path: str | Path) -> dict:
         raise SceneError([f"{path}: no such file"]) from None
     except tomllib.TOMLDecodeError as exc:
         raise SceneError([f"{path}: not valid TOML: {exc}"]) from None
+    except UnicodeDecodeError as exc:  # binary bytes: tomllib reads UTF-8 text only
+        raise SceneError([f"{path}: not valid TOML: not UTF-8 text (byte {exc.object[exc.start:exc.start + 1]!r} "
+                          f"at offset {exc.start}); a scene is a UTF-8 text file"]) from None
+    except OSError as exc:
+        raise SceneError([f"{path}: cannot be read: {exc.strerror or exc}"]) from None
 
 
 def parse_override(text: str) -> tuple[str, Any]:

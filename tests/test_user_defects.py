@@ -1,0 +1,348 @@
+"""Defects users reported on inputs, outputs and the command line: each test fails without its fix.
+
+The scenes here are the 3-DOF chain of ``examples/scenes/chain_3dof.toml`` (unit masses and
+springs ground-0-1-2, C = 0.004 K, forced at DOF 2, a Jenkins damper to ground at DOF 0) with one
+of its files or keys spoilt.
+"""
+
+import warnings
+
+import numpy as np
+import pytest
+import scipy.sparse
+
+from contact_models import Macroslip, SampledLoad
+from hbm import Contact, Structure, frequency_response
+from hbm.cli.main import main
+from hbm.scenes import SceneError, load_scene, plan_scene, scene_from_dict
+from hbm.structure import load_matrix
+
+K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+F = [0.0, 0.0, 0.01]
+
+
+def chain(folder, **structure):
+    np.save(folder / "M.npy", np.eye(3))
+    np.save(folder / "K.npy", K)
+    table = {"mass": "M.npy", "stiffness": "K.npy", "rayleigh": [0.0, 0.004], "force": F,
+             "contact_dofs": [0], "response_dof": 2}
+    table.update(structure)
+    return {"structure": table, "damper": {"model": "macroslip", "stiffness": 1.0, "slip_force": 0.02},
+            "effects": {"harmonics": 3}, "sweep": {"omega": [0.3, 0.8]}}
+
+
+def problems(data, folder):
+    with pytest.raises(SceneError) as info:
+        plan_scene(scene_from_dict(data, folder / "chain.toml"))
+    return info.value.problems
+
+
+# ----------------------------------------------------------------------------- inputs
+@pytest.mark.parametrize("sparse", [False, True])
+def test_complex_stiffness_is_refused_by_name(sparse):
+    Kc = K + 1j
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no ComplexWarning on the way: refused before any cast
+        with pytest.raises(ValueError, match=r"^K must be real, got a complex matrix \(max\|Im K\| = 1\)"):
+            Structure(np.eye(3), 0.01 * np.eye(3), scipy.sparse.csr_matrix(Kc) if sparse else Kc, force=F)
+
+
+def test_complex_force_is_refused_by_name():
+    with pytest.raises(ValueError, match=r"^force must be real, got a complex vector \(max\|Im force\| = 2\)"):
+        Structure(np.eye(3), 0.01 * np.eye(3), K, force=[0.0, 0.0, 1.0 + 2.0j])
+
+
+def test_complex_matrix_with_zero_imaginary_part_is_its_real_part():
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = Structure(np.eye(3), 0.01 * np.eye(3), K + 0j, force=np.array(F, dtype=complex))
+    assert s.K.dtype == np.float64 and np.array_equal(s.K, K)
+    assert s.force.tolist() == F
+
+
+def test_complex_npy_in_a_scene_names_structure_stiffness(tmp_path):
+    data = chain(tmp_path)
+    np.save(tmp_path / "K.npy", K + 1j)
+    assert problems(data, tmp_path) == [
+        f"{tmp_path / 'chain.toml'}: structure.stiffness: K must be real, got a complex matrix (max|Im K| = 1)"]
+
+
+def test_sampled_load_nan_names_values():
+    with pytest.raises(ValueError, match=r"^values must be finite, got values=\[1.0, nan, 1.0\]"):
+        SampledLoad(x=[0.0, 0.025, 0.05], values=[1.0, float("nan"), 1.0])
+    with pytest.raises(ValueError, match=r"^x must be finite"):
+        SampledLoad(x=[0.0, float("nan"), 0.05], values=[1.0, 1.0, 1.0])
+
+
+def test_garbage_npy_names_the_parameter_and_the_file(tmp_path):
+    bad = tmp_path / "K.npy"
+    bad.write_bytes(b"\x80\x04garbage, not an array")
+    with pytest.raises(ValueError, match="^stiffness must name a matrix file that numpy can read, got stiffness="):
+        load_matrix(bad, name="stiffness")
+    with pytest.raises(ValueError, match=r"^mass must name a matrix file that numpy can read, got mass='.*K\.npy'"):
+        Structure.from_files(bad, bad, force=F, rayleigh=(0.0, 0.004))
+
+
+def test_garbage_npy_in_a_scene_names_the_key_and_the_file(tmp_path):
+    data = chain(tmp_path)
+    (tmp_path / "K.npy").write_bytes(b"garbage")
+    (message,) = problems(data, tmp_path)
+    assert message.startswith(f"{tmp_path / 'chain.toml'}: [structure]: structure.stiffness must name a matrix file that numpy "
+                              f"can read, got structure.stiffness={str(tmp_path / 'K.npy')!r}")
+
+
+def test_pickled_npy_in_a_scene_is_not_loaded_and_named(tmp_path):
+    data = chain(tmp_path)
+    np.save(tmp_path / "K.npy", np.array([{"K": 1}], dtype=object), allow_pickle=True)
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a matrix file" in message
+    assert "pickled Python objects, which are not loaded" in message
+
+
+def test_singular_stiffness_fails_the_check_and_writes_nothing(tmp_path, capsys):
+    data = chain(tmp_path)
+    np.save(tmp_path / "K.npy", np.array([[1.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]]))  # free-free
+    expected = (f"{tmp_path / 'chain.toml'}: structure.stiffness: K must be nonsingular (a structure held only by "
+                "its contacts has no static compliance to condense with), got a singular K")
+    assert problems(data, tmp_path) == [expected]
+    path = tmp_path / "chain.toml"
+    path.write_text('[structure]\nmass = "M.npy"\nstiffness = "K.npy"\nrayleigh = [0.0, 0.004]\n'
+                    'force = [0.0, 0.0, 0.01]\ncontact_dofs = [0]\n[damper]\nmodel = "macroslip"\n'
+                    'stiffness = 1.0\nslip_force = 0.02\n[effects]\nharmonics = 3\n[sweep]\nomega = [0.3, 0.8]\n')
+    assert main(["run", str(path), "--check"]) == 2
+    assert expected in capsys.readouterr().err
+    out = tmp_path / "out"
+    assert main(["run", str(path), "--out", str(out)]) == 2
+    assert not out.exists()
+
+
+def test_singular_stiffness_of_one_dof_at_one_harmonic_still_runs(tmp_path):
+    # the one-DOF single-harmonic balance needs no K^-1: k = 0 with a damper is a valid scene
+    np.save(tmp_path / "M1.npy", np.eye(1))
+    np.save(tmp_path / "K1.npy", np.zeros((1, 1)))
+    data = {"structure": {"mass": "M1.npy", "stiffness": "K1.npy", "rayleigh": [0.01, 0.0], "force": [0.01],
+                          "contact_dofs": [0]},
+            "damper": {"model": "macroslip", "stiffness": 1.0, "slip_force": 0.02}, "sweep": {"omega": [0.3, 0.8]}}
+    assert len(plan_scene(scene_from_dict(data, tmp_path / "one.toml")).runs) == 1
+
+
+def test_harmonics_string_is_refused_by_key(tmp_path):
+    data = chain(tmp_path)
+    data["effects"]["harmonics"] = "3"
+    with pytest.raises(SceneError) as info:
+        scene_from_dict(data, tmp_path / "chain.toml")
+    assert info.value.problems == [f"{tmp_path / 'chain.toml'}: effects.harmonics = \"3\": must be an integer >= 1"]
+
+
+@pytest.mark.parametrize("H", ["3", b"3"])
+def test_harmonics_string_is_refused_by_the_api(H):
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with pytest.raises(ValueError, match=r"^harmonics must be an integer >= 1, got harmonics="):
+        frequency_response(s, [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0)], (0.3, 0.8), harmonics=H)
+
+
+def test_binary_scene_file_is_named(tmp_path):
+    path = tmp_path / "binary.toml"
+    path.write_bytes(b'title = "\xff\xfe"\n')
+    with pytest.raises(SceneError) as info:
+        load_scene(path)
+    assert info.value.problems == [f"{path}: not valid TOML: not UTF-8 text (byte b'\\xff' at offset 9); a scene "
+                                   "is a UTF-8 text file"]
+
+
+def test_binary_scene_file_is_named_on_the_command_line(tmp_path, capsys):
+    path = tmp_path / "binary.toml"
+    path.write_bytes(bytes(range(256)))
+    assert main(["run", str(path), "--check"]) == 2
+    assert f"{path}: not valid TOML: not UTF-8 text" in capsys.readouterr().err
+
+
+def test_natural_frequencies_refuse_a_negative_stiffness_mode():
+    Kn = np.array([[2.0, -1.0], [-1.0, -3.0]])  # eigenvalues 2.19, -3.19
+    s = Structure(np.eye(2), 0.01 * np.eye(2), Kn, force=[1.0, 0.0])
+    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -3.19 \(K x = lambda M x\): the structure is "
+                                         "unstable; natural_frequencies needs K positive semi-definite"):
+        s.natural_frequencies()
+
+
+def test_natural_frequencies_keep_a_rigid_body_mode_at_zero():
+    s = Structure(np.eye(2), 0.01 * np.eye(2), [[1.0, -1.0], [-1.0, 1.0]], force=[1.0, 0.0])
+    w = s.natural_frequencies()
+    assert w[0] == 0.0 and w[1] == pytest.approx(np.sqrt(2.0), rel=1e-14)
+
+
+# ----------------------------------------------------------------------------- the command line
+@pytest.mark.parametrize("argv", [["new", "{path}", "--out", "sub"], ["--out", "sub", "new", "{path}"],
+                                  ["new", "{path}", "--rtol", "1e-3"], ["models", "--rtol", "1e-3"],
+                                  ["keys", "--out", "sub"], ["--rtol", "1e-3", "keys"]])
+def test_subcommands_refuse_options_they_do_not_take(tmp_path, capsys, argv):
+    path = tmp_path / "s2.toml"
+    with pytest.raises(SystemExit) as stop:
+        main([a.format(path=path) for a in argv])
+    assert stop.value.code == 2
+    err = capsys.readouterr().err
+    assert "unrecognized arguments: --" in err or "does not apply to" in err
+    assert not path.exists() and not (tmp_path / "sub").exists()
+
+
+def test_new_writes_where_it_is_told_and_nothing_else(tmp_path):
+    path = tmp_path / "s2.toml"
+    assert main(["new", str(path)]) == 0 and path.exists()
+    assert main(["new", str(path), "--force"]) == 0
+
+
+def test_help_lists_every_option_of_run():
+    from hbm.cli.main import build_parser
+
+    text = " ".join(build_parser("python -m hbm").format_help().split())
+    run = text[text.index("run run a scene file"):text.index("new write")]
+    for option in ("--out DIR", "--set TABLE.KEY=VALUE", "--rtol X", "--quiet", "--check", "--workers N",
+                   "--scheduler ADDRESS", "--executor NAME"):
+        assert option in run, option
+
+
+# ----------------------------------------------------------------------------- outputs
+import csv  # noqa: E402
+import math  # noqa: E402
+import tomllib  # noqa: E402
+from pathlib import Path  # noqa: E402
+
+import matplotlib  # noqa: E402
+
+matplotlib.use("Agg")
+from matplotlib.figure import Figure  # noqa: E402
+
+from hbm.output import FRF_COLUMNS, harmonic_columns  # noqa: E402
+from hbm.scenes import run_scene, summary_lines  # noqa: E402
+
+EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
+DEFAULT = EXAMPLES / "default_microslip_frf.toml"
+
+
+def read_csv(path):
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    return rows[0], rows[1:]
+
+
+@pytest.fixture
+def drawn(monkeypatch):
+    """The figures a scene saves, kept for inspection."""
+    figures = []
+    save = Figure.savefig
+
+    def keep(self, *args, **kwargs):
+        figures.append(self)
+        return save(self, *args, **kwargs)
+
+    monkeypatch.setattr(Figure, "savefig", keep)
+    return figures
+
+
+def test_multiharmonic_scene_csv_holds_every_harmonic_and_the_stability(tmp_path):
+    data = tomllib.loads((EXAMPLES / "chain_3dof.toml").read_text())
+    data["effects"]["harmonics"] = 3
+    data["output"] = {"formats": ["csv"]}
+    result = run_scene(scene_from_dict(data, EXAMPLES / "chain_3dof.toml"), tmp_path)
+    assert result.success
+    header, rows = read_csv(tmp_path / "frf.csv")
+    assert tuple(header) == ("run", "model", "normal_load_N") + FRF_COLUMNS + (
+        "X0_m", "Xc1_m", "Xs1_m", "Xc2_m", "Xs2_m", "Xc3_m", "Xs3_m", "stable")
+    frf = result.runs[0].frf
+    c = frf.coefficients(2)
+    table = np.array([r[9:16] for r in rows], dtype=float)
+    assert len(rows) == len(frf) > 50
+    assert np.array_equal(table[:, 0], c[:, 0].real)
+    assert np.array_equal(table[:, 1::2], c[:, 1:].real) and np.array_equal(table[:, 2::2], -c[:, 1:].imag)
+    assert np.array_equal(table[:, 1], frf.x_c) and np.array_equal(table[:, 2], frf.x_s)
+    assert [r[-1] for r in rows] == [str(int(s)) for s in frf.stable]
+    assert float(np.max(np.abs(table[:, 5:7]))) > 1e-4  # the third harmonic is there, not zeros
+    assert not (tmp_path / "frf.csv.tmp").exists()
+
+
+def test_to_csv_of_a_multiharmonic_response_holds_every_harmonic_and_the_stability(tmp_path):
+    s = Structure.with_rayleigh(np.eye(3), K, alpha=0.0, beta=0.004, force=F)
+    frf = frequency_response(s, [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0)], (0.3, 0.8),
+                             harmonics=3, response_dof=2)
+    header, rows = read_csv(frf.to_csv(tmp_path / "frf.csv"))
+    assert tuple(header) == FRF_COLUMNS + harmonic_columns(3) + ("stable",)
+    table = np.array([r[:-1] for r in rows], dtype=float)
+    c = frf.coefficients(2)
+    assert np.array_equal(table[:, 0], frf.omega) and np.array_equal(table[:, 6], c[:, 0].real)
+    assert np.array_equal(table[:, 7::2], c[:, 1:].real) and np.array_equal(table[:, 8::2], -c[:, 1:].imag)
+    assert [r[-1] for r in rows] == ["1" if s else "0" for s in frf.stable]
+
+
+def test_to_csv_at_one_harmonic_keeps_the_library_columns(tmp_path):
+    s = Structure.with_rayleigh(np.eye(3), K, alpha=0.0, beta=0.004, force=F)
+    frf = frequency_response(s, [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0)], (0.3, 0.8),
+                             harmonics=1, response_dof=2)
+    header, rows = read_csv(frf.to_csv(tmp_path / "frf.csv"))
+    assert tuple(header) == FRF_COLUMNS and len(rows) == len(frf)
+
+
+def hz_scene(**sweep):
+    data = tomllib.loads(DEFAULT.read_text())
+    data["sweep"].update({"unit": "Hz", "omega": [5000.0, 6500.0], "max_step": 0.1, **sweep})
+    return scene_from_dict(data, DEFAULT)
+
+
+def test_sweep_in_hz_is_reported_in_hz(tmp_path, drawn):
+    result = run_scene(hz_scene(), tmp_path)
+    header, rows = read_csv(tmp_path / "frf.csv")
+    assert header[3:5] == ["omega_rad_s", "f_Hz"] and header[5:] == list(FRF_COLUMNS[1:])
+    omega, f = (np.array([r[i] for r in rows], dtype=float) for i in (3, 4))
+    assert np.array_equal(f, omega / (2.0 * math.pi)) and f[0] == pytest.approx(5000.0, rel=1e-15)
+    peak = result.summary["runs"][0]["peak"]
+    assert peak["frequency_Hz"] == peak["omega_rad_s"] / (2.0 * math.pi)
+    assert peak["frequency_Hz"] == pytest.approx(6170.17, rel=1e-5)
+    line = next(x for x in summary_lines(result) if "peak:" in x)
+    assert line.startswith(f"  peak: f = {peak['frequency_Hz']:.9g} Hz (omega = {peak['omega_rad_s']:.9g} rad/s)")
+    (fig,) = drawn
+    ax = fig.axes[0]
+    assert ax.get_xlabel() == "frequency (Hz)" and ax.get_ylabel() == "amplitude (\u00b5m)"
+    curve = next(line for line in ax.lines if line.get_label() == "two-region, N = 100 N")
+    assert curve.get_xdata()[0] == pytest.approx(5000.0, rel=1e-15)
+    assert max(curve.get_ydata()) == pytest.approx(float(np.max(result.runs[0].frf.amplitude)) * 1e6, rel=1e-15)
+
+
+def test_sweep_in_rad_per_second_keeps_its_columns(tmp_path):
+    data = tomllib.loads(DEFAULT.read_text())
+    data["sweep"]["max_step"] = 0.1
+    data["output"] = {"formats": ["csv"]}
+    run_scene(scene_from_dict(data, DEFAULT), tmp_path)
+    assert tuple(read_csv(tmp_path / "frf.csv")[0]) == ("run", "model", "normal_load_N") + FRF_COLUMNS
+
+
+def test_sweep_unit_in_lower_case_suggests_hz(tmp_path):
+    with pytest.raises(SceneError) as info:
+        hz_scene(unit="hz")
+    assert info.value.problems == [f'{DEFAULT}: sweep.unit = "hz": must be one of "rad/s", "Hz", "omega_c" '
+                                   '(did you mean "Hz"?)']
+
+
+def test_scene_figure_draws_the_stuck_response_and_a_min_as_the_main_job(tmp_path, drawn):
+    from hbm.balance.residual import linear_response
+
+    result = run_scene(hz_scene(), tmp_path)
+    (fig,) = drawn
+    ax = fig.axes[0]
+    by_label = {line.get_label(): line for line in ax.lines}
+    stuck, a_min = by_label["damper stuck (linear)"], by_label["$a_{min}$ (slip begins)"]
+    plan = result.runs[0].plan
+    assert a_min.get_ydata()[0] == pytest.approx(plan.a_min * 1e6, rel=1e-15)
+    assert plan.a_min == pytest.approx(7.5e-7, rel=1e-3)
+    w = np.array(stuck.get_xdata()) * 2.0 * math.pi
+    el = plan.element
+    expected = np.abs(linear_response(result.plan.blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
+    np.testing.assert_allclose(np.array(stuck.get_ydata()), expected * 1e6, rtol=1e-12)
+    assert max(stuck.get_ydata()) == pytest.approx(17.04, rel=1e-3)  # the stuck resonance on 600 points, um
+
+
+def test_main_job_figure_draws_the_same_references(tmp_path, drawn):
+    assert main(["--out", str(tmp_path)]) == 0
+    (fig,) = drawn
+    labels = [line.get_label() for line in fig.axes[0].lines]
+    assert "damper stuck (linear)" in labels and "$a_{min}$ (slip begins)" in labels
+    a_min = next(line for line in fig.axes[0].lines if line.get_label() == "$a_{min}$ (slip begins)")
+    assert a_min.get_ydata()[0] == pytest.approx(7.5e-7, rel=1e-12)
