@@ -19,7 +19,11 @@ import numpy as np
 
 #: Columns of an FRF point: frequency, first-harmonic amplitude, phase lag, x_c, x_s and the
 #: balance residual |R|/F of the point (dimensionless).
-FRF_COLUMNS = ("omega_rad_s", "amplitude_m", "phase_rad", "x_c_m", "x_s_m", "residual_rel")
+#: ``error_rel`` is the point's estimated relative error (``FrequencyResponse.error_estimate``;
+#: ``nan`` while a scene streams the point, filled in when its run ends).
+FRF_COLUMNS = ("omega_rad_s", "amplitude_m", "phase_rad", "x_c_m", "x_s_m", "residual_rel", "error_rel")
+#: Column of a point's estimated relative error.
+ERROR_COLUMN = FRF_COLUMNS[-1]
 #: Column of the frequency in Hz, after ``omega_rad_s``, in a scene swept in Hz (``sweep.unit = "Hz"``).
 HZ_COLUMN = "f_Hz"
 #: Column of a point's stability by Hill's method (1 stable, 0 unstable; empty while not yet known)
@@ -90,12 +94,17 @@ def stable_value(stable: Any) -> str:
 
 
 def frf_row(omega: float, x_c: float, x_s: float, residual: float, *, amplitude: float | None = None,
-            phase: float | None = None) -> list[str]:
+            phase: float | None = None, error: float | None = None) -> list[str]:
     """The :data:`FRF_COLUMNS` values of one point, as text (amplitude and phase from x_c, x_s
-    unless given)."""
+    unless given; the error estimate ``nan`` unless given)."""
     amplitude = math.hypot(x_c, x_s) if amplitude is None else amplitude
     phase = math.atan2(x_s, x_c) if phase is None else phase
-    return [repr(float(v)) for v in (omega, amplitude, phase, x_c, x_s, residual)]
+    return [repr(float(v)) for v in (omega, amplitude, phase, x_c, x_s, residual)] + [error_value(error)]
+
+
+def error_value(error: float | None) -> str:
+    """The ``error_rel`` cell: the estimate, or ``nan`` when there is none (yet): a row stays numeric."""
+    return repr(float(error)) if error is not None else "nan"
 
 
 class CsvStream:
@@ -108,7 +117,7 @@ class CsvStream:
     >>> with CsvStream(path, FRF_COLUMNS) as out:
     ...     out.write(frf_row(1.0, 3.0, 4.0, 1e-9))
     >>> path.read_text().splitlines()[1]
-    '1.0,5.0,0.9272952180016122,3.0,4.0,1e-09'
+    '1.0,5.0,0.9272952180016122,3.0,4.0,1e-09,nan'
     """
 
     def __init__(self, path: str | Path, columns: Sequence[str]) -> None:
@@ -142,15 +151,17 @@ def write_frf_csv(path: str | Path, frf: Any) -> Path:
     H = int(frf.harmonics)
     with CsvStream(path, frf_columns(H)) as out:
         if H == 1:
-            for w, xc, xs, r, a, ph in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude, frf.phase):
-                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph))
+            for w, xc, xs, r, a, ph, e in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude, frf.phase,
+                                              frf.error_estimate):
+                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph, error=e))
         else:
             C = frf.coefficients(frf.response_dof)
             X = np.empty((len(C), 2 * H + 1))
             X[:, 0], X[:, 1::2], X[:, 2::2] = C[:, 0].real, C[:, 1:].real, -C[:, 1:].imag
-            for w, xc, xs, r, a, ph, x, st in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude,
-                                                  frf.phase, X, frf.stable):
-                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph) + harmonic_values(x, H) + [stable_value(st)])
+            for w, xc, xs, r, a, ph, x, st, e in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude,
+                                                     frf.phase, X, frf.stable, frf.error_estimate):
+                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph, error=e) + harmonic_values(x, H)
+                          + [stable_value(st)])
     return Path(path)
 
 

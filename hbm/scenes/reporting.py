@@ -31,6 +31,8 @@ def run_summary(res: Any, *, hz: bool = False) -> dict:
     if res.frf is not None:
         frf = res.frf
         out["counters"] = {"nsteps": frf.nsteps, "nit": frf.nit, "nfev": frf.nfev, "nstuck": frf.nstuck}
+        if frf.tolerance is not None and len(frf):
+            out["error"] = error_summary(frf)
         if res.peak is not None:
             a_min = p.a_min
             out["peak"] = {"omega_rad_s": res.peak.omega, "amplitude_m": res.peak.amplitude,
@@ -53,6 +55,17 @@ def run_summary(res: Any, *, hz: bool = False) -> dict:
     if isinstance(inner, QuasiStatic):
         out["quasi_static_calls"] = inner.calls  # every one at omega = 0
     return out
+
+
+def error_summary(frf: Any) -> dict:
+    """The estimated error of a run (``FrequencyResponse.error_estimate``): the tolerance, the
+    largest estimate and where, the estimate at the sampled peak and its sources there, and
+    whether it exceeds the tolerance (then the run also printed an ``AccuracyWarning``)."""
+    i, j = int(np.nanargmax(frf.error_estimate)), int(np.argmax(frf.amplitude))
+    return {"tolerance": frf.tolerance, "largest": float(frf.error_estimate[i]),
+            "largest_at_omega_rad_s": float(frf.omega[i]), "at_peak": float(frf.error_estimate[j]),
+            "sources_at_peak": {k: float(v[j]) for k, v in frf.error_sources.items()},
+            "above_tolerance": bool(frf.error_estimate[i] > frf.tolerance)}
 
 
 def thin(omega: Any, n: int = 33) -> np.ndarray:

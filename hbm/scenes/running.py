@@ -18,8 +18,8 @@ from typing import Any, Callable
 import numpy as np
 
 from ..frf import frequency_response
-from ..output import (HZ_COLUMN, RUN_COLUMNS, TABLE_COLUMNS, CsvStream, frf_columns, frf_row, harmonic_values,
-                      stable_value, with_hz)
+from ..output import (ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
+                      frf_columns, frf_row, harmonic_values, stable_value, with_hz)
 from ..structure import Contact
 from .planning import Plan, RunPlan, plan_scene
 from .reporting import figure, jsonable, run_summary
@@ -303,8 +303,8 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     finally:
         if stream is not None:
             stream.close()
-    if stream is not None and freq and scene_harmonics(scene) > 1:
-        _fill_stability(partial, results)
+    if stream is not None and freq:
+        _fill_after_run(partial, results)
     success = all(r.success for r in results)
     if "csv" in formats:
         files["csv"] = partial.replace(folder / names["csv"]) if success else partial
@@ -368,19 +368,24 @@ def _run_frequency(scene, plan, res, emit):
         res.peak = frf.peak()
 
 
-def _fill_stability(path, results):
-    """Fill the ``stable`` column (the last) of a multi-harmonic scene's CSV from each run's
-    ``frf.stable`` (Hill's method, known once the run ends), rewriting the file through a temporary
-    name; a run without a result, or whose points differ from its rows, keeps it empty."""
+def _fill_after_run(path, results):
+    """Fill what is known once a run ends into a scene's CSV: ``error_rel`` from each run's
+    ``frf.error_estimate`` and, above one harmonic, the ``stable`` column (the last) from
+    ``frf.stable`` (Hill's method), rewriting the file through a temporary name; a run without a
+    result, or whose points differ from its rows, keeps them empty."""
     with path.open(newline="") as fh:
         rows = list(csv.reader(fh))
     by_number = {r.number: r for r in results}
+    error = rows[0].index(ERROR_COLUMN)
+    stable = rows[0][-1] == STABLE_COLUMN
     seen = {}
     for row in rows[1:]:
         res = by_number.get(int(row[0]))
         k = seen[res.number] = seen.get(res.number, -1) + 1
         if res.frf is not None and len(res.frf) == res.points:
-            row[-1] = stable_value(res.frf.stable[k])
+            row[error] = error_value(res.frf.error_estimate[k])
+            if stable:
+                row[-1] = stable_value(res.frf.stable[k])
     tmp = path.with_name(path.name + ".tmp")
     with tmp.open("w", newline="") as fh:
         csv.writer(fh).writerows(rows)
