@@ -15,6 +15,7 @@ from . import continuation
 from .balance import HarmonicBalance
 from .blade import Blade
 from .frf import frequency_response, response_at
+from .modes import NonlinearModes, nonlinear_modes
 from .result import FrequencyResponse, Peak, Response
 from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 from .structure import Contact, ReducedStructure, Structure
@@ -27,3 +28,4 @@ __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "P
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
 __all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse"]
+__all__ += ["nonlinear_modes", "NonlinearModes"]
