@@ -77,6 +77,8 @@ class ModeBalance:
         L = self.L
         self.idx = (np.asarray(self.hb.dofs)[:, None] * L + np.arange(L)).ravel()  # contact DOFs in Psi
         self.nfev = 0
+        self.uw = np.ones(self.n * self.L + 3)
+        self.rw = np.ones(self.n * self.L + 2)
 
     @property
     def unknowns(self) -> int:
@@ -132,6 +134,20 @@ class ModeBalance:
         R[N + 1] = float(np.arange(1, self.H + 1) @ psi[ph])
         J[N + 1, ph] = np.arange(1, self.H + 1)
         return R, J
+
+    def set_scales(self, phi: NDArray, omega: float) -> None:
+        """Scales of :meth:`scaled` from the stuck mode: ``Psi`` by ``max|phi|``, omega by the stuck
+        frequency, D and log10 a by 1; the dynamic rows by the mode's largest inertia force
+        ``omega^2 max|M phi|``, the phase row by ``max|phi|``."""
+        n = self.n * self.L
+        psi_ref, r_ref = float(np.max(np.abs(phi))), omega ** 2 * float(np.max(np.abs(self.M @ phi)))
+        self.uw = np.concatenate([np.full(n, psi_ref), [omega, 1.0, 1.0]])
+        self.rw = np.concatenate([np.full(n, r_ref), [1.0, psi_ref]])
+
+    def scaled(self, u: NDArray) -> tuple[NDArray, NDArray]:
+        """``R`` and ``J`` in the scaled unknowns ``u = y / uw``, rows divided by ``rw`` (:meth:`set_scales`)."""
+        R, J = self(u * self.uw)
+        return R / self.rw, J * self.uw[None, :] / self.rw[:, None]
 
     def energies(self, y: NDArray) -> tuple[float, float, float]:
         """Per cycle at the point ``y``: the contacts' dissipation, the dissipation of ``C`` and the
@@ -282,22 +298,17 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     y0 = np.zeros(bal.unknowns)
     y0[np.arange(bal.n) * bal.L + 1] = phi
     y0[-3:] = w0, D0, math.log10(a0)
-    psi_ref, r_ref = float(np.max(np.abs(phi))), w0 ** 2 * float(np.max(np.abs(bal.M @ phi)))
-    uw = np.concatenate([np.full(bal.n * bal.L, psi_ref), [w0, 1.0, 1.0]])
-    rw = np.concatenate([np.full(bal.n * bal.L, r_ref), [1.0, psi_ref]])
+    bal.set_scales(phi, w0)
+    scaled = bal.scaled
 
-    def scaled(u):
-        R, J = bal(u * uw)
-        return R / rw, J * uw[None, :] / rw[:, None]
-
-    res = cont.continuation(scaled, y0 / uw, parameter=-1, bounds=(math.log10(a0), math.log10(a1)),
+    res = cont.continuation(scaled, y0 / bal.uw, parameter=-1, bounds=(math.log10(a0), math.log10(a1)),
                             tol=tol, max_step=positive("max_step", max_step), max_steps=count("max_steps", max_steps),
                             locate_folds=False)
     ys, rn, nit, nfev = res.y, res.residual_norm, res.nit, res.nfev
     if targets is not None:
         ys, rn, extra = _locate_amplitudes(scaled, res, np.log10(targets), tol)
         nit, nfev = nit + extra[0], nfev + extra[1]
-    ys = ys * uw
+    ys = ys * bal.uw
     N = bal.n * bal.L
     return NonlinearModes(amplitude=10.0 ** ys[:, -1], omega=ys[:, N], damping_ratio=ys[:, N + 1],
                           shapes=ys[:, :N].reshape(-1, bal.n, bal.L), harmonics=bal.H, n_t=bal.n_t,
