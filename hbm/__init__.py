@@ -16,6 +16,8 @@ from .balance import HarmonicBalance
 from .blade import Blade
 from .frf import frequency_response, response_at
 from .modes import NonlinearModes, nonlinear_modes
+from .single_mode import ModalFRF, forced_response
+from .damper_optimum import DamperOptimum, damper_optimum
 from .result import FrequencyResponse, Peak, Response
 from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 from .structure import Contact, ReducedStructure, Structure
@@ -28,4 +30,4 @@ __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "P
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
 __all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse"]
-__all__ += ["nonlinear_modes", "NonlinearModes"]
+__all__ += ["nonlinear_modes", "NonlinearModes", "forced_response", "ModalFRF", "damper_optimum", "DamperOptimum"]

@@ -33,9 +33,15 @@ from .modes import ModeBalance, NonlinearModes, nonlinear_modes
 from .result import Peak
 
 
-def coefficients(bal: ModeBalance, y: NDArray, J: NDArray, force: NDArray, dof: int
+def frequency_term(bal: ModeBalance, y: NDArray, J: NDArray) -> NDArray:
+    """``dF/domega / a`` (n L,) at the mode point ``y``, read off the omega column of its Jacobian ``J``."""
+    N = bal.n * bal.L
+    return J[:N, N] - bal.operator(float(y[N]), float(y[N + 1]))[1] @ y[:N]
+
+
+def coefficients(bal: ModeBalance, y: NDArray, fw: NDArray, force: NDArray, dof: int
                  ) -> tuple[NDArray, NDArray, float, float]:
-    """At the mode point ``y`` (physical, Jacobian ``J`` of ``bal`` there): the real and imaginary
+    """At the mode point ``y`` (physical; ``fw`` its :func:`frequency_term`): the real and imaginary
     parts of ``A(Omega)`` as polynomial coefficients (highest first), ``r = |Psi_1^H f| / a`` and the
     response amplitude ``a |Psi_1[dof]|``."""
     n, L = bal.n, bal.L
@@ -43,7 +49,7 @@ def coefficients(bal: ModeBalance, y: NDArray, J: NDArray, force: NDArray, dof: 
     omega, D, a = float(y[N]), float(y[N + 1]), 10.0 ** float(y[N + 2])
     psi = y[:N].reshape(n, L)
     P1 = psi[:, 1] - 1j * psi[:, 2]
-    Fw = (J[:N, N] - bal.operator(omega, D)[1] @ y[:N]).reshape(n, L)  # dF/domega / a
+    Fw = fw.reshape(n, L)
     eta = complex(np.conj(P1) @ (Fw[:, 1] - 1j * Fw[:, 2]))
     m1 = float(np.real(np.conj(P1) @ bal.M @ P1))
     c1 = float(np.real(np.conj(P1) @ bal.C @ P1))
@@ -84,6 +90,7 @@ class ModalFRF:
     side: NDArray[np.int_]
     peak: Peak
     peak_modal_amplitude: float
+    peak_point: NDArray[np.float64]  #: the mode's unknowns (Psi, omega, D, log10 a) at the peak
 
 
 def forced_response(modes: NonlinearModes, *, force: Sequence[float] | None = None,
@@ -105,12 +112,11 @@ def forced_response(modes: NonlinearModes, *, force: Sequence[float] | None = No
         The mode does not reach the peak's amplitude (the forcing needs a larger amplitude_range).
     """
     bal = modes.balance
-    f, dof = _forcing(bal, force, response_dof)
+    f, dof = forcing(bal, force, response_dof)
     N = bal.n * bal.L
     rows, g = [], []
     for y in modes.points:
-        J = bal(y)[1]
-        re, im, r, resp = coefficients(bal, y, J, f, dof)
+        re, im, r, resp = coefficients(bal, y, frequency_term(bal, y, bal(y)[1]), f, dof)
         g.append(peak_condition(re, im, r, float(y[N])))
         rq = _squared(re, im)
         rq[-1] -= r * r
@@ -124,13 +130,13 @@ def forced_response(modes: NonlinearModes, *, force: Sequence[float] | None = No
         raise ValueError(f"modes must reach the peak's modal amplitude (the peak condition changes sign "
                          f"nowhere on the branch), got amplitudes {modes.amplitude[0]:.4g}..{modes.amplitude[-1]:.4g}")
     y_peak = locate_peak(bal, modes.points[above[0]], modes.points[above[0] + 1], f, dof)
-    re, im, r, resp = coefficients(bal, y_peak, bal(y_peak)[1], f, dof)
+    re, im, r, resp = coefficients(bal, y_peak, frequency_term(bal, y_peak, bal(y_peak)[1]), f, dof)
     w_peak = closest_minimum(re, im, float(y_peak[N]))[0]
     rows = np.array([row for row in rows if row[2] <= 10.0 ** y_peak[-1]]).reshape(-1, 4)
     side = np.where(rows[:, 0] < w_peak, -1, 1)
     order = np.lexsort((rows[:, 0], side))
     return ModalFRF(omega=rows[order, 0], amplitude=rows[order, 1], modal_amplitude=rows[order, 2],
-                    side=side[order], peak=Peak(float(w_peak), float(resp)), peak_modal_amplitude=10.0 ** float(y_peak[-1]))
+                    side=side[order], peak=Peak(float(w_peak), float(resp)), peak_modal_amplitude=10.0 ** float(y_peak[-1]), peak_point=y_peak)
 
 
 def locate_peak(bal: ModeBalance, ya: NDArray, yb: NDArray, force: NDArray, dof: int) -> NDArray:
@@ -139,7 +145,7 @@ def locate_peak(bal: ModeBalance, ya: NDArray, yb: NDArray, force: NDArray, dof:
 
     def g(u, t):
         y = u * bal.uw
-        re, im, r, _ = coefficients(bal, y, bal(y)[1], force, dof)
+        re, im, r, _ = coefficients(bal, y, frequency_term(bal, y, bal(y)[1]), force, dof)
         return peak_condition(re, im, r, float(y[N]))
 
     loc = cont.locate(bal.scaled, ya / bal.uw, yb / bal.uw, g, tol=1e-10, xtol=1e-12)
@@ -148,7 +154,7 @@ def locate_peak(bal: ModeBalance, ya: NDArray, yb: NDArray, force: NDArray, dof:
     return loc.y * bal.uw
 
 
-def _forcing(bal: ModeBalance, force, response_dof) -> tuple[NDArray, int]:
+def forcing(bal: ModeBalance, force, response_dof) -> tuple[NDArray, int]:
     s = bal.structure
     f = s.force if force is None else np.asarray(force, dtype=float).ravel()
     if f.size != s.n or not np.all(np.isfinite(f)) or not np.any(f):
@@ -157,4 +163,4 @@ def _forcing(bal: ModeBalance, force, response_dof) -> tuple[NDArray, int]:
     return f, dof
 
 
-__all__ = ["forced_response", "ModalFRF", "coefficients", "closest_minimum", "peak_condition", "locate_peak"]
+__all__ = ["forced_response", "ModalFRF", "frequency_term", "coefficients", "closest_minimum", "peak_condition", "locate_peak"]
