@@ -116,8 +116,8 @@ def test_time_integration_returns_to_the_orbit(a):
     scale = np.max(np.abs(x_hb))
     for _ in range(3):
         y, rec = integ.period_map(y, record=True)
-        assert np.max(np.abs(rec[:, :2].T - x_hb)) < 2e-3 * scale
-    assert np.max(np.abs(y[:2] - x0)) < 2e-3 * scale
+        assert np.max(np.abs(rec[:, :2].T - x_hb)) < 5e-5 * scale
+    assert np.max(np.abs(y[:2] - x0)) < 5e-5 * scale
 
 
 def test_other_time_laws_and_describing_functions():
@@ -198,3 +198,29 @@ def test_bad_input_names_the_parameter():
     m = nonlinear_modes(s, contacts, amplitude_range=(1e-3, 1e-2), harmonics=1)
     with pytest.raises(ValueError, match="modes must reach"):
         forced_response(m)
+
+
+def _example(name):
+    import importlib
+    import sys
+
+    examples = str(Path(__file__).resolve().parent.parent / "examples")
+    if examples not in sys.path:
+        sys.path.insert(0, examples)
+    return importlib.import_module(name)
+
+
+def test_example_nonlinear_modes_chain(tmp_path):
+    out = _example("nonlinear_modes_chain").main(outdir=tmp_path, small=True)
+    assert Path(out["path"]).stat().st_size > 10_000
+    # stuck: K + both contacts as unit springs = [[4, -2, 0], [-2, 3, -1], [0, -1, 1]]
+    w = math.sqrt(np.linalg.eigvalsh([[4.0, -2.0, 0.0], [-2.0, 3.0, -1.0], [0.0, -1.0, 1.0]])[0])
+    # to 1.5e-7: C = 0.004 K is not proportional to the stuck stiffness, which moves the EPMC's omega
+    assert out["modes"].omega[0] == pytest.approx(w, rel=1e-6)
+
+
+def test_example_design_chart_from_modes(tmp_path):
+    out = _example("design_chart_from_modes").main(outdir=tmp_path, small=True)
+    assert Path(out["path"]).stat().st_size > 10_000
+    # the optimum of 50 FRFs over 30..90 N, their peaks through a cubic spline (benchmarks/bench_modes.py)
+    assert out["optimal_load"] == pytest.approx(52.3637, rel=1e-4)
