@@ -35,7 +35,7 @@ from contact_models.base import DEFAULT_RTOL
 from . import continuation as cont
 from ._validation import count, positive
 from .balance.residual import HarmonicBalance, as_contacts, as_structure
-from .structure import Contact, Structure
+from .structure import Structure
 
 LN10 = math.log(10.0)
 
@@ -177,11 +177,11 @@ class ModeBalance:
         """``(phi, omega, D)``: the linear mode ``mode`` (from 0, by frequency) with every contact
         at its linear coefficients ``(k_s, k_c)``, mass-normalised; D from ``phi^T (omega C + K_c) phi /
         (2 omega^2)`` (a first guess that Newton corrects when the damping is not modal)."""
+        Linv = np.linalg.inv(np.linalg.cholesky(self.M))  # M = L L^T: the symmetric problem L^-1 K L^-T
         omega = 0.0
         for _ in range(6):  # fixed point for frequency-dependent stiffnesses
             Ks, Kc = self._stuck_matrices(omega)
-            lam, V = np.linalg.eigh(np.linalg.solve(np.linalg.cholesky(self.M), np.eye(self.n)) @ (self.K + Ks)
-                                    @ np.linalg.solve(np.linalg.cholesky(self.M), np.eye(self.n)).T)
+            lam, V = np.linalg.eigh(Linv @ (self.K + Ks) @ Linv.T)
             if lam[mode] <= 0.0:
                 raise ValueError(f"mode must have a positive stuck stiffness, got mode={mode} with eigenvalue "
                                  f"{lam[mode]:.3g}")
@@ -190,7 +190,7 @@ class ModeBalance:
             omega = new
             if done:
                 break
-        phi = np.linalg.solve(np.linalg.cholesky(self.M).T, V[:, mode])
+        phi = Linv.T @ V[:, mode]
         phi *= np.sign(phi[np.argmax(np.abs(phi))])
         D = float(phi @ (omega * self.C + Kc) @ phi) / (2.0 * omega ** 2)
         return phi, omega, D
@@ -310,10 +310,13 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
         nit, nfev = nit + extra[0], nfev + extra[1]
     ys = ys * bal.uw
     N = bal.n * bal.L
+    message = res.message
+    if targets is not None and len(ys) < len(targets):
+        message += f"; {len(targets) - len(ys)} of the {len(targets)} amplitudes asked for were not reached or located"
     return NonlinearModes(amplitude=10.0 ** ys[:, -1], omega=ys[:, N], damping_ratio=ys[:, N + 1],
                           shapes=ys[:, :N].reshape(-1, bal.n, bal.L), harmonics=bal.H, n_t=bal.n_t,
                           success=bool(res.success and (targets is None or len(ys) == len(targets))),
-                          message=res.message, nsteps=res.nsteps, nrejected=res.nrejected, nit=nit, nfev=nfev,
+                          message=message, nsteps=res.nsteps, nrejected=res.nrejected, nit=nit, nfev=nfev,
                           residual_norm=rn, balance=bal, points=ys)
 
 

@@ -19,17 +19,14 @@ equation is the forced balance itself.  The peak is the largest ``a`` that has a
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
-from typing import Any, Callable, Sequence
+from typing import Sequence
 
 import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont
-from ._validation import count, positive
-from .balance.residual import as_structure
-from .modes import ModeBalance, NonlinearModes, nonlinear_modes
+from .modes import ModeBalance, NonlinearModes
 from .result import Peak
 
 
