@@ -5,7 +5,10 @@ traces the FRF of either (``hbm.frf``, front of the balance in ``hbm.balance``) 
 result type, :class:`FrequencyResponse`.  ``hbm.continuation`` is the generic continuation core
 (it knows nothing of friction).  ``response_at`` solves a blade's balance at one frequency;
 ``simulate_blade`` (``hbm.reference``) integrates the blade with the discretised bar in time and ``periodic_response``
-finds the true periodic response by shooting, the balance's independent checks.  Scenes
+finds the true periodic response by shooting, the balance's independent checks.
+``nonlinear_modes`` traces a structure's nonlinear modes (extended periodic motion concept),
+``forced_response`` the forced response from one mode, ``damper_optimum`` the damper parameter
+that minimises the resonance peak (``docs/nonlinear_modes.md``).  Scenes
 (``hbm.scenes``), studies (``hbm.study``) and the command line build on these.
 """
 
