@@ -5,7 +5,10 @@ traces the FRF of either (``hbm.frf``, front of the balance in ``hbm.balance``) 
 result type, :class:`FrequencyResponse`.  ``hbm.continuation`` is the generic continuation core
 (it knows nothing of friction).  ``response_at`` solves a blade's balance at one frequency;
 ``simulate_blade`` (``hbm.reference``) integrates the blade with the discretised bar in time and ``periodic_response``
-finds the true periodic response by shooting, the balance's independent checks.  Scenes
+finds the true periodic response by shooting, the balance's independent checks.
+``nonlinear_modes`` traces a structure's nonlinear modes (extended periodic motion concept),
+``forced_response`` the forced response from one mode, ``damper_optimum`` the damper parameter
+that minimises the resonance peak (``docs/nonlinear_modes.md``).  Scenes
 (``hbm.scenes``), studies (``hbm.study``) and the command line build on these.
 """
 
@@ -16,6 +19,9 @@ from . import continuation
 from .balance import HarmonicBalance
 from .blade import Blade
 from .frf import frequency_response, response_at
+from .modes import NonlinearModes, nonlinear_modes
+from .single_mode import ModalFRF, forced_response
+from .damper_optimum import DamperOptimum, damper_optimum
 from .result import FrequencyResponse, Peak, Response
 from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 from .structure import Contact, ReducedStructure, Structure
@@ -28,3 +34,4 @@ __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "P
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
 __all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]
+__all__ += ["nonlinear_modes", "NonlinearModes", "forced_response", "ModalFRF", "damper_optimum", "DamperOptimum"]

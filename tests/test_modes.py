@@ -1,0 +1,226 @@
+"""Nonlinear modes (EPMC), the forced response from one mode, and the damper's optimum.
+
+Independent answers: NLvib 1.3's EPMC (``docs/data/nlvib_epmc_*.csv``, written by
+``benchmarks/peers/nlvib_epmc.m``), closed forms (the stuck linear mode, the one-DOF describing
+function), the energy per cycle, the time integration of the autonomous system by the library's
+event integrator, and the full FRF (``hbm.frequency_response``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contact_models import Iwan, Macroslip, QuasiStatic, TwoRegionMicroslip, UniformLoad
+from hbm import Contact, Structure, damper_optimum, forced_response, frequency_response, nonlinear_modes
+from hbm.cli.cases import default_case
+from hbm.reference.piecewise import EventIntegrator
+from hbm.reference.system import build_model
+
+DATA = Path(__file__).resolve().parent.parent / "docs" / "data"
+K2 = np.array([[2.0, -1.0], [-1.0, 2.0]])
+K3 = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+
+
+def ground():
+    """The NLvib script's first system: Jenkins (1, 0.1) from DOF 0 to the ground of a 2-DOF chain."""
+    return Structure(np.eye(2), 0.01 * K2, K2, force=[1.0, 0.0]), [Contact(Macroslip(stiffness=1.0, slip_force=0.1), dof=0)]
+
+
+def between():
+    """The NLvib script's second system: Jenkins (1, 0.05) between DOFs 0 and 1 of the 3-DOF chain."""
+    return (Structure(np.eye(3), 0.004 * K3, K3, force=[0.0, 0.0, 1.0]),
+            [Contact(Macroslip(stiffness=1.0, slip_force=0.05), dofs=(0, 1))])
+
+
+def chain():
+    """The 3-DOF chain of docs/multiharmonic.md."""
+    s = Structure(np.eye(3), 0.004 * K3, K3, force=[0.0, 0.0, 0.01])
+    return s, [Contact(Macroslip(stiffness=1.0, slip_force=0.02), dof=0),
+               Contact(Macroslip(stiffness=1.0, slip_force=0.05), dofs=(0, 1))]
+
+
+@pytest.mark.parametrize("name, make", [("ground", ground), ("between", between)])
+def test_against_nlvib(name, make):
+    ref = np.loadtxt(DATA / f"nlvib_epmc_{name}.csv", delimiter=",", skiprows=2)
+    s, contacts = make()
+    m = nonlinear_modes(s, contacts, amplitudes=ref[:, 0], harmonics=7, n_t=1024)
+    assert m.success and len(m) == 25
+    np.testing.assert_allclose(m.amplitude, ref[:, 0], rtol=1e-14)
+    assert np.max(np.abs(m.omega / ref[:, 1] - 1.0)) < 1e-4
+    assert np.max(np.abs(m.damping_ratio / ref[:, 2] - 1.0)) < 1e-4
+    # the range runs from stuck (omega constant) to gross slip (omega falls by more than 5 %)
+    assert m.omega[0] == pytest.approx(m.omega[3], rel=1e-12)
+    assert m.omega[-1] < 0.95 * m.omega[0]
+
+
+def test_stuck_start_is_the_linear_mode():
+    # mass-proportional damping c M: the stuck EPMC is the undamped mode with D = c / (2 omega)
+    s = Structure(np.eye(2), 0.02 * np.eye(2), K2, force=[1.0, 0.0])
+    m = nonlinear_modes(s, ground()[1], amplitudes=[1e-3], harmonics=3)
+    # K + kt e0 e0^T = [[3, -1], [-1, 2]]: lowest eigenvalue (5 - sqrt 5)/2
+    w = math.sqrt((5.0 - math.sqrt(5.0)) / 2.0)
+    assert m.omega[0] == pytest.approx(w, rel=1e-12)
+    assert m.damping_ratio[0] == pytest.approx(0.01 / w, rel=1e-10)
+    phi = m.shapes[0, :, 1]
+    assert phi @ phi == pytest.approx(1.0, rel=1e-12)  # M = I: mass-normalised
+    assert np.max(np.abs(m.shapes[0, :, 3:])) < 1e-12  # stuck: no higher harmonics
+
+
+def test_one_dof_describing_function_closed_form():
+    # m x'' + c x' + k x + f_J = 0 at H = 1: omega^2 m = k + f_s/X, 2 D omega^2 m = c omega + f_c/X, X = a/sqrt(m)
+    mass, k, c = 2.0, 3.0, 0.02
+    el = Macroslip(stiffness=1.5, slip_force=0.2)
+    s = Structure([[mass]], [[c]], [[k]], force=[1.0])
+    amps = np.array([0.05, 0.5, 2.0, 20.0])
+    m = nonlinear_modes(s, [Contact(el, dof=0)], amplitudes=amps, harmonics=1)
+    X = amps / math.sqrt(mass)
+    fs, fc = el.fourier(X)
+    w = np.sqrt((k + fs / X) / mass)
+    np.testing.assert_allclose(m.omega, w, rtol=1e-10)
+    np.testing.assert_allclose(m.damping_ratio, (c * w + fc / X) / (2.0 * mass * w ** 2), rtol=1e-9)
+
+
+def test_energy_balance_at_every_point():
+    s, contacts = chain()
+    m = nonlinear_modes(s, contacts, amplitude_range=(1e-3, 10.0), harmonics=7, n_t=512)
+    assert m.success and len(m) > 20
+    E = m.energies()
+    assert np.all(E[:, 2] > 0.0) and np.all(E[:, 0] >= -1e-12 * E[:, 2])  # stuck: zero to rounding
+    assert np.max(np.abs(E[:, 0] + E[:, 1] - E[:, 2]) / E[:, 2]) < 1e-8
+    assert np.max(E[:, 0] / E[:, 2]) > 0.9  # the contacts' share dominates in slip
+
+
+@pytest.mark.parametrize("a", [0.25, 1.0, 5.0])
+def test_time_integration_returns_to_the_orbit(a):
+    """The autonomous system M q'' + (C - 2 D omega M) q' + K q + f = 0, integrated exactly (event
+    integrator) from the mode's state at t = 0 over three periods T = 2 pi / omega, stays on the orbit."""
+    s, contacts = ground()
+    H = 25
+    m = nonlinear_modes(s, contacts, amplitudes=[a], harmonics=H, n_t=2048)
+    w, D = float(m.omega[0]), float(m.damping_ratio[0])
+    model = build_model((s.M, s.C - 2.0 * D * w * s.M, s.K, np.zeros(2)), contacts)
+    Q = m.coefficients(0)[0], m.coefficients(1)[0]
+    h = np.arange(1, H + 1)
+    steps = 256
+    theta = 2.0 * np.pi * np.arange(steps) / steps
+    x_hb = np.array([q[0] + np.cos(np.outer(theta, h)) @ q[1::2] + np.sin(np.outer(theta, h)) @ q[2::2] for q in Q])
+    x0 = x_hb[:, 0]
+    v0 = np.array([w * h @ q[2::2] for q in Q])
+    f0 = contacts[0].element.periodic_force(x_hb[0], w)[0][0]
+    y = np.concatenate([x0, v0, [x0[0] - f0 / 1.0]])
+    integ = EventIntegrator(model, w, steps)
+    scale = np.max(np.abs(x_hb))
+    for _ in range(3):
+        y, rec = integ.period_map(y, record=True)
+        assert np.max(np.abs(rec[:, :2].T - x_hb)) < 5e-5 * scale
+    assert np.max(np.abs(y[:2] - x0)) < 5e-5 * scale
+
+
+def test_other_time_laws_and_describing_functions():
+    s, _ = ground()
+    iwan = Iwan(slip_force=0.1, stiffness=1.0, chi=-0.5, beta=0.1)
+    m = nonlinear_modes(s, [Contact(iwan, dof=0)], amplitude_range=(1e-3, 3.0), harmonics=5, n_t=256)
+    E = m.energies()
+    assert m.success and np.max(np.abs(E[:, 0] + E[:, 1] - E[:, 2]) / E[:, 2]) < 1e-8
+    assert m.omega[-1] < m.omega[0]
+    case = default_case()
+    bar = case.element.bar
+    blade = case.blade.as_structure()
+    sm = math.sqrt(case.blade.mass)
+    qs = QuasiStatic(TwoRegionMicroslip(bar, UniformLoad(N=100.0)))
+    mq = nonlinear_modes(blade, [Contact(qs, dof=0)], amplitude_range=(1e-7 * sm, 3e-6 * sm), harmonics=3)
+    assert mq.success and mq.damping_ratio.max() > 2.0 * mq.damping_ratio[0]
+    with pytest.raises(ValueError, match="element"):
+        nonlinear_modes(blade, [Contact(case.element, dof=0)], amplitude_range=(1e-7, 1e-6), harmonics=3)
+
+
+def test_forced_response_of_the_blade_is_its_frf():
+    case = default_case()
+    sm = math.sqrt(case.blade.mass)
+    m = nonlinear_modes(case.blade.as_structure(), [Contact(case.element, dof=0)],
+                        amplitude_range=(1e-8 * sm, 1e-5 * sm), harmonics=1)
+    fr = forced_response(m)
+    pk = frequency_response(case.blade, case.element, omega_range=case.omega_range).peak()
+    assert fr.peak.omega == pytest.approx(pk.omega, rel=1e-7)
+    assert fr.peak.amplitude == pytest.approx(pk.amplitude, rel=1e-7)
+    # both flanks, up to the peak
+    assert np.any(fr.side < 0) and np.any(fr.side > 0) and fr.amplitude.max() <= fr.peak.amplitude * (1 + 1e-12)
+
+
+def test_forced_response_of_the_chain_near_its_frf():
+    s, contacts = chain()
+    fr = forced_response(nonlinear_modes(s, contacts, amplitude_range=(1e-3, 10.0), harmonics=7, n_t=512))
+    pk = frequency_response(s, contacts, omega_range=(0.3, 0.9), harmonics=7, n_t=512, response_dof=2).peak()
+    assert abs(fr.peak.omega / pk.omega - 1.0) < 5e-3
+    assert abs(fr.peak.amplitude / pk.amplitude - 1.0) < 2.5e-2
+
+
+def test_damper_optimum_is_the_frf_optimum():
+    case = default_case()
+    bar, sm = case.element.bar, math.sqrt(case.blade.mass)
+    opt = damper_optimum(case.blade.as_structure(), lambda N: [Contact(TwoRegionMicroslip(bar, UniformLoad(N=N)), dof=0)],
+                         (30.0, 90.0), amplitude_range=(1e-8 * sm, 1e-5 * sm))
+    assert opt.success and 30.0 < opt.parameter < 90.0
+
+    def frf_peak(N):
+        el = TwoRegionMicroslip(bar, UniformLoad(N=N))
+        return frequency_response(case.blade, el, omega_range=case.omega_range).peak()
+
+    at = frf_peak(opt.parameter)
+    assert opt.peak.amplitude == pytest.approx(at.amplitude, rel=1e-7)
+    assert opt.peak.omega == pytest.approx(at.omega, rel=1e-7)
+    assert at.amplitude < frf_peak(0.995 * opt.parameter).amplitude
+    assert at.amplitude < frf_peak(1.005 * opt.parameter).amplitude
+
+
+def test_bad_input_names_the_parameter():
+    s, contacts = ground()
+    for kwargs, name in [({"amplitude_range": (1.0, 0.5)}, "amplitude_range"),
+                         ({"amplitude_range": (-1.0, 0.5)}, "amplitude_range"),
+                         ({"amplitude_range": None}, "amplitude_range"),
+                         ({"amplitude_range": (0.1, 1.0), "amplitudes": [2.0]}, "amplitudes"),
+                         ({"amplitudes": [0.0, 1.0]}, "amplitudes"),
+                         ({"amplitude_range": (0.1, 1.0), "mode": 2}, "mode"),
+                         ({"amplitude_range": (0.1, 1.0), "harmonics": 0}, "harmonics"),
+                         ({"amplitude_range": (0.1, 1.0), "phase_dof": 5}, "phase_dof")]:
+        with pytest.raises(ValueError, match=name):
+            nonlinear_modes(s, contacts, **kwargs)
+    with pytest.raises(ValueError, match="contacts"):
+        nonlinear_modes(s, [], amplitude_range=(0.1, 1.0))
+    with pytest.raises(ValueError, match="contacts_of"):
+        damper_optimum(s, None, (1.0, 2.0), amplitude_range=(0.1, 1.0))
+    with pytest.raises(ValueError, match="bounds"):
+        damper_optimum(s, lambda p: contacts, (2.0, 1.0), amplitude_range=(0.1, 1.0))
+    m = nonlinear_modes(s, contacts, amplitude_range=(1e-3, 1e-2), harmonics=1)
+    with pytest.raises(ValueError, match="modes must reach"):
+        forced_response(m)
+
+
+def _example(name):
+    import importlib
+    import sys
+
+    examples = str(Path(__file__).resolve().parent.parent / "examples")
+    if examples not in sys.path:
+        sys.path.insert(0, examples)
+    return importlib.import_module(name)
+
+
+def test_example_nonlinear_modes_chain(tmp_path):
+    out = _example("nonlinear_modes_chain").main(outdir=tmp_path, small=True)
+    assert Path(out["path"]).stat().st_size > 10_000
+    # stuck: K + both contacts as unit springs = [[4, -2, 0], [-2, 3, -1], [0, -1, 1]]
+    w = math.sqrt(np.linalg.eigvalsh([[4.0, -2.0, 0.0], [-2.0, 3.0, -1.0], [0.0, -1.0, 1.0]])[0])
+    # to 1.5e-7: C = 0.004 K is not proportional to the stuck stiffness, which moves the EPMC's omega
+    assert out["modes"].omega[0] == pytest.approx(w, rel=1e-6)
+
+
+def test_example_design_chart_from_modes(tmp_path):
+    out = _example("design_chart_from_modes").main(outdir=tmp_path, small=True)
+    assert Path(out["path"]).stat().st_size > 10_000
+    # the optimum of 50 FRFs over 30..90 N, their peaks through a cubic spline (benchmarks/bench_modes.py)
+    assert out["optimal_load"] == pytest.approx(52.3637, rel=1e-4)
