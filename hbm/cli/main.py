@@ -58,7 +58,7 @@ def _default(args: argparse.Namespace) -> int:
     case = default_case()
     t0 = time.perf_counter()
     rtol = args.rtol if args.rtol is not None else DEFAULT_RTOL
-    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=rtol)
+    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=rtol, model="auto")
     pk = frf.peak()
     elapsed = time.perf_counter() - t0
     out = Path(args.out if args.out is not None else ".")
@@ -73,7 +73,18 @@ def _default(args: argparse.Namespace) -> int:
     print(f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m{in_a_min}")
     print(f"wrote {csv_path.resolve()}")
     print(f"wrote {png_path.resolve()}")
+    print(accuracy_line(frf, pk, case.element))
     return 0 if frf.success else 1
+
+
+def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
+    """The main job's last line: the peak, its estimated error and the model that gave it."""
+    err = float(frf.error_estimate[int(np.argmax(frf.amplitude))])
+    model = (f"{type(frf.element).__name__}, the bar with every mode: the single-mode "
+             f"{type(given).__name__} is further than tol = {frf.tolerance:g} from it here"
+             if frf.element is not given else f"{type(given).__name__}, within tol = {frf.tolerance:g}")
+    return (f"peak {pk.omega:.6g} rad/s, {pk.amplitude:.4g} m, estimated error {100.0 * err:.2g} % "
+            f"(model: {model})")
 
 
 def _figure(frf: Any, case: Case, path: Path) -> Path:
