@@ -17,12 +17,14 @@ import os
 import signal
 import sys
 import time
+import warnings
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
 from contact_models import __version__
+from contact_models.accuracy import AccuracyWarning
 
 from ..frf import frequency_response
 from ..output import plot_frfs, plot_linear_reference
@@ -132,7 +134,16 @@ def _run(args) -> int:
         points = len(partial.read_text().splitlines()) - 1 if partial.exists() else line.points
         return f"kept {points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
 
-    return _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
+    with warnings.catch_warnings(record=True) as caught:  # the runs' accuracy warnings, said once at the end
+        warnings.simplefilter("always", AccuracyWarning)
+        code = _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
+    for message in dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)):
+        if not args.quiet:  # summary.json records them too (each run's "error")
+            print(f"warning: {message}", file=sys.stderr)
+    for w in caught:  # any other warning as Python would have shown it
+        if not issubclass(w.category, AccuracyWarning):
+            warnings.showwarning(w.message, w.category, w.filename, w.lineno)
+    return code
 
 
 def _compute(line, compute, kept, report) -> int:

@@ -11,9 +11,12 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from typing import Any, Callable, Mapping
 
 import numpy as np
+
+from contact_models.accuracy import AccuracyWarning
 
 #: The numbers of a record, in the table's order (after the run number, id and parameters).
 RESULT_COLUMNS = ("success", "message", "peak_omega_rad_s", "peak_amplitude_m", "nfev", "time_s")
@@ -79,8 +82,14 @@ class SceneRun:
         plan = plan_scene(scene)
         res = RunResult(plan.runs[0])
         if scene.sweep["kind"] == "frequency":
-            _run_frequency(scene, plan, res, lambda *a: None)
-            return outcome(res.frf)
+            with warnings.catch_warnings(record=True) as caught:  # said in the run's record, not by the worker
+                warnings.simplefilter("always", AccuracyWarning)
+                _run_frequency(scene, plan, res, lambda *a: None)
+            rec = outcome(res.frf)
+            said = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+            if said:
+                rec["message"] += "; " + "; ".join(dict.fromkeys(said))
+            return rec
         _run_amplitude(scene, plan, res, lambda *a: None)
         t = res.table
         best = max(((float(Fc[i]), w, float(t["a"][i])) for w, Fc in zip(t["omega"], t["F_c"])
