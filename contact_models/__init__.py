@@ -7,8 +7,10 @@ from ._version import __version__
 from .allmode import AllModeMicroslip
 from .bar import Bar
 from .base import ContactElement
+from .contact2d import Contact2D
 from .iwan import Iwan
 from .cubic import CubicSpring
+from .gap import Gap
 from .loads import FunctionLoad, QuadraticLoad, SampledLoad, UniformLoad
 from .macroslip import Macroslip
 from .model_range import ModelRangeWarning
@@ -19,4 +21,5 @@ from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
-           "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning"]
+           "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning",
+           "Gap", "Contact2D"]

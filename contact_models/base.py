@@ -33,8 +33,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import stiffness_terms
 from .numerics.checks import count, nonnegative, nonnegative_array, positive
-from .numerics.masing import (aft_matrices, dense_jacobian, diagonal_product, masing_periodic, to_harmonics,
-                              to_time, true_extremes)
+from .numerics.masing import (aft_matrices, aft_vector, dense_jacobian, diagonal_product, masing_loop,
+                              masing_periodic, to_harmonics, to_time, true_extremes)
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
@@ -69,6 +69,12 @@ class ContactElement(ABC):
     has_time_law : bool
         Class attribute, default False: True for an element with a time-domain force law
         (``periodic_force``, used by the multi-harmonic alternating frequency-time method).
+    components : int
+        Class attribute, default 1: the displacement components the element reads; 2 for a point
+        contact's tangential and normal motion (``Contact2D``), whose ``periodic_force`` takes
+        ``x`` of shape (2, n_t) and ``harmonic_force`` ``X`` of shape (2, 2H+1); it implements
+        ``_periodic_entries(x, omega)``, the forces and the Jacobian's entries ``(rows, cols, vals)``
+        (``contact_models.numerics.masing.aft_vector``).
 
     Notes
     -----
@@ -94,6 +100,8 @@ class ContactElement(ABC):
     frequency_dependent: bool = True
     #: True for an element with a time-domain force law (``periodic_force``, multi-harmonic AFT).
     has_time_law: bool = False
+    #: Displacement components read (rows of x and X): 1, or 2 (tangential, normal) for Contact2D.
+    components: int = 1
 
     # ------------------------------------------------------------------ public
     def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
@@ -283,8 +291,10 @@ class ContactElement(ABC):
         """
         self._require_time_law()
         x = np.asarray(x, dtype=float)
-        if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)):
-            raise ValueError(f"x must be a finite 1-d array of at least 2 samples, got x with shape {x.shape}")
+        rows = () if self.components == 1 else (self.components,)
+        if x.shape[:-1] != rows or x.shape[-1] < 2 or not np.all(np.isfinite(x)):
+            raise ValueError(f"x must be a finite array of shape {rows + ('n_t',)} with n_t >= 2 samples, "
+                             f"got x with shape {x.shape}")
         omega = nonnegative("omega", omega)
         return self._periodic_force(x, omega)
 
@@ -335,9 +345,11 @@ class ContactElement(ABC):
         [0.0, 0.3183, 0.5]
         """
         X = np.asarray(X, dtype=float)
-        if X.ndim != 1 or X.size < 3 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
-            raise ValueError(f"X must be a finite vector of odd length 2H+1 >= 3, got X with shape {X.shape}")
-        H = (X.size - 1) // 2
+        rows = () if self.components == 1 else (self.components,)
+        if X.shape[:-1] != rows or X.shape[-1] < 3 or X.shape[-1] % 2 == 0 or not np.all(np.isfinite(X)):
+            raise ValueError(f"X must be finite, of shape {rows + ('2H+1',)} with 2H+1 odd >= 3, got X with "
+                             f"shape {X.shape}")
+        H = (X.shape[-1] - 1) // 2
         omega = nonnegative("omega", omega)
         rtol = positive("rtol", rtol)
         if H > 1:
@@ -357,7 +369,9 @@ class ContactElement(ABC):
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
         """``(F, dF/dX, dF/domega)`` for checked input: the describing function at H = 1 (no time
         law, or a Masing element), else AFT of the time law.  An element with its own harmonic
-        balance (``AllModeMicroslip``) implements this instead."""
+        balance (``AllModeMicroslip``) implements this instead.  A 2-component element: AFT per row."""
+        if self.components > 1:
+            return aft_vector(self._periodic_entries, X, omega, n_t)
         H = (X.size - 1) // 2
         if H == 1 and self.exact_describing_function:
             return self._describing_force(X, omega, rtol)
@@ -564,24 +578,6 @@ def _missing_time_law(cls: type) -> list[str]:
     if cls._loading_slope is ContactElement._loading_slope:
         missing.append("_loading_slope")
     return missing
-
-
-def masing_loop(loading: Callable[[NDArray], NDArray], a: float, n: int) -> tuple[NDArray, NDArray]:
-    """Closed loop from a loading curve by the Masing rule.
-
-    ``loading(x)`` is the virgin loading curve F(x) for x >= 0 (vectorised).  The
-    branch from x = -a upwards is ``-F(a) + 2 F((a + x)/2)``, the branch down from
-    x = +a is ``F(a) - 2 F((a - x)/2)``.  Returns ``(x, f)`` for theta from -pi/2
-    to 3 pi/2 with ``x = a sin(theta)``.
-    """
-    theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, n)
-    x = a * np.sin(theta)
-    fa = float(np.asarray(loading(np.array([a])))[0])
-    up = theta <= 0.5 * np.pi
-    f = np.empty_like(x)
-    f[up] = -fa + 2.0 * loading(0.5 * (a + x[up]))
-    f[~up] = fa - 2.0 * loading(0.5 * (a - x[~up]))
-    return x, f
 
 
 #: Default AFT samples per period: at least this many per harmonic, a power of two.
