@@ -43,7 +43,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from .base import ContactElement
 from .macroslip import jenkins_fourier
@@ -139,7 +139,7 @@ class Contact2D(ContactElement):
     def __repr__(self) -> str:
         return f"Contact2D(kt={self.kt!r}, kn={self.kn!r}, mu={self.mu!r}, n0={self.n0!r})"
 
-    def normal_force(self, v):
+    def normal_force(self, v: ArrayLike) -> NDArray:
         """``N = max(0, n0 + kn v)`` (N) for normal displacements ``v`` (m)."""
         return np.maximum(self.n0 + self.kn * np.asarray(v, dtype=float), 0.0)
 

@@ -32,12 +32,13 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 from .base import ContactElement
 from .numerics.checks import finite, positive
 
 
-def gap_fourier(k: float, g: float, a):
+def gap_fourier(k: float, g: float, a: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """``(f_s, f_c, df_s/da, df_c/da)`` of ``k max(0, a sin(theta) - g)`` for flat float arrays ``a``."""
     a = np.asarray(a, dtype=float)
     fs = np.where(g < 0.0, k * a, 0.0)
@@ -101,7 +102,7 @@ class Gap(ContactElement):
     def __repr__(self) -> str:
         return f"Gap(stiffness={self.stiffness!r}, gap={self.gap!r})"
 
-    def mean_force(self, a):
+    def mean_force(self, a: ArrayLike) -> float | NDArray:
         """``F_0`` (N), the mean of ``k max(0, a sin(theta) - g)`` over a period (module docstring)."""
         a = np.asarray(a, dtype=float)
         k, g = self.stiffness, self.gap
