@@ -8,8 +8,10 @@ from .accuracy import AccuracyWarning
 from .allmode import AllModeMicroslip
 from .bar import Bar
 from .base import ContactElement
+from .contact2d import Contact2D
 from .iwan import Iwan
 from .cubic import CubicSpring
+from .gap import Gap
 from .loads import FunctionLoad, QuadraticLoad, SampledLoad, UniformLoad
 from .macroslip import Macroslip
 from .model_range import ModelRangeWarning
@@ -20,4 +22,5 @@ from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
-           "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning", "AccuracyWarning"]
+           "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning",
+           "AccuracyWarning", "Gap", "Contact2D"]

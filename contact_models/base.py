@@ -33,9 +33,9 @@ from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
 from .numerics.checks import count, nonnegative, nonnegative_array, positive
-from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, default_samples, dense_jacobian,  # noqa: F401
-                              diagonal_product, masing_loop, masing_periodic, to_harmonics, to_time,  # (public here)
-                              true_extremes)
+from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
+                              dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
+                              to_harmonics, to_time, true_extremes)
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
@@ -70,6 +70,12 @@ class ContactElement(ABC):
     has_time_law : bool
         Class attribute, default False: True for an element with a time-domain force law
         (``periodic_force``, used by the multi-harmonic alternating frequency-time method).
+    components : int
+        Class attribute, default 1: the displacement components the element reads; 2 for a point
+        contact's tangential and normal motion (``Contact2D``), whose ``periodic_force`` takes
+        ``x`` of shape (2, n_t) and ``harmonic_force`` ``X`` of shape (2, 2H+1); it implements
+        ``_periodic_entries(x, omega)``, the forces and the Jacobian's entries ``(rows, cols, vals)``
+        (``contact_models.numerics.masing.aft_vector``).
 
     Notes
     -----
@@ -95,6 +101,8 @@ class ContactElement(ABC):
     frequency_dependent: bool = True
     #: True for an element with a time-domain force law (``periodic_force``, multi-harmonic AFT).
     has_time_law: bool = False
+    #: Displacement components read (rows of x and X): 1, or 2 (tangential, normal) for Contact2D.
+    components: int = 1
 
     # ------------------------------------------------------------------ public
     def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
@@ -310,8 +318,10 @@ class ContactElement(ABC):
         """
         self._require_time_law()
         x = np.asarray(x, dtype=float)
-        if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)):
-            raise ValueError(f"x must be a finite 1-d array of at least 2 samples, got x with shape {x.shape}")
+        rows = () if self.components == 1 else (self.components,)
+        if x.shape[:-1] != rows or x.shape[-1] < 2 or not np.all(np.isfinite(x)):
+            raise ValueError(f"x must be a finite array of shape {rows + ('n_t',)} with n_t >= 2 samples, "
+                             f"got x with shape {x.shape}")
         omega = nonnegative("omega", omega)
         return self._periodic_force(x, omega)
 
@@ -362,9 +372,11 @@ class ContactElement(ABC):
         [0.0, 0.3183, 0.5]
         """
         X = np.asarray(X, dtype=float)
-        if X.ndim != 1 or X.size < 3 or X.size % 2 == 0 or not np.all(np.isfinite(X)):
-            raise ValueError(f"X must be a finite vector of odd length 2H+1 >= 3, got X with shape {X.shape}")
-        H = (X.size - 1) // 2
+        rows = () if self.components == 1 else (self.components,)
+        if X.shape[:-1] != rows or X.shape[-1] < 3 or X.shape[-1] % 2 == 0 or not np.all(np.isfinite(X)):
+            raise ValueError(f"X must be finite, of shape {rows + ('2H+1',)} with 2H+1 odd >= 3, got X with "
+                             f"shape {X.shape}")
+        H = (X.shape[-1] - 1) // 2
         omega = nonnegative("omega", omega)
         rtol = positive("rtol", rtol)
         if H > 1:
@@ -384,27 +396,14 @@ class ContactElement(ABC):
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
         """``(F, dF/dX, dF/domega)`` for checked input: the describing function at H = 1 (no time
         law, or a Masing element), else AFT of the time law.  An element with its own harmonic
-        balance (``AllModeMicroslip``) implements this instead."""
+        balance (``AllModeMicroslip``) implements this instead.  A 2-component element: AFT per row."""
+        if self.components > 1:
+            return aft_vector(self._periodic_entries, X, omega, n_t)
         H = (X.size - 1) // 2
         if H == 1 and self.exact_describing_function:
             return self._describing_force(X, omega, rtol)
-        x = to_time(X, n_t)  # to time (inverse real FFT)
-        Einv = aft_matrices(H, n_t)[1]
-        if self._is_masing():  # the force law, with the outer loop's tips at the true extremes
-            ext, b_max, b_min = true_extremes(X, x)
-            if not np.isfinite(b_max[0]):
-                ext = None
-            f, d, idx, C = self._masing_tangent(x, omega, ext)
-            dxdX = np.vstack([Einv, b_min, b_max])[idx]  # columns n, n+1: the true extremes
-        else:
-            f, d, idx, C = self._periodic_tangent(x, omega)  # the force law
-            dxdX = Einv[idx]
-        F = to_harmonics(f, H)  # back, by the real FFT
-        # E J_t E^-1 with J_t = diag(d) + the columns C at idx (einsum: no small threaded BLAS call)
-        J = diagonal_product(d, H)
-        if idx.size:
-            J += np.einsum("ir,rj->ij", to_harmonics(C.T, H).T, dxdX)
-        return F, J, np.zeros_like(F)
+        tangent = self._masing_tangent if self._is_masing() else (lambda x, w, ext: self._periodic_tangent(x, w))
+        return aft_scalar(tangent, X, omega, n_t, masing=self._is_masing())
 
     # ----------------------------------------------------------------- private
     def _require_time_law(self, detail: str = "") -> None:

@@ -29,6 +29,11 @@ from numpy.typing import ArrayLike, NDArray
 from .numerics.checks import positive
 from .base import ContactElement, masing_loop
 
+#: The slider conventions of the time law: "centred" (the library's, the Masing march of
+#: ``contact_models.numerics.masing``) and "from rest" (marched two periods from a relaxed spring at
+#: x = 0, as NLvib does); ``docs/contacts_normal.md``, "The stuck slider".
+SLIDERS = ("centred", "from rest")
+
 #: Below this value of z = 2 psi, z - sin z is summed as its Taylor series (no cancellation).
 SERIES_BELOW = 0.5
 
@@ -82,11 +87,19 @@ class Macroslip(ContactElement):
         slider.
     slip_force : float
         Slider force (N), > 0.
+    slider : {"centred", "from rest"}, optional
+        The periodic state of the time law (``periodic_force``, ``harmonic_force`` at H > 1) where
+        it is not unique, i.e. while the slider sticks all period.  "centred" (default): the slider
+        at the middle of the displacement's range, the state a decaying shake-down leaves and the
+        limit of the slipping states (``contact_models.numerics.masing``); the describing function
+        answers at H = 1.  "from rest": the slider starts at 0 and the element is marched two
+        periods (NLvib's convention), answering by AFT at every H (``docs/contacts_normal.md``).
 
     Raises
     ------
     ValueError
-        If ``stiffness`` or ``slip_force`` is not positive, naming it and its value.
+        If ``stiffness`` or ``slip_force`` is not positive, or ``slider`` is not one of the two
+        (or "from rest" for the rigid slider), naming it and its value.
 
     See Also
     --------
@@ -119,12 +132,18 @@ class Macroslip(ContactElement):
 
     frequency_dependent = False
 
-    def __init__(self, stiffness: float, slip_force: float) -> None:
+    def __init__(self, stiffness: float, slip_force: float, *, slider: str = "centred") -> None:
         if _is_inf(stiffness):
             self.stiffness = math.inf
         else:
             self.stiffness = positive("stiffness", stiffness)
         self.slip_force = positive("slip_force", slip_force)
+        if slider not in SLIDERS:
+            raise ValueError(f"slider must be one of {SLIDERS}, got slider={slider!r}")
+        if slider == "from rest" and self.rigid:
+            raise ValueError(f"slider='from rest' needs a finite stiffness (the rigid slider has no time law), "
+                             f"got stiffness={stiffness!r}")
+        self.slider = slider
 
     @property
     def has_time_law(self) -> bool:
@@ -132,7 +151,18 @@ class Macroslip(ContactElement):
         return not self.rigid
 
     def __repr__(self) -> str:
-        return f"Macroslip(stiffness={self.stiffness!r}, slip_force={self.slip_force!r})"
+        extra = "" if self.slider == "centred" else f", slider={self.slider!r}"
+        return f"Macroslip(stiffness={self.stiffness!r}, slip_force={self.slip_force!r}{extra})"
+
+    def _is_masing(self) -> bool:
+        """The centred slider follows the base's Masing march; "from rest" has its own time law."""
+        return self.slider == "centred"
+
+    def _periodic_tangent(self, x, omega):
+        if self.slider == "centred":
+            return super()._periodic_tangent(x, omega)
+        f, J = from_rest_periodic(x, self.stiffness, self.slip_force)
+        return f, np.zeros_like(f), np.arange(f.size), J
 
     @property
     def rigid(self) -> bool:
@@ -195,6 +225,38 @@ class Macroslip(ContactElement):
         return jenkins_fourier(self.stiffness, self.slip_force / self.stiffness, a)
 
 
+def from_rest_periodic(x: NDArray, k: float, slip_force: float) -> tuple[NDArray, NDArray]:
+    """The force samples of a Jenkins element marched from rest over two periods, and their Jacobian.
+
+    The slider starts at 0 (spring relaxed at ``x = 0``) before sample 1; the return map
+    ``f = clip(k (x_j - w), +-slip_force)`` (slip where ``|k (x_j - w)| >= slip_force``) runs over
+    samples 1..n-1 and then 0..n-1, and the second pass is returned: the march of NLvib's
+    elastic dry friction element (Krack & Gross 2019).  Each sample's force is
+    ``k (x_j - x_r) + s_r slip_force`` with ``r`` the last slip before it (or ``k x_j`` if none),
+    which gives the exact Jacobian of the march.
+    """
+    n = x.size
+    w, r = 0.0, -1
+    f = np.empty(n)
+    origin = np.full(n, -1)
+    slipped = np.zeros(n, dtype=bool)
+    for step, j in enumerate(np.r_[1:n, 0:n]):
+        trial = k * (x[j] - w)
+        if abs(trial) >= slip_force:
+            val = math.copysign(slip_force, trial)
+            w, r, slip = x[j] - val / k, j, True
+        else:
+            val, slip = trial, False
+        if step >= n - 1:
+            f[j], origin[j], slipped[j] = val, r, slip
+    J = np.zeros((n, n))
+    stuck = np.flatnonzero(~slipped)
+    J[stuck, stuck] = k
+    held = stuck[origin[stuck] >= 0]
+    np.add.at(J, (held, origin[held]), -k)
+    return f, J
+
+
 def _is_inf(v) -> bool:
     """True for +inf given as a Python or numpy float (an allowed 'rigid' stiffness)."""
     return isinstance(v, (int, float)) and not isinstance(v, bool) and v == math.inf
@@ -221,4 +283,4 @@ def _history(step, x, x0, f0):
     return f
 
 
-__all__ = ["Macroslip", "jenkins_fourier", "z_minus_sin"]
+__all__ = ["Macroslip", "from_rest_periodic", "jenkins_fourier", "z_minus_sin"]

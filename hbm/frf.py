@@ -28,7 +28,6 @@ from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_S
                               harmonic_knobs, samples_for)
 from .balance.residual import HarmonicBalance, as_structure
 from .balance.start import force_homotopy
-from .structure import Contact
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
@@ -249,7 +248,7 @@ def _refined_contacts(contacts: list) -> list | None:
         better = c.element.refined_model()
         changed |= better is not None
         el = better if better is not None else c.element
-        out.append(Contact(el, dof=c.dofs[0]) if len(c.dofs) == 1 else Contact(el, dofs=c.dofs))
+        out.append(c.with_element(el))
     return out if changed else None
 
 

@@ -388,41 +388,89 @@ class Contact:
         The DOF of a contact to ground.
     dofs : tuple of two ints, optional
         ``(i, j)`` for a contact between DOFs: force +f on i, -f on j. Exactly one of dof, dofs.
+    normal_dof : int, optional
+        For a two-component element (``element.components == 2``, ``contact_models.Contact2D``):
+        the DOF of the normal displacement to ground; ``dof``/``dofs`` then give the tangential one.
+    normal_dofs : tuple of two ints, optional
+        ``(k, l)``: the normal displacement ``x_k - x_l`` (normal force +N on k, -N on l).
+        A two-component element needs exactly one of normal_dof, normal_dofs; any other element none.
+
+    Attributes
+    ----------
+    element, dofs
+        As given (``dofs`` a tuple of one or two DOFs: the tangential attachment).
+    normal_dofs : tuple of int
+        The normal attachment (one or two DOFs), empty for a one-component element.
+    components : tuple of tuple of int
+        ``(dofs,)`` or ``(dofs, normal_dofs)``: the attachment of each component, in the element's order.
 
     Examples
     --------
-    >>> from contact_models import Macroslip
+    >>> from contact_models import Contact2D, Macroslip
     >>> Contact(Macroslip(stiffness=1.0, slip_force=0.05), dofs=(0, 1)).dofs
     (0, 1)
+    >>> Contact(Contact2D(kt=1.0, kn=1.0, mu=0.5, n0=1.0), dof=0, normal_dof=1).components
+    ((0,), (1,))
     """
 
-    def __init__(self, element: Any, *, dof: int | None = None, dofs: tuple[int, int] | None = None) -> None:
+    def __init__(self, element: Any, *, dof: int | None = None, dofs: tuple[int, int] | None = None,
+                 normal_dof: int | None = None, normal_dofs: tuple[int, int] | None = None) -> None:
         if not isinstance(element, ContactElement):
             raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
-        if (dof is None) == (dofs is None):
-            raise ValueError(f"give exactly one of dof and dofs, got dof={dof!r}, dofs={dofs!r}")
-        if dof is not None:
-            dd: tuple = (dof,)
-            name = "dof"
-        else:
-            try:
-                dd = tuple(dofs)
-            except TypeError:
-                raise ValueError(f"dofs must be a pair (i, j), got dofs={dofs!r}") from None
-            name = "dofs"
-            if len(dd) != 2:
-                raise ValueError(f"dofs must be a pair (i, j), got dofs={dofs!r}")
-        for d in dd:
-            if isinstance(d, bool) or not isinstance(d, (int, np.integer)) or d < 0:
-                raise ValueError(f"{name} must hold DOF indices >= 0, got {name}={dof if dofs is None else dofs!r}")
-        if len(dd) == 2 and dd[0] == dd[1]:
-            raise ValueError(f"dofs must be two different DOFs, got dofs={dofs!r}")
         self.element = element
-        self.dofs = tuple(int(d) for d in dd)
+        self.dofs = _attachment("dof", dof, "dofs", dofs)
+        two = getattr(element, "components", 1) == 2
+        if not two and (normal_dof is not None or normal_dofs is not None):
+            raise ValueError(f"normal_dof and normal_dofs attach the normal of a two-component element (Contact2D); "
+                             f"{type(element).__name__} has one component, got normal_dof={normal_dof!r}, "
+                             f"normal_dofs={normal_dofs!r}")
+        self.normal_dofs = _attachment("normal_dof", normal_dof, "normal_dofs", normal_dofs) if two else ()
+        if set(self.dofs) & set(self.normal_dofs):
+            raise ValueError(f"normal_dof(s) must differ from the tangential dof(s), got dofs={self.dofs}, "
+                             f"normal_dofs={self.normal_dofs}")
+        self.components = (self.dofs, self.normal_dofs) if two else (self.dofs,)
+
+    @property
+    def all_dofs(self) -> tuple[int, ...]:
+        """Every DOF the contact touches: the tangential ones, then the normal ones."""
+        return self.dofs + self.normal_dofs
+
+    def with_element(self, element: Any) -> "Contact":
+        """The same attachment with another element (one with the same number of components)."""
+        pair = lambda t: {"dof": t[0]} if len(t) == 1 else {"dofs": t}  # noqa: E731
+        normal = {} if not self.normal_dofs else (
+            {"normal_dof": self.normal_dofs[0]} if len(self.normal_dofs) == 1 else {"normal_dofs": self.normal_dofs})
+        return Contact(element, **pair(self.dofs), **normal)
 
     def __repr__(self) -> str:
         where = f"dof={self.dofs[0]}" if len(self.dofs) == 1 else f"dofs={self.dofs}"
+        if self.normal_dofs:
+            nd = self.normal_dofs
+            where += f", normal_dof={nd[0]}" if len(nd) == 1 else f", normal_dofs={nd}"
         return f"Contact({self.element!r}, {where})"
+
+
+def _attachment(one: str, d: Any, two: str, pair: Any) -> tuple[int, ...]:
+    """``(d,)`` or the pair ``(i, j)`` of distinct DOF indices >= 0; exactly one of them given."""
+    if (d is None) == (pair is None):
+        raise ValueError(f"give exactly one of {one} and {two}, got {one}={d!r}, {two}={pair!r}")
+    if d is not None:
+        dd: tuple = (d,)
+        name = one
+    else:
+        try:
+            dd = tuple(pair)
+        except TypeError:
+            raise ValueError(f"{two} must be a pair (i, j), got {two}={pair!r}") from None
+        name = two
+        if len(dd) != 2:
+            raise ValueError(f"{two} must be a pair (i, j), got {two}={pair!r}")
+    for v in dd:
+        if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
+            raise ValueError(f"{name} must hold DOF indices >= 0, got {name}={d if pair is None else pair!r}")
+    if len(dd) == 2 and dd[0] == dd[1]:
+        raise ValueError(f"{two} must be two different DOFs, got {two}={pair!r}")
+    return tuple(int(v) for v in dd)
 
 
 def load_matrix(path: str | Path, *, name: str = "path") -> Any:

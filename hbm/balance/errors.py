@@ -224,7 +224,10 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
     L, na = same.L, same.na
     r = same.dofs.index(same.response_dof)
     total = 0.0
-    for el, ix in same._attach:
+    for el, comps in same._attach:
+        if len(comps) > 1:  # a contact with a normal direction is exact for what it models
+            continue
+        ix = comps[0]
         Xrel = x[ix[0]] - x[ix[1]] if len(ix) == 2 else x[ix[0]]
         xc, xs = float(Xrel[1]), float(Xrel[2])
         a_c = math.hypot(xc, xs)

@@ -113,7 +113,7 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
                   response_dof: Any) -> tuple[int, int, int]:
     """Validate H, n_t, the contacts' DOFs and the response DOF; returns ``(H, n_t, response_dof)``."""
     for c in contacts:
-        for d in c.dofs:
+        for d in c.all_dofs:
             if d >= structure.n:
                 raise ValueError(f"dof must be a DOF index in 0..{structure.n - 1}, got dof={d!r} in {c!r}")
     H = count("harmonics", harmonics, 1)
@@ -200,13 +200,13 @@ class HarmonicBalance:
         self.contacts = as_contacts(contacts, s.n)
         self.H, self.n_t, self.response_dof = check_problem(s, self.contacts, harmonics, n_t, response_dof)
         self.L = 2 * self.H + 1
-        self.dofs = sorted({d for c in self.contacts for d in c.dofs} | {self.response_dof})
+        self.dofs = sorted({d for c in self.contacts for d in c.all_dofs} | {self.response_dof})
         self.na = len(self.dofs)
         self.rtol = float(rtol)
         self.x_ref = float(x_ref)
         self.omega_ref = float(omega_ref)
         pos = {d: i for i, d in enumerate(self.dofs)}
-        self._attach = [(c.element, [pos[d] for d in c.dofs]) for c in self.contacts]
+        self._attach = [(c.element, [[pos[d] for d in ix] for ix in c.components]) for c in self.contacts]
         self.one_dof = solved_as_one_dof(s, self.contacts, self.H)
         self.element = self.contacts[0].element if len(self.contacts) == 1 else None
         self.fresh_omega_derivative = False
@@ -278,26 +278,31 @@ class HarmonicBalance:
         linear range all period is a linear spring for a perturbation (nothing slips, its
         internal state does not move), so its Jacobian is ``k_s I``; the balance's own Jacobian
         differs only in the static term, where the centring convention of a Masing element's
-        periodic state (``contact_models.numerics.masing``) gives ``K_inf``.
+        periodic state (``contact_models.numerics.masing``) gives ``K_inf``.  A two-component
+        element (``Contact2D``) gets the rows of its tangential and normal attachments, (2, L).
         """
         na, L = self.na, self.L
         F = np.zeros((na, L))
         dF = np.zeros((na, L, na, L))
         Fw = np.zeros((na, L))
-        for el, ix in self._attach:
-            Xrel = X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]]
-            f, J, fw = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), omega, self.n_t, self.rtol)
+        for el, comps in self._attach:
+            Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
+            c = len(comps)
+            f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol)
             self.nfev += 1
-            if perturbation:
-                x = to_time(np.ascontiguousarray(Xrel), max(self.n_t, 4 * L))
+            if perturbation and c == 1:
+                x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 if 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega):
                     J = float(el.linear_coefficients(omega)[0]) * np.eye(L)
-            signs = ((ix[0], 1.0), (ix[1], -1.0)) if len(ix) == 2 else ((ix[0], 1.0),)
-            for i, si in signs:
-                F[i] += si * f
-                Fw[i] += si * fw
-                for j, sj in signs:
-                    dF[i, :, j, :] += (si * sj) * J
+            f, fw, J = f.reshape(c, L), fw.reshape(c, L), J.reshape(c, L, c, L)
+            signs = [((ix[0], 1.0), (ix[1], -1.0)) if len(ix) == 2 else ((ix[0], 1.0),) for ix in comps]
+            for a in range(c):
+                for i, si in signs[a]:
+                    F[i] += si * f[a]
+                    Fw[i] += si * fw[a]
+                    for b in range(c):
+                        for j, sj in signs[b]:
+                            dF[i, :, j, :] += (si * sj) * J[a, :, b, :]
         return F, dF.reshape(na * L, na * L), Fw
 
     # ------------------------------------------------------------------ condensed form
