@@ -39,7 +39,7 @@ SHIM_MARKERS = ("moved_module(__name__", "warn_moved(__name__")
 
 #: Members of these base classes are left out of a class page (a NamedTuple's ``count``, an
 #: exception's ``args``): they are Python's, not the library's.
-FOREIGN_BASES = "object, tuple, dict, list, int, Enum, IntEnum, Exception, BaseException, ValueError, ABC"
+FOREIGN_BASES = "object, tuple, dict, list, int, Enum, IntEnum, Exception, BaseException, ValueError, ABC, Sequence"
 
 _TITLE_RULE = re.compile(r"^([=\-~#*^\"+])\1{2,}\s*$")
 _COMMITTED_FIGURE = re.compile(r"^\s*\.\. image:: /figures/", re.MULTILINE)
@@ -139,6 +139,15 @@ def _name_page(qualified: str, kind: str) -> str:
         return (head + f".. autoclass:: {name}\n   :members:\n   :inherited-members: {FOREIGN_BASES}\n"
                 "   :show-inheritance:\n")
     return head + f".. autofunction:: {name}\n"
+
+
+def _alias_page(qualified: str, kind: str, described_as: str) -> str:
+    """The page of a name that another package exports too: a reference target of its own (no
+    second description of the object, which Sphinx would refuse as a duplicate), linking to it."""
+    package, name = qualified.rsplit(".", 1)
+    role, directive = ("class", "py:class") if kind == "class" else ("func", "py:function")
+    return (f"{_underline(name)}\n.. currentmodule:: {package}\n\n.. {directive}:: {name}\n\n"
+            f"   The same object as :{role}:`{described_as}`, described there.\n")
 
 
 def _summary(obj) -> str:
@@ -321,9 +330,15 @@ def write_api_pages(outdir: Path, packages=PACKAGES) -> dict[str, list[str]]:
         pages = []
         for qualified, kind in names:
             obj = getattr(module, qualified.rsplit(".", 1)[1])
+            alias_of = described.get(id(obj)) if kind in ("class", "function") else None
             if kind in ("class", "function"):
                 described.setdefault(id(obj), qualified)
             if kind == "data":
+                continue
+            if alias_of is not None and alias_of != qualified:  # exported by an earlier package too
+                _write(outdir / f"{qualified}.rst", _alias_page(qualified, kind, alias_of))
+                written.add(f"{qualified}.rst")
+                pages.append(qualified)
                 continue
             if kind == "module" and qualified in packages:
                 pages.append(qualified)
