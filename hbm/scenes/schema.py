@@ -63,7 +63,8 @@ _FIXED: dict[str, dict[str, Key]] = {
     },
     "sweep": {
         "kind": Key(choice("frequency", "amplitude"), "frequency",
-                    '"frequency" (an FRF of the blade) or "amplitude" (a table of F_s, F_c of the damper)'),
+                    '"frequency" (an FRF of the blade) or "amplitude" (a table of F_s, F_c of the damper); '
+                    'left out with [modes] or [optimum], which compute a nonlinear mode or the damper optimum'),
         "omega": Key(lambda v: v, REQUIRED,
                      "frequency: [w0, w1], the range traced from w0 to w1; amplitude: the list of "
                      "frequencies of the table"),
