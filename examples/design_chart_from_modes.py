@@ -9,7 +9,8 @@ locates the load where the peak is smallest.  The dots are the peaks of full FRF
 (the forced balance projected on the mode is the forced balance itself).
 
 Run ``python examples/design_chart_from_modes.py``; writes
-``docs/figures/design_chart_from_modes.png``.
+``docs/figures/design_chart_from_modes.png``.  The optimum alone from a scene file (30 N to 90 N):
+``python -m hbm run examples/scenes/damper_optimum.toml`` (an ``[optimum]`` table, ``docs/scenes.md``).
 
 .. note::
    Not run when the site is built: the figure is the one a committed run wrote; running this

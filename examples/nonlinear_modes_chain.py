@@ -13,6 +13,8 @@ the lowest undamped eigenfrequency of K with both contacts as springs, to 1.5e-7
 not proportional to the stuck stiffness, which moves the damped mode's frequency a little).
 
 Run ``python examples/nonlinear_modes_chain.py``; writes ``docs/figures/nonlinear_modes_chain.png``.
+The same kind of mode from a scene file (the chain with its ground contact only, H = 5):
+``python -m hbm run examples/scenes/nonlinear_modes_chain.toml`` (a ``[modes]`` table, ``docs/scenes.md``).
 
 .. note::
    Not run when the site is built: the figure is the one a committed run wrote; running this

@@ -33,8 +33,9 @@ def test_every_example_scene_is_valid_and_tested():
               "paper_fs_fc_three_region", "three_region_concave_frf", "quasi_static_low_frequency",
               "chain_3dof"}
     studies = {"design_chart_study", "monte_carlo"}  # tests/test_hbm_examples.py runs them
-    assert names == tested | studies
-    for name in tested:
+    modal = {"nonlinear_modes_chain", "damper_optimum"}  # tests/test_scenes_modes.py runs them
+    assert names == tested | studies | modal
+    for name in tested | modal:
         plan_scene(load_scene(SCENES / f"{name}.toml"))
     for name in studies:
         assert load_scene(SCENES / f"{name}.toml").study["points"]

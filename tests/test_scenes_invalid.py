@@ -140,4 +140,5 @@ def test_docs_list_every_key():
     doc = (Path(__file__).resolve().parent.parent / "docs" / "scenes.md").read_text()
     missing = [k for k in all_keys() if f"`{k}`" not in doc]
     assert not missing, missing
-    assert set(schema()) == {"", "blade", "structure", "damper", "damper.load", "effects", "sweep", "output", "study"}
+    assert set(schema()) == {"", "blade", "structure", "damper", "damper.load", "effects", "sweep", "modes", "optimum", "output",
+                            "study"}

@@ -259,6 +259,9 @@ def slip(run: Any) -> Effect:
 
     if run.blade is None:
         return Effect("damper slip", True, "amplitude sweep: the amplitudes are given")
+    if run.scene.modes is not None:
+        return Effect("damper slip", True, "a nonlinear mode: its modal amplitudes are given (modes.amplitude), "
+                                           "from the stuck mode into slip")
     if run.scene.structure is not None:
         return Effect("damper slip", True, "a structure from [structure]: the stuck check is made for a blade only; "
                                            "the balance answers amplitudes within the damper's linear range from "

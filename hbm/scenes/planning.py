@@ -10,7 +10,7 @@ run's problems at once.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 from contact_models import (Bar, ContactElement, QuadraticLoad, QuasiStatic, ThreeRegionMicroslip, TwoRegionMicroslip,
@@ -254,6 +254,8 @@ class RunPlan:
         Harmonics H of the balance; None: the single-harmonic balance of a blade (default).
     n_t : int or None, optional
         AFT samples per period of the multi-harmonic balance; None: its default.
+    name : str, optional
+        The ``damper.model`` name the run was planned from (``MODELS`` key).
     """
 
     index: int
@@ -267,6 +269,7 @@ class RunPlan:
     unit_name: str = "a_min"  #: name of the amplitude unit
     harmonics: int | None = None  #: harmonics of the balance (None: the single-harmonic balance of a blade)
     n_t: int | None = None  #: AFT samples per period (None: the balance's default)
+    name: str = ""  #: the damper.model name of the run (a key of MODELS)
 
     @property
     def label(self) -> str:
@@ -328,29 +331,98 @@ def plan_scene(scene: Scene) -> Plan:
     problems = []
     blade = _blade(scene)
     d = scene.damper
-    bar = None
-    if all(k in d for k in BAR_KEYS):
-        bar = Bar(E=d["E"], rho=d["rho"], A=d["A"], L=d["L"], k=d["k"], beta=d.get("beta", 0.0), mu=d["mu"])
+    bar = _bar(d)
     unit = {"rad/s": 1.0, "Hz": 2.0 * math.pi, "omega_c": bar.omega_c if bar is not None else math.nan}
     omega = tuple(unit[scene.sweep["unit"]] * w for w in scene.sweep["omega"])
     loads = (scene.load.get("N") or (None,)) if scene.load is not None else (None,)
     runs = []
     for model in d["model"]:
-        spec = MODELS[model]
-        needs = spec.needs({k: v for k, v in d.items() if k in spec.keys})
-        params = {k: d.get(k) for k in spec.keys}
-        for N in (loads if "load" in needs else (None,)):
-            ctx = RunContext(scene, spec, len(runs), N, bar if "bar" in needs or bar is not None else None,
-                             blade, omega, params)
+        for N in (loads if "load" in _needs(scene, model) else (None,)):
             try:
-                runs.append(_decide(ctx, "load" in needs))
+                runs.append(_plan_run(scene, model, len(runs), N, bar, blade, omega))
             except SceneError as exc:
                 problems.extend(exc.problems)
+    if scene.modes is not None and scene.modes["mode"] >= getattr(blade, "n", 1):
+        n = getattr(blade, "n", 1)
+        problems.append(f"{scene.where('modes.mode')} = {scene.modes['mode']}: the system has {n} DOF"
+                        f"{'s' if n > 1 else ''}, so {n} modes (0 to {n - 1})")
+    if scene.optimum is not None and not problems:
+        runs = _at_bounds(scene, blade, runs, problems)
     if isinstance(blade, Structure) and not problems:
         problems += _static_compliance(scene, blade, runs)
     if problems:
         raise SceneError(list(dict.fromkeys(problems)))
     return Plan(scene, blade, runs)
+
+
+def _bar(d: dict) -> Any:
+    """The bar of the ``[damper]`` keys, or None when they do not make one."""
+    if not all(k in d for k in BAR_KEYS):
+        return None
+    return Bar(E=d["E"], rho=d["rho"], A=d["A"], L=d["L"], k=d["k"], beta=d.get("beta", 0.0), mu=d["mu"])
+
+
+def _needs(scene: Scene, model: str) -> set:
+    spec = MODELS[model]
+    return spec.needs({k: v for k, v in scene.damper.items() if k in spec.keys})
+
+
+def _plan_run(scene: Scene, model: str, index: int, N: Any, bar: Any, blade: Any, omega: tuple) -> RunPlan:
+    """One run of ``model`` at the load ``N``: its effects decided and its element built."""
+    spec = MODELS[model]
+    ctx = RunContext(scene, spec, index, N, bar, blade, omega, {k: scene.damper.get(k) for k in spec.keys})
+    return replace(_decide(ctx, "load" in _needs(scene, model)), name=model)
+
+
+def scene_at(scene: Scene, parameter: str, value: float) -> Scene:
+    """A new scene with the number key ``parameter`` (``damper.X`` or ``damper.load.X``) set to
+    ``value``; ``scene`` itself is not changed."""
+    table, _, key = parameter.rpartition(".")
+    if table == "damper.load":
+        load = dict(scene.load)
+        load[key] = (value,) if key == "N" else value
+        if load.get("q0") is not None:
+            load["N"] = ((load["q0"] - 2.0 * load["q2"] / 3.0) * scene.damper["L"],)
+        return replace(scene, load=load)
+    damper = dict(scene.damper)
+    damper[key] = value
+    load = scene.load
+    if key == "L" and load is not None and load.get("q0") is not None:
+        load = dict(load, N=((load["q0"] - 2.0 * load["q2"] / 3.0) * value,))
+    return replace(scene, damper=damper, load=load)
+
+
+def plan_at(scene: Scene, blade: Any, run: RunPlan, value: float) -> RunPlan:
+    """The run ``run`` of an ``[optimum]`` scene planned again with its parameter
+    (``optimum.parameter``) at ``value``: the same deciders on :func:`scene_at`'s scene, the same
+    frequencies (``run.omega``).  The optimum's elements along its curve come from here."""
+    parameter = scene.optimum["parameter"]
+    at = scene_at(scene, parameter, value)
+    N = at.load["N"][0] if parameter.startswith("damper.load.") else run.N
+    out = _plan_run(at, run.name, run.index, N, _bar(at.damper), blade, run.omega)
+    return replace(out, N=None) if parameter == "damper.load.N" else out
+
+
+def _at_bounds(scene: Scene, blade: Any, runs: list, problems: list) -> list:
+    """The runs of an ``[optimum]`` scene planned at both bounds: their effects must agree (one
+    plan holds over the bounds); each run is kept as planned at the first bound."""
+    out = []
+    bounds = scene.optimum["bounds"]
+    for run in runs:
+        try:
+            ends = [plan_at(scene, blade, run, p) for p in bounds]
+        except SceneError as exc:
+            problems.extend(exc.problems)
+            continue
+        flags = [[(e.name, e.simulated) for e in r.effects] for r in ends]
+        if flags[0] != flags[1]:
+            differ = [f"{a[0]}: {'simulated' if a[1] else 'not simulated'} at {bounds[0]:g}, "
+                      f"{'simulated' if b[1] else 'not simulated'} at {bounds[1]:g}"
+                      for a, b in zip(*flags) if a != b]
+            problems.append(f"{scene.where('optimum.bounds')} = {show(list(bounds))}: the effects differ between "
+                            f"the bounds ({'; '.join(differ)}): narrow the bounds so that one plan holds over them")
+        out.append(ends[0])
+    return out
 
 
 def _static_compliance(scene, structure, runs):
@@ -370,7 +442,7 @@ def _static_compliance(scene, structure, runs):
 
 
 def _blade(scene):
-    if scene.sweep["kind"] != "frequency":
+    if scene.sweep["kind"] == "amplitude":
         return None
     if scene.structure is not None:
         return _structure(scene)

@@ -17,6 +17,7 @@ from contact_models.quasi_static import StuckContact
 from ..blade import Blade
 from ..output import AMPLITUDE_UNITS, LEGEND_LIMIT, amplitude_unit_for, plot_frfs, plot_linear_reference
 from .effects import linear_amplitude
+from .modal import modal_lines
 from .planning import Plan
 
 
@@ -269,6 +270,7 @@ def summary_lines(result: Any) -> list:
             c = s["counters"]
             head += f" ({c['nsteps']} steps, {c['nit']} Newton iterations, {c['nfev']} element evaluations)"
         lines.append(head + ("" if r.success else f": FAILED: {r.message}"))
+        lines += modal_lines(r)
         if "peak" in s:
             pk = s["peak"]
             where = (f"f = {pk['frequency_Hz']:.9g} Hz (omega = {pk['omega_rad_s']:.9g} rad/s)" if "frequency_Hz" in pk

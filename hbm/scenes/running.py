@@ -21,6 +21,7 @@ from ..frf import frequency_response
 from ..output import (ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
                       frf_columns, frf_row, harmonic_values, stable_value, with_hz)
 from ..structure import Contact
+from .modal import MODE_COLUMNS, OPTIMUM_COLUMNS, modal_figure, modal_summary, run_modes, run_optimum
 from .planning import Plan, RunPlan, plan_scene
 from .reporting import figure, jsonable, run_summary
 from .validation import Scene
@@ -103,6 +104,12 @@ class RunResult:
         The FRF's peak (``FRF.peak()``) of a frequency sweep with points, else None.
     summary : dict, optional
         The run's entry in ``summary.json``.
+    modes : NonlinearModes or None, optional
+        The nonlinear mode of a ``[modes]`` scene's run (``hbm.nonlinear_modes``), else None.
+    optimum : DamperOptimum or None, optional
+        The optimum of an ``[optimum]`` scene's run (``hbm.damper_optimum``), else None.
+    response_dof : int or None, optional
+        The DOF whose response a mode's CSV reports.
     """
 
     plan: RunPlan
@@ -114,6 +121,9 @@ class RunResult:
     seconds: float = 0.0
     peak: Any = None
     summary: dict = field(default_factory=dict)
+    modes: Any = None  #: the nonlinear mode of a [modes] scene's run
+    optimum: Any = None  #: the damper's optimum of an [optimum] scene's run
+    response_dof: int | None = None  #: the DOF a mode's CSV reports
 
     @property
     def number(self) -> int:
@@ -170,7 +180,8 @@ def output_names(scene: Scene) -> dict:
     -------
     dict
         Kind -> file name: ``frf.*`` for a frequency sweep, ``coefficients.*`` for an amplitude
-        sweep, and ``summary.json``.
+        sweep, ``modes.*`` for a nonlinear mode, ``optimum.*`` for the damper's optimum, and
+        ``summary.json``.
 
     Examples
     --------
@@ -180,7 +191,7 @@ def output_names(scene: Scene) -> dict:
     >>> output_names(scene)["csv"]
     'coefficients.csv'
     """
-    stem = "frf" if scene.sweep["kind"] == "frequency" else "coefficients"
+    stem = {"frequency": "frf", "amplitude": "coefficients"}.get(scene.sweep["kind"], scene.sweep["kind"])
     return {"csv": f"{stem}.csv", "partial": f"{stem}.partial.csv", "png": f"{stem}.png", "json": "summary.json"}
 
 
@@ -201,6 +212,8 @@ def columns(scene: Scene) -> tuple:
         ``f_Hz`` after ``omega_rad_s`` when ``sweep.unit = "Hz"``.
     """
     hz = in_hz(scene)
+    if scene.sweep["kind"] in ("modes", "optimum"):  # frequencies in rad/s whatever sweep.unit
+        return RUN_COLUMNS + (MODE_COLUMNS if scene.sweep["kind"] == "modes" else OPTIMUM_COLUMNS)
     if scene.sweep["kind"] == "frequency":
         return RUN_COLUMNS + frf_columns(scene_harmonics(scene), hz=hz)
     return RUN_COLUMNS + ((TABLE_COLUMNS[0], HZ_COLUMN) + TABLE_COLUMNS[1:] if hz else TABLE_COLUMNS)
@@ -276,7 +289,10 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     results = [RunResult(p) for p in plan.runs]
     written = 0
     partial = folder / names["partial"]
-    freq = scene.sweep["kind"] == "frequency"
+    kind = scene.sweep["kind"]
+    freq = kind == "frequency"
+    compute = {"frequency": _run_frequency, "amplitude": _run_amplitude, "modes": run_modes,
+               "optimum": run_optimum}[kind]
     stream = CsvStream(partial, columns(scene)) if "csv" in formats else None
     try:
         for res in results:
@@ -294,12 +310,12 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
 
             t0 = time.perf_counter()
             try:
-                (_run_frequency if freq else _run_amplitude)(scene, plan, res, emit)
+                compute(scene, plan, res, emit)
             except (ArithmeticError, ValueError, RuntimeError, np.linalg.LinAlgError) as exc:
                 res.success = False
                 res.message = f"{type(exc).__name__}: {exc}"
             res.seconds = time.perf_counter() - t0
-            res.summary = run_summary(res, hz=in_hz(scene))
+            res.summary = run_summary(res, hz=in_hz(scene)) | modal_summary(res, scene)
     finally:
         if stream is not None:
             stream.close()
@@ -309,7 +325,8 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     if "csv" in formats:
         files["csv"] = partial.replace(folder / names["csv"]) if success else partial
     if success and "png" in formats:
-        files["png"] = figure(scene, results, folder / names["png"], blade=plan.blade)
+        files["png"] = (figure(scene, results, folder / names["png"], blade=plan.blade) if kind in ("frequency", "amplitude")
+                        else modal_figure(scene, results, folder / names["png"]))
     message = ("every run succeeded" if success else
                "; ".join(f"run {r.number} ({r.plan.label}) failed: {r.message}" for r in results if not r.success))
     summary = {
@@ -319,6 +336,8 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
         "message": message,
         "kind": scene.sweep["kind"],
         "settings": {k: v for k, v in scene.sweep.items() if v is not None},
+        **({"modes": scene.modes} if scene.modes is not None else {}),
+        **({"optimum": scene.optimum} if scene.optimum is not None else {}),
         "effects_tolerance": scene.effects["tolerance"],
         "runs": [r.summary for r in results],
         "points_written": written,

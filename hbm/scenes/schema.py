@@ -63,7 +63,8 @@ _FIXED: dict[str, dict[str, Key]] = {
     },
     "sweep": {
         "kind": Key(choice("frequency", "amplitude"), "frequency",
-                    '"frequency" (an FRF of the blade) or "amplitude" (a table of F_s, F_c of the damper)'),
+                    '"frequency" (an FRF of the blade) or "amplitude" (a table of F_s, F_c of the damper); '
+                    'left out with [modes] or [optimum], which compute a nonlinear mode or the damper optimum'),
         "omega": Key(lambda v: v, REQUIRED,
                      "frequency: [w0, w1], the range traced from w0 to w1; amplitude: the list of "
                      "frequencies of the table"),
@@ -85,6 +86,22 @@ _FIXED: dict[str, dict[str, Key]] = {
                               'the paper\'s normalisation), "a_min" (the same, refused for a model without a '
                               'slip amplitude) or "m"'),
         "points": Key(integer(2), 50, "amplitude sweep: amplitudes per frequency"),
+    },
+    "modes": {
+        "mode": Key(integer(0), 0, "which mode: the linear mode of the stuck system (0 the lowest) the branch starts from"),
+        "amplitude": Key(number_list(positive, length=2), OPTIONAL,
+                         "[a0, a1], a0 < a1: the modal amplitudes a traced (a^2 = sum_h Q_h^H M Q_h; for a blade "
+                         "a = sqrt(m) x); give this or modes.amplitudes"),
+        "amplitudes": Key(number_list(positive), OPTIONAL,
+                          "the mode at exactly these modal amplitudes (within modes.amplitude when both are given)"),
+    },
+    "optimum": {
+        "parameter": Key(text, REQUIRED,
+                         'the damper key varied: "damper.load.N" (the normal load) or any number of [damper] or '
+                         '[damper.load] the scene gives, e.g. "damper.mu"'),
+        "bounds": Key(number_list(number(), length=2), REQUIRED,
+                      "[p0, p1], p0 < p1: the parameter's range; the resonance peak is followed from p0 "
+                      "(modes.amplitude must hold the peak at p0)"),
     },
     "output": {
         "folder": Key(text, OPTIONAL, "output folder; default the scene file's name without .toml"),
@@ -121,7 +138,8 @@ def schema() -> dict[str, dict[str, Key]]:
         Table name -> {key name -> ``Key``}: ``""`` the top level, then ``blade``,
         ``structure``, ``damper`` (the bar's keys and every registered model's own keys),
         ``damper.load``, ``effects`` (every registered effect's key and ``tolerance``),
-        ``sweep``, ``output`` and ``study``.  Built anew at each call, so models and effects
+        ``sweep``, ``modes`` and ``optimum`` (a nonlinear mode, the damper's optimum), ``output``
+        and ``study``.  Built anew at each call, so models and effects
         registered since are in it.
 
     Examples
@@ -142,7 +160,7 @@ def schema() -> dict[str, dict[str, Key]]:
     effects["tolerance"] = Key(number(gt=0, lt=1), OPTIONAL,
                                "relative change below which `auto` leaves an effect out; default sweep.tolerance")
     out = {"": _FIXED[""], "blade": _FIXED["blade"], "structure": _FIXED["structure"], "damper": damper, "damper.load": _FIXED["damper.load"],
-           "effects": effects, "sweep": _FIXED["sweep"], "output": _FIXED["output"]}
+           "effects": effects, "sweep": _FIXED["sweep"], "modes": _FIXED["modes"], "optimum": _FIXED["optimum"], "output": _FIXED["output"]}
     # hbm.scenes.sampling: a grid over, or samples of, the keys above
     out["study"] = study_keys({dot(table, key) for table, keys in out.items() for key in keys})
     return out

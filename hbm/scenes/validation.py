@@ -54,6 +54,11 @@ class Scene:
         scene file's folder), or None.
     study : dict or None, optional
         The validated ``[study]`` table with its ``points``, or None.
+    modes : dict or None, optional
+        The ``[modes]`` table of a nonlinear mode (``sweep["kind"]`` is then ``"modes"``, or
+        ``"optimum"`` with ``[optimum]``), or None.
+    optimum : dict or None, optional
+        The ``[optimum]`` table: ``parameter`` (the dotted key varied) and ``bounds``, or None.
     """
 
     path: Path
@@ -66,6 +71,8 @@ class Scene:
     output: dict
     structure: dict | None = None  #: [structure] of a frequency sweep of a structure from matrices (paths resolved)
     study: dict | None = None  #: the validated [study] table with its ``points`` (``hbm.scenes.sampling``)
+    modes: dict | None = None  #: [modes] of a nonlinear mode (sweep kind "modes" or "optimum")
+    optimum: dict | None = None  #: [optimum]: the damper key varied and its bounds (sweep kind "optimum")
 
     @property
     def name(self) -> str:
@@ -351,6 +358,7 @@ class _Rules:
         effects = self.defaults("effects")
         output = self.defaults("output")
         load = self.defaults("damper.load")
+        modes, optimum = self._modal(sweep, load)
         self._sweep(sweep)
         blade = self._blade(sweep["kind"])
         structure = self._structure(sweep["kind"])
@@ -367,9 +375,67 @@ class _Rules:
         if output.get("folder") is None:
             output["folder"] = self.path.stem
         study = study_table(self) if "study" in self.tables else None
+        if study is not None and modes is not None:
+            self.problems.append(f"{self.path}: [study] with [{'optimum' if optimum else 'modes'}]: a study runs "
+                                 "frequency or amplitude sweeps only")
         return Scene(path=self.path, title=self.t[""].get("title", ""), blade=blade, damper=damper,
                      load=load if has_load else None, effects=effects, sweep=sweep, output=output, study=study,
-                     structure=structure)
+                     structure=structure, modes=modes, optimum=optimum)
+
+    def _modal(self, sweep, load):
+        """[modes] and [optimum]: the scene's kind becomes "modes" or "optimum" (``sweep["kind"]``)."""
+        if "modes" not in self.present and "optimum" not in self.present:
+            return None, None
+        kind = "optimum" if "optimum" in self.present else "modes"
+        if self.has("sweep", "kind"):
+            self.forbid("sweep", "kind", f"with [{kind}]: the scene computes "
+                        f"{'the damper optimum' if kind == 'optimum' else 'a nonlinear mode'}; leave sweep.kind out")
+        sweep["kind"] = kind
+        if "modes" not in self.present:
+            self.problems.append(f"{self.path}: [modes] is missing: required with [optimum] (modes.amplitude: the "
+                                 "modal amplitudes of the mode at optimum.bounds[0], holding its peak)")
+            return None, None
+        modes = self.defaults("modes")
+        rng, at = modes.get("amplitude"), modes.get("amplitudes")
+        if rng is not None and not rng[0] < rng[1]:
+            self.problems.append(f"{self.where('modes.amplitude')} = {show(list(rng))}: must be [a0, a1] with a0 < a1")
+        elif rng is not None and at is not None and not rng[0] <= min(at) <= max(at) <= rng[1]:
+            self.problems.append(f"{self.where('modes.amplitudes')} = {show(list(at))}: must lie within "
+                                 f"modes.amplitude = {show(list(rng))}")
+        if kind == "optimum":
+            self.need("modes", "amplitude", "with [optimum] (the mode at optimum.bounds[0] is traced over it)")
+            if self.has("modes", "amplitudes"):
+                self.problems.append(f"{self.where('modes.amplitudes')} = {show(list(at or ()) or '(invalid)')}: not "
+                                     "allowed with [optimum] (the optimum follows the peak, not given amplitudes)")
+        elif not self.has("modes", "amplitude") and not self.has("modes", "amplitudes"):
+            self.problems.append(f"{self.where('modes.amplitude')} is missing: give modes.amplitude = [a0, a1] or "
+                                 "modes.amplitudes = [...]")
+        return modes, (self._optimum(load) if kind == "optimum" else None)
+
+    def _optimum(self, load):
+        """[optimum]: the parameter is a number key of [damper] or [damper.load] the scene gives."""
+        opt = self.defaults("optimum")
+        name, bounds = opt.get("parameter"), opt.get("bounds")
+        table, _, key = (name or "").rpartition(".")
+        one = lambda k, v: isinstance(v, float) or (k == "N" and isinstance(v, tuple) and len(v) == 1)  # noqa: E731
+        scalar = table in ("damper", "damper.load") and one(key, self.t[table].get(key))
+        if name is not None and not scalar:
+            keys = [dot(t, k) for t in ("damper", "damper.load") for k, v in self.t[t].items() if one(k, v)]
+            self.problems.append(f"{self.where('optimum.parameter')} = {show(name)}: must be a number key of "
+                                 f"[damper] or [damper.load] that the scene gives (one value); here: "
+                                 f"{', '.join(keys) or 'none'}")
+        if bounds is not None:
+            if not bounds[0] < bounds[1]:
+                self.problems.append(f"{self.where('optimum.bounds')} = {show(list(bounds))}: must be [p0, p1] "
+                                     "with p0 < p1")
+            elif scalar:
+                for b in bounds:
+                    try:
+                        self.tables[table][key].check(b)
+                    except Invalid as exc:
+                        self.problems.append(f"{self.where('optimum.bounds')} = {show(list(bounds))}: {b!r} is not "
+                                             f"a value of {name}: {exc}")
+        return opt
 
     def _sweep(self, sweep):
         kind = sweep["kind"]
@@ -382,10 +448,16 @@ class _Rules:
                     if pair[0] == pair[1]:
                         raise Invalid("must be a list of 2 different numbers [w0, w1] (w0 > w1 sweeps down)")
                     sweep["omega"] = pair
+                elif kind in ("modes", "optimum"):
+                    pair = number_list(item, length=2)(omega)
+                    if not pair[0] < pair[1]:
+                        raise Invalid("must be [w0, w1] with w0 < w1: the frequencies the mode spans")
+                    sweep["omega"] = pair
                 else:
                     sweep["omega"] = number_list(item, minimum=1)(omega)
             except Invalid as exc:
-                what = ("the range [w0, w1])" if kind == "frequency" else "the frequencies of the table)")
+                what = {"frequency": "the range [w0, w1])", "amplitude": "the frequencies of the table)"}.get(
+                    kind, "the frequencies the mode spans, on which the effects are decided)")
                 self.problems.append(f"{self.where('sweep.omega')} = {show(omega)}: {exc} "
                                      f"(sweep.kind = \"{kind}\": {what}")
         knobs = ("tolerance", "max_step", "min_step", "max_steps")
@@ -404,10 +476,15 @@ class _Rules:
                 self.forbid("sweep", "min_step", f"above sweep.max_step = {options['max_step']!r}")
         sweep["options"] = options
         sweep["tolerance"] = options["rtol"]
-        if kind == "frequency":
+        if kind in ("modes", "optimum"):
+            for key in ("min_step", "accuracy") + (("tolerance",) if kind == "optimum" else ()):
+                if self.has("sweep", key):
+                    self.forbid("sweep", key, f"with [{kind}] (not a setting of the mode's continuation"
+                                              f"{'; the optimum takes the elements default tolerance' if key == 'tolerance' else ''})")
+        if kind != "amplitude":
             for key in ("amplitude", "amplitude_unit", "points"):
                 if self.has("sweep", key):
-                    self.forbid("sweep", key, 'with sweep.kind = "frequency" (it belongs to an amplitude sweep)')
+                    self.forbid("sweep", key, f'with sweep.kind = "{kind}" (it belongs to an amplitude sweep)')
             if "blade" not in self.present and "structure" not in self.present:
                 self.problems.append(f"{self.path}: [blade] is missing: required for sweep.kind = \"frequency\" "
                                      "(mass, stiffness or frequency, damping or damping_ratio, force), or "
@@ -422,7 +499,7 @@ class _Rules:
                                               'frequency sweep)')
 
     def _blade(self, kind):
-        if "blade" not in self.present or kind != "frequency":
+        if "blade" not in self.present or kind == "amplitude":
             return None
         blade = dict(self.t["blade"])
         for a, b in (("stiffness", "frequency"), ("damping", "damping_ratio")):
@@ -436,8 +513,9 @@ class _Rules:
         """[structure]: exactly one damping, the files relative to the scene file."""
         if "structure" not in self.present:
             return None
-        if kind != "frequency":
-            self.problems.append(f"{self.path}: [structure] belongs to a frequency sweep (sweep.kind = \"frequency\")")
+        if kind == "amplitude":
+            self.problems.append(f"{self.path}: [structure] belongs to a frequency sweep (sweep.kind = \"frequency\") "
+                                 "or a nonlinear mode ([modes])")
             return None
         st = self.defaults("structure")
         given = [k for k in ("damping", "rayleigh", "modal_damping") if self.has("structure", k)]
