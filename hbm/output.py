@@ -17,6 +17,8 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from .balance.residual import linear_response
+
 #: Columns of an FRF point: frequency, first-harmonic amplitude, phase lag, x_c, x_s and the
 #: balance residual |R|/F of the point (dimensionless).
 #: ``error_rel`` is the point's estimated relative error (``FrequencyResponse.error_estimate``;
@@ -237,7 +239,6 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     run's references); ``stiffness(omega array) -> array`` replaces ``element.stuck_stiffness``
     (a scene's quasi-static damper, whose own evaluations are counted as the run's); ``a_min_color``
     colours the a_min line (a scene of several runs: the run's colour)."""
-    from .balance.residual import linear_response  # lazily: the balance is not needed to write tables
 
     w_scale = OMEGA_UNITS[omega_unit][0]
     a_scale = AMPLITUDE_UNITS[amplitude_unit][0]

@@ -279,7 +279,7 @@ def test_cli_refuses_workers_without_a_study(tmp_path, capsys):
     assert "need a [study] table" in capsys.readouterr().err
 
 
-@pytest.mark.parametrize("module", ["hbm.study", "hbm.study.design", "hbm.study.figures", "hbm.study.runs",
+@pytest.mark.parametrize("module", ["hbm.study", "hbm.designs", "hbm.study.figures", "hbm.study.runs",
                                     "hbm.study.store", "hbm.scenes.validation"])
 def test_docstring_examples(module, tmp_path, monkeypatch):
     import doctest

@@ -30,7 +30,7 @@ PARTS = {
     "balance": (("hbm.balance",), "the one harmonic balance: residual, condensation, layout, start, stability, presets"),
     "reference": (("hbm.reference",), "time-domain references: shooting, the event integrator, Newmark, blade in time"),
     "scenes": (("hbm.scenes",), "scene files: schema, validation, models, effects, planning, running, reporting"),
-    "designs": (("hbm.study.design",), "what a study runs: grids and random samples of scene keys, run ids"),
+    "designs": (("hbm.designs",), "what a study runs: grids and random samples of scene keys, run ids"),
     "study": (("hbm.study",), "parameter studies: runs, the store, executors, figures"),
     "cli": (("hbm.cli", "hbm.__main__"), "the command line: main, progress, the default case"),
     "front": (("hbm",), "frequency_response (validate, pick, run, wrap), its result, CSV and plots"),

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import Any, Collection
 
-from ..study.design import DISTRIBUTIONS, combine, grid, samples
+from ..designs import DISTRIBUTIONS, combine, grid, samples
 from .checks import OPTIONAL, Invalid, Key, choice, integer, show, text
 
 #: Executors of a study (``hbm.study.EXECUTORS``).

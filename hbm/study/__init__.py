@@ -26,7 +26,12 @@ from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from .design import (DISTRIBUTIONS, MAX_RUNS, Distribution, Points, combine, grid, lognormal, normal, run_id,
+import contact_models  # its __version__ is read at each call (a new version recomputes)
+
+from ..scenes import SceneError, effect_lines, plan_scene, scene_from_dict
+from ..scenes.validation import apply_overrides, read_toml
+
+from ..designs import (DISTRIBUTIONS, MAX_RUNS, Distribution, Points, combine, grid, lognormal, normal, run_id,
                      samples, uniform)
 from .execute import DASK_MISSING, EXECUTORS, check_executor, cores, run_tasks
 from .lock import FolderInUse
@@ -98,9 +103,8 @@ class Study:
 
     def ids(self) -> list[str]:
         """The id of every run: :func:`run_id` of its inputs and ``contact_models.__version__``."""
-        from contact_models import __version__
 
-        return [run_id(self.identity(p), __version__) for p in self.points]
+        return [run_id(self.identity(p), contact_models.__version__) for p in self.points]
 
     @classmethod
     def from_scene(cls, path: str | Path, *, overrides: Mapping[str, Any] | None = None) -> "Study":
@@ -126,8 +130,6 @@ class Study:
 
 def _scene_study(path: str | Path, overrides: Mapping[str, Any] | None) -> tuple:
     """``(scene, runner)`` of a study scene; its points are made when asked for (``Points``)."""
-    from ..scenes import SceneError, scene_from_dict
-    from ..scenes.validation import apply_overrides, read_toml
 
     path = Path(path)
     data = read_toml(path)
@@ -139,7 +141,6 @@ def _scene_study(path: str | Path, overrides: Mapping[str, Any] | None) -> tuple
 
 def _problems(runner: SceneRun, i: int, point: Mapping[str, Any]) -> list:
     """The problems of the scene of run ``i + 1``, each naming the run."""
-    from ..scenes import SceneError
 
     try:
         runner.scene(point)
@@ -150,7 +151,6 @@ def _problems(runner: SceneRun, i: int, point: Mapping[str, Any]) -> list:
 
 
 def _refuse(problems: list) -> None:
-    from ..scenes import SceneError
 
     if problems:
         raise SceneError(list(dict.fromkeys(problems)))
@@ -184,7 +184,6 @@ def check_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None)
     ValueError
         For a study of more than :data:`MAX_RUNS` runs.
     """
-    from ..scenes import effect_lines, plan_scene
 
     scene, runner = _scene_study(path, overrides)
     points = scene.study["points"]
@@ -262,9 +261,8 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
     if unknown:
         raise ValueError(f"formats may hold 'csv', 'json', 'png', got formats={formats!r}")
     folder = Path(out if out is not None else s.get("folder") or "study")
-    from contact_models import __version__
 
-    describe = {"title": study.title, "version": __version__, "parameters": list(study.parameters),
+    describe = {"title": study.title, "version": contact_models.__version__, "parameters": list(study.parameters),
                 **study.design, "executor": executor if isinstance(executor, str) else type(executor).__name__,
                 "scheduler": scheduler}
     local = executor in ("processes", "dask") and scheduler is None

@@ -20,6 +20,7 @@ import time
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
 from .runs import execute
+from .lock import alive
 
 #: Executors by name; an instance of ``concurrent.futures.Executor`` is accepted too.
 EXECUTORS = ("processes", "serial", "dask")
@@ -75,7 +76,6 @@ def _watch_parent(period: float = PARENT_CHECK_S) -> threading.Thread:
     task from the pool's pipe never sees the pipe close (its siblings hold the other end).  The
     kernel gives an orphan a new parent, so ``os.getppid()`` changes: the thread then ends the
     process with ``os._exit`` (nothing is left to hand a result to)."""
-    from .lock import alive
 
     parent = os.getppid()
     windows = os.name == "nt"  # no new parent there: ask whether the old one still runs

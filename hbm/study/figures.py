@@ -13,6 +13,8 @@ from typing import Any
 
 import numpy as np
 
+from ..output import plot_frfs
+
 #: Percentiles marked on a sampled study's histogram.
 PERCENTILES = (5.0, 50.0, 95.0)
 #: At most this many FRFs are drawn (evenly chosen).
@@ -95,7 +97,6 @@ def _histogram(ax: Any, peaks: list) -> None:
 
 
 def _grid(ax: Any, bx: Any, recs: list, params: tuple) -> None:
-    from ..output import plot_frfs
 
     numeric = [p for p in params if _numeric([r["params"][p] for r in recs])]
     x = max(numeric, key=lambda p: len({r["params"][p] for r in recs})) if numeric else None

@@ -45,6 +45,9 @@ class FolderInUse(ValueError):
 _HELD: set = set()  # the locks this process holds (a lock of its PID not here is a reused PID's)
 
 
+#: A takeover guard older than this (s) was left by a process that died holding it.
+GUARD_STALE = 5.0
+
 def _stat(pid: int) -> list | None:
     """The fields of ``/proc/PID/stat`` after the command's name (state first); None without."""
     try:
@@ -126,20 +129,34 @@ def _held_by_other(path: Path) -> int | None:
     return pid if alive(pid, started) else None
 
 
-def _move_stale(path: Path, pid: int | None) -> None:
-    """Move the stale lock ``path`` (of ``pid``) aside, so that the next ``O_EXCL`` create wins."""
-    aside = path.with_name(f"{path.name}.{os.getpid()}.stale")
+def _move_stale(path: Path, pid: int | None, *, young: float = 2.0) -> None:
+    """Remove the stale lock ``path`` (of ``pid``; None: empty or no PID) so that the next
+    ``O_EXCL`` create wins.
+
+    Under a guard file made with ``O_EXCL`` (one process at a time): the lock is read again and
+    removed only if it is still the stale one seen (the same PID, not held by a live process, an
+    empty one no longer young), so a lock that another process created meanwhile is never taken
+    away.  A guard older than ``GUARD_STALE`` seconds was left by a process that died holding it.
+    """
+    guard = path.with_name(path.name + ".takeover")
     try:
-        os.rename(path, aside)
-    except FileNotFoundError:  # another process moved it first
+        fd = os.open(guard, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o644)
+    except FileExistsError:
+        with contextlib.suppress(FileNotFoundError):
+            if time.time() - guard.stat().st_mtime > GUARD_STALE:
+                os.unlink(guard)
+        time.sleep(0.005)  # another process is taking the stale lock over: look again after it
         return
-    now = _held_by_other(aside)
-    if now is not None and now != pid:
-        # a process took the lock between our look and the move: give it back
-        with contextlib.suppress(OSError):
-            os.link(aside, path)
-    with contextlib.suppress(OSError):
-        os.unlink(aside)
+    try:
+        os.close(fd)
+        now = _read(path)[0]
+        with contextlib.suppress(FileNotFoundError):
+            fresh = now is None and time.time() - path.stat().st_mtime < young
+            if now == pid and not fresh and _held_by_other(path) is None:
+                os.unlink(path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(guard)
 
 
 def acquire(folder: str | Path, *, wait_for_pid: float = 2.0) -> Path:
@@ -169,7 +186,7 @@ def acquire(folder: str | Path, *, wait_for_pid: float = 2.0) -> Path:
                 if st.st_size == 0 and young:
                     time.sleep(0.01)  # its creator is writing its PID
                     continue
-            _move_stale(path, pid)
+            _move_stale(path, pid, young=wait_for_pid)
             if time.monotonic() - t0 > 10.0 * wait_for_pid:  # never seen: contention that does not settle
                 raise FolderInUse(folder, pid or 0) from None
             continue

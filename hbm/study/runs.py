@@ -18,6 +18,11 @@ import numpy as np
 
 from contact_models.accuracy import AccuracyWarning
 
+from ..result import FrequencyResponse
+from ..scenes import SceneError, plan_scene, scene_from_dict
+from ..scenes.running import RunResult, _run_amplitude, _run_frequency
+from ..scenes.validation import apply_overrides
+
 #: The numbers of a record, in the table's order (after the run number, id and parameters).
 RESULT_COLUMNS = ("success", "message", "peak_omega_rad_s", "peak_amplitude_m", "nfev", "time_s")
 
@@ -56,7 +61,6 @@ class SceneRun:
 
     def identity(self, point: Mapping[str, Any]) -> dict:
         """The run's inputs, for its hash: the scene as run (the point's keys set; not its title)."""
-        from ..scenes.validation import apply_overrides
 
         scene = apply_overrides(self.data, point)
         scene.pop("title", None)
@@ -64,7 +68,6 @@ class SceneRun:
 
     def scene(self, point: Mapping[str, Any]) -> Any:
         """The validated scene of ``point``; :class:`hbm.scenes.SceneError` unless it makes one run."""
-        from ..scenes import SceneError, scene_from_dict
 
         scene = scene_from_dict(self.data, self.path, overrides=point)
         loads = len(scene.load.get("N") or (None,)) if scene.load is not None else 1
@@ -75,8 +78,6 @@ class SceneRun:
         return scene
 
     def __call__(self, point: Mapping[str, Any]) -> dict:
-        from ..scenes import plan_scene
-        from ..scenes.running import RunResult, _run_amplitude, _run_frequency
 
         scene = self.scene(point)
         plan = plan_scene(scene)
@@ -142,7 +143,6 @@ def outcome(out: Any) -> dict:
         if unknown:
             raise ValueError(f"a runner's dict may hold {', '.join(rec)}; got also {', '.join(sorted(unknown))}")
         return rec
-    from ..frf import FrequencyResponse
 
     if not isinstance(out, FrequencyResponse):
         raise ValueError(f"a runner must return an hbm.FrequencyResponse or a dict, got {type(out).__name__}")

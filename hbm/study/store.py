@@ -10,7 +10,7 @@ Files (``docs/studies.md``):
 - ``study.png``: the figure (``hbm.study.figures``);
 - ``study.lock`` while a study writes there: the PID of its process (``hbm.study.lock``).
 
-A run is named by :func:`hbm.study.design.run_id` of its inputs and the library version; a
+A run is named by :func:`hbm.designs.run_id` of its inputs and the library version; a
 rerun into the same folder reuses the records whose id it finds and computes the rest (failed
 runs again when ``retry_failed``).
 """
@@ -28,6 +28,9 @@ from typing import Any, Callable
 import numpy as np
 
 from ..output import CsvStream
+from ..scenes.reporting import jsonable
+from ..scenes.running import duration
+from .figures import figure
 from .lock import LOCK, hold
 from .runs import RESULT_COLUMNS
 
@@ -176,7 +179,6 @@ class StudyProgress:
         notes = ", ".join(s for s in (f"{self.failed} failed" if self.failed else "",
                                       f"{self.reused} reused" if self.reused else "") if s)
         eta = self.eta
-        from ..scenes.running import duration
 
         return (f"run {self.points}/{self.runs}" + (f" ({notes})" if notes else "") + f", {self.elapsed:.1f} s"
                 + ("" if eta is None else f", about {duration(eta)} left"))
@@ -281,7 +283,6 @@ class StudyResult:
 
 
 def _write_json(path: Path, data: Any) -> Path:
-    from ..scenes.reporting import jsonable
 
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text(json.dumps(jsonable(data), indent=2) + "\n")
@@ -378,7 +379,6 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
             (folder / FILES["partial"]).unlink()
     result.files["records"] = log_path
     if "png" in formats and any(r is not None and r["success"] for r in records):
-        from .figures import figure
 
         result.files["png"] = figure(result, folder / FILES["png"], title=describe.get("title", ""),
                                      samples=describe.get("samples"))
