@@ -48,6 +48,7 @@ _HELD: set = set()  # the locks this process holds (a lock of its PID not here i
 #: A takeover guard older than this (s) was left by a process that died holding it.
 GUARD_STALE = 5.0
 
+
 def _stat(pid: int) -> list | None:
     """The fields of ``/proc/PID/stat`` after the command's name (state first); None without."""
     try:
