@@ -64,7 +64,8 @@ def _resolve(qualified):
 
 def _directives(text):
     """``{target}`` of every autodoc directive / table entry of a generated reST page."""
-    found = set(re.findall(r"^\.\. (?:auto(?:class|function|data|module)|py:data):: (\S+)", text, re.MULTILINE))
+    found = set(re.findall(r"^\.\. (?:auto(?:class|function|data|module)|py:(?:data|class|function)):: (\S+)", text,
+                           re.MULTILINE))  # py:class/py:function: a name another package describes (an alias page)
     for qualified in re.findall(r":(?:class|func|mod):`~(\S+?)`", text):  # the package page's tables
         found |= {qualified, qualified.rsplit(".", 1)[1]}
     return found

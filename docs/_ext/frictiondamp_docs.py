@@ -335,7 +335,7 @@ def write_api_pages(outdir: Path, packages=PACKAGES) -> dict[str, list[str]]:
                 described.setdefault(id(obj), qualified)
             if kind == "data":
                 continue
-            if alias_of is not None and alias_of != qualified:  # exported by an earlier package too
+            if alias_of is not None and alias_of.split(".")[0] != package.split(".")[0]:  # another package's too
                 _write(outdir / f"{qualified}.rst", _alias_page(qualified, kind, alias_of))
                 written.add(f"{qualified}.rst")
                 pages.append(qualified)

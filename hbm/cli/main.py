@@ -134,12 +134,12 @@ def _run(args) -> int:
         points = len(partial.read_text().splitlines()) - 1 if partial.exists() else line.points
         return f"kept {points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
 
-    with warnings.catch_warnings(record=True) as caught:  # the runs' accuracy warnings, said once at the end
+    with warnings.catch_warnings(record=True) as caught:  # the runs' accuracy warnings, said once after the summary
         warnings.simplefilter("always", AccuracyWarning)
         code = _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
     for message in dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)):
-        if not args.quiet:  # summary.json records them too (each run's "error")
-            print(f"warning: {message}", file=sys.stderr)
+        if not args.quiet:  # with the summary, on stdout (stderr carries progress); summary.json records them too
+            print(f"warning: {message}")
     for w in caught:  # any other warning as Python would have shown it
         if not issubclass(w.category, AccuracyWarning):
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)
