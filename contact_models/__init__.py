@@ -4,6 +4,7 @@ See ``contact_models.base.ContactElement`` for the interface.
 """
 
 from ._version import __version__
+from .accuracy import AccuracyWarning
 from .allmode import AllModeMicroslip
 from .bar import Bar
 from .base import ContactElement
@@ -19,4 +20,4 @@ from .quasi_static import QuasiStatic
 
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
-           "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning"]
+           "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning", "AccuracyWarning"]

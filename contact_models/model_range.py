@@ -1,4 +1,4 @@
-"""Where the single-mode elements hold, and the warning they give outside it (issue 13).
+"""Where the single-mode elements hold, and the warning they give outside it.
 
 The single-mode dynamic elements (``TwoRegionMicroslip``, ``ThreeRegionMicroslip``) neglect the
 phase differences along the bar.  Their error against the all-mode bar (``AllModeMicroslip``),
@@ -50,6 +50,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .accuracy import AccuracyWarning
+
 __all__ = ["ModelRangeWarning", "TOLERANCE", "SNAP_TOLERANCE", "MAP_FILE", "validity_map",
            "single_mode_error", "single_mode_frequency_limit", "early_snap", "check_single_mode"]
 
@@ -63,7 +65,7 @@ MAP_FILE = Path(__file__).resolve().parent / "data" / "validity_map.csv"
 _ERROR_FLOOR = 1e-9
 
 
-class ModelRangeWarning(UserWarning):
+class ModelRangeWarning(AccuracyWarning):
     """A contact element is evaluated outside the range where its model is accurate.
 
     Raised (as a warning) by the single-mode elements ``TwoRegionMicroslip`` and
@@ -78,7 +80,7 @@ class ModelRangeWarning(UserWarning):
     Examples
     --------
     >>> import warnings
-    >>> issubclass(ModelRangeWarning, UserWarning)
+    >>> issubclass(ModelRangeWarning, AccuracyWarning)      # the library's accuracy category
     True
     >>> with warnings.catch_warnings():
     ...     warnings.simplefilter("error", ModelRangeWarning)
