@@ -10,8 +10,9 @@ only where it is safe:
 - the differences do not shrink (|d_2| >= |d_1|), change sign (not one asymptotic branch) or the
   observed order is below ``MIN_ORDER`` = 1: the estimate is |d_2| itself (no division);
 - the observed order is above ``MAX_ORDER`` = 3 (a difference small by a crossing, not by
-  convergence): the larger of |d_2| / ((N_3/N_2)^3 - 1) and the error that d_1 predicts for the
-  finest at that order.
+  convergence: on a load with many slip pockets the sequence is erratic until every pocket is
+  resolved): the larger of |d_2| and the error that d_1 predicts for the finest at order
+  ``MIN_ORDER``, |d_1| / ((N_2/N_1 - 1) N_3/N_2).
 
 The order is assumed by nothing: the bar converges at second order in cells only once every
 stick/slip front and wavelength is resolved, and the harmonics converge erratically where a
@@ -88,9 +89,7 @@ def richardson(N: tuple[float, float, float], F: NDArray[np.float64]) -> tuple[N
             err[j] = abs(d2)
         elif p > MAX_ORDER:
             r1 = N[1] / N[0]
-            from_d1 = abs(d1) / (r1**MAX_ORDER - 1.0) / r**MAX_ORDER
-            err[j] = max(abs(d2) / (r**MAX_ORDER - 1.0), from_d1)
-            order[j] = MAX_ORDER
+            err[j] = max(abs(d2), abs(d1) / ((r1**MIN_ORDER - 1.0) * r**MIN_ORDER))
         else:
             err[j] = abs(d2) / (r**p - 1.0)
             order[j] = p

@@ -433,25 +433,28 @@ class AllModeMicroslip(ContactElement):
 
     def _stuck_data(self, omega: float):
         """``(cells, K, a_min, relative estimate of K)`` of the stuck bar at omega: the given cells,
-        or cells doubling from the start until the Richardson estimate of the stuck stiffness
-        (relative to max(|K|, 0.01 k*)) is below tol / 4."""
+        or cells doubling from the start until the Richardson estimates of the stuck stiffness
+        (relative to max(|K|, 0.01 k*)) and of the slip onset a_min are below tol / 4."""
         if omega in self._stuck:
             return self._stuck[omega]
         floor = FLOOR * self.bar.k_star
         n = self.cells or start_cells(self.bar, omega, 1)
         while True:
-            K = [self._disc(c).stuck_solution(omega)[1] if c >= 2 else np.nan for c in (n // 4, n // 2, n)]
-            if n // 4 >= 2:
-                e = float(richardson((n // 4, n // 2, n), np.array(K)[:, None])[0][0])
+            rungs = [c for c in (n // 4, n // 2, n) if c >= 2]
+            vals = np.array([(self._disc(c).stuck_solution(omega)[1], self._disc(c).slip_amplitude(omega))
+                             for c in rungs])
+            if len(rungs) == 3:
+                e = richardson(tuple(rungs), vals)[0]
             else:
-                e = abs(K[2] - K[1]) if n // 2 >= 2 else math.inf
-            rel = e / max(abs(K[2]), floor)
-            if self.cells is not None or rel <= 0.25 * self.tol or 2 * n > MAX_CELLS:
+                e = np.abs(vals[-1] - vals[0]) if len(rungs) == 2 else np.full(2, math.inf)
+            rel = e[0] / max(abs(vals[-1, 0]), floor)
+            rel_a = e[1] / vals[-1, 1] if math.isfinite(vals[-1, 1]) else 0.0
+            if self.cells is not None or max(rel, rel_a) <= 0.25 * self.tol or 2 * n > MAX_CELLS:
                 break
             n *= 2
         if len(self._stuck) > 512:
             self._stuck.clear()
-        out = self._stuck[omega] = (n, float(K[2]), self._disc(n).slip_amplitude(omega), rel)
+        out = self._stuck[omega] = (n, float(vals[-1, 0]), float(vals[-1, 1]), float(rel))
         return out
 
     # ------------------------------------------------------------ interface
