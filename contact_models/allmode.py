@@ -358,10 +358,12 @@ class AllModeMicroslip(ContactElement):
             if rel <= self.tol:
                 break
             rel_c, rel_h = (relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics"))
-            can_n = self.cells is None and 2 * n <= MAX_CELLS
+            can_n = self.cells is None and n < MAX_CELLS
             up = [h for h in HARMONIC_LADDER if h > H] if self.harmonics is None else []
+            if (not can_n and rel_c > self.tol) or (not up and rel_h > self.tol):
+                break  # the part that cannot be refined misses tol alone
             if can_n and (rel_c >= rel_h or not up):
-                n *= 2
+                n = min(2 * n, MAX_CELLS)
             elif up:
                 H = up[0]
             else:
@@ -422,8 +424,8 @@ class AllModeMicroslip(ContactElement):
         rungs = ", ".join(f"{n} cells H = {h}: {e:.2g}" for n, h, e in tried)
         warnings.warn(f"AllModeMicroslip: estimated relative error {rel:.3g} of (f_s, f_c) above tol = {self.tol:g} at "
                       f"omega = {omega:.6g} rad/s, a = {a:.4g} m ({len(shortfalls)} point(s) of this call); tried "
-                      f"{rungs}; the ladder ends at {MAX_CELLS} cells and H = {MAX_HARMONICS} (or the cells/"
-                      f"harmonics given)", AccuracyWarning, stacklevel=4)
+                      f"{rungs}; cells {'as given' if self.cells else f'up to {MAX_CELLS}'}, harmonics "
+                      f"{'as given' if self.harmonics else f'up to {MAX_HARMONICS}'}", AccuracyWarning, stacklevel=4)
 
     # ------------------------------------------------------------ the stuck bar
     def _disc(self, cells: int) -> _Discretisation:
