@@ -16,7 +16,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic
+from ._hbal import aft_matrices, factorise, jenkins_harmonic
 from .numerics.fe_bar import _Discretisation
 
 #: Newton stops when the residual is below this fraction of the bar's force scale.
@@ -127,12 +127,13 @@ class FixedBar:
         d = self.disc
         return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
 
-    def evaluate(self, U, X, omega, b):
-        """Residual R (n, s) at U (n, s) with the Jenkins forces and Jacobians of all n + 1 nodes,
-        the slip masks and the linear part (X, U in the basis b of s coefficients)."""
+    def evaluate(self, U, X, omega, b, jacobian=True):
+        """Residual R (n, s) at U (n, s) with the Jenkins forces and Jacobians of all n + 1 nodes
+        (None without ``jacobian``), the slip masks and the linear part (X, U in the basis b of s
+        coefficients)."""
         d = self.disc
         full = np.vstack([U, X[None, :]])
-        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P)
+        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P, jacobian=jacobian)
         lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
         R = lin[:-1] * U + T[:-1]
         R[1:] += d.off * U[:-1]
@@ -161,15 +162,15 @@ class FixedBar:
         return U
 
     def start(self, X, omega, b):
-        """The better (smaller residual) of the linear state and the cached solution scaled to X."""
-        best = self.evaluate(self.linear_guess(X, omega, b), X, omega, b)
+        """The better (smaller residual) of the linear state and the cached solution scaled to X
+        (compared on residuals alone; the Jacobian is evaluated for the one kept)."""
+        U = self.linear_guess(X, omega, b)
         if b.odd in self._cache:
             Xc, _, Uc = self._cache[b.odd]
-            s = float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300)
-            ev = self.evaluate(Uc * s, X, omega, b)
-            if ev.res < best.res:
-                best = ev
-        return best
+            Us = Uc * (float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300))
+            if self.evaluate(Us, X, omega, b, False).res < self.evaluate(U, X, omega, b, False).res:
+                U = Us
+        return self.evaluate(U, X, omega, b)
 
     def newton(self, ev, X, omega, b, max_iter=NEWTON_MAX_ITER):
         """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
@@ -177,7 +178,7 @@ class FixedBar:
         tol = NEWTON_TOL * self.scale(X)
         for it in range(max_iter + 1):
             B = ev.J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None]
-            fac = BlockTridiagonal(B, self.disc.off)
+            fac = factorise(B, self.disc.off)
             if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
                 break
             dU = -fac.solve(ev.R)
@@ -229,7 +230,7 @@ class FixedBar:
         U, T, J, lin = ev.U, ev.T, ev.J, ev.lin
         full = 2 * b.H + 1
         Fb = lin[-1] * Xb + d.off * U[-1] + T[-1]
-        dF_dXb = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.inv[-1]
+        dF_dXb = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.last_inverse()
         dU_dw = fac.solve(2.0 * omega * d.m[:-1, None] * b.order[None, :] ** 2 * U)
         dF_dwb = -2.0 * omega * d.m[-1] * b.order**2 * Xb + d.off * dU_dw[-1]
         F = np.zeros(full)
@@ -264,5 +265,5 @@ class FixedBar:
         _, J, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P)
         Je = J[:, even][:, :, even]
         lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
-        fac = BlockTridiagonal(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
-        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.inv[-1]
+        fac = factorise(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
+        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.last_inverse()

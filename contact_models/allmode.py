@@ -188,7 +188,7 @@ class AllModeMicroslip(ContactElement):
         self._levels: dict = {}  # (cells, H) -> FixedBar
         self._discs: dict = {}  # cells -> _Discretisation (the stuck bar)
         self._stuck: dict = {}  # omega -> (cells, K, a_min, relative estimate)
-        self._last: tuple | None = None  # (cells, H) the previous call ended at
+        self._last: tuple | None = None  # (cells, H, cells part, harmonics part) the previous call ended at
         self._reuse: tuple | None = None  # the last estimate: (a, omega, odd, cells, H, parts, relative)
 
     def __repr__(self) -> str:
@@ -329,14 +329,22 @@ class AllModeMicroslip(ContactElement):
         return self._choose(X, omega, odd)
 
     def _first_rung(self, omega, Hx):
-        """Where the ladder starts: the given cells/harmonics, else the previous call's rung (never
-        below the start tied to the wavelength, and never below the caller's harmonics)."""
-        last_n, last_H = self._last if self._last else (0, 0)
+        """Where the ladder starts: the given cells/harmonics, else the previous call's rung, one rung
+        lower in cells (harmonics) where the previous parts predict that rung within half the
+        tolerance (a cells part 4 times, a harmonics part 8 times larger), never below the start
+        tied to the wavelength and never below the caller's harmonics."""
+        last_n, last_H, rel_c, rel_h = self._last if self._last else (0, 0, math.inf, math.inf)
         H = self.harmonics
         if H is None:
             H = next((h for h in HARMONIC_LADDER if h >= max(Hx, last_H)), max(Hx, MAX_HARMONICS))
+            lower = [h for h in HARMONIC_LADDER if max(Hx, 1) <= h < H]
+            if lower and rel_c + 8.0 * rel_h <= 0.5 * self.tol:
+                H = lower[-1]
         H = max(H, Hx)
-        n = self.cells or min(MAX_CELLS, max(start_cells(self.bar, omega, H), last_n))
+        n = self.cells
+        if n is None:
+            n = last_n // 2 if 4.0 * rel_c + rel_h <= 0.5 * self.tol else last_n
+            n = min(MAX_CELLS, max(start_cells(self.bar, omega, H), n))
         return n, H
 
     def _choose(self, X, omega, odd):
@@ -368,7 +376,7 @@ class AllModeMicroslip(ContactElement):
                 H = up[0]
             else:
                 break
-        self._last = (n, H)
+        self._last = (n, H, *(relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics")))
         if reused is None:
             self._reuse = (a, omega, odd, n, H, parts, sol.relative_error)
         short = None if sol.relative_error <= self.tol else (omega, a, sol.relative_error, tried)
