@@ -60,10 +60,11 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     fk = np.where(never, 0.5 * kc * (umax - umin), p)
     trial[0] = fk
     lo = -p
-    for j in range(1, n_t):
-        t = fk + dku[j - 1]
-        trial[j] = t
-        fk = np.minimum(np.maximum(t, lo), p)
+    for j in range(1, n_t):  # in place: no array is allocated per step
+        t = trial[j]
+        np.add(fk, dku[j - 1], out=t)
+        np.maximum(t, lo, out=fk)
+        np.minimum(fk, p, out=fk)
     fr = np.minimum(np.maximum(trial, lo), p)
     st = np.abs(trial) <= p
     st[0] = never

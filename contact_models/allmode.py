@@ -368,8 +368,8 @@ class AllModeMicroslip(ContactElement):
             rel_c, rel_h = (relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics"))
             can_n = self.cells is None and n < MAX_CELLS
             up = [h for h in HARMONIC_LADDER if h > H] if self.harmonics is None else []
-            if (not can_n and rel_c > self.tol) or (not up and rel_h > self.tol):
-                break  # the part that cannot be refined misses tol alone
+            if (self.cells and rel_c > self.tol) or (self.harmonics and rel_h > self.tol):
+                break  # the part given by the caller misses tol alone (the other cannot mend it)
             if can_n and (rel_c >= rel_h or not up):
                 n = min(2 * n, MAX_CELLS)
             elif up:
