@@ -10,19 +10,26 @@ Time per amplitude point (median of ``REPEATS`` round-robin runs, process CPU se
 - all-mode, *sweep*: the six points in one ``fourier`` call per frequency (warm starts along a);
 - numerical: ``simulate(a, omega)`` per point, timed once per point (it takes seconds).
 The ratios are formed from times of this one run.  Run ``python benchmarks/bench_allmode.py``.
+
+``python benchmarks/bench_allmode.py --frf [repeats]``: the default case's FRF (``hbm.cli.cases``)
+with the single-mode damper and with ``AllModeMicroslip`` at fixed 40 cells, H = 15 (the old
+defaults) and choosing to tol 1e-2 and 1e-3, round-robin (one run each per round), wall-clock
+medians of ``repeats`` (default 3), with the points, the peak and the AccuracyWarnings of the last
+round, and each time as a ratio to the single-mode one of the same run.
 """
 
 from __future__ import annotations
 
 import csv
 import statistics
+import warnings
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from contact_models import AllModeMicroslip, Bar, NumericalMicroslip, UniformLoad
+from contact_models import AccuracyWarning, AllModeMicroslip, Bar, NumericalMicroslip, UniformLoad
 
 from common import REPEATS, machine, machine_line, table
 
@@ -109,5 +116,41 @@ def main(repeats: int = REPEATS, numerical: bool = True):
     return rows, all_times, num_times
 
 
+def frf_rows(repeats: int = 3):
+    """The default FRF with each damper, round-robin; rows of (label, median s, ratio, points, peak, warnings)."""
+    from hbm import frequency_response  # lazily: the element benchmark above needs no solver
+    from hbm.cli.cases import default_case
+
+    case = default_case()
+    bar, load = case.element.bar, case.element.load
+    dampers = (("single-mode TwoRegionMicroslip", lambda: case.element),
+               ("all-mode 40 cells, H = 15 (fixed, the old default)", lambda: AllModeMicroslip(bar, load, 40, 15)),
+               ("all-mode tol = 1e-2", lambda: AllModeMicroslip(bar, load, tol=1e-2)),
+               ("all-mode tol = 1e-3 (default)", lambda: AllModeMicroslip(bar, load)))
+    times = {label: [] for label, _ in dampers}
+    last = {}
+    for _ in range(repeats):
+        for label, make in dampers:
+            el = make()  # a new element each run: no warm start carried between runs
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", AccuracyWarning)
+                t = time.perf_counter()
+                frf = frequency_response(case.blade, el, omega_range=case.omega_range)
+                times[label].append(time.perf_counter() - t)
+            pk = frf.peak()
+            n_warn = sum(issubclass(w.category, AccuracyWarning) for w in caught)
+            last[label] = (len(frf), f"{pk.amplitude:.6e} m at {pk.omega:.2f} rad/s", n_warn)
+    base = statistics.median(times[dampers[0][0]])
+    rows = [[label, f"{statistics.median(ts):.2f} s", f"{statistics.median(ts) / base:.0f}x", str(last[label][0]),
+             last[label][1], str(last[label][2])] for label, ts in times.items()]
+    print(machine_line(machine()))
+    print(table(["damper", f"wall, median of {repeats}", "/ single-mode", "points", "peak", "AccuracyWarnings"], rows))
+    return rows
+
+
 if __name__ == "__main__":
-    main(numerical="--no-numerical" not in sys.argv)
+    if "--frf" in sys.argv:
+        rest = [a for a in sys.argv[1:] if a != "--frf"]
+        frf_rows(int(rest[0]) if rest else 3)
+    else:
+        main(numerical="--no-numerical" not in sys.argv)

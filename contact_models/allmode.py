@@ -370,6 +370,8 @@ class AllModeMicroslip(ContactElement):
             up = [h for h in HARMONIC_LADDER if h > H] if self.harmonics is None else []
             if (self.cells and rel_c > self.tol) or (self.harmonics and rel_h > self.tol):
                 break  # the part given by the caller misses tol alone (the other cannot mend it)
+            if not up and rel_h > self.tol and rel_c <= 0.5 * self.tol:
+                break  # H at the top and the cells resolved: more cells do not mend the harmonics
             if can_n and (rel_c >= rel_h or not up):
                 n = min(2 * n, MAX_CELLS)
             elif up:
