@@ -262,8 +262,7 @@ class FixedBar:
         d = self.disc
         b = self.basis(False)
         even = np.flatnonzero(b.order % 2 == 0)
-        _, J, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P)
-        Je = J[:, even][:, :, even]
+        _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(b.E[:, even], b.P[even]))
         lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
         fac = factorise(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
         sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.last_inverse()

@@ -81,17 +81,22 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
 
 
 def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64],
-                     E: NDArray[np.float64], P: NDArray[np.float64], *, jacobian: bool = True
+                     E: NDArray[np.float64], P: NDArray[np.float64], *, jacobian: bool = True,
+                     jacobian_basis: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
                      ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, NDArray[np.bool_]]:
     """Harmonic coefficients T (m, 2H+1) of the periodic Jenkins forces of m nodes whose
     displacements have coefficients U (m, 2H+1), the exact Jacobians dT/dU (m, 2H+1, 2H+1) and
-    the mask of samples at which each node slips (m, n_t): AFT, ``T = P f(E U)``."""
+    the mask of samples at which each node slips (m, n_t): AFT, ``T = P f(E U)``.
+    ``jacobian_basis=(E2, P2)``: the Jacobian on other coefficients (same samples; E2's first
+    column the mean), e.g. the even block at an odd solution, without the full one."""
     u = U @ E.T
     f, stuck, anchor, never = jenkins_periodic(u, kc, p)
     T = f @ P.T
     if not jacobian:
         return T, None, ~stuck
-    m, nh = U.shape
+    if jacobian_basis is not None:
+        E, P = jacobian_basis
+    m, nh = U.shape[0], E.shape[1]
     J = np.empty((m, nh, nh))
     if np.any(never):
         # f = kc (u - (u_max + u_min)/2): dT/dU = kc (I - e0 (E_max + E_min)/2)
