@@ -22,9 +22,13 @@ harmonic meets a mode of the bar (``docs/validation.md``, the all-mode section).
 from __future__ import annotations
 
 import math
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from .bar import Bar
 
 #: Observed orders below this are not trusted: the estimate is the last difference.
 MIN_ORDER = 1.0
@@ -102,7 +106,7 @@ def relative(error: NDArray[np.float64], F: NDArray[np.float64], floor: float) -
     return float(np.max(np.asarray(error) / np.maximum(np.abs(F), floor)))
 
 
-def start_cells(bar, omega: float, H: int) -> int:
+def start_cells(bar: Bar, omega: float, H: int) -> int:
     """The first rung of the ladder of cells at ``omega`` with H harmonics: ``CELLS_PER_WAVELENGTH``
     cells on the wavelength 2 pi / sqrt(rho (H omega)^2 / E) of the highest harmonic and
     ``CELLS_PER_DECAY`` on the shear layer's decay length 1/lambda, at least ``MIN_START_CELLS``."""

@@ -11,13 +11,19 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
 from ._hbal import aft_matrices, factorise, jenkins_harmonic
 from .numerics.fe_bar import _Discretisation
+
+if TYPE_CHECKING:
+    from .bar import Bar
+    from .loads import QuadraticLoad, UniformLoad
+
+Array = NDArray[np.float64]
 
 #: Newton stops when the residual is below this fraction of the bar's force scale.
 NEWTON_TOL = 1e-11
@@ -107,7 +113,7 @@ class FixedBar:
     """The bar on ``cells`` cells with ``harmonics`` harmonics and ``n_t`` samples (inputs checked by
     the caller); ``solve(X, omega, odd)`` with X of length 2 harmonics + 1."""
 
-    def __init__(self, bar, load, cells: int, harmonics: int, n_t: int) -> None:
+    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int, harmonics: int, n_t: int) -> None:
         self.cells, self.H, self.n_t = cells, harmonics, n_t
         self.disc = _Discretisation(bar, load, cells)
         self._aft: dict = {}
@@ -123,11 +129,11 @@ class FixedBar:
             self._aft[odd] = _Basis(self.H, odd, idx, E[:, idx], P[idx], order[idx])
         return self._aft[odd]
 
-    def scale(self, X):
+    def scale(self, X: Array) -> float:
         d = self.disc
         return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
 
-    def evaluate(self, U, X, omega, b, jacobian=True):
+    def evaluate(self, U: Array, X: Array, omega: float, b: _Basis, jacobian: bool = True) -> _Eval:
         """Residual R (n, s) at U (n, s) with the Jenkins forces and Jacobians of all n + 1 nodes
         (None without ``jacobian``), the slip masks and the linear part (X, U in the basis b of s
         coefficients)."""
@@ -141,7 +147,7 @@ class FixedBar:
         R[-1] += d.off * X
         return _Eval(U, R, float(np.max(np.abs(R))), T, J, slip, lin)
 
-    def linear_guess(self, X, omega, b):
+    def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
         """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
         d = self.disc
         diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * b.order[None, :] ** 2
@@ -161,7 +167,7 @@ class FixedBar:
             U[i] = (y[i] - off * U[i + 1]) / cp[i]
         return U
 
-    def start(self, X, omega, b):
+    def start(self, X: Array, omega: float, b: _Basis) -> _Eval:
         """The better (smaller residual) of the linear state and the cached solution scaled to X
         (compared on residuals alone; the Jacobian is evaluated for the one kept)."""
         U = self.linear_guess(X, omega, b)
@@ -172,7 +178,7 @@ class FixedBar:
                 U = Us
         return self.evaluate(U, X, omega, b)
 
-    def newton(self, ev, X, omega, b, max_iter=NEWTON_MAX_ITER):
+    def newton(self, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int = NEWTON_MAX_ITER) -> tuple:
         """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
         iterations).  Armijo backtracking on max|R|; accepted trials are reused."""
         tol = NEWTON_TOL * self.scale(X)
@@ -191,7 +197,7 @@ class FixedBar:
             ev = trial
         return ev, fac, ev.res <= tol, it
 
-    def solve(self, X, omega, odd=False) -> AllModeSolution:
+    def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:
         """Steady state for the full-layout X (2H+1) at omega, in the odd basis if asked."""
         b = self.basis(odd)
         Xb = X[b.idx]
@@ -201,7 +207,7 @@ class FixedBar:
             iters += extra
         return self.finish(ev, fac, X, Xb, omega, b, ok, iters)
 
-    def continuation(self, X, omega, b):
+    def continuation(self, X: Array, omega: float, b: _Basis) -> tuple:
         """Scale the end motion from the linear (stuck) state up to X, halving steps on failure."""
         size = float(np.max(np.abs(X)))
         s = min(1.0, 0.5 * self.disc.slip_amplitude(omega) / size) if size > 0 else 1.0
@@ -225,7 +231,8 @@ class FixedBar:
             total += it
         return ev, fac, ok and s >= 1.0, total
 
-    def finish(self, ev, fac, X, Xb, omega, b, ok, iters) -> AllModeSolution:
+    def finish(self, ev: _Eval, fac: object, X: Array, Xb: Array, omega: float, b: _Basis, ok: bool,
+               iters: int) -> AllModeSolution:
         d = self.disc
         U, T, J, lin = ev.U, ev.T, ev.J, ev.lin
         full = 2 * b.H + 1
