@@ -1,6 +1,6 @@
-"""What accuracy costs in ``AllModeMicroslip`` against ``NumericalMicroslip`` (issue 13).
+"""What accuracy costs in ``AllModeMicroslip`` against ``NumericalMicroslip``.
 
-Uniform load 100 N on the DESIGN.md bar, omega in {0.2, 0.5} omega_c, a in {1.5, 3, 10} a_min
+Uniform load 100 N on the reference bar of the documentation, omega in {0.2, 0.5} omega_c, a in {1.5, 3, 10} a_min
 (a_min of the 200-cell bar, the reference's).  Error: max |F_s - F_s,ref|, |F_c - F_c,ref| in
 units of k* a against the stored converged time integration (``docs/data/allmode_reference.csv``:
 NumericalMicroslip, 200 cells, 1024 steps per cycle, written by examples/validation_allmode.py).
