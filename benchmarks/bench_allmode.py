@@ -1,6 +1,6 @@
-"""What accuracy costs in ``AllModeMicroslip`` against ``NumericalMicroslip`` (issue 13).
+"""What accuracy costs in ``AllModeMicroslip`` against ``NumericalMicroslip``.
 
-Uniform load 100 N on the DESIGN.md bar, omega in {0.2, 0.5} omega_c, a in {1.5, 3, 10} a_min
+Uniform load 100 N on the reference bar of the documentation, omega in {0.2, 0.5} omega_c, a in {1.5, 3, 10} a_min
 (a_min of the 200-cell bar, the reference's).  Error: max |F_s - F_s,ref|, |F_c - F_c,ref| in
 units of k* a against the stored converged time integration (``docs/data/allmode_reference.csv``:
 NumericalMicroslip, 200 cells, 1024 steps per cycle, written by examples/validation_allmode.py).
@@ -10,19 +10,33 @@ Time per amplitude point (median of ``REPEATS`` round-robin runs, process CPU se
 - all-mode, *sweep*: the six points in one ``fourier`` call per frequency (warm starts along a);
 - numerical: ``simulate(a, omega)`` per point, timed once per point (it takes seconds).
 The ratios are formed from times of this one run.  Run ``python benchmarks/bench_allmode.py``.
+
+``python benchmarks/bench_allmode.py --frf [repeats]``: the default case's FRF (``hbm.cli.cases``)
+with the single-mode damper and with ``AllModeMicroslip`` at fixed 40 cells, H = 15 (the old
+defaults) and choosing to tol 1e-2 and 1e-3, round-robin (one run each per round), wall-clock
+medians of ``repeats`` (default 3), with the points, the peak and the AccuracyWarnings of the last
+round, and each time as a ratio to the single-mode one of the same run.
+
+``python benchmarks/bench_allmode.py --estimates``: the error estimate (and the one the element
+gave before: half-cells Richardson assuming order 2, and the H -> ceil(H/2) change) against the
+converged references of ``tests/test_allmode_accuracy.py`` (copied below), and the element's own
+choice at its default tol (docs/validation.md, "Accuracy to a tolerance").
 """
 
 from __future__ import annotations
 
 import csv
 import statistics
+import warnings
 import sys
 import time
 from pathlib import Path
 
 import numpy as np
 
-from contact_models import AllModeMicroslip, Bar, NumericalMicroslip, UniformLoad
+import math
+
+from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip, UniformLoad
 
 from common import REPEATS, machine, machine_line, table
 
@@ -109,5 +123,85 @@ def main(repeats: int = REPEATS, numerical: bool = True):
     return rows, all_times, num_times
 
 
+#: The converged references of tests/test_allmode_accuracy.py: (load, omega/omega_c, a, (f_s, f_c)).
+SINE = FunctionLoad(lambda x: 2000.0 * (1.0 + 0.8 * np.sin(6.0 * np.pi * x / BAR.L)))
+CASES = {"uniform 0.3 omega_c": (LOAD, 0.3, 1.5e-6, (48.04909825902723, 6.874552719918713)),
+         "sine, 5 regions, 0.3 omega_c": (SINE, 0.3, 1.5 * 1.6298212423752916e-07,
+                                          (9.019326918679495, 0.10307701386100945)),
+         "uniform 10 omega_c": (LOAD, 10.0, 1.5e-6, (-462.45684743937454, 12.271992267837609)),
+         "uniform 30 omega_c": (LOAD, 30.0, 1.5e-6, (8319.083, 69.9110))}
+
+
+def estimate_rows():
+    """Rows (case, cells, H, estimate, true, ratio, old estimate, old ratio) and the default choices."""
+    rows, auto = [], []
+    for name, (load, w, a, ref) in CASES.items():
+        floor, omega = 0.01 * BAR.k_star * a, w * BAR.omega_c
+        ref_v = np.array(ref[::-1])  # (f_c, f_s), the layout's order
+
+        def rel(F):
+            return float(np.max(F / np.maximum(np.abs(ref_v), floor)))
+
+        def F(c, h):
+            return AllModeMicroslip(BAR, load, c, h).solve(a, omega).F[1:3]
+
+        grid = [(n, H) for H in ((7, 15) if w < 1 else (7,)) for n in ((16, 32, 64, 128) if w < 30 else (64, 128, 256))]
+        for n, H in grid:
+            sol = AllModeMicroslip(BAR, load, n, H).solve(a, omega, estimate_error=True)
+            f = sol.F[1:3]
+            true = rel(np.abs(f - ref_v))
+            old = float(np.max(np.maximum(np.abs(f - F(n // 2, H)) / 3, np.abs(f - F(n, math.ceil(H / 2))))
+                               / np.maximum(np.abs(f), floor)))
+            rows.append([name, str(n), str(H), f"{sol.relative_error:.2e}", f"{true:.2e}",
+                         f"{sol.relative_error / true:.2f}", f"{old:.2e}", f"{old / true:.2f}"])
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", AccuracyWarning)
+            sol = AllModeMicroslip(BAR, load).solve(a, omega)
+        auto.append([name, f"{sol.cells}, {sol.H}", f"{sol.relative_error:.2e}", f"{rel(np.abs(sol.F[1:3] - ref_v)):.2e}",
+                     "yes" if caught else "no"])
+    print(table(["case", "cells", "H", "estimate", "true error", "ratio", "old estimate", "old ratio"], rows))
+    print()
+    print(table(["case", "chosen cells, H", "estimate", "true error", "warns"], auto))
+    return rows, auto
+
+
+def frf_rows(repeats: int = 3):
+    """The default FRF with each damper, round-robin; rows of (label, median s, ratio, points, peak, warnings)."""
+    from hbm import frequency_response  # lazily: the element benchmark above needs no solver
+    from hbm.cli.cases import default_case
+
+    case = default_case()
+    bar, load = case.element.bar, case.element.load
+    dampers = (("single-mode TwoRegionMicroslip", lambda: case.element),
+               ("all-mode 40 cells, H = 15 (fixed, the old default)", lambda: AllModeMicroslip(bar, load, 40, 15)),
+               ("all-mode tol = 1e-2", lambda: AllModeMicroslip(bar, load, tol=1e-2)),
+               ("all-mode tol = 1e-3 (default)", lambda: AllModeMicroslip(bar, load)))
+    times = {label: [] for label, _ in dampers}
+    last = {}
+    for _ in range(repeats):
+        for label, make in dampers:
+            el = make()  # a new element each run: no warm start carried between runs
+            with warnings.catch_warnings(record=True) as caught:
+                warnings.simplefilter("always", AccuracyWarning)
+                t = time.perf_counter()
+                frf = frequency_response(case.blade, el, omega_range=case.omega_range)
+                times[label].append(time.perf_counter() - t)
+            pk = frf.peak()
+            n_warn = sum(issubclass(w.category, AccuracyWarning) for w in caught)
+            last[label] = (len(frf), f"{pk.amplitude:.6e} m at {pk.omega:.2f} rad/s", n_warn)
+    base = statistics.median(times[dampers[0][0]])
+    rows = [[label, f"{statistics.median(ts):.2f} s", f"{statistics.median(ts) / base:.0f}x", str(last[label][0]),
+             last[label][1], str(last[label][2])] for label, ts in times.items()]
+    print(machine_line(machine()))
+    print(table(["damper", f"wall, median of {repeats}", "/ single-mode", "points", "peak", "AccuracyWarnings"], rows))
+    return rows
+
+
 if __name__ == "__main__":
-    main(numerical="--no-numerical" not in sys.argv)
+    if "--estimates" in sys.argv:
+        estimate_rows()
+    elif "--frf" in sys.argv:
+        rest = [a for a in sys.argv[1:] if a != "--frf"]
+        frf_rows(int(rest[0]) if rest else 3)
+    else:
+        main(numerical="--no-numerical" not in sys.argv)

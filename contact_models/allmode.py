@@ -30,112 +30,79 @@ function theorem at the converged Jacobian: only node n-1 couples to X, so
 pivot block of the elimination, and ``dF/domega = -2 omega h^2 m_n X + K_off dU_{n-1}/domega``
 with ``J dU/domega = 2 omega h^2 m U``.  The last solution is cached and warm-starts the next
 call (along amplitude and frequency); a failed Newton run falls back to continuation in the
-amplitude from the exactly linear (stuck) state.
-"""
+amplitude from the exactly linear (stuck) state.  One discretisation is a
+``contact_models._allmode_solve.FixedBar``.
 
+Accuracy.  With ``cells`` and ``harmonics`` left None the element chooses them per call
+(amplitude, frequency) so that its estimate of the relative error of (f_s, f_c), component by
+component relative to max(|f|, 0.01 k* a) as in the validity map, is below ``tol``: cells double
+from a start tied to the wavelength of the highest harmonic and to the shear layer's decay length
+(``_allmode_accuracy.start_cells``), and harmonics climb the ladder 7, 15, 31, whichever part of
+the estimate is larger.  The estimate is Richardson extrapolation with the observed order on three
+rungs (cells n/4, n/2, n; harmonics about H/4, H/2, H), guarded where the order is not asymptotic
+(``contact_models._allmode_accuracy``); its two parts add.  The ladder starts where the previous
+call ended (a continuation calls at neighbouring points) and the estimate of a call within
+``REUSE_AMPLITUDE`` and ``REUSE_FREQUENCY`` of the last estimated point, whose estimate was below
+half the tolerance, is reused.  Where the largest rungs (``MAX_CELLS``, ``MAX_HARMONICS``) cannot
+meet ``tol`` the call warns (``AccuracyWarning``) once, naming the worst point.  While the bar is
+stuck (a <= ``slip_amplitude``) the answer is linear; its cells are chosen the same way on the
+stuck stiffness.  ``model_error(a, omega)`` returns the relative estimate.
+"""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, NamedTuple
+import warnings
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.fe_bar import _Discretisation
-from ._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_periodic
-from .numerics.checks import count, nonnegative, positive
+from ._allmode_accuracy import FLOOR, relative, richardson, start_cells
+from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd
+from ._hbal import aft_matrices, jenkins_periodic
+from .accuracy import AccuracyWarning
 from .bar import Bar
 from .base import DEFAULT_RTOL, ContactElement
+from .numerics.checks import count, nonnegative, positive
+from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
     from .loads import QuadraticLoad, UniformLoad
 
 __all__ = ["AllModeMicroslip", "AllModeSolution", "CELLS", "HARMONICS", "SAMPLES_PER_HARMONIC", "NEWTON_TOL",
-           "NEWTON_MAX_ITER"]
+           "NEWTON_MAX_ITER", "TOL", "HARMONIC_LADDER", "MAX_CELLS", "MAX_HARMONICS"]
 
-#: Default number of cells.
+#: Cells of a bar with a fixed mesh where one is wanted (the scenes' ``cells`` key); the element's
+#: own default is None: cells chosen per call to ``tol``.
 CELLS = 40
-#: Default number of harmonics H.
+#: Harmonics of a bar with fixed harmonics where one is wanted; the element's default is None.
 HARMONICS = 15
 #: Default time samples per harmonic (n_t = SAMPLES_PER_HARMONIC * H, rounded up to a multiple of 4).
 SAMPLES_PER_HARMONIC = 8
-#: Newton stops when the residual is below this fraction of the bar's force scale.
-NEWTON_TOL = 1e-11
-#: Newton iteration limit (per solve, before the continuation fallback).
-NEWTON_MAX_ITER = 40
+#: Default tolerance on the relative error of (f_s, f_c) (relative to max(|f|, 0.01 k* a)).
+TOL = 1e-3
+#: The rungs of harmonics the element climbs when it chooses H (a rung is about twice the last).
+HARMONIC_LADDER = (7, 15, 31)
+#: The largest number of cells the element doubles to, and the largest H it climbs to.
+MAX_CELLS = 640
+MAX_HARMONICS = HARMONIC_LADDER[-1]
+#: An estimate is reused within these relative distances in amplitude and frequency of the point it
+#: was made at, when it was below half the tolerance (continuation steps are smaller).
+REUSE_AMPLITUDE = 0.01
+REUSE_FREQUENCY = 0.005
 
 
-@dataclass
-class AllModeSolution:
-    """Steady periodic state of the all-mode bar for one end displacement and frequency.
-
-    ``X``: the end displacement's coefficients (2H+1, layout ``[X0, Xc1, Xs1, ...]``), ``omega``
-    (rad/s), ``F``: the end force's coefficients (N), ``U``: every node's coefficients
-    (n + 1, 2H+1; row n is X), ``dF_dX`` (2H+1, 2H+1) and ``dF_domega`` (2H+1) by the implicit
-    function theorem, ``slip`` (n + 1, n_t): where each node slips at theta_k = 2 pi k/n_t.
-    ``decay``: max(|F_H|, |F_{H-1}|) / |F_1|, the size of the last harmonics kept relative to
-    the first (a truncation indicator; two because even harmonics vanish for a symmetric drive); ``error``: the error estimate of (F_s, F_c) in N from
-    ``AllModeMicroslip.solve`` with ``estimate_error=True`` (None otherwise) and
-    ``error_parts`` its parts (``"cells"``: Richardson estimate from the half-cells solution,
-    ``"harmonics"``: change from H to ceil(H/2) harmonics).
-    """
-
-    X: NDArray[np.float64]
-    omega: float
-    F: NDArray[np.float64]
-    U: NDArray[np.float64]
-    dF_dX: NDArray[np.float64]
-    dF_domega: NDArray[np.float64]
-    slip: NDArray[np.bool_]
-    success: bool
-    message: str
-    iterations: int
-    decay: float
-    error: float | None = None
-    error_parts: dict = field(default_factory=dict)
-
-    @property
-    def f_s(self) -> float:
-        """First-harmonic sine coefficient of the end force (N)."""
-        return float(self.F[2])
-
-    @property
-    def f_c(self) -> float:
-        """First-harmonic cosine coefficient of the end force (N)."""
-        return float(self.F[1])
-
-    @property
-    def harmonics(self) -> NDArray[np.complex128]:
-        """Complex coefficients c_h = F_c,h - i F_s,h of the end force, h = 0..H."""
-        return np.concatenate([[self.F[0]], self.F[1::2] - 1j * self.F[2::2]])
+def _samples(H: int) -> int:
+    return 4 * math.ceil(SAMPLES_PER_HARMONIC * H / 4)
 
 
-class _Basis(NamedTuple):
-    """The harmonic coefficients solved for: ``idx`` into the full layout, AFT matrices on them."""
-
-    H: int
-    odd: bool
-    idx: NDArray[np.intp]
-    E: NDArray[np.float64]
-    P: NDArray[np.float64]
-    order: NDArray[np.float64]
-
-    @property
-    def key(self):
-        return (self.H, self.odd)
+def _lower(H: int) -> int:
+    """The harmonics rung below H (about H/2, odd for odd H: 31 -> 15 -> 7 -> 3 -> 1)."""
+    return max(1, (H - 1) // 2)
 
 
-class _Eval(NamedTuple):
-    """One evaluation of the bar's balance at U."""
-
-    U: NDArray[np.float64]
-    R: NDArray[np.float64]
-    res: float
-    T: NDArray[np.float64]
-    J: NDArray[np.float64]
-    slip: NDArray[np.bool_]
-    lin: NDArray[np.float64]
+def _pad(X: NDArray[np.float64], H: int) -> NDArray[np.float64]:
+    return np.pad(X, (0, 2 * H + 1 - X.size)) if X.size < 2 * H + 1 else X[: 2 * H + 1]
 
 
 class AllModeMicroslip(ContactElement):
@@ -148,29 +115,37 @@ class AllModeMicroslip(ContactElement):
     load : UniformLoad, QuadraticLoad, FunctionLoad or SampledLoad
         Normal load q(x) >= 0 (any shape: any number of stick and slip regions).
     cells : int, optional
-        Linear finite elements along the bar (default ``CELLS`` = 40); error O(cells^-2).
+        Linear finite elements along the bar, >= 2.  Default None: chosen per call to ``tol``
+        (doubling from a start tied to the wavelength, up to ``MAX_CELLS``).
     harmonics : int, optional
-        Harmonics H kept in every node's motion (default ``HARMONICS`` = 15).
+        Harmonics H kept in every node's motion, >= 1.  Default None: chosen per call to ``tol``
+        (the rungs ``HARMONIC_LADDER`` = 7, 15, 31).
     n_t : int, optional
-        Time samples per period of the AFT, a multiple of 4 and >= 2H + 2 (default
-        ``SAMPLES_PER_HARMONIC * H`` rounded up to a multiple of 4).
+        Time samples per period of the AFT, a multiple of 4 and >= 2H + 2; only with ``harmonics``
+        (default ``SAMPLES_PER_HARMONIC * H`` rounded up to a multiple of 4).
+    tol : float, optional
+        The relative error of (f_s, f_c) the element's choices aim at, in (0, 1): component by
+        component relative to max(|f|, 0.01 k* a).  Default ``TOL`` = 1e-3.  Used where cells or
+        harmonics are chosen; an explicit ``cells`` or ``harmonics`` is kept as given.
 
     Notes
     -----
-    The model and the solution are in the module docstring and ``docs/theory.md`` (section
-    "The all-mode bar").  Accuracy against converged time integration and the cost of each
-    knob: ``docs/validation.md`` and ``docs/performance.md``.  The steady state of a node that
-    never slips is taken with its slider at the centre of its motion (the Masing convention;
-    the symmetric state for the drive ``a sin(theta)``).
-    ``fourier``'s ``rtol`` is not used: Newton converges to rounding (relative residual 1e-11),
-    and the accuracy is set by ``cells``, ``harmonics`` and ``n_t`` (``solve(...,
-    estimate_error=True)`` estimates it).  ``fourier`` raises FloatingPointError where the
-    balance does not converge; ``solve`` reports it in ``success`` and ``message``.
+    The model, the solution and the choice of cells and harmonics are in the module docstring
+    and ``docs/theory.md`` (section "The all-mode bar").  Accuracy against converged references
+    and the cost of each knob: ``docs/validation.md`` and ``docs/performance.md``.  The steady
+    state of a node that never slips is taken with its slider at the centre of its motion (the
+    Masing convention; the symmetric state for the drive ``a sin(theta)``).  ``fourier``'s
+    ``rtol`` is not used: Newton converges to rounding (relative residual 1e-11), and the
+    accuracy is set by ``tol`` (or by ``cells``, ``harmonics`` and ``n_t`` when both are given:
+    then ``solve(..., estimate_error=True)`` and ``model_error`` estimate it, and nothing warns).
+    ``fourier`` raises FloatingPointError where the balance does not converge; ``solve`` reports
+    it in ``success`` and ``message``.  Where the largest rungs cannot meet ``tol`` a call warns
+    ``contact_models.AccuracyWarning`` once.
 
     Raises
     ------
     ValueError
-        ``bar`` not a ``Bar``; ``cells``, ``harmonics`` or ``n_t`` out of range; a load below 0.
+        ``bar`` not a ``Bar``; ``cells``, ``harmonics``, ``n_t`` or ``tol`` out of range; a load below 0.
 
     Examples
     --------
@@ -180,41 +155,56 @@ class AllModeMicroslip(ContactElement):
     >>> fs, fc = el.fourier(3 * 7.5e-7, 0.0)
     >>> round(float(fs) / (bar.k_star * 3 * 7.5e-7), 2), round(float(fc) / (bar.k_star * 3 * 7.5e-7), 2)
     (0.75, 0.15)
+    >>> sol = AllModeMicroslip(bar, UniformLoad(N=100.0)).solve(3 * 7.5e-7, 0.3 * bar.omega_c)
+    >>> bool(sol.relative_error < 1e-3), sol.cells >= 8
+    (True, True)
     """
 
     #: It owns a force law for any periodic end motion (a nested harmonic balance), so the
     #: multi-harmonic solver may use it at H > 1 (it implements the hook ``_harmonic_force``).
     has_time_law = True
 
-    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int = CELLS, *,
-                 harmonics: int = HARMONICS, n_t: int | None = None) -> None:
+    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int | None = None,
+                 harmonics: int | None = None, *, n_t: int | None = None, tol: float = TOL) -> None:
         if not isinstance(bar, Bar):
             raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
-        self.cells = count("cells", cells, 2)
-        self.harmonics = count("harmonics", harmonics, 1)
-        if n_t is None:
-            n_t = 4 * math.ceil(SAMPLES_PER_HARMONIC * self.harmonics / 4)
-        if isinstance(n_t, bool) or int(n_t) != n_t or n_t % 4 or n_t < 2 * self.harmonics + 2:
+        self.cells = None if cells is None else count("cells", cells, 2)
+        self.harmonics = None if harmonics is None else count("harmonics", harmonics, 1)
+        if n_t is not None and self.harmonics is None:
+            raise ValueError(f"n_t is tied to H where harmonics are chosen: give harmonics with it, got n_t={n_t!r}")
+        if self.harmonics is not None and n_t is None:
+            n_t = _samples(self.harmonics)
+        if n_t is not None and (isinstance(n_t, bool) or int(n_t) != n_t or n_t % 4 or n_t < 2 * self.harmonics + 2):
             raise ValueError(f"n_t must be a multiple of 4 and >= 2 harmonics + 2 = {2 * self.harmonics + 2}, "
                              f"got n_t={n_t!r}")
-        self.n_t = int(n_t)
+        self.n_t = None if n_t is None else int(n_t)
+        self.tol = positive("tol", tol)
+        if not self.tol < 1.0:
+            raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
         self.bar = bar
         self.load = load.on(bar.L)
         if self.load.minimum() < 0.0:
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
-        self._disc = _Discretisation(bar, self.load, self.cells)
-        self._aft: dict = {}
-        self._cache: dict = {}  # (H, odd) -> (X, omega, U) of the last converged solve
+        self._levels: dict = {}  # (cells, H) -> FixedBar
+        self._discs: dict = {}  # cells -> _Discretisation (the stuck bar)
+        self._stuck: dict = {}  # omega -> (cells, K, a_min, relative estimate)
+        self._last: tuple | None = None  # (cells, H, cells part, harmonics part) the previous call ended at
+        self._reuse: tuple | None = None  # the last estimate: (a, omega, odd, cells, H, parts, relative)
 
     def __repr__(self) -> str:
         return (f"AllModeMicroslip({self.bar!r}, {self.load!r}, cells={self.cells}, "
-                f"harmonics={self.harmonics}, n_t={self.n_t})")
+                f"harmonics={self.harmonics}, n_t={self.n_t}, tol={self.tol!r})")
+
+    @property
+    def _fixed(self) -> bool:
+        return self.cells is not None and self.harmonics is not None
 
     # ------------------------------------------------------------ extras
     @property
     def nodes(self) -> NDArray[np.float64]:
-        """Node positions x_i (m)."""
-        return self._disc.x.copy()
+        """Node positions x_i (m): of the fixed mesh, or of the cells the last call ended at."""
+        n = self.cells or (self._last[0] if self._last else start_cells(self.bar, 0.0, 1))
+        return np.linspace(0.0, self.bar.L, n + 1)
 
     def solve(self, a: float | ArrayLike, omega: float = 0.0, *, estimate_error: bool = False) -> AllModeSolution:
         """Steady periodic state of the bar for a driven-end displacement.
@@ -223,12 +213,13 @@ class AllModeMicroslip(ContactElement):
         ----------
         a : float or array_like
             An amplitude (m) for ``a sin(theta)``, or end-displacement coefficients (m) of length
-            2H'+1, layout ``[X0, Xc1, Xs1, ...]``, H' <= ``harmonics``.
+            2H'+1, layout ``[X0, Xc1, Xs1, ...]``, H' <= ``harmonics`` (or ``MAX_HARMONICS``).
         omega : float
             Frequency (rad/s), >= 0.
         estimate_error : bool
-            Also solve with half the cells and with ceil(H/2) harmonics and fill ``error`` (N, on
-            (f_s, f_c): the larger of the two parts) and ``error_parts``.  Default False.
+            With fixed ``cells`` and ``harmonics``: also solve on the lower rungs (cells n/4, n/2;
+            harmonics about H/4, H/2) and fill ``error``, ``relative_error`` and ``error_parts``.
+            Where the element chooses, they are always filled.  Default False.
 
         Returns
         -------
@@ -251,10 +242,15 @@ class AllModeMicroslip(ContactElement):
         """
         omega = nonnegative("omega", omega)
         X = self._end_vector(a)
-        sol = self._solve(X, omega, self.harmonics, odd=self._is_odd(X))
-        if estimate_error and sol.success:
-            sol.error_parts = self._error_parts(X, omega, sol)
-            sol.error = max(sol.error_parts.values())
+        odd = is_odd(X)
+        if self._fixed:
+            sol = self._level(self.cells, max(self.harmonics, (X.size - 1) // 2)).solve(
+                _pad(X, self.harmonics), omega, odd)
+            if estimate_error and sol.success:
+                self._fill(sol, self._parts(X, omega, odd, sol), self._floor(X))
+            return sol
+        sol, short = self._choose(X, omega, odd)
+        self._warn([short] if short else [])
         return sol
 
     def _harmonic_force(self, X: NDArray[np.float64], omega: float, n_t: int, rtol: float
@@ -264,39 +260,23 @@ class AllModeMicroslip(ContactElement):
         checked by ``harmonic_force`` (or trusted by ``harmonic_force_unchecked``).
 
         The multi-harmonic hook (docs/extending.md, section 1, "Time laws") with a nested solve:
-        the bar is solved with ``max(H, harmonics)`` harmonics (its internal motion needs its own
-        resolution) and its own sample count (``n_t`` and ``rtol`` of the caller are accepted and
-        not used: the nested AFT samples every node, and Newton converges to rounding); the result
-        is truncated to H.  Derivatives by the implicit function theorem (exact for the discrete
-        model).  Raises FloatingPointError when the nested solve fails (the solver's continuation
-        then shortens its step).
+        the bar is solved with at least H harmonics (its internal motion needs its own resolution:
+        ``harmonics``, or the rung chosen to ``tol``) and its own sample count (``n_t`` and
+        ``rtol`` of the caller are accepted and not used: the nested AFT samples every node, and
+        Newton converges to rounding); the result is truncated to H.  Derivatives by the implicit
+        function theorem (exact for the discrete model).  Raises FloatingPointError when the
+        nested solve fails (the solver's continuation then shortens its step).
         """
         H = (X.size - 1) // 2
-        Hi = max(H, self.harmonics)
-        Xp = np.pad(X, (0, 2 * (Hi - H)))
-        odd = self._is_odd(Xp)
-        sol = self._solve(Xp, float(omega), Hi, odd=odd)
+        odd = is_odd(X)
+        sol, short = self._resolved(X, float(omega), odd)
         if not sol.success:  # numerical trouble, not bad input: a continuation shrinks its step on it
             raise FloatingPointError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
+        self._warn([short] if short else [])
         if odd:
-            self._even_block(sol, Hi)
+            self._level(sol.cells, sol.H).even_block(sol)
         m = 2 * H + 1
         return sol.F[:m].copy(), sol.dF_dX[:m, :m].copy(), sol.dF_domega[:m].copy()
-
-    def _even_block(self, sol: AllModeSolution, H: int) -> None:
-        """Fill the even-even block of ``sol.dF_dX`` for a half-wave symmetric solution solved in
-        the odd basis.  There the Jacobian commutes with the half-period shift, so it is block
-        diagonal in (odd, even) coefficients: F_even = 0, dF_even/dX_odd = dF_odd/dX_even = 0,
-        dF_even/domega = 0, and dF_even/dX_even is the Schur complement of the even blocks of the
-        full-basis Jacobian at the solution (one evaluation and one block elimination)."""
-        d = self._disc
-        b = self._basis(H, False)
-        even = np.flatnonzero(b.order % 2 == 0)
-        _, J, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P)
-        Je = J[:, even][:, :, even]
-        lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
-        fac = BlockTridiagonal(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
-        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.inv[-1]
 
     def _periodic_force(self, x, omega):
         """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end
@@ -312,205 +292,227 @@ class AllModeMicroslip(ContactElement):
                                                                         NDArray[np.bool_]]:
         """``(theta, x, slip)``: where the bar slips over one cycle of ``a sin(theta)`` (``a`` in m,
         ``omega`` in rad/s): ``slip[i, k]`` is True when node ``x[i]`` (m) slips at
-        ``theta[k] = 2 pi k / n_t`` (the return map clipped there).  Draws like the paper's
-        Figs. 6-7 for any number of stick and slip regions (docs/validation.md, wavy load)."""
+        ``theta[k] = 2 pi k / n_t`` (the return map clipped there; the mesh and n_t of the
+        solution).  Draws like the paper's Figs. 6-7 for any number of stick and slip regions
+        (docs/validation.md, wavy load)."""
         sol = self.solve(a, omega)
-        return 2.0 * np.pi * np.arange(self.n_t) / self.n_t, self.nodes, sol.slip
+        n_t = sol.slip.shape[1]
+        return 2.0 * np.pi * np.arange(n_t) / n_t, np.linspace(0.0, self.bar.L, sol.cells + 1), sol.slip
 
-    # ------------------------------------------------------------ the solve
-    def _basis(self, H: int, odd: bool) -> _Basis:
-        """Harmonics 0..H, or only the odd ones: a drive with only odd harmonics (``a sin``) has a
-        half-wave symmetric steady state (u(t + T/2) = -u(t) at every node: the equations are odd
-        and invariant under the half-period shift), so the even coefficients vanish."""
-        key = (H, odd)
-        if key not in self._aft:
-            n_t = self.n_t if H == self.harmonics else max(
-                4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(self.n_t * H / self.harmonics / 4))
-            E, P, order = aft_matrices(H, n_t)
-            idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
-            self._aft[key] = _Basis(H, odd, idx, E[:, idx], P[idx], order[idx])
-        return self._aft[key]
-
-    def _end_vector(self, a) -> NDArray[np.float64]:
-        arr = np.asarray(a, dtype=float)
-        if arr.ndim == 0:
-            X = np.zeros(2 * self.harmonics + 1)
-            X[2] = nonnegative("a", float(arr))
-            return X
-        if arr.ndim != 1 or arr.size % 2 == 0 or arr.size > 2 * self.harmonics + 1 or not np.all(np.isfinite(arr)):
-            raise ValueError(f"a must be an amplitude or a finite coefficient vector of odd length <= "
-                             f"{2 * self.harmonics + 1}, got a={a!r}")
-        return np.pad(arr, (0, 2 * self.harmonics + 1 - arr.size))
-
-    def _scale(self, X):
-        d = self._disc
-        return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
-
-    def _evaluate(self, U, X, omega, b):
-        """Residual R (n, s) at U (n, s) with the Jenkins forces and Jacobians of all n + 1 nodes,
-        the slip masks and the linear part (X, U in the basis b of s coefficients)."""
-        d = self._disc
-        full = np.vstack([U, X[None, :]])
-        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P)
-        lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
-        R = lin[:-1] * U + T[:-1]
-        R[1:] += d.off * U[:-1]
-        R[:-1] += d.off * U[1:]
-        R[-1] += d.off * X
-        return _Eval(U, R, float(np.max(np.abs(R))), T, J, slip, lin)
-
-    def _linear_guess(self, X, omega, b):
-        """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
-        d = self._disc
-        diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * b.order[None, :] ** 2
-        off, n = d.off, d.n
-        # per coefficient a tridiagonal solve, all at once (scalar Thomas)
-        cp = np.empty_like(diag)
-        y = np.zeros_like(diag)
-        cp[0] = diag[0]
-        y[-1] = -off * X
-        for i in range(1, n):
-            w = off / cp[i - 1]
-            cp[i] = diag[i] - w * off
-            y[i] -= w * y[i - 1]
-        U = np.empty_like(y)
-        U[-1] = y[-1] / cp[-1]
-        for i in range(n - 2, -1, -1):
-            U[i] = (y[i] - off * U[i + 1]) / cp[i]
-        return U
-
-    def _start(self, X, omega, b):
-        """The better (smaller residual) of the linear state and the cached solution scaled to X."""
-        best = self._evaluate(self._linear_guess(X, omega, b), X, omega, b)
-        if b.key in self._cache:
-            Xc, _, Uc = self._cache[b.key]
-            s = float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300)
-            ev = self._evaluate(Uc * s, X, omega, b)
-            if ev.res < best.res:
-                best = ev
-        return best
-
-    def _newton(self, ev, X, omega, b, max_iter=NEWTON_MAX_ITER):
-        """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
-        iterations).  Armijo backtracking on max|R|; accepted trials are reused."""
-        tol = NEWTON_TOL * self._scale(X)
-        for it in range(max_iter + 1):
-            B = ev.J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None]
-            fac = BlockTridiagonal(B, self._disc.off)
-            if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
-                break
-            dU = -fac.solve(ev.R)
-            t = 1.0
-            for _ in range(30):
-                trial = self._evaluate(ev.U + t * dU, X, omega, b)
-                if trial.res <= (1.0 - 1e-4 * t) * ev.res:
-                    break
-                t *= 0.5
-            ev = trial
-        return ev, fac, ev.res <= tol, it
+    # ------------------------------------------------------------ levels and the choice
+    def _level(self, cells: int, H: int) -> FixedBar:
+        key = (cells, H)
+        if key not in self._levels:
+            if self.n_t is None:
+                n_t = _samples(H)
+            elif H == self.harmonics:
+                n_t = self.n_t
+            else:
+                n_t = max(4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(self.n_t * H / self.harmonics / 4))
+            self._levels[key] = FixedBar(self.bar, self.load, cells, H, n_t)
+        return self._levels[key]
 
     def _solve(self, X, omega, H, odd=False) -> AllModeSolution:
-        """Steady state for the full-layout X (2H+1) at omega, in the odd basis if asked."""
-        b = self._basis(H, odd)
-        Xb = X[b.idx]
-        ev, fac, ok, iters = self._newton(self._start(Xb, omega, b), Xb, omega, b)
-        if not ok:
-            ev, fac, ok, extra = self._continuation(Xb, omega, b)
-            iters += extra
-        return self._finish(ev, fac, X, Xb, omega, b, ok, iters)
+        """Steady state for the full-layout X (2H+1) at omega on the fixed mesh (or the last one used)."""
+        return self._level(self.cells or (self._last[0] if self._last else CELLS), H).solve(X, omega, odd)
 
-    def _continuation(self, X, omega, b):
-        """Scale the end motion from the linear (stuck) state up to X, halving steps on failure."""
-        size = float(np.max(np.abs(X)))
-        s = min(1.0, 0.5 * self._disc.slip_amplitude(omega) / size) if size > 0 else 1.0
-        ev = self._evaluate(self._linear_guess(s * X, omega, b), s * X, omega, b)
-        ds, total, fac, ok = s, 0, None, True
-        while s < 1.0:
-            s_new = min(1.0, s + ds)
-            start = self._evaluate(ev.U * (s_new / s), s_new * X, omega, b)
-            ev_t, fac_t, ok_t, it = self._newton(start, s_new * X, omega, b, max_iter=15)
-            total += it
-            if ok_t:
-                ev, fac, s = ev_t, fac_t, s_new
-                ds *= 1.5
+    def _floor(self, X) -> float:
+        a = math.hypot(X[1], X[2]) if X.size >= 3 else 0.0
+        return FLOOR * self.bar.k_star * (a if a > 0.0 else float(np.max(np.abs(X))))
+
+    def _resolved(self, X, omega, odd):
+        """``(solution, shortfall)`` for the full-layout X at omega: on the fixed mesh and harmonics
+        (no estimate), or on the rungs chosen to ``tol``."""
+        if self._fixed:
+            H = max((X.size - 1) // 2, self.harmonics)
+            return self._level(self.cells, H).solve(_pad(X, H), omega, odd), None
+        return self._choose(X, omega, odd)
+
+    def _first_rung(self, omega, Hx):
+        """Where the ladder starts: the given cells/harmonics, else the previous call's rung, one rung
+        lower in cells (harmonics) where the previous parts predict that rung within half the
+        tolerance (a cells part 4 times, a harmonics part 8 times larger), never below the start
+        tied to the wavelength and never below the caller's harmonics."""
+        last_n, last_H, rel_c, rel_h = self._last if self._last else (0, 0, math.inf, math.inf)
+        H = self.harmonics
+        if H is None:
+            H = next((h for h in HARMONIC_LADDER if h >= max(Hx, last_H)), max(Hx, MAX_HARMONICS))
+            lower = [h for h in HARMONIC_LADDER if max(Hx, 1) <= h < H]
+            if lower and rel_c + 8.0 * rel_h <= 0.5 * self.tol:
+                H = lower[-1]
+        H = max(H, Hx)
+        n = self.cells
+        if n is None:
+            n = last_n // 2 if 4.0 * rel_c + rel_h <= 0.5 * self.tol else last_n
+            n = min(MAX_CELLS, max(start_cells(self.bar, omega, H), n))
+        return n, H
+
+    def _choose(self, X, omega, odd):
+        """Climb the ladder (cells doubling, harmonics up the rungs: the larger part of the estimate
+        first) until the relative estimate is below ``tol`` or the ladder ends: ``(solution,
+        shortfall)``, shortfall None or ``(omega, a, relative estimate, rungs tried)``."""
+        n, H = self._first_rung(omega, (X.size - 1) // 2)
+        floor = self._floor(X)
+        a = floor / (FLOOR * self.bar.k_star)
+        tried = []
+        while True:
+            sol = self._level(n, H).solve(_pad(X, H), omega, odd)
+            if not sol.success:
+                return sol, None
+            reused = self._reused(a, omega, odd, n, H)
+            parts = reused or self._parts(X, omega, odd, sol)
+            rel = self._fill(sol, parts, floor)
+            tried.append((n, H, rel))
+            if rel <= self.tol:
+                break
+            rel_c, rel_h = (relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics"))
+            can_n = self.cells is None and n < MAX_CELLS
+            up = [h for h in HARMONIC_LADDER if h > H] if self.harmonics is None else []
+            if (self.cells and rel_c > self.tol) or (self.harmonics and rel_h > self.tol):
+                break  # the part given by the caller misses tol alone (the other cannot mend it)
+            if not up and rel_h > self.tol and rel_c <= 0.5 * self.tol:
+                break  # H at the top and the cells resolved: more cells do not mend the harmonics
+            if can_n and (rel_c >= rel_h or not up):
+                n = min(2 * n, MAX_CELLS)
+            elif up:
+                H = up[0]
             else:
-                ds *= 0.5
-                if ds < 1e-6:
-                    ok = False
-                    break
-        if fac is None:
-            ev, fac, ok, it = self._newton(ev, X, omega, b)
-            total += it
-        return ev, fac, ok and s >= 1.0, total
+                break
+        self._last = (n, H, *(relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics")))
+        if reused is None:
+            self._reuse = (a, omega, odd, n, H, parts, sol.relative_error)
+        short = None if sol.relative_error <= self.tol else (omega, a, sol.relative_error, tried)
+        return sol, short
 
-    def _finish(self, ev, fac, X, Xb, omega, b, ok, iters) -> AllModeSolution:
-        d = self._disc
-        U, T, J, lin = ev.U, ev.T, ev.J, ev.lin
-        full = 2 * b.H + 1
-        Fb = lin[-1] * Xb + d.off * U[-1] + T[-1]
-        dF_dXb = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.inv[-1]
-        dU_dw = fac.solve(2.0 * omega * d.m[:-1, None] * b.order[None, :] ** 2 * U)
-        dF_dwb = -2.0 * omega * d.m[-1] * b.order**2 * Xb + d.off * dU_dw[-1]
-        F = np.zeros(full)
-        F[b.idx] = Fb
-        dF_dX = np.zeros((full, full))
-        dF_dX[np.ix_(b.idx, b.idx)] = dF_dXb
-        dF_dw = np.zeros(full)
-        dF_dw[b.idx] = dF_dwb
-        Ufull = np.zeros((d.n + 1, full))
-        Ufull[:-1, b.idx] = U
-        Ufull[-1] = X
-        F1 = math.hypot(F[1], F[2])
-        FH = max(math.hypot(F[-2], F[-1]), math.hypot(F[-4], F[-3]) if b.H >= 2 else 0.0)
-        decay = FH / F1 if F1 > 0 else 0.0
-        ok = bool(ok and np.all(np.isfinite(F)) and np.all(np.isfinite(dF_dX)))
-        if ok:
-            self._cache[b.key] = (Xb.copy(), omega, U.copy())
-        msg = "converged" if ok else f"Newton did not converge (residual {ev.res:.3g} N)"
-        return AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
-                               slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay)
+    def _reused(self, a, omega, odd, n, H):
+        """The parts of the last estimate, scaled to ``a``, if it was made close by on these rungs and
+        was below half the tolerance; else None."""
+        r = self._reuse
+        if (r is None or r[2:5] != (odd, n, H) or r[6] > 0.5 * self.tol or abs(a - r[0]) > REUSE_AMPLITUDE * r[0]
+                or abs(omega - r[1]) > REUSE_FREQUENCY * r[1]):
+            return None
+        return {k: v * (a / r[0]) for k, v in r[5].items()}
 
-    @staticmethod
-    def _is_odd(X):
-        return not np.any(X[0::4]) and not np.any(X[3::4])  # h = 0, 2, 4, ... sit at 0, 3, 4, 7, 8, ...
+    def _fill(self, sol, parts, floor) -> float:
+        total = parts["cells"] + parts["harmonics"]
+        sol.error_parts = {k: float(np.max(v)) for k, v in parts.items()}
+        sol.error = float(np.max(total))
+        sol.relative_error = relative(total, sol.F[1:3], floor)
+        return sol.relative_error
 
-    def _error_parts(self, X, omega, sol):
+    def _parts(self, X, omega, odd, sol):
+        """The estimate's parts (N, on (F_c, F_s)): Richardson in cells (n/4, n/2, n) and in
+        harmonics (about H/4, H/2, H, never below the drive's harmonics) with the observed order;
+        with two rungs only, the last difference; with one, inf (cells) or the decay of the
+        harmonics kept (harmonics)."""
+        n, H, Hx = sol.cells, sol.H, (X.size - 1) // 2
+        F = sol.F[1:3]
+
+        def at(cells, h):
+            s = self._level(cells, h).solve(_pad(X, h), omega, odd)
+            return s.F[1:3] if s.success else np.full(2, np.nan)
+
+        cells = [c for c in (n // 4, n // 2) if c >= 2 and c < n]
+        hs = sorted({h for h in (max(_lower(_lower(H)), Hx), max(_lower(H), Hx)) if h < H})
         parts = {}
-        if self.cells >= 4:
-            coarse = AllModeMicroslip(self.bar, self.load, self.cells // 2, harmonics=self.harmonics, n_t=self.n_t)
-            c = coarse._solve(X, omega, self.harmonics, odd=self._is_odd(X))
-            parts["cells"] = float(np.max(np.abs(c.F[1:3] - sol.F[1:3]))) / 3.0
-        Hh = max(1, math.ceil(self.harmonics / 2))
-        if Hh < self.harmonics:
-            h = self._solve(X[: 2 * Hh + 1], omega, Hh, odd=self._is_odd(X))
-            parts["harmonics"] = float(np.max(np.abs(h.F[1:3] - sol.F[1:3])))
+        for key, rungs, solve_at in (("cells", cells, lambda c: at(c, H)), ("harmonics", hs, lambda h: at(n, h))):
+            vals = [solve_at(r) for r in rungs] + [F]
+            if len(rungs) == 2:
+                e, _ = richardson((*rungs, n if key == "cells" else H), np.array(vals))
+            elif len(rungs) == 1:
+                e = np.abs(vals[1] - vals[0])
+            else:
+                e = np.full(2, np.inf) if key == "cells" else np.full(2, sol.decay * math.hypot(*F))
+            parts[key] = np.where(np.isfinite(e), e, np.inf)
         return parts
+
+    def _warn(self, shortfalls) -> None:
+        """One AccuracyWarning for the worst point of a call that missed ``tol``."""
+        if not shortfalls:
+            return
+        omega, a, rel, tried = max(shortfalls, key=lambda s: s[2])
+        rungs = ", ".join(f"{n} cells H = {h}: {e:.2g}" for n, h, e in tried)
+        warnings.warn(f"AllModeMicroslip: estimated relative error {rel:.3g} of (f_s, f_c) above tol = {self.tol:g} at "
+                      f"omega = {omega:.6g} rad/s, a = {a:.4g} m ({len(shortfalls)} point(s) of this call); tried "
+                      f"{rungs}; cells {'as given' if self.cells else f'up to {MAX_CELLS}'}, harmonics "
+                      f"{'as given' if self.harmonics else f'up to {MAX_HARMONICS}'}", AccuracyWarning, stacklevel=4)
+
+    # ------------------------------------------------------------ the stuck bar
+    def _disc(self, cells: int) -> _Discretisation:
+        if cells not in self._discs:
+            self._discs[cells] = _Discretisation(self.bar, self.load, cells)
+        return self._discs[cells]
+
+    def _stuck_data(self, omega: float):
+        """``(cells, K, a_min, relative estimate of K)`` of the stuck bar at omega: the given cells,
+        or cells doubling from the start until the Richardson estimates of the stuck stiffness
+        (relative to max(|K|, 0.01 k*)) and of the slip onset a_min are below tol / 4."""
+        if omega in self._stuck:
+            return self._stuck[omega]
+        floor = FLOOR * self.bar.k_star
+        n = self.cells or start_cells(self.bar, omega, 1)
+        while True:
+            rungs = [c for c in (n // 4, n // 2, n) if c >= 2]
+            vals = np.array([(self._disc(c).stuck_solution(omega)[1], self._disc(c).slip_amplitude(omega))
+                             for c in rungs])
+            if len(rungs) == 3:
+                e = richardson(tuple(rungs), vals)[0]
+            else:
+                e = np.abs(vals[-1] - vals[0]) if len(rungs) == 2 else np.full(2, math.inf)
+            rel = e[0] / max(abs(vals[-1, 0]), floor)
+            rel_a = e[1] / vals[-1, 1] if math.isfinite(vals[-1, 1]) else 0.0
+            if self.cells is not None or max(rel, rel_a) <= 0.25 * self.tol or 2 * n > MAX_CELLS:
+                break
+            n *= 2
+        if len(self._stuck) > 512:
+            self._stuck.clear()
+        out = self._stuck[omega] = (n, float(vals[-1, 0]), float(vals[-1, 1]), float(rel))
+        return out
 
     # ------------------------------------------------------------ interface
     def _stuck_stiffness(self, omega):
-        return float(self._disc.stuck_solution(omega)[1])
+        return self._stuck_data(float(omega))[1]
 
     def _slip_amplitude(self, omega):
-        return self._disc.slip_amplitude(omega)
+        return self._stuck_data(float(omega))[2]
+
+    def _model_error(self, a, omega):
+        """The relative estimate of the discretisation error of (f_s, f_c) (relative to
+        max(|f|, 0.01 k* a) component by component): of the stuck stiffness below slip, else of the
+        solution this element gives (the rungs it chooses, or the fixed ones with their estimate)."""
+        out = np.zeros(np.shape(a))
+        for i, (ai, wi) in enumerate(zip(np.ravel(a), np.ravel(omega))):
+            ai, wi = float(ai), float(wi)
+            n_s, _, a_lin, rel_s = self._stuck_data(wi)
+            if ai <= a_lin:
+                out.flat[i] = rel_s
+                continue
+            X = np.array([0.0, 0.0, ai])
+            sol, _ = self._resolved(X, wi, True)
+            if sol.relative_error is None and sol.success:
+                self._fill(sol, self._parts(X, wi, True, sol), self._floor(X))
+            out.flat[i] = sol.relative_error if sol.success else math.inf
+        return out
 
     def _fourier_derivatives(self, a, omega, rtol):
         fs, fc, dfs, dfc = (np.zeros_like(a) for _ in range(4))
+        short = []
         for w in np.unique(omega):
             sel = np.flatnonzero(omega == w)
             sel = sel[np.argsort(a[sel])]
-            a_lin = self._slip_amplitude(float(w))
-            K = self._stuck_stiffness(float(w))
+            _, K, a_lin, _ = self._stuck_data(float(w))
             for i in sel:
                 if a[i] <= a_lin:
                     fs[i], dfs[i] = K * a[i], K
                     continue
-                X = np.zeros(2 * self.harmonics + 1)
-                X[2] = a[i]
-                sol = self._solve(X, float(w), self.harmonics, odd=True)
+                sol, s = self._resolved(np.array([0.0, 0.0, a[i]]), float(w), True)
                 if not sol.success:
                     raise FloatingPointError(f"AllModeMicroslip: {sol.message} at a={a[i]!r}, omega={w!r}")
+                if s:
+                    short.append(s)
                 fs[i], fc[i] = sol.f_s, sol.f_c
                 dfs[i], dfc[i] = sol.dF_dX[2, 2], sol.dF_dX[1, 2]
+        self._warn(short)
         return fs, fc, dfs, dfc
 
     def _hysteresis(self, a, omega, n):
@@ -519,7 +521,7 @@ class AllModeMicroslip(ContactElement):
         if a <= self._slip_amplitude(omega):
             return x, self._stuck_stiffness(omega) * x
         sol = self.solve(a, omega)
-        d, H = self._disc, self.harmonics
+        d, H = self._level(sol.cells, sol.H).disc, sol.H
         # end force in time: axial term from node n-1's series, tip Jenkins marched on x itself
         Ef = np.ones((n, 2 * H + 1))
         hth = np.outer(theta, np.arange(1, H + 1))
@@ -529,3 +531,13 @@ class AllModeMicroslip(ContactElement):
         tau = np.append(tau[0], tau[0, 0])
         f = -d.off * (x - u_prev) + tau - d.m[-1] * omega**2 * x
         return x, f
+
+    def _end_vector(self, a) -> NDArray[np.float64]:
+        arr = np.asarray(a, dtype=float)
+        if arr.ndim == 0:
+            return np.array([0.0, 0.0, nonnegative("a", float(arr))])
+        H = self.harmonics or MAX_HARMONICS
+        if arr.ndim != 1 or arr.size % 2 == 0 or arr.size > 2 * H + 1 or not np.all(np.isfinite(arr)):
+            raise ValueError(f"a must be an amplitude or a finite coefficient vector of odd length <= "
+                             f"{2 * H + 1}, got a={a!r}")
+        return arr.copy()

@@ -1,4 +1,4 @@
-"""AllModeMicroslip (issue 13): closed-form limits, the exact Jacobians, the block solver, time
+"""AllModeMicroslip: closed-form limits, the exact Jacobians, the block solver, time
 integration, users' loads."""
 
 import math

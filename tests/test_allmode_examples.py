@@ -1,4 +1,4 @@
-"""The issue-13 scripts in ``examples/``: the all-mode bar against the stored converged time
+"""The all-mode scripts in ``examples/``: the all-mode bar against the stored converged time
 integration (docs/data/allmode_reference.csv), the validity map, the convergence study (small)."""
 
 import sys

@@ -1,0 +1,116 @@
+"""The all-mode bar's discretisation error: Richardson extrapolation with the observed order, and
+where the ladder of cells starts.
+
+``AllModeMicroslip`` estimates the error of its (F_s, F_c) from three solutions on a ladder of
+resolutions N_1 < N_2 < N_3 (cells n/4, n/2, n; harmonics about H/4, H/2, H), component by
+component.  With e(N) = C N^-p the differences d_1 = F_2 - F_1, d_2 = F_3 - F_2 fix the observed
+order p (``observed_order``) and the error of the finest, |d_2| / ((N_3/N_2)^p - 1).  It is used
+only where it is safe:
+
+- the differences do not shrink (|d_2| >= |d_1|), change sign (not one asymptotic branch) or the
+  observed order is below ``MIN_ORDER`` = 1: the estimate is |d_2| itself (no division);
+- the observed order is above ``MAX_ORDER`` = 3 (a difference small by a crossing, not by
+  convergence: on a load with many slip pockets the sequence is erratic until every pocket is
+  resolved): the larger of |d_2| and the error that d_1 predicts for the finest at order
+  ``MIN_ORDER``, |d_1| / ((N_2/N_1 - 1) N_3/N_2).
+
+The order is assumed by nothing: the bar converges at second order in cells only once every
+stick/slip front and wavelength is resolved, and the harmonics converge erratically where a
+harmonic meets a mode of the bar (``docs/validation.md``, the all-mode section).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from .bar import Bar
+
+#: Observed orders below this are not trusted: the estimate is the last difference.
+MIN_ORDER = 1.0
+#: Observed orders above this are capped (see the module docstring).
+MAX_ORDER = 3.0
+#: The validity map's floor: errors relative to max(|F|, FLOOR k* a), component by component.
+FLOOR = 0.01
+#: Cells per wavelength of the highest harmonic, and per decay length 1/lambda of the shear
+#: layer, at the start of the ladder (at least ``MIN_START_CELLS``).
+CELLS_PER_WAVELENGTH = 8.0
+CELLS_PER_DECAY = 4.0
+MIN_START_CELLS = 8
+
+
+def observed_order(N: tuple[float, float, float], d1: float, d2: float) -> float:
+    """The order p with (N_1^-p - N_2^-p) / (N_2^-p - N_3^-p) = d_1 / d_2 for positive d_1/d_2 > 1
+    (bisection: the left side grows with p); 0 if d_1/d_2 <= 1.
+
+    >>> round(observed_order((10, 20, 40), 4.0, 1.0), 12)
+    2.0
+    """
+    ratio = d1 / d2
+    if not ratio > 1.0:
+        return 0.0
+
+    def g(p):
+        a, b, c = (n ** -p for n in N)
+        return (a - b) / (b - c)
+
+    lo, hi = 1e-6, 60.0
+    if g(hi) < ratio:
+        return hi
+    for _ in range(80):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if g(mid) < ratio else (lo, mid)
+    return 0.5 * (lo + hi)
+
+
+def richardson(N: tuple[float, float, float], F: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray]:
+    """``(error, order)``: the estimated error of ``F[2]`` (the finest, resolution ``N[2]``) from the
+    values ``F`` (3, k) at resolutions ``N`` (increasing), component by component, and the
+    observed order used (nan where the guard took the last difference).
+
+    >>> e, p = richardson((10, 20, 40), np.array([[1.0 + 1e-2], [1.0 + 2.5e-3], [1.0 + 6.25e-4]]))
+    >>> round(float(e[0]), 12), round(float(p[0]), 6)
+    (0.000625, 2.0)
+    """
+    F = np.asarray(F, dtype=float)
+    r = N[2] / N[1]
+    err = np.empty(F.shape[1])
+    order = np.full(F.shape[1], np.nan)
+    for j in range(F.shape[1]):
+        d1, d2 = F[1, j] - F[0, j], F[2, j] - F[1, j]
+        if d2 == 0.0 and d1 == 0.0:
+            err[j] = 0.0
+            continue
+        if d1 * d2 <= 0.0 or abs(d2) >= abs(d1):
+            err[j] = abs(d2)
+            continue
+        p = observed_order(N, abs(d1), abs(d2))
+        if p < MIN_ORDER:
+            err[j] = abs(d2)
+        elif p > MAX_ORDER:
+            r1 = N[1] / N[0]
+            err[j] = max(abs(d2), abs(d1) / ((r1**MIN_ORDER - 1.0) * r**MIN_ORDER))
+        else:
+            err[j] = abs(d2) / (r**p - 1.0)
+            order[j] = p
+    return err, order
+
+
+def relative(error: NDArray[np.float64], F: NDArray[np.float64], floor: float) -> float:
+    """max_j error_j / max(|F_j|, floor): the relative error of the validity map (``floor`` is
+    ``FLOOR`` k* a in N)."""
+    return float(np.max(np.asarray(error) / np.maximum(np.abs(F), floor)))
+
+
+def start_cells(bar: Bar, omega: float, H: int) -> int:
+    """The first rung of the ladder of cells at ``omega`` with H harmonics: ``CELLS_PER_WAVELENGTH``
+    cells on the wavelength 2 pi / sqrt(rho (H omega)^2 / E) of the highest harmonic and
+    ``CELLS_PER_DECAY`` on the shear layer's decay length 1/lambda, at least ``MIN_START_CELLS``."""
+    wave = math.sqrt(bar.rho / bar.E) * H * omega  # wave number of harmonic H (1/m)
+    n = max(CELLS_PER_WAVELENGTH * bar.L * wave / (2.0 * math.pi), CELLS_PER_DECAY * bar.lam * bar.L,
+            MIN_START_CELLS)
+    return int(math.ceil(n))

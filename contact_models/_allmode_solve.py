@@ -1,0 +1,275 @@
+"""One discretisation of the all-mode bar solved by multi-harmonic balance (``AllModeMicroslip``).
+
+``FixedBar(bar, load, cells, harmonics, n_t)`` is the bar on ``cells`` equal cells with ``harmonics``
+harmonics and ``n_t`` AFT samples: the balance, its Newton solve with warm starts, the continuation
+fallback and the derivatives by the implicit function theorem (the model and the solution are in
+``contact_models.allmode``'s docstring).  ``AllModeMicroslip`` holds one ``FixedBar`` per level of
+its ladder of cells and harmonics and chooses among them (``contact_models._allmode_accuracy``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+from ._hbal import aft_matrices, factorise, jenkins_harmonic
+from .numerics.fe_bar import _Discretisation
+
+if TYPE_CHECKING:
+    from .bar import Bar
+    from .loads import QuadraticLoad, UniformLoad
+
+Array = NDArray[np.float64]
+
+#: Newton stops when the residual is below this fraction of the bar's force scale.
+NEWTON_TOL = 1e-11
+#: Newton iteration limit (per solve, before the continuation fallback).
+NEWTON_MAX_ITER = 40
+
+
+@dataclass
+class AllModeSolution:
+    """Steady periodic state of the all-mode bar for one end displacement and frequency.
+
+    ``X``: the end displacement's coefficients (2H+1, layout ``[X0, Xc1, Xs1, ...]``), ``omega``
+    (rad/s), ``F``: the end force's coefficients (N), ``U``: every node's coefficients
+    (n + 1, 2H+1; row n is X), ``dF_dX`` (2H+1, 2H+1) and ``dF_domega`` (2H+1) by the implicit
+    function theorem, ``slip`` (n + 1, n_t): where each node slips at theta_k = 2 pi k/n_t.
+    ``decay``: max(|F_H|, |F_{H-1}|) / |F_1|, the size of the last harmonics kept relative to
+    the first (a truncation indicator; two because even harmonics vanish for a symmetric drive).
+    ``cells``, ``H``: the discretisation this solution is on.  ``error``: the estimate of the
+    error of (F_s, F_c) in N (the larger component of the sum of its parts), ``relative_error``:
+    the same relative to max(|F|, 0.01 k* a) component by component (as ``tol``), and
+    ``error_parts``: ``"cells"`` (Richardson in cells with the observed order) and
+    ``"harmonics"`` (the same in H), in N; None and empty when not estimated.
+    """
+
+    X: NDArray[np.float64]
+    omega: float
+    F: NDArray[np.float64]
+    U: NDArray[np.float64]
+    dF_dX: NDArray[np.float64]
+    dF_domega: NDArray[np.float64]
+    slip: NDArray[np.bool_]
+    success: bool
+    message: str
+    iterations: int
+    decay: float
+    cells: int = 0
+    H: int = 0
+    error: float | None = None
+    relative_error: float | None = None
+    error_parts: dict = field(default_factory=dict)
+
+    @property
+    def f_s(self) -> float:
+        """First-harmonic sine coefficient of the end force (N)."""
+        return float(self.F[2])
+
+    @property
+    def f_c(self) -> float:
+        """First-harmonic cosine coefficient of the end force (N)."""
+        return float(self.F[1])
+
+    @property
+    def harmonics(self) -> NDArray[np.complex128]:
+        """Complex coefficients c_h = F_c,h - i F_s,h of the end force, h = 0..H."""
+        return np.concatenate([[self.F[0]], self.F[1::2] - 1j * self.F[2::2]])
+
+
+class _Basis(NamedTuple):
+    """The harmonic coefficients solved for: ``idx`` into the full layout, AFT matrices on them."""
+
+    H: int
+    odd: bool
+    idx: NDArray[np.intp]
+    E: NDArray[np.float64]
+    P: NDArray[np.float64]
+    order: NDArray[np.float64]
+
+
+class _Eval(NamedTuple):
+    """One evaluation of the bar's balance at U."""
+
+    U: NDArray[np.float64]
+    R: NDArray[np.float64]
+    res: float
+    T: NDArray[np.float64]
+    J: NDArray[np.float64]
+    slip: NDArray[np.bool_]
+    lin: NDArray[np.float64]
+
+
+def is_odd(X: NDArray[np.float64]) -> bool:
+    """True when the coefficients ``X`` hold odd harmonics only (h = 0, 2, 4, ... sit at 0, 3, 4, 7, 8, ...)."""
+    return not np.any(X[0::4]) and not np.any(X[3::4])
+
+
+class FixedBar:
+    """The bar on ``cells`` cells with ``harmonics`` harmonics and ``n_t`` samples (inputs checked by
+    the caller); ``solve(X, omega, odd)`` with X of length 2 harmonics + 1."""
+
+    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int, harmonics: int, n_t: int) -> None:
+        self.cells, self.H, self.n_t = cells, harmonics, n_t
+        self.disc = _Discretisation(bar, load, cells)
+        self._aft: dict = {}
+        self._cache: dict = {}  # odd -> (X, omega, U) of the last converged solve
+
+    def basis(self, odd: bool) -> _Basis:
+        """Harmonics 0..H, or only the odd ones: a drive with only odd harmonics (``a sin``) has a
+        half-wave symmetric steady state (u(t + T/2) = -u(t) at every node: the equations are odd
+        and invariant under the half-period shift), so the even coefficients vanish."""
+        if odd not in self._aft:
+            E, P, order = aft_matrices(self.H, self.n_t)
+            idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
+            self._aft[odd] = _Basis(self.H, odd, idx, E[:, idx], P[idx], order[idx])
+        return self._aft[odd]
+
+    def scale(self, X: Array) -> float:
+        d = self.disc
+        return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
+
+    def evaluate(self, U: Array, X: Array, omega: float, b: _Basis, jacobian: bool = True) -> _Eval:
+        """Residual R (n, s) at U (n, s) with the Jenkins forces and Jacobians of all n + 1 nodes
+        (None without ``jacobian``), the slip masks and the linear part (X, U in the basis b of s
+        coefficients)."""
+        d = self.disc
+        full = np.vstack([U, X[None, :]])
+        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P, jacobian=jacobian)
+        lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
+        R = lin[:-1] * U + T[:-1]
+        R[1:] += d.off * U[:-1]
+        R[:-1] += d.off * U[1:]
+        R[-1] += d.off * X
+        return _Eval(U, R, float(np.max(np.abs(R))), T, J, slip, lin)
+
+    def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
+        """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
+        d = self.disc
+        diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * b.order[None, :] ** 2
+        off, n = d.off, d.n
+        # per coefficient a tridiagonal solve, all at once (scalar Thomas)
+        cp = np.empty_like(diag)
+        y = np.zeros_like(diag)
+        cp[0] = diag[0]
+        y[-1] = -off * X
+        for i in range(1, n):
+            w = off / cp[i - 1]
+            cp[i] = diag[i] - w * off
+            y[i] -= w * y[i - 1]
+        U = np.empty_like(y)
+        U[-1] = y[-1] / cp[-1]
+        for i in range(n - 2, -1, -1):
+            U[i] = (y[i] - off * U[i + 1]) / cp[i]
+        return U
+
+    def start(self, X: Array, omega: float, b: _Basis) -> _Eval:
+        """The better (smaller residual) of the linear state and the cached solution scaled to X
+        (compared on residuals alone; the Jacobian is evaluated for the one kept)."""
+        U = self.linear_guess(X, omega, b)
+        if b.odd in self._cache:
+            Xc, _, Uc = self._cache[b.odd]
+            Us = Uc * (float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300))
+            if self.evaluate(Us, X, omega, b, False).res < self.evaluate(U, X, omega, b, False).res:
+                U = Us
+        return self.evaluate(U, X, omega, b)
+
+    def newton(self, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int = NEWTON_MAX_ITER) -> tuple:
+        """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
+        iterations).  Armijo backtracking on max|R|; accepted trials are reused."""
+        tol = NEWTON_TOL * self.scale(X)
+        for it in range(max_iter + 1):
+            B = ev.J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None]
+            fac = factorise(B, self.disc.off)
+            if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
+                break
+            dU = -fac.solve(ev.R)
+            t = 1.0
+            for _ in range(30):
+                trial = self.evaluate(ev.U + t * dU, X, omega, b)
+                if trial.res <= (1.0 - 1e-4 * t) * ev.res:
+                    break
+                t *= 0.5
+            ev = trial
+        return ev, fac, ev.res <= tol, it
+
+    def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:
+        """Steady state for the full-layout X (2H+1) at omega, in the odd basis if asked."""
+        b = self.basis(odd)
+        Xb = X[b.idx]
+        ev, fac, ok, iters = self.newton(self.start(Xb, omega, b), Xb, omega, b)
+        if not ok:
+            ev, fac, ok, extra = self.continuation(Xb, omega, b)
+            iters += extra
+        return self.finish(ev, fac, X, Xb, omega, b, ok, iters)
+
+    def continuation(self, X: Array, omega: float, b: _Basis) -> tuple:
+        """Scale the end motion from the linear (stuck) state up to X, halving steps on failure."""
+        size = float(np.max(np.abs(X)))
+        s = min(1.0, 0.5 * self.disc.slip_amplitude(omega) / size) if size > 0 else 1.0
+        ev = self.evaluate(self.linear_guess(s * X, omega, b), s * X, omega, b)
+        ds, total, fac, ok = s, 0, None, True
+        while s < 1.0:
+            s_new = min(1.0, s + ds)
+            start = self.evaluate(ev.U * (s_new / s), s_new * X, omega, b)
+            ev_t, fac_t, ok_t, it = self.newton(start, s_new * X, omega, b, max_iter=15)
+            total += it
+            if ok_t:
+                ev, fac, s = ev_t, fac_t, s_new
+                ds *= 1.5
+            else:
+                ds *= 0.5
+                if ds < 1e-6:
+                    ok = False
+                    break
+        if fac is None:
+            ev, fac, ok, it = self.newton(ev, X, omega, b)
+            total += it
+        return ev, fac, ok and s >= 1.0, total
+
+    def finish(self, ev: _Eval, fac: object, X: Array, Xb: Array, omega: float, b: _Basis, ok: bool,
+               iters: int) -> AllModeSolution:
+        d = self.disc
+        U, T, J, lin = ev.U, ev.T, ev.J, ev.lin
+        full = 2 * b.H + 1
+        Fb = lin[-1] * Xb + d.off * U[-1] + T[-1]
+        dF_dXb = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.last_inverse()
+        dU_dw = fac.solve(2.0 * omega * d.m[:-1, None] * b.order[None, :] ** 2 * U)
+        dF_dwb = -2.0 * omega * d.m[-1] * b.order**2 * Xb + d.off * dU_dw[-1]
+        F = np.zeros(full)
+        F[b.idx] = Fb
+        dF_dX = np.zeros((full, full))
+        dF_dX[np.ix_(b.idx, b.idx)] = dF_dXb
+        dF_dw = np.zeros(full)
+        dF_dw[b.idx] = dF_dwb
+        Ufull = np.zeros((d.n + 1, full))
+        Ufull[:-1, b.idx] = U
+        Ufull[-1] = X
+        F1 = math.hypot(F[1], F[2])
+        FH = max(math.hypot(F[-2], F[-1]), math.hypot(F[-4], F[-3]) if b.H >= 2 else 0.0)
+        decay = FH / F1 if F1 > 0 else 0.0
+        ok = bool(ok and np.all(np.isfinite(F)) and np.all(np.isfinite(dF_dX)))
+        if ok:
+            self._cache[b.odd] = (Xb.copy(), omega, U.copy())
+        msg = "converged" if ok else f"Newton did not converge (residual {ev.res:.3g} N)"
+        return AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
+                               slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay,
+                               cells=self.cells, H=self.H)
+
+    def even_block(self, sol: AllModeSolution) -> None:
+        """Fill the even-even block of ``sol.dF_dX`` for a half-wave symmetric solution solved in
+        the odd basis.  There the Jacobian commutes with the half-period shift, so it is block
+        diagonal in (odd, even) coefficients: F_even = 0, dF_even/dX_odd = dF_odd/dX_even = 0,
+        dF_even/domega = 0, and dF_even/dX_even is the Schur complement of the even blocks of the
+        full-basis Jacobian at the solution (one evaluation and one block elimination)."""
+        d = self.disc
+        b = self.basis(False)
+        even = np.flatnonzero(b.order % 2 == 0)
+        _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(b.E[:, even], b.P[even]))
+        lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
+        fac = factorise(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
+        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.last_inverse()

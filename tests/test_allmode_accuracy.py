@@ -1,0 +1,185 @@
+"""AllModeMicroslip's accuracy: the Richardson estimate with the observed order against converged
+references, the cells and harmonics it chooses to ``tol``, its warning and ``_model_error``.
+
+The references are solutions of the same discretised model converged by doubling the cells (and
+raising H), computed once and stored here; ``test_references_regenerate`` (slow) recomputes them:
+
+    python3 -m pytest -q -m slow tests/test_allmode_accuracy.py -k references
+
+Each is the finest run of ``_reference_runs`` (values printed by that test on failure): the uniform
+load at 0.3 omega_c at 2048 cells and the sine load at 4096 cells, both with H = 63 (the last
+doubling of cells moves f_s, f_c by < 7e-5 relative, H 31 -> 63 by < 7e-5), 10 omega_c at 4096
+cells, H = 63 (last doubling 3.5e-5 of f_s), 30 omega_c Richardson-extrapolated from 4096 and 8192 cells at H = 15 (observed
+order 2.00 from 2048, 4096, 8192) plus the change from H = 15 to 31 at 4096 cells.  Their own
+errors are about 1e-4 relative at most; the estimates they check are 2e-3 and more where the
+true error is that small, so the checks are not at the references' resolution.
+"""
+
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, UniformLoad
+from contact_models._allmode_accuracy import observed_order, richardson
+
+BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+KS = BAR.k_star
+WC = BAR.omega_c
+UNIFORM = UniformLoad(N=100.0)
+SINE_AMIN = 1.6298212423752916e-07  # a_min(0) of the sine load on 640 cells
+
+
+def sine():
+    """q(x) = q0 (1 + 0.8 sin(6 pi x / L)), q0 = 2000 N/m: three low pockets, 5 regions at 1.5 a_min."""
+    return FunctionLoad(lambda x: 2000.0 * (1.0 + 0.8 * np.sin(6.0 * np.pi * x / BAR.L)))
+
+
+#: name: (load factory, omega / omega_c, a (m), reference (f_s, f_c) in N)
+CASES = {
+    "uniform 0.3": (lambda: UNIFORM, 0.3, 1.5e-6, (48.04909825902723, 6.874552719918713)),
+    "sine 0.3": (sine, 0.3, 1.5 * SINE_AMIN, (9.019326918679495, 0.10307701386100945)),
+    "uniform 10": (lambda: UNIFORM, 10.0, 1.5e-6, (-462.45684743937454, 12.271992267837609)),
+    "uniform 30": (lambda: UNIFORM, 30.0, 1.5e-6, (8319.083, 69.9110)),
+}
+
+
+def true_error(sol, ref, a):
+    """Relative error of (f_s, f_c) as the element measures it (floor 0.01 k* a)."""
+    floor = 0.01 * KS * a
+    return max(abs(sol.f_s - ref[0]) / max(abs(ref[0]), floor), abs(sol.f_c - ref[1]) / max(abs(ref[1]), floor))
+
+
+# ---------------------------------------------------------------- the extrapolation itself
+def test_observed_order_of_exact_power_laws():
+    # e(N) = N^-p: d1/d2 = (2^p - 1) / (1 - 2^-p) * ... for N = 10, 20, 40 the ratio is 2^p
+    for p in (1.0, 1.5, 2.0, 2.7):
+        F = np.array([[10.0 ** -p], [20.0 ** -p], [40.0 ** -p]])
+        assert observed_order((10, 20, 40), F[1, 0] - F[0, 0], F[2, 0] - F[1, 0]) == pytest.approx(p, abs=1e-9)
+        err, order = richardson((10, 20, 40), F)
+        assert err[0] == pytest.approx(40.0 ** -p, rel=1e-9) and order[0] == pytest.approx(p, abs=1e-9)
+
+
+def test_richardson_guards():
+    # differences growing: the last difference itself
+    err, order = richardson((10, 20, 40), np.array([[1.0], [1.001], [1.003]]))
+    assert err[0] == pytest.approx(0.002) and np.isnan(order[0])
+    # sign change (not one branch): the last difference
+    err, _ = richardson((10, 20, 40), np.array([[1.0], [1.004], [1.003]]))
+    assert err[0] == pytest.approx(0.001)
+    # order below 1 (d1/d2 = 1.2 < 2): the last difference, not d2 / (2^p - 1)
+    err, _ = richardson((10, 20, 40), np.array([[1.0], [1.0012], [1.0022]]))
+    assert err[0] == pytest.approx(0.001)
+    # order above 3 (d1/d2 = 100, a crossing): max(d2, d1 / 2) = 0.005, not d2 / 1e2
+    err, _ = richardson((10, 20, 40), np.array([[1.0], [1.01], [1.0101]]))
+    assert err[0] == pytest.approx(0.005)
+    # the old order-2 assumption on an order-1 sequence under-reads by 3: this does not
+    F = np.array([[1 + 1 / 10], [1 + 1 / 20], [1 + 1 / 40]])
+    assert richardson((10, 20, 40), F)[0][0] == pytest.approx(1 / 40)
+
+
+# ---------------------------------------------------------------- against converged references
+ESTIMATE_POINTS = [("uniform 0.3", n, H) for n in (16, 32, 64, 128) for H in (7, 15)] + \
+    [("sine 0.3", n, 7) for n in (16, 32, 64, 128)] + [("uniform 10", n, 7) for n in (16, 32, 64, 128)] + \
+    [("uniform 30", n, 7) for n in (64, 128, 256)]
+
+
+@pytest.mark.parametrize("name, cells, H", ESTIMATE_POINTS)
+def test_estimate_is_never_below_half_the_true_error(name, cells, H):
+    load, w, a, ref = CASES[name]
+    sol = AllModeMicroslip(BAR, load(), cells=cells, harmonics=H).solve(a, w * WC, estimate_error=True)
+    assert sol.success
+    assert sol.relative_error >= 0.5 * true_error(sol, ref, a)
+
+
+def test_the_sine_load_has_five_regions():
+    el = AllModeMicroslip(BAR, sine(), cells=128, harmonics=7)
+    _, _, slip = el.stick_slip_map(1.5 * SINE_AMIN, 0.3 * WC)
+    assert max(1 + int(np.count_nonzero(c[1:] != c[:-1])) for c in slip.T) >= 5
+
+
+@pytest.mark.parametrize("name", ["uniform 0.3", "sine 0.3", "uniform 10"])
+def test_the_chosen_discretisation_meets_tol(name):
+    load, w, a, ref = CASES[name]
+    el = AllModeMicroslip(BAR, load())
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", AccuracyWarning)
+        sol = el.solve(a, w * WC)
+    assert sol.relative_error <= 1e-3
+    assert true_error(sol, ref, a) <= 1e-3
+    assert float(el._model_error(np.array([a]), np.array([w * WC]))[0]) == pytest.approx(sol.relative_error, rel=0.5)
+
+
+def test_far_above_the_cut_off_it_warns_once_naming_the_point():
+    el = AllModeMicroslip(BAR, UNIFORM)
+    with pytest.warns(AccuracyWarning) as rec:
+        fs, fc = el.fourier(np.array([1.5e-6, 1.6e-6]), 30.0 * WC)
+    assert len([r for r in rec if issubclass(r.category, AccuracyWarning)]) == 1
+    msg = str(rec[0].message)
+    assert "omega = 3.9951e+06 rad/s" in msg and re.search(r"a = 1\.[56]e-06 m", msg)
+    assert "tried" in msg and "cells up to 640" in msg and "estimated relative error" in msg
+    # what it gives is still its best: within its estimate of the reference
+    ref = CASES["uniform 30"][3]
+    assert abs(fs[0] - ref[0]) / ref[0] < 0.05
+
+
+def test_explicit_cells_or_harmonics_are_kept():
+    a, w = 1.5e-6, 0.3 * WC
+    with pytest.warns(AccuracyWarning, match="cells as given"):  # 16 cells cannot meet 1e-3 here
+        sol = AllModeMicroslip(BAR, UNIFORM, cells=16).solve(a, w)
+    assert sol.cells == 16 and sol.H >= 7 and sol.relative_error > 1e-3
+    with pytest.warns(AccuracyWarning, match="harmonics as given"):  # nor H = 3 (1.3e-2)
+        sol = AllModeMicroslip(BAR, UNIFORM, harmonics=3).solve(a, w)
+    assert sol.H == 3 and sol.cells >= 8 and sol.relative_error > 1e-3
+    sol = AllModeMicroslip(BAR, UNIFORM, cells=12, harmonics=5).solve(a, w)
+    assert (sol.cells, sol.H, sol.relative_error) == (12, 5, None)
+
+
+def test_a_looser_tol_takes_fewer_cells():
+    a, w = 1.5e-6, 0.3 * WC
+    loose = AllModeMicroslip(BAR, UNIFORM, tol=3e-2).solve(a, w)
+    tight = AllModeMicroslip(BAR, UNIFORM).solve(a, w)
+    assert loose.relative_error <= 3e-2 and loose.cells * loose.H < tight.cells * tight.H
+    assert true_error(loose, CASES["uniform 0.3"][3], a) <= 3e-2
+
+
+def test_stuck_answer_and_its_estimate():
+    el = AllModeMicroslip(BAR, UNIFORM)
+    w = 0.3 * WC
+    a = 0.5 * el.slip_amplitude(w)
+    assert el.slip_amplitude(w) == pytest.approx(7.5e-7, rel=1e-3)  # uniform load: onset at the tip
+    e = float(el._model_error(np.array([a]), np.array([w]))[0])
+    assert 0.0 < e <= 0.25e-3
+    K = float(BAR.stuck_stiffness(w))  # the continuum's stuck stiffness (closed form)
+    assert el.stuck_stiffness(w) == pytest.approx(K, rel=1e-3)
+
+
+def test_bad_tolerances_are_refused_by_name():
+    for bad in (0.0, -1e-3, 1.0, 2.0, float("nan"), "x"):
+        with pytest.raises(ValueError, match="tol"):
+            AllModeMicroslip(BAR, UNIFORM, tol=bad)
+    with pytest.raises(ValueError, match="n_t"):
+        AllModeMicroslip(BAR, UNIFORM, n_t=64)
+
+
+# ---------------------------------------------------------------- regenerating the references
+def _reference_runs(name):
+    load, w, a, _ = CASES[name]
+    if name == "uniform 30":
+        f = {}
+        for n, H in ((4096, 15), (8192, 15), (4096, 31)):
+            s = AllModeMicroslip(BAR, load(), cells=n, harmonics=H).solve(a, w * WC)
+            f[n, H] = np.array([s.f_s, s.f_c])
+        return f[8192, 15] + (f[8192, 15] - f[4096, 15]) / 3.0 + (f[4096, 31] - f[4096, 15])
+    cells = 2048 if name == "uniform 0.3" else 4096
+    s = AllModeMicroslip(BAR, load(), cells=cells, harmonics=63).solve(a, w * WC)
+    return np.array([s.f_s, s.f_c])
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", list(CASES))
+def test_references_regenerate(name):
+    ref = np.array(CASES[name][3])
+    got = _reference_runs(name)
+    np.testing.assert_allclose(got, ref, rtol=2e-6 if name != "uniform 30" else 2e-5, err_msg=f"{name}: {got!r}")
