@@ -60,7 +60,8 @@ def _default(args: argparse.Namespace) -> int:
     case = default_case()
     t0 = time.perf_counter()
     rtol = args.rtol if args.rtol is not None else DEFAULT_RTOL
-    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=rtol, model="auto")
+    model = getattr(args, "model", None) or "given"
+    frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=rtol, model=model)
     pk = frf.peak()
     elapsed = time.perf_counter() - t0
     out = Path(args.out if args.out is not None else ".")
@@ -82,9 +83,14 @@ def _default(args: argparse.Namespace) -> int:
 def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
     """The main job's last line: the peak, its estimated error and the model that gave it."""
     err = float(frf.error_estimate[int(np.argmax(frf.amplitude))])
-    model = (f"{type(frf.element).__name__}, the bar with every mode: the single-mode "
-             f"{type(given).__name__} is further than tol = {frf.tolerance:g} from it here"
-             if frf.element is not given else f"{type(given).__name__}, within tol = {frf.tolerance:g}")
+    if frf.element is not given:
+        model = (f"{type(frf.element).__name__}, the bar with every mode: the single-mode "
+                 f"{type(given).__name__} is further than tol = {frf.tolerance:g} from it here")
+    elif err > frf.tolerance:
+        model = (f"{type(given).__name__}, further than tol = {frf.tolerance:g}; --model auto solves with the bar "
+                 "with every mode where it is")
+    else:
+        model = f"{type(given).__name__}, within tol = {frf.tolerance:g}"
     return (f"peak {pk.omega:.6g} rad/s, {pk.amplitude:.4g} m, estimated error {100.0 * err:.2g} % "
             f"(model: {model})")
 
@@ -234,6 +240,14 @@ def study_lines(result: Any) -> list:
 
 def _default_arguments(parser):
     _common(parser, suppress=True)
+    _model_argument(parser)
+
+
+def _model_argument(parser, suppress=True):
+    """``--model``: the default job's damper model, as given or chosen by its error estimate."""
+    parser.add_argument("--model", choices=("given", "auto"), default=argparse.SUPPRESS if suppress else None,
+                        help="the default job's damper: 'given' (the single-mode bar, default) or 'auto' (the bar "
+                             "with every mode where the single-mode one is further than the tolerance from it; slow)")
 
 
 def _run_arguments(parser):
@@ -322,13 +336,14 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     _common(parser)
+    _model_argument(parser, suppress=False)
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     for name, (text, handler, *arguments) in COMMANDS.items():
         p = sub.add_parser(name, help=text, description=text)
         for add in arguments:
             add(p)
         p.set_defaults(handler=handler, takes=frozenset(a.dest for a in p._actions))
-    parser.set_defaults(handler=_default, prog=prog, takes=frozenset({"out", "rtol"}))
+    parser.set_defaults(handler=_default, prog=prog, takes=frozenset({"out", "rtol", "model"}))
     return parser
 
 
@@ -336,7 +351,7 @@ def _parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
     """Parse ``argv``; ``--out``/``--rtol`` given before a subcommand that does not take them is an
     error (exit code 2), not an option silently ignored."""
     args = parser.parse_args(argv)
-    for dest in ("out", "rtol"):
+    for dest in ("out", "rtol", "model"):
         if getattr(args, dest) is not None and dest not in args.takes:
             parser.error(f"--{dest} does not apply to {args.command} (only to the default job and run)")
     return args
