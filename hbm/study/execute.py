@@ -126,7 +126,7 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
     worker processes, or the running scheduler at ``scheduler``.  ``ImportError`` saying how to
     install Dask when it is not installed."""
     try:
-        from distributed import Client, LocalCluster
+        from distributed import Client, LocalCluster  # the optional [dask] extra
     except ImportError:
         raise ImportError(DASK_MISSING) from None
     if scheduler is not None:

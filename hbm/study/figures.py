@@ -58,10 +58,10 @@ def percentiles(values: Any, q: tuple = PERCENTILES) -> dict:
 
 def figure(result: Any, path: str | Path, *, title: str = "", samples: dict | None = None) -> Path:
     """Draw ``result`` (an :class:`hbm.study.StudyResult`) to ``path``; returns the path."""
-    import matplotlib
+    import matplotlib  # lazily: matplotlib only when a figure is drawn
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # lazily, as above
 
     recs = [r for r in result.records if r is not None and r["success"] and r["peak_amplitude_m"] is not None]
     fig, (ax, bx) = plt.subplots(1, 2, figsize=(11.0, 4.4))

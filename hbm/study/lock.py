@@ -105,7 +105,7 @@ def alive(pid: int, started: str = "") -> bool:
 
 
 def _alive_windows(pid: int) -> bool:
-    import ctypes
+    import ctypes  # only on Windows, where os.kill(pid, 0) would send Ctrl-C
 
     kernel32 = ctypes.windll.kernel32  # type: ignore[attr-defined]
     handle = kernel32.OpenProcess(0x1000, False, pid)  # PROCESS_QUERY_LIMITED_INFORMATION
