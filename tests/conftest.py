@@ -30,3 +30,25 @@ def two(bar):
 @pytest.fixture(scope="session")
 def three(bar):
     return ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=100.0, ratio=12.0))
+
+
+#: The default blade with a macroslip damper on the reference bar: the body of the small scenes
+#: the study, fault and progress tests run (each adds its title, effects, sweep and study).
+MACROSLIP_BLADE = """[blade]
+mass = 0.08771473371579717
+stiffness = 1.0e8
+damping_ratio = 2.0e-3
+force = 8.0
+[damper]
+model = "macroslip"
+E = 2.0e11
+rho = 7850.0
+A = 1.0e-5
+L = 0.05
+k = 8.0e8
+beta = 4.0e7
+mu = 0.3
+[damper.load]
+kind = "uniform"
+N = 100.0
+"""

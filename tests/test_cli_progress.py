@@ -11,27 +11,12 @@ from hbm.cli import progress as progress_module
 from hbm.cli.progress import PLAIN_INTERVAL, ProgressLine
 from hbm.study import StudyProgress
 
+from conftest import MACROSLIP_BLADE  # the blade and Jenkins damper these studies share
+
 ROOT = Path(__file__).resolve().parent.parent
 
 SCENE = """title = "a small study"
-[blade]
-mass = 0.08771473371579717
-stiffness = 1.0e8
-damping_ratio = 2.0e-3
-force = 8.0
-[damper]
-model = "macroslip"
-E = 2.0e11
-rho = 7850.0
-A = 1.0e-5
-L = 0.05
-k = 8.0e8
-beta = 4.0e7
-mu = 0.3
-[damper.load]
-kind = "uniform"
-N = 100.0
-[sweep]
+""" + MACROSLIP_BLADE + """[sweep]
 omega = [0.24, 0.33]
 unit = "omega_c"
 accuracy = "fast"

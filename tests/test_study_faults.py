@@ -16,29 +16,14 @@ import pytest
 
 from hbm.study import MAX_RUNS, Points, Study, grid, read_records, run_study, samples, uniform
 
+from conftest import MACROSLIP_BLADE  # the blade and Jenkins damper these studies share
+
 ROOT = Path(__file__).resolve().parent.parent
 ENV = {**os.environ, "PYTHONPATH": str(ROOT)}
 
 #: A scene whose runs take some 25 ms each (macroslip, "fast"); the study samples mu.
 SCENE = """title = "a fault study"
-[blade]
-mass = 0.08771473371579717
-stiffness = 1.0e8
-damping_ratio = 2.0e-3
-force = 8.0
-[damper]
-model = "macroslip"
-E = 2.0e11
-rho = 7850.0
-A = 1.0e-5
-L = 0.05
-k = 8.0e8
-beta = 4.0e7
-mu = 0.3
-[damper.load]
-kind = "uniform"
-N = 100.0
-[effects]
+""" + MACROSLIP_BLADE + """[effects]
 inertia = "on"
 [sweep]
 omega = [0.24, 0.33]
