@@ -280,6 +280,7 @@ def test_no_page_example_or_docstring_cites_internal_documents_or_tracker_number
 def test_gallery_headers_show_command_lines_as_literal_blocks():
     """A command line with options (``--cells 100``) in a gallery page's header is a literal block,
     so the page shows ``--`` as typed, not turned into an en dash."""
+    pytest.importorskip("docutils", reason="the docs extra (pip install -e '.[docs]'); .ci/run installs it")
     from docutils.core import publish_doctree
     from docutils.nodes import literal_block
 
