@@ -128,17 +128,23 @@ def test_api_reference_has_a_page_for_every_public_module(tmp_path):
                                                 for p in fd.PACKAGES), module
 
 
-def test_built_reference_names_every_public_module():
+def _built_inventory() -> dict:
+    """``{kind: {name: entry}}`` of the built site's ``objects.inv`` (``FRICTIONDAMP_DOCS_HTML``);
+    the test is skipped without a built site."""
     html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
     if not html:
         pytest.skip("set FRICTIONDAMP_DOCS_HTML to a built site (.ci/run does) to check its inventory")
-    from sphinx.util.inventory import InventoryFile
+    from sphinx.util.inventory import InventoryFile  # the docs extra, with the built site
 
     path = Path(html)
     path = path if path.is_absolute() else ROOT / path
     with open(path / "objects.inv", "rb") as f:
         inventory = InventoryFile.load(f, str(path), lambda base, uri: uri)
-    data = inventory.data if hasattr(inventory, "data") else inventory
+    return inventory.data if hasattr(inventory, "data") else inventory
+
+
+def test_built_reference_names_every_public_module():
+    data = _built_inventory()
     modules = set(data.get("py:module", {}))
     missing = [m for m in _public_modules() if m not in modules]
     assert not missing, f"public modules not in the built reference: {missing}"
@@ -180,16 +186,7 @@ def test_entry_points_have_numpydoc_sections(qualified):
 
 
 def test_built_inventory_names_every_public_name():
-    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
-    if not html:
-        pytest.skip("set FRICTIONDAMP_DOCS_HTML to a built site (.ci/run does) to check its inventory")
-    from sphinx.util.inventory import InventoryFile
-
-    path = Path(html)
-    path = path if path.is_absolute() else ROOT / path
-    with open(path / "objects.inv", "rb") as f:
-        inventory = InventoryFile.load(f, str(path), lambda base, uri: uri)
-    data = inventory.data if hasattr(inventory, "data") else inventory
+    data = _built_inventory()
     names = {name for kind, entries in data.items() if kind.startswith("py:") for name in entries}
     missing = [f"{p}.{n}" for p in PACKAGES for n in importlib.import_module(p).__all__
                if f"{p}.{n}" not in names]
