@@ -1,4 +1,5 @@
 import os
+from pathlib import Path
 
 import pytest
 from hypothesis import settings
@@ -52,3 +53,21 @@ mu = 0.3
 kind = "uniform"
 N = 100.0
 """
+
+
+def scene_data(path, **changes):
+    """The scene file ``path``'s tables as a dict, with ``{"table.key": value}`` changes (None
+    deletes a key or a table)."""
+    import tomllib  # the standard library's TOML reader, only for the scene tests
+
+    data = tomllib.loads(Path(path).read_text())
+    for dotted, value in changes.items():
+        *tables, key = dotted.split(".")
+        node = data
+        for t in tables:
+            node = node.setdefault(t, {})
+        if value is None:
+            node.pop(key, None)
+        else:
+            node[key] = value
+    return data

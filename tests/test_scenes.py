@@ -25,7 +25,7 @@ from hbm.cli.progress import ProgressLine
 from hbm.balance.residual import HarmonicBalance, linear_response
 from hbm.scenes import EFFECTS, Progress, columns, load_scene, plan_scene, run_scene, scene_from_dict, summary_lines
 
-from conftest import BAR
+from conftest import BAR, scene_data
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 ROOT = SCENES.parent.parent
@@ -37,19 +37,7 @@ DEFAULT_PEAK = 1.5119614110e-06
 
 def scene_dict(**changes):
     """The default scene as a dict, with ``{"table.key": value}`` changes (None deletes)."""
-    import tomllib
-
-    data = tomllib.loads(DEFAULT.read_text())
-    for dotted, value in changes.items():
-        *tables, key = dotted.split(".")
-        node = data
-        for t in tables:
-            node = node.setdefault(t, {})
-        if value is None:
-            node.pop(key, None)
-        else:
-            node[key] = value
-    return data
+    return scene_data(DEFAULT, **changes)
 
 
 def effect(run, name):

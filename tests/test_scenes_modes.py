@@ -22,6 +22,8 @@ from hbm.balance.presets import samples_for
 from hbm.cli.main import main
 from hbm.scenes import SceneError, load_scene, plan_scene, run_scene, scene_from_dict
 
+from conftest import scene_data  # a scene file's tables with changes
+
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 CHAIN = SCENES / "nonlinear_modes_chain.toml"
 OPTIMUM = SCENES / "damper_optimum.toml"
@@ -111,21 +113,6 @@ def test_check_prints_the_effects_of_a_mode_scene(tmp_path, capsys):
     assert "higher harmonics: simulated - effects.harmonics = 5" in out
 
 
-def data_of(path, **changes):
-    """The scene file's tables with ``"table.key"`` changes (None deletes a key or a table)."""
-    data = tomllib.loads(path.read_text())
-    for dotted, value in changes.items():
-        *tables, key = dotted.split(".")
-        node = data
-        for t in tables:
-            node = node.setdefault(t, {})
-        if value is None:
-            node.pop(key, None)
-        else:
-            node[key] = value
-    return data
-
-
 @pytest.mark.parametrize("path, changes, expected", [
     (CHAIN, {"modes.mode": -1}, "modes.mode = -1"),
     (CHAIN, {"modes.amplitude": [1.0, 0.1]}, "modes.amplitude = [1.0, 0.1]: must be [a0, a1] with a0 < a1"),
@@ -148,12 +135,12 @@ def data_of(path, **changes):
 ])
 def test_bad_mode_and_optimum_keys_are_refused_by_name(path, changes, expected):
     with pytest.raises(SceneError) as info:
-        plan_scene(scene_from_dict(data_of(path, **changes), path))
+        plan_scene(scene_from_dict(scene_data(path, **changes), path))
     assert expected in str(info.value), str(info.value)
 
 
 def test_a_mode_the_system_has_not_is_refused_when_planned():
-    scene = scene_from_dict(data_of(CHAIN, **{"modes.mode": 3}), CHAIN)
+    scene = scene_from_dict(scene_data(CHAIN, **{"modes.mode": 3}), CHAIN)
     with pytest.raises(SceneError, match=r"modes\.mode = 3: the system has 3 DOFs, so 3 modes \(0 to 2\)"):
         plan_scene(scene)
 
