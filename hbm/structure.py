@@ -171,7 +171,10 @@ class Structure:
         """Structure with modal damping ``C = M Phi diag(2 zeta_j omega_j) Phi^T M``.
 
         ``Phi`` are the mass-normalised modes of (K, M), ``omega_j`` their natural frequencies;
-        ``ratios`` is one damping ratio for every mode or one per mode (n values, >= 0).
+        ``ratios`` is one damping ratio for every mode or one per mode (n values, >= 0).  K must be
+        positive semi-definite: an eigenvalue below ``-1e-10 max|lambda|`` (a mode that grows, which no
+        damping ratio describes) raises ValueError naming it; rigid-body modes (lambda = 0 to rounding)
+        get no damping.
 
         Examples
         --------
@@ -193,6 +196,10 @@ class Structure:
             lam, Phi = eigh(Kd, Md)
         except np.linalg.LinAlgError:
             raise ValueError("M must be positive definite, got M for which (K, M) has no eigen-decomposition") from None
+        worst = int(np.argmin(lam))
+        if lam[worst] < -1e-10 * float(np.max(np.abs(lam))):
+            raise ValueError(f"K must be positive semi-definite for modal damping: mode {worst} of (K, M) has the "
+                             f"eigenvalue omega^2 = {lam[worst]:.6g} < 0")
         w = np.sqrt(np.clip(lam, 0.0, None))
         MPhi = Md @ Phi
         return cls(M, (MPhi * (2.0 * z * w)) @ MPhi.T, K, force=force)
