@@ -92,3 +92,85 @@ def test_one_quasi_static_cell_approaches_contact2d():
     scale = bar.k * bar.L * 2.0 * A
     assert np.max(np.abs(F[0] - F2[0])) < 1e-3 * scale
     assert np.max(np.abs(F[1] - F2[1])) < 1e-9 * LOAD.N
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_jacobian_against_finite_differences(case):
+    shape, V = CASES[case]
+    H = 5
+    el = AllModeMicroslip2D(BAR, LOAD, KN, 6, H, n_t=96, normal_shape=shape)
+    X = np.zeros((2, 2 * H + 1))
+    X[0, 1:4] = [0.3e-6, A, 0.2e-6]
+    X[1, :3] = V
+    X[1, 3] = 0.1e-6
+    omega = 0.5 * BAR.omega_c
+    F, J, Fw = el.harmonic_force(X, omega)
+    L = 2 * H + 1
+    num = np.empty_like(J)
+    for j in range(2 * L):
+        h = 1e-6 * (A if j < L else 1e-6)  # within one stick/slip/separation pattern
+        Xp, Xm = X.copy(), X.copy()
+        Xp.flat[j] += h
+        Xm.flat[j] -= h
+        num[:, j] = (el.harmonic_force(Xp, omega)[0] - el.harmonic_force(Xm, omega)[0]).ravel() / (2 * h)
+    assert np.max(np.abs(J - num)) < 1e-5 * np.max(np.abs(J))
+    dw = 1e-6 * omega
+    numw = (el.harmonic_force(X, omega + dw)[0] - el.harmonic_force(X, omega - dw)[0]) / (2 * dw)
+    assert np.max(np.abs(Fw - numw)) < 1e-5 * np.max(np.abs(Fw))
+    # the time law's Jacobian is the same map through the samples
+    x = np.vstack([np.cos(np.arange(24) * np.pi / 12) * A, 0.5e-6 * np.sin(np.arange(24) * np.pi / 12)])
+    f, Jt = el.periodic_force(x, omega)
+    k = 5
+    e = np.zeros_like(x)
+    e.flat[k] = 1e-6 * A
+    numt = (el.periodic_force(x + e, omega)[0] - el.periodic_force(x - e, omega)[0]).ravel() / (2e-6 * A)
+    assert np.max(np.abs(Jt[:, k] - numt)) < 1e-5 * np.max(np.abs(Jt))
+
+
+def test_a_multi_dof_balance_converges_and_matches_the_time_integration():
+    """Two DOFs: a mass (0.1 kg, 4e7 N/m) carrying the damper's tangential end and a stiff
+    platform (1 kg, 1e10 N/m) pressing it (the damper's uniform normal motion), both forced.  The
+    branch is traced with H = 3; its largest tangential response is then checked against the time
+    integration of the element alone driven by that point's motion (tangential and normal)."""
+    s = hbm.Structure(np.diag([0.1, 1.0]), np.diag([40.0, 2e3]), np.diag([4e7, 1e10]), force=[40.0, 3e3])
+    el = AllModeMicroslip2D(BAR, LOAD, KN, CELLS, 15)
+    res = hbm.frequency_response(s, hbm.Contact(el, dof=0, normal_dof=1), (1.8e4, 2.6e4), harmonics=3,
+                                 response_dof=0, estimate_error=False, stability=False, max_steps=400)
+    assert res.success and np.all(res.residual_norm < 1e-6)
+    i = int(np.argmax(res.amplitude))
+    omega = float(res.omega[i])
+
+    def real(c):  # complex harmonics c_h = Xc_h - i Xs_h -> [X0, Xc1, Xs1, ...]
+        return np.concatenate([[c[0].real], np.column_stack([c[1:].real, -c[1:].imag]).ravel()])
+
+    X, V = real(res.coefficients(0)[i]), real(res.coefficients(1)[i])
+    a = math.hypot(X[1], X[2])
+    assert a > 10 * el.slip_amplitude(omega)  # well into microslip
+    sol = el.solve(X, V, omega)
+    scale = BAR.k_star * a
+    ref, fine = march((1.0, 1.0), list(V), omega, 2000, X=list(X)), march((1.0, 1.0), list(V), omega, 4000, X=list(X))
+    assert np.max(np.abs(fine - ref)) < 2e-4 * scale
+    diff = np.abs(sol.F[:3] - fine) / scale
+    print(f"balance point omega = {omega:.1f} rad/s, a = {a:.3g} m: |dF| / (k* a) = {diff.max():.1e}")
+    assert np.max(diff) < 1e-3
+
+
+@pytest.mark.parametrize("kwargs, name", [
+    ({"kn": -1.0}, "kn"), ({"kn": math.inf}, "kn"), ({"cells": 1}, "cells"), ({"harmonics": 0}, "harmonics"),
+    ({"n_t": 30}, "n_t"), ({"n_t": 4}, "n_t"), ({"n_t": 16.0}, "n_t"), ({"normal_shape": (1.0,)}, "normal_shape"),
+    ({"normal_shape": (1.0, math.nan)}, "normal_shape"), ({"bar": "bar"}, "bar")])
+def test_bad_input_is_refused(kwargs, name):
+    args = {"bar": BAR, "load": LOAD, "kn": KN, "cells": 4, "harmonics": 3, **kwargs}
+    with pytest.raises(ValueError, match=name):
+        AllModeMicroslip2D(**args)
+
+
+def test_bad_motion_is_refused():
+    el = AllModeMicroslip2D(BAR, LOAD, KN, 4, 3)
+    for a, v, name in ((-1.0, None, "a"), (A, [0.0, 1.0], "v"), (A, [0.0] * 9, "v"), (A, [math.nan, 0, 0], "v")):
+        with pytest.raises(ValueError, match=name):
+            el.solve(a, v, 1.0)
+    with pytest.raises(ValueError, match="omega"):
+        el.solve(A, None, -1.0)
+    with pytest.raises(ValueError, match="x must be"):
+        el.periodic_force(np.zeros(8), 1.0)
