@@ -6,6 +6,7 @@ See ``contact_models.base.ContactElement`` for the interface.
 from ._version import __version__
 from .accuracy import AccuracyWarning
 from .allmode import AllModeMicroslip
+from .allmode2d import AllModeMicroslip2D
 from .bar import Bar
 from .base import ContactElement
 from .contact2d import Contact2D
@@ -23,4 +24,4 @@ from .quasi_static import QuasiStatic
 __all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
            "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning",
-           "AccuracyWarning", "Gap", "Contact2D"]
+           "AccuracyWarning", "Gap", "Contact2D", "AllModeMicroslip2D"]
