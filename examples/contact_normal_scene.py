@@ -23,7 +23,6 @@ Run ``python examples/contact_normal_scene.py``; writes ``docs/figures/contact_n
 
 from __future__ import annotations
 
-import sys
 import tempfile
 from pathlib import Path
 
@@ -33,14 +32,11 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from paper_figures import display_path  # noqa: E402
-
 from hbm.scenes import load_scene, plan_scene, run_scene  # noqa: E402
 
-HERE = Path(__file__).resolve().parent
-SCENE = HERE / "scenes" / "contact_normal.toml"
-DEFAULT_OUTDIR = HERE.parent / "docs" / "figures"
+from paper_figures import DEFAULT_OUTDIR, ROOT, display_path  # noqa: E402  (no __file__ here: the gallery runs this)
+
+SCENE = ROOT / "examples" / "scenes" / "contact_normal.toml"
 #: The frequency window of the small (test) setting: around the separation.
 SMALL_OMEGA = [1.5, 1.7]
 
