@@ -1,5 +1,5 @@
 """A point contact that separates: the scene with a normal load
-===========================================================
+============================================================
 
 The scene ``examples/scenes/contact_normal.toml`` run through the scene API and its FRF drawn with
 the separation marked.
