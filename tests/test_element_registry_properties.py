@@ -110,7 +110,10 @@ def test_linear_range_and_stuck_limit(element):
             fs, fc = element.fourier(a, omega)
             assert np.allclose(fs, k_s * a, rtol=1e-9) and np.allclose(fc, k_c * a, rtol=1e-9, atol=1e-12 * k_s * a_lin)
             assert k_s == pytest.approx(element.stuck_stiffness(omega), rel=1e-12)
-        else:  # never linear: f_s/a tends to the stuck stiffness as a -> 0, monotonically in the error
+        else:  # no linear range promised: f_s/a tends to the stuck stiffness as a -> 0, monotonically in the
+            # error, or is exactly it there (Gap, Contact2D: linear_amplitude = 0 because a mean displacement or
+            # normal motion changes the contact state at any amplitude, while the first harmonic about a zero
+            # mean, the normal at rest, is k* a below |g| or mu n0/kt)
             K = element.stuck_stiffness(omega)
             errors = [abs(element.fourier(f * a_ref, omega)[0] / (f * a_ref) / K - 1.0) for f in (1e-2, 1e-4, 1e-6)]
-            assert errors[0] > errors[1] > errors[2] and errors[2] < 1e-2
+            assert (errors[0] > errors[1] > errors[2] or max(errors) == 0.0) and errors[2] < 1e-2

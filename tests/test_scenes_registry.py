@@ -159,5 +159,8 @@ def test_every_library_model_has_an_example_element():
     for name, spec in MODELS.items():
         if name == "auto":
             continue  # auto resolves to two or three regions, whose examples exist
+        if name == "cubic":
+            assert spec.example is None  # k* = 0 at every amplitude: the suite's units divide by it (models.py)
+            continue
         assert spec.example is not None, name
         assert isinstance(spec.example(), Base), name

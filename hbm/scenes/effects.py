@@ -331,10 +331,21 @@ def harmonics(run: Any) -> Effect:
     balance with AFT (``hbm.multiharmonic``) for a frequency sweep, where the element (after the
     inertia decider: ``QuasiStatic`` without damper inertia) must own a time-domain law."""
     H = run.scene.effects["harmonics"]
+    samples = run.scene.effects.get("samples")
+    multi = run.blade is not None and (H > 1 or run.scene.structure is not None)
+    if samples is not None and not multi:
+        raise SceneError([f"{run.where('effects.samples')} = {samples}: not used here: only a multi-harmonic "
+                          "balance samples the period (a [structure], or effects.harmonics > 1 in a frequency "
+                          "sweep); leave it out"])
+    if samples is not None and samples < 2 * H + 1:
+        raise SceneError([f"{run.where('effects.samples')} = {samples}: must be at least 2 H + 1 = {2 * H + 1} "
+                          f"samples per period for effects.harmonics = {H}"])
     if H == 1:  # a structure's balance is the multi-harmonic one at H = 1; a blade's the single-harmonic one
+        decided = {"harmonics": 1, **({"n_t": samples} if samples else {})} if run.scene.structure is not None else {}
         return Effect("higher harmonics", False,
-                      "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c)",
-                      decided={"harmonics": 1} if run.scene.structure is not None else {})
+                      "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c" +
+                      (f"; AFT with n_t = {samples} samples where an element needs its time law)" if samples else ")"),
+                      decided=decided)
     if run.blade is None:
         return Effect("higher harmonics", False, f"effects.harmonics = {H}: an amplitude sweep tabulates the "
                                                  "first-harmonic f_s, f_c of the element; no balance is solved")
@@ -348,7 +359,7 @@ def harmonics(run: Any) -> Effect:
                           "(with damper inertia the single-mode bar is a first-harmonic element); use "
                           "harmonics = 1 or effects.inertia = \"off\""])
 
-    n_t = harmonic_samples(H)
+    n_t = samples or harmonic_samples(H)
     return Effect("higher harmonics", True, f"effects.harmonics = {H}: multi-harmonic balance with AFT, "
                                             f"n_t = {n_t} samples per period "
                                             f"({type(element).__name__} has a time-domain law)",

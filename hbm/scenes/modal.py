@@ -21,6 +21,7 @@ from ..damper_optimum import damper_optimum
 from ..modes import nonlinear_modes
 from ..single_mode import forcing
 from ..structure import Contact
+from .contacts import damper_contact
 from .planning import RunPlan, plan_at
 
 #: The columns of ``modes.csv`` after the run's: per point of the mode.
@@ -29,20 +30,19 @@ MODE_COLUMNS = ("modal_amplitude", "omega_rad_s", "damping_ratio", "response_amp
 OPTIMUM_COLUMNS = ("parameter", "peak_amplitude_m", "peak_omega_rad_s")
 
 
-def system_of(scene: Any, system: Any, element: Any) -> tuple[Any, list, int | None]:
+def system_of(scene: Any, system: Any, element: Any, others: Any = ()) -> tuple[Any, list, int | None]:
     """``(structure, contacts, response_dof)`` of a run: the blade as a one-DOF structure with the
-    element at DOF 0, or the ``[structure]`` with the element at ``structure.contact_dofs``."""
+    element at DOF 0, or the ``[structure]`` with the element at ``structure.contact_dofs`` and
+    ``others``, the structure's own contacts (``Plan.contacts``)."""
     if scene.structure is None:
         return system.as_structure(), [Contact(element, dof=0)], 0
-    dofs = tuple(scene.structure["contact_dofs"])
-    contact = Contact(element, dof=dofs[0]) if len(dofs) == 1 else Contact(element, dofs=dofs)
-    return system, [contact], scene.structure.get("response_dof")
+    return system, [damper_contact(scene, element), *others], scene.structure.get("response_dof")
 
 
 def run_modes(scene: Any, plan: Any, res: Any, emit: Any) -> None:
     """The nonlinear mode of one run (``hbm.nonlinear_modes``), one row per point."""
     p, m, opts = res.plan, scene.modes, scene.sweep["options"]
-    structure, contacts, dof = system_of(scene, plan.blade, p.element)
+    structure, contacts, dof = system_of(scene, plan.blade, p.element, plan.contacts)
     modes = nonlinear_modes(structure, contacts, mode=m["mode"], amplitude_range=m.get("amplitude"),
                             amplitudes=m.get("amplitudes"), harmonics=p.harmonics or 1, n_t=p.n_t,
                             rtol=opts["rtol"], max_step=opts["max_step"], max_steps=opts["max_steps"])
@@ -70,7 +70,7 @@ def run_optimum(scene: Any, plan: Any, res: Any, emit: Any) -> None:
     """The damper's optimum of one run (``hbm.damper_optimum``), one row per point of the peak curve."""
     p, opts = res.plan, scene.sweep["options"]
     name, bounds = scene.optimum["parameter"], scene.optimum["bounds"]
-    structure, _, dof = system_of(scene, plan.blade, p.element)
+    structure, _, dof = system_of(scene, plan.blade, p.element, plan.contacts)
     planned = effect_flags(p)
 
     def contacts_of(value):
@@ -78,7 +78,7 @@ def run_optimum(scene: Any, plan: Any, res: Any, emit: Any) -> None:
         if effect_flags(at) != planned:
             raise ValueError(f"{name} = {value:g}: the effects differ from those planned at the bounds "
                              f"({effect_flags(at)} against {planned})")
-        return system_of(scene, plan.blade, at.element)[1]
+        return system_of(scene, plan.blade, at.element, plan.contacts)[1]
 
     opt = damper_optimum(structure, contacts_of, bounds, amplitude_range=scene.modes["amplitude"],
                          mode=scene.modes["mode"], harmonics=p.harmonics or 1, n_t=p.n_t, response_dof=dof,

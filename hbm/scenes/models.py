@@ -18,19 +18,33 @@ scene machinery reads only the spec, never the model's name, so adding a model i
 
 ``docs/extending.md`` walks through it with the Iwan element.
 
-Every element of ``contact_models`` is a model here (the property suite of
-``tests/test_element_registry_properties.py`` runs over each ``example``), but two:
+Every element of ``contact_models`` is a model here, and all but three have an ``example`` that
+the property suite of ``tests/test_element_registry_properties.py`` runs over.  The suite measures
+its tolerances in units of the stuck stiffness (``k* a``), and an amplitude sweep tabulates
+``F_s = f_s/(k* a)``; so its contract is an element with a stuck stiffness k* > 0:
 
-- ``NumericalMicroslip``, the time-integrated discretised bar: each of its evaluations integrates
-  the bar to its periodic steady state (about a second even at 8 cells), so a scene's sweep
-  (hundreds of evaluations) and the property suite would take hours; it is the reference the
-  models are checked against (``docs/validation.md``), used directly.
-- ``CubicSpring``, f = k3 x^3: not a friction damper.  The registry's contract is a damper with a
-  stuck state: every library model has an example for the property suite, which measures its
-  tolerances in units of the stuck stiffness (``k* a``), and the amplitude sweep tabulates
-  ``F_s = f_s/(k* a)``; a cubic spring's stuck stiffness is 0 (nonlinear at every amplitude), so
-  both would divide by zero.  It enters the structure's balance and the shooting reference
-  directly (``hbm.Contact``), where ``contact_models``' tests check it against its closed forms.
+- ``NumericalMicroslip``, the time-integrated discretised bar, is not a model: each of its
+  evaluations integrates the bar to its periodic steady state (about a second even at 8 cells),
+  so a scene's sweep (hundreds of evaluations) and the property suite would take hours; it is the
+  reference the models are checked against (``docs/validation.md``), used directly.
+- ``"cubic"`` (``CubicSpring``, f = k3 x^3) has no example: its stuck stiffness is 0 (nonlinear at
+  every amplitude), so the suite's units and ``F_s`` would divide by zero.  ``contact_models``'
+  tests check it against its closed forms.
+- ``"gap"`` (``Gap``, f = k max(0, x - g)) has k* = 0 for an open gap (g >= 0) too; its example is
+  a preloaded gap (g < 0: k* = k), on which the suite runs through both of its regimes (closed
+  all period below |g|, opening above).
+- ``"contact2d"`` (``Contact2D``) has its example (k* = kt for a preload n0 > 0); the suite sees
+  its first harmonic with the normal DOF at rest (the Jenkins element at ``mu n0``).
+
+Both declare ``linear_amplitude = 0`` (a mean displacement, or normal motion, changes their contact
+state at any amplitude) although their first harmonic about a zero mean is exactly k* a below |g|
+or mu n0/kt; the suite accepts that exactly linear start.
+
+An amplitude sweep refuses an element whose k* is 0 (naming ``sweep.kind``); in a frequency sweep
+and as a contact of a ``[structure]`` (``structure.contacts``, ``hbm.scenes.contacts``) every
+model is usable.  ``"contact2d"`` acts on two displacements (tangential, normal: the element's
+``components = 2``); the scene attaches its normal with ``structure.normal_dofs`` (or an entry's
+``normal_dofs``).
 """
 
 from __future__ import annotations
@@ -40,11 +54,11 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Callable, Mapping, NamedTuple
 
-from contact_models import (AllModeMicroslip, Bar, Iwan, Macroslip, PointContact, QuadraticLoad,
-                            ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
+from contact_models import (AllModeMicroslip, Bar, Contact2D, CubicSpring, Gap, Iwan, Macroslip, PointContact,
+                            QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models.allmode import CELLS
 
-from .checks import OPTIONAL, Key, SceneError, choice, integer, number
+from .checks import OPTIONAL, Invalid, Key, SceneError, choice, integer, number, show
 
 #: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
 #: differences the element's omega-derivative; at the element's default H = 15 the default blade's
@@ -315,6 +329,11 @@ CHI = Key(number(gt=-1), -0.5, "iwan only: exponent chi of the density of slip s
 IWAN_BETA = Key(number(ge=0), 0.1, "iwan only: beta, the share of the strongest elements (>= 0)")
 
 
+SLIDER = Key(choice("centred", "from rest"), "centred",
+             'macroslip only: the periodic state of a stuck slider, "centred" (w = (max x + min x)/2) or '
+             '"from rest" (NLvib\'s: the slider from 0, marched two periods; Macroslip(slider=...))')
+
+
 def _macroslip_own(params) -> bool:
     return params.get("stiffness") is not None and params.get("slip_force") is not None
 
@@ -331,10 +350,10 @@ def _macroslip_pair(given) -> list:
 
 def _build_macroslip(run):
     if _macroslip_own(run.params):
-        return Built(Macroslip(stiffness=run.params["stiffness"], slip_force=run.params["slip_force"]),
-                     "macroslip", "damper.stiffness and damper.slip_force")
-    return Built(Macroslip(stiffness=run.bar.k_star, slip_force=run.bar.mu * run.N), "macroslip",
-                 "k* of the bar at omega = 0 and mu N")
+        return Built(Macroslip(stiffness=run.params["stiffness"], slip_force=run.params["slip_force"],
+                               slider=run.params["slider"]), "macroslip", "damper.stiffness and damper.slip_force")
+    return Built(Macroslip(stiffness=run.bar.k_star, slip_force=run.bar.mu * run.N, slider=run.params["slider"]),
+                 "macroslip", "k* of the bar at omega = 0 and mu N")
 
 
 def _macroslip_unit(run) -> tuple[float, str]:
@@ -373,6 +392,75 @@ def _example_all_mode():
     return AllModeMicroslip(_example_bar(), UniformLoad(N=100.0), cells=8, harmonics=SCENE_HARMONICS)
 
 
+# ---- elements of a structure's contacts: unilateral spring, 2D point contact, cubic spring
+def _nonzero(v):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) or v == 0.0:
+        raise Invalid("must be a nonzero finite number (N/m^3; < 0 softening)")
+    return float(v)
+
+
+_nonzero.what = "a nonzero finite number (N/m^3)"
+
+GAP_STIFFNESS = Key(number(gt=0, unit="N/m"), None,
+                    "gap only, required: stiffness k of the unilateral spring f = k max(0, x - gap) (N/m)")
+GAP = Key(number(unit="m"), None, "gap only, required: the gap g (m), the displacement at which the contact "
+                                  "closes; < 0 a preloaded contact (force -k g at x = 0)")
+KT = Key(number(gt=0, unit="N/m"), None, "contact2d only, required: tangential contact stiffness kt (N/m)")
+KN = Key(number(ge=0, unit="N/m"), None, "contact2d only, required: normal contact stiffness kn (N/m): the "
+                                         "normal load N = max(0, n0 + kn v), v > 0 pressing")
+N0 = Key(number(unit="N"), None, "contact2d only, required: normal preload n0 (N) at zero normal displacement "
+                                 "(<= 0: open at rest)")
+FRICTION = Key(number(gt=0), None, "contact2d only, required: friction coefficient mu of the point contact, "
+                                   "|T| <= mu N")
+K3 = Key(_nonzero, None, "cubic only, required: coefficient k3 of f = k3 x^3 (N/m^3; < 0 softening)")
+
+
+def _required(model: str, *keys: str):
+    """A spec's ``validate``: every key of ``keys`` must be given with ``damper.model = model``."""
+
+    def validate(given) -> list:
+        return [f"damper.{key} is missing: required with damper.model = {show(model)}" for key in keys
+                if key not in given]
+
+    return validate
+
+
+def _build_gap(run):
+    p = run.params
+    return Built(Gap(stiffness=p["gap_stiffness"], gap=p["gap"]), "gap",
+                 f"k = {p['gap_stiffness']:g} N/m, gap {p['gap']:g} m")
+
+
+def _build_contact2d(run):
+    p = run.params
+    return Built(Contact2D(kt=p["kt"], kn=p["kn"], mu=p["friction"], n0=p["n0"]), "contact2d",
+                 f"kt = {p['kt']:g} N/m, kn = {p['kn']:g} N/m, mu = {p['friction']:g}, n0 = {p['n0']:g} N")
+
+
+def _build_cubic(run):
+    return Built(CubicSpring(k3=run.params["k3"]), "cubic", f"k3 = {run.params['k3']:g} N/m^3")
+
+
+def _example_gap():
+    return Gap(stiffness=1.0e6, gap=-1.0e-5)
+
+
+def _example_contact2d():
+    return Contact2D(kt=1.0e6, kn=5.0e5, mu=0.3, n0=100.0)
+
+
+def _register_contacts():
+    register_model("gap", _build_gap, keys={"gap_stiffness": GAP_STIFFNESS, "gap": GAP},
+                   doc="a unilateral spring behind a gap, f = k max(0, x - g) (Gap)", example=_example_gap,
+                   validate=_required("gap", "gap_stiffness", "gap"))
+    register_model("contact2d", _build_contact2d, keys={"kt": KT, "kn": KN, "friction": FRICTION, "n0": N0},
+                   doc="a point contact: Jenkins friction under the normal load max(0, n0 + kn v), separation "
+                       "(Contact2D; tangential and normal DOFs)", example=_example_contact2d,
+                   validate=_required("contact2d", "kt", "kn", "friction", "n0"))
+    register_model("cubic", _build_cubic, keys={"k3": K3}, doc="a cubic spring f = k3 x^3 (CubicSpring)",
+                   validate=_required("cubic", "k3"))
+
+
 def _register_builtins():
     bar_and_load = {"bar", "load"}
     for name, doc, example in (
@@ -385,7 +473,7 @@ def _register_builtins():
     register_model("point-contact", _build_point_contact, keys={"fit_to": FIT_TO, "fit_omega": FIT_OMEGA},
                    needs=bar_and_load, microslip=lambda damper: damper.get("fit_to") or "auto", unit=_bar_a_min,
                    doc="the point contact fitted to the microslip bar (Fig. 16)", example=_example_point_contact)
-    register_model("macroslip", _build_macroslip, keys={"stiffness": STIFFNESS, "slip_force": SLIP_FORCE},
+    register_model("macroslip", _build_macroslip, keys={"stiffness": STIFFNESS, "slip_force": SLIP_FORCE, "slider": SLIDER},
                    needs=lambda given: set() if _macroslip_own(given) else {"bar", "load"},
                    unit=_macroslip_unit, doc="the Jenkins element: a spring behind a Coulomb slider",
                    example=_example_macroslip, validate=_macroslip_pair)
@@ -400,3 +488,4 @@ def _register_builtins():
 
 
 _register_builtins()
+_register_contacts()

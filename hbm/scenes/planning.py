@@ -19,8 +19,9 @@ from contact_models.quasi_static import StuckContact
 
 from ..blade import Blade
 from ..balance.residual import solved_as_one_dof, static_deflection
-from ..structure import Contact, Structure, load_matrix
+from ..structure import Structure, load_matrix
 from .checks import SceneError, show
+from .contacts import damper_contact, dof_problems, structure_contacts
 from .effects import EFFECTS, ONSET_AT_END, Effect, linear_amplitude
 from .models import BAR_KEYS, Built, MODELS, ModelSpec
 from .validation import Scene
@@ -289,11 +290,15 @@ class Plan:
         for an amplitude sweep.
     runs : list of RunPlan
         One per model and normal load, models in the order of ``damper.model``.
+    contacts : list of hbm.Contact, optional
+        The structure's own elements (``[[structure.contacts]]``), the same in every run; empty
+        for a blade.
     """
 
     scene: Scene
     blade: Any
     runs: list
+    contacts: list = field(default_factory=list)  #: the structure's own contacts (hbm.Contact), every run
 
 
 def plan_scene(scene: Scene) -> Plan:
@@ -342,17 +347,27 @@ def plan_scene(scene: Scene) -> Plan:
                 runs.append(_plan_run(scene, model, len(runs), N, bar, blade, omega))
             except SceneError as exc:
                 problems.extend(exc.problems)
+                continue
+            if isinstance(blade, Blade) and getattr(runs[-1].element, "components", 1) != 1:
+                problems.append(f"{scene.where('damper.model')} = {show(model)}: the element acts on a tangential "
+                                "and a normal displacement; a [blade] has one DOF: use a [structure] with "
+                                "structure.contact_dofs and structure.normal_dofs")
     if scene.modes is not None and scene.modes["mode"] >= getattr(blade, "n", 1):
         n = getattr(blade, "n", 1)
         problems.append(f"{scene.where('modes.mode')} = {scene.modes['mode']}: the system has {n} DOF"
                         f"{'s' if n > 1 else ''}, so {n} modes (0 to {n - 1})")
     if scene.optimum is not None and not problems:
         runs = _at_bounds(scene, blade, runs, problems)
+    contacts = []
     if isinstance(blade, Structure) and not problems:
-        problems += _static_compliance(scene, blade, runs)
+        try:
+            contacts = structure_contacts(scene, blade, omega, max((r.harmonics or 1) for r in runs))
+            problems += _static_compliance(scene, blade, runs, contacts)
+        except SceneError as exc:
+            problems.extend(exc.problems)
     if problems:
         raise SceneError(list(dict.fromkeys(problems)))
-    return Plan(scene, blade, runs)
+    return Plan(scene, blade, runs, contacts)
 
 
 def _bar(d: dict) -> Any:
@@ -425,14 +440,14 @@ def _at_bounds(scene: Scene, blade: Any, runs: list, problems: list) -> list:
     return out
 
 
-def _static_compliance(scene, structure, runs):
+def _static_compliance(scene, structure, runs, contacts):
     """The balance of a structure condenses with K^-1 (every run but a one-DOF single-harmonic
     one): a singular K is refused here, as the run would refuse it, so that ``--check`` says so and
-    a run creates no folder for it."""
-    dofs = tuple(scene.structure["contact_dofs"])
-    for run in runs:
-        contact = Contact(run.element, dof=dofs[0]) if len(dofs) == 1 else Contact(run.element, dofs=dofs)
-        if not solved_as_one_dof(structure, [contact], run.harmonics or 1):
+    a run creates no folder for it.  Each run's damper is attached here too (``structure.normal_dofs``
+    checked against its element)."""
+    attached = [damper_contact(scene, run.element, run.model) for run in runs]
+    for run, contact in zip(runs, attached):
+        if not solved_as_one_dof(structure, [contact, *contacts], run.harmonics or 1):
             try:
                 static_deflection(structure)
             except ValueError as exc:
@@ -484,13 +499,7 @@ def _structure(scene):
         text = str(exc)
         key = next((k for m, k in _MATRIX_KEYS.items() if text.startswith(f"{m} ")), "[structure]")
         raise SceneError([scene.where(f"{key}: {text}")]) from None
-    bad = []
-    for key, dofs in (("contact_dofs", list(st["contact_dofs"])), ("response_dof", st.get("response_dof"))):
-        shown = show(dofs)
-        for d in dofs if isinstance(dofs, list) else ([] if dofs is None else [dofs]):
-            if d >= s.n:
-                bad.append(f"{scene.where('structure.' + key)} = {shown}: DOF {d} is out of range for the "
-                           f"structure's {s.n} DOFs (0 to {s.n - 1})")
+    bad = dof_problems(scene, s.n)
     if bad:
         raise SceneError(bad)
     return s
@@ -523,6 +532,10 @@ def _amplitude_unit(ctx: RunContext) -> tuple[float, str]:
     asked = ctx.scene.sweep["amplitude_unit"]
     if asked == "m":
         return 1.0, "m"
+    if not float(ctx.element.stuck_stiffness(min(ctx.omega))) > 0.0:
+        raise SceneError([f"{ctx.where('sweep.kind')} = \"amplitude\": damper.model = {show(ctx.spec.name)} has "
+                          "no stuck stiffness (k* = 0: it is not linear at small amplitudes), so the table's "
+                          "F_s = f_s/(k* a) is undefined; use a frequency sweep (a [structure] or [blade])"])
     if ctx.spec.unit is not None:
         value, name = ctx.spec.unit(ctx)
     else:

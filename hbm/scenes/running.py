@@ -20,7 +20,7 @@ import numpy as np
 from ..frf import frequency_response
 from ..output import (ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
                       frf_columns, frf_row, harmonic_values, stable_value, with_hz)
-from ..structure import Contact
+from .contacts import damper_contact
 from .modal import MODE_COLUMNS, OPTIMUM_COLUMNS, modal_figure, modal_summary, run_modes, run_optimum
 from .planning import Plan, RunPlan, plan_scene
 from .reporting import figure, jsonable, run_summary
@@ -372,11 +372,9 @@ def _run_frequency(scene, plan, res, emit):
 
     accuracy = {k: v for k, v in scene.sweep["options"].items() if k in ACCURACY_OPTIONS}
     damper, response_dof = p.element, None
-    if scene.structure is not None:  # a structure from matrices: the damper acts at structure.contact_dofs
-        st = scene.structure
-        dofs = tuple(st["contact_dofs"])
-        damper = [Contact(p.element, dof=dofs[0]) if len(dofs) == 1 else Contact(p.element, dofs=dofs)]
-        response_dof = st.get("response_dof")
+    if scene.structure is not None:  # a structure from matrices: the damper at structure.contact_dofs, its contacts
+        damper = [damper_contact(scene, p.element, p.model), *plan.contacts]
+        response_dof = scene.structure.get("response_dof")
     frf = frequency_response(plan.blade, damper, (w0, w1), harmonics=p.harmonics, n_t=p.n_t,
                              response_dof=response_dof, on_point=on_point,
                              on_harmonics=on_harmonics if H > 1 else None, **accuracy)

@@ -14,6 +14,7 @@ from typing import Iterator
 from ..balance import presets
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
                      one_or_list, positive, text, choice)
+from .contacts import contact_tables, dof_list
 from .effects import EFFECTS
 from .models import BASE_DAMPER_KEYS, MODELS
 from .sampling import study_keys
@@ -47,8 +48,16 @@ _FIXED: dict[str, dict[str, Key]] = {
                              "modal damping ratio zeta of every mode, or a list with one per mode"),
         "force": Key(number_list(number(unit="N")), REQUIRED,
                      "force amplitudes of F cos(omega t), one per DOF (N)"),
-        "contact_dofs": Key(lambda v: _dof_list(v), REQUIRED,
-                            "where the damper acts: [i] (DOF i to ground) or [i, j] (on x_i - x_j)"),
+        "contact_dofs": Key(dof_list, REQUIRED,
+                            "where the damper acts: [i] (DOF i to ground) or [i, j] (on x_i - x_j); the tangential "
+                            "displacement of a two-component damper (contact2d)"),
+        "normal_dofs": Key(dof_list, OPTIONAL,
+                           "two-component damper (contact2d) only, required for it: its normal displacement, [k] "
+                           "(DOF k to ground) or [k, l] (x_k - x_l, v > 0 pressing)"),
+        "contacts": Key(contact_tables, OPTIONAL,
+                        "further elements of the structure, the same in every run: [[structure.contacts]] tables, "
+                        "each with model (a registered model complete in its own keys), dofs ([i] or [i, j]), "
+                        "normal_dofs (contact2d) and the model's keys as in [damper]"),
         "response_dof": Key(integer(0), OPTIONAL, "the DOF whose response is reported; default the forced DOF"),
     },
     "damper.load": {
@@ -109,15 +118,6 @@ _FIXED: dict[str, dict[str, Key]] = {
     },
 }
 
-def _dof_list(v):
-    """``structure.contact_dofs``: one DOF index, or two different ones."""
-    if (not isinstance(v, list) or len(v) not in (1, 2) or len(set(v)) != len(v)
-            or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in v)):
-        raise Invalid("must be a list of one DOF index (a contact to ground) or of two different ones "
-                      "(a contact between them), each an integer >= 0")
-    return tuple(v)
-
-
 #: Sub-tables (parent table -> child key).
 SUBTABLES = {"damper": "load"}
 #: Tables a scene must have, and what they hold at least.
@@ -157,6 +157,10 @@ def schema() -> dict[str, dict[str, Key]]:
         for key, k in spec.keys.items():
             damper.setdefault(key, k)
     effects = {e.key_name: e.key for e in EFFECTS if e.key_name is not None}
+    effects["samples"] = Key(integer(3), OPTIONAL,
+                             "AFT samples per period n_t of a multi-harmonic balance (a [structure], or "
+                             "effects.harmonics > 1), at least 2 H + 1; default hbm.balance.presets.samples_for(H) "
+                             "(32 at H = 1, 512 above)")
     effects["tolerance"] = Key(number(gt=0, lt=1), OPTIONAL,
                                "relative change below which `auto` leaves an effect out; default sweep.tolerance")
     out = {"": _FIXED[""], "blade": _FIXED["blade"], "structure": _FIXED["structure"], "damper": damper, "damper.load": _FIXED["damper.load"],

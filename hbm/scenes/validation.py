@@ -17,6 +17,7 @@ from typing import Any, Mapping
 
 from ..balance import presets
 from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
+from .contacts import check_entries
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
 from .sampling import study_table
@@ -525,6 +526,9 @@ class _Rules:
         for key in ("mass", "stiffness", "damping"):
             if isinstance(st.get(key), str):
                 st[key] = str(self.path.parent / st[key])
+        if st.get("contacts") is not None:  # [[structure.contacts]]: each entry's model and keys
+            st["contacts"], problems = check_entries(st["contacts"], self.path)
+            self.problems.extend(problems)
         return st
 
     def _damper(self, specs, needs, effects):
