@@ -19,6 +19,10 @@ from numpy.typing import NDArray
 from ..structure import Structure, modal_compliance
 from .layout import to_complex
 
+#: Largest ``n_a (n_a + 1) 2n`` for which the poles' residues at the condensation DOFs are kept
+#: (16 bytes each): beyond it G is formed per harmonic instead.
+RESIDUE_ENTRIES = 4_000_000
+
 
 class Condensed:
     """The structure's compliance at a set of DOFs for harmonics 0..H (state-space modes).
@@ -41,6 +45,13 @@ class Condensed:
         self.Ba = B[:, self.dofs]  # (2n, n_a)
         self.bf = B @ structure.force  # (2n,)
         self.h = np.arange(harmonics + 1)
+        na = self.dofs.size
+        # the residues of every pole at the pairs (a, b), once: G_h(omega) is then one matrix
+        # product over the poles, (n_a^2, 2n) @ (2n, H+1), with the forcing's row appended
+        self._residues: NDArray | None = None
+        if na * (na + 1) * self.lam.size <= RESIDUE_ENTRIES:
+            self._residues = np.vstack([(self.Va[:, None, :] * self.Ba.T[None, :, :]).reshape(na * na, -1),
+                                        self.Va * self.bf[None, :]])
         self._cache: tuple | None = None
 
     def at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
@@ -49,11 +60,20 @@ class Condensed:
             return self._cache[1]
         S = 1.0 / (1j * self.h[:, None] * omega - self.lam[None, :])  # (H+1, 2n)
         dS = -1j * self.h[:, None] * S * S
-        G = np.einsum("aj,hj,jb->hab", self.Va, S, self.Ba)
-        dG = np.einsum("aj,hj,jb->hab", self.Va, dS, self.Ba)
+        na, n1 = self.dofs.size, self.h.size
+        if self._residues is not None:
+            both = self._residues @ np.vstack([S, dS]).T  # (n_a^2 + n_a, 2 (H+1))
+            G = both[:na * na, :n1].T.reshape(n1, na, na)
+            dG = both[:na * na, n1:].T.reshape(n1, na, na)
+            xl, dxl = both[na * na:, 1], both[na * na:, n1 + 1]
+        else:  # many condensation DOFs: per harmonic, (n_a, 2n) @ (2n, n_a)
+            G = np.matmul(self.Va[None, :, :] * S[:, None, :], self.Ba)
+            dG = np.matmul(self.Va[None, :, :] * dS[:, None, :], self.Ba)
+            xl = self.Va @ (S[1] * self.bf)
+            dxl = self.Va @ (dS[1] * self.bf)
+        G = np.ascontiguousarray(G)
+        dG = np.ascontiguousarray(dG)
         G[0] = G[0].real
-        xl = self.Va @ (S[1] * self.bf)
-        dxl = self.Va @ (dS[1] * self.bf)
         out = (G, dG, xl, dxl)
         self._cache = (omega, out)
         return out
