@@ -10,7 +10,9 @@ the structure's size (``docs/multiharmonic.md`` derives every coefficient).
 
 from __future__ import annotations
 
+import hashlib
 import math
+import weakref
 from typing import Any, Sequence
 
 import numpy as np
@@ -22,6 +24,35 @@ from .layout import to_complex
 #: Largest ``n_a (n_a + 1) 2n`` for which the poles' residues at the condensation DOFs are kept
 #: (16 bytes each): beyond it G is formed per harmonic instead.
 RESIDUE_ENTRIES = 4_000_000
+
+
+#: The state-space modes of each structure solved so far, with the fingerprint of its matrices:
+#: the balances of one solve (the FRF's, and those of its error estimate at more harmonics and
+#: samples) share one modal decomposition.
+_MODES: "weakref.WeakKeyDictionary[Structure, tuple[bytes, tuple]]" = weakref.WeakKeyDictionary()
+
+
+def _fingerprint(structure: Structure) -> bytes:
+    """A digest of M, C, K as they are now (a matrix changed in place gives another)."""
+    digest = hashlib.blake2b(digest_size=20)
+    for A in (structure.M, structure.C, structure.K):
+        parts = (A.data, A.indices, A.indptr) if hasattr(A, "indptr") else (np.ascontiguousarray(A),)
+        digest.update(repr((A.shape, [np.asarray(a).dtype.str for a in parts])).encode())
+        for a in parts:
+            digest.update(np.ascontiguousarray(a).data)
+    return digest.digest()
+
+
+def structure_modes(structure: Structure) -> tuple[NDArray, NDArray, NDArray]:
+    """:func:`hbm.structure.modal_compliance` of ``structure``, computed once while its matrices
+    stay the same."""
+    fp = _fingerprint(structure)
+    known = _MODES.get(structure)
+    if known is not None and known[0] == fp:
+        return known[1]
+    modes = modal_compliance(structure.M, structure.C, structure.K)
+    _MODES[structure] = (fp, modes)
+    return modes
 
 
 class Condensed:
@@ -38,7 +69,7 @@ class Condensed:
     """
 
     def __init__(self, structure: Structure, dofs: Sequence[int], harmonics: int) -> None:
-        self.lam, V, B = modal_compliance(structure.M, structure.C, structure.K)
+        self.lam, V, B = structure_modes(structure)
         self.V, self.B = V, B
         self.dofs = np.asarray(dofs, dtype=int)
         self.Va = V[self.dofs]  # (n_a, 2n)
@@ -103,4 +134,4 @@ def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float) -> 
     return Kc
 
 
-__all__ = ["Condensed", "stuck_matrix"]
+__all__ = ["Condensed", "stuck_matrix", "structure_modes"]
