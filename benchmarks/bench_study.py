@@ -28,6 +28,7 @@ import argparse
 import math
 import os
 import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -50,6 +51,12 @@ def sleeper(point):
     """A run of known length: ``point["seconds"]`` of sleep."""
     time.sleep(point["seconds"])
     return {"peak_amplitude_m": point["seconds"]}
+
+
+def commit() -> str:
+    """The checked-out commit (short hash; ``+`` when the tree has changes)."""
+    run = lambda *a: subprocess.run(["git", "-C", str(ROOT), *a], capture_output=True, text=True).stdout.strip()  # noqa: E731
+    return run("rev-parse", "--short", "HEAD") + ("+" if run("status", "--porcelain", "--untracked-files=no") else "")
 
 
 def trivial_run(point):
@@ -185,7 +192,7 @@ def report(m) -> str:
     c, o, mc = m["chart"], m["overhead"], m["monte_carlo"]
     loads = lambda v: f"{v[0]:.1f} / {v[1]:.1f}"  # noqa: E731
     lines = [BEGIN, "## Studies: every core and Dask", "",
-             f"Measured {machine_line(m['machine'])}; `python benchmarks/bench_study.py"
+             f"Measured {machine_line(m['machine'])}; commit {m['commit']}; `python benchmarks/bench_study.py"
              f"{' --quick' if m['quick'] else ''}` (repeats {m['repeats']}, medians, interleaved). "
              "Load averages (1 min) before / after each measurement are given: on a machine shared with other "
              "jobs a speed-up is depressed, so rerun the script on a quiet machine "
@@ -260,7 +267,7 @@ def main(argv=None):
     ap.add_argument("--monte-carlo", type=int, default=None, help="samples (default 1000, --quick 100)")
     args = ap.parse_args(argv)
     m = {"machine": machine(), "quick": args.quick, "repeats": args.repeats, "overhead_runs": args.overhead_runs,
-         "machinery_runs": args.machinery_runs,
+         "machinery_runs": args.machinery_runs, "commit": commit(),
          "run_seconds": args.run_seconds}
     client, cluster, m["cluster_start_s"] = local_cluster()
     try:

@@ -268,7 +268,7 @@ class FrequencyResponse:
         lams = []
         hill = HillProblem(M, C, K, self.harmonics)
         for X, w in zip(self._X, self.omega):
-            dFa = pr.forces(X, float(w), perturbation=True)[1]
+            dFa = pr.perturbation_jacobian(X, float(w))
             dF = np.zeros((model.n * L, model.n * L))
             dF[np.ix_(idx, idx)] = dFa
             lams.append(hill.exponents(float(w), dF))

@@ -149,6 +149,7 @@ def test_hill_exponents_equal_the_full_eigenproblem(static):
         X = X.copy()
         X[:, 0] += static  # a static offset: even harmonics in the contact's Jacobian
         dFa = pr.forces(X, float(w), perturbation=True)[1]
+        assert np.array_equal(pr.perturbation_jacobian(X, float(w)), dFa)
         dF = np.zeros((3 * pr.L, 3 * pr.L))
         idx = (np.asarray(pr.dofs)[:, None] * pr.L + np.arange(pr.L)).ravel()
         dF[np.ix_(idx, idx)] = dFa
