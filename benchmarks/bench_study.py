@@ -1,4 +1,4 @@
-"""Studies on every core and on Dask: speed-up, scheduling overhead, time per run (issue 14).
+"""Studies on every core and on Dask: speed-up, scheduling overhead, time per run.
 
     python benchmarks/bench_study.py                 # all, printed: about 6 minutes on a quiet 2-core VM
     python benchmarks/bench_study.py --docs          # and rewrite the section of docs/performance.md
@@ -28,6 +28,7 @@ import argparse
 import math
 import os
 import statistics
+import subprocess
 import sys
 import tempfile
 import time
@@ -50,6 +51,17 @@ def sleeper(point):
     """A run of known length: ``point["seconds"]`` of sleep."""
     time.sleep(point["seconds"])
     return {"peak_amplitude_m": point["seconds"]}
+
+
+def commit() -> str:
+    """The checked-out commit (short hash; ``+`` when the tree has changes)."""
+    run = lambda *a: subprocess.run(["git", "-C", str(ROOT), *a], capture_output=True, text=True).stdout.strip()  # noqa: E731
+    return run("rev-parse", "--short", "HEAD") + ("+" if run("status", "--porcelain", "--untracked-files=no") else "")
+
+
+def trivial_run(point):
+    """A run that costs nothing: what a study costs beyond its runs."""
+    return {"peak_amplitude_m": float(point["i"])}
 
 
 def load() -> float:
@@ -156,6 +168,18 @@ def overhead(n, seconds, pool):
     return out
 
 
+def machinery(n, repeats):
+    """Per-run cost of the study machinery: ``n`` runs of :func:`trivial_run` (ids, scheduling,
+    pickling, the records written, the folder's lock), serially and on a fresh two-process pool
+    (its start included); medians of ``repeats``."""
+    study = Study(trivial_run, grid({"i": list(range(n))}))
+    out = {}
+    for name, kw in (("serial", {}), ("processes", {"workers": WORKERS})):
+        walls = [timed(study, name, **kw)[0] for _ in range(repeats)]
+        out[name] = {"wall_s": statistics.median(walls), "per_run_s": statistics.median(walls) / n}
+    return out
+
+
 def monte_carlo(n):
     study = Study.from_scene(MONTE_CARLO, overrides={"study.n": n})
     wall, result, l0, l1, _ = timed(study, "processes")
@@ -167,8 +191,8 @@ def monte_carlo(n):
 def report(m) -> str:
     c, o, mc = m["chart"], m["overhead"], m["monte_carlo"]
     loads = lambda v: f"{v[0]:.1f} / {v[1]:.1f}"  # noqa: E731
-    lines = [BEGIN, "## Studies: every core and Dask (issue 14)", "",
-             f"Measured {machine_line(m['machine'])}; `python benchmarks/bench_study.py"
+    lines = [BEGIN, "## Studies: every core and Dask", "",
+             f"Measured {machine_line(m['machine'])}; commit {m['commit']}; `python benchmarks/bench_study.py"
              f"{' --quick' if m['quick'] else ''}` (repeats {m['repeats']}, medians, interleaved). "
              "Load averages (1 min) before / after each measurement are given: on a machine shared with other "
              "jobs a speed-up is depressed, so rerun the script on a quiet machine "
@@ -201,6 +225,11 @@ def report(m) -> str:
                     rows), ""]
     proj = {k: projected(c["times"], o[k]["per_run_s"]) * min(1.0, c["cpu_s"]["serial"] / c["cpu_s"][k])
             for k in o}
+    t = m["machinery"]
+    lines += [f"**The study machinery per run** ({m['machinery_runs']} runs that return at once, a fresh folder "
+              f"each time; medians of {m['repeats']}): serially {t['serial']['wall_s']:.2f} s in all, "
+              f"{1e3 * t['serial']['per_run_s']:.2f} ms per run; on a new pool of {WORKERS} processes (its start "
+              f"included) {t['processes']['wall_s']:.2f} s, {1e3 * t['processes']['per_run_s']:.2f} ms per run.", ""]
     lines += [f"**Projected speed-up on an idle machine**, from quantities the load biases little: "
               f"the serial run's own run times (the last repeat; the load is assumed to stretch them all alike) "
               f"handed out in submission order to the first free of {WORKERS} workers, as both executors "
@@ -234,15 +263,18 @@ def main(argv=None):
     ap.add_argument("--docs", action="store_true", help="rewrite the section of docs/performance.md")
     ap.add_argument("--overhead-runs", type=int, default=40)
     ap.add_argument("--run-seconds", type=float, default=0.5)
+    ap.add_argument("--machinery-runs", type=int, default=500, help="runs that cost nothing (machinery per run)")
     ap.add_argument("--monte-carlo", type=int, default=None, help="samples (default 1000, --quick 100)")
     args = ap.parse_args(argv)
     m = {"machine": machine(), "quick": args.quick, "repeats": args.repeats, "overhead_runs": args.overhead_runs,
+         "machinery_runs": args.machinery_runs, "commit": commit(),
          "run_seconds": args.run_seconds}
     client, cluster, m["cluster_start_s"] = local_cluster()
     try:
         pool = client.get_executor(pure=False)
         m["chart"] = chart(args.repeats, args.quick, pool, client)
         m["overhead"] = overhead(args.overhead_runs, args.run_seconds, pool)
+        m["machinery"] = machinery(args.machinery_runs, args.repeats)
     finally:
         client.close()
         cluster.close()

@@ -19,7 +19,7 @@ from . import continuation as cont  # the module (hbm.continuation)
 from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
-from .balance.stability import STABILITY_TOL, hill_exponents, stability_changes
+from .balance.stability import STABILITY_TOL, HillProblem, stability_changes
 from .output import AMPLITUDE_UNITS, OMEGA_UNITS, plot_branch, write_frf_csv
 
 #: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
@@ -266,11 +266,12 @@ class FrequencyResponse:
         M, C, K = (np.asarray(A.toarray() if hasattr(A, "toarray") else A) for A in (model.M, model.C, model.K))
         idx = (np.asarray(place)[:, None] * L + np.arange(L)[None, :]).ravel()
         lams = []
+        hill = HillProblem(M, C, K, self.harmonics)
         for X, w in zip(self._X, self.omega):
-            dFa = pr.forces(X, float(w), perturbation=True)[1]
+            dFa = pr.perturbation_jacobian(X, float(w))
             dF = np.zeros((model.n * L, model.n * L))
             dF[np.ix_(idx, idx)] = dFa
-            lams.append(hill_exponents(M, C, K, float(w), dF, self.harmonics))
+            lams.append(hill.exponents(float(w), dF))
         self._exponents = np.array(lams)
         self._stable = self._exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)
         folds = list(zip(self.folds_omega, self.folds_amplitude))

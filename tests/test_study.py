@@ -1,6 +1,7 @@
 """Parameter studies (hbm.study): the same table on every executor, crash safety and resume."""
 
 import csv
+import ctypes
 import json
 import math
 import os
@@ -56,6 +57,22 @@ def flaky(point):
             "curve": {"omega_rad_s": [0.0, x], "amplitude_m": [1.0, math.cos(x)]}}
 
 
+def openblas_threads(point):
+    """The threads of every OpenBLAS loaded in this process (its least), as a run's result."""
+    with open("/proc/self/maps") as maps:
+        paths = sorted({line.split()[-1] for line in maps if "openblas" in line.lower() and ".so" in line})
+    counts = []
+    for path in paths:
+        lib = ctypes.CDLL(path)
+        for fn in ("openblas_get_num_threads", "openblas_get_num_threads64_", "scipy_openblas_get_num_threads",
+                   "scipy_openblas_get_num_threads64_"):
+            if hasattr(lib, fn):
+                counts.append(getattr(lib, fn)())
+                break
+    return {"peak_amplitude_m": float(max(counts)) if counts else None,
+            "peak_omega_rad_s": float(os.environ.get("OPENBLAS_NUM_THREADS", "nan"))}
+
+
 def calls(folder):
     path = Path(folder) / "calls.log"
     return [float(v) for v in path.read_text().split()] if path.exists() else []
@@ -109,6 +126,17 @@ def test_same_table_serially_in_processes_and_on_dask(tmp_path):
     # the points are those the samples draw (seed 11), joined to each model
     drawn = samples(3, {"damper.mu": uniform(0.2, 0.4), "damper.load.N": lognormal(60.0, 0.5)}, seed=11)
     assert [{k: row[k] for k in ("damper.mu", "damper.load.N")} for row in ref] == drawn * 2
+
+
+@pytest.mark.skipif(not Path("/proc/self/maps").exists(), reason="reads /proc/self/maps (Linux)")
+def test_workers_run_blas_on_one_thread(tmp_path):
+    """Two workers on two cores: each worker's OpenBLAS on one thread (oversubscription otherwise)."""
+    result = run_study(Study(openblas_threads, grid({"i": [0, 1, 2, 3]})), tmp_path, executor="processes", workers=2,
+                       formats=("csv",))
+    assert result.success
+    assert {r["peak_omega_rad_s"] for r in result.records} == {1.0}  # OPENBLAS_NUM_THREADS in the worker
+    threads = {r["peak_amplitude_m"] for r in result.records}
+    assert threads in ({1.0}, {None})  # None: no OpenBLAS in this numpy
 
 
 def test_failed_and_killed_runs_then_resume(tmp_path, monkeypatch):

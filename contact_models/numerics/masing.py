@@ -26,6 +26,7 @@ steppers ``Macroslip.step``), so the sampled map is exact for sampled paths.
 
 from __future__ import annotations
 
+import math
 from functools import lru_cache
 from typing import Callable
 
@@ -175,17 +176,12 @@ def true_extremes(X: Array, x: Array) -> tuple[tuple[float, float, bool, bool], 
     n = x.size
     H = (X.size - 1) // 2
     hh = np.arange(1, H + 1)
-    Xc, Xs = X[1::2], X[2::2]
     dth = 2.0 * np.pi / n
     th0 = dth * np.array([int(np.argmax(x)), int(np.argmin(x))], dtype=float)
-    th = th0.copy()
-    for _ in range(EXTREMUM_ITERATIONS):  # both extremes at once
-        ang = np.outer(th, hh)
-        c, s = np.cos(ang), np.sin(ang)
-        d1 = (s * -Xc + c * Xs) @ hh
-        d2 = -((c * Xc + s * Xs) @ (hh * hh))
-        step = np.divide(d1, d2, out=np.zeros(2), where=d2 != 0.0)
-        th = np.clip(th - step, th0 - dth, th0 + dth)
+    if H <= SCALAR_NEWTON_HARMONICS:  # a few harmonics: the same iteration on floats, no array calls
+        th = np.array([_newton_extremum(X[1::2].tolist(), X[2::2].tolist(), float(t), dth) for t in th0])
+    else:
+        th = _newton_extrema(X, th0, dth, hh)
     ang = np.outer(th, hh)
     basis = np.empty((2, 2 * H + 1))
     basis[:, 0] = 1.0
@@ -194,6 +190,39 @@ def true_extremes(X: Array, x: Array) -> tuple[tuple[float, float, bool, bool], 
     if not (xM >= x.max() and xm <= x.min()):  # Newton went astray (flat top): keep the samples
         return (float(x.max()), float(x.min()), True, False), basis[0] * np.nan, basis[1] * np.nan
     return (float(xM), float(xm), bool(th0[0] > th[0]), bool(th0[1] > th[1])), basis[0], basis[1]
+
+
+#: Up to this many harmonics :func:`true_extremes` iterates on Python floats (cheaper than the
+#: array calls for a few harmonics; the same Newton iteration, equal to rounding).
+SCALAR_NEWTON_HARMONICS = 16
+
+
+def _newton_extremum(Xc: list, Xs: list, th0: float, dth: float) -> float:
+    """Newton on ``x'(theta) = 0`` from ``th0``, kept within ``dth`` of it (``EXTREMUM_ITERATIONS``)."""
+    th = th0
+    for _ in range(EXTREMUM_ITERATIONS):
+        d1 = d2 = 0.0
+        for h, (xc, xs) in enumerate(zip(Xc, Xs), start=1):
+            c, s = math.cos(h * th), math.sin(h * th)
+            d1 += h * (xs * c - xc * s)
+            d2 -= h * h * (xc * c + xs * s)
+        step = d1 / d2 if d2 != 0.0 else 0.0
+        th = min(max(th - step, th0 - dth), th0 + dth)
+    return th
+
+
+def _newton_extrema(X: Array, th0: Array, dth: float, hh: Array) -> Array:
+    """:func:`_newton_extremum` for both starts at once, on arrays (many harmonics)."""
+    Xc, Xs = X[1::2], X[2::2]
+    th = th0.copy()
+    for _ in range(EXTREMUM_ITERATIONS):  # both extremes at once
+        ang = np.outer(th, hh)
+        c, s = np.cos(ang), np.sin(ang)
+        d1 = (s * -Xc + c * Xs) @ hh
+        d2 = -((c * Xc + s * Xs) @ (hh * hh))
+        step = np.divide(d1, d2, out=np.zeros(2), where=d2 != 0.0)
+        th = np.clip(th - step, th0 - dth, th0 + dth)
+    return th
 
 
 def dense_jacobian(d: Array, idx: NDArray[np.intp], C: Array) -> Array:

@@ -10,7 +10,9 @@ the structure's size (``docs/multiharmonic.md`` derives every coefficient).
 
 from __future__ import annotations
 
+import hashlib
 import math
+import weakref
 from typing import Any, Sequence
 
 import numpy as np
@@ -18,6 +20,39 @@ from numpy.typing import NDArray
 
 from ..structure import Structure, modal_compliance
 from .layout import to_complex
+
+#: Largest ``n_a (n_a + 1) 2n`` for which the poles' residues at the condensation DOFs are kept
+#: (16 bytes each): beyond it G is formed per harmonic instead.
+RESIDUE_ENTRIES = 4_000_000
+
+
+#: The state-space modes of each structure solved so far, with the fingerprint of its matrices:
+#: the balances of one solve (the FRF's, and those of its error estimate at more harmonics and
+#: samples) share one modal decomposition.
+_MODES: "weakref.WeakKeyDictionary[Structure, tuple[bytes, tuple]]" = weakref.WeakKeyDictionary()
+
+
+def _fingerprint(structure: Structure) -> bytes:
+    """A digest of M, C, K as they are now (a matrix changed in place gives another)."""
+    digest = hashlib.blake2b(digest_size=20)
+    for A in (structure.M, structure.C, structure.K):
+        parts = (A.data, A.indices, A.indptr) if hasattr(A, "indptr") else (np.ascontiguousarray(A),)
+        digest.update(repr((A.shape, [np.asarray(a).dtype.str for a in parts])).encode())
+        for a in parts:
+            digest.update(np.ascontiguousarray(a).data)
+    return digest.digest()
+
+
+def structure_modes(structure: Structure) -> tuple[NDArray, NDArray, NDArray]:
+    """:func:`hbm.structure.modal_compliance` of ``structure``, computed once while its matrices
+    stay the same."""
+    fp = _fingerprint(structure)
+    known = _MODES.get(structure)
+    if known is not None and known[0] == fp:
+        return known[1]
+    modes = modal_compliance(structure.M, structure.C, structure.K)
+    _MODES[structure] = (fp, modes)
+    return modes
 
 
 class Condensed:
@@ -34,13 +69,20 @@ class Condensed:
     """
 
     def __init__(self, structure: Structure, dofs: Sequence[int], harmonics: int) -> None:
-        self.lam, V, B = modal_compliance(structure.M, structure.C, structure.K)
+        self.lam, V, B = structure_modes(structure)
         self.V, self.B = V, B
         self.dofs = np.asarray(dofs, dtype=int)
         self.Va = V[self.dofs]  # (n_a, 2n)
         self.Ba = B[:, self.dofs]  # (2n, n_a)
         self.bf = B @ structure.force  # (2n,)
         self.h = np.arange(harmonics + 1)
+        na = self.dofs.size
+        # the residues of every pole at the pairs (a, b), once: G_h(omega) is then one matrix
+        # product over the poles, (n_a^2, 2n) @ (2n, H+1), with the forcing's row appended
+        self._residues: NDArray | None = None
+        if na * (na + 1) * self.lam.size <= RESIDUE_ENTRIES:
+            self._residues = np.vstack([(self.Va[:, None, :] * self.Ba.T[None, :, :]).reshape(na * na, -1),
+                                        self.Va * self.bf[None, :]])
         self._cache: tuple | None = None
 
     def at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
@@ -49,11 +91,20 @@ class Condensed:
             return self._cache[1]
         S = 1.0 / (1j * self.h[:, None] * omega - self.lam[None, :])  # (H+1, 2n)
         dS = -1j * self.h[:, None] * S * S
-        G = np.einsum("aj,hj,jb->hab", self.Va, S, self.Ba)
-        dG = np.einsum("aj,hj,jb->hab", self.Va, dS, self.Ba)
+        na, n1 = self.dofs.size, self.h.size
+        if self._residues is not None:
+            both = self._residues @ np.vstack([S, dS]).T  # (n_a^2 + n_a, 2 (H+1))
+            G = both[:na * na, :n1].T.reshape(n1, na, na)
+            dG = both[:na * na, n1:].T.reshape(n1, na, na)
+            xl, dxl = both[na * na:, 1], both[na * na:, n1 + 1]
+        else:  # many condensation DOFs: per harmonic, (n_a, 2n) @ (2n, n_a)
+            G = np.matmul(self.Va[None, :, :] * S[:, None, :], self.Ba)
+            dG = np.matmul(self.Va[None, :, :] * dS[:, None, :], self.Ba)
+            xl = self.Va @ (S[1] * self.bf)
+            dxl = self.Va @ (dS[1] * self.bf)
+        G = np.ascontiguousarray(G)
+        dG = np.ascontiguousarray(dG)
         G[0] = G[0].real
-        xl = self.Va @ (S[1] * self.bf)
-        dxl = self.Va @ (dS[1] * self.bf)
         out = (G, dG, xl, dxl)
         self._cache = (omega, out)
         return out
@@ -83,4 +134,4 @@ def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float) -> 
     return Kc
 
 
-__all__ = ["Condensed", "stuck_matrix"]
+__all__ = ["Condensed", "stuck_matrix", "structure_modes"]

@@ -281,6 +281,14 @@ class HarmonicBalance:
         periodic state (``contact_models.numerics.masing``) gives ``K_inf``.  A two-component
         element (``Contact2D``) gets the rows of its tangential and normal attachments, (2, L).
         """
+        return self._assemble(X, omega, perturbation, True)
+
+    def perturbation_jacobian(self, X: NDArray, omega: float) -> NDArray:
+        """``dF/dX`` (n_a L, n_a L) of :meth:`forces` with ``perturbation=True``, without the forces:
+        an element in its linear range all period is not evaluated (its Jacobian is ``k_s I``)."""
+        return self._assemble(X, omega, True, False)[1]
+
+    def _assemble(self, X: NDArray, omega: float, perturbation: bool, force: bool) -> tuple[NDArray, NDArray, NDArray]:
         na, L = self.na, self.L
         F = np.zeros((na, L))
         dF = np.zeros((na, L, na, L))
@@ -288,12 +296,17 @@ class HarmonicBalance:
         for el, comps in self._attach:
             Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
             c = len(comps)
-            f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol)
-            self.nfev += 1
+            linear = False
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
-                if 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega):
-                    J = float(el.linear_coefficients(omega)[0]) * np.eye(L)
+                linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
+            if force or not linear:
+                f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol)
+                self.nfev += 1
+            else:  # the forces are not asked for
+                f, fw = np.zeros(L), np.zeros(L)
+            if linear:
+                J = float(el.linear_coefficients(omega)[0]) * np.eye(L)
             f, fw, J = f.reshape(c, L), fw.reshape(c, L), J.reshape(c, L, c, L)
             signs = [((ix[0], 1.0), (ix[1], -1.0)) if len(ix) == 2 else ((ix[0], 1.0),) for ix in comps]
             for a in range(c):

@@ -40,6 +40,9 @@ STABILITY_TOL = 1e-7
 #: A stability change whose critical exponent has ``|Im lambda| > NS_IMAG_TOL * omega`` is a
 #: Neimark-Sacker bifurcation (a complex pair crosses); otherwise a real exponent crosses (fold).
 NS_IMAG_TOL = 1e-3
+#: Couplings of dF between even and odd harmonics below ``PARITY_RTOL`` times its largest entry
+#: are rounding (a solution with odd harmonics only): the eigenproblem is split by parity.
+PARITY_RTOL = 1e-12
 
 
 def derivative_operator(harmonics: int) -> NDArray[np.float64]:
@@ -55,6 +58,12 @@ def derivative_operator(harmonics: int) -> NDArray[np.float64]:
 def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray,
                    harmonics: int) -> NDArray[np.complex128]:
     """The ``2 n`` Floquet exponents (1/s) of the periodic solution at ``omega`` (rad/s).
+
+    Two exact shortcuts of the same eigenproblem (``docs/multiharmonic.md``, "Stability"): a
+    ``dF`` that is a constant stiffness on every harmonic (``kron(K_c, I)``: every contact held
+    in its linear range) makes the perturbation time-invariant, and the exponents are the
+    eigenvalues of ``(M, C, K + K_c)``; a ``dF`` that couples no even harmonic to an odd one
+    (a solution with odd harmonics only) splits the eigenproblem into its even and odd parts.
 
     Parameters
     ----------
@@ -81,32 +90,102 @@ def hill_exponents(M: NDArray, C: NDArray, K: NDArray, omega: float, dF: NDArray
     >>> np.round(lam.real, 6).tolist()  # -c/(2m) for the linear oscillator, at any omega
     [-0.1, -0.1]
     """
-    from scipy.linalg import eig  # lazily: import hbm stays light
+    return HillProblem(M, C, K, harmonics).exponents(omega, dF)
+
+
+class HillProblem:
+    """Hill's eigenproblem of one model (M, C, K) at H harmonics, its omega-free parts formed once.
+
+    ``HillProblem(M, C, K, H).exponents(omega, dF)`` is :func:`hill_exponents` (which see);
+    a branch's points share one instance (``FrequencyResponse.stable``).
+
+    Parameters
+    ----------
+    M, C, K : ndarray
+        Dense n x n matrices of the model.
+    harmonics : int
+        H.
+    """
+
+    def __init__(self, M: NDArray, C: NDArray, K: NDArray, harmonics: int) -> None:
+        self.M, self.C, self.K = (np.asarray(A, dtype=float) for A in (M, C, K))
+        self.n, self.H, self.L = self.M.shape[0], int(harmonics), 2 * int(harmonics) + 1
+        self._Minv = np.linalg.inv(self.M)
+        parity = np.r_[0, np.repeat(np.arange(1, self.H + 1), 2)] % 2
+        self._parts = (np.flatnonzero(parity == 0), np.flatnonzero(parity == 1))
+        self._ops: dict = {}
+
+    def exponents(self, omega: float, dF: NDArray) -> NDArray[np.complex128]:
+        """The ``2 n`` Floquet exponents (1/s) at ``omega`` for the contacts' Jacobian ``dF``."""
+        n, L, H = self.n, self.L, self.H
+        Kc = dF[::L, ::L]
+        if np.array_equal(dF, np.kron(Kc, np.eye(L))):  # time-invariant: the k = 0 member of each family
+            lam = _state_space_eigenvalues(self.M, self.C, self.K + Kc)
+            return lam[np.argsort(-lam.real, kind="stable")]
+        even, odd = self._parts
+        ie, io = (np.ravel(np.arange(n)[:, None] * L + part[None, :]) for part in (even, odd))
+        scale = float(np.max(np.abs(dF))) if dF.size else 0.0
+        cross = max(float(np.max(np.abs(dF[np.ix_(ie, io)]), initial=0.0)),
+                    float(np.max(np.abs(dF[np.ix_(io, ie)]), initial=0.0)))
+        parts = [even, odd] if H > 0 and cross <= PARITY_RTOL * scale else [np.arange(L)]
+        lams, Ps = [], []
+        for part in parts:
+            lam, P = self._eig(omega, dF, part)
+            lams.append(lam)
+            Ps.append(P)
+        lam, P = np.concatenate(lams), np.concatenate(Ps, axis=2)
+        zp = P[:, 1::2] - 1j * P[:, 2::2]  # 2 z_{+h}
+        zm = P[:, 1::2] + 1j * P[:, 2::2]  # 2 z_{-h}
+        h = np.arange(1, H + 1)[None, :, None]
+        wp, wm = np.sum(np.abs(zp) ** 2, axis=0), np.sum(np.abs(zm) ** 2, axis=0)
+        total = 4.0 * np.sum(np.abs(P[:, 0]) ** 2, axis=0) + np.sum(wp + wm, axis=0)
+        centre = np.abs(np.sum(h[0] * (wp - wm), axis=0)) / np.maximum(total, 1e-300)
+        # ties (equally centred members, e.g. a real exponent's symmetric +-1 content and a spurious
+        # purely static member at H = 1) go to the smaller |Im lambda|
+        lam = lam[np.lexsort((np.abs(lam.imag), np.round(centre, 2)))[:2 * n]]
+        return lam[np.argsort(-lam.real, kind="stable")]
+
+    def _operators(self, part: NDArray) -> tuple:
+        """The omega-free parts of ``-M^-1 D0`` and ``-M^-1 D1`` on the coefficients ``part``."""
+        key = tuple(part.tolist())
+        if key not in self._ops:
+            n, L, p = self.n, self.L, part.size
+            Nop = derivative_operator(self.H)[np.ix_(part, part)]
+            I = np.eye(p)
+            Minv = np.kron(self._Minv, I)
+            idx = np.ravel(np.arange(n)[:, None] * L + part[None, :])
+            self._ops[key] = (idx, Minv, Minv @ np.kron(self.K, I), Minv @ np.kron(self.C, Nop),
+                              Minv @ np.kron(self.M, Nop @ Nop), Minv @ np.kron(self.C, I),
+                              Minv @ np.kron(self.M, Nop))
+        return self._ops[key]
+
+    def _eig(self, omega: float, dF: NDArray, part: NDArray) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
+        """Eigenvalues and displacement eigenvectors (n, 2H+1, m) of the QEP (module docstring)
+        on the coefficients ``part`` of every DOF (the rest of the layout zero)."""
+        from scipy.linalg import eig  # lazily: import hbm stays light
+
+        idx, Minv, MK, MCN, MMN2, MC, MMN = self._operators(part)
+        size = idx.size
+        A = np.zeros((2 * size, 2 * size))
+        A[:size, size:] = np.eye(size)
+        A[size:, :size] = -(MK + omega * MCN + omega * omega * MMN2 + Minv @ dF[np.ix_(idx, idx)])
+        A[size:, size:] = -(MC + 2.0 * omega * MMN)
+        lam, V = eig(A, overwrite_a=True, check_finite=False)
+        P = np.zeros((self.n, self.L, 2 * size), dtype=complex)
+        P[:, part] = V[:size].reshape(self.n, part.size, 2 * size)
+        return lam, P
+
+
+def _state_space_eigenvalues(M: NDArray, C: NDArray, K: NDArray) -> NDArray[np.complex128]:
+    """The 2n eigenvalues of ``M x'' + C x' + K x = 0``."""
+    from scipy.linalg import eigvals  # lazily: import hbm stays light
 
     n = M.shape[0]
-    L = 2 * harmonics + 1
-    Nop = derivative_operator(harmonics)
-    I = np.eye(L)
-    D1 = np.kron(C, I) + 2.0 * omega * np.kron(M, Nop)
-    D0 = np.kron(K, I) + omega * np.kron(C, Nop) + omega * omega * np.kron(M, Nop @ Nop) + dF
-    Minv = np.kron(np.linalg.inv(M), I)
-    size = n * L
-    A = np.zeros((2 * size, 2 * size))
-    A[:size, size:] = np.eye(size)
-    A[size:, :size] = -Minv @ D0
-    A[size:, size:] = -Minv @ D1
-    lam, V = eig(A)
-    P = V[:size].reshape(n, L, 2 * size)  # displacement part of each eigenvector, per DOF and harmonic
-    zp = P[:, 1::2] - 1j * P[:, 2::2]  # 2 z_{+h}
-    zm = P[:, 1::2] + 1j * P[:, 2::2]  # 2 z_{-h}
-    h = np.arange(1, harmonics + 1)[None, :, None]
-    wp, wm = np.sum(np.abs(zp) ** 2, axis=0), np.sum(np.abs(zm) ** 2, axis=0)
-    total = 4.0 * np.sum(np.abs(P[:, 0]) ** 2, axis=0) + np.sum(wp + wm, axis=0)
-    centre = np.abs(np.sum(h[0] * (wp - wm), axis=0)) / np.maximum(total, 1e-300)
-    # ties (equally centred members, e.g. a real exponent's symmetric +-1 content and a spurious
-    # purely static member at H = 1) go to the smaller |Im lambda|
-    lam = lam[np.lexsort((np.abs(lam.imag), np.round(centre, 2)))[:2 * n]]
-    return lam[np.argsort(-lam.real, kind="stable")]
+    A = np.zeros((2 * n, 2 * n))
+    A[:n, n:] = np.eye(n)
+    A[n:, :n] = -np.linalg.solve(M, K)
+    A[n:, n:] = -np.linalg.solve(M, C)
+    return eigvals(A, overwrite_a=True, check_finite=False)
 
 
 class StabilityChange(NamedTuple):
@@ -167,4 +246,4 @@ def single_harmonic_stability(blade: Any, element: Any, omega: NDArray, x_c: NDA
     return out
 
 
-__all__ = ["single_harmonic_stability", "hill_exponents", "derivative_operator", "StabilityChange", "stability_changes", "STABILITY_TOL"]
+__all__ = ["single_harmonic_stability", "hill_exponents", "HillProblem", "derivative_operator", "StabilityChange", "stability_changes", "STABILITY_TOL"]

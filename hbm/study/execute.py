@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import concurrent.futures as cf
 import contextlib
+import ctypes
 import functools
 import os
 import signal
@@ -59,9 +60,51 @@ def check_executor(executor: Any, workers: int | None, scheduler: str | None) ->
 PARENT_CHECK_S = 0.2
 
 
+#: Environment variables that set the threads of the BLAS / OpenMP libraries a process loads.
+BLAS_THREAD_VARIABLES = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS",
+                         "VECLIB_MAXIMUM_THREADS", "NUMEXPR_NUM_THREADS")
+
+
+def single_threaded_blas() -> list[str]:
+    """Make this process's linear algebra single-threaded: a study's workers already use every core.
+
+    Sets :data:`BLAS_THREAD_VARIABLES` to 1 (for libraries loaded from now on) and, on Linux, calls
+    ``set_num_threads(1)`` of every OpenBLAS already loaded (numpy's and scipy's, inherited from
+    the parent by a forked worker, whose thread count the variables no longer change).  Without
+    it two workers on two cores each run BLAS on two threads, which wait on each other.
+
+    Returns
+    -------
+    list of str
+        The OpenBLAS libraries set to one thread (empty where none is found or not on Linux).
+    """
+    for name in BLAS_THREAD_VARIABLES:
+        os.environ[name] = "1"
+    done = []
+    try:
+        with open("/proc/self/maps") as maps:
+            paths = sorted({line.split()[-1] for line in maps if "openblas" in line.lower() and ".so" in line})
+    except OSError:  # not Linux: the environment variables only
+        return done
+    for path in paths:
+        try:
+            lib = ctypes.CDLL(path)
+        except OSError:
+            continue
+        for fn in ("openblas_set_num_threads", "openblas_set_num_threads64_", "scipy_openblas_set_num_threads",
+                   "scipy_openblas_set_num_threads64_"):
+            if hasattr(lib, fn):
+                getattr(lib, fn)(ctypes.c_int(1))
+                done.append(path)
+                break
+    return done
+
+
 def _worker_init() -> None:
-    """A worker process leaves Ctrl-C to its parent (which stops it), dies on SIGTERM, and ends
-    on its own when its parent is gone (:func:`_watch_parent`)."""
+    """A worker process computes on one thread (:func:`single_threaded_blas`), leaves Ctrl-C to
+    its parent (which stops it), dies on SIGTERM, and ends on its own when its parent is gone
+    (:func:`_watch_parent`)."""
+    single_threaded_blas()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if hasattr(signal, "pthread_sigmask"):  # blocked by the parent while it started us (_sigint_blocked)
@@ -268,4 +311,4 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     return sorted(lost)
 
 
-__all__ = ["EXECUTORS", "DASK_MISSING", "PARENT_CHECK_S", "cores", "check_executor", "dask_executor", "run_tasks"]
+__all__ = ["EXECUTORS", "DASK_MISSING", "PARENT_CHECK_S", "BLAS_THREAD_VARIABLES", "single_threaded_blas", "cores", "check_executor", "dask_executor", "run_tasks"]
