@@ -34,8 +34,10 @@ def test_every_example_scene_is_valid_and_tested():
               "chain_3dof"}
     studies = {"design_chart_study", "monte_carlo"}  # tests/test_hbm_examples.py runs them
     modal = {"nonlinear_modes_chain", "damper_optimum"}  # tests/test_scenes_modes.py runs them
-    assert names == tested | studies | modal
-    for name in tested | modal:
+    # tests/test_scenes_normal.py and tests/test_scenes_allmode2d.py run them
+    normal = {"nlvib_ex07", "contact_normal", "allmode_normal"}
+    assert names == tested | studies | modal | normal
+    for name in tested | modal | normal:
         plan_scene(load_scene(SCENES / f"{name}.toml"))
     for name in studies:
         assert load_scene(SCENES / f"{name}.toml").study["points"]

@@ -92,7 +92,7 @@ def show(v: Any) -> str:
         return "inf" if v > 0 else "-inf"
     if isinstance(v, float) and math.isnan(v):
         return "nan"
-    if isinstance(v, list):
+    if isinstance(v, (list, tuple)):  # a checked list key holds a tuple: shown as written
         return "[" + ", ".join(show(x) for x in v) + "]"
     if isinstance(v, dict):
         return "{" + ", ".join(f"{k} = {show(x)}" for k, x in v.items()) + "}"

@@ -1,7 +1,7 @@
 """Where the elements of a ``[structure]`` scene act: the damper's DOFs and the structure's own contacts.
 
 A ``[structure]`` attaches the run's damper (``[damper]``) at ``structure.contact_dofs`` and, for
-an element of two components (tangential and normal, ``components = 2``: ``"contact2d"``), its
+an element of two components (tangential and normal, ``components = 2``: ``"contact2d"``, ``"allmode2d"``), its
 normal at ``structure.normal_dofs``.  It may hold further elements of the model registry
 (``hbm.scenes.MODELS``), the same in every run, as an array of tables::
 
@@ -142,7 +142,7 @@ def attach(scene: Any, element: Any, dofs: tuple, normal_dofs: tuple | None, key
                           "[k, l] (x_k - x_l) the normal one"])
     if not two and normal_dofs is not None:
         raise SceneError([f"{scene.where(keys[1])} = {show(list(normal_dofs))}: not allowed: the {label} element "
-                          "acts on one displacement (normal DOFs attach a two-component element, contact2d)"])
+                          "acts on one displacement (normal DOFs attach a two-component element: contact2d, allmode2d)"])
     where = {"dof": dofs[0]} if len(dofs) == 1 else {"dofs": tuple(dofs)}
     if two:
         where.update({"normal_dof": normal_dofs[0]} if len(normal_dofs) == 1 else {"normal_dofs": tuple(normal_dofs)})

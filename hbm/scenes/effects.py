@@ -213,6 +213,8 @@ def inertia(run: Any) -> Effect:
             note = f" ({run.note})" if run.note else ""
             return Effect("damper inertia", False, f"{run.label} element: massless, frequency independent{note}",
                           decided={"inertia": False})
+        if getattr(element, "components", 1) != 1:
+            return _two_component_inertia(run, setting)
         K0 = float(element.stuck_stiffness(0.0))
         change = abs(float(element.stuck_stiffness(w_hi)) / K0 - 1.0) if K0 else math.inf
         at = f"|K*(omega_max)/K*(0) - 1| = {change:.3g} at omega_max = {w_hi:.6g} rad/s"
@@ -229,6 +231,18 @@ def inertia(run: Any) -> Effect:
     if run.spec.name == "point-contact":
         reason += "; the point contact itself is massless: inertia enters through its fit"
     return Effect("damper inertia", simulated, reason, decided={"inertia": simulated})
+
+
+def _two_component_inertia(run: Any, setting: str) -> Effect:
+    """A frequency-dependent element of two components keeps its inertia: the quasi-static wrapper
+    (``QuasiStatic``) reads one displacement component; ``effects.inertia = "off"`` is refused."""
+    why = (f"the {run.label} element acts on a tangential and a normal displacement, and the quasi-static "
+           "damper (QuasiStatic) reads one")
+    if setting == "off":
+        raise SceneError([f"{run.where('effects.inertia')} = \"off\": not available with damper.model = "
+                          f"{show(run.spec.name)}: {why}; use \"auto\" or \"on\" (its inertia is simulated)"])
+    return Effect("damper inertia", True, f"effects.inertia = {show(setting)}: simulated ({why})",
+                  decided={"inertia": True})
 
 
 def topology(run: Any) -> Effect | None:

@@ -35,6 +35,9 @@ its tolerances in units of the stuck stiffness (``k* a``), and an amplitude swee
   all period below |g|, opening above).
 - ``"contact2d"`` (``Contact2D``) has its example (k* = kt for a preload n0 > 0); the suite sees
   its first harmonic with the normal DOF at rest (the Jenkins element at ``mu n0``).
+- ``"allmode2d"`` (``AllModeMicroslip2D``) has its example (8 cells, H = 11); the suite sees its
+  first harmonic with the normal DOF at rest, which is ``AllModeMicroslip`` on the same cells and
+  harmonics (its normal motion is checked in ``tests/test_allmode_normal.py``).
 
 Both declare ``linear_amplitude = 0`` (a mean displacement, or normal motion, changes their contact
 state at any amplitude) although their first harmonic about a zero mean is exactly k* a below |g|
@@ -42,9 +45,10 @@ or mu n0/kt; the suite accepts that exactly linear start.
 
 An amplitude sweep refuses an element whose k* is 0 (naming ``sweep.kind``); in a frequency sweep
 and as a contact of a ``[structure]`` (``structure.contacts``, ``hbm.scenes.contacts``) every
-model is usable.  ``"contact2d"`` acts on two displacements (tangential, normal: the element's
-``components = 2``); the scene attaches its normal with ``structure.normal_dofs`` (or an entry's
-``normal_dofs``).
+model is usable.  ``"contact2d"`` and ``"allmode2d"`` act on two displacements (tangential, normal:
+the element's ``components = 2``); the scene attaches the normal with ``structure.normal_dofs`` (or
+an entry's ``normal_dofs``).  ``"allmode2d"`` needs the bar and the load of ``[damper]``, so it is a
+damper only, not an entry of ``[[structure.contacts]]``.
 """
 
 from __future__ import annotations
@@ -54,11 +58,12 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Callable, Mapping, NamedTuple
 
-from contact_models import (AllModeMicroslip, Bar, Contact2D, CubicSpring, Gap, Iwan, Macroslip, PointContact,
-                            QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
+from contact_models import (AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, CubicSpring, Gap, Iwan, Macroslip,
+                            PointContact, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models.allmode import CELLS
+from contact_models.allmode2d import CELLS_2D, HARMONICS_2D, SAMPLES_PER_HARMONIC_2D
 
-from .checks import OPTIONAL, Invalid, Key, SceneError, choice, integer, number, show
+from .checks import OPTIONAL, Invalid, Key, SceneError, choice, integer, number, number_list, show
 
 #: Harmonics inside AllModeMicroslip in scenes.  Scenes solve the single-harmonic balance, which
 #: differences the element's omega-derivative; at the element's default H = 15 the default blade's
@@ -380,11 +385,13 @@ def _example_iwan():
     return Iwan(slip_force=30.0, stiffness=1.0e7, chi=-0.5, beta=0.1)
 
 
-CELLS_KEY = Key(integer(2), CELLS, "all-mode only: finite cells along the bar of AllModeMicroslip")
+CELLS_KEY = Key(integer(2), OPTIONAL, f"all-mode and allmode2d: finite cells along the bar; default {CELLS} "
+                                      f"(all-mode, AllModeMicroslip) or {CELLS_2D} (allmode2d, AllModeMicroslip2D)")
 
 
 def _build_all_mode(run):
-    element = AllModeMicroslip(run.bar, run.load, cells=run.params["cells"], harmonics=SCENE_HARMONICS)
+    cells = run.params.get("cells") or CELLS
+    element = AllModeMicroslip(run.bar, run.load, cells=cells, harmonics=SCENE_HARMONICS)
     return Built(element, "all-mode", f"{element.cells} cells, H = {element.harmonics}")
 
 
@@ -406,8 +413,9 @@ GAP_STIFFNESS = Key(number(gt=0, unit="N/m"), None,
 GAP = Key(number(unit="m"), None, "gap only, required: the gap g (m), the displacement at which the contact "
                                   "closes; < 0 a preloaded contact (force -k g at x = 0)")
 KT = Key(number(gt=0, unit="N/m"), None, "contact2d only, required: tangential contact stiffness kt (N/m)")
-KN = Key(number(ge=0, unit="N/m"), None, "contact2d only, required: normal contact stiffness kn (N/m): the "
-                                         "normal load N = max(0, n0 + kn v), v > 0 pressing")
+KN = Key(number(ge=0, unit="N/m for contact2d, N/m^2 for allmode2d"), None,
+         "contact2d and allmode2d, required: normal contact stiffness kn, v > 0 pressing; contact2d's (N/m): the "
+         "normal load N = max(0, n0 + kn v); allmode2d's per unit length (N/m^2): the load q(x) + kn s(x) v")
 N0 = Key(number(unit="N"), None, "contact2d only, required: normal preload n0 (N) at zero normal displacement "
                                  "(<= 0: open at rest)")
 FRICTION = Key(number(gt=0), None, "contact2d only, required: friction coefficient mu of the point contact, "
@@ -449,6 +457,46 @@ def _example_contact2d():
     return Contact2D(kt=1.0e6, kn=5.0e5, mu=0.3, n0=100.0)
 
 
+# ---- the all-mode bar with normal motion (two components: tangential end, normal displacement)
+NORMAL_SHAPE = Key(number_list(number(), length=2), (1.0, 1.0),
+                   "allmode2d only: [s_0, s_L], the normal displacement along the bar v(x, t) = (s_0 + (s_L - s_0) "
+                   "x/L) v(t) of the normal DOF's v(t); [1, 1] uniform, another pair a rocking damper")
+BAR_HARMONICS = Key(integer(1), OPTIONAL, f"allmode2d only: harmonics of the bar's nodal motion (AllModeMicroslip2D's "
+                                          f"harmonics); default {HARMONICS_2D}; the bar is solved with the larger of "
+                                          "this and effects.harmonics")
+BAR_SAMPLES = Key(integer(4), OPTIONAL, "allmode2d only: time samples per period of the bar's nodes "
+                                        "(AllModeMicroslip2D's n_t), a multiple of 4 and >= 2 damper.bar_harmonics + 2; "
+                                        f"default {SAMPLES_PER_HARMONIC_2D} damper.bar_harmonics rounded up to a "
+                                        "multiple of 4")
+
+
+def _validate_all_mode_2d(given) -> list:
+    """kn is required; damper.bar_samples must suit damper.bar_harmonics (the element's rule on n_t)."""
+    out = _required("allmode2d", "kn")(given)
+    n_t, H = given.get("bar_samples"), given.get("bar_harmonics") or HARMONICS_2D
+    if n_t is not None and (n_t % 4 or n_t < 2 * H + 2):
+        out.append(f"damper.bar_samples = {n_t}: must be a multiple of 4 and at least 2 damper.bar_harmonics + 2 "
+                   f"= {2 * H + 2} (damper.bar_harmonics = {H})")
+    return out
+
+
+def _build_all_mode_2d(run):
+    p = run.params
+    try:
+        element = AllModeMicroslip2D(run.bar, run.load, kn=p["kn"], cells=p.get("cells") or CELLS_2D,
+                                     harmonics=p.get("bar_harmonics") or HARMONICS_2D, n_t=p.get("bar_samples"),
+                                     normal_shape=tuple(p["normal_shape"]))
+    except ValueError as exc:
+        raise SceneError([f"{run.where('damper.model')} = \"allmode2d\": {exc}"]) from None
+    s0, sL = element.normal_shape
+    return Built(element, "allmode2d", f"{element.cells} cells, H = {element.harmonics}, n_t = {element.n_t}, "
+                                       f"kn = {element.kn:g} N/m^2, normal shape [{s0:g}, {sL:g}]")
+
+
+def _example_all_mode_2d():
+    return AllModeMicroslip2D(_example_bar(), UniformLoad(N=100.0), kn=2.0e9, cells=8, harmonics=SCENE_HARMONICS)
+
+
 def _register_contacts():
     register_model("gap", _build_gap, keys={"gap_stiffness": GAP_STIFFNESS, "gap": GAP},
                    doc="a unilateral spring behind a gap, f = k max(0, x - g) (Gap)", example=_example_gap,
@@ -459,6 +507,12 @@ def _register_contacts():
                    validate=_required("contact2d", "kt", "kn", "friction", "n0"))
     register_model("cubic", _build_cubic, keys={"k3": K3}, doc="a cubic spring f = k3 x^3 (CubicSpring)",
                    validate=_required("cubic", "k3"))
+    register_model("allmode2d", _build_all_mode_2d,
+                   keys={"kn": KN, "normal_shape": NORMAL_SHAPE, "cells": CELLS_KEY, "bar_harmonics": BAR_HARMONICS,
+                         "bar_samples": BAR_SAMPLES}, needs={"bar", "load"}, unit=_bar_a_min,
+                   doc="the all-mode bar whose normal load follows a normal motion, with separation "
+                       "(AllModeMicroslip2D; tangential and normal DOFs)", example=_example_all_mode_2d,
+                   validate=_validate_all_mode_2d)
 
 
 def _register_builtins():

@@ -50,9 +50,9 @@ _FIXED: dict[str, dict[str, Key]] = {
                      "force amplitudes of F cos(omega t), one per DOF (N)"),
         "contact_dofs": Key(dof_list, REQUIRED,
                             "where the damper acts: [i] (DOF i to ground) or [i, j] (on x_i - x_j); the tangential "
-                            "displacement of a two-component damper (contact2d)"),
+                            "displacement of a two-component damper (contact2d, allmode2d)"),
         "normal_dofs": Key(dof_list, OPTIONAL,
-                           "two-component damper (contact2d) only, required for it: its normal displacement, [k] "
+                           "two-component damper (contact2d, allmode2d) only, required for it: its normal displacement, [k] "
                            "(DOF k to ground) or [k, l] (x_k - x_l, v > 0 pressing)"),
         "contacts": Key(contact_tables, OPTIONAL,
                         "further elements of the structure, the same in every run: [[structure.contacts]] tables, "
