@@ -96,7 +96,7 @@ class NormalBar(FixedBar):
         self.dlim = np.where(pre > 0.0, self.mu * self.knc[:, None], 0.0)  # d lim / d v_i
         self.V = np.array(V, dtype=float)
 
-    def nodes(self, full: Array, b: _Basis, jacobian: bool):
+    def nodes(self, full: Array, b: _Basis, jacobian: bool) -> tuple:
         """Forces T (m, s), Jacobians dT/dU (m, s, s) (None without ``jacobian``), slip masks (m, n_t)
         and the origins and weights of ``node_map`` of every node of the coefficients ``full`` (m, s)."""
         u = full @ b.E.T

@@ -171,10 +171,8 @@ class Structure:
         """Structure with modal damping ``C = M Phi diag(2 zeta_j omega_j) Phi^T M``.
 
         ``Phi`` are the mass-normalised modes of (K, M), ``omega_j`` their natural frequencies;
-        ``ratios`` is one damping ratio for every mode or one per mode (n values, >= 0).  K must be
-        positive semi-definite: an eigenvalue below ``-1e-10 max|lambda|`` (a mode that grows, which no
-        damping ratio describes) raises ValueError naming it; rigid-body modes (lambda = 0 to rounding)
-        get no damping.
+        ``ratios`` is one damping ratio for every mode or one per mode (n values, >= 0).  K must be positive
+        semi-definite (a growing mode has no damping ratio: ValueError); rigid-body modes get no damping.
 
         Examples
         --------
@@ -196,10 +194,8 @@ class Structure:
             lam, Phi = eigh(Kd, Md)
         except np.linalg.LinAlgError:
             raise ValueError("M must be positive definite, got M for which (K, M) has no eigen-decomposition") from None
-        worst = int(np.argmin(lam))
-        if lam[worst] < -1e-10 * float(np.max(np.abs(lam))):
-            raise ValueError(f"K must be positive semi-definite for modal damping: mode {worst} of (K, M) has the "
-                             f"eigenvalue omega^2 = {lam[worst]:.6g} < 0")
+        if lam[0] < -1e-10 * float(np.max(np.abs(lam))):  # eigh sorts ascending
+            raise ValueError(f"K must be positive semi-definite for modal damping: (K, M) has omega^2 = {lam[0]:.6g}")
         w = np.sqrt(np.clip(lam, 0.0, None))
         MPhi = Md @ Phi
         return cls(M, (MPhi * (2.0 * z * w)) @ MPhi.T, K, force=force)
