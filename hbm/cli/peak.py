@@ -46,7 +46,7 @@ __all__ = ["AllModePeak", "allmode_peak", "amplitude_at", "SCAN", "SPAN", "SCAN_
 #: The rung the scan for the peak runs on (cells, harmonics).
 SCAN = (32, 15)
 #: The scan covers the single-mode peak frequency times (1 - SPAN[0], 1 + SPAN[1]), in steps SCAN_STEP (relative).
-SPAN = (0.006, 0.008)
+SPAN = (0.004, 0.006)
 SCAN_STEP = 1e-3
 #: The parabolas' half-width on every rung (relative to the single-mode peak frequency).
 REFINE_STEP = 2.5e-4
@@ -60,7 +60,7 @@ HARMONICS_CELLS = 64
 MAX_CELLS = 256
 #: Newton steps on the amplitude are limited to this fraction of it; it is converged to AMPLITUDE_RTOL.
 MAX_STEP = 0.02
-AMPLITUDE_RTOL = 1e-10
+AMPLITUDE_RTOL = 1e-9
 
 
 class AllModePeak(NamedTuple):
