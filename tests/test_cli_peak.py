@@ -92,3 +92,10 @@ def test_default_job_says_the_allmode_peak_on_its_last_line(tmp_path, monkeypatc
     assert main(["--model", "given"]) == 0
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert "TwoRegionMicroslip" in last and "estimated error 2 %" in last
+
+
+@pytest.mark.parametrize("kw", [dict(w_single=0.0), dict(a_single=-1e-6), dict(tol=1.5), dict(w_single=float("nan"))])
+def test_allmode_peak_refuses_bad_input_naming_it(case, kw):
+    args = dict(w_single=38768.0, a_single=1.5e-6, tol=1e-3) | kw
+    with pytest.raises(ValueError, match=next(iter(kw))):
+        allmode_peak(case.blade, case.element.bar, case.element.load, **args)

@@ -39,6 +39,7 @@ import numpy as np
 
 from contact_models import AllModeMicroslip
 from contact_models.allmode import richardson
+from contact_models.numerics.checks import positive
 
 __all__ = ["AllModePeak", "allmode_peak", "amplitude_at", "SCAN", "SPAN", "SCAN_STEP", "CELLS", "HARMONICS",
            "MAX_CELLS", "MAX_STEP", "AMPLITUDE_RTOL", "REFINE_STEP", "HARMONICS_CELLS"]
@@ -80,10 +81,30 @@ class AllModePeak(NamedTuple):
 
 
 def amplitude_at(blade: Any, element: AllModeMicroslip, omega: float, a0: float, max_iter: int = 60) -> float:
-    """The blade's amplitude (m) at ``omega`` (rad/s) with the damper ``element`` at H = 1, from ``a0``
-    (m): Newton's method on the amplitude equation of the module docstring, safeguarded by bisection
-    once a sign change of g is bracketed (the bar's f(a) has kinks where a cell starts to slip, where
-    plain Newton can cycle); nan if it does not converge."""
+    """The blade's amplitude at one frequency with the damper at H = 1 (the amplitude equation).
+
+    Parameters
+    ----------
+    blade : hbm.Blade
+        The one-DOF blade (``mass``, ``stiffness``, ``damping``, ``force``).
+    element : AllModeMicroslip
+        The damper on one rung (``cells`` and ``harmonics`` given); anything with its ``solve(a,
+        omega)`` returning ``success``, ``f_s``, ``f_c`` and ``dF_dX``.
+    omega : float
+        Frequency (rad/s).
+    a0 : float
+        Start amplitude (m), > 0.
+    max_iter : int
+        Newton iterations at most.
+
+    Returns
+    -------
+    float
+        The amplitude (m) solving g(a) = 0 (module docstring), converged to ``AMPLITUDE_RTOL``;
+        nan where it does not converge (Newton's method safeguarded by bisection once a sign change
+        of g is bracketed: the bar's f(a) has kinks where one more cell starts to slip, where plain
+        Newton can cycle).
+    """
     k_dyn = blade.stiffness - blade.mass * omega * omega
     cw = blade.damping * omega
     a, lo, hi = a0, None, None  # lo: g < 0 (below the root), hi: g > 0
@@ -173,10 +194,37 @@ def _harmonics_part(ladder: list) -> float:
 
 
 def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: float, tol: float) -> AllModePeak:
-    """The peak of the blade with ``AllModeMicroslip(bar, load)`` near the single-mode peak
-    (``w_single`` rad/s, ``a_single`` m), with its relative error estimate (module docstring).
+    """The peak of the blade with ``AllModeMicroslip(bar, load)`` and its relative error estimate.
 
-    Raises FloatingPointError where the amplitude equation does not converge near the peak."""
+    Parameters
+    ----------
+    blade : hbm.Blade
+        The one-DOF blade.
+    bar : contact_models.Bar
+        The damper bar.
+    load : contact_models.UniformLoad or any load of ``AllModeMicroslip``
+        Its normal load.
+    w_single, a_single : float
+        The single-mode peak (rad/s, m), > 0: where the scan is centred and starts.
+    tol : float
+        The relative error of the peak amplitude aimed at, in (0, 1): cells double (to ``MAX_CELLS``)
+        while the estimate is above it.
+
+    Returns
+    -------
+    AllModePeak
+        The peak on the finest rung, the estimate and its parts, and the peak on every rung.
+
+    Raises
+    ------
+    ValueError
+        ``w_single``, ``a_single`` not positive and finite, or ``tol`` outside (0, 1).
+    FloatingPointError
+        Where the amplitude equation does not converge near the peak.
+    """
+    w_single, a_single, tol = positive("w_single", w_single), positive("a_single", a_single), positive("tol", tol)
+    if not tol < 1.0:
+        raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
     ws, As = _scan(blade, bar, load, w_single, a_single)
     if not np.any(np.isfinite(As)):
         raise FloatingPointError("the all-mode amplitude did not converge on the scan around the peak")
