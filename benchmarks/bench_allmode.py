@@ -20,6 +20,8 @@ round, and each time as a ratio to the single-mode one of the same run.
 ``python benchmarks/bench_allmode.py --peak [repeats]``: the main job's all-mode peak (``hbm.cli.peak``) against the
 single-mode FRF, and the whole job (``python -m hbm`` in a new process) with ``--model given`` and by
 default, round-robin, wall and CPU medians (docs/performance.md, "The all-mode FRF").
+``--peak-study``: 50 normal loads from 40 to 300 N on two processes, each the single-mode FRF and
+the all-mode peak.
 
 ``python benchmarks/bench_allmode.py --estimates``: the error estimate (and the one the element
 gave before: half-cells Richardson assuming order 2, and the H -> ceil(H/2) change) against the
@@ -30,6 +32,7 @@ choice at its default tol (docs/validation.md, "Accuracy to a tolerance").
 from __future__ import annotations
 
 import csv
+import os
 import resource
 import statistics
 import subprocess
@@ -43,7 +46,8 @@ import numpy as np
 
 import math
 
-from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip, UniformLoad
+from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip,
+                            TwoRegionMicroslip, UniformLoad)
 
 from common import REPEATS, ROOT, machine, machine_line, table
 
@@ -257,7 +261,50 @@ def peak_rows(repeats: int = 3):
     return rows
 
 
+def _peak_run(N):
+    """One run of the peak study: the single-mode FRF with load N and, where its model error at the
+    peak is above half the tolerance, the all-mode peak; (N, single peak, all-mode peak or None, CPU)."""
+    from hbm import frequency_response  # lazily: the element benchmark above needs no solver
+    from hbm.cli.cases import default_case
+    from hbm.cli.peak import allmode_peak
+
+    warnings.simplefilter("ignore")
+    case = default_case()
+    el = TwoRegionMicroslip(case.element.bar, UniformLoad(N=N))
+    t0 = time.process_time()
+    frf = frequency_response(case.blade, el, omega_range=case.omega_range)
+    pk = frf.peak()
+    best = None
+    if float(frf.error_sources["model"][int(np.argmax(frf.amplitude))]) > 0.5 * frf.tolerance:
+        best = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance)
+    return N, (pk.omega, pk.amplitude), best and (best.omega, best.amplitude, best.error, best.cells), \
+        time.process_time() - t0
+
+
+def peak_study(runs: int = 50):
+    """The default case with ``runs`` normal loads from 40 to 300 N on two processes: each run the
+    single-mode FRF and the all-mode peak (``_peak_run``); wall, CPU, and the runs above tol."""
+    from multiprocessing import Pool  # lazily: only this study runs processes
+
+    info = machine()
+    t = time.perf_counter()
+    with Pool(2) as pool:
+        rows = pool.map(_peak_run, np.linspace(40.0, 300.0, runs), chunksize=1)
+    wall = time.perf_counter() - t
+    cpu = sum(r[3] for r in rows)
+    print(machine_line(info))
+    print(f"{runs} runs: {wall:.1f} s wall on 2 processes, {cpu:.1f} s CPU in all ({cpu / runs:.2f} s per run), "
+          f"load average {os.getloadavg()[0]:.1f} at the end")
+    for N, single, best, c in rows:
+        if best is None or best[2] > 1e-3:
+            print(f"N = {N:.1f}: single-mode {single}, all-mode {best}, CPU {c:.2f} s")
+    return rows
+
+
 if __name__ == "__main__":
+    if "--peak-study" in sys.argv:
+        peak_study()
+        sys.exit()
     if "--peak" in sys.argv:
         rest = [a for a in sys.argv[1:] if a != "--peak"]
         peak_rows(int(rest[0]) if rest else 3)
