@@ -38,7 +38,8 @@ from .cases import Case, default_case
 from .peak import AllModePeak, allmode_peak
 from .progress import ProgressLine
 
-__all__ = ["main", "build_parser", "program_name", "study_lines", "COMMANDS", "DESCRIPTION", "EXAMPLES",
+__all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
+           "DESCRIPTION", "EXAMPLES",
            "Terminated"]
 
 #: The first line of ``--help``.
@@ -68,9 +69,14 @@ def _default(args: argparse.Namespace) -> int:
                                  model="auto" if model == "allmode" else "given")
     pk = frf.peak()
     best = None
-    if model == "auto" and float(frf.error_sources["model"][int(np.argmax(frf.amplitude))]) > MODEL_SHARE * frf.tolerance:
+    at_peak = int(np.argmax(frf.amplitude))
+    if model == "auto" and frf.success and float(frf.error_sources["model"][at_peak]) > MODEL_SHARE * frf.tolerance:
         el = case.element
-        best = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance)
+        try:
+            best = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance)
+        except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
+            warnings.warn(f"the all-mode peak was not found ({exc}); the answer is the single-mode one",
+                          AccuracyWarning, stacklevel=2)
     for w in caught:
         if best is None or not issubclass(w.category, AccuracyWarning):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
@@ -273,7 +279,8 @@ def _default_arguments(parser):
 
 def _model_argument(parser, suppress=True):
     """``--model``: the default job's damper model."""
-    parser.add_argument("--model", choices=("auto", "given", "allmode"), default=argparse.SUPPRESS if suppress else None,
+    parser.add_argument("--model", choices=("auto", "given", "allmode"),
+                        default=argparse.SUPPRESS if suppress else None,
                         help="the default job's damper: 'auto' (default: the single-mode curve, and the peak of the "
                              "bar with every mode where the single-mode one is further than the tolerance from it), "
                              "'given' (the single-mode bar only) or 'allmode' (the whole curve with the bar with "
