@@ -17,6 +17,12 @@ defaults) and choosing to tol 1e-2 and 1e-3, round-robin (one run each per round
 medians of ``repeats`` (default 3), with the points, the peak and the AccuracyWarnings of the last
 round, and each time as a ratio to the single-mode one of the same run.
 
+``python benchmarks/bench_allmode.py --peak [repeats]``: the main job's all-mode peak (``hbm.cli.peak``) against the
+single-mode FRF, and the whole job (``python -m hbm`` in a new process) with ``--model given`` and by
+default, round-robin, wall and CPU medians (docs/performance.md, "The all-mode FRF").
+``--peak-study``: 50 normal loads from 40 to 300 N on two processes, each the single-mode FRF and
+the all-mode peak.
+
 ``python benchmarks/bench_allmode.py --estimates``: the error estimate (and the one the element
 gave before: half-cells Richardson assuming order 2, and the H -> ceil(H/2) change) against the
 converged references of ``tests/test_allmode_accuracy.py`` (copied below), and the element's own
@@ -26,7 +32,11 @@ choice at its default tol (docs/validation.md, "Accuracy to a tolerance").
 from __future__ import annotations
 
 import csv
+import os
+import resource
 import statistics
+import subprocess
+import tempfile
 import warnings
 import sys
 import time
@@ -36,9 +46,10 @@ import numpy as np
 
 import math
 
-from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip, UniformLoad
+from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip,
+                            TwoRegionMicroslip, UniformLoad)
 
-from common import REPEATS, machine, machine_line, table
+from common import REPEATS, ROOT, machine, machine_line, table
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 LOAD = UniformLoad(N=100.0)
@@ -197,7 +208,107 @@ def frf_rows(repeats: int = 3):
     return rows
 
 
+def _child_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
+def peak_rows(repeats: int = 3):
+    """The main job's all-mode peak against the single-mode FRF, and the whole job each way (a new
+    process: import, solve, CSV, figure), round-robin; wall and CPU medians, ratios of this run."""
+    from hbm import frequency_response  # lazily: the element benchmark above needs no solver
+    from hbm.cli.cases import default_case
+    from hbm.cli.peak import allmode_peak
+
+    case = default_case()
+    el = case.element
+    out = Path(tempfile.mkdtemp())
+    job = [sys.executable, "-m", "hbm", "--out", str(out)]
+    state = {}
+
+    def single():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            state["frf"] = frequency_response(case.blade, el, omega_range=case.omega_range)
+
+    def peak():
+        pk = state["frf"].peak()
+        state["peak"] = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, 1e-3)
+
+    def run(args):
+        return lambda: subprocess.run(job + args, check=True, capture_output=True, cwd=ROOT)
+
+    tasks = (("single-mode FRF (frequency_response)", single, False), ("all-mode peak (hbm.cli.peak)", peak, False),
+             ("job: python3 -m hbm --model given", run(["--model", "given"]), True),
+             ("job: python3 -m hbm (auto, the default)", run([]), True))
+    times = {label: ([], []) for label, *_ in tasks}
+    for _ in range(repeats):
+        for label, fn, child in tasks:
+            c0, t0 = (_child_cpu() if child else time.process_time()), time.perf_counter()
+            fn()
+            times[label][0].append(time.perf_counter() - t0)
+            times[label][1].append((_child_cpu() if child else time.process_time()) - c0)
+    base = [statistics.median(v) for v in times[tasks[0][0]]]
+    rows = [[label, f"{statistics.median(w):.2f} s", f"{statistics.median(c):.2f} s",
+             f"{statistics.median(w) / base[0]:.1f}x", f"{statistics.median(c) / base[1]:.1f}x"]
+            for label, (w, c) in times.items()]
+    b = state["peak"]
+    print(machine_line(machine()))
+    print(table(["what", f"wall, median of {repeats}", "CPU", "wall / single-mode FRF", "CPU / single-mode FRF"],
+                rows))
+    print(f"all-mode peak {b.amplitude:.7e} m at {b.omega:.2f} rad/s, estimate {b.error:.2e} "
+          f"({b.cells} cells, H = {b.harmonics}); parts {b.parts}")
+    return rows
+
+
+def _peak_run(N):
+    """One run of the peak study: the single-mode FRF with load N and, where its model error at the
+    peak is above half the tolerance, the all-mode peak; (N, single peak, all-mode peak or None, CPU)."""
+    from hbm import frequency_response  # lazily: the element benchmark above needs no solver
+    from hbm.cli.cases import default_case
+    from hbm.cli.peak import allmode_peak
+
+    warnings.simplefilter("ignore")
+    case = default_case()
+    el = TwoRegionMicroslip(case.element.bar, UniformLoad(N=N))
+    t0 = time.process_time()
+    frf = frequency_response(case.blade, el, omega_range=case.omega_range)
+    pk = frf.peak()
+    best = None
+    if float(frf.error_sources["model"][int(np.argmax(frf.amplitude))]) > 0.5 * frf.tolerance:
+        best = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance)
+    return N, (pk.omega, pk.amplitude), best and (best.omega, best.amplitude, best.error, best.cells), \
+        time.process_time() - t0
+
+
+def peak_study(runs: int = 50):
+    """The default case with ``runs`` normal loads from 40 to 300 N on two processes: each run the
+    single-mode FRF and the all-mode peak (``_peak_run``); wall, CPU, and the runs above tol."""
+    from multiprocessing import Pool  # lazily: only this study runs processes
+
+    info = machine()
+    t = time.perf_counter()
+    with Pool(2) as pool:
+        rows = pool.map(_peak_run, np.linspace(40.0, 300.0, runs), chunksize=1)
+    wall = time.perf_counter() - t
+    cpu = sum(r[3] for r in rows)
+    print(machine_line(info))
+    print(f"{runs} runs: {wall:.1f} s wall on 2 processes, {cpu:.1f} s CPU in all ({cpu / runs:.2f} s per run), "
+          f"load average {os.getloadavg()[0]:.1f} at the end")
+    for N, single, best, c in rows:
+        if best is None or best[2] > 1e-3:
+            print(f"N = {N:.1f}: single-mode {single}, all-mode {best}, CPU {c:.2f} s")
+    return rows
+
+
 if __name__ == "__main__":
+    if "--peak-study" in sys.argv:
+        peak_study()
+        sys.exit()
+    if "--peak" in sys.argv:
+        rest = [a for a in sys.argv[1:] if a != "--peak"]
+        peak_rows(int(rest[0]) if rest else 3)
+        sys.exit()
     if "--estimates" in sys.argv:
         estimate_rows()
     elif "--frf" in sys.argv:

@@ -1,0 +1,253 @@
+"""The default job's physical answer: the resonance peak of the blade with the all-mode bar.
+
+The single-mode damper of the default case is about 1.6 % off the bar with every mode at the
+peak (``docs/validation.md``); an all-mode FRF to a tolerance costs hundreds of times the
+single-mode one, because the element must meet the tolerance at every evaluation, also where a
+harmonic of the drive meets a mode of the bar.  The answer the job reports is the peak, so this
+module computes the all-mode peak directly and estimates the error of that number itself.
+
+**One frequency.**  The blade (one DOF, mass m, stiffness k, damping c, force F cos(omega t)) at
+H = 1 with the damper's first harmonic: for x = a sin(theta) the damper force is
+f_s sin(theta) + f_c cos(theta) + (higher harmonics), so the balance of the sine and cosine parts
+gives the amplitude equation
+
+    g(a) = P^2 + Q^2 - F^2 = 0,    P = (k - m omega^2) a + f_s(a, omega),   Q = c omega a + f_c(a, omega),
+
+solved by Newton's method with dg/da = 2 P (k - m omega^2 + df_s/da) + 2 Q (c omega + df_c/da), the
+derivatives exact (the nested balance's Jacobian, ``AllModeMicroslip.solve``), steps limited to
+``MAX_STEP`` of a.  The bar is solved on one rung (cells n, harmonics H) per call.
+
+**The peak.**  a(omega) is scanned on the cheap rung ``SCAN`` around the single-mode peak (``SPAN``,
+step ``SCAN_STEP``); on each rung the largest scanned point is refined by a parabola through three
+frequencies h = ``REFINE_STEP`` omega apart (re-centred while the vertex leaves the middle
+interval), starting from the peak of the nearest rung already refined; the peak is the vertex.
+
+**The estimate.**  The peak amplitude on rungs n/4, n/2, n cells (at H = 31) and on H = 7, 15, 31
+(at min(n, ``HARMONICS_CELLS``) cells), each sequence through ``richardson`` (observed order, guarded;
+``contact_models.allmode.richardson``), the harmonics part never below what order 1 predicts
+(``_harmonics_part``), the two parts added, relative to the peak amplitude.  Cells double (to
+``MAX_CELLS``) while the sum is above the tolerance.  Measured against a converged reference in
+``docs/validation.md`` ("The default blade with the all-mode damper").
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from contact_models import AllModeMicroslip
+from contact_models.allmode import richardson
+from contact_models.numerics.checks import positive
+
+__all__ = ["AllModePeak", "allmode_peak", "amplitude_at", "SCAN", "SPAN", "SCAN_STEP", "CELLS", "HARMONICS",
+           "MAX_CELLS", "MAX_STEP", "AMPLITUDE_RTOL", "REFINE_STEP", "HARMONICS_CELLS"]
+
+#: The rung the scan for the peak runs on (cells, harmonics).
+SCAN = (32, 15)
+#: The scan covers the single-mode peak frequency times (1 - SPAN[0], 1 + SPAN[1]), in steps SCAN_STEP (relative).
+SPAN = (0.004, 0.006)
+SCAN_STEP = 1e-3
+#: The parabolas' half-width on every rung (relative to the single-mode peak frequency).
+REFINE_STEP = 2.5e-4
+#: The finest rung to start from (cells, harmonics = the top of the harmonic ladder 7, 15, 31).
+CELLS = 64
+HARMONICS = 31
+#: The harmonics part of the estimate is taken on at most this many cells (it hardly depends on them:
+#: at the default case's peak 6.3e-5 on 64 cells, 7.0e-5 on 128).
+HARMONICS_CELLS = 64
+#: Cells double up to this while the estimate is above the tolerance.
+MAX_CELLS = 256
+#: Newton steps on the amplitude are limited to this fraction of it; it is converged to AMPLITUDE_RTOL.
+MAX_STEP = 0.02
+AMPLITUDE_RTOL = 1e-9
+
+
+class AllModePeak(NamedTuple):
+    """The all-mode peak: ``omega`` (rad/s), ``amplitude`` (m), ``error`` (relative estimate of the
+    amplitude), ``parts`` (``{"cells": ..., "harmonics": ...}``, relative), ``cells``, ``harmonics``
+    (the finest rung), ``rungs`` (``{(cells, H): (omega, amplitude)}``: the peak on every rung),
+    ``scan`` (frequencies and amplitudes of the scan, on ``SCAN``)."""
+
+    omega: float
+    amplitude: float
+    error: float
+    parts: dict
+    cells: int
+    harmonics: int
+    rungs: dict
+    scan: tuple
+
+
+def amplitude_at(blade: Any, element: AllModeMicroslip, omega: float, a0: float, max_iter: int = 60) -> float:
+    """The blade's amplitude at one frequency with the damper at H = 1 (the amplitude equation).
+
+    Parameters
+    ----------
+    blade : hbm.Blade
+        The one-DOF blade (``mass``, ``stiffness``, ``damping``, ``force``).
+    element : AllModeMicroslip
+        The damper on one rung (``cells`` and ``harmonics`` given); anything with its ``solve(a,
+        omega)`` returning ``success``, ``f_s``, ``f_c`` and ``dF_dX``.
+    omega : float
+        Frequency (rad/s).
+    a0 : float
+        Start amplitude (m), > 0.
+    max_iter : int
+        Newton iterations at most.
+
+    Returns
+    -------
+    float
+        The amplitude (m) solving g(a) = 0 (module docstring), converged to ``AMPLITUDE_RTOL``;
+        nan where it does not converge (Newton's method safeguarded by bisection once a sign change
+        of g is bracketed: the bar's f(a) has kinks where one more cell starts to slip, where plain
+        Newton can cycle).
+    """
+    k_dyn = blade.stiffness - blade.mass * omega * omega
+    cw = blade.damping * omega
+    a, lo, hi = a0, None, None  # lo: g < 0 (below the root), hi: g > 0
+    for _ in range(max_iter):
+        sol = element.solve(a, omega)
+        if not sol.success:
+            return math.nan
+        P = k_dyn * a + sol.f_s
+        Q = cw * a + sol.f_c
+        g = P * P + Q * Q - blade.force ** 2
+        if g < 0.0:
+            lo = a if lo is None else max(lo, a)
+        else:
+            hi = a if hi is None else min(hi, a)
+        dg = 2.0 * P * (k_dyn + sol.dF_dX[2, 2]) + 2.0 * Q * (cw + sol.dF_dX[1, 2])
+        step = -g / dg if dg != 0.0 else math.nan
+        step = max(-MAX_STEP * a, min(MAX_STEP * a, step)) if math.isfinite(step) else MAX_STEP * a
+        new = a + step
+        if lo is not None and hi is not None:
+            if not min(lo, hi) < new < max(lo, hi):
+                new = 0.5 * (lo + hi)
+            if abs(hi - lo) <= AMPLITUDE_RTOL * a:
+                return 0.5 * (lo + hi)
+        if abs(new - a) <= AMPLITUDE_RTOL * a:
+            return new
+        a = new
+    return math.nan
+
+
+def _vertex(w: tuple, A: tuple) -> tuple[float, float]:
+    """The vertex (omega, value) of the parabola through three equally spaced points."""
+    h = w[1] - w[0]
+    d2 = A[0] - 2.0 * A[1] + A[2]
+    if not d2 < 0.0:
+        i = int(np.argmax(A))
+        return w[i], A[i]
+    s = 0.5 * (A[0] - A[2]) / d2
+    return w[1] + s * h, A[1] - 0.125 * (A[0] - A[2]) ** 2 / d2
+
+
+def _refine(blade, element, w0: float, a0: float, h: float) -> tuple[float, float]:
+    """The peak of a(omega) on one rung near (w0, a0): the vertex of the parabola through three
+    frequencies h apart, re-centred on the largest while the vertex leaves the middle interval."""
+    cache: dict = {}
+
+    def amp(w):
+        if w not in cache:
+            near = min(cache, key=lambda x: abs(x - w)) if cache else None
+            cache[w] = amplitude_at(blade, element, w, cache[near] if near is not None else a0)
+        return cache[w]
+
+    centre = w0
+    for _ in range(12):
+        pts = (centre - h, centre, centre + h)
+        vals = tuple(amp(w) for w in pts)
+        if not all(math.isfinite(v) for v in vals):
+            raise FloatingPointError(f"the all-mode amplitude did not converge near omega = {centre:.6g} rad/s")
+        wv, av = _vertex(pts, vals)
+        if abs(wv - centre) <= h:
+            break
+        centre = pts[int(np.argmax(vals))]
+    return wv, av
+
+
+def _scan(blade, bar, load, w_single: float, a_single: float) -> tuple[np.ndarray, np.ndarray]:
+    el = AllModeMicroslip(bar, load, cells=SCAN[0], harmonics=SCAN[1])
+    ws = w_single * (1.0 + np.arange(-SPAN[0], SPAN[1] + 0.5 * SCAN_STEP, SCAN_STEP))
+    out = np.full(ws.size, np.nan)
+    for i, w in enumerate(ws):
+        done = [j for j in range(i) if math.isfinite(out[j])][-2:]
+        if len(done) == 2:  # the secant through the last two points predicts the next
+            j, k = done
+            a0 = out[k] + (out[k] - out[j]) * (w - ws[k]) / (ws[k] - ws[j])
+        else:
+            a0 = out[done[-1]] if done else a_single
+        out[i] = amplitude_at(blade, el, float(w), a0)
+    return ws, out
+
+
+def _harmonics_part(ladder: list) -> float:
+    """The relative harmonics part from the peak on H = 7, 15, 31: Richardson with the observed order,
+    never below what order 1 predicts, |d_2| / (31/15 - 1).  The harmonics converge irregularly at this
+    peak: each higher rung brings a harmonic to another mode of the bar (13 meets the second, about 39
+    the fifth), so the order observed on 7, 15, 31 (2.8) says little about 31 -> 47 -> 63."""
+    e = float(richardson((7, 15, HARMONICS), np.array(ladder)[:, None])[0][0])
+    return max(e, abs(ladder[2] - ladder[1]) / (HARMONICS / 15 - 1.0)) / ladder[-1]
+
+
+def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: float, tol: float) -> AllModePeak:
+    """The peak of the blade with ``AllModeMicroslip(bar, load)`` and its relative error estimate.
+
+    Parameters
+    ----------
+    blade : hbm.Blade
+        The one-DOF blade.
+    bar : contact_models.Bar
+        The damper bar.
+    load : contact_models.UniformLoad or any load of ``AllModeMicroslip``
+        Its normal load.
+    w_single, a_single : float
+        The single-mode peak (rad/s, m), > 0: where the scan is centred and starts.
+    tol : float
+        The relative error of the peak amplitude aimed at, in (0, 1): cells double (to ``MAX_CELLS``)
+        while the estimate is above it.
+
+    Returns
+    -------
+    AllModePeak
+        The peak on the finest rung, the estimate and its parts, and the peak on every rung.
+
+    Raises
+    ------
+    ValueError
+        ``w_single``, ``a_single`` not positive and finite, or ``tol`` outside (0, 1).
+    FloatingPointError
+        Where the amplitude equation does not converge near the peak.
+    """
+    w_single, a_single, tol = positive("w_single", w_single), positive("a_single", a_single), positive("tol", tol)
+    if not tol < 1.0:
+        raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
+    ws, As = _scan(blade, bar, load, w_single, a_single)
+    if not np.any(np.isfinite(As)):
+        raise FloatingPointError("the all-mode amplitude did not converge on the scan around the peak")
+    i = int(np.nanargmax(As))
+    w0, a0 = float(ws[i]), float(As[i])
+    h = REFINE_STEP * w_single
+    rungs: dict = {}
+
+    def peak(n, H):
+        if (n, H) not in rungs:  # start from the closest rung already refined (the peak moves little)
+            near = max(rungs, key=lambda r: (r[1] == H, -abs(math.log(r[0] / n))), default=None)
+            ws_, as_ = rungs[near] if near is not None else (w0, a0)
+            rungs[(n, H)] = _refine(blade, AllModeMicroslip(bar, load, cells=n, harmonics=H), ws_, as_, h)
+        return rungs[(n, H)]
+
+    n = CELLS
+    while True:
+        ladder_c = [peak(c, HARMONICS)[1] for c in (n // 4, n // 2, n)]
+        e_c = float(richardson((n // 4, n // 2, n), np.array(ladder_c)[:, None])[0][0]) / ladder_c[-1]
+        ladder_h = [peak(min(n, HARMONICS_CELLS), H)[1] for H in (7, 15, HARMONICS)]
+        e_h = _harmonics_part(ladder_h)
+        if e_c + e_h <= tol or 2 * n > MAX_CELLS:
+            break
+        n *= 2
+    w, a = peak(n, HARMONICS)
+    return AllModePeak(w, a, e_c + e_h, {"cells": e_c, "harmonics": e_h}, n, HARMONICS, dict(rungs), (ws, As))
