@@ -39,6 +39,8 @@ H, N_T, OMEGA = 7, 1024, (0.5, 2.0)
 #: Octave's fsolve stops with exit flag 1 when |R| <= TolFun n |Y| (TolFun = 1e-6, n = 46 unknowns
 #: of NLvib's extended system): a point whose own residual passes that test is "converged".
 FSOLVE_TOLFUN, N_UNKNOWNS = 1e-6, 3 * (2 * H + 1) + 1
+#: Newton iterations at a fixed Om (from a converged NLvib point our Newton takes 2-3).
+NEWTON_ITERATIONS = 15
 #: The stretches of the branch the comparison is reported in (docs/contacts_normal.md).
 STRETCHES = ("Om < 1.57", "1.57 <= Om, before the first fold", "between the first and last fold", "after the last fold")
 
@@ -68,7 +70,12 @@ def rms(X: np.ndarray) -> np.ndarray:
     return np.sqrt(np.sum(X**2, axis=-1) / 2.0)
 
 
-def read_nlvib(path: Path = NLVIB_CSV) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def read_nlvib(path: Path = NLVIB_CSV) -> tuple[np.ndarray, np.ndarray]:
+    """NLvib's points in the order NLvib accepted them: Om (k,) and the coefficients (k, 3, 2H+1)."""
+    return read_run(path)[:2]
+
+
+def read_run(path: Path = NLVIB_CSV) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """NLvib's points in the order NLvib accepted them: Om (k,), the coefficients (k, 3, 2H+1) and
     the norm of NLvib's own residual at each point (k,) (NaN where the CSV has no such column)."""
     with open(path) as f:
@@ -91,7 +98,12 @@ def frf(slider: str = "centred") -> hbm.FrequencyResponse:
                                   rtol=1e-7, max_steps=20000)
 
 
-def solve_at(bal: HarmonicBalance, X: np.ndarray, omega: float, iterations: int = 30) -> tuple[np.ndarray, bool]:
+def solve_at(bal: HarmonicBalance, X: np.ndarray, omega: float, iterations: int = 30) -> np.ndarray:
+    """Newton on our balance at fixed ``omega`` from the coefficients ``X`` (3, 2H+1)."""
+    return newton_at(bal, X, omega, iterations)[0]
+
+
+def newton_at(bal: HarmonicBalance, X: np.ndarray, omega: float, iterations: int = 30) -> tuple[np.ndarray, bool]:
     """Newton on our balance at fixed ``omega`` from the coefficients ``X`` (3, 2H+1); returns the
     last iterate and whether the step fell to 1e-13 of the coefficients (converged)."""
     y = np.append(X.ravel(), omega)
@@ -141,9 +153,10 @@ def compare(slider: str, omega: np.ndarray, X: np.ndarray,
     """At each NLvib point: our balance's largest residual component (m) at NLvib's coefficients
     (``res``); the relative difference of NLvib's RMS amplitude (largest over the DOFs) from our
     Newton at NLvib's Om started from NLvib's coefficients (``rel``, ``ok`` where Newton
-    converged).  With ``branch`` (our traced branch's Om (m,) and coefficients (m, 3, 2H+1)): the index of the nearest branch point
-    (``index``), the same difference from our Newton started on the branch (``rel_branch``), and
-    whether both Newtons found the same solution (``same``, to 1e-8 m), and the distance in
+    converged in ``NEWTON_ITERATIONS``).  With ``branch`` (our traced branch's Om (m,) and
+    coefficients (m, 3, 2H+1)): the index of the nearest branch point (``index``), the same
+    difference from our Newton started on the branch (``rel_branch``; NaN where the Newton from
+    NLvib's point did not converge), and whether both Newtons found the same solution (``same``, to 1e-8 m), and the distance in
     (Om, coefficients) from NLvib's point to the branch's polygon (``dist``).  ``res_nlvib`` is
     NLvib's own residual norm as our elements give it (:func:`nlvib_residual`)."""
     bal = balance(slider)
@@ -152,12 +165,12 @@ def compare(slider: str, omega: np.ndarray, X: np.ndarray,
         w = float(w)
         out["res"].append(np.max(np.abs(bal.physical(np.append(Xk.ravel(), w))[0])))
         out["res_nlvib"].append(nlvib_residual(bal, Xk, w))
-        ours, ok = solve_at(bal, Xk, w)
+        ours, ok = newton_at(bal, Xk, w, NEWTON_ITERATIONS)
         out["ok"].append(ok)
         out["rel"].append(np.max(np.abs(rms(ours) - rms(Xk)) / rms(Xk)))
         if branch is not None:
             i, start, dist = nearest_on_branch(branch[0], branch[1], w, Xk)
-            on, ok_b = solve_at(bal, start, w)
+            on, ok_b = newton_at(bal, start, w, NEWTON_ITERATIONS) if ok else (start, False)
             out["index"].append(i)
             out["dist"].append(dist)
             out["rel_branch"].append(np.max(np.abs(rms(on) - rms(Xk)) / rms(Xk)) if ok_b else np.nan)
@@ -263,7 +276,7 @@ def main(show: bool = False) -> dict:
     """Trace, compare and draw; returns the numbers the docs page quotes."""
     runs, res = {}, {}
     for name, path in NLVIB_RUNS.items():
-        om, X, res[name] = read_nlvib(path)
+        om, X, res[name] = read_run(path)
         runs[name] = (om, X, fsolve_converged(om, X, res[name]))
     branches = {slider: frf(slider) for slider in ("centred", "from rest")}
     out: dict = {}
