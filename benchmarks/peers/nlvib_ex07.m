@@ -21,12 +21,11 @@
 %   START       a CSV written by this script: the continuation starts from its row whose Om is
 %               nearest OM_S (NLvib first re-solves there at fixed Om) instead of the linear
 %               guess at 0.5;
-%   NLVIB_DIAG_LOG  if set and a function nlvib_diag_hook(istep, X, Rext, iEx, output, ds, ierr)
-%               is on the path (a one-line call to it after each corrector solve was added to
-%               the local copy of NLvib's solve_and_continue.m for the diagnosis in
-%               docs/contacts_normal.md), every attempt, accepted or not, is logged; the points
-%               themselves do not depend on it; NLVIB_DIAG_DIR is added to the path (where
-%               nlvib_diag_hook.m is).
+%   NLVIB_DIAG_LOG, NLVIB_DIAG_DIR  NLVIB_DIAG_DIR is added to the path; with
+%               NLVIB_DIAG_DIR=benchmarks/peers and a call to benchmarks/peers/nlvib_diag_hook.m
+%               added to NLvib's solve_and_continue.m (that file says where), every corrector
+%               solve, accepted or not, is logged to NLVIB_DIAG_LOG; the points themselves do
+%               not depend on it.
 %
 % CSV columns: Om, the RMS measure NLvib's example plots for q1, q2, q3
 % (sqrt(sum of the squared coefficients)/sqrt(2)), then the coefficients of q1, q2, q3 in
