@@ -123,6 +123,9 @@ class FrequencyResponse:
         ``"peak"`` (``hbm.balance.errors``).
     rtol, tol : float
         The elements' tolerance and the Newton tolerance on the scaled residual.
+    accuracy_warning : str or None
+        The message of the one ``AccuracyWarning`` the call emitted (the estimate above the
+        tolerance, and the elements' own warnings during the solve, merged), or None.
 
     Examples
     --------
@@ -182,6 +185,7 @@ class FrequencyResponse:
         self._changes: list = []
         self.stability_dofs: list = []
         self.tolerance = tolerance
+        self.accuracy_warning: str | None = None  #: set by frequency_response
         self.error_sources = errors.estimate(problem, X, w, rtol) if tolerance is not None else {}
         self.error_estimate = errors.total(self.error_sources) if tolerance is not None else np.full(len(w), np.nan)
 
