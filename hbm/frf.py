@@ -317,13 +317,14 @@ REFINED_REMEDY = ("a finer discretisation of the element (AllModeMicroslip: cell
 
 def _pass_on_others(caught: list) -> list[str]:
     """Re-emit every recorded warning that is not an ``AccuracyWarning`` as it was (the caller's
-    filters apply); return the messages of the AccuracyWarnings."""
-    heard = []
+    filters apply, a repeated one from the same line said once per call as Python's default
+    does); return the messages of the AccuracyWarnings."""
+    heard, registry = [], {}
     for w in caught:
         if issubclass(w.category, AccuracyWarning):
             heard.append(str(w.message))
         else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, source=w.source)
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, registry=registry, source=w.source)
     return heard
 
 

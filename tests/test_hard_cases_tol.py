@@ -226,6 +226,28 @@ def test_the_merged_warning_escalates_like_any_warning():
             frequency_response(blade, Chatty(1.0, 0.02), omega_range=(0.8, 1.4))
 
 
+class Noisy(Macroslip):
+    """A Jenkins element with a RuntimeWarning at every evaluation."""
+
+    _derivatives_one = None
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        warnings.warn("Noisy: evaluated", RuntimeWarning)
+        return super()._fourier_derivatives(a, omega, rtol)
+
+
+def test_other_warnings_pass_through_as_python_says_them():
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")  # a repeated warning from one line: said once
+        frequency_response(blade, Noisy(1.0, 0.02), omega_range=(0.8, 1.4))
+    assert [w.category for w in caught] == [RuntimeWarning, AccuracyWarning]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(RuntimeWarning, match="Noisy"):
+            frequency_response(blade, Noisy(1.0, 0.02), omega_range=(0.8, 1.4))
+
+
 def test_a_silent_solve_has_no_warning_message():
     s = Structure([[1.0]], [[0.004]], [[1.0]], force=[0.01])  # P1: within 1e-2 at H = 7
     frf, said = solve(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.8, 1.4), tol=1e-2)
