@@ -21,10 +21,11 @@ from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad
                             ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from hbm import Blade, Contact, Structure, continuation, frequency_response, response_at
 from hbm.cli.cases import default_case
+from hbm.cli.main import main
 from hbm.scenes import run_scene, scene_from_dict
 
 from conftest import BAR
-from test_scenes import scene_dict
+from test_scenes import DEFAULT, scene_dict
 
 REFERENCE = json.loads((Path(__file__).parent / "data" / "periodic_reference.json").read_text())
 #: A normal load with three bumps: seven stick and slip regions along the bar at slip onset.
@@ -262,6 +263,14 @@ def test_a_scene_run_records_its_one_warning(tmp_path):
     said = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
     error = json.loads((tmp_path / "out" / "summary.json").read_text())["runs"][0]["error"]
     assert len(said) == 1 and error["warning"] == said[0] and error["above_tolerance"]
+
+
+def test_the_command_line_prints_a_runs_warning_once(tmp_path, capsys):
+    assert main(["run", str(DEFAULT), "--out", str(tmp_path), "--set", "sweep.max_step=0.1"]) == 0
+    out = capsys.readouterr().out
+    assert out.count("warning: ") == 1 and "warning: frequency_response: estimated error" in out
+    error = json.loads((tmp_path / "summary.json").read_text())["runs"][0]["error"]
+    assert error["warning"] in out
 
 
 # ------------------------------------------------------------------ the element source
