@@ -111,12 +111,12 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         a = math.hypot(xc, xs)
         if a == 0.0 or a <= el.linear_amplitude(w):
             continue  # the element is linear: exact, no higher harmonics
-        _, J = fresh.balance(xc, xs, w)
+        R, J = fresh.balance(xc, xs, w)
         Jx = np.array([[J[0], J[1]], [J[3], J[4]]])
         p, q = fresh.stiffness_terms(a, w)[:2]
         e = float(el.model_error(a, w))
         # a change dp, dq of the element's stiffness is the force (x_c, x_s) dp + (x_s, -x_c) dq
-        out["element"][j] = _element_one_dof(fresh, tight, Jx, xc, xs, w, rtol * abs(p), rtol * abs(q)) / a
+        out["element"][j] = _element_one_dof(tight, R, Jx, xc, xs, w, rtol * abs(p), rtol * abs(q)) / a
         floor = 0.01 * k_star  # the validity map's floor of 0.01 k* a on each coefficient
         out["model"][j] = _amplitude_change(Jx, xc, xs, e * max(abs(p), floor), e * max(abs(q), floor)) / a
         if proxy is not None:
@@ -130,14 +130,13 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
     return out
 
 
-def _element_one_dof(fresh: HarmonicBalance, tight: HarmonicBalance, Jx: NDArray, xc: float, xs: float, w: float,
+def _element_one_dof(tight: HarmonicBalance, R: tuple, Jx: NDArray, xc: float, xs: float, w: float,
                      dp: float, dq: float) -> float:
     """``|da|`` (m) from the element's evaluation error: ``g . Jx^-1 (R_tight - R)`` with the
-    balance's residual at ``rtol`` and at ``ELEMENT_TIGHTEN rtol``; the bound from ``dp = rtol |p|``,
-    ``dq = rtol |q|`` where the tighter evaluation fails."""
+    balance's residual ``R`` at ``rtol`` and ``R_tight`` at ``ELEMENT_TIGHTEN rtol``; the bound from
+    ``dp = rtol |p|``, ``dq = rtol |q|`` where the tighter evaluation fails."""
     a = math.hypot(xc, xs)
     try:
-        R, _ = fresh.balance(xc, xs, w)
         Rt, _ = tight.balance(xc, xs, w)
         d = np.linalg.solve(Jx, np.subtract(Rt, R))
     except _FAILED:
