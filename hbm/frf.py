@@ -14,7 +14,6 @@ one frequency by Brent's method, for elements without derivatives.
 from __future__ import annotations
 
 import math
-import re
 import warnings
 from typing import Any, Callable
 
@@ -24,6 +23,7 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import continuation as cont  # the module (hbm.continuation)
+from .balance import errors
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
                               harmonic_knobs, samples_for)
@@ -224,10 +224,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     def solve(H):
         nt = n_t_given if n_t_given is not None else _samples(H, preset)
         problem = HarmonicBalance(system, contacts, harmonics=H, n_t=nt, response_dof=response_dof, rtol=rtol)
-        with warnings.catch_warnings(record=True) as caught:
-            warnings.simplefilter("always", AccuracyWarning)
+        with errors.collected() as now:
             out = _trace(problem, w0, w1, rtol, steps, stability, tolerance, **live)
-        heard[:] = _pass_on_others(caught)
+        heard[:] = now
         return out
 
     frf = solve(harmonics)
@@ -315,33 +314,6 @@ REFINED_REMEDY = ("a finer discretisation of the element (AllModeMicroslip: cell
                   "or a smaller tol=)")
 
 
-def _pass_on_others(caught: list) -> list[str]:
-    """Re-emit every recorded warning that is not an ``AccuracyWarning`` as it was (the caller's
-    filters apply, a repeated one from the same line said once per call as Python's default
-    does); return the messages of the AccuracyWarnings."""
-    heard, registry = [], {}
-    for w in caught:
-        if issubclass(w.category, AccuracyWarning):
-            heard.append(str(w.message))
-        else:
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, registry=registry, source=w.source)
-    return heard
-
-
-#: How the elements' warnings state their own relative error (``AllModeMicroslip``; the validity
-#: map's ``ModelRangeWarning`` in percent): the worst of a solve's warnings is the one quoted.
-_ELEMENT_ERROR = (re.compile(r"relative error ([0-9.]+(?:e[-+]?[0-9]+)?)"), re.compile(r"off by about ([0-9.]+)%"))
-
-
-def _element_error(message: str) -> float:
-    """The relative error an element's warning states, 0 if it states none."""
-    m = _ELEMENT_ERROR[0].search(message)
-    if m is not None:
-        return float(m.group(1))
-    m = _ELEMENT_ERROR[1].search(message)
-    return 0.01 * float(m.group(1)) if m is not None else 0.0
-
-
 def _remedy(frf: FrequencyResponse, source: str) -> str:
     """What brings ``source`` down; for the model source, the refined model only where one exists."""
     if source == "model" and all(c.element.refined_model() is None for c in frf.contacts):
@@ -366,8 +338,7 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
         parts.append(f"the response's estimated error (at most {float(np.nanmax(frf.error_estimate)):.2g}, "
                      f"tol {tolerance:g}) carries the elements' own estimates through the balance")
     if heard:
-        worst = max(heard, key=_element_error)
-        parts.append(f"the elements warned {len(heard)} time(s) during the solve; the worst: {worst}")
+        parts.append(errors.heard_line(heard, "during the solve"))
     if not parts:
         return None
     message = "frequency_response: " + "; ".join(parts)

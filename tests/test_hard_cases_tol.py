@@ -218,6 +218,15 @@ def test_the_elements_warnings_are_said_once_per_call_with_the_worst():
     assert worst == pytest.approx(float(np.max(frf.amplitude)), rel=0.05)  # the largest amplitude's
 
 
+def test_locating_the_peak_says_the_elements_warnings_once():
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+    frf, _ = solve(blade, Chatty(1.0, 0.02), omega_range=(0.8, 1.4))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        frf.peak()
+    assert len(caught) == 1 and "FrequencyResponse.peak: the elements warned" in str(caught[0].message)
+
+
 def test_the_merged_warning_escalates_like_any_warning():
     """An "error" filter on AccuracyWarning raises once, after the solve, not inside an element."""
     blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)

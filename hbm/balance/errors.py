@@ -30,12 +30,16 @@ sum.
 
 from __future__ import annotations
 
+import contextlib
 import math
-from typing import Any
+import re
+import warnings
+from typing import Any, Iterator
 
 import numpy as np
 from numpy.typing import NDArray
 
+from contact_models.accuracy import AccuracyWarning
 from contact_models.base import default_samples
 from contact_models import QuasiStatic
 
@@ -60,6 +64,46 @@ ELEMENT_TIGHTEN = 1e-2
 ROUNDING = 1e-13
 #: What an element evaluation that cannot be repeated at the tighter tolerance raises: the bound rtol is kept.
 _FAILED = (ValueError, ArithmeticError, np.linalg.LinAlgError)
+
+
+@contextlib.contextmanager
+def collected() -> Iterator[list[str]]:
+    """Record the ``AccuracyWarning`` messages said in the block (an element may warn at every
+    evaluation) into the yielded list, to be said once by the caller; every other warning is said
+    again after the block as it was (the caller's filters apply; one from the same line once)."""
+    heard: list[str] = []
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", AccuracyWarning)
+            yield heard
+    finally:
+        registry: dict = {}
+        for w in caught:
+            if issubclass(w.category, AccuracyWarning):
+                heard.append(str(w.message))
+            else:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, registry=registry,
+                                       source=w.source)
+
+
+#: How the elements' warnings state their own relative error (``AllModeMicroslip``; the validity
+#: map's ``ModelRangeWarning`` in percent): the worst of a solve's warnings is the one quoted.
+_STATED = (re.compile(r"relative error ([0-9.]+(?:e[-+]?[0-9]+)?)"), re.compile(r"off by about ([0-9.]+)%"))
+
+
+def stated_error(message: str) -> float:
+    """The relative error an element's warning states, 0 if it states none."""
+    m = _STATED[0].search(message)
+    if m is not None:
+        return float(m.group(1))
+    m = _STATED[1].search(message)
+    return 0.01 * float(m.group(1)) if m is not None else 0.0
+
+
+def heard_line(heard: list[str], where: str) -> str:
+    """``"the elements warned N time(s) <where>; the worst: ..."``."""
+    return f"the elements warned {len(heard)} time(s) {where}; the worst: {max(heard, key=stated_error)}"
 
 
 def nodes(amplitude: NDArray) -> NDArray[np.intp]:
@@ -290,4 +334,4 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
     return total
 
 
-__all__ = ["SOURCES", "NODES", "estimate", "total", "nodes"]
+__all__ = ["SOURCES", "NODES", "estimate", "total", "nodes", "collected", "stated_error", "heard_line"]
