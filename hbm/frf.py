@@ -23,6 +23,7 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import continuation as cont  # the module (hbm.continuation)
+from .balance import errors
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
                               harmonic_knobs, samples_for)
@@ -105,7 +106,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         of the physical system (all harmonics, the physical contact).  Given (and ``harmonics``
         not), a structure's H is chosen: 3, 7, 15, 31 until the harmonics' estimate is below half
         of it (a blade starts at 1).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
-        the worst point, its largest source and the fix.  Default ``DEFAULT_TOL`` (1e-3), for the
+        the worst point, its largest source and the fix.  The elements' own ``AccuracyWarning`` warnings
+        during the solve (an element may warn at every evaluation) are merged into that one warning
+        (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default ``DEFAULT_TOL`` (1e-3), for the
         warning only.
     estimate_error : bool, optional
         Estimate the error of every point (``error_estimate``, ``error_sources``;
@@ -216,10 +219,15 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     again = adapt or model == "auto"  # the balance may solve again: stream the final solve's points at its end
     live = dict(on_point=None, on_harmonics=None) if again else dict(on_point=on_point, on_harmonics=on_harmonics)
 
+    heard: list = []  # the elements' AccuracyWarnings of the final solve (said once, merged, at the end)
+
     def solve(H):
         nt = n_t_given if n_t_given is not None else _samples(H, preset)
         problem = HarmonicBalance(system, contacts, harmonics=H, n_t=nt, response_dof=response_dof, rtol=rtol)
-        return _trace(problem, w0, w1, rtol, steps, stability, tolerance, **live)
+        with errors.collected() as now:
+            out = _trace(problem, w0, w1, rtol, steps, stability, tolerance, **live)
+        heard[:] = now
+        return out
 
     frf = solve(harmonics)
     # ---- the model: the elements' refined models where their error exceeds a share of the tolerance
@@ -236,8 +244,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         report = _reporter(on_point, on_harmonics, frf._problem)
         for u, rnorm in zip(frf._run.y, frf.residual_norm):
             report(u, rnorm)
-    if tolerance is not None:
-        _warn_if_above(frf, tolerance)
+    frf.accuracy_warning = _warn_once(frf, tolerance, heard)
     return frf
 
 
@@ -302,19 +309,41 @@ REMEDY = {
     "model": "contact_models.AllModeMicroslip (the bar with every mode) for this damper",
     "peak": "a tighter rtol=",
 }
+#: The model source's advice where every element already is the complete model (no refined model).
+REFINED_REMEDY = ("a finer discretisation of the element (AllModeMicroslip: cells and harmonics left to be chosen, "
+                  "or a smaller tol=)")
 
 
-def _warn_if_above(frf: FrequencyResponse, tolerance: float) -> None:
-    """One ``AccuracyWarning`` when the estimate exceeds the tolerance somewhere: the worst point,
-    its largest source and what would fix it."""
-    if not len(frf) or not np.any(frf.error_estimate > tolerance):
-        return
-    i = int(np.nanargmax(frf.error_estimate))
-    source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
-    warnings.warn(f"frequency_response: estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at "
-                  f"omega = {frf.omega[i]:.6g} rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: "
-                  f"{source}, {frf.error_sources[source][i]:.2g}; H = {frf.harmonics}); for a closer answer use "
-                  f"{REMEDY[source]}", AccuracyWarning, stacklevel=3)
+def _remedy(frf: FrequencyResponse, source: str) -> str:
+    """What brings ``source`` down; for the model source, the refined model only where one exists."""
+    if source == "model" and all(c.element.refined_model() is None for c in frf.contacts):
+        return REFINED_REMEDY
+    return REMEDY[source]
+
+
+def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]) -> str | None:
+    """One ``AccuracyWarning`` per call: where the estimate exceeds the tolerance, the worst point,
+    its largest source and what would fix it; with it, the number of warnings the elements gave
+    during the solve (each evaluation may warn) and the worst of them.  Returns its message (None:
+    no warning)."""
+    parts = []
+    if tolerance is not None and len(frf) and np.any(frf.error_estimate > tolerance):
+        i = int(np.nanargmax(frf.error_estimate))
+        source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
+        parts.append(f"estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at omega = {frf.omega[i]:.6g} "
+                     f"rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: {source}, "
+                     f"{frf.error_sources[source][i]:.2g}; H = {frf.harmonics}); for a closer answer use "
+                     f"{_remedy(frf, source)}")
+    elif heard and tolerance is not None and len(frf):
+        parts.append(f"the response's estimated error (at most {float(np.nanmax(frf.error_estimate)):.2g}, "
+                     f"tol {tolerance:g}) carries the elements' own estimates through the balance")
+    if heard:
+        parts.append(errors.heard_line(heard, "during the solve"))
+    if not parts:
+        return None
+    message = "frequency_response: " + "; ".join(parts)
+    warnings.warn(message, AccuracyWarning, stacklevel=3)
+    return message
 
 
 def response_at(blade: Blade, element: ContactElement, omega: float,

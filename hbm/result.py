@@ -9,11 +9,14 @@ points, how the run went, and the CSV and plot of the points.
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
+
+from contact_models.accuracy import AccuracyWarning
 
 from . import continuation as cont  # the module (hbm.continuation)
 from .balance import errors
@@ -123,6 +126,9 @@ class FrequencyResponse:
         ``"peak"`` (``hbm.balance.errors``).
     rtol, tol : float
         The elements' tolerance and the Newton tolerance on the scaled residual.
+    accuracy_warning : str or None
+        The message of the one ``AccuracyWarning`` the call emitted (the estimate above the
+        tolerance, and the elements' own warnings during the solve, merged), or None.
 
     Examples
     --------
@@ -182,6 +188,7 @@ class FrequencyResponse:
         self._changes: list = []
         self.stability_dofs: list = []
         self.tolerance = tolerance
+        self.accuracy_warning: str | None = None  #: set by frequency_response
         self.error_sources = errors.estimate(problem, X, w, rtol) if tolerance is not None else {}
         self.error_estimate = errors.total(self.error_sources) if tolerance is not None else np.full(len(w), np.nan)
 
@@ -285,7 +292,8 @@ class FrequencyResponse:
         Between the neighbours of the largest sampled point the branch is parametrised by its
         chord and the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a
         fresh omega-derivative) is found by Brent's method; every trial point is a converged
-        Newton point.  A maximum at an end of the branch is returned as sampled.
+        Newton point.  A maximum at an end of the branch is returned as sampled.  The elements'
+        ``AccuracyWarning`` warnings while locating it are said once (their count and the worst).
 
         Returns
         -------
@@ -317,7 +325,11 @@ class FrequencyResponse:
         i = int(np.argmax(self.amplitude))
         best = Peak(float(self.omega[i]), float(self.amplitude[i]))
         if 0 < i < len(self) - 1:
-            loc = self._locate_peak(i)
+            with errors.collected() as heard:  # the elements' warnings while locating: said once
+                loc = self._locate_peak(i)
+            if heard:
+                warnings.warn(f"FrequencyResponse.peak: {errors.heard_line(heard, 'while locating the peak')}",
+                              AccuracyWarning, stacklevel=2)
             if loc is not None:
                 X, w = self._problem.to_physical(loc.y)
                 a = float(math.hypot(X[self._r, 1], X[self._r, 2]))

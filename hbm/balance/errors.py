@@ -12,7 +12,10 @@ periodic response of the physical system, at the point's frequency (``docs/valid
   stiffness at ``h omega`` the missing response ``X_h``, and the element's stuck stiffness
   ``k*`` bounds their effect on the first harmonic, ``|dX_1| <= k* sum |X_h| / s_min(J)``.
 - ``sampling``: the AFT's samples: the balance at ``2 n_t`` samples, one Newton step.
-- ``element``: the tolerance ``rtol`` the elements are evaluated to, through the balance.
+- ``element``: the error of the elements' evaluation at ``rtol``: the balance's residual with the
+  elements evaluated again at ``ELEMENT_TIGHTEN * rtol``, less the residual at ``rtol``, through
+  the balance (one Newton step); at least ``ROUNDING``.  Where that evaluation fails, the bound
+  ``rtol`` (one DOF: errors ``rtol |p|``, ``rtol |q|`` of the element's stiffness ``p + i q``).
 - ``model``: the element's error against the physical contact it stands for
   (``ContactElement.model_error``: the validity map of the single-mode bars), through the balance:
   ``|dX_1| <= e |F_1| / s_min(J)``.
@@ -27,12 +30,16 @@ sum.
 
 from __future__ import annotations
 
+import contextlib
 import math
-from typing import Any
+import re
+import warnings
+from typing import Any, Iterator
 
 import numpy as np
 from numpy.typing import NDArray
 
+from contact_models.accuracy import AccuracyWarning
 from contact_models.base import default_samples
 from contact_models import QuasiStatic
 
@@ -49,6 +56,54 @@ LOOP_SAMPLES = 64
 LOOP_HARMONICS = 9
 #: The refined peak is accepted within this many rtol of the sampled maximum (``FrequencyResponse.peak``).
 PEAK_ACCEPT = 10.0
+#: The element source: the elements are evaluated again at this fraction of rtol; the change of the
+#: balance's residual is their error at rtol (to first order, for an error that falls at least
+#: linearly with the tolerance: at rtol/100 it is <= 1/100 of the one at rtol).
+ELEMENT_TIGHTEN = 1e-2
+#: Floor of the element source (relative): the rounding of an element exact to rounding, through the balance.
+ROUNDING = 1e-13
+#: What an element evaluation that cannot be repeated at the tighter tolerance raises: the bound rtol is kept.
+_FAILED = (ValueError, ArithmeticError, np.linalg.LinAlgError)
+
+
+@contextlib.contextmanager
+def collected() -> Iterator[list[str]]:
+    """Record the ``AccuracyWarning`` messages said in the block (an element may warn at every
+    evaluation) into the yielded list, to be said once by the caller; every other warning is said
+    again after the block as it was (the caller's filters apply; one from the same line once)."""
+    heard: list[str] = []
+    caught: list = []
+    try:
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", AccuracyWarning)
+            yield heard
+    finally:
+        registry: dict = {}
+        for w in caught:
+            if issubclass(w.category, AccuracyWarning):
+                heard.append(str(w.message))
+            else:
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno, registry=registry,
+                                       source=w.source)
+
+
+#: How the elements' warnings state their own relative error (``AllModeMicroslip``; the validity
+#: map's ``ModelRangeWarning`` in percent): the worst of a solve's warnings is the one quoted.
+_STATED = (re.compile(r"relative error ([0-9.]+(?:e[-+]?[0-9]+)?)"), re.compile(r"off by about ([0-9.]+)%"))
+
+
+def stated_error(message: str) -> float:
+    """The relative error an element's warning states, 0 if it states none."""
+    m = _STATED[0].search(message)
+    if m is not None:
+        return float(m.group(1))
+    m = _STATED[1].search(message)
+    return 0.01 * float(m.group(1)) if m is not None else 0.0
+
+
+def heard_line(heard: list[str], where: str) -> str:
+    """``"the elements warned N time(s) <where>; the worst: ..."``."""
+    return f"the elements warned {len(heard)} time(s) {where}; the worst: {max(heard, key=stated_error)}"
 
 
 def nodes(amplitude: NDArray) -> NDArray[np.intp]:
@@ -87,6 +142,7 @@ def total(sources: dict[str, NDArray]) -> NDArray:
 # ------------------------------------------------------------------ one DOF, describing function
 def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> dict[str, NDArray]:
     fresh = HarmonicBalance(problem.system, problem.contacts, harmonics=1, rtol=rtol)  # no shared caches
+    tight = HarmonicBalance(problem.system, problem.contacts, harmonics=1, rtol=ELEMENT_TIGHTEN * rtol)
     el = fresh.element
     n = len(omega)
     out = {s: np.zeros(n) for s in ("harmonics", "element", "model")}
@@ -99,12 +155,12 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         a = math.hypot(xc, xs)
         if a == 0.0 or a <= el.linear_amplitude(w):
             continue  # the element is linear: exact, no higher harmonics
-        _, J = fresh.balance(xc, xs, w)
+        R, J = fresh.balance(xc, xs, w)
         Jx = np.array([[J[0], J[1]], [J[3], J[4]]])
         p, q = fresh.stiffness_terms(a, w)[:2]
         e = float(el.model_error(a, w))
         # a change dp, dq of the element's stiffness is the force (x_c, x_s) dp + (x_s, -x_c) dq
-        out["element"][j] = _amplitude_change(Jx, xc, xs, rtol * abs(p), rtol * abs(q)) / a
+        out["element"][j] = _element_one_dof(tight, R, Jx, xc, xs, w, rtol * abs(p), rtol * abs(q)) / a
         floor = 0.01 * k_star  # the validity map's floor of 0.01 k* a on each coefficient
         out["model"][j] = _amplitude_change(Jx, xc, xs, e * max(abs(p), floor), e * max(abs(q), floor)) / a
         if proxy is not None:
@@ -114,8 +170,23 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         else:
             s_min = float(np.linalg.svd(Jx, compute_uv=False)[-1])
             out["harmonics"][j] = _loop_truncation(fresh, el, a, w) / (s_min * a)
-    _count(problem, fresh, proxy)
+    _count(problem, fresh, tight, proxy)
     return out
+
+
+def _element_one_dof(tight: HarmonicBalance, R: tuple, Jx: NDArray, xc: float, xs: float, w: float,
+                     dp: float, dq: float) -> float:
+    """``|da|`` (m) from the element's evaluation error: ``g . Jx^-1 (R_tight - R)`` with the
+    balance's residual ``R`` at ``rtol`` and ``R_tight`` at ``ELEMENT_TIGHTEN rtol``; the bound from
+    ``dp = rtol |p|``, ``dq = rtol |q|`` where the tighter evaluation fails."""
+    a = math.hypot(xc, xs)
+    try:
+        Rt, _ = tight.balance(xc, xs, w)
+        d = np.linalg.solve(Jx, np.subtract(Rt, R))
+    except _FAILED:
+        return _amplitude_change(Jx, xc, xs, dp, dq)
+    da = abs(float(xc * d[0] + xs * d[1])) / a
+    return max(da, ROUNDING * a) if math.isfinite(da) else _amplitude_change(Jx, xc, xs, dp, dq)
 
 
 def _count(problem: HarmonicBalance, *helpers: HarmonicBalance | None) -> None:
@@ -175,6 +246,8 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     H2 = 2 * H + 1
     more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2, n_t=max(n_t, default_samples(H2)), **kw)
     finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw)
+    tight = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, response_dof=problem.response_dof,
+                            rtol=ELEMENT_TIGHTEN * rtol)
     r = problem.dofs.index(problem.response_dof)
     n = len(omega)
     out = {s: np.zeros(n) for s in ("harmonics", "sampling", "element", "model")}
@@ -183,17 +256,30 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
         a = math.hypot(x[r, 1], x[r, 2])
         if a == 0.0:
             continue
-        _, J = same._condensed(x, w)
+        R, J = same._condensed(x, w)
         Jx = J[:, :-1]
         Xp = np.zeros((problem.na, 2 * H2 + 1))
         Xp[:, :L] = x
         out["harmonics"][j] = abs(_truncation_step(more, Xp, w, r, H)) / a
         Rf, _ = finer._condensed(x, w)
         out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
-        out["element"][j] = rtol
+        out["element"][j] = _element_condensed(tight, R, Jx, x, w, r, L, rtol)
         out["model"][j] = _model(problem, same, x, w, Jx) / a
-    _count(problem, same, more, finer)
+    _count(problem, same, more, finer, tight)
     return out
+
+
+def _element_condensed(tight: HarmonicBalance, R: NDArray, Jx: NDArray, x: NDArray, w: float, r: int, L: int,
+                       rtol: float) -> float:
+    """The relative amplitude change from the elements' evaluation error: one Newton step driven by
+    the residual at ``ELEMENT_TIGHTEN rtol`` less the one at ``rtol`` (``R``); ``rtol`` where the
+    tighter evaluation fails."""
+    try:
+        Rt, _ = tight._condensed(x, w)
+        da = abs(_amplitude_step(Jx, Rt - R, x, r, L)) / math.hypot(x[r, 1], x[r, 2])
+    except _FAILED:
+        return rtol
+    return max(da, ROUNDING) if math.isfinite(da) else rtol
 
 
 def _truncation_step(big: HarmonicBalance, Xp: NDArray, w: float, r: int, H: int) -> float:
@@ -248,4 +334,4 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
     return total
 
 
-__all__ = ["SOURCES", "NODES", "estimate", "total", "nodes"]
+__all__ = ["SOURCES", "NODES", "estimate", "total", "nodes", "collected", "stated_error", "heard_line"]

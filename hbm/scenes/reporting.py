@@ -61,12 +61,13 @@ def run_summary(res: Any, *, hz: bool = False) -> dict:
 def error_summary(frf: Any) -> dict:
     """The estimated error of a run (``FrequencyResponse.error_estimate``): the tolerance, the
     largest estimate and where, the estimate at the sampled peak and its sources there, and
-    whether it exceeds the tolerance (then the run also printed an ``AccuracyWarning``)."""
+    whether it exceeds the tolerance, and the one ``AccuracyWarning`` the run printed (None if none)."""
     i, j = int(np.nanargmax(frf.error_estimate)), int(np.argmax(frf.amplitude))
     return {"tolerance": frf.tolerance, "largest": float(frf.error_estimate[i]),
             "largest_at_omega_rad_s": float(frf.omega[i]), "at_peak": float(frf.error_estimate[j]),
             "sources_at_peak": {k: float(v[j]) for k, v in frf.error_sources.items()},
-            "above_tolerance": bool(frf.error_estimate[i] > frf.tolerance)}
+            "above_tolerance": bool(frf.error_estimate[i] > frf.tolerance),
+            "warning": frf.accuracy_warning}
 
 
 def thin(omega: Any, n: int = 33) -> np.ndarray:
