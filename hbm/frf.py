@@ -59,7 +59,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                        accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
                        response_dof: int | None = None, stability: bool = True, tol: float | None = None,
                        estimate_error: bool = True, model: str = "given",
-                       on_harmonics: Callable[[float, Any], None] | None = None) -> FrequencyResponse:
+                       on_harmonics: Callable[[float, Any], None] | None = None,
+                       curve_tol: float | None = None) -> FrequencyResponse:
     """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -205,7 +206,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if tol is not None:  # the elements and the Newton points well inside the tolerance asked for
         rtol = min(rtol, RTOL_SHARE * tolerance)
     steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
-                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds)
+                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds, curve_tol=curve_tol)
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
     adapt = harmonics is None and tol is not None
     if harmonics is None:
@@ -284,7 +285,7 @@ def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: d
         return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
                                  bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref), direction=1 if w1 > w0 else -1,
                                  tol=tol, scale=scale, fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
-                                 on_point=report, **steps)
+                                 on_point=report, curve_components=(*problem.response_components(), -1), **steps)
 
     run = trace(problem.stuck_start(w0))
     if run.status == cont.Status.START_FAILED:
