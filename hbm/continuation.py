@@ -69,7 +69,7 @@ RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError)
 FIRST_STEP = 0.25
 #: Error per step (``curve_tol``): target predictor error over curve_tol, the safety factor, the
 #: rejection threshold (over the target) and the shorter retries allowed in a row (docs/hbm.md).
-PREDICTOR_SHARE = 8.0
+PREDICTOR_SHARE = 4.0
 SAFETY = 0.8
 REJECT_CURVE = 4.0
 CURVE_RETRIES = 3

@@ -83,6 +83,12 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         Largest and smallest continuation step in scaled arclength.  Defaults 0.03, 1e-9.
     max_steps : int, optional
         Step budget.  Default 5000.
+    curve_tol : float, optional
+        Step control by accuracy: the steps are sized so that the curve between points (the cubic
+        through the four nearest points, ``hbm.curve``) is within ``curve_tol`` of the branch
+        (relative to the first-harmonic amplitude; omega to its reference), ``max_step`` then only a
+        safeguard.  Intervals accepted above it (at corners of the branch) are listed in ``coarse``.
+        Default None: the step is limited by ``max_step`` (the "precise" preset sets 1e-5).
     locate_folds : bool, optional
         Locate the turning points of the branch.  Default True.
     on_point : callable, optional
@@ -193,8 +199,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     preset = accuracy if accuracy is not None else "default"
     H_preset = harmonic_knobs(preset)[0]
     if accuracy is not None:
-        rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step, min_step=min_step,
-                                                    max_steps=max_steps)
+        rtol, max_step, min_step, max_steps, curve_tol = apply(accuracy, rtol=rtol, max_step=max_step,
+                                                               min_step=min_step, max_steps=max_steps,
+                                                               curve_tol=curve_tol)
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
@@ -206,7 +213,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if tol is not None:  # the elements and the Newton points well inside the tolerance asked for
         rtol = min(rtol, RTOL_SHARE * tolerance)
     steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
-                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds, curve_tol=curve_tol)
+                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds,
+                 curve_tol=None if curve_tol is None else positive("curve_tol", curve_tol))
+    if steps["curve_tol"] is not None and steps["curve_tol"] >= 1.0:
+        raise ValueError(f"curve_tol must be < 1 (a relative error), got curve_tol={curve_tol!r}")
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
     adapt = harmonics is None and tol is not None
     if harmonics is None:

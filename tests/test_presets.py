@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from hbm import Blade, frequency_response
+from hbm import Blade, curve, frequency_response
 from hbm.balance import presets
 from hbm import frf as frf_module
 from hbm.cli.cases import default_case
@@ -51,8 +51,15 @@ def peak_error(frf, ref):
 def test_presets_are_ordered_on_the_default_case(runs, reference):
     err = {name: peak_error(frf, reference) for name, frf in runs.items()}
     assert err["precise"] < err["default"] < err["fast"]
-    # and the points: finer presets trace more of them
-    assert len(runs["fast"]) < len(runs["default"]) < len(runs["precise"])
+    # and the curves: the coarser presets' points by max_step, "precise"'s by its curve tolerance
+    assert len(runs["fast"]) < len(runs["default"])
+    pr = runs["precise"]
+    tol = presets.resolve("precise").curve_tol
+    err = curve.midpoint_errors(pr._problem, pr._run.y, pr._scale, (*pr._problem.response_components(), -1),
+                                pr.tol, pr.corners)
+    listed = np.zeros(len(err), dtype=bool)
+    listed[pr.coarse - 1] = True
+    assert not np.any(np.isnan(err)) and np.all(err[~listed] <= tol), (np.nanmax(err), tol)
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -63,7 +70,7 @@ def test_each_preset_within_its_documented_bound(runs, reference, name):
 def test_default_preset_is_frequency_responses_default(case, runs):
     defaults = inspect.signature(frequency_response).parameters
     assert presets.resolve("default").options() == {k: defaults[k].default
-                                                   for k in ("rtol", "max_step", "min_step", "max_steps")}
+                                                   for k in ("rtol", "max_step", "min_step", "max_steps", "curve_tol")}
     plain = frequency_response(case.blade, case.element, omega_range=case.omega_range)
     np.testing.assert_array_equal(plain.omega, runs["default"].omega)
     np.testing.assert_array_equal(plain.amplitude, runs["default"].amplitude)
@@ -76,8 +83,12 @@ def test_one_rtol_sets_every_knob_consistently():
     levels = [presets.resolve(r) for r in (3e-2, 1e-3, 1e-5, 1e-7, 1e-9, 1e-12)]
     for coarse, fine in zip(levels, levels[1:]):
         assert fine.rtol < coarse.rtol
-        assert fine.max_step <= coarse.max_step
         assert fine.max_steps >= coarse.max_steps
+        if coarse.curve_tol is None:  # at the default and coarser, max_step follows rtol
+            assert fine.max_step <= coarse.max_step or fine.curve_tol is not None
+        else:  # finer: the step by accuracy, a tighter curve tolerance, max_step only a safeguard
+            assert fine.curve_tol < coarse.curve_tol and fine.max_step == presets.MAX_PRESET_STEP
+    assert presets.resolve("precise").curve_tol == pytest.approx(1e-5)
     for s in levels:  # the step budget covers the same arclength as the default's
         assert s.max_steps * s.max_step >= frf_module.DEFAULT_MAX_STEPS * frf_module.DEFAULT_MAX_STEP * (1 - 1e-9)
         assert presets.MIN_PRESET_STEP <= s.max_step <= presets.MAX_PRESET_STEP
