@@ -42,6 +42,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
+from contact_models.numerics.small import chords, lagrange, solve_small as _solve
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -442,27 +443,6 @@ class _LocateFailed(Exception):
 
 
 # ---------------------------------------------------------------------- helpers
-def chords(ys, s) -> np.ndarray:
-    """Cumulative chord lengths of the points ``ys`` in coordinates scaled by ``s`` (from 0)."""
-    d = np.diff(np.asarray(ys, dtype=float), axis=0) / s
-    return np.concatenate([[0.0], np.cumsum(np.sqrt(np.einsum("ij,ij->i", d, d)))])
-
-
-def lagrange(ys, s, at=None) -> np.ndarray:
-    """The cubic through the first four of ``ys`` (parametrised by chord length, scaled by ``s``) at
-    chord length ``at`` (default: that of the fifth point, the extrapolation the step control checks)."""
-    c = chords(ys, s)
-    x = c[4] if at is None else at
-    out = np.zeros_like(np.asarray(ys[0], dtype=float))
-    for j in range(4):
-        w = 1.0
-        for m in range(4):
-            if m != j:
-                w *= (x - c[m]) / (c[j] - c[m])
-        out = out + w * ys[j]
-    return out
-
-
 def _counted(residual, count):
     def fun(y):
         count.nfev += 1
@@ -548,36 +528,6 @@ def _tangent(J, s, prev):
 def _smallest_direction(Js):
     """A vector not orthogonal to the null space of ``Js``: its last right-singular vector."""
     return np.linalg.svd(Js)[2][-1]
-
-
-def _solve(A, b):
-    """Solve the small square system ``A x = b`` (pure-Python elimination for n <= 3)."""
-    n = len(b)
-    if n > 3:
-        return np.linalg.solve(A, b)
-    M = A.tolist()
-    v = b.tolist()
-    for k in range(n):  # Gaussian elimination with partial pivoting
-        piv = max(range(k, n), key=lambda r: abs(M[r][k]))
-        if M[piv][k] == 0.0:
-            raise np.linalg.LinAlgError("singular corrector matrix")
-        if piv != k:
-            M[k], M[piv] = M[piv], M[k]
-            v[k], v[piv] = v[piv], v[k]
-        for r in range(k + 1, n):
-            f = M[r][k] / M[k][k]
-            if f != 0.0:
-                Mr, Mk = M[r], M[k]
-                for c in range(k, n):
-                    Mr[c] -= f * Mk[c]
-                v[r] -= f * v[k]
-    x = [0.0] * n
-    for k in range(n - 1, -1, -1):
-        acc = v[k]
-        for c in range(k + 1, n):
-            acc -= M[k][c] * x[c]
-        x[k] = acc / M[k][k]
-    return np.array(x)
 
 
 def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:

@@ -17,6 +17,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from contact_models.numerics.small import chords, lagrange
+
 from . import continuation as cont
 
 
@@ -42,9 +44,9 @@ def interpolate(y: NDArray, scale, i: int, fraction: float, corners=()) -> NDArr
     if w is None:
         return y[i] + fraction * (y[i + 1] - y[i])
     s = scale(y[i])
-    c = cont.chords(y[w], s)
+    c = chords(y[w], s)
     j = i - w.start
-    return cont.lagrange(list(y[w]), s, at=c[j] + fraction * (c[j + 1] - c[j]))
+    return lagrange(list(y[w]), s, at=c[j] + fraction * (c[j + 1] - c[j]))
 
 
 def dense(y: NDArray, scale, per_interval: int, corners=()) -> NDArray:
