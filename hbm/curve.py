@@ -14,6 +14,9 @@ first harmonic and omega (scaled: relative to the first-harmonic amplitude, omeg
 
 from __future__ import annotations
 
+import dataclasses
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -76,3 +79,88 @@ def midpoint_errors(residual, y: NDArray, scale, components, tol: float, corners
             d = (sol.y[k] - um[k]) / s[k]
             out[i] = float(np.sqrt(d @ d))
     return out
+
+
+#: Rounds of the refinement; an interval is solved at its mid-point when the two cubics of the
+#: neighbouring windows disagree there by more than ``EMBEDDED_SHARE * curve_tol`` (or it has no
+#: second window), and split at the converged mid-point when that is off by more than ``curve_tol``.
+REFINE_ROUNDS = 3
+EMBEDDED_SHARE = 0.25
+
+
+def _disagreement(y: NDArray, scale, i: int, corners, k) -> float:
+    """The largest distance (scaled, components ``k``) at the mid-point of interval ``i`` between
+    its interpolant and the cubic of a neighbouring window of the same piece; inf without one."""
+    n = len(y)
+    w = _window(n, i, corners)
+    if w is None:
+        return math.inf
+    s = scale(y[i])
+    um = interpolate(y, scale, i, 0.5, corners)
+    best = -1.0
+    for lo in (w.start - 1, w.start + 1):
+        if lo < 0 or lo + 4 > n or not lo <= i < i + 1 <= lo + 3:
+            continue
+        if any(lo < int(c) <= lo + 3 for c in corners):  # the window would cross a corner
+            continue
+        c = chords(y[lo:lo + 4], s)
+        j = i - lo
+        alt = lagrange(list(y[lo:lo + 4]), s, at=c[j] + 0.5 * (c[j + 1] - c[j]))
+        d = (alt[k] - um[k]) / s[k]
+        best = max(best, float(np.sqrt(d @ d)))
+    return best if best >= 0.0 else math.inf
+
+
+def refine(residual, run: cont.ContinuationResult, scale, components, curve_tol: float, tol: float,
+           parameter: int = -1, max_iter: int = cont.NEWTON_MAX_ITER) -> cont.ContinuationResult:
+    """``run`` with the converged mid-point inserted into every interval whose interpolant is off by
+    more than ``curve_tol`` there (``REFINE_ROUNDS`` rounds); intervals still off, or crossing a
+    corner and off, are listed in ``coarse`` (by the index of their second point)."""
+    k = np.asarray(components, dtype=int)
+    y, t = list(run.y), list(run.tangent)
+    rn, its = list(run.residual_norm), list(run.iterations)
+    corners = [int(c) for c in run.corners]
+    fold_after = [int(f) for f in run.fold_after]
+    count = cont._Count()
+    check = set(range(len(y) - 1))
+    coarse = set()
+    for rnd in range(REFINE_ROUNDS + 1):
+        inserted = []
+        for i in sorted(check):
+            if _disagreement(np.asarray(y), scale, i, corners, k) <= EMBEDDED_SHARE * curve_tol:
+                continue
+            s = scale(y[i])
+            um = interpolate(np.asarray(y), scale, i, 0.5, corners)
+            w = (y[i + 1] - y[i]) / s / s
+            sol = cont._newton(residual, um, w, float(w @ um), tol, max_iter, count)
+            if not sol.converged:
+                coarse.add(i + 1)
+                continue
+            d = (sol.y[k] - um[k]) / s[k]
+            if float(np.sqrt(d @ d)) <= curve_tol:
+                continue
+            if (i + 1) in corners or rnd == REFINE_ROUNDS:  # a kink inside, or the last round: listed
+                coarse.add(i + 1)
+                continue
+            inserted.append((i, sol))
+        if not inserted:
+            break
+        for i, sol in reversed(inserted):  # from the end, so that the indices before stay valid
+            s = scale(sol.y)
+            tm = cont._tangent(sol.J, s, cont._rescale(t[i], scale(y[i]), s))
+            y.insert(i + 1, sol.y)
+            t.insert(i + 1, tm)
+            rn.insert(i + 1, sol.rnorm)
+            its.insert(i + 1, sol.iterations)
+            corners = [c + 1 if c > i else c for c in corners]
+            coarse = {c + 1 if c > i else c for c in coarse}
+            fold_after = [f if f < i else f + 1 if f > i else (f if t[i][parameter] * tm[parameter] < 0.0 else f + 1)
+                          for f in fold_after]
+        check = set()  # the new halves and their neighbours (their windows changed)
+        for j, (i, _) in enumerate(inserted):
+            at = i + j  # index of interval (i, mid) after the earlier insertions
+            check.update(range(max(at - 2, 0), min(at + 4, len(y) - 1)))
+    return dataclasses.replace(run, y=np.array(y), tangent=np.array(t), residual_norm=np.array(rn),
+                               iterations=np.array(its, dtype=int), fold_after=np.array(fold_after, dtype=int),
+                               corners=np.array(corners, dtype=int), coarse=np.array(sorted(coarse), dtype=int),
+                               nit=run.nit + count.nit, nfev=run.nfev + count.nfev)

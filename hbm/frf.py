@@ -23,6 +23,7 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import continuation as cont  # the module (hbm.continuation)
+from . import curve
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
                               harmonic_knobs, samples_for)
@@ -302,6 +303,9 @@ def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: d
         u_h = force_homotopy(problem, w0, tol, scale)
         if u_h is not None:
             run = trace(u_h)
+    if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
+        run = curve.refine(problem, run, scale, (*problem.response_components(), -1), steps["curve_tol"], tol,
+                           parameter=problem.unknowns - 1)
     return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale, stability=stability, tolerance=tolerance)
 
 
