@@ -12,10 +12,13 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
 4. step control: ``h <- h * min(NEWTON_TARGET / iterations, MAX_TURN / turn, f_curve)``, the
    factor kept in ``[MIN_FACTOR, MAX_FACTOR]`` and ``h`` in ``[min_step, max_step]``; ``turn`` is the
    angle between successive tangents.  With ``curve_tol``, ``f_curve = SAFETY (e*/e)^(1/q)`` controls
-   the predictor's error ``e = |u_corrected - u_predicted|`` (scaled) like an ODE solver's error per
-   step, ``e* = PREDICTOR_SHARE curve_tol``, ``q = 4`` (Hermite predictor) or 2 (tangent); a step with
-   ``e > REJECT_CURVE e*`` is retried shorter, at most ``CURVE_RETRIES`` times running (then accepted
-   and listed in ``coarse``: a corner, where the error does not fall with the step).  A failed corrector, or a turn above ``REJECT_TURN`` (a likely
+   the local error like an ODE solver's error per step: ``e`` is the miss, at the corrected point,
+   of the cubic through the last four points of the smooth piece (positions only, by chord length;
+   before four points exist, of the predictor), in the ``curve_components``, scaled; ``q = 4`` (2 for
+   the tangent predictor), ``e* = PREDICTOR_SHARE curve_tol``.  A step with ``e > REJECT_CURVE e*``
+   is retried shorter, at most ``CURVE_RETRIES`` times running, then accepted and listed in
+   ``coarse`` (a corner, where the error does not fall with the step).  A failed corrector, or a
+   turn above ``REJECT_TURN`` (a likely
    jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
    the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
    tangent at a failed predictor has turned that much, the retry's corrector works on the

@@ -88,7 +88,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         Step control by accuracy: the steps are sized so that the curve between points (the cubic
         through the four nearest points, ``hbm.curve``) is within ``curve_tol`` of the branch
         (relative to the first-harmonic amplitude; omega to its reference), ``max_step`` then only a
-        safeguard.  Intervals accepted above it (at corners of the branch) are listed in ``coarse``.
+        safeguard; after the run every interval whose neighbouring cubics disagree is checked at its
+        mid-point against a converged solve and split there if off (those points are not streamed
+        to ``on_point``).  Intervals still off (across corners of the branch) are listed in ``coarse``.
         Default None: the step is limited by ``max_step`` (the "precise" preset sets 1e-5).
     locate_folds : bool, optional
         Locate the turning points of the branch.  Default True.
