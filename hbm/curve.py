@@ -126,11 +126,12 @@ def refine(residual, run: cont.ContinuationResult, scale, components, curve_tol:
     coarse = set()
     for rnd in range(REFINE_ROUNDS + 1):
         inserted = []
+        Y = np.asarray(y)
         for i in sorted(check):
-            if _disagreement(np.asarray(y), scale, i, corners, k) <= EMBEDDED_SHARE * curve_tol:
+            if _disagreement(Y, scale, i, corners, k) <= EMBEDDED_SHARE * curve_tol:
                 continue
             s = scale(y[i])
-            um = interpolate(np.asarray(y), scale, i, 0.5, corners)
+            um = interpolate(Y, scale, i, 0.5, corners)
             w = (y[i + 1] - y[i]) / s / s
             sol = cont._newton(residual, um, w, float(w @ um), tol, max_iter, count)
             if not sol.converged:

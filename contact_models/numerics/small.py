@@ -10,22 +10,23 @@ import numpy as np
 def chords(ys, s) -> np.ndarray:
     """Cumulative chord lengths of the points ``ys`` in coordinates scaled by ``s`` (from 0)."""
     d = np.diff(np.asarray(ys, dtype=float), axis=0) / s
-    return np.concatenate([[0.0], np.cumsum(np.sqrt(np.einsum("ij,ij->i", d, d)))])
+    out = np.zeros(len(d) + 1)
+    np.cumsum(np.sqrt((d * d).sum(axis=1)), out=out[1:])
+    return out
 
 
 def lagrange(ys, s, at=None) -> np.ndarray:
     """The cubic through the first four of ``ys`` (parametrised by chord length, scaled by ``s``) at
     chord length ``at`` (default: that of the fifth point, the extrapolation the step control checks)."""
-    c = chords(ys, s)
-    x = c[4] if at is None else at
-    out = np.zeros_like(np.asarray(ys[0], dtype=float))
+    ys = np.asarray(ys, dtype=float)
+    c = chords(ys, s).tolist()
+    x = c[4] if at is None else float(at)
+    w = [1.0, 1.0, 1.0, 1.0]
     for j in range(4):
-        w = 1.0
         for m in range(4):
             if m != j:
-                w *= (x - c[m]) / (c[j] - c[m])
-        out = out + w * ys[j]
-    return out
+                w[j] *= (x - c[m]) / (c[j] - c[m])
+    return np.array(w) @ ys[:4]
 
 
 def solve_small(A, b):
