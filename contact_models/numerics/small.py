@@ -8,7 +8,25 @@ import numpy as np
 
 
 def chords(ys, s) -> np.ndarray:
-    """Cumulative chord lengths of the points ``ys`` in coordinates scaled by ``s`` (from 0)."""
+    """Cumulative chord lengths of the points ``ys`` in coordinates scaled by ``s``.
+
+    Parameters
+    ----------
+    ys : array_like
+        Points, (m, n).
+    s : ndarray
+        Positive weights, (n,): lengths are measured in ``y / s``.
+
+    Returns
+    -------
+    ndarray
+        (m,) chord lengths from the first point (0 first).
+
+    Examples
+    --------
+    >>> chords([[0.0, 0.0], [3.0, 4.0], [3.0, 5.0]], np.ones(2)).tolist()
+    [0.0, 5.0, 6.0]
+    """
     d = np.diff(np.asarray(ys, dtype=float), axis=0) / s
     out = np.zeros(len(d) + 1)
     np.cumsum(np.sqrt((d * d).sum(axis=1)), out=out[1:])
@@ -16,8 +34,30 @@ def chords(ys, s) -> np.ndarray:
 
 
 def lagrange(ys, s, at=None) -> np.ndarray:
-    """The cubic through the first four of ``ys`` (parametrised by chord length, scaled by ``s``) at
-    chord length ``at`` (default: that of the fifth point, the extrapolation the step control checks)."""
+    """The cubic through the first four of ``ys``, parametrised by chord length, at ``at``.
+
+    Parameters
+    ----------
+    ys : array_like
+        Four points or more, (m >= 4, n); the cubic goes through the first four.
+    s : ndarray
+        Positive weights, (n,): chords are measured in ``y / s``.
+    at : float, optional
+        The chord length (from the first point) to evaluate at.  Default: that of the fifth point
+        (the extrapolation the continuation's step control compares with it).
+
+    Returns
+    -------
+    ndarray
+        (n,) the point of the cubic (Lagrange form in the chord length).
+
+    Examples
+    --------
+    Points of a straight line are reproduced exactly:
+
+    >>> lagrange([[0.0, 0.0], [1.0, 1.0], [2.0, 2.0], [3.0, 3.0], [4.0, 4.0]], np.ones(2)).round(12).tolist()
+    [4.0, 4.0]
+    """
     ys = np.asarray(ys, dtype=float)
     c = chords(ys, s).tolist()
     x = c[4] if at is None else float(at)
@@ -30,7 +70,30 @@ def lagrange(ys, s, at=None) -> np.ndarray:
 
 
 def solve_small(A, b):
-    """Solve the small square system ``A x = b`` (pure-Python elimination for n <= 3)."""
+    """Solve the small square system ``A x = b`` (pure-Python elimination for n <= 3).
+
+    Parameters
+    ----------
+    A : ndarray
+        (n, n) matrix.
+    b : ndarray
+        (n,) right-hand side.
+
+    Returns
+    -------
+    ndarray
+        (n,) solution; ``numpy.linalg.solve`` above n = 3.
+
+    Raises
+    ------
+    numpy.linalg.LinAlgError
+        If a pivot is exactly zero.
+
+    Examples
+    --------
+    >>> solve_small(np.array([[2.0, 1.0], [1.0, 3.0]]), np.array([3.0, 5.0])).round(12).tolist()
+    [0.8, 1.4]
+    """
     n = len(b)
     if n > 3:
         return np.linalg.solve(A, b)
