@@ -17,15 +17,18 @@ from __future__ import annotations
 import dataclasses
 import math
 
+from typing import Sequence
+
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from contact_models.numerics.small import chords, lagrange
 
 from . import continuation as cont
+from .continuation import Residual, Scale
 
 
-def _window(n: int, i: int, corners) -> slice | None:
+def _window(n: int, i: int, corners: Sequence[int]) -> slice | None:
     """The four points of the smooth piece around the interval (i, i + 1) of n points, or None
     (the interval crosses a corner, or its piece has fewer than four points: the chord)."""
     cuts = [0] + sorted(int(c) for c in corners if 0 < c < n) + [n]
@@ -38,7 +41,7 @@ def _window(n: int, i: int, corners) -> slice | None:
     return None
 
 
-def interpolate(y: NDArray, scale, i: int, fraction: float, corners=()) -> NDArray:
+def interpolate(y: ArrayLike, scale: Scale, i: int, fraction: float, corners: Sequence[int] = ()) -> NDArray:
     """The interpolated point at ``fraction`` of the chord of interval ``(i, i + 1)``.
 
     Parameters
@@ -82,7 +85,7 @@ def interpolate(y: NDArray, scale, i: int, fraction: float, corners=()) -> NDArr
     return lagrange(list(y[w]), s, at=c[j] + fraction * (c[j + 1] - c[j]))
 
 
-def dense(y: NDArray, scale, per_interval: int, corners=()) -> NDArray:
+def dense(y: ArrayLike, scale: Scale, per_interval: int, corners: Sequence[int] = ()) -> NDArray:
     """The points ``y`` with ``per_interval - 1`` interpolated points inserted in every interval.
 
     Parameters
@@ -109,7 +112,8 @@ def dense(y: NDArray, scale, per_interval: int, corners=()) -> NDArray:
     return np.array(out)
 
 
-def midpoint_errors(residual, y: NDArray, scale, components, tol: float, corners=(), max_iter: int = 12) -> NDArray:
+def midpoint_errors(residual: Residual, y: ArrayLike, scale: Scale, components: Sequence[int], tol: float,
+                    corners: Sequence[int] = (), max_iter: int = 12) -> NDArray:
     """Per interval, the error of the interpolant at its mid-point against a converged solve.
 
     Parameters
@@ -157,7 +161,7 @@ REFINE_ROUNDS = 3
 EMBEDDED_SHARE = 0.25
 
 
-def _disagreement(y: NDArray, scale, i: int, corners, k) -> float:
+def _disagreement(y: NDArray, scale: Scale, i: int, corners: Sequence[int], k: NDArray) -> float:
     """The largest distance (scaled, components ``k``) at the mid-point of interval ``i`` between
     its interpolant and the cubic of a neighbouring window of the same piece; inf without one."""
     n = len(y)
@@ -180,8 +184,9 @@ def _disagreement(y: NDArray, scale, i: int, corners, k) -> float:
     return best if best >= 0.0 else math.inf
 
 
-def refine(residual, run: cont.ContinuationResult, scale, components, curve_tol: float, tol: float,
-           parameter: int = -1, max_iter: int = cont.NEWTON_MAX_ITER) -> cont.ContinuationResult:
+def refine(residual: Residual, run: cont.ContinuationResult, scale: Scale, components: Sequence[int],
+           curve_tol: float, tol: float, parameter: int = -1,
+           max_iter: int = cont.NEWTON_MAX_ITER) -> cont.ContinuationResult:
     """The branch with every interval's interpolant within ``curve_tol`` at its mid-point, or listed.
 
     An interval whose neighbouring cubics disagree at its mid-point by more than

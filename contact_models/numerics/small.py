@@ -5,9 +5,10 @@ step, ``hbm.curve``'s interpolant)."""
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 
-def chords(ys, s) -> np.ndarray:
+def chords(ys: ArrayLike, s: NDArray) -> NDArray:
     """Cumulative chord lengths of the points ``ys`` in coordinates scaled by ``s``.
 
     Parameters
@@ -33,7 +34,7 @@ def chords(ys, s) -> np.ndarray:
     return out
 
 
-def lagrange(ys, s, at=None) -> np.ndarray:
+def lagrange(ys: ArrayLike, s: NDArray, at: float | None = None) -> NDArray:
     """The cubic through the first four of ``ys``, parametrised by chord length, at ``at``.
 
     Parameters
@@ -69,7 +70,7 @@ def lagrange(ys, s, at=None) -> np.ndarray:
     return np.array(w) @ ys[:4]
 
 
-def solve_small(A, b):
+def solve_small(A: NDArray, b: NDArray) -> NDArray:
     """Solve the small square system ``A x = b`` (pure-Python elimination for n <= 3).
 
     Parameters

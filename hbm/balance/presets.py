@@ -80,15 +80,17 @@ class Accuracy:
     curve_tol: float | None = None
 
     def options(self) -> dict:
-        """Keyword arguments for ``frequency_response``.
+        """Keyword arguments for ``frequency_response`` (``curve_tol`` only where it is set).
 
         Examples
         --------
         >>> from hbm.balance.presets import resolve
         >>> resolve("default").options()
-        {'rtol': 1e-06, 'max_step': 0.03, 'min_step': 1e-09, 'max_steps': 5000, 'curve_tol': None}
+        {'rtol': 1e-06, 'max_step': 0.03, 'min_step': 1e-09, 'max_steps': 5000}
+        >>> resolve("precise").options()["curve_tol"]
+        1e-05
         """
-        return asdict(self)
+        return {k: v for k, v in asdict(self).items() if k != "curve_tol" or v is not None}
 
 
 def from_rtol(rtol: float) -> Accuracy:
@@ -104,7 +106,9 @@ def from_rtol(rtol: float) -> Accuracy:
 def curve_tol_for(rtol: float) -> float | None:
     """The curve tolerance of a preset finer than the default, ``CURVE_FACTOR * rtol ** (1/3)``; None
     at the default and coarser (the step is then limited by ``max_step``, as before)."""
-    return CURVE_FACTOR * rtol ** (1.0 / 3.0) if rtol < DEFAULT_RTOL else None
+    if rtol >= DEFAULT_RTOL:
+        return None
+    return float(f"{CURVE_FACTOR * rtol ** (1.0 / 3.0):.12g}")  # 1e-05 at 1e-9, not 1.0000000000000004e-05
 
 
 def max_step_for(rtol: float) -> float:
