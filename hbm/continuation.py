@@ -9,9 +9,16 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
 2. predictor ``y_p = y_i + h t + h^2 c_2 + h^3 c_3``: the cubic Hermite extrapolation through
    ``y_{i-1}``, ``y_i`` and their tangents (the tangent predictor at the start and after a corner);
 3. corrector: Newton on ``[R(y); t . (y - y_p)] = 0`` (the pseudo-arclength constraint);
-4. step control: ``h <- h * min(NEWTON_TARGET / iterations, MAX_TURN / turn)``, the factor kept
-   in ``[MIN_FACTOR, MAX_FACTOR]`` and ``h`` in ``[min_step, max_step]``; ``turn`` is the angle
-   between successive tangents.  A failed corrector, or a turn above ``REJECT_TURN`` (a likely
+4. step control: ``h <- h * min(NEWTON_TARGET / iterations, MAX_TURN / turn, f_curve)``, the
+   factor kept in ``[MIN_FACTOR, MAX_FACTOR]`` and ``h`` in ``[min_step, max_step]``; ``turn`` is the
+   angle between successive tangents.  With ``curve_tol``, ``f_curve = SAFETY (e*/e)^(1/q)`` controls
+   the local error like an ODE solver's error per step: ``e`` is the miss, at the corrected point,
+   of the cubic through the last four points of the smooth piece (positions only, by chord length;
+   before four points exist, of the predictor), in the ``curve_components``, scaled; ``q = 4`` (2 for
+   the tangent predictor), ``e* = PREDICTOR_SHARE curve_tol``.  A step with ``e > REJECT_CURVE e*``
+   is retried shorter, at most ``CURVE_RETRIES`` times running, then accepted and listed in
+   ``coarse`` (a corner, where the error does not fall with the step).  A failed corrector, or a
+   turn above ``REJECT_TURN`` (a likely
    jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
    the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
    tangent at a failed predictor has turned that much, the retry's corrector works on the
@@ -38,6 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
+from contact_models.numerics.small import chords, lagrange, solve_small as _solve
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -63,6 +71,12 @@ MAX_BEND = 0.25
 RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError)
 #: Default first step as a fraction of ``max_step``.
 FIRST_STEP = 0.25
+#: Error per step (``curve_tol``): target predictor error over curve_tol, the safety factor, the
+#: rejection threshold (over the target) and the shorter retries allowed in a row (docs/hbm.md).
+PREDICTOR_SHARE = 4.0
+SAFETY = 0.8
+REJECT_CURVE = 4.0
+CURVE_RETRIES = 3
 
 #: ``residual(y) -> (R, J)``: R of shape (n-1,), its Jacobian dR/dy of shape (n-1, n).
 Residual = Callable[[NDArray[np.float64]], tuple[NDArray[np.float64], NDArray[np.float64]]]
@@ -105,6 +119,7 @@ class ContinuationResult:
     nit: int = 0  #: Newton updates in total (including fold location)
     nfev: int = 0  #: residual evaluations in total
     last_step: float = 0.0  #: step length at the end (scaled units)
+    coarse: np.ndarray = None  #: indices of points accepted with a predictor error above REJECT_CURVE e*
 
     @property
     def success(self) -> bool:
@@ -134,7 +149,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
                  step: float | None = None, min_step: float = 1e-9, max_step: float = 0.1,
                  max_steps: int = 1000, tol: float = 1e-10, max_iter: int = NEWTON_MAX_ITER,
                  scale: Scale | None = None, locate_folds: bool = True, fold_xtol: float = 1e-10,
-                 on_point: Callable[[NDArray[np.float64], float], object] | None = None) -> ContinuationResult:
+                 on_point: Callable[[NDArray[np.float64], float], object] | None = None,
+                 curve_tol: float | None = None, curve_components: ArrayLike | None = None) -> ContinuationResult:
     """Trace the branch of ``residual(y) = 0`` through ``y0`` in the direction of ``parameter``.
 
     ``residual(y) -> (R, J)``; ``y0`` is corrected with the parameter held fixed first.  The
@@ -143,7 +159,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     ``|R|`` (Euclidean) at every returned point.  ``scale(y)``: optional positive weights (see module).
     Folds are located to ``fold_xtol`` (relative arclength) when ``locate_folds``.
     ``on_point(y, residual_norm)``: called with each point and its ``|R|`` as soon as it is accepted,
-    in order (streaming).
+    in order (streaming).  ``curve_tol``: the step's error control (see module); None: off.
     """
     y0 = np.array(y0, dtype=float).ravel()
     n = y0.size
@@ -157,10 +173,13 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
         raise ValueError(f"direction must be +1 or -1, got direction={direction!r}")
     if not 0.0 < min_step <= max_step:
         raise ValueError(f"need 0 < min_step <= max_step, got min_step={min_step!r}, max_step={max_step!r}")
+    if curve_tol is not None and not 0.0 < curve_tol < 1.0:
+        raise ValueError(f"curve_tol must be in (0, 1) or None, got curve_tol={curve_tol!r}")
     scale = scale if scale is not None else (lambda y: np.ones(n))
     count = _Count()
     trace = _Trace(_counted(residual, count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
-                   on_point if on_point is not None else (lambda y, rnorm: None))
+                   on_point if on_point is not None else (lambda y, rnorm: None), curve_tol,
+                   np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int))
     failed = trace.start(y0, direction, step)
     if failed is not None:
         return failed
@@ -175,7 +194,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
             folds.append(loc.y if loc is not None else np.full(n, np.nan))
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
-                   trace.corners)
+                   trace.corners, trace.coarse)
 
 
 class _Trace:
@@ -183,8 +202,11 @@ class _Trace:
     attempt (predictor, corrector, the turn test), a rejection, an acceptance (with the point on
     the bound at the end of the parameter range) and the step control."""
 
-    def __init__(self, fun, p, lo, hi, tol, max_iter, scale, min_step, max_step, count, report):
+    def __init__(self, fun, p, lo, hi, tol, max_iter, scale, min_step, max_step, count, report, curve_tol=None,
+                 curve_components=None):
         self.fun, self.p, self.lo, self.hi = fun, p, lo, hi
+        self.target = None if curve_tol is None else PREDICTOR_SHARE * curve_tol  # e*
+        self.retries, self.coarse, self.curve_components = 0, [], curve_components
         self.tol, self.max_iter, self.scale, self.count, self.report = tol, max_iter, scale, count, report
         self.min_step, self.max_step = min_step, max_step
         self.status: Status | None = None
@@ -236,7 +258,33 @@ class _Trace:
         if not ok:
             self._reject(new, reason)
             return
-        self._accept(new, t_new, turn)
+        f_curve = self._curve_factor(new.y, y_pred, s, turn)
+        if f_curve is not None and f_curve < 0.0:  # above REJECT_CURVE e*: shorter, unless at a corner
+            self.nrejected += 1
+            self.retries += 1
+            self.h = max(self.h * min(-f_curve, FAIL_FACTOR), self.min_step)
+            return
+        self._accept(new, t_new, turn, f_curve)
+
+    def _curve_factor(self, y_new, y_pred, s, turn):
+        """The step factor of the error control (None: off); negative (its size) to retry shorter."""
+        if self.target is None:
+            return None
+        k = self.curve_components
+        last = self.corners[-1] if self.corners else 0  # the smooth piece starts at the last corner
+        if len(self.ys) - last >= 4:  # the cubic through the piece's last four points, extrapolated
+            y_pred = lagrange(self.ys[-4:] + [y_new], s)
+        d = (y_new[k] - y_pred[k]) / s[k]
+        e = math.sqrt(float(d @ d))
+        q = 2.0 if len(self.ys) - last < 4 and self.c2 is self.zero else 4.0  # tangent predictor ~ h^2, cubic ~ h^4
+        f = SAFETY * (self.target / max(e, 1e-300)) ** (1.0 / q)
+        at_corner = bool(self.corners) and self.corners[-1] == len(self.ys)
+        if e > REJECT_CURVE * self.target:
+            if self.retries < CURVE_RETRIES and not at_corner and self.h > self.min_step:
+                return -max(f, MIN_FACTOR * FAIL_FACTOR)
+            self.coarse.append(len(self.ys))  # accepted above the tolerance: listed, never silent
+        self.retries = 0
+        return f
 
     def _judge(self, new):
         """``(ok, reason, t_new, turn)`` of a corrected point: converged, with a tangent, and a turn
@@ -268,7 +316,7 @@ class _Trace:
             self.detail = (f" (last failure: {reason}; near y={np.array2string(self.y, precision=8)}, "
                            f"step {self.h / FAIL_FACTOR:.3g})")
 
-    def _accept(self, new, t_new, turn) -> None:
+    def _accept(self, new, t_new, turn, f_curve=None) -> None:
         p, ys, ts = self.p, self.ys, self.ts
         self.nsteps += 1
         if self.rejected is not None and self.h >= self.rejected[1]:
@@ -297,8 +345,8 @@ class _Trace:
         # ---- step control from corrector effort and curvature
         f_newton = NEWTON_TARGET / max(new.iterations, 1)
         f_turn = MAX_TURN / max(turn, 1e-12) if not at_corner else 1.0
-        self.h = min(max(self.h * min(max(min(f_newton, f_turn), MIN_FACTOR), MAX_FACTOR), self.min_step),
-                     self.max_step)
+        f = min(f_newton, f_turn, f_curve if f_curve is not None else math.inf)
+        self.h = min(max(self.h * min(max(f, MIN_FACTOR), MAX_FACTOR), self.min_step), self.max_step)
 
     def _end_on_bound(self, y_prev) -> None:
         """The end of the parameter range: the last point goes on the bound."""
@@ -485,36 +533,6 @@ def _smallest_direction(Js):
     return np.linalg.svd(Js)[2][-1]
 
 
-def _solve(A, b):
-    """Solve the small square system ``A x = b`` (pure-Python elimination for n <= 3)."""
-    n = len(b)
-    if n > 3:
-        return np.linalg.solve(A, b)
-    M = A.tolist()
-    v = b.tolist()
-    for k in range(n):  # Gaussian elimination with partial pivoting
-        piv = max(range(k, n), key=lambda r: abs(M[r][k]))
-        if M[piv][k] == 0.0:
-            raise np.linalg.LinAlgError("singular corrector matrix")
-        if piv != k:
-            M[k], M[piv] = M[piv], M[k]
-            v[k], v[piv] = v[piv], v[k]
-        for r in range(k + 1, n):
-            f = M[r][k] / M[k][k]
-            if f != 0.0:
-                Mr, Mk = M[r], M[k]
-                for c in range(k, n):
-                    Mr[c] -= f * Mk[c]
-                v[r] -= f * v[k]
-    x = [0.0] * n
-    for k in range(n - 1, -1, -1):
-        acc = v[k]
-        for c in range(k + 1, n):
-            acc -= M[k][c] * x[c]
-        x[k] = acc / M[k][k]
-    return np.array(x)
-
-
 def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
     """Newton on ``[R(y); w . y - c] = 0`` from ``y`` until ``|R| <= tol``.
 
@@ -560,7 +578,8 @@ def _norm(R) -> float:
     return math.sqrt(sum(v * v for v in R.tolist()))
 
 
-def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nrejected, count, h, corners=()):
+def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nrejected, count, h, corners=(),
+            coarse=()):
     n = len(ys[0]) if ys else 0
     return ContinuationResult(
         y=np.array(ys, dtype=float).reshape(-1, n) if ys else np.empty((0, 0)),
@@ -568,7 +587,7 @@ def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nreject
         residual_norm=np.array(rn, dtype=float),
         iterations=np.array(its, dtype=int),
         fold_after=np.array(fold_after, dtype=int),
-        corners=np.array(corners, dtype=int),
+        corners=np.array(corners, dtype=int), coarse=np.array(coarse, dtype=int),
         folds=np.array(folds, dtype=float).reshape(-1, n) if folds else np.empty((0, n)),
         status=status, message=message, nsteps=nsteps, nrejected=nrejected,
         nit=count.nit, nfev=count.nfev, last_step=h,

@@ -23,6 +23,7 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import continuation as cont  # the module (hbm.continuation)
+from . import curve
 from .balance import errors
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
@@ -60,7 +61,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                        accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
                        response_dof: int | None = None, stability: bool = True, tol: float | None = None,
                        estimate_error: bool = True, model: str = "given",
-                       on_harmonics: Callable[[float, Any], None] | None = None) -> FrequencyResponse:
+                       on_harmonics: Callable[[float, Any], None] | None = None,
+                       curve_tol: float | None = None) -> FrequencyResponse:
     """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
     ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
 
@@ -83,6 +85,14 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         Largest and smallest continuation step in scaled arclength.  Defaults 0.03, 1e-9.
     max_steps : int, optional
         Step budget.  Default 5000.
+    curve_tol : float, optional
+        Step control by accuracy: the steps are sized so that the curve between points (the cubic
+        through the four nearest points, ``hbm.curve``) is within ``curve_tol`` of the branch
+        (relative to the first-harmonic amplitude; omega to its reference), ``max_step`` then only a
+        safeguard; after the run every interval whose neighbouring cubics disagree is checked at its
+        mid-point against a converged solve and split there if off (those points are not streamed
+        to ``on_point``).  Intervals still off (across corners of the branch) are listed in ``coarse``.
+        Default None: the step is limited by ``max_step`` (the "precise" preset sets 1e-5).
     locate_folds : bool, optional
         Locate the turning points of the branch.  Default True.
     on_point : callable, optional
@@ -195,8 +205,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     preset = accuracy if accuracy is not None else "default"
     H_preset = harmonic_knobs(preset)[0]
     if accuracy is not None:
-        rtol, max_step, min_step, max_steps = apply(accuracy, rtol=rtol, max_step=max_step, min_step=min_step,
-                                                    max_steps=max_steps)
+        rtol, max_step, min_step, max_steps, curve_tol = apply(accuracy, rtol=rtol, max_step=max_step,
+                                                               min_step=min_step, max_steps=max_steps,
+                                                               curve_tol=curve_tol)
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
@@ -208,7 +219,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if tol is not None:  # the elements and the Newton points well inside the tolerance asked for
         rtol = min(rtol, RTOL_SHARE * tolerance)
     steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
-                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds)
+                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds,
+                 curve_tol=None if curve_tol is None else positive("curve_tol", curve_tol))
+    if steps["curve_tol"] is not None and steps["curve_tol"] >= 1.0:
+        raise ValueError(f"curve_tol must be < 1 (a relative error), got curve_tol={curve_tol!r}")
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
     adapt = harmonics is None and tol is not None
     if harmonics is None:
@@ -291,13 +305,16 @@ def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: d
         return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
                                  bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref), direction=1 if w1 > w0 else -1,
                                  tol=tol, scale=scale, fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
-                                 on_point=report, **steps)
+                                 on_point=report, curve_components=(*problem.response_components(), -1), **steps)
 
     run = trace(problem.stuck_start(w0))
     if run.status == cont.Status.START_FAILED:
         u_h = force_homotopy(problem, w0, tol, scale)
         if u_h is not None:
             run = trace(u_h)
+    if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
+        run = curve.refine(problem, run, scale, (*problem.response_components(), -1), steps["curve_tol"], tol,
+                           parameter=problem.unknowns - 1)
     return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale, stability=stability, tolerance=tolerance)
 
 

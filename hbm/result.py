@@ -112,6 +112,11 @@ class FrequencyResponse:
     status, message
         How the continuation ended, as a code and in words; on failure the points computed
         before are kept.
+    coarse, corners : ndarray of int
+        With ``curve_tol``: indices ``i`` of the points whose interval ``(i - 1, i)`` is off by more
+        than the tolerance at its mid-point after the check (``hbm.curve.refine``: an interval across
+        a corner of the branch, drawn as its chord); the corners found (the tangent jumps between
+        ``i - 1`` and ``i``).
     nsteps, nit, nfev, nstuck : int
         Accepted steps, Newton iterations, element evaluations, stuck evaluations; they include
         the work of :meth:`peak` once it has been called.
@@ -178,6 +183,9 @@ class FrequencyResponse:
         if not run.success and len(w):
             self.message += f"; the branch stops at omega = {w[-1]:.9g} rad/s, amplitude {self.amplitude[-1]:.6g} m"
         self.nsteps = run.nsteps
+        #: indices i of points whose interval (i - 1, i) is off by more than ``curve_tol`` (a corner)
+        self.coarse = run.coarse if run.coarse is not None else np.empty(0, dtype=int)
+        self.corners = run.corners
         self._nit0 = run.nit
         self._peak: Peak | None = None
         self._peak_nit = 0

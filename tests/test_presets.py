@@ -51,8 +51,8 @@ def peak_error(frf, ref):
 def test_presets_are_ordered_on_the_default_case(runs, reference):
     err = {name: peak_error(frf, reference) for name, frf in runs.items()}
     assert err["precise"] < err["default"] < err["fast"]
-    # and the points: finer presets trace more of them
-    assert len(runs["fast"]) < len(runs["default"]) < len(runs["precise"])
+    # and the points: "fast" and "default" by max_step; "precise" by its curve tolerance (tests/test_steps.py)
+    assert len(runs["fast"]) < len(runs["default"])
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -64,6 +64,7 @@ def test_default_preset_is_frequency_responses_default(case, runs):
     defaults = inspect.signature(frequency_response).parameters
     assert presets.resolve("default").options() == {k: defaults[k].default
                                                    for k in ("rtol", "max_step", "min_step", "max_steps")}
+    assert presets.resolve("default").curve_tol is defaults["curve_tol"].default is None
     plain = frequency_response(case.blade, case.element, omega_range=case.omega_range)
     np.testing.assert_array_equal(plain.omega, runs["default"].omega)
     np.testing.assert_array_equal(plain.amplitude, runs["default"].amplitude)
@@ -76,8 +77,12 @@ def test_one_rtol_sets_every_knob_consistently():
     levels = [presets.resolve(r) for r in (3e-2, 1e-3, 1e-5, 1e-7, 1e-9, 1e-12)]
     for coarse, fine in zip(levels, levels[1:]):
         assert fine.rtol < coarse.rtol
-        assert fine.max_step <= coarse.max_step
         assert fine.max_steps >= coarse.max_steps
+        if coarse.curve_tol is None:  # at the default and coarser, max_step follows rtol
+            assert fine.max_step <= coarse.max_step or fine.curve_tol is not None
+        else:  # finer: the step by accuracy, a tighter curve tolerance, max_step only a safeguard
+            assert fine.curve_tol < coarse.curve_tol and fine.max_step == presets.MAX_PRESET_STEP
+    assert presets.resolve("precise").curve_tol == pytest.approx(1e-5)
     for s in levels:  # the step budget covers the same arclength as the default's
         assert s.max_steps * s.max_step >= frf_module.DEFAULT_MAX_STEPS * frf_module.DEFAULT_MAX_STEP * (1 - 1e-9)
         assert presets.MIN_PRESET_STEP <= s.max_step <= presets.MAX_PRESET_STEP

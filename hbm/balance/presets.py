@@ -23,7 +23,12 @@ say of the knobs (default case, 2026-11-21):
 - The microslip elements reach about 1e-14 (three-region: 1e-9, set by its table, not by
   rtol) at any ``rtol``, so handing them the preset's ``rtol`` costs nothing in accuracy.
 
-So a preset is one ``rtol``, and ``max_step`` follows it along the measured error/time front,
+Finer than the default (``rtol < DEFAULT_RTOL``, e.g. "precise") the step is chosen by accuracy
+instead: ``curve_tol = CURVE_FACTOR * rtol ** (1/3)`` (1e-5 at "precise") bounds the error of the
+curve between points (``hbm.curve``; the continuation's error per step, ``hbm.continuation``), and
+``max_step`` is ``MAX_PRESET_STEP``, a safeguard, not what gives accuracy (docs/performance.md,
+"Step control by accuracy").  At the default and coarser:
+a preset is one ``rtol``, and ``max_step`` follows it along the measured error/time front,
 ``max_step = DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT`` (clipped to
 ``[MIN_PRESET_STEP, MAX_PRESET_STEP]``): per 1000 times in rtol, about 30 times in the peak
 frequency's error, 10 times in the curve's and 2 to 4 times in time.  The step budget is scaled so
@@ -50,6 +55,8 @@ STEP_EXPONENT = 1.0 / 6.0
 #: Limits of the preset max_step.
 MIN_PRESET_STEP = 0.005
 MAX_PRESET_STEP = 0.1
+#: Below DEFAULT_RTOL the curve tolerance is CURVE_FACTOR * rtol ** (1/3): 1e-5 at rtol = 1e-9.
+CURVE_FACTOR = 0.01
 #: Largest rtol accepted (``frequency_response`` needs rtol < 0.1).
 MAX_RTOL = 0.1
 
@@ -70,24 +77,38 @@ class Accuracy:
     max_step: float
     min_step: float
     max_steps: int
+    curve_tol: float | None = None
 
     def options(self) -> dict:
-        """Keyword arguments for ``frequency_response``.
+        """Keyword arguments for ``frequency_response`` (``curve_tol`` only where it is set).
 
         Examples
         --------
         >>> from hbm.balance.presets import resolve
         >>> resolve("default").options()
         {'rtol': 1e-06, 'max_step': 0.03, 'min_step': 1e-09, 'max_steps': 5000}
+        >>> resolve("precise").options()["curve_tol"]
+        1e-05
         """
-        return asdict(self)
+        return {k: v for k, v in asdict(self).items() if k != "curve_tol" or v is not None}
 
 
 def from_rtol(rtol: float) -> Accuracy:
     """The knobs for a relative tolerance ``rtol`` (0 < rtol < 0.1)."""
-    max_step = max_step_for(rtol)
-    max_steps = math.ceil(DEFAULT_MAX_STEPS * DEFAULT_MAX_STEP / max_step * (1.0 - 1e-12))
-    return Accuracy(rtol=float(rtol), max_step=max_step, min_step=DEFAULT_MIN_STEP, max_steps=max_steps)
+    curve_tol = curve_tol_for(rtol)
+    max_step = max_step_for(rtol) if curve_tol is None else MAX_PRESET_STEP
+    # the budget covers the default's arclength at the default's step (a step by accuracy may be short)
+    max_steps = math.ceil(DEFAULT_MAX_STEPS * DEFAULT_MAX_STEP / min(max_step, max_step_for(rtol)) * (1.0 - 1e-12))
+    return Accuracy(rtol=float(rtol), max_step=max_step, min_step=DEFAULT_MIN_STEP, max_steps=max_steps,
+                    curve_tol=curve_tol)
+
+
+def curve_tol_for(rtol: float) -> float | None:
+    """The curve tolerance of a preset finer than the default, ``CURVE_FACTOR * rtol ** (1/3)``; None
+    at the default and coarser (the step is then limited by ``max_step``, as before)."""
+    if rtol >= DEFAULT_RTOL:
+        return None
+    return float(f"{CURVE_FACTOR * rtol ** (1.0 / 3.0):.12g}")  # 1e-05 at 1e-9, not 1.0000000000000004e-05
 
 
 def max_step_for(rtol: float) -> float:
@@ -114,9 +135,9 @@ def resolve(accuracy: str | float) -> Accuracy:
     return from_rtol(value)
 
 
-def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: float,
-          max_steps: int) -> tuple[float, float, float, int]:
-    """``(rtol, max_step, min_step, max_steps)`` for ``frequency_response(..., accuracy=...)``.
+def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: float, max_steps: int,
+          curve_tol: float | None = None) -> tuple[float, float, float, int, float | None]:
+    """``(rtol, max_step, min_step, max_steps, curve_tol)`` for ``frequency_response(..., accuracy=...)``.
 
     The preset sets all four; passing one of them too (with a value other than its default)
     is ambiguous and raises ValueError: to adjust a preset, start from
@@ -124,13 +145,14 @@ def apply(accuracy: str | float, *, rtol: float, max_step: float, min_step: floa
     """
     preset = resolve(accuracy)
     given = {"rtol": (rtol, DEFAULT_RTOL), "max_step": (max_step, DEFAULT_MAX_STEP),
-             "min_step": (min_step, DEFAULT_MIN_STEP), "max_steps": (max_steps, DEFAULT_MAX_STEPS)}
+             "min_step": (min_step, DEFAULT_MIN_STEP), "max_steps": (max_steps, DEFAULT_MAX_STEPS),
+             "curve_tol": (curve_tol, None)}
     clash = [f"{k}={v!r}" for k, (v, d) in given.items() if v != d]
     if clash:
-        raise ValueError(f"accuracy={accuracy!r} sets rtol, max_step, min_step and max_steps; got also "
+        raise ValueError(f"accuracy={accuracy!r} sets rtol, max_step, min_step, max_steps and curve_tol; got also "
                          f"{', '.join(clash)} (pass either accuracy or the knobs, e.g. "
                          f"**hbm.balance.presets.resolve({accuracy!r}).options() with changes)")
-    return preset.rtol, preset.max_step, preset.min_step, preset.max_steps
+    return preset.rtol, preset.max_step, preset.min_step, preset.max_steps, preset.curve_tol
 
 
 #: Harmonics H and AFT samples per period n_t of each named preset for the multi-harmonic balance

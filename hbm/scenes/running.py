@@ -27,7 +27,7 @@ from .reporting import figure, jsonable, run_summary
 from .validation import Scene
 
 #: The accuracy keyword arguments of ``frequency_response`` in ``sweep["options"]`` (``hbm.presets``).
-ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps")
+ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps", "curve_tol")
 
 
 @dataclass
