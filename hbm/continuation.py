@@ -111,7 +111,7 @@ class ContinuationResult:
     iterations: np.ndarray  #: Newton updates spent on each point
     fold_after: np.ndarray  #: index i: a fold lies between points i and i + 1
     corners: np.ndarray  #: indices of points where the tangent jumps (piecewise-smooth residual)
-    folds: np.ndarray  #: (nfolds, n) located folds (NaN rows where locating failed)
+    folds: np.ndarray  #: (nfolds, n) located folds; where locating fails, the bracketing point at the turn
     status: Status
     message: str
     nsteps: int = 0  #: accepted steps
@@ -191,7 +191,10 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
         for i in trace.fold_after:
             loc = locate(residual, trace.ys[i], trace.ys[i + 1], lambda yy, tt: tt[p], tol=tol, scale=scale,
                          xtol=fold_xtol, max_iter=max_iter, count=count)
-            folds.append(loc.y if loc is not None else np.full(n, np.nan))
+            # a corner of the branch (the tangent jumps) can defeat the locator: keep the bracketing
+            # point whose parameter is the extreme of the turn, a converged point within one step of it
+            ya, yb = trace.ys[i], trace.ys[i + 1]
+            folds.append(loc.y if loc is not None else max(ya, yb, key=lambda yy: yy[p] * np.sign(trace.ts[i][p])))
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
                    trace.corners, trace.coarse)

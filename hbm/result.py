@@ -86,7 +86,8 @@ class FrequencyResponse:
         cosine and sine coefficients (m, ``x ~ x_c cos + x_s sin``), and the scaled residual of
         the point (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref`` otherwise; dimensionless).
     folds_omega, folds_amplitude : ndarray
-        The located turning points of the branch (rad/s, m).
+        The located turning points of the branch (rad/s, m); where the locator cannot converge (a
+        corner of the branch), the converged point at the turn, within one step of it.
     harmonics, n_t : int
         The number of harmonics H and the AFT samples per period.
     dofs : list of int
