@@ -167,3 +167,19 @@ def test_hill_time_invariant_is_the_structures_own_eigenvalues():
     lam = hill_exponents(M, C, K, 1.7, 3.0 * np.eye(5), 2)  # a spring of 3 N/m on every harmonic
     root = np.sqrt(complex(0.1**2 - 4 * 2.0 * 11.0))
     same_set(lam, [(-0.1 + root) / 4.0, (-0.1 - root) / 4.0], 1e-14)
+
+
+def test_hill_time_invariant_exponents_are_kept_per_contact_stiffness():
+    """Stuck points of a branch share their exponents (they do not depend on omega); a new
+    contact stiffness is computed anew, and a caller's copy cannot change the kept one."""
+    M, C, K = np.diag([1.0, 2.0]), 0.02 * np.eye(2), np.array([[3.0, -1.0], [-1.0, 1.0]])
+    hill = HillProblem(M, C, K, 2)
+    for kc, omegas in ((0.5, (0.7, 1.9)), (2.0, (1.1,)), (0.5, (0.3,))):
+        Kc = np.diag([kc, 0.0])
+        ref = np.linalg.eigvals(np.block([[np.zeros((2, 2)), np.eye(2)],
+                                          [-np.linalg.solve(M, K + Kc), -np.linalg.solve(M, C)]]))
+        for w in omegas:
+            lam = hill.exponents(w, np.kron(Kc, np.eye(5)))
+            same_set(lam, ref, 1e-13)
+            lam[:] = np.nan  # the caller's array only
+    assert np.all(np.isfinite(hill.exponents(0.9, np.kron(np.diag([0.5, 0.0]), np.eye(5)))))

@@ -113,17 +113,26 @@ class HillProblem:
         self._Minv = np.linalg.inv(self.M)
         parity = np.r_[0, np.repeat(np.arange(1, self.H + 1), 2)] % 2
         self._parts = (np.flatnonzero(parity == 0), np.flatnonzero(parity == 1))
+        # the rows of every DOF's even and odd coefficients in the DOF-major layout
+        self._rows = tuple(np.ravel(np.arange(self.n)[:, None] * self.L + part[None, :]) for part in self._parts)
         self._ops: dict = {}
+        self._lwork: dict = {}
+        # the last time-invariant case: its exponents do not depend on omega, and a branch's stuck
+        # points share one contact stiffness (an equal Kc gives the same eigenproblem, bit for bit)
+        self._invariant: tuple = (None, None)
 
     def exponents(self, omega: float, dF: NDArray) -> NDArray[np.complex128]:
         """The ``2 n`` Floquet exponents (1/s) at ``omega`` for the contacts' Jacobian ``dF``."""
         n, L, H = self.n, self.L, self.H
         Kc = dF[::L, ::L]
         if np.array_equal(dF, np.kron(Kc, np.eye(L))):  # time-invariant: the k = 0 member of each family
-            lam = _state_space_eigenvalues(self.M, self.C, self.K + Kc)
-            return lam[np.argsort(-lam.real, kind="stable")]
+            key = Kc.tobytes()
+            if self._invariant[0] != key:
+                lam = _state_space_eigenvalues(self.M, self.C, self.K + Kc)
+                self._invariant = (key, lam[np.argsort(-lam.real, kind="stable")])
+            return self._invariant[1].copy()
         even, odd = self._parts
-        ie, io = (np.ravel(np.arange(n)[:, None] * L + part[None, :]) for part in (even, odd))
+        ie, io = self._rows
         scale = float(np.max(np.abs(dF))) if dF.size else 0.0
         cross = max(float(np.max(np.abs(dF[np.ix_(ie, io)]), initial=0.0)),
                     float(np.max(np.abs(dF[np.ix_(io, ie)]), initial=0.0)))
@@ -162,7 +171,7 @@ class HillProblem:
     def _eig(self, omega: float, dF: NDArray, part: NDArray) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
         """Eigenvalues and displacement eigenvectors (n, 2H+1, m) of the QEP (module docstring)
         on the coefficients ``part`` of every DOF (the rest of the layout zero)."""
-        from scipy.linalg import eig  # lazily: import hbm stays light
+        from scipy.linalg.lapack import dgeev, dgeev_lwork  # lazily: import hbm stays light
 
         idx, Minv, MK, MCN, MMN2, MC, MMN = self._operators(part)
         size = idx.size
@@ -170,10 +179,22 @@ class HillProblem:
         A[:size, size:] = np.eye(size)
         A[size:, :size] = -(MK + omega * MCN + omega * omega * MMN2 + Minv @ dF[np.ix_(idx, idx)])
         A[size:, size:] = -(MC + 2.0 * omega * MMN)
-        lam, V = eig(A, overwrite_a=True, check_finite=False)
+        # LAPACK's real eigensolver, right vectors only (scipy.linalg.eig's own call, without its
+        # conversion of the velocity rows to complex): a conjugate pair is stored as
+        # wi[j] > 0 at j, j + 1 with vectors vr[:, j] +- i vr[:, j + 1]
+        if 2 * size not in self._lwork:  # the workspace scipy.linalg.eig asks for (the same blocking)
+            self._lwork[2 * size] = int(dgeev_lwork(2 * size, compute_vl=0, compute_vr=1)[0])
+        wr, wi, _, vr, info = dgeev(A, compute_vl=0, compute_vr=1, lwork=self._lwork[2 * size], overwrite_a=1)
+        if info != 0:
+            raise np.linalg.LinAlgError(f"Hill's eigenproblem at omega = {omega!r}: LAPACK dgeev info = {info}")
+        Vd = vr[:size]
+        V = Vd.astype(complex)
+        j = np.flatnonzero(wi > 0.0)
+        V[:, j] += 1j * Vd[:, j + 1]
+        V[:, j + 1] = np.conj(V[:, j])
         P = np.zeros((self.n, self.L, 2 * size), dtype=complex)
-        P[:, part] = V[:size].reshape(self.n, part.size, 2 * size)
-        return lam, P
+        P[:, part] = V.reshape(self.n, part.size, 2 * size)
+        return wr + 1j * wi, P
 
 
 def _state_space_eigenvalues(M: NDArray, C: NDArray, K: NDArray) -> NDArray[np.complex128]:
