@@ -71,3 +71,15 @@ def scene_data(path, **changes):
         else:
             node[key] = value
     return data
+
+
+def scene_problems(data, path, plan=False):
+    """The problems (one string, a line each) of the SceneError that reading the scene tables
+    ``data`` as the file ``path`` raises (and, with ``plan``, planning it)."""
+    from hbm.scenes import SceneError, plan_scene, scene_from_dict  # only for the scene tests
+
+    with pytest.raises(SceneError) as err:
+        scene = scene_from_dict(data, path)
+        if plan:
+            plan_scene(scene)
+    return "\n".join(err.value.problems)

@@ -16,7 +16,9 @@ import pytest
 
 from contact_models import AllModeMicroslip2D, Bar, UniformLoad
 from hbm import Contact, Structure, frequency_response
-from hbm.scenes import SceneError, load_scene, plan_scene, run_scene, scene_from_dict
+from hbm.scenes import load_scene, plan_scene, run_scene, scene_from_dict
+
+from conftest import scene_problems as problems  # the SceneError's problems, one string
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENE = ROOT / "examples" / "scenes" / "allmode_normal.toml"
@@ -109,14 +111,6 @@ def structure_scene(folder, damper=None, **structure):
         damper = {**damper, "load": {"N": 100.0}}
     return {"structure": {k: v for k, v in table.items() if v is not None}, "damper": damper,
             "sweep": {"omega": WINDOW}, "output": {"formats": ["csv"]}}
-
-
-def problems(data, path, plan=False):
-    with pytest.raises(SceneError) as err:
-        scene = scene_from_dict(data, path)
-        if plan:
-            plan_scene(scene)
-    return "\n".join(err.value.problems)
 
 
 def test_the_scene_plans_the_element_of_its_keys(tmp_path):

@@ -16,7 +16,9 @@ import pytest
 
 from contact_models import Contact2D, CubicSpring, Gap, Macroslip
 from hbm import Contact, Structure, frequency_response
-from hbm.scenes import SceneError, load_scene, plan_scene, run_scene, scene_from_dict
+from hbm.scenes import load_scene, run_scene
+
+from conftest import scene_problems as problems  # the SceneError's problems, one string
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENES = ROOT / "examples" / "scenes"
@@ -113,14 +115,6 @@ def structure_scene(folder, damper=None, contacts=None, **structure):
         table["contacts"] = contacts
     return {"structure": table, "damper": damper or DAMPER,
             "sweep": {"omega": [0.8, 0.9]}, "output": {"formats": ["csv"]}}
-
-
-def problems(data, path, plan=False):
-    with pytest.raises(SceneError) as err:
-        scene = scene_from_dict(data, path)
-        if plan:
-            plan_scene(scene)
-    return "\n".join(err.value.problems)
 
 
 def test_bad_contacts_name_their_entry_and_key(tmp_path):
