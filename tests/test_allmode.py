@@ -224,6 +224,20 @@ def test_end_at_rest_is_exact_with_the_stuck_jacobian_and_no_warning():
     assert abs(dX[1, 2]) < 1e-10 * k and abs(dX[2, 1]) < 1e-10 * k
 
 
+
+def test_load_zero_at_a_node_slips_at_once_without_a_nan():
+    """A load that vanishes at the driven end: that node slips at any motion, so a_min = 0 on every
+    mesh, and its relative estimate is 0 (not 0/0); the stuck stiffness is still the bar's."""
+    load = FunctionLoad(lambda x: 4000.0 * (1.0 - x / BAR.L))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        el = AllModeMicroslip(BAR, load)
+        cells, k, a_min, rel = el._stuck_data(0.2 * WC)
+        err = float(el.model_error(1e-7, 0.2 * WC))
+    assert a_min == 0.0 and el.slip_amplitude(0.2 * WC) == 0.0
+    assert k == pytest.approx(NumericalMicroslip(BAR, UNIFORM, cells=cells).stuck_stiffness(0.2 * WC), rel=1e-12)
+    assert 0.0 <= rel < el.tol and 0.0 <= err < el.tol
+
 def test_frf_whose_first_point_slips_near_the_peak_starts():
     """The default blade (hbm.cli.cases) with the all-mode bar, started at 38600 rad/s where the
     bar already slips (a = 2 a_min, 200 rad/s below the peak): Newton from the stuck guess fails
