@@ -102,8 +102,16 @@ def richardson(N: tuple[float, float, float], F: NDArray[np.float64]) -> tuple[N
 
 def relative(error: NDArray[np.float64], F: NDArray[np.float64], floor: float) -> float:
     """max_j error_j / max(|F_j|, floor): the relative error of the validity map (``floor`` is
-    ``FLOOR`` k* a in N)."""
-    return float(np.max(np.asarray(error) / np.maximum(np.abs(F), floor)))
+    ``FLOOR`` k* a in N).  Where the scale is 0 (no end motion: F = 0 and a = 0) an error of 0 is
+    relative 0 (the answer is exact) and any other error is inf.
+
+    >>> relative(np.zeros(2), np.zeros(2), 0.0), relative(np.array([0.0, 1e-9]), np.zeros(2), 0.0)
+    (0.0, inf)
+    """
+    error = np.asarray(error, dtype=float)
+    scale = np.maximum(np.abs(F), floor)
+    zero_scale = np.where(error > 0.0, math.inf, 0.0)
+    return float(np.max(np.divide(error, scale, out=zero_scale, where=scale > 0.0)))
 
 
 def start_cells(bar: Bar, omega: float, H: int) -> int:

@@ -99,12 +99,17 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     m, nh = U.shape[0], E.shape[1]
     J = np.empty((m, nh, nh))
     if np.any(never):
-        # f = kc (u - (u_max + u_min)/2): dT/dU = kc (I - e0 (E_max + E_min)/2)
+        # f = kc (u - c), c = (u_max + u_min)/2: dT/dU = kc (I - (P 1) dc/dU), P 1 the coefficients of
+        # a constant (e0 in a basis with the mean, 0 in the odd basis), dc/dU = (E_max + E_min)/2.
+        # A constant row (no motion: max and min not unique) has no derivative of c; its one-sided
+        # derivative (max du + min du)/2 is the mean of du for every constant and every half-wave
+        # symmetric du, so the mean (E averaged over the samples) is taken there.
         iv = np.flatnonzero(never)
         kmax = np.argmax(u[iv], axis=1)
         kmin = np.argmin(u[iv], axis=1)
-        Jn = np.broadcast_to(np.eye(nh), (iv.size, nh, nh)).copy()
-        Jn[:, 0, :] -= 0.5 * (E[kmax] + E[kmin])
+        dc = 0.5 * (E[kmax] + E[kmin])
+        dc[u[iv, kmax] == u[iv, kmin]] = E.mean(axis=0)
+        Jn = np.eye(nh) - P.sum(axis=1)[None, :, None] * dc[:, None, :]
         J[iv] = kc[iv, None, None] * Jn
     slips = np.flatnonzero(~never)
     if slips.size:

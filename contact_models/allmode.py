@@ -462,7 +462,7 @@ class AllModeMicroslip(ContactElement):
             else:
                 e = np.abs(vals[-1] - vals[0]) if len(rungs) == 2 else np.full(2, math.inf)
             rel = e[0] / max(abs(vals[-1, 0]), floor)
-            rel_a = e[1] / vals[-1, 1] if math.isfinite(vals[-1, 1]) else 0.0
+            rel_a = relative(e[1:], vals[-1, 1:], 0.0) if math.isfinite(vals[-1, 1]) else 0.0  # a_min = 0: 0/0
             if self.cells is not None or max(rel, rel_a) <= 0.25 * self.tol or 2 * n > MAX_CELLS:
                 break
             n *= 2

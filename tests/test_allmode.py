@@ -2,11 +2,12 @@
 integration, users' loads."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
 
-from contact_models import (AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip, QuadraticLoad,
+from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip, QuadraticLoad,
                             SampledLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_periodic
 
@@ -67,6 +68,29 @@ def test_jenkins_harmonic_jacobian_against_finite_differences():
               - jenkins_harmonic(U - dU, kc, p, E, P, jacobian=False)[0]) / (2 * h)
         np.testing.assert_allclose(J[:, :, j], fd, atol=1e-6)
 
+
+
+@pytest.mark.parametrize("odd", [False, True])
+def test_jenkins_harmonic_jacobian_at_rest_is_the_stuck_stiffness(odd):
+    """At rest (a constant motion: its max and min not unique) a node that never slips is a spring
+    kc on every harmonic and nothing in the mean, in the full basis and in the odd one (whose first
+    coefficient is cos 1, not the mean): the limit of the Jacobian at a small odd motion."""
+    E, P, order = aft_matrices(3, 16)
+    idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
+    E, P = E[:, idx], P[idx]
+    kc, p = np.array([2.0, 2.0]), np.array([1.0, 1.0])
+    U = np.zeros((2, idx.size))  # row 0 at rest; row 1 a constant offset (the full basis only)
+    if not odd:
+        U[1, 0] = 5.0
+    _, J, _ = jenkins_harmonic(U, kc, p, E, P)
+    expected = 2.0 * np.diag((order[idx] > 0).astype(float))
+    np.testing.assert_allclose(J[0], expected, atol=1e-12)
+    np.testing.assert_allclose(J[1], expected, atol=1e-12)
+    small = np.zeros((1, idx.size))
+    small[0, list(order[idx]).index(1) + 1] = 1e-3  # sin 1, far below slip
+    _, Js, _ = jenkins_harmonic(small, kc[:1], p[:1], E, P)
+    h = order[idx] % 2 == 1
+    np.testing.assert_allclose(J[0][np.ix_(h, h)], Js[0][np.ix_(h, h)], atol=1e-12)
 
 def test_block_thomas_solves_like_a_dense_solver():
     rng = np.random.default_rng(3)
@@ -180,6 +204,69 @@ def test_symmetric_end_motion_solved_in_the_odd_basis_has_the_full_jacobian():
     np.testing.assert_allclose(dw, full.dF_domega[:7], atol=1e-9 * np.max(np.abs(dw)))
     assert np.max(np.abs(dX[0::4, 0::4])) > 0.01 * KS  # the even block is not empty
 
+
+
+def test_end_at_rest_is_exact_with_the_stuck_jacobian_and_no_warning():
+    """X = 0 (the start of the solver's force homotopy): F = 0 exactly, so its estimate is 0 (not
+    0/0) on the first rung, and dF/dX is the stuck bar's dynamic stiffness on cos 1 and sin 1 alike
+    (the stuck solution of the discretised bar, ``stuck_stiffness``, on the same mesh)."""
+    omega = 0.29 * WC
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        chosen = AllModeMicroslip(BAR, UNIFORM)
+        sol = chosen.solve(np.zeros(3), omega)
+        F, dX, _ = AllModeMicroslip(BAR, UNIFORM, cells=10, harmonics=3).harmonic_force(np.zeros(3), omega)
+    assert sol.success and sol.relative_error == 0.0 and not np.any(sol.F)
+    assert sol.cells < 64 and sol.H == 7  # the first rung, not the top of the ladder
+    k = NumericalMicroslip(BAR, UNIFORM, cells=10).stuck_stiffness(omega)
+    assert not np.any(F)
+    np.testing.assert_allclose(np.diag(dX)[1:], [k, k], rtol=1e-10)
+    assert abs(dX[1, 2]) < 1e-10 * k and abs(dX[2, 1]) < 1e-10 * k
+
+
+
+def test_load_zero_at_a_node_slips_at_once_without_a_nan():
+    """A load that vanishes at the driven end: that node slips at any motion, so a_min = 0 on every
+    mesh, and its relative estimate is 0 (not 0/0); the stuck stiffness is still the bar's."""
+    load = FunctionLoad(lambda x: 4000.0 * (1.0 - x / BAR.L))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        el = AllModeMicroslip(BAR, load)
+        cells, k, a_min, rel = el._stuck_data(0.2 * WC)
+        err = float(el.model_error(1e-7, 0.2 * WC))
+    assert a_min == 0.0 and el.slip_amplitude(0.2 * WC) == 0.0
+    assert k == pytest.approx(NumericalMicroslip(BAR, UNIFORM, cells=cells).stuck_stiffness(0.2 * WC), rel=1e-12)
+    assert 0.0 <= rel < el.tol and 0.0 <= err < el.tol
+
+def test_frf_whose_first_point_slips_near_the_peak_starts():
+    """The default blade (hbm.cli.cases) with the all-mode bar, started at 38600 rad/s where the
+    bar already slips (a = 2 a_min, 200 rad/s below the peak): Newton from the stuck guess fails
+    there, so the start comes from the force homotopy from X = 0.  It starts, its first point
+    solves the blade's balance (k - m w^2 + i c w) x + F_1(x) = f with F_1 from the element, and it
+    is the point the branch reaches from a stuck start at 38000 rad/s; no RuntimeWarning leaks."""
+    from hbm import frequency_response
+    from hbm.cli.cases import default_case
+
+    b = default_case().blade
+
+    def bar():
+        return AllModeMicroslip(BAR, UNIFORM, cells=10, harmonics=3)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        warnings.simplefilter("ignore", AccuracyWarning)  # the coarse mesh's model error, reported
+        frf = frequency_response(b, bar(), (38600.0, 38700.0))
+        below = frequency_response(b, bar(), (38000.0, 38600.0))
+    assert frf.success and len(frf) > 2 and frf.omega[0] == 38600.0
+    assert below.success and below.amplitude[0] < 7.5e-7 and below.omega[-1] == 38600.0
+    xc, xs, w = frf.x_c[0], frf.x_s[0], frf.omega[0]
+    assert frf.amplitude[0] > 1.5 * 7.5e-7  # past the slip onset: the stuck guess is not the answer
+    F, _, _ = bar().harmonic_force(np.array([0.0, xc, xs]), w)
+    x = xc - 1j * xs
+    r = (b.stiffness - b.mass * w * w + 1j * b.damping * w) * x + (F[1] - 1j * F[2]) - b.force
+    assert abs(r) < 1e-9 * b.force
+    assert xc == pytest.approx(below.x_c[-1], rel=1e-7)
+    assert xs == pytest.approx(below.x_s[-1], rel=1e-7)
 
 # ---------------------------------------------------------------- against time integration
 @pytest.mark.parametrize("w, r", [(0.5, 3.0), (0.8, 10.0), (1.0, 3.0)])  # 1.0: at omega_c itself
