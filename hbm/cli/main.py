@@ -73,7 +73,8 @@ def _default(args: argparse.Namespace) -> int:
     if model == "auto" and frf.success and float(frf.error_sources["model"][at_peak]) > MODEL_SHARE * frf.tolerance:
         el = case.element
         try:
-            best = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance)
+            other = sum(float(v[at_peak]) for k, v in frf.error_sources.items() if k != "model")
+            best = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance, other)
         except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
             warnings.warn(f"the all-mode peak was not found ({exc}); the answer is the single-mode one",
                           AccuracyWarning, stacklevel=2)
@@ -119,9 +120,10 @@ def allmode_line(best: AllModePeak, pk: Any, given: Any, tol: float) -> str:
     """The main job's last line when the all-mode peak answers (``hbm.cli.peak``)."""
     off = abs(pk.amplitude - best.amplitude) / best.amplitude
     return (f"peak {best.omega:.6g} rad/s, {best.amplitude:.4g} m, estimated error {100.0 * best.error:.2g} % "
-            f"(model: AllModeMicroslip, the bar with every mode, {best.cells} cells, H = {best.harmonics}: the "
-            f"single-mode {type(given).__name__} of the curve written is {100.0 * off:.2g} % off it at the peak, "
-            f"more than tol = {tol:g})")
+            f"(model: AllModeMicroslip, the bar with every mode, {best.cells} cells, H = {best.harmonics}; "
+            f"{100.0 * best.parts['other']:.2g} % of it from the blade's own harmonics and the rest of the curve's "
+            f"estimate: the single-mode {type(given).__name__} of the curve written is {100.0 * off:.2g} % off it "
+            f"at the peak, more than tol = {tol:g})")
 
 
 def _figure(frf: Any, case: Case, path: Path, best: AllModePeak | None = None) -> Path:

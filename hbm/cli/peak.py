@@ -26,7 +26,9 @@ interval), starting from the peak of the nearest rung already refined; the peak 
 (at min(n, ``HARMONICS_CELLS``) cells), each sequence through ``richardson`` (observed order, guarded;
 ``contact_models.allmode.richardson``), the harmonics part never below what order 1 predicts
 (``_harmonics_part``), the two parts added, relative to the peak amplitude.  Cells double (to
-``MAX_CELLS``) while the sum is above the tolerance.  Measured against a converged reference in
+``MAX_CELLS``) while the sum is above the tolerance.  The sources this search does not resolve
+(the blade's own higher harmonics, AFT sampling, the element evaluation, the peak's location) come
+from the single-mode curve's estimate at its peak (``other``) and are added.  Measured against a converged reference in
 ``docs/validation.md`` ("The default blade with the all-mode damper").
 """
 
@@ -39,7 +41,7 @@ import numpy as np
 
 from contact_models import AllModeMicroslip
 from contact_models.allmode import richardson
-from contact_models.numerics.checks import positive
+from contact_models.numerics.checks import nonnegative, positive
 
 __all__ = ["AllModePeak", "allmode_peak", "amplitude_at", "SCAN", "SPAN", "SCAN_STEP", "CELLS", "HARMONICS",
            "MAX_CELLS", "MAX_STEP", "AMPLITUDE_RTOL", "REFINE_STEP", "HARMONICS_CELLS"]
@@ -193,7 +195,8 @@ def _harmonics_part(ladder: list) -> float:
     return max(e, abs(ladder[2] - ladder[1]) / (HARMONICS / 15 - 1.0)) / ladder[-1]
 
 
-def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: float, tol: float) -> AllModePeak:
+def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: float, tol: float,
+                 other: float = 0.0) -> AllModePeak:
     """The peak of the blade with ``AllModeMicroslip(bar, load)`` and its relative error estimate.
 
     Parameters
@@ -208,7 +211,12 @@ def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: flo
         The single-mode peak (rad/s, m), > 0: where the scan is centred and starts.
     tol : float
         The relative error of the peak amplitude aimed at, in (0, 1): cells double (to ``MAX_CELLS``)
-        while the estimate is above it.
+        while the estimate (``other`` included) is above it.
+    other : float, optional
+        The relative error of the peak amplitude from the sources this search does not resolve (the
+        blade's own higher harmonics, AFT sampling, the element evaluation, the peak's location: the
+        curve's estimate at its peak, ``FrequencyResponse.error_sources``), >= 0: added to the
+        estimate as the part ``"other"``.  Default 0.
 
     Returns
     -------
@@ -218,13 +226,14 @@ def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: flo
     Raises
     ------
     ValueError
-        ``w_single``, ``a_single`` not positive and finite, or ``tol`` outside (0, 1).
+        ``w_single``, ``a_single`` not positive and finite, ``tol`` outside (0, 1), or ``other`` negative.
     FloatingPointError
         Where the amplitude equation does not converge near the peak.
     """
     w_single, a_single, tol = positive("w_single", w_single), positive("a_single", a_single), positive("tol", tol)
     if not tol < 1.0:
         raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
+    other = nonnegative("other", other)
     ws, As = _scan(blade, bar, load, w_single, a_single)
     if not np.any(np.isfinite(As)):
         raise FloatingPointError("the all-mode amplitude did not converge on the scan around the peak")
@@ -246,8 +255,9 @@ def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: flo
         e_c = float(richardson((n // 4, n // 2, n), np.array(ladder_c)[:, None])[0][0]) / ladder_c[-1]
         ladder_h = [peak(min(n, HARMONICS_CELLS), H)[1] for H in (7, 15, HARMONICS)]
         e_h = _harmonics_part(ladder_h)
-        if e_c + e_h <= tol or 2 * n > MAX_CELLS:
+        if e_c + e_h + other <= tol or 2 * n > MAX_CELLS:
             break
         n *= 2
     w, a = peak(n, HARMONICS)
-    return AllModePeak(w, a, e_c + e_h, {"cells": e_c, "harmonics": e_h}, n, HARMONICS, dict(rungs), (ws, As))
+    return AllModePeak(w, a, e_c + e_h + other, {"cells": e_c, "harmonics": e_h, "other": other}, n, HARMONICS,
+                       dict(rungs), (ws, As))
