@@ -137,21 +137,28 @@ def midpoint_errors(residual: Residual, y: ArrayLike, scale: Scale, components: 
     -------
     ndarray
         (npoints - 1,) scaled distances between the interpolated mid-point and the converged point
-        in the hyperplane through it normal to the chord; NaN where Newton did not converge.
+        in the hyperplane through it normal to the chord; inf where Newton did not converge.
     """
     y = np.asarray(y, dtype=float)
     k = np.asarray(components, dtype=int)
-    out = np.full(max(len(y) - 1, 0), np.nan)
     count = cont._Count()
-    for i in range(len(y) - 1):
-        s = scale(y[i])
-        um = interpolate(y, scale, i, 0.5, corners)
-        w = (y[i + 1] - y[i]) / s / s  # the chord, as a normal in physical coordinates
-        sol = cont._newton(residual, um, w, float(w @ um), tol, max_iter, count)
-        if sol.converged:
-            d = (sol.y[k] - um[k]) / s[k]
-            out[i] = float(np.sqrt(d @ d))
-    return out
+    return np.array([_midpoint(residual, y, scale, i, corners, k, tol, max_iter, count)[1]
+                     for i in range(len(y) - 1)])
+
+
+def _midpoint(residual: Residual, y: NDArray, scale: Scale, i: int, corners: Sequence[int], k: NDArray,
+              tol: float, max_iter: int, count: cont._Count) -> tuple[cont._Newton, float]:
+    """Newton at the mid-point of interval ``i``, in the hyperplane through the interpolated point
+    normal to the chord, and the scaled distance (components ``k``) of the converged point from the
+    interpolated one (inf where Newton did not converge)."""
+    s = scale(y[i])
+    um = interpolate(y, scale, i, 0.5, corners)
+    w = (y[i + 1] - y[i]) / s / s  # the chord, as a normal in physical coordinates
+    sol = cont._newton(residual, um, w, float(w @ um), tol, max_iter, count)
+    if not sol.converged:
+        return sol, math.inf
+    d = (sol.y[k] - um[k]) / s[k]
+    return sol, float(np.sqrt(d @ d))
 
 
 #: Rounds of the refinement; an interval is solved at its mid-point when the two cubics of the
@@ -234,15 +241,11 @@ def refine(residual: Residual, run: cont.ContinuationResult, scale: Scale, compo
         for i in sorted(check):
             if _disagreement(Y, scale, i, corners, k) <= EMBEDDED_SHARE * curve_tol:
                 continue
-            s = scale(y[i])
-            um = interpolate(Y, scale, i, 0.5, corners)
-            w = (y[i + 1] - y[i]) / s / s
-            sol = cont._newton(residual, um, w, float(w @ um), tol, max_iter, count)
+            sol, err = _midpoint(residual, Y, scale, i, corners, k, tol, max_iter, count)
             if not sol.converged:
                 coarse.add(i + 1)
                 continue
-            d = (sol.y[k] - um[k]) / s[k]
-            if float(np.sqrt(d @ d)) <= curve_tol:
+            if err <= curve_tol:
                 continue
             if (i + 1) in corners or rnd == REFINE_ROUNDS:  # a kink inside, or the last round: listed
                 coarse.add(i + 1)

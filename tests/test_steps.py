@@ -52,7 +52,7 @@ def test_precise_curve_within_its_tolerance_at_every_mid_point_or_listed(precise
     name, frf = precise
     tol = presets.resolve("precise").curve_tol
     err, listed = mid_errors(frf)
-    assert not np.any(np.isnan(err))
+    assert np.all(np.isfinite(err))  # every mid-point converged
     assert np.all(err[~listed] <= tol), (name, float(np.max(err[~listed])), tol)
     # listed only at corners of the branch (the stick-slip transitions), not anywhere
     assert set(frf.coarse.tolist()) <= set(frf.corners.tolist())
