@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from ._allmode_solve import AllModeSolution, FixedBar, _Basis, _Eval
 from ._hbal import factorise
-from .contact2d import slip_origins
+from .contact2d import slip_origins, stuck_midpoint
 
 if TYPE_CHECKING:
     from .bar import Bar
@@ -39,8 +39,9 @@ class NormalSolution(AllModeSolution):
     """``AllModeSolution`` of the bar with normal motion, and in addition: ``V`` (2H+1) the normal
     displacement's coefficients, ``FN`` (2H+1) the coefficients of the normal force sum_i s_i N_i(t)
     (N; the total normal reaction for uniform motion), ``dF_dV`` (2H+1, 2H+1) the tangential end
-    force's derivative in V, ``dFN_dV`` (2H+1, 2H+1), and ``separated`` (n + 1, n_t): where each
-    node is out of contact (N_i = 0) at theta_k = 2 pi k / n_t.  ``slip`` includes separation."""
+    force's derivative in V (None where the solve failed), ``dFN_dV`` (2H+1, 2H+1), and
+    ``separated`` (n + 1, n_t): where each node is out of contact (N_i = 0) at theta_k = 2 pi k / n_t.
+    ``slip`` includes separation."""
 
     V: Array | None = None
     FN: Array | None = None
@@ -65,8 +66,7 @@ def node_map(u: Array, lim: Array, kt: float) -> tuple[Array, NDArray[np.bool_],
     n = u.size
     found = slip_origins(u, lim, kt)
     if found is None:
-        i, j = int(np.argmax(u - lim / kt)), int(np.argmin(u + lim / kt))
-        w = 0.5 * ((u[i] - lim[i] / kt) + (u[j] + lim[j] / kt))
+        i, j, w = stuck_midpoint(u, lim, kt)
         return kt * (u - w), np.zeros(n, bool), (np.full(n, i), np.full(n, j), np.full(n, 0.5), np.full(n, -0.5))
     T, r, sgn = found
     return T, sgn != 0.0, (r, r, 0.5 * sgn[r], 0.5 * sgn[r])
@@ -142,8 +142,7 @@ class NormalBar(FixedBar):
         out.dFN_dV = b.P @ (((self.s**2 * self.knc)[:, None] * (N > 0.0)).sum(axis=0)[:, None] * b.E)
         out.separated = N <= 0.0
         s = b.E.shape[1]
-        if not sol.success:
-            out.dF_dV = np.full((s, s), np.nan)
+        if not sol.success:  # no converged state to differentiate: dF_dV stays None
             return out
         _, J, _, origins = self.nodes(sol.U, b, True)
         # dR_i/dV = s_i P (w1 dlim_r1 E_r1 + w2 dlim_r2 E_r2): the limits move with v_i = s_i v

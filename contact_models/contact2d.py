@@ -162,8 +162,7 @@ class Contact2D(ContactElement):
         k = np.arange(n)
         found = slip_origins(u, lim, kt)
         if found is None:  # stuck all period: the midpoint of the admissible slider positions
-            i, j = int(np.argmax(u - lim / kt)), int(np.argmin(u + lim / kt))
-            w = 0.5 * ((u[i] - lim[i] / kt) + (u[j] + lim[j] / kt))
+            i, j, w = stuck_midpoint(u, lim, kt)
             ii, jj, half = np.full(n, i), np.full(n, j), np.full(n, 0.5)
             rows = np.concatenate([k, k, k, k, k, n + k])
             cols = np.concatenate([k, ii, jj, n + ii, n + jj, n + k])
@@ -199,4 +198,12 @@ class Contact2D(ContactElement):
         return masing_loop(lambda x: np.minimum(self.kt * x, slip), a, n)
 
 
-__all__ = ["Contact2D", "slip_origins"]
+def stuck_midpoint(u: NDArray, lim: NDArray, kt: float) -> tuple[int, int, float]:
+    """``(i, j, w)`` of a contact stuck all period: its slider at the midpoint ``w`` of the admissible
+    positions, ``((u_i - lim_i/kt) + (u_j + lim_j/kt)) / 2`` with ``i`` the argmax of ``u - lim/kt``
+    and ``j`` the argmin of ``u + lim/kt`` (for a constant limit the centre of the motion)."""
+    i, j = int(np.argmax(u - lim / kt)), int(np.argmin(u + lim / kt))
+    return i, j, 0.5 * ((u[i] - lim[i] / kt) + (u[j] + lim[j] / kt))
+
+
+__all__ = ["Contact2D", "slip_origins", "stuck_midpoint"]
