@@ -100,6 +100,19 @@ def richardson(N: tuple[float, float, float], F: NDArray[np.float64]) -> tuple[N
     return err, order
 
 
+def ladder(N: tuple, F: list, alone: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The error of the last of the values ``F`` (rows) on the rungs ``N`` (their resolutions, the
+    finest last): :func:`richardson` on three rungs, the last difference on two, ``alone`` on one;
+    inf wherever it is not finite (a failed solve on a lower rung)."""
+    if len(N) == 3:
+        e, _ = richardson(tuple(N), np.array(F))
+    elif len(N) == 2:
+        e = np.abs(F[1] - F[0])
+    else:
+        e = alone
+    return np.where(np.isfinite(e), e, np.inf)
+
+
 def relative(error: NDArray[np.float64], F: NDArray[np.float64], floor: float) -> float:
     """max_j error_j / max(|F_j|, floor): the relative error of the validity map (``floor`` is
     ``FLOOR`` k* a in N).  Where the scale is 0 (no end motion: F = 0 and a = 0) an error of 0 is

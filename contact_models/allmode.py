@@ -57,7 +57,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import FLOOR, relative, richardson, start_cells
+from ._allmode_accuracy import FLOOR, ladder, relative, richardson, start_cells
 from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd
 from ._hbal import aft_matrices, jenkins_periodic
 from .accuracy import AccuracyWarning
@@ -418,14 +418,8 @@ class AllModeMicroslip(ContactElement):
         hs = sorted({h for h in (max(_lower(_lower(H)), Hx), max(_lower(H), Hx)) if h < H})
         parts = {}
         for key, rungs, solve_at in (("cells", cells, lambda c: at(c, H)), ("harmonics", hs, lambda h: at(n, h))):
-            vals = [solve_at(r) for r in rungs] + [F]
-            if len(rungs) == 2:
-                e, _ = richardson((*rungs, n if key == "cells" else H), np.array(vals))
-            elif len(rungs) == 1:
-                e = np.abs(vals[1] - vals[0])
-            else:
-                e = np.full(2, np.inf) if key == "cells" else np.full(2, sol.decay * math.hypot(*F))
-            parts[key] = np.where(np.isfinite(e), e, np.inf)
+            alone = np.full(2, np.inf) if key == "cells" else np.full(2, sol.decay * math.hypot(*F))
+            parts[key] = ladder((*rungs, n if key == "cells" else H), [solve_at(r) for r in rungs] + [F], alone)
         return parts
 
     def _warn(self, shortfalls) -> None:

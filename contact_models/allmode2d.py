@@ -31,7 +31,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import FLOOR, relative, richardson
+from ._allmode_accuracy import FLOOR, ladder, relative
 from ._allmode_normal import NormalBar, NormalSolution
 from ._hbal import aft_matrices
 from .allmode import AllModeMicroslip
@@ -211,13 +211,7 @@ class AllModeMicroslip2D(ContactElement):
                 vals.append(s.F[1:3] if s.success else np.full(2, np.nan))
             vals.append(F)
             res = [lv[{"cells": 0, "harmonics": 1, "samples": 2}[key]] for lv in ok]
-            if len(ok) == 3:
-                e, _ = richardson(tuple(res), np.array(vals))
-            elif len(ok) == 2:
-                e = np.abs(vals[1] - vals[0])
-            else:
-                e = np.full(2, np.inf)
-            parts[key] = np.where(np.isfinite(e), e, np.inf)
+            parts[key] = ladder(tuple(res), vals, np.full(2, np.inf))
         total = sum(parts.values())
         a = math.hypot(X[1], X[2]) or float(np.max(np.abs(X)))
         sol.error_parts = {k: float(np.max(v)) for k, v in parts.items()}
