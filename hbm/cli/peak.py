@@ -70,7 +70,7 @@ class AllModePeak(NamedTuple):
     """The all-mode peak: ``omega`` (rad/s), ``amplitude`` (m), ``error`` (relative estimate of the
     amplitude), ``parts`` (``{"cells": ..., "harmonics": ...}``, relative), ``cells``, ``harmonics``
     (the finest rung), ``rungs`` (``{(cells, H): (omega, amplitude)}``: the peak on every rung),
-    ``scan`` (frequencies and amplitudes of the scan, on ``SCAN``)."""
+    ``scan`` (frequencies and amplitudes of the scan, on ``SCAN``, where it converged)."""
 
     omega: float
     amplitude: float
@@ -102,10 +102,14 @@ def amplitude_at(blade: Any, element: AllModeMicroslip, omega: float, a0: float,
     Returns
     -------
     float
-        The amplitude (m) solving g(a) = 0 (module docstring), converged to ``AMPLITUDE_RTOL``;
-        nan where it does not converge (Newton's method safeguarded by bisection once a sign change
-        of g is bracketed: the bar's f(a) has kinks where one more cell starts to slip, where plain
-        Newton can cycle).
+        The amplitude (m) solving g(a) = 0 (module docstring), converged to ``AMPLITUDE_RTOL``
+        (Newton's method safeguarded by bisection once a sign change of g is bracketed: the bar's
+        f(a) has kinks where one more cell starts to slip, where plain Newton can cycle).
+
+    Raises
+    ------
+    FloatingPointError
+        Where the bar's balance or this iteration does not converge (numerical trouble, not bad input).
     """
     k_dyn = blade.stiffness - blade.mass * omega * omega
     cw = blade.damping * omega
@@ -113,7 +117,7 @@ def amplitude_at(blade: Any, element: AllModeMicroslip, omega: float, a0: float,
     for _ in range(max_iter):
         sol = element.solve(a, omega)
         if not sol.success:
-            return math.nan
+            raise FloatingPointError(f"the all-mode bar did not converge at omega = {omega:.6g} rad/s, a = {a:.4g} m")
         P = k_dyn * a + sol.f_s
         Q = cw * a + sol.f_c
         g = P * P + Q * Q - blade.force ** 2
@@ -133,7 +137,8 @@ def amplitude_at(blade: Any, element: AllModeMicroslip, omega: float, a0: float,
         if abs(new - a) <= AMPLITUDE_RTOL * a:
             return new
         a = new
-    return math.nan
+    raise FloatingPointError(f"the amplitude equation did not converge at omega = {omega:.6g} rad/s in {max_iter} "
+                             "iterations")
 
 
 def _vertex(w: tuple, A: tuple) -> tuple[float, float]:
@@ -162,8 +167,6 @@ def _refine(blade, element, w0: float, a0: float, h: float) -> tuple[float, floa
     for _ in range(12):
         pts = (centre - h, centre, centre + h)
         vals = tuple(amp(w) for w in pts)
-        if not all(math.isfinite(v) for v in vals):
-            raise FloatingPointError(f"the all-mode amplitude did not converge near omega = {centre:.6g} rad/s")
         wv, av = _vertex(pts, vals)
         if abs(wv - centre) <= h:
             break
@@ -172,18 +175,20 @@ def _refine(blade, element, w0: float, a0: float, h: float) -> tuple[float, floa
 
 
 def _scan(blade, bar, load, w_single: float, a_single: float) -> tuple[np.ndarray, np.ndarray]:
+    """The frequencies and amplitudes of the scan where the amplitude equation converged."""
     el = AllModeMicroslip(bar, load, cells=SCAN[0], harmonics=SCAN[1])
-    ws = w_single * (1.0 + np.arange(-SPAN[0], SPAN[1] + 0.5 * SCAN_STEP, SCAN_STEP))
-    out = np.full(ws.size, np.nan)
-    for i, w in enumerate(ws):
-        done = [j for j in range(i) if math.isfinite(out[j])][-2:]
-        if len(done) == 2:  # the secant through the last two points predicts the next
-            j, k = done
-            a0 = out[k] + (out[k] - out[j]) * (w - ws[k]) / (ws[k] - ws[j])
+    ws, As = [], []
+    for w in w_single * (1.0 + np.arange(-SPAN[0], SPAN[1] + 0.5 * SCAN_STEP, SCAN_STEP)):
+        if len(ws) >= 2:  # the secant through the last two points predicts the next
+            a0 = As[-1] + (As[-1] - As[-2]) * (w - ws[-1]) / (ws[-1] - ws[-2])
         else:
-            a0 = out[done[-1]] if done else a_single
-        out[i] = amplitude_at(blade, el, float(w), a0)
-    return ws, out
+            a0 = As[-1] if As else a_single
+        try:
+            As.append(amplitude_at(blade, el, float(w), a0))
+            ws.append(float(w))
+        except FloatingPointError:  # a frequency the scan passes over; the peak is refined elsewhere
+            continue
+    return np.array(ws), np.array(As)
 
 
 def _harmonics_part(ladder: list) -> float:
@@ -235,9 +240,9 @@ def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: flo
         raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
     other = nonnegative("other", other)
     ws, As = _scan(blade, bar, load, w_single, a_single)
-    if not np.any(np.isfinite(As)):
+    if not As.size:
         raise FloatingPointError("the all-mode amplitude did not converge on the scan around the peak")
-    i = int(np.nanargmax(As))
+    i = int(np.argmax(As))
     w0, a0 = float(ws[i]), float(As[i])
     h = REFINE_STEP * w_single
     rungs: dict = {}
