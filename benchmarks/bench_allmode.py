@@ -17,7 +17,7 @@ defaults) and choosing to tol 1e-2 and 1e-3, round-robin (one run each per round
 medians of ``repeats`` (default 3), with the points, the peak and the AccuracyWarnings of the last
 round, and each time as a ratio to the single-mode one of the same run.
 
-``python benchmarks/bench_allmode.py --peak [repeats]``: the main job's all-mode peak (``hbm.cli.peak``) against the
+``python benchmarks/bench_allmode.py --peak [repeats]``: the main job's all-mode peak (``hbm.allmode_peak``) against the
 single-mode FRF, and the whole job (``python -m hbm`` in a new process) with ``--model given`` and by
 default, round-robin, wall and CPU medians (docs/performance.md, "The all-mode FRF").
 ``--peak-study``: 50 normal loads from 40 to 300 N on two processes, each the single-mode FRF and
@@ -218,7 +218,7 @@ def peak_rows(repeats: int = 3):
     process: import, solve, CSV, figure), round-robin; wall and CPU medians, ratios of this run."""
     from hbm import frequency_response  # lazily: the element benchmark above needs no solver
     from hbm.cli.cases import default_case
-    from hbm.cli.peak import allmode_peak
+    from hbm.allmode_peak import allmode_peak
 
     case = default_case()
     el = case.element
@@ -238,7 +238,7 @@ def peak_rows(repeats: int = 3):
     def run(args):
         return lambda: subprocess.run(job + args, check=True, capture_output=True, cwd=ROOT)
 
-    tasks = (("single-mode FRF (frequency_response)", single, False), ("all-mode peak (hbm.cli.peak)", peak, False),
+    tasks = (("single-mode FRF (frequency_response)", single, False), ("all-mode peak (hbm.allmode_peak)", peak, False),
              ("job: python3 -m hbm --model given", run(["--model", "given"]), True),
              ("job: python3 -m hbm (auto, the default)", run([]), True))
     times = {label: ([], []) for label, *_ in tasks}
@@ -266,7 +266,7 @@ def _peak_run(N):
     peak is above half the tolerance, the all-mode peak; (N, single peak, all-mode peak or None, CPU)."""
     from hbm import frequency_response  # lazily: the element benchmark above needs no solver
     from hbm.cli.cases import default_case
-    from hbm.cli.peak import allmode_peak
+    from hbm.allmode_peak import allmode_peak
 
     warnings.simplefilter("ignore")
     case = default_case()

@@ -72,7 +72,7 @@ if TYPE_CHECKING:
 __all__ = ["AllModeMicroslip", "AllModeSolution", "CELLS", "HARMONICS", "SAMPLES_PER_HARMONIC", "NEWTON_TOL",
            "NEWTON_MAX_ITER", "TOL", "HARMONIC_LADDER", "MAX_CELLS", "MAX_HARMONICS", "richardson"]
 # ``richardson`` (the estimate's extrapolation with the observed order, guarded) is re-exported for
-# estimates built on the element's answers elsewhere (hbm.cli.peak: the all-mode peak's error).
+# estimates built on the element's answers elsewhere (hbm.allmode_peak: the all-mode peak's error).
 
 #: Cells of a bar with a fixed mesh where one is wanted (the scenes' ``cells`` key); the element's
 #: own default is None: cells chosen per call to ``tol``.

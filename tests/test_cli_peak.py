@@ -1,4 +1,4 @@
-"""The default job's all-mode peak (hbm.cli.peak): the amplitude equation, the parabola, the peak and
+"""The default job's all-mode peak (hbm.allmode_peak): the amplitude equation, the parabola, the peak and
 its error estimate against a converged reference, and the job's last line."""
 
 import warnings
@@ -10,7 +10,7 @@ from contact_models import AccuracyWarning
 from hbm import frequency_response
 from hbm.cli.cases import default_case
 from hbm.cli.main import main
-from hbm.cli.peak import _vertex, allmode_peak, amplitude_at
+from hbm.allmode_peak import _vertex, allmode_peak, amplitude_at
 
 #: The default case's all-mode peak on finer rungs (the same peak search; 38820 rad/s).  Cells at
 #: H = 31: 128, 256, 512 cells give 1.5354640e-6, 1.5353988e-6, 1.5353834e-6 m (observed order 2.1; the

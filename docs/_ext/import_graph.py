@@ -32,7 +32,7 @@ PARTS = {
     "scenes": (("hbm.scenes",), "scene files: schema, validation, models, effects, planning, running, reporting"),
     "designs": (("hbm.designs",), "what a study runs: grids and random samples of scene keys, run ids"),
     "study": (("hbm.study",), "parameter studies: runs, the store, executors, figures"),
-    "cli": (("hbm.cli", "hbm.__main__"), "the command line: main, progress, the default case and its all-mode peak"),
+    "cli": (("hbm.cli", "hbm.__main__"), "the command line: main, progress, the default case"),
     "front": (("hbm",), "frequency_response (validate, pick, run, wrap), its result, CSV and plots"),
 }
 

@@ -35,7 +35,7 @@ from ..scenes.checks import dot, show
 from ..scenes.template import template
 from ..study import FILES, Study, check_scene, read_records, run_study
 from .cases import Case, default_case
-from .peak import AllModePeak, allmode_peak
+from ..allmode_peak import AllModePeak, allmode_peak
 from .progress import ProgressLine
 
 __all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
@@ -117,7 +117,7 @@ def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
 
 
 def allmode_line(best: AllModePeak, pk: Any, given: Any, tol: float) -> str:
-    """The main job's last line when the all-mode peak answers (``hbm.cli.peak``)."""
+    """The main job's last line when the all-mode peak answers (``hbm.allmode_peak``)."""
     off = abs(pk.amplitude - best.amplitude) / best.amplitude
     return (f"peak {best.omega:.6g} rad/s, {best.amplitude:.4g} m, estimated error {100.0 * best.error:.2g} % "
             f"(model: AllModeMicroslip, the bar with every mode, {best.cells} cells, H = {best.harmonics}; "

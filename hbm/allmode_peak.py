@@ -1,4 +1,4 @@
-"""The default job's physical answer: the resonance peak of the blade with the all-mode bar.
+"""The all-mode peak of a blade with a microslip damper: the physical answer at its resonance, with its error.
 
 The single-mode damper of the default case is about 1.6 % off the bar with every mode at the
 peak (``docs/validation.md``); an all-mode FRF to a tolerance costs hundreds of times the
