@@ -43,7 +43,7 @@ from contact_models import AllModeMicroslip
 from contact_models.allmode import richardson
 from contact_models.numerics.checks import nonnegative, positive
 
-__all__ = ["AllModePeak", "allmode_peak", "amplitude_at", "SCAN", "SPAN", "SCAN_STEP", "CELLS", "HARMONICS",
+__all__ = ["AllModePeak", "allmode_peak", "physical_peak", "amplitude_at", "SCAN", "SPAN", "SCAN_STEP", "CELLS", "HARMONICS",
            "MAX_CELLS", "MAX_STEP", "AMPLITUDE_RTOL", "REFINE_STEP", "HARMONICS_CELLS"]
 
 #: The rung the scan for the peak runs on (cells, harmonics).
@@ -266,3 +266,31 @@ def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: flo
     w, a = peak(n, HARMONICS)
     return AllModePeak(w, a, e_c + e_h + other, {"cells": e_c, "harmonics": e_h, "other": other}, n, HARMONICS,
                        dict(rungs), (ws, As))
+
+
+def physical_peak(frf: Any, share: float = 0.5) -> AllModePeak | None:
+    """The all-mode peak where the single-mode damper of a blade's FRF is too far off it, else None.
+
+    ``frf`` is a blade's :class:`hbm.FrequencyResponse` with one single-mode microslip element (an
+    element with ``bar``, ``load`` and a refined model, ``ContactElement.refined_model``) and its
+    error estimate.  Where the model source of the estimate at the sampled maximum exceeds
+    ``share * frf.tolerance``, the peak is solved again with the bar with every mode
+    (:func:`allmode_peak`, centred on ``frf.peak()``), the other sources of the curve's estimate there
+    added to its own; otherwise (or for any other FRF: a structure, no estimate, no refined model, a
+    failed run) None, and the curve's own peak stands.
+
+    Raises
+    ------
+    FloatingPointError
+        Where the all-mode amplitude equation does not converge near the peak.
+    """
+    el = frf.element
+    if (not frf.success or not len(frf) or frf.tolerance is None or not frf._problem.one_dof or el is None
+            or el.refined_model() is None or not hasattr(el, "bar") or not hasattr(el, "load")):
+        return None
+    i = int(np.argmax(frf.amplitude))
+    if float(frf.error_sources["model"][i]) <= share * frf.tolerance:
+        return None
+    other = sum(float(v[i]) for k, v in frf.error_sources.items() if k != "model")
+    pk = frf.peak()
+    return allmode_peak(frf.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance, other)

@@ -35,7 +35,7 @@ from ..scenes.checks import dot, show
 from ..scenes.template import template
 from ..study import FILES, Study, check_scene, read_records, run_study
 from .cases import Case, default_case
-from ..allmode_peak import AllModePeak, allmode_peak
+from ..allmode_peak import AllModePeak, physical_peak
 from .progress import ProgressLine
 
 __all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
@@ -69,12 +69,9 @@ def _default(args: argparse.Namespace) -> int:
                                  model="auto" if model == "allmode" else "given")
     pk = frf.peak()
     best = None
-    at_peak = int(np.argmax(frf.amplitude))
-    if model == "auto" and frf.success and float(frf.error_sources["model"][at_peak]) > MODEL_SHARE * frf.tolerance:
-        el = case.element
+    if model == "auto":
         try:
-            other = sum(float(v[at_peak]) for k, v in frf.error_sources.items() if k != "model")
-            best = allmode_peak(case.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance, other)
+            best = physical_peak(frf, MODEL_SHARE)
         except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
             warnings.warn(f"the all-mode peak was not found ({exc}); the answer is the single-mode one",
                           AccuracyWarning, stacklevel=2)
