@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..balance import presets
+from ..frf import DEFAULT_TOL
 from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
 from .contacts import check_entries
 from .models import BAR_KEYS, MODELS
@@ -477,6 +478,10 @@ class _Rules:
                 self.forbid("sweep", "min_step", f"above sweep.max_step = {options['max_step']!r}")
         sweep["options"] = options
         sweep["tolerance"] = options["rtol"]
+        if sweep.get("tol") is not None:  # given: frequency_response's tol (else its default, or the preset's)
+            options["tol"] = sweep["tol"]
+        else:
+            sweep["tol"] = presets.TOLERANCE[sweep["accuracy"]] if sweep.get("accuracy") else DEFAULT_TOL
         if kind in ("modes", "optimum"):
             for key in ("min_step", "accuracy") + (("tolerance",) if kind == "optimum" else ()):
                 if self.has("sweep", key):
