@@ -158,12 +158,14 @@ def peak_location(amplitude: NDArray, omega: NDArray, newton: float) -> NDArray:
 
     Examples
     --------
-    The bare blade's resonance sampled at three points (the closed form 1/|k - m w^2 + i c w|):
+    The bare blade (m = 1, k = 1e4, c = 2, F = 1) sampled at three frequencies: the middle one,
+    100 rad/s, falls short of the resonance 1/(2 sqrt(1e4 - 1)) by 5.00e-5 (relative); the parabola
+    gives 4.94e-5 of it, times ``PEAK_SAFETY``:
 
     >>> import numpy as np
     >>> w = np.array([99.9, 100.0, 100.1]); a = 1.0 / np.abs(1.0e4 - w**2 + 2.0j * w)
-    >>> peak_location(a, w, 0.0)[1] > 0.0, peak_location(a, w, 0.0)[0] == peak_location(a, w, 0.0)[1]
-    (True, True)
+    >>> [round(float(v) / PEAK_SAFETY, 7) for v in peak_location(a, w, 0.0)]
+    [4.94e-05, 4.94e-05, 4.94e-05]
     """
     n = len(amplitude)
     out = np.full(n, float(newton))

@@ -395,7 +395,8 @@ def _run_frequency(scene, plan, res, emit):
     res.message = frf.message
     if len(frf):
         res.peak = frf.peak()
-        if p.name == "auto":  # the model chosen by the estimate at tol: the all-mode peak where the single-mode is off
+        if p.name == "auto" and scene.effects["phase_differences"] == "auto":  # the model chosen by the estimate at
+            # tol: the all-mode peak where the single-mode damper is off there (physical_peak: None for any other FRF)
             res.allmode = _allmode_peak(frf)
             _said(p, frf, res.allmode)
             if res.allmode is not None:
