@@ -65,7 +65,7 @@ PEAK_ACCEPT = 10.0
 #: the relative amplitude error a converged point may carry, the peak source away from the maximum.
 NEWTON_SHARE = 5e-3
 #: The peak source is this many times the parabola's rise above the sampled maximum: the parabola is exact
-#: to leading order in the spacing, and the next order (the peak's asymmetry) was measured at up to 11 % of
+#: to leading order in the spacing, and the next order (the peak's asymmetry) was measured at up to 22 % of
 #: it on the default case and 0.1 % on the bare blade (``docs/validation.md``, "Error estimates").
 PEAK_SAFETY = 2.0
 #: The element source: the elements are evaluated again at this fraction of rtol; the change of the
