@@ -29,8 +29,11 @@ class Scene:
     """A validated scene: each table as a dict with every default filled in.
 
     ``sweep["options"]`` holds exactly the accuracy keyword arguments of
-    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``); the
-    balance's harmonics and samples are each run's (``RunPlan.harmonics``, ``RunPlan.n_t``).
+    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``, and
+    ``tol`` where ``sweep.tol`` is given; ``hbm.scenes.running.accuracy_options`` passes a
+    ``sweep.accuracy`` preset by name instead); ``sweep["tol"]`` is the scene's target error in
+    any case (given, else the preset's tolerance, else ``hbm.frf.DEFAULT_TOL``).  The balance's
+    harmonics and samples are each run's (``RunPlan.harmonics``, ``RunPlan.n_t``).
 
     Parameters
     ----------
