@@ -348,7 +348,7 @@ def phase_differences(run: Any) -> Effect | None:
                                    "the all-mode bar)")
     peak = ("; the peak is the all-mode bar's where the estimate's model part there exceeds tol/2 "
             "(hbm.allmode_peak)" if run.blade is not None and run.scene.structure is None
-            and run.scene.sweep["kind"] == "frequency" else "")
+            and run.scene.sweep["kind"] == "frequency" and run.scene.effects["harmonics"] == 1 else "")
     return Effect(name, False, f"auto: not more than {BULK:.0%}: {at}: single-mode element{peak}")
 
 

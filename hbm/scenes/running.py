@@ -398,7 +398,8 @@ def _run_frequency(scene, plan, res, emit):
         if p.name == "auto" and scene.effects["phase_differences"] == "auto":  # the model chosen by the estimate at
             # tol: the all-mode peak where the single-mode damper is off there (physical_peak: None for any other FRF)
             res.allmode = _allmode_peak(frf)
-            _said(p, frf, res.allmode)
+            if scene.structure is None and p.harmonics in (None, 1):  # a blade at H = 1: physical_peak's case
+                _said(p, frf, res.allmode)
             if res.allmode is not None:
                 res.peak = Peak(res.allmode.omega, res.allmode.amplitude)
 
