@@ -26,7 +26,7 @@ from . import continuation as cont  # the module (hbm.continuation)
 from . import curve
 from .balance import errors
 from ._validation import count, nonnegative, omega_range_pair, positive
-from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
+from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, TOLERANCE, apply,
                               harmonic_knobs, samples_for)
 from .balance.residual import HarmonicBalance, as_structure
 from .balance.start import force_homotopy
@@ -118,8 +118,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         of it (a blade starts at 1).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
         the worst point, its largest source and the fix.  The elements' own ``AccuracyWarning`` warnings
         during the solve (an element may warn at every evaluation) are merged into that one warning
-        (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default ``DEFAULT_TOL`` (1e-3), for the
-        warning only.
+        (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default: with a
+        named ``accuracy`` its tolerance (``hbm.balance.presets.TOLERANCE``: 1e-2, 1e-3, 1e-5), else
+        ``DEFAULT_TOL`` (1e-3); for the estimate's target and the warning only.
     estimate_error : bool, optional
         Estimate the error of every point (``error_estimate``, ``error_sources``;
         ``hbm.balance.errors``).  Default True; False skips it (and the warning).
@@ -211,7 +212,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
-    tolerance = _tolerance(tol, estimate_error)
+    tolerance = _tolerance(tol, estimate_error, accuracy)
     if model not in MODELS:
         raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
     if model == "auto" and tolerance is None:
@@ -273,10 +274,12 @@ def _refined_contacts(contacts: list) -> list | None:
     return out if changed else None
 
 
-def _tolerance(tol: Any, estimate_error: bool) -> float | None:
-    """The target relative error: ``tol``, else ``DEFAULT_TOL``; None without an estimate."""
+def _tolerance(tol: Any, estimate_error: bool, accuracy: Any = None) -> float | None:
+    """The target relative error: ``tol``, else the named preset's (``presets.TOLERANCE``), else
+    ``DEFAULT_TOL``; None without an estimate."""
     if tol is None:
-        return DEFAULT_TOL if estimate_error else None
+        preset = TOLERANCE.get(accuracy, DEFAULT_TOL) if isinstance(accuracy, str) else DEFAULT_TOL
+        return preset if estimate_error else None
     if isinstance(tol, (str, bytes, bool)):
         raise ValueError(f"tol must be a number in (0, 1), got tol={tol!r}")
     tol = positive("tol", tol)

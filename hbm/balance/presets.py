@@ -62,6 +62,11 @@ MAX_RTOL = 0.1
 
 #: The named presets, as the rtol they stand for.
 NAMED = {"fast": 1e-3, "default": DEFAULT_RTOL, "precise": 1e-9}
+#: The named presets as tolerances: the target relative error of the response amplitude
+#: (``frequency_response``'s ``tol``: the error estimate's target and the warning's threshold) that
+#: ``accuracy=<name>`` stands for when no ``tol`` is given.  The preset still sets rtol, the steps and
+#: (for a structure) H and n_t as above; a numeric ``accuracy`` (an rtol) keeps ``hbm.frf.DEFAULT_TOL``.
+TOLERANCE = {"fast": 1e-2, "default": 1e-3, "precise": 1e-5}
 
 #: Documented bound of the peak's relative error (max of amplitude and frequency) on
 #: ``hbm.cases.default_case()`` against a tight reference (rtol 1e-11): measured 1.9e-6, 6.0e-8

@@ -37,6 +37,12 @@ STUCK_GRID = 4001
 AMIN_SAMPLES = 65
 #: The stuck response must stay below the linear amplitude by this relative margin to call the damper stuck.
 STUCK_MARGIN = 1e-6
+#: The whole curve takes the all-mode bar where the single-mode element is off by more than the scene's
+#: tol over more than this share of the sweep (``phase_differences``)...
+BULK = 0.5
+#: ... read at this many frequencies over the sweep and amplitudes at each (``off_share``).
+BULK_FREQUENCIES = 65
+BULK_AMPLITUDES = 5
 
 
 @dataclass
@@ -294,9 +300,16 @@ def slip(run: Any) -> Effect:
 
 
 def phase_differences(run: Any) -> Effect | None:
-    """Phase differences along the bar: the all-mode bar (``AllModeMicroslip``) where the
-    single-mode element is outside its range (``contact_models.model_range``), the single-mode one
-    where it holds (it is far cheaper).
+    """Phase differences along the bar: the all-mode bar (``AllModeMicroslip``) for the whole curve
+    where the single-mode element is off by more than the scene's ``sweep.tol`` over the bulk of the
+    sweep, the single-mode one where it holds there (it is far cheaper).
+
+    The single-mode element's amplitude-aware model error (``ContactElement.model_error``, the
+    validity map) is read at ``BULK_FREQUENCIES`` frequencies over the sweep (:func:`off_share`);
+    the whole curve takes the all-mode bar when it exceeds ``sweep.tol`` over more than ``BULK`` of
+    them.  Otherwise a ``damper.model = "auto"`` frequency sweep of a blade keeps the single-mode
+    curve and its peak is checked after the solve: where the estimate's model part at the peak
+    exceeds half of tol, the peak is the all-mode peak (``hbm.allmode_peak.physical_peak``).
 
     ``effects.phase_differences``: "auto" (default) decides for ``damper.model = "auto"`` and
     reports, without switching, for an explicitly chosen "two-region" or "three-region"; "on"
@@ -313,26 +326,59 @@ def phase_differences(run: Any) -> Effect | None:
         return Effect(name, False, "no damper inertia: the quasi-static bar is in phase along its length")
     if run.stuck:
         return Effect(name, False, "the damper stays stuck: the single-mode stuck stiffness is exact")
-    micro = run.micro
-    w_hi = max(run.omega)
-    w_1 = single_mode_frequency_limit(micro)
+    micro, tol = run.micro, run.scene.sweep["tol"]
+    share, worst, how = off_share(run, micro, tol)
     wc = micro.bar.omega_c
-    at = (f"the single-mode element is within {TOLERANCE:.0%} up to {w_1 / wc:.3g} omega_c "
-          f"(validity map), the sweep reaches {w_hi / wc:.3g} omega_c")
-    out_of_range = w_hi > w_1
-    if setting == "on" or (setting == "auto" and out_of_range and run.spec.name == "auto"):
+    at = (f"the single-mode element is off by more than tol = {tol:g} over {share:.0%} of the sweep "
+          f"(its model error up to {worst:.2g}, {how}; within {TOLERANCE:.0%} at every amplitude up to "
+          f"{single_mode_frequency_limit(micro) / wc:.3g} omega_c, the sweep reaches {max(run.omega) / wc:.3g} omega_c)")
+    bulk = share > BULK
+    if setting == "on" or (setting == "auto" and bulk and run.spec.name == "auto"):
         element = AllModeMicroslip(micro.bar, micro.load, harmonics=SCENE_HARMONICS)
         model = Built(element, "all-mode" if setting == "on" else "all-mode (auto)", run.note)
-        why = 'effects.phase_differences = "on"' if setting == "on" else "auto"
-        return Effect(name, True, f"{why}: {at}; AllModeMicroslip (all modes, {element.cells} cells, "
+        why = 'effects.phase_differences = "on"' if setting == "on" else f"auto: more than {BULK:.0%}"
+        cells = f"{element.cells} cells" if element.cells is not None else "cells chosen by its tolerance"
+        return Effect(name, True, f"{why}: {at}; AllModeMicroslip for the whole curve (all modes, {cells}, "
                                   f"H = {element.harmonics})", decided={"model": model})
     if setting == "off":
         return Effect(name, False, f'effects.phase_differences = "off": {at}')
-    if out_of_range:
+    if run.spec.name != "auto":
         return Effect(name, False, f"auto: {at}, but damper.model = {show(run.spec.name)} asks for the single-mode "
                                    'element (damper.model = "auto" or effects.phase_differences = "on" takes '
                                    "the all-mode bar)")
-    return Effect(name, False, f"auto: {at}: single-mode element")
+    peak = ("; the peak is the all-mode bar's where the estimate's model part there exceeds tol/2 "
+            "(hbm.allmode_peak)" if run.blade is not None and run.scene.structure is None
+            and run.scene.sweep["kind"] == "frequency" and run.scene.effects["harmonics"] == 1 else "")
+    return Effect(name, False, f"auto: not more than {BULK:.0%}: {at}: single-mode element{peak}")
+
+
+def off_share(run: Any, micro: Any, tol: float) -> tuple[float, float, str]:
+    """``(share, worst, how)``: the share of the sweep where the single-mode ``micro`` is off by more
+    than ``tol`` (``micro.model_error``), its largest error there, and how the amplitudes were taken.
+
+    A frequency sweep of a blade: at ``BULK_FREQUENCIES`` frequencies, the largest error between the
+    slip amplitude a_min(omega) and the stuck response (the blade with the damper's stuck stiffness),
+    between which the response lies where the damper slips (0 where the stuck response stays below
+    a_min: the damper is stuck there, the element exact).  An amplitude sweep: the table's own points.
+    Otherwise (a structure, a nonlinear mode: the amplitudes are not known before the solve): every
+    amplitude of the validity map (0.5 to 100 a_min(0)) at each frequency."""
+    if run.blade is not None and run.scene.structure is None and run.scene.sweep["kind"] == "frequency":
+        w = np.linspace(min(run.omega), max(run.omega), BULK_FREQUENCIES)
+        top = np.abs(linear_response(run.blade, w, micro.bar.stuck_stiffness))
+        low = np.array([micro.linear_amplitude(float(x)) for x in w])
+        e = [float(np.max(micro.model_error(np.geomspace(lo, hi, BULK_AMPLITUDES), x))) if hi > lo else 0.0
+             for x, lo, hi in zip(w, low, top)]
+        return float(np.mean(np.array(e) > tol)), max(e), "between a_min and the stuck response"
+    if run.blade is None:  # an amplitude sweep: its table's points
+        sweep = run.scene.sweep
+        a_ref = 1.0 if sweep["amplitude_unit"] == "m" else float(micro.slip_amplitude(0.0))
+        a = np.geomspace(*sweep["amplitude"], sweep["points"]) * a_ref
+        e = np.array([micro.model_error(a, float(x)) for x in run.omega])
+        return float(np.mean(e > tol)), float(np.max(e)), "at the table's amplitudes"
+    w = np.linspace(min(run.omega), max(run.omega), BULK_FREQUENCIES)
+    a = np.geomspace(0.5, 100.0, BULK_AMPLITUDES) * float(micro.slip_amplitude(0.0))
+    e = [float(np.max(micro.model_error(a, float(x)))) for x in w]
+    return float(np.mean(np.array(e) > tol)), max(e), "at every amplitude of the validity map"
 
 
 def harmonics_key(v: Any) -> int:
@@ -455,8 +501,9 @@ register_effect("interior slip onset (three regions)", topology)
 register_effect("damper slip", slip)
 register_effect("phase differences along the bar", phase_differences, key_name="phase_differences",
                 key=Key(choice("auto", "on", "off"), "auto",
-                        'the all-mode bar (AllModeMicroslip): "auto" (where the single-mode element is out of '
-                        'its range, for damper.model = "auto"), "on" or "off"'))
+                        'the all-mode bar (AllModeMicroslip): "auto" (for damper.model = "auto": the whole curve '
+                        'where the single-mode element is off by more than sweep.tol over most of the sweep; else '
+                        'the all-mode peak where needed), "on" or "off"'))
 register_effect("higher harmonics", harmonics, key_name="harmonics",
                 key=Key(harmonics_key, 1, "harmonics of the balance (H >= 1; above 1 the element needs a "
                                                 "time-domain law: multi-harmonic balance with AFT)"))

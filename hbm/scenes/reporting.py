@@ -38,6 +38,8 @@ def run_summary(res: Any, *, hz: bool = False) -> dict:
             a_min = p.a_min
             out["peak"] = {"omega_rad_s": res.peak.omega, "amplitude_m": res.peak.amplitude,
                            "amplitude_over_a_min": res.peak.amplitude / a_min if a_min else None}
+            if frf.tolerance is not None and len(frf):
+                out["peak"].update(peak_estimate(frf, getattr(res, "allmode", None)))
             if hz:
                 out["peak"] = {"frequency_Hz": res.peak.omega / (2.0 * math.pi), **out["peak"]}
             slip = next((e for e in p.effects if e.name == "damper slip"), None)
@@ -68,6 +70,21 @@ def error_summary(frf: Any) -> dict:
             "sources_at_peak": {k: float(v[j]) for k, v in frf.error_sources.items()},
             "above_tolerance": bool(frf.error_estimate[i] > frf.tolerance),
             "warning": frf.accuracy_warning}
+
+
+def peak_estimate(frf: Any, allmode: Any = None) -> dict:
+    """The peak's estimated error: ``error_rel`` (relative), ``largest_source`` (its largest part),
+    ``tol`` and ``model`` (the element's class name).  From the all-mode peak where it answers
+    (``hbm.allmode_peak.AllModePeak``: its estimate and parts, with ``cells`` and ``harmonics``), else
+    from ``frf.error_estimate`` at the sampled maximum and its sources there."""
+    if allmode is not None:
+        parts = {k: float(v) for k, v in allmode.parts.items()}
+        return {"error_rel": float(allmode.error), "largest_source": max(parts, key=parts.get), "tol": frf.tolerance,
+                "model": "AllModeMicroslip", "cells": allmode.cells, "harmonics": allmode.harmonics}
+    j = int(np.argmax(frf.amplitude))
+    source = max(frf.error_sources, key=lambda k: frf.error_sources[k][j])
+    return {"error_rel": float(frf.error_estimate[j]), "largest_source": source, "tol": frf.tolerance,
+            "model": type(frf.element).__name__ if frf.element is not None else "none"}
 
 
 def thin(omega: Any, n: int = 33) -> np.ndarray:
@@ -232,6 +249,13 @@ def effect_lines(plan: Plan) -> list:
     return lines
 
 
+def _estimate_text(pk: dict) -> str:
+    """``; estimated error 0.07 % (tol 0.001, largest source: harmonics; model: AllModeMicroslip, ...)``."""
+    model = pk["model"] + (f", the bar with every mode, {pk['cells']} cells, H = {pk['harmonics']}" if "cells" in pk else "")
+    return (f"; estimated error {100.0 * pk['error_rel']:.2g} % (tol {pk['tol']:g}, largest source: "
+            f"{pk['largest_source']}; model: {model})")
+
+
 def _ranges(numbers) -> str:
     """[1, 2, 3, 6] -> '1-3, 6'."""
     out, start = [], None
@@ -277,7 +301,8 @@ def summary_lines(result: Any) -> list:
             where = (f"f = {pk['frequency_Hz']:.9g} Hz (omega = {pk['omega_rad_s']:.9g} rad/s)" if "frequency_Hz" in pk
                      else f"omega = {pk['omega_rad_s']:.9g} rad/s")
             lines.append(f"  peak: {where}, amplitude = {pk['amplitude_m']:.9g} m"
-                         + (f" (= {pk['amplitude_over_a_min']:.4g} a_min)" if pk["amplitude_over_a_min"] else ""))
+                         + (f" (= {pk['amplitude_over_a_min']:.4g} a_min)" if pk["amplitude_over_a_min"] else "")
+                         + (_estimate_text(pk) if "error_rel" in pk else ""))
     for path in result.files.values():
         lines.append(f"wrote {Path(path).resolve()}" + ("  (partial: failed run)" if path.name.endswith(".partial.csv")
                                                        else ""))

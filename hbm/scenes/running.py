@@ -11,13 +11,18 @@ from __future__ import annotations
 import csv
 import json
 import time
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
 
-from ..frf import frequency_response
+from contact_models.accuracy import AccuracyWarning
+
+from ..allmode_peak import physical_peak
+from ..frf import MODEL_SHARE, frequency_response
+from ..result import Peak
 from ..output import (ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
                       frf_columns, frf_row, harmonic_values, stable_value, with_hz)
 from .contacts import damper_contact
@@ -26,8 +31,10 @@ from .planning import Plan, RunPlan, plan_scene
 from .reporting import figure, jsonable, run_summary
 from .validation import Scene
 
+#: The effect whose line says what the peak's check found (``hbm.scenes.effects.phase_differences``).
+PHASE_EFFECT = "phase differences along the bar"
 #: The accuracy keyword arguments of ``frequency_response`` in ``sweep["options"]`` (``hbm.presets``).
-ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps", "curve_tol")
+ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps", "curve_tol", "tol")
 
 
 @dataclass
@@ -110,6 +117,10 @@ class RunResult:
         The optimum of an ``[optimum]`` scene's run (``hbm.damper_optimum``), else None.
     response_dof : int or None, optional
         The DOF whose response a mode's CSV reports.
+    allmode : AllModePeak or None, optional
+        For ``damper.model = "auto"``: the all-mode peak (``hbm.allmode_peak.physical_peak``) where the
+        single-mode damper's model error at the peak exceeds half the tolerance; ``peak`` is then its
+        (omega, amplitude).  None where the curve's own peak stands.
     """
 
     plan: RunPlan
@@ -124,6 +135,7 @@ class RunResult:
     modes: Any = None  #: the nonlinear mode of a [modes] scene's run
     optimum: Any = None  #: the damper's optimum of an [optimum] scene's run
     response_dof: int | None = None  #: the DOF a mode's CSV reports
+    allmode: Any = None  #: the all-mode peak of a damper.model = "auto" run where it answers (hbm.allmode_peak)
 
     @property
     def number(self) -> int:
@@ -338,6 +350,7 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
         "settings": {k: v for k, v in scene.sweep.items() if v is not None},
         **({"modes": scene.modes} if scene.modes is not None else {}),
         **({"optimum": scene.optimum} if scene.optimum is not None else {}),
+        "tol": scene.sweep["tol"],
         "effects_tolerance": scene.effects["tolerance"],
         "runs": [r.summary for r in results],
         "points_written": written,
@@ -370,19 +383,72 @@ def _run_frequency(scene, plan, res, emit):
     def on_harmonics(omega, X):  # stability is known once the run ends (_fill_stability)
         emit(first.pop() + harmonic_values(X, H) + [stable_value(None)], omega, (omega - w0) / (w1 - w0))
 
-    accuracy = {k: v for k, v in scene.sweep["options"].items() if k in ACCURACY_OPTIONS}
     damper, response_dof = p.element, None
     if scene.structure is not None:  # a structure from matrices: the damper at structure.contact_dofs, its contacts
         damper = [damper_contact(scene, p.element, p.model), *plan.contacts]
         response_dof = scene.structure.get("response_dof")
     frf = frequency_response(plan.blade, damper, (w0, w1), harmonics=p.harmonics, n_t=p.n_t,
                              response_dof=response_dof, on_point=on_point,
-                             on_harmonics=on_harmonics if H > 1 else None, **accuracy)
+                             on_harmonics=on_harmonics if H > 1 else None, **accuracy_options(scene))
     res.frf = frf
     res.success = frf.success
     res.message = frf.message
     if len(frf):
         res.peak = frf.peak()
+        if p.name == "auto" and scene.effects["phase_differences"] == "auto":  # the model chosen by the estimate at
+            # tol: the all-mode peak where the single-mode damper is off there (physical_peak: None for any other FRF)
+            res.allmode = _allmode_peak(frf)
+            if scene.structure is None and p.harmonics in (None, 1):  # a blade at H = 1: physical_peak's case
+                _said(p, frf, res.allmode)
+            if res.allmode is not None:
+                res.peak = Peak(res.allmode.omega, res.allmode.amplitude)
+
+
+def accuracy_options(scene: Scene) -> dict:
+    """``frequency_response``'s accuracy keywords of a scene: ``accuracy=<name>`` for ``sweep.accuracy``
+    (its rtol, steps and tolerance, ``hbm.balance.presets``), else the knobs of ``sweep["options"]``;
+    ``tol`` where ``sweep.tol`` is given (else ``frequency_response``'s default, or the preset's)."""
+    opts = scene.sweep["options"]
+    out = {"accuracy": scene.sweep["accuracy"]} if scene.sweep.get("accuracy") else {
+        k: v for k, v in opts.items() if k in ACCURACY_OPTIONS}
+    if "tol" in opts:
+        out["tol"] = opts["tol"]
+    return out
+
+
+def _allmode_peak(frf: Any) -> Any:
+    """``hbm.allmode_peak.physical_peak(frf)`` (the all-mode peak where the single-mode damper's model
+    error at the peak exceeds ``MODEL_SHARE`` of the tolerance, else None), with an ``AccuracyWarning``
+    where its own estimate is above the tolerance, or where it is not found (the single-mode peak stands)."""
+    try:
+        best = physical_peak(frf, MODEL_SHARE)
+    except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
+        warnings.warn(f"the all-mode peak was not found ({exc}); the peak is the single-mode one", AccuracyWarning,
+                      stacklevel=3)
+        return None
+    if best is not None and best.error > frf.tolerance:
+        warnings.warn(f"the all-mode peak's estimated error {best.error:.2g} is above tol = {frf.tolerance:g} "
+                      f"({best.cells} cells, H = {best.harmonics}, the finest rungs)", AccuracyWarning, stacklevel=3)
+    return best
+
+
+def _said(p: RunPlan, frf: Any, best: Any) -> None:
+    """Add to the run's "phase differences" effect what the peak's check found (``damper.model = "auto"``)."""
+    effect = next((e for e in p.effects if e.name == PHASE_EFFECT and not e.simulated), None)
+    if effect is None or frf.tolerance is None or "computed:" in effect.reason:
+        return
+    i = int(np.argmax(frf.amplitude))
+    model = float(frf.error_sources["model"][i])
+    if best is None:
+        effect.reason += (f"; computed: the model part of the estimate at the peak is {model:.2g}, "
+                          f"{'not above' if model <= MODEL_SHARE * frf.tolerance else 'above'} tol/2 = "
+                          f"{MODEL_SHARE * frf.tolerance:g}: the single-mode peak stands")
+        return
+    off = frf.peak().amplitude / best.amplitude - 1.0
+    effect.reason += (f"; computed: the model part of the estimate at the peak is {model:.2g} > tol/2 = "
+                      f"{MODEL_SHARE * frf.tolerance:g}: the peak is the all-mode bar's ({best.cells} cells, "
+                      f"H = {best.harmonics}, estimated error {best.error:.2g}); the single-mode peak is "
+                      f"{100.0 * off:+.2g} % off it")
 
 
 def _fill_after_run(path, results):
@@ -441,4 +507,5 @@ def duration(seconds: float) -> str:
     return f"{s // 3600} h {s % 3600 // 60} min"
 
 
-__all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns", "in_hz", "scene_harmonics"]
+__all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns", "in_hz", "scene_harmonics",
+           "accuracy_options"]

@@ -12,6 +12,7 @@ from __future__ import annotations
 from typing import Iterator
 
 from ..balance import presets
+from ..frf import DEFAULT_TOL
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
                      one_or_list, positive, text, choice)
 from .contacts import contact_tables, dof_list
@@ -80,7 +81,15 @@ _FIXED: dict[str, dict[str, Key]] = {
         "unit": Key(choice(*OMEGA_UNITS), "rad/s",
                     '"rad/s", "Hz", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
         "tolerance": Key(number(gt=0, lt=presets.MAX_RTOL), OPTIONAL,
-                         f"relative accuracy (rtol); default {presets.DEFAULT_RTOL:g}"),
+                         f"the elements' relative accuracy (rtol, and the Newton tolerance's scale); default "
+                         f"{presets.DEFAULT_RTOL:g}; not sweep.tol"),
+        "tol": Key(number(gt=0, lt=1), OPTIONAL,
+                   "target relative error of the response amplitude against the physical system "
+                   "(frequency_response's tol): the error estimate's target and the warning's threshold, the "
+                   'all-mode peak\'s, and what damper.model = "auto" holds the single-mode bar to; default '
+                   f"{DEFAULT_TOL:g}, with sweep.accuracy its tolerance (" +
+                   ", ".join(f'"{n}" {t:g}' for n, t in presets.TOLERANCE.items()) +
+                   "); not sweep.tolerance, the elements' rtol"),
         "accuracy": Key(choice(*presets.NAMED), OPTIONAL,
                         "a preset of hbm.presets instead of tolerance and the step settings: " +
                         ", ".join(f'"{n}" ({r:g})' for n, r in presets.NAMED.items())),

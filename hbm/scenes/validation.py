@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..balance import presets
+from ..frf import DEFAULT_TOL
 from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
 from .contacts import check_entries
 from .models import BAR_KEYS, MODELS
@@ -28,8 +29,11 @@ class Scene:
     """A validated scene: each table as a dict with every default filled in.
 
     ``sweep["options"]`` holds exactly the accuracy keyword arguments of
-    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``); the
-    balance's harmonics and samples are each run's (``RunPlan.harmonics``, ``RunPlan.n_t``).
+    :func:`hbm.frequency_response` (``rtol``, ``max_step``, ``min_step``, ``max_steps``, and
+    ``tol`` where ``sweep.tol`` is given; ``hbm.scenes.running.accuracy_options`` passes a
+    ``sweep.accuracy`` preset by name instead); ``sweep["tol"]`` is the scene's target error in
+    any case (given, else the preset's tolerance, else ``hbm.frf.DEFAULT_TOL``).  The balance's
+    harmonics and samples are each run's (``RunPlan.harmonics``, ``RunPlan.n_t``).
 
     Parameters
     ----------
@@ -477,6 +481,10 @@ class _Rules:
                 self.forbid("sweep", "min_step", f"above sweep.max_step = {options['max_step']!r}")
         sweep["options"] = options
         sweep["tolerance"] = options["rtol"]
+        if sweep.get("tol") is not None:  # given: frequency_response's tol (else its default, or the preset's)
+            options["tol"] = sweep["tol"]
+        else:
+            sweep["tol"] = presets.TOLERANCE[sweep["accuracy"]] if sweep.get("accuracy") else DEFAULT_TOL
         if kind in ("modes", "optimum"):
             for key in ("min_step", "accuracy") + (("tolerance",) if kind == "optimum" else ()):
                 if self.has("sweep", key):

@@ -24,7 +24,8 @@ from ..scenes.running import RunResult, _run_amplitude, _run_frequency
 from ..scenes.validation import apply_overrides
 
 #: The numbers of a record, in the table's order (after the run number, id and parameters).
-RESULT_COLUMNS = ("success", "message", "peak_omega_rad_s", "peak_amplitude_m", "nfev", "time_s")
+RESULT_COLUMNS = ("success", "message", "peak_omega_rad_s", "peak_amplitude_m", "peak_error_rel", "peak_model", "nfev",
+                  "time_s")
 
 
 class SceneRun:
@@ -87,6 +88,9 @@ class SceneRun:
                 warnings.simplefilter("always", AccuracyWarning)
                 _run_frequency(scene, plan, res, lambda *a: None)
             rec = outcome(res.frf)
+            if res.allmode is not None:  # damper.model = "auto": the all-mode peak answers (hbm.allmode_peak)
+                rec.update(peak_omega_rad_s=res.allmode.omega, peak_amplitude_m=res.allmode.amplitude,
+                           peak_error_rel=float(res.allmode.error), peak_model="AllModeMicroslip")
             said = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
             if said:
                 rec["message"] += "; " + "; ".join(dict.fromkeys(said))
@@ -96,7 +100,7 @@ class SceneRun:
         best = max(((float(Fc[i]), w, float(t["a"][i])) for w, Fc in zip(t["omega"], t["F_c"])
                     for i in range(len(Fc))), key=lambda x: x[0])
         return {"success": True, "message": res.message, "peak_omega_rad_s": float(best[1]),
-                "peak_amplitude_m": best[2],
+                "peak_amplitude_m": best[2], "peak_model": type(res.plan.element).__name__,
                 "curve": {"omega_rad_s": [float(w) for w in t["omega"]], "a_m": [float(a) for a in t["a"]],
                           "F_s": [[float(v) for v in r] for r in t["F_s"]],
                           "F_c": [[float(v) for v in r] for r in t["F_c"]]}}
@@ -108,7 +112,8 @@ class SceneRun:
 def outcome(out: Any) -> dict:
     """The record fields of what a runner returned: an FRF (``hbm.FrequencyResponse``) or a dict
     with any of ``success`` (default True), ``message``, ``peak_omega_rad_s``, ``peak_amplitude_m``,
-    ``nfev`` and ``curve`` (a dict of arrays or lists of numbers, stored as lists of floats).
+    ``peak_error_rel``, ``peak_model``, ``nfev`` and ``curve`` (a dict of arrays or lists of numbers,
+    stored as lists of floats).
 
     Parameters
     ----------
@@ -119,8 +124,14 @@ def outcome(out: Any) -> dict:
     -------
     dict
         ``success``, ``message``, ``peak_omega_rad_s``, ``peak_amplitude_m`` (None where absent
-        or not finite), ``nfev`` (None where absent) and ``curve`` (for an FRF: ``omega_rad_s``
-        and ``amplitude_m``).
+        or not finite), ``peak_error_rel`` (the peak amplitude's estimated relative error: for an FRF
+        ``error_estimate`` at the sampled maximum, which bounds the located peak's too; None where
+        absent, not finite or not estimated), ``peak_model`` (the model the peak was computed with:
+        for an FRF its element's class name, ``""`` for several contacts or none; None where absent),
+        ``nfev`` (None where absent) and ``curve`` (for an FRF: ``omega_rad_s`` and ``amplitude_m``).
+        A scene run with ``damper.model = "auto"`` whose peak the all-mode bar answers
+        (``hbm.allmode_peak.physical_peak``) records that peak, its estimate and
+        ``"AllModeMicroslip"`` (:class:`SceneRun`).
 
     Raises
     ------
@@ -129,14 +140,16 @@ def outcome(out: Any) -> dict:
 
     Examples
     --------
-    >>> rec = outcome({"peak_amplitude_m": 2e-3, "curve": {"a_m": [1, 2]}})
-    >>> rec["success"], rec["peak_amplitude_m"], rec["peak_omega_rad_s"], rec["curve"]
-    (True, 0.002, None, {'a_m': [1.0, 2.0]})
+    >>> rec = outcome({"peak_amplitude_m": 2e-3, "peak_error_rel": 4e-4, "curve": {"a_m": [1, 2]}})
+    >>> rec["success"], rec["peak_amplitude_m"], rec["peak_omega_rad_s"], rec["peak_error_rel"], rec["curve"]
+    (True, 0.002, None, 0.0004, {'a_m': [1.0, 2.0]})
     """
     if isinstance(out, Mapping):
         rec = {"success": bool(out.get("success", True)), "message": str(out.get("message", "")),
                "peak_omega_rad_s": _float(out.get("peak_omega_rad_s")),
                "peak_amplitude_m": _float(out.get("peak_amplitude_m")),
+               "peak_error_rel": _float(out.get("peak_error_rel")),
+               "peak_model": None if out.get("peak_model") is None else str(out["peak_model"]),
                "nfev": None if out.get("nfev") is None else int(out["nfev"]),
                "curve": {str(k): np.asarray(v, dtype=float).tolist() for k, v in (out.get("curve") or {}).items()}}
         unknown = set(out) - set(rec)
@@ -147,9 +160,11 @@ def outcome(out: Any) -> dict:
     if not isinstance(out, FrequencyResponse):
         raise ValueError(f"a runner must return an hbm.FrequencyResponse or a dict, got {type(out).__name__}")
     pk = out.peak() if len(out) else None
+    err = float(out.error_estimate[int(np.argmax(out.amplitude))]) if len(out) else None
     return {"success": bool(out.success), "message": out.message,
             "peak_omega_rad_s": None if pk is None else pk.omega,
-            "peak_amplitude_m": None if pk is None else pk.amplitude, "nfev": int(out.nfev),
+            "peak_amplitude_m": None if pk is None else pk.amplitude, "peak_error_rel": _float(err),
+            "peak_model": type(out.element).__name__ if out.element is not None else "", "nfev": int(out.nfev),
             "curve": {"omega_rad_s": out.omega.tolist(), "amplitude_m": out.amplitude.tolist()}}
 
 
@@ -192,7 +207,7 @@ def execute(runner: Callable[[Mapping[str, Any]], Any], point: Mapping[str, Any]
         rec = outcome(runner(point))
     except Exception as exc:  # any failure of one run is that run's result
         rec = {"success": False, "message": f"{type(exc).__name__}: {exc}", "peak_omega_rad_s": None,
-               "peak_amplitude_m": None, "nfev": None, "curve": {}}
+               "peak_amplitude_m": None, "peak_error_rel": None, "peak_model": None, "nfev": None, "curve": {}}
     rec["time_s"] = time.perf_counter() - t0
     return rec
 

@@ -55,8 +55,10 @@ def columns(parameters: tuple) -> tuple:
 
     Examples
     --------
-    >>> columns(("damper.mu",))
-    ('run', 'id', 'damper.mu', 'success', 'message', 'peak_omega_rad_s', 'peak_amplitude_m', 'nfev', 'time_s')
+    >>> columns(("damper.mu",))[:5]
+    ('run', 'id', 'damper.mu', 'success', 'message')
+    >>> columns(("damper.mu",))[5:]
+    ('peak_omega_rad_s', 'peak_amplitude_m', 'peak_error_rel', 'peak_model', 'nfev', 'time_s')
     """
     return ("run", "id", *parameters, *RESULT_COLUMNS)
 

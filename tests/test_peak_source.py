@@ -1,0 +1,109 @@
+"""The "peak" source of the error estimate (the peak's location) and the presets as tolerances.
+
+The peak source is checked against the bare blade's resonance in closed form and against the
+default case's peak at a tight rtol (``docs/validation.md``, "Error estimates").
+"""
+
+from __future__ import annotations
+
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+from contact_models import Macroslip
+from hbm import AccuracyWarning, Blade, Contact, Structure, frequency_response
+from hbm import frf as frf_module
+from hbm.balance import errors, presets
+from hbm.cli.cases import default_case
+
+BARE = Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0)
+#: The bare blade's resonance: F / (c sqrt(k/m - c^2/(4 m^2))) at omega = sqrt(k/m - c^2/(2 m^2)).
+BARE_PEAK = 1.0 / (2.0 * math.sqrt(1.0e4 - 1.0))
+#: The default case's peak amplitude at rtol = 1e-10 (located; good to about 1e-12).
+DEFAULT_REFERENCE = 1.5119614109955e-06
+
+
+def test_the_newton_share_is_the_solver_s():
+    assert errors.NEWTON_SHARE == frf_module.NEWTON_TOL_FACTOR
+
+
+def test_a_parabola_s_rise_is_recovered_exactly():
+    """Three points on a(w) = 1 - (w - 0.3)^2: the vertex rises 0.09 above the middle point's 0.91
+    (relative 0.09 / 1), times PEAK_SAFETY; the Newton share elsewhere."""
+    w = np.array([-1.0, 0.0, 1.0, 2.0]) + 10.0
+    a = 1.0 - (w - 10.3) ** 2
+    a[3] = 0.0
+    out = errors.peak_location(a, w, 1e-9)
+    rise = (1.0 - 0.91) / 1.0
+    assert out[:3] == pytest.approx(1e-9 + errors.PEAK_SAFETY * rise, rel=1e-12)
+    assert out[3] == 1e-9
+
+
+def test_a_maximum_at_an_end_is_the_peak_as_sampled():
+    out = errors.peak_location(np.array([3.0, 2.0, 1.0]), np.array([1.0, 2.0, 3.0]), 1e-9)
+    assert np.all(out == 1e-9)
+
+
+@pytest.mark.parametrize("accuracy", ["fast", "default"])
+def test_the_bare_blade_s_sampled_maximum_is_bounded_by_the_peak_source(accuracy):
+    """Against the closed form: the sampled maximum falls short of the resonance by at most the
+    peak source there, and by at least half of it (the parabola is exact to leading order: measured
+    1.06e-4 against 1.10e-4 at "fast", 3.650e-5 against 3.648e-5 at "default", times PEAK_SAFETY)."""
+    frf = frequency_response(BARE, omega_range=(90.0, 110.0), accuracy=accuracy)
+    i = int(np.argmax(frf.amplitude))
+    short = (BARE_PEAK - frf.amplitude[i]) / BARE_PEAK
+    source = frf.error_sources["peak"][i]
+    assert short > 0.0
+    assert short <= source <= 1.2 * errors.PEAK_SAFETY * short
+    assert frf.error_sources["peak"][i - 1] == frf.error_sources["peak"][i + 1] == source
+    far = np.delete(np.arange(len(frf)), [i - 1, i, i + 1])
+    assert np.all(frf.error_sources["peak"][far] == errors.NEWTON_SHARE * frf.rtol)
+    assert abs(frf.peak().amplitude / BARE_PEAK - 1.0) <= source
+
+
+def test_the_default_case_s_peak_source_bounds_its_sampled_maximum():
+    """The default case at "fast" (rtol 1e-3): the sampled maximum is 1.45e-4 below the peak at
+    rtol 1e-10; the peak source there is 2.3e-4, far below the 1e-2 of the flat 10 rtol it replaces."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)  # the single-mode damper's model source
+        case = default_case()
+        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, accuracy="fast")
+    i = int(np.argmax(frf.amplitude))
+    short = (DEFAULT_REFERENCE - frf.amplitude[i]) / DEFAULT_REFERENCE
+    assert 1e-4 < short <= frf.error_sources["peak"][i] <= 5e-4
+    assert abs(frf.peak().amplitude / DEFAULT_REFERENCE - 1.0) <= frf.error_sources["peak"][i]
+
+
+def test_the_presets_are_tolerances():
+    assert presets.TOLERANCE == {"fast": 1e-2, "default": 1e-3, "precise": 1e-5}
+    assert set(presets.TOLERANCE) == set(presets.NAMED)
+
+
+@pytest.mark.parametrize("accuracy, tolerance", [("fast", 1e-2), ("default", 1e-3), ("precise", 1e-5),
+                                                 (1e-4, 1e-3), (None, 1e-3)])
+def test_a_named_preset_without_tol_sets_the_tolerance(accuracy, tolerance):
+    frf = frequency_response(BARE, omega_range=(90.0, 110.0), accuracy=accuracy)
+    assert frf.tolerance == tolerance
+    assert frequency_response(BARE, omega_range=(90.0, 110.0), accuracy=accuracy, tol=0.02).tolerance == 0.02
+
+
+def test_a_preset_s_tolerance_does_not_adapt_the_harmonics():
+    """A named preset keeps choosing H (and rtol) as before: only an explicit tol adapts them."""
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    frf = frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), accuracy="fast")
+    assert frf.harmonics == presets.HARMONICS["fast"][0] and frf.tolerance == 1e-2
+    assert frf.rtol == presets.NAMED["fast"]
+
+
+def test_fast_on_the_default_blade_no_longer_warns_because_of_the_peak():
+    """At "fast" the tolerance is 1e-2 and the peak source 2e-4: what warns is the single-mode model."""
+    case = default_case()
+    with warnings.catch_warnings(record=True):
+        warnings.simplefilter("always")
+        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, accuracy="fast")
+    assert frf.tolerance == 1e-2
+    assert np.max(frf.error_sources["peak"]) < 1e-3
+    if frf.accuracy_warning is not None:
+        assert "largest source: model" in frf.accuracy_warning

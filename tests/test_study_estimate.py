@@ -1,0 +1,105 @@
+"""A study's records carry the peak's estimated error and the model of the peak (``peak_error_rel``,
+``peak_model``), and ``sweep.tol`` reaches ``frequency_response`` from a scene."""
+
+import csv
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contact_models import AccuracyWarning
+from hbm import frequency_response
+from hbm.allmode_peak import physical_peak
+from hbm.cli.cases import default_case
+from hbm.scenes import SceneError, run_scene, scene_from_dict
+from hbm.study import RESULT_COLUMNS, Study, outcome, run_study
+
+DEFAULT = Path(__file__).resolve().parent.parent / "examples" / "scenes" / "default_microslip_frf.toml"
+
+
+def direct(tol):
+    """The default case as frequency_response gives it, and the main job's all-mode decision."""
+    case = default_case()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=1e-6, tol=tol)
+        return frf, physical_peak(frf)
+
+
+def test_the_study_records_the_peak_s_estimate_and_model(tmp_path):
+    """damper.model = "auto" at tol 1e-3: the all-mode peak (the main job's 38820.5 rad/s, 1.535e-06 m)
+    with its estimate; at tol 0.1 the single-mode peak stands, with the curve's estimate at its
+    sampled maximum."""
+    scene = DEFAULT.read_text().replace('model = "two-region"', 'model = "auto"').replace(
+        '[output]\nformats = ["csv", "png", "json"]', '[study.grid]\n"sweep.tol" = [1e-3, 0.1]\n')
+    path = tmp_path / "s.toml"
+    path.write_text(scene)
+    result = run_study(Study.from_scene(path), tmp_path / "out", executor="serial", formats=("csv", "json"))
+    assert result.success
+    by_tol = {r["params"]["sweep.tol"]: r for r in result.records}
+    fine, coarse = by_tol[1e-3], by_tol[0.1]
+
+    assert fine["peak_model"] == "AllModeMicroslip"  # the main job's answer (python -m hbm)
+    assert fine["peak_omega_rad_s"] == pytest.approx(38820.5, abs=0.1)
+    assert fine["peak_amplitude_m"] == pytest.approx(1.535e-06, abs=5e-10)
+    assert 1e-4 < fine["peak_error_rel"] < 1e-3  # its estimate (7.0e-4: mostly the bar's harmonics)
+
+    frf, best = direct(0.1)
+    assert best is None  # the model part at the peak (2 %) is below tol/2 = 5 %
+    i = int(np.argmax(frf.amplitude))
+    assert coarse["peak_model"] == "TwoRegionMicroslip"
+    assert coarse["peak_amplitude_m"] == pytest.approx(frf.peak().amplitude, rel=1e-9)
+    assert coarse["peak_error_rel"] == pytest.approx(frf.error_estimate[i], rel=1e-6)
+    assert 0.0184 / 2.0 < coarse["peak_error_rel"] < 0.1  # mostly the single-mode model's part (docs/validation.md)
+
+    with (tmp_path / "out" / "study.csv").open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert {"peak_error_rel", "peak_model"} <= set(rows[0])
+    assert {r["peak_model"] for r in rows} == {"AllModeMicroslip", "TwoRegionMicroslip"}
+    assert sorted(float(r["peak_error_rel"]) for r in rows) == pytest.approx(
+        sorted([fine["peak_error_rel"], coarse["peak_error_rel"]]), rel=1e-15)
+    table = json.loads((tmp_path / "out" / "study.json").read_text())
+    assert "peak_error_rel" in json.dumps(table) and "AllModeMicroslip" in json.dumps(table)
+
+
+def test_a_runner_s_dict_may_give_the_peak_s_estimate_and_model():
+    rec = outcome({"peak_amplitude_m": 1e-6, "peak_error_rel": 2.5e-4, "peak_model": "Macroslip"})
+    assert rec["peak_error_rel"] == 2.5e-4 and rec["peak_model"] == "Macroslip"
+    rec = outcome({"peak_amplitude_m": 1e-6, "peak_error_rel": float("nan")})
+    assert rec["peak_error_rel"] is None and rec["peak_model"] is None
+    assert RESULT_COLUMNS.index("peak_error_rel") == RESULT_COLUMNS.index("peak_amplitude_m") + 1
+
+
+def scene_with(**sweep):
+    data = {"blade": {"mass": 1.0, "stiffness": 1.0e4, "damping": 2.0, "force": 1.0},
+            "damper": {"model": "macroslip", "stiffness": 1.0e3, "slip_force": 0.5},
+            "sweep": {"omega": [80.0, 120.0], **sweep}, "output": {"formats": ["json"]}}
+    return scene_from_dict(data, "s.toml")
+
+
+@pytest.mark.parametrize("sweep, tolerance, rtol", [
+    ({}, 1e-3, 1e-6),                                    # frequency_response's default tol
+    ({"tol": 2e-2}, 2e-2, 1e-6),                         # given: passed as tol
+    ({"tol": 1e-5, "tolerance": 1e-4}, 1e-5, 1e-7),      # tol caps the elements' rtol at tol/100
+    ({"accuracy": "fast"}, 1e-2, 1e-3),                  # a preset's tolerance
+    ({"accuracy": "precise", "tol": 1e-4}, 1e-4, 1e-9),  # tol given with a preset
+])
+def test_sweep_tol_reaches_frequency_response(tmp_path, sweep, tolerance, rtol):
+    result = run_scene(scene_with(**sweep), tmp_path)
+    frf = result.runs[0].frf
+    assert frf.tolerance == tolerance and frf.rtol == pytest.approx(rtol, rel=1e-12)
+    assert result.summary["tol"] == tolerance
+    run = result.summary["runs"][0]
+    assert run["error"]["tolerance"] == tolerance and run["peak"]["tol"] == tolerance
+    assert run["peak"]["model"] == "Macroslip"
+    i = int(np.argmax(frf.amplitude))
+    assert run["peak"]["error_rel"] == frf.error_estimate[i]
+    assert run["peak"]["largest_source"] == max(frf.error_sources, key=lambda k: frf.error_sources[k][i])
+
+
+@pytest.mark.parametrize("value", [0.0, 1.0, -1e-3, "1e-3", True])
+def test_sweep_tol_is_validated(value):
+    with pytest.raises(SceneError, match=r"sweep\.tol"):
+        scene_with(tol=value)
