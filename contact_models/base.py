@@ -39,10 +39,8 @@ from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, af
 
 #: Default relative tolerance of ``fourier`` on f_s and f_c.
 DEFAULT_RTOL = 1e-6
-
 #: Relative step of the central difference used by the default ``fourier_derivatives``.
 FD_REL_STEP = 1e-6
-
 #: The scalar types the public methods answer through an element's float path (``_scalar_call``).
 _FLOAT_TYPES = (float, np.float64)
 
@@ -82,12 +80,11 @@ class ContactElement(ABC):
     A subclass implements ``_fourier_derivatives`` (or ``_fourier``), ``_stuck_stiffness``,
     ``_slip_amplitude`` and ``_hysteresis``, and may implement the optional hooks; the public
     methods, defined here only, validate and broadcast, then call them on flat float arrays
-    (``PUBLIC_HOOKS``).  What a solver reads of an element (and nothing else):
-    :attr:`frequency_dependent`, :attr:`has_time_law`, :meth:`fourier`,
-    :meth:`fourier_derivatives`, :meth:`fourier_derivatives_unchecked`, :meth:`stuck_stiffness`,
-    :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
-    :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force` and
-    :meth:`harmonic_force_unchecked`; docs/extending.md, section 1, states each hook and default.
+    (``PUBLIC_HOOKS``).  What a solver reads of an element (and nothing else): :attr:`frequency_dependent`,
+    :attr:`has_time_law`, :meth:`fourier`, :meth:`fourier_derivatives`, :meth:`fourier_derivatives_unchecked`,
+    :meth:`stuck_stiffness`, :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
+    :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force`, :meth:`harmonic_force_unchecked`
+    and :meth:`model_error`; docs/extending.md, section 1, states each hook and default.
 
     Examples
     --------
@@ -176,7 +173,7 @@ class ContactElement(ABC):
         self._check_range(a, omega)
         return out
 
-    def model_error(self, a: ArrayLike, omega: ArrayLike = 0.0) -> float | NDArray:
+    def model_error(self, a: ArrayLike, omega: ArrayLike = 0.0, *, parts: bool = False) -> float | NDArray | tuple:
         """Relative error of ``(f_s, f_c)`` against the physical contact the element stands for.
 
         0 for an element exact for what it models (Jenkins); the single-mode bars: the validity
@@ -187,10 +184,14 @@ class ContactElement(ABC):
         ----------
         a, omega : array_like
             Amplitudes (m) and frequencies (rad/s), >= 0; they broadcast.
+        parts : bool, optional
+            True: the pair ``(e_s, e_c)``, the errors of f_s and of f_c, each relative to
+            ``max(|f|, 0.01 k* a)`` of its own component (an element that knows one error gives it for
+            both).  Default False: their larger.
 
         Returns
         -------
-        float or ndarray
+        float or ndarray, or a pair of them
             The relative error (0.01 is 1 %), of the broadcast shape.
 
         Examples
@@ -200,7 +201,9 @@ class ContactElement(ABC):
         0.0
         """
         a_b, w_b, shape = self._prepare(a, omega)
-        return _shaped(self._model_error(a_b, w_b), shape)
+        e = self._model_error(a_b, w_b)
+        e_s, e_c = e if isinstance(e, tuple) else (e, e)
+        return (_shaped(e_s, shape), _shaped(e_c, shape)) if parts else _shaped(np.maximum(e_s, e_c), shape)
 
     def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)`` on flat float64 arrays ``a``, ``omega`` of one size.
@@ -510,8 +513,8 @@ class ContactElement(ABC):
 
     def _model_error(self, a: np.ndarray, omega: np.ndarray) -> np.ndarray:
         """Hook of :meth:`model_error`: flat float arrays in (m, rad/s), the relative error of
-        ``(f_s, f_c)`` against the physical contact the element stands for out.  Default: zeros
-        (the element is exact for what it models)."""
+        ``(f_s, f_c)`` against the physical contact the element stands for out, or the pair of the
+        components' errors ``(e_s, e_c)``.  Default: zeros (the element is exact for what it models)."""
         return np.zeros(np.shape(a))
 
     def _fourier(self, a: np.ndarray, omega: np.ndarray, rtol: float):

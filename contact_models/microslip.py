@@ -167,8 +167,8 @@ class _MicroslipBar(ContactElement):
         return AllModeMicroslip(self.bar, self.load)
 
     def _model_error(self, a, omega):
-        """The validity map's error against the all-mode bar (``contact_models.model_range``)."""
-        return single_mode_error(self, a, omega)
+        """The validity map's errors of F_s and F_c against the all-mode bar (``contact_models.model_range``)."""
+        return single_mode_error(self, a, omega, "s"), single_mode_error(self, a, omega, "c")
 
     def _derivatives_one(self, a: float, w: float, rtol: float):
         """``(f_s, f_c, df_s/da, df_c/da)`` in floats for one amplitude at one frequency: the float

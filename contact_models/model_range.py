@@ -92,7 +92,6 @@ class ModelRangeWarning(AccuracyWarning):
     """
 
 
-@lru_cache(maxsize=None)
 def validity_map(path: Path = MAP_FILE) -> dict[str, tuple]:
     """The validity map as grids: ``{load: (lambda_L, beta_L, w, ratio, e)}``.
 
@@ -109,6 +108,12 @@ def validity_map(path: Path = MAP_FILE) -> dict[str, tuple]:
     >>> lam_L, beta_L, e.shape
     ((0.3, 1.0, 3.0, 10.0), (0.1, 1.0, 10.0), (4, 3, 14, 10))
     """
+    return _read_map(path, "max")
+
+
+@lru_cache(maxsize=None)
+def _read_map(path: Path, component: str) -> dict[str, tuple]:
+    """:func:`validity_map` of ``component``: "max" (max(e_s, e_c)), "s" (e_s) or "c" (e_c)."""
     with open(path) as fh:
         head = fh.readline().strip().split(",")
         cells = np.array(fh.read().strip().replace("\n", ",").split(",")).reshape(-1, len(head))
@@ -119,7 +124,7 @@ def validity_map(path: Path = MAP_FILE) -> dict[str, tuple]:
         sel = num[load == name]
         axes, index = zip(*(np.unique(sel[:, k], return_inverse=True) for k in range(4)))
         e = np.full(tuple(len(ax) for ax in axes), np.nan)
-        e[index] = np.maximum(sel[:, 4], sel[:, 5])
+        e[index] = {"max": np.maximum(sel[:, 4], sel[:, 5]), "s": sel[:, 4], "c": sel[:, 5]}[component]
         if np.isnan(e).any() or len(sel) != e.size:
             raise ValueError(f"{path}: the map of load {name!r} is not a full grid")
         out[name] = (*(tuple(ax.tolist()) for ax in axes), e)
@@ -146,9 +151,9 @@ class _Slice:
     """One element's map: log10 e on the (log w, log ratio) grid (NaN where refused), interpolated
     in the bar's log(lambda L), log(beta L/EA), and what the check needs of the element, computed once."""
 
-    def __init__(self, element: Any) -> None:
+    def __init__(self, element: Any, component: str = "max") -> None:
         bar = element.bar
-        lam_L, beta_L, w, ratio, e = validity_map()[element._validity_load]
+        lam_L, beta_L, w, ratio, e = _read_map(MAP_FILE, component)[element._validity_load]
         log_e = np.full(e.shape, np.nan)
         np.log10(np.maximum(e, _ERROR_FLOOR), out=log_e, where=np.isfinite(e))
         i, t = _bracket([math.log(v) for v in lam_L], math.log(max(bar.lam * bar.L, lam_L[0])))
@@ -202,15 +207,16 @@ class _Slice:
         return best
 
 
-def _slice(element: Any) -> _Slice:
-    """The element's ``_Slice``, built on first use and kept on it."""
-    s = element.__dict__.get("_single_mode_map")
+def _slice(element: Any, component: str = "max") -> _Slice:
+    """The element's ``_Slice`` of ``component`` ("max", "s", "c"), built on first use and kept on it."""
+    key = "_single_mode_map" if component == "max" else f"_single_mode_map_{component}"
+    s = element.__dict__.get(key)
     if s is None:
-        s = element.__dict__["_single_mode_map"] = _Slice(element)
+        s = element.__dict__[key] = _Slice(element, component)
     return s
 
 
-def single_mode_error(element: Any, a: ArrayLike, omega: ArrayLike) -> np.ndarray:
+def single_mode_error(element: Any, a: ArrayLike, omega: ArrayLike, component: str = "max") -> np.ndarray:
     """The validity map's error e of the single-mode ``element`` at (a, omega): 0 where the bar is
     stuck (a <= a_min(omega)), else the map interpolated (module docstring).
 
@@ -220,11 +226,14 @@ def single_mode_error(element: Any, a: ArrayLike, omega: ArrayLike) -> np.ndarra
         The single-mode element.
     a, omega : array_like
         Amplitudes (m) and frequencies (rad/s), >= 0; they broadcast.
+    component : {"max", "s", "c"}, optional
+        The error of F_s ("s"), of F_c ("c") or their larger ("max", the default), each relative to
+        max(|F|, 0.01 k* a) of its own component.
 
     Returns
     -------
     ndarray
-        max(e_s, e_c) as a fraction (0.01 is 1 %), of the broadcast shape.
+        The error as a fraction (0.01 is 1 %), of the broadcast shape.
 
     Examples
     --------
@@ -237,9 +246,11 @@ def single_mode_error(element: Any, a: ArrayLike, omega: ArrayLike) -> np.ndarra
     >>> bool(single_mode_error(two, 2 * 7.5e-7, 0.05 * bar.omega_c) < 0.01)  # inside the range
     True
     """
+    if component not in ("max", "s", "c"):
+        raise ValueError(f'component must be "max", "s" or "c", got component={component!r}')
     a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
     out = np.zeros(a_b.shape)
-    s = _slice(element)
+    s = _slice(element, component)
     for w in np.unique(w_b):
         a_lin = element.linear_amplitude(float(w))
         sel = (w_b == w) & (a_b > a_lin)

@@ -96,7 +96,10 @@ def test_default_job_says_the_allmode_peak_on_its_last_line(tmp_path, monkeypatc
     assert (tmp_path / "frf.csv").exists() and (tmp_path / "frf.png").exists()
     assert main(["--model", "given"]) == 0
     last = capsys.readouterr().out.strip().splitlines()[-1]
-    assert "TwoRegionMicroslip" in last and "estimated error 2 %" in last
+    # the single-mode peak is 1.5 % below the all-mode one (1.512e-6 against 1.535e-6 m): the estimate
+    # must not under-read that by a factor 2, and the model source's over-read stays moderate
+    given = float(last.split("estimated error ")[1].split(" %")[0]) / 100.0
+    assert "TwoRegionMicroslip" in last and 0.015 <= given <= 0.03
 
 
 @pytest.mark.parametrize("kw", [dict(w_single=0.0), dict(a_single=-1e-6), dict(tol=1.5), dict(w_single=float("nan")),

@@ -214,11 +214,11 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         R, J = fresh.balance(xc, xs, w)
         Jx = np.array([[J[0], J[1]], [J[3], J[4]]])
         p, q = fresh.stiffness_terms(a, w)[:2]
-        e = float(el.model_error(a, w))
+        e_s, e_c = (float(v) for v in el.model_error(a, w, parts=True))
         # a change dp, dq of the element's stiffness is the force (x_c, x_s) dp + (x_s, -x_c) dq
         out["element"][j] = _element_one_dof(tight, R, Jx, xc, xs, w, rtol * abs(p), rtol * abs(q)) / a
         floor = 0.01 * k_star  # the validity map's floor of 0.01 k* a on each coefficient
-        out["model"][j] = _amplitude_change(Jx, xc, xs, e * max(abs(p), floor), e * max(abs(q), floor)) / a
+        out["model"][j] = _amplitude_change(Jx, xc, xs, e_s * max(abs(p), floor), e_c * max(abs(q), floor)) / a
         if proxy is not None:
             Xp = np.zeros((1, 7))
             Xp[0, 1], Xp[0, 2] = xc, xs
@@ -360,7 +360,7 @@ def _amplitude_step(Jx: NDArray, R: NDArray, x: NDArray, r: int, L: int) -> floa
 
 def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float, Jx: NDArray) -> float:
     """The response amplitude's change (m) from each contact's model error ``e`` as errors
-    ``e max(|p|, 0.01 k*)``, ``e max(|q|, 0.01 k*)`` of its first-harmonic stiffness, through the
+    ``e_s max(|p|, 0.01 k*)``, ``e_c max(|q|, 0.01 k*)`` of its first-harmonic stiffness, through the
     condensed balance (``R = X + G F``, so ``dR = G dF``); the contacts' effects add."""
     G1 = same.cond.at(w)[0][1]
     L, na = same.L, same.na
@@ -373,13 +373,13 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
         Xrel = x[ix[0]] - x[ix[1]] if len(ix) == 2 else x[ix[0]]
         xc, xs = float(Xrel[1]), float(Xrel[2])
         a_c = math.hypot(xc, xs)
-        e = float(el.model_error(a_c, w)) if a_c > 0.0 else 0.0
-        if e == 0.0:
+        e_s, e_c = (float(v) for v in el.model_error(a_c, w, parts=True)) if a_c > 0.0 else (0.0, 0.0)
+        if e_s == e_c == 0.0:
             continue
         Fc, Fs = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), w, same.n_t, same.rtol)[0][1:3]
         p, q = (Fc * xc + Fs * xs) / a_c**2, (Fc * xs - Fs * xc) / a_c**2
         floor = 0.01 * abs(float(el.linear_coefficients(0.0)[0]))
-        for dk, direction in ((e * max(abs(p), floor), (xc, xs)), (e * max(abs(q), floor), (xs, -xc))):
+        for dk, direction in ((e_s * max(abs(p), floor), (xc, xs)), (e_c * max(abs(q), floor), (xs, -xc))):
             dF = np.zeros(na, dtype=complex)  # the force error's first harmonic c = Fc - i Fs on the DOFs
             for i, sign in zip(ix, (1.0, -1.0)):
                 dF[i] += sign * dk * complex(direction[0], -direction[1])
