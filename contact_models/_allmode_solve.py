@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import aft_matrices, factorise, jenkins_harmonic
+from ._hbal import aft_matrices, factorise, jacobian_prefix, jenkins_harmonic
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -82,7 +82,8 @@ class AllModeSolution:
 
 
 class _Basis(NamedTuple):
-    """The harmonic coefficients solved for: ``idx`` into the full layout, AFT matrices on them."""
+    """The harmonic coefficients solved for: ``idx`` into the full layout, AFT matrices on them and
+    their ``jacobian_prefix`` (kept: it depends on the basis only)."""
 
     H: int
     odd: bool
@@ -90,6 +91,7 @@ class _Basis(NamedTuple):
     E: NDArray[np.float64]
     P: NDArray[np.float64]
     order: NDArray[np.float64]
+    prefix: tuple
 
 
 class _Eval(NamedTuple):
@@ -126,7 +128,8 @@ class FixedBar:
         if odd not in self._aft:
             E, P, order = aft_matrices(self.H, self.n_t)
             idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
-            self._aft[odd] = _Basis(self.H, odd, idx, E[:, idx], P[idx], order[idx])
+            Eb, Pb = E[:, idx], P[idx]
+            self._aft[odd] = _Basis(self.H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
         return self._aft[odd]
 
     def scale(self, X: Array) -> float:
@@ -139,7 +142,7 @@ class FixedBar:
         coefficients)."""
         d = self.disc
         full = np.vstack([U, X[None, :]])
-        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P, jacobian=jacobian)
+        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P, jacobian=jacobian, prefix=b.prefix)
         lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
         R = lin[:-1] * U + T[:-1]
         R[1:] += d.off * U[:-1]
