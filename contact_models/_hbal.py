@@ -28,6 +28,27 @@ def aft_matrices(H: int, n_t: int) -> tuple[NDArray[np.float64], NDArray[np.floa
     return E, P, order
 
 
+#: Products are done in blocks of rows of at most this many multiply-adds: OpenBLAS runs a GEMM of more
+#: than 4 * 65536 of them on every thread it has, and for these small products on a shared 2-core machine
+#: waking and waiting for the threads costs more than the product (measured: the 128-cell, H = 31 rung of
+#: the main job's peak 2 to 8 times slower with threads than with one).
+GEMM_SERIAL = 1 << 18
+
+
+def rows_product(A: NDArray[np.float64], B: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``A @ B`` (A of shape (m, k), B (k, n)) in blocks of rows of at most :data:`GEMM_SERIAL`
+    multiply-adds each, so that a threaded BLAS runs every block on one thread."""
+    m, k = A.shape
+    n = B.shape[1]
+    rows = max(1, GEMM_SERIAL // max(1, k * n))
+    if m <= rows:
+        return A @ B
+    out = np.empty((m, n))
+    for i in range(0, m, rows):
+        np.matmul(A[i:i + rows], B, out=out[i:i + rows])
+    return out
+
+
 def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64]
                      ) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.intp], NDArray[np.bool_]]:
     """Steady periodic force of m Jenkins elements (stiffness ``kc``, slip force ``p``) for the
@@ -107,9 +128,9 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     sums of ``jacobian_prefix``: ``Q[e] - Q[a] - (CP[e] - CP[a]) E_a^T`` (plus the totals
     ``Q[-1]``, ``CP[-1]`` where the run wraps past the last sample): O(runs s^2) per node
     instead of O(n_t s^2)."""
-    u = U @ E.T
+    u = rows_product(U, E.T)
     f, stuck, anchor, never = jenkins_periodic(u, kc, p)
-    T = f @ P.T
+    T = rows_product(f, P.T)
     if not jacobian:
         return T, None, ~stuck
     if jacobian_basis is not None:
