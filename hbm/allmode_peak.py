@@ -63,7 +63,7 @@ HARMONICS_CELLS = 64
 MAX_CELLS = 256
 #: Newton steps on the amplitude are limited to this fraction of it; it is converged to AMPLITUDE_RTOL.
 MAX_STEP = 0.02
-AMPLITUDE_RTOL = 1e-9
+AMPLITUDE_RTOL = 1e-8
 
 
 class AllModePeak(NamedTuple):
@@ -114,6 +114,7 @@ def amplitude_at(blade: Any, element: AllModeMicroslip, omega: float, a0: float,
     k_dyn = blade.stiffness - blade.mass * omega * omega
     cw = blade.damping * omega
     a, lo, hi = a0, None, None  # lo: g < 0 (below the root), hi: g > 0
+    last = None  # (a, g) of the previous iterate: the secant's slope
     for _ in range(max_iter):
         sol = element.solve(a, omega)
         if not sol.success:
@@ -126,6 +127,10 @@ def amplitude_at(blade: Any, element: AllModeMicroslip, omega: float, a0: float,
         else:
             hi = a if hi is None else min(hi, a)
         dg = 2.0 * P * (k_dyn + sol.dF_dX[2, 2]) + 2.0 * Q * (cw + sol.dF_dX[1, 2])
+        if last is not None and last[0] != a:  # the secant: the local slope misses the kinks (docstring)
+            secant = (g - last[1]) / (a - last[0])
+            dg = secant if secant * dg > 0.0 and not 0.8 < secant / dg < 1.25 else dg
+        last = (a, g)
         step = -g / dg if dg != 0.0 else math.nan
         step = max(-MAX_STEP * a, min(MAX_STEP * a, step)) if math.isfinite(step) else MAX_STEP * a
         new = a + step
