@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import aft_matrices, factorise, jacobian_prefix, jenkins_harmonic
+from ._hbal import aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_state
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -95,15 +95,17 @@ class _Basis(NamedTuple):
 
 
 class _Eval(NamedTuple):
-    """One evaluation of the bar's balance at U."""
+    """One evaluation of the bar's balance at U (``J`` None until asked for: ``state`` the return
+    map's result it is computed from, ``FixedBar.with_jacobian``)."""
 
     U: NDArray[np.float64]
     R: NDArray[np.float64]
     res: float
     T: NDArray[np.float64]
-    J: NDArray[np.float64]
+    J: NDArray[np.float64] | None
     slip: NDArray[np.bool_]
     lin: NDArray[np.float64]
+    state: tuple
 
 
 def is_odd(X: NDArray[np.float64]) -> bool:
@@ -142,13 +144,18 @@ class FixedBar:
         coefficients)."""
         d = self.disc
         full = np.vstack([U, X[None, :]])
-        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P, jacobian=jacobian, prefix=b.prefix)
+        T, slip, state = jenkins_state(full, d.kc, d.p, b.E, b.P)
         lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
         R = lin[:-1] * U + T[:-1]
         R[1:] += d.off * U[:-1]
         R[:-1] += d.off * U[1:]
         R[-1] += d.off * X
-        return _Eval(U, R, float(np.max(np.abs(R))), T, J, slip, lin)
+        ev = _Eval(U, R, float(np.max(np.abs(R))), T, None, slip, lin, state)
+        return self.with_jacobian(ev, b) if jacobian else ev
+
+    def with_jacobian(self, ev: _Eval, b: _Basis) -> _Eval:
+        """``ev`` with its Jacobians (from the return map's state it kept: no second march)."""
+        return ev if ev.J is not None else ev._replace(J=jenkins_jacobian(ev.state, self.disc.kc, b.E, b.P, b.prefix))
 
     def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
         """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
@@ -173,13 +180,14 @@ class FixedBar:
     def start(self, X: Array, omega: float, b: _Basis) -> _Eval:
         """The better (smaller residual) of the linear state and the cached solution scaled to X
         (compared on residuals alone; the Jacobian is evaluated for the one kept)."""
-        U = self.linear_guess(X, omega, b)
+        ev = self.evaluate(self.linear_guess(X, omega, b), X, omega, b, False)
         if b.odd in self._cache:
             Xc, _, Uc = self._cache[b.odd]
             Us = Uc * (float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300))
-            if self.evaluate(Us, X, omega, b, False).res < self.evaluate(U, X, omega, b, False).res:
-                U = Us
-        return self.evaluate(U, X, omega, b)
+            cached = self.evaluate(Us, X, omega, b, False)
+            if cached.res < ev.res:
+                ev = cached
+        return self.with_jacobian(ev, b)
 
     def newton(self, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int = NEWTON_MAX_ITER) -> tuple:
         """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
@@ -192,12 +200,12 @@ class FixedBar:
                 break
             dU = -fac.solve(ev.R)
             t = 1.0
-            for _ in range(30):
-                trial = self.evaluate(ev.U + t * dU, X, omega, b)
+            for _ in range(30):  # the Jacobian only for the trial accepted
+                trial = self.evaluate(ev.U + t * dU, X, omega, b, False)
                 if trial.res <= (1.0 - 1e-4 * t) * ev.res:
                     break
                 t *= 0.5
-            ev = trial
+            ev = self.with_jacobian(trial, b)
         return ev, fac, ev.res <= tol, it
 
     def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:

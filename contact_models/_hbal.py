@@ -133,9 +133,25 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     T = rows_product(f, P.T)
     if not jacobian:
         return T, None, ~stuck
-    if jacobian_basis is not None:
-        E, P = jacobian_basis
-    m, nh = U.shape[0], E.shape[1]
+    E, P = (E, P) if jacobian_basis is None else jacobian_basis
+    return T, jenkins_jacobian((u, stuck, anchor, never), kc, E, P, prefix), ~stuck
+
+
+def jenkins_state(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64],
+                  E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_], tuple]:
+    """``jenkins_harmonic`` without the Jacobian: ``(T, slip, state)``, ``state`` what
+    :func:`jenkins_jacobian` needs to add it later without marching the return map again."""
+    u = rows_product(U, E.T)
+    f, stuck, anchor, never = jenkins_periodic(u, kc, p)
+    return rows_product(f, P.T), ~stuck, (u, stuck, anchor, never)
+
+
+def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float64], P: NDArray[np.float64],
+                     prefix: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None) -> NDArray[np.float64]:
+    """The Jacobians dT/dU (m, s, s) on the basis (E, P) from the ``state`` of :func:`jenkins_state`
+    (the derivation in :func:`jenkins_harmonic`)."""
+    u, stuck, anchor, never = state
+    m, nh = u.shape[0], E.shape[1]
     J = np.empty((m, nh, nh))
     if np.any(never):
         # f = kc (u - c), c = (u_max + u_min)/2: dT/dU = kc (I - (P 1) dc/dU), P 1 the coefficients of
@@ -164,7 +180,7 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
             first = np.flatnonzero(np.r_[True, r[1:] != r[:-1]])
             Js[r[first]] = np.add.reduceat(runs, first, axis=0)
         J[slips] = kc[slips, None, None] * Js
-    return T, J, ~stuck
+    return J
 
 
 class BlockTridiagonal:
