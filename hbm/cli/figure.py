@@ -39,10 +39,24 @@ DPI = 130
 
 
 def base_figure(frf: Any, case: Any, *, render: bool = False) -> tuple[Any, Any]:
-    """``(fig, ax)``: a bare matplotlib Figure (no pyplot, no GUI backend) with the case's damper
-    stuck (linear), a_min and the single-mode curve ``frf``; no legend yet.  ``render`` draws it
-    once on its Agg canvas (what the forked child does while it waits: the final draw then reuses
-    the cached text and ticks)."""
+    """The job's figure without the all-mode peak and without its legend.
+
+    Parameters
+    ----------
+    frf : hbm.FrequencyResponse
+        The single-mode curve.
+    case : hbm.cli.cases.Case
+        The job's case: the damper stuck (linear) and a_min are drawn from its blade and element.
+    render : bool, optional
+        Draw it once on its Agg canvas (what the forked child does while it waits: the final
+        draw then reuses the cached text and ticks).  Default False.
+
+    Returns
+    -------
+    tuple
+        ``(fig, ax)``: a bare matplotlib Figure (no pyplot, no GUI backend) with an Agg canvas,
+        :data:`SIZE` at :data:`DPI`, and its axes.
+    """
     # heavy (0.2-0.5 s), lazily: only when the figure is drawn (and in the child, in parallel)
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
@@ -62,8 +76,16 @@ def base_figure(frf: Any, case: Any, *, render: bool = False) -> tuple[Any, Any]
 
 
 def add_peak(ax: Any, best: Any) -> None:
-    """The all-mode peak on ``ax`` (``best`` an ``hbm.allmode_peak.AllModePeak`` or None): its scan
-    (the coarse rung) dashed and the refined peak as a dot; then the legend."""
+    """Add the all-mode peak and the legend to the axes of :func:`base_figure`.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+        The axes.
+    best : hbm.allmode_peak.AllModePeak or None
+        The peak: its scan (on ``hbm.allmode_peak.SCAN``) dashed and the refined peak as a dot,
+        both labelled with their rungs.  None: the legend only.
+    """
     if best is not None:
         ws, As = best.scan
         ax.plot(ws, As, "C3--", lw=1, label=f"all-mode bar near the peak ({SCAN[0]} cells, H = {SCAN[1]})")
@@ -73,7 +95,20 @@ def add_peak(ax: Any, best: Any) -> None:
 
 
 def save_figure(fig: Any, path: Path) -> Path:
-    """Write ``fig`` as PNG at :data:`DPI`; returns ``path``."""
+    """Write ``fig`` as PNG.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : pathlib.Path
+        Where it goes.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     fig.savefig(path, dpi=DPI)
     return path
 
@@ -154,7 +189,24 @@ class JobFigure:
             os._exit(code)
 
     def finish(self, best: Any) -> Path:
-        """The figure with the peak ``best`` (or None) written to ``path``; returns ``path``."""
+        """Write the figure with the peak and wait for the child.
+
+        Parameters
+        ----------
+        best : hbm.allmode_peak.AllModePeak or None
+            The all-mode peak, or None (the single-mode answer stands).
+
+        Returns
+        -------
+        pathlib.Path
+            The PNG written.
+
+        Warns
+        -----
+        RuntimeWarning
+            Where the child failed (its last traceback line); the figure is then drawn here,
+            which raises a genuine error of the drawing.
+        """
         if self.forked:
             try:
                 os.write(self._to_child, pickle.dumps(best))
