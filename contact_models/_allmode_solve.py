@@ -101,7 +101,8 @@ class _Basis(NamedTuple):
 
 class _Eval(NamedTuple):
     """One evaluation of the bar's balance at U (``J`` None until asked for: ``state`` the return
-    map's result it is computed from, ``FixedBar.with_jacobian``)."""
+    map's result it is computed from, ``FixedBar.with_jacobian``; None where a subclass's node law
+    keeps none, which then evaluates again)."""
 
     U: NDArray[np.float64]
     R: NDArray[np.float64]
@@ -110,7 +111,7 @@ class _Eval(NamedTuple):
     J: NDArray[np.float64] | None
     slip: NDArray[np.bool_]
     lin: NDArray[np.float64]
-    state: tuple
+    state: tuple | None = None
 
 
 def is_odd(X: NDArray[np.float64]) -> bool:
@@ -121,6 +122,10 @@ def is_odd(X: NDArray[np.float64]) -> bool:
 class FixedBar:
     """The bar on ``cells`` cells with ``harmonics`` harmonics and ``n_t`` samples (inputs checked by
     the caller); ``solve(X, omega, odd)`` with X of length 2 harmonics + 1."""
+
+    #: Evaluations keep the return map's state and get their Jacobians only when used (a subclass
+    #: whose ``evaluate`` keeps no state sets it False: its evaluations then carry their Jacobians).
+    lazy_jacobian = True
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int, harmonics: int, n_t: int) -> None:
         self.cells, self.H, self.n_t = cells, harmonics, n_t
@@ -156,11 +161,16 @@ class FixedBar:
         R[:-1] += d.off * U[1:]
         R[-1] += d.off * X
         ev = _Eval(U, R, float(np.max(np.abs(R))), T, None, slip, lin, state)
-        return self.with_jacobian(ev, b) if jacobian else ev
+        return self.with_jacobian(ev, X, omega, b) if jacobian else ev
 
-    def with_jacobian(self, ev: _Eval, b: _Basis) -> _Eval:
-        """``ev`` with its Jacobians (from the return map's state it kept: no second march)."""
-        return ev if ev.J is not None else ev._replace(J=jenkins_jacobian(ev.state, self.disc.kc, b.E, b.P, b.prefix))
+    def with_jacobian(self, ev: _Eval, X: Array, omega: float, b: _Basis) -> _Eval:
+        """``ev`` (at X, omega) with its Jacobians: from the return map's state it kept (no second
+        march), or evaluated again where it kept none."""
+        if ev.J is not None:
+            return ev
+        if ev.state is None:
+            return self.evaluate(ev.U, X, omega, b)
+        return ev._replace(J=jenkins_jacobian(ev.state, self.disc.kc, b.E, b.P, b.prefix))
 
     def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
         """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
@@ -189,11 +199,11 @@ class FixedBar:
         if b.odd in self._cache:
             Xc, _, Uc = self._cache[b.odd]
             Us = Uc * (float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300))
-            cached = self.evaluate(Us, X, omega, b, False)
+            cached = self.evaluate(Us, X, omega, b, not self.lazy_jacobian)
             if cached.res <= START_CLOSE * self.scale(X):  # Newton's start: the linear state cannot do better
-                return self.with_jacobian(cached, b)
-            ev = self.evaluate(self.linear_guess(X, omega, b), X, omega, b, False)
-            return self.with_jacobian(cached if cached.res < ev.res else ev, b)
+                return self.with_jacobian(cached, X, omega, b)
+            ev = self.evaluate(self.linear_guess(X, omega, b), X, omega, b, not self.lazy_jacobian)
+            return self.with_jacobian(cached if cached.res < ev.res else ev, X, omega, b)
         return self.evaluate(self.linear_guess(X, omega, b), X, omega, b)
 
     def newton(self, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int = NEWTON_MAX_ITER) -> tuple:
@@ -208,11 +218,11 @@ class FixedBar:
             dU = -fac.solve(ev.R)
             t = 1.0
             for _ in range(30):  # the Jacobian only for the trial accepted
-                trial = self.evaluate(ev.U + t * dU, X, omega, b, False)
+                trial = self.evaluate(ev.U + t * dU, X, omega, b, not self.lazy_jacobian)
                 if trial.res <= (1.0 - 1e-4 * t) * ev.res:
                     break
                 t *= 0.5
-            ev = self.with_jacobian(trial, b)
+            ev = self.with_jacobian(trial, X, omega, b)
         return ev, fac, ev.res <= tol, it
 
     def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:
