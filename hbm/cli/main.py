@@ -28,15 +28,9 @@ from contact_models.accuracy import AccuracyWarning
 
 from ..frf import DEFAULT_TOL, MODEL_SHARE, frequency_response
 from ..balance.presets import DEFAULT_RTOL
-from ..scenes import (MODELS, REQUIRED, SceneError, effect_lines, load_scene, output_names, parse_override,
-                      plan_scene, run_scene, schema, summary_lines)
-from ..scenes.checks import dot, show
-from ..scenes.template import template
-from ..study import FILES, Study, check_scene, read_records, run_study
 from .cases import default_case
 from .figure import JobFigure
 from ..allmode_peak import AllModePeak, physical_peak
-from .progress import ProgressLine
 
 __all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
            "DESCRIPTION", "EXAMPLES",
@@ -130,6 +124,11 @@ def allmode_line(best: AllModePeak, pk: Any, given: Any, tol: float) -> str:
 
 
 def _run(args) -> int:
+    # lazily, here and in the other subcommands: the default job reads no scene (40 ms of its start)
+    from ..scenes import (SceneError, effect_lines, load_scene, output_names, parse_override, plan_scene,
+                          run_scene, summary_lines)
+    from .progress import ProgressLine
+
     try:
         overrides = dict(parse_override(text) for text in args.set)
         if args.rtol is not None:
@@ -218,6 +217,9 @@ def _interrupted_code(exc: BaseException) -> int:
 
 
 def _run_study(args, overrides) -> int:
+    from ..study import FILES, Study, check_scene, read_records, run_study  # lazily: as in _run
+    from .progress import ProgressLine  # lazily: as in _run
+
     if args.check:  # makes no run's point but the first: the same time for any number of runs
         print("\n".join(check_scene(args.scene, overrides=overrides)))
         return 0
@@ -298,6 +300,8 @@ def _new(args) -> int:
     if path.exists() and not args.force:
         print(f"error: {path} exists (pass --force to overwrite it)", file=sys.stderr)
         return 2
+    from ..scenes.template import template  # lazily: as in _run
+
     path.write_text(template(path.stem))
     print(f"wrote {path.resolve()}: run it with: {args.prog} run {path}")
     return 0
@@ -309,6 +313,8 @@ def _new_arguments(parser):
 
 
 def _models(args) -> int:
+    from ..scenes import MODELS  # lazily: as in _run
+
     width = max(len(name) for name in MODELS)
     for name, spec in MODELS.items():
         own = f" (keys: {', '.join('damper.' + k for k in spec.keys)})" if spec.keys else ""
@@ -317,6 +323,9 @@ def _models(args) -> int:
 
 
 def _keys(args) -> int:
+    from ..scenes import REQUIRED, schema  # lazily: as in _run
+    from ..scenes.checks import dot, show  # lazily: as in _run
+
     for table, keys in schema().items():
         print(f"[{table}]" if table else "(top level)")
         for key, spec in keys.items():
