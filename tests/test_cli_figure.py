@@ -66,6 +66,18 @@ def test_without_fork_the_figure_is_drawn_in_the_process(job, tmp_path, monkeypa
     assert fig.finish(best).stat().st_size > 10000
 
 
+def test_a_fork_that_fails_draws_the_figure_in_the_process(job, tmp_path, monkeypatch):
+    case, frf, best = job
+
+    def no_fork():
+        raise BlockingIOError(11, "Resource temporarily unavailable")
+
+    monkeypatch.setattr(os, "fork", no_fork)
+    fig = JobFigure(frf, case, tmp_path / "frf.png")
+    assert not fig.forked
+    assert fig.finish(best).stat().st_size > 10000
+
+
 def test_a_failing_child_is_said_and_its_error_raised_by_the_drawing_here(job, tmp_path):
     case, frf, best = job
     fig = JobFigure(frf, case, tmp_path / "missing" / "frf.png")  # no such folder: savefig fails in the child

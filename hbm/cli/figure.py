@@ -10,7 +10,7 @@ writes the PNG and answers ``ok`` (or its traceback).  The parent waits for the 
 and, where the child failed, says why in a ``RuntimeWarning`` and draws the figure itself, so a
 genuine error in the drawing is raised in the parent as it would be without the child.
 
-Where ``os.fork`` does not exist (Windows) or ``fork=False``, the figure is drawn in the
+Where ``os.fork`` does not exist (Windows) or fails (a process limit), or with ``fork=False``, the figure is drawn in the
 process, after the peak (the same functions, the same picture).  An exception or a signal in
 the parent between the fork and the end (Ctrl-C, SIGTERM) closes the pipe and ends and reaps
 the child (:meth:`JobFigure.cancel`); the child ignores SIGINT (the parent reports it) and takes
@@ -143,7 +143,10 @@ class JobFigure:
         self.pid: int | None = None
         self._to_child = self._from_child = -1
         if fork and hasattr(os, "fork"):
-            self._start()
+            try:
+                self._start()
+            except OSError:  # no process to be had (a limit): drawn here at finish
+                self.pid = None
 
     @property
     def forked(self) -> bool:
@@ -155,11 +158,16 @@ class JobFigure:
         r_out, w_out = os.pipe()
         for stream in (sys.stdout, sys.stderr):  # nothing buffered is written twice
             stream.flush()
-        with warnings.catch_warnings():
-            # Python >= 3.12 warns of fork in a process with threads: ours are BLAS's idle workers
-            # (OpenBLAS resets them in the child), and the child only draws and exits
-            warnings.simplefilter("ignore", DeprecationWarning)
-            pid = os.fork()
+        try:
+            with warnings.catch_warnings():
+                # Python >= 3.12 warns of fork in a process with threads: ours are BLAS's idle workers
+                # (OpenBLAS resets them in the child), and the child only draws and exits
+                warnings.simplefilter("ignore", DeprecationWarning)
+                pid = os.fork()
+        except OSError:
+            for fd in (r_in, w_in, r_out, w_out):
+                os.close(fd)
+            raise
         if pid == 0:  # the child: never returns
             os.close(w_in)
             os.close(r_out)
