@@ -10,8 +10,9 @@ writes the PNG and answers ``ok`` (or its traceback).  The parent waits for the 
 and, where the child failed, says why in a ``RuntimeWarning`` and draws the figure itself, so a
 genuine error in the drawing is raised in the parent as it would be without the child.
 
-Where ``os.fork`` does not exist (Windows) or fails (a process limit), or with ``fork=False``, the figure is drawn in the
-process, after the peak (the same functions, the same picture).  An exception or a signal in
+Where ``os.fork`` does not exist (Windows) or fails (a process limit), or with ``fork=False``, the
+figure is drawn in the process, after the peak (the same functions, the same picture).  An
+exception or a signal in
 the parent between the fork and the end (Ctrl-C, SIGTERM) closes the pipe and ends and reaps
 the child (:meth:`JobFigure.cancel`); the child ignores SIGINT (the parent reports it) and takes
 the default action on SIGTERM.
