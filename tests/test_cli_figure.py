@@ -3,6 +3,7 @@ process where fork is missing; the same picture both ways, the child reaped, its
 And the job's --tol."""
 
 import os
+import time
 import warnings
 
 import numpy as np
@@ -84,6 +85,34 @@ def test_a_failing_child_is_said_and_its_error_raised_by_the_drawing_here(job, t
     pid = fig.pid
     with pytest.warns(RuntimeWarning, match="figure's process failed .*No such file"):
         with pytest.raises(FileNotFoundError):
+            fig.finish(best)
+    _no_child_left(pid)
+
+
+def _wait_exited(pid, timeout=60.0):
+    """Until the child has exited (a zombie, not yet reaped), where /proc tells."""
+    stat = f"/proc/{pid}/stat"
+    end = time.monotonic() + timeout
+    while os.path.exists(stat) and time.monotonic() < end:
+        with open(stat) as fh:
+            if fh.read().rsplit(")", 1)[1].split()[0] == "Z":
+                return
+        time.sleep(0.01)
+
+
+def test_a_child_that_fails_before_the_peak_is_sent_is_said_and_its_error_raised(job, tmp_path, monkeypatch):
+    import hbm.cli.figure as figure
+
+    def broken(*args, **kwargs):
+        raise ValueError("no reference today")
+
+    monkeypatch.setattr(figure, "plot_linear_reference", broken)
+    case, frf, best = job
+    fig = JobFigure(frf, case, tmp_path / "frf.png")
+    pid = fig.pid
+    _wait_exited(pid)  # gone before the parent writes the peak to it: a broken pipe
+    with pytest.warns(RuntimeWarning, match="no reference today"):
+        with pytest.raises(ValueError, match="no reference today"):
             fig.finish(best)
     _no_child_left(pid)
 

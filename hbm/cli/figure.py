@@ -114,6 +114,12 @@ def save_figure(fig: Any, path: Path) -> Path:
     return path
 
 
+def _write_all(fd: int, data: bytes) -> None:
+    view = memoryview(data)
+    while view:
+        view = view[os.write(fd, view):]
+
+
 def _read_all(fd: int) -> bytes:
     chunks = []
     while True:
@@ -218,7 +224,10 @@ class JobFigure:
         """
         if self.forked:
             try:
-                os.write(self._to_child, pickle.dumps(best))
+                try:
+                    _write_all(self._to_child, pickle.dumps(best))
+                except BrokenPipeError:  # the child is gone: its answer says why
+                    pass
                 os.close(self._to_child)
                 self._to_child = -1
                 answer = _read_all(self._from_child)
