@@ -76,6 +76,8 @@ class NormalBar(FixedBar):
     """``FixedBar`` whose nodes carry ``Contact2D`` under the normal loads of ``set_normal``:
     ``solve_normal(X, V, omega)`` with X, V of length 2 harmonics + 1."""
 
+    lazy_jacobian = False  # its evaluations keep no return-map state: they carry their Jacobians
+
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, kn: float, shape: tuple[float, float],
                  cells: int, harmonics: int, n_t: int) -> None:
         super().__init__(bar, load, cells, harmonics, n_t)

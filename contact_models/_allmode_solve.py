@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import aft_matrices, factorise, jenkins_harmonic
+from ._hbal import aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_state
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -29,6 +29,11 @@ Array = NDArray[np.float64]
 NEWTON_TOL = 1e-11
 #: Newton iteration limit (per solve, before the continuation fallback).
 NEWTON_MAX_ITER = 40
+#: A cached solution scaled to the new end motion whose residual is below this fraction of the
+#: force scale starts Newton without the linear state being evaluated too (at the default job's
+#: all-mode peak the cached start's residual is 3e-8 of the scale in the median, the linear
+#: state's never below 3e-5).
+START_CLOSE = 1e-6
 
 
 @dataclass
@@ -82,7 +87,8 @@ class AllModeSolution:
 
 
 class _Basis(NamedTuple):
-    """The harmonic coefficients solved for: ``idx`` into the full layout, AFT matrices on them."""
+    """The harmonic coefficients solved for: ``idx`` into the full layout, AFT matrices on them and
+    their ``jacobian_prefix`` (kept: it depends on the basis only)."""
 
     H: int
     odd: bool
@@ -90,18 +96,22 @@ class _Basis(NamedTuple):
     E: NDArray[np.float64]
     P: NDArray[np.float64]
     order: NDArray[np.float64]
+    prefix: tuple
 
 
 class _Eval(NamedTuple):
-    """One evaluation of the bar's balance at U."""
+    """One evaluation of the bar's balance at U (``J`` None until asked for: ``state`` the return
+    map's result it is computed from, ``FixedBar.with_jacobian``; None where a subclass's node law
+    keeps none, which then evaluates again)."""
 
     U: NDArray[np.float64]
     R: NDArray[np.float64]
     res: float
     T: NDArray[np.float64]
-    J: NDArray[np.float64]
+    J: NDArray[np.float64] | None
     slip: NDArray[np.bool_]
     lin: NDArray[np.float64]
+    state: tuple | None = None
 
 
 def is_odd(X: NDArray[np.float64]) -> bool:
@@ -112,6 +122,10 @@ def is_odd(X: NDArray[np.float64]) -> bool:
 class FixedBar:
     """The bar on ``cells`` cells with ``harmonics`` harmonics and ``n_t`` samples (inputs checked by
     the caller); ``solve(X, omega, odd)`` with X of length 2 harmonics + 1."""
+
+    #: Evaluations keep the return map's state and get their Jacobians only when used (a subclass
+    #: whose ``evaluate`` keeps no state sets it False: its evaluations then carry their Jacobians).
+    lazy_jacobian = True
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int, harmonics: int, n_t: int) -> None:
         self.cells, self.H, self.n_t = cells, harmonics, n_t
@@ -126,7 +140,8 @@ class FixedBar:
         if odd not in self._aft:
             E, P, order = aft_matrices(self.H, self.n_t)
             idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
-            self._aft[odd] = _Basis(self.H, odd, idx, E[:, idx], P[idx], order[idx])
+            Eb, Pb = E[:, idx], P[idx]
+            self._aft[odd] = _Basis(self.H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
         return self._aft[odd]
 
     def scale(self, X: Array) -> float:
@@ -139,13 +154,23 @@ class FixedBar:
         coefficients)."""
         d = self.disc
         full = np.vstack([U, X[None, :]])
-        T, J, slip = jenkins_harmonic(full, d.kc, d.p, b.E, b.P, jacobian=jacobian)
+        T, slip, state = jenkins_state(full, d.kc, d.p, b.E, b.P)
         lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
         R = lin[:-1] * U + T[:-1]
         R[1:] += d.off * U[:-1]
         R[:-1] += d.off * U[1:]
         R[-1] += d.off * X
-        return _Eval(U, R, float(np.max(np.abs(R))), T, J, slip, lin)
+        ev = _Eval(U, R, float(np.max(np.abs(R))), T, None, slip, lin, state)
+        return self.with_jacobian(ev, X, omega, b) if jacobian else ev
+
+    def with_jacobian(self, ev: _Eval, X: Array, omega: float, b: _Basis) -> _Eval:
+        """``ev`` (at X, omega) with its Jacobians: from the return map's state it kept (no second
+        march), or evaluated again where it kept none."""
+        if ev.J is not None:
+            return ev
+        if ev.state is None:
+            return self.evaluate(ev.U, X, omega, b)
+        return ev._replace(J=jenkins_jacobian(ev.state, self.disc.kc, b.E, b.P, b.prefix))
 
     def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
         """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
@@ -169,14 +194,17 @@ class FixedBar:
 
     def start(self, X: Array, omega: float, b: _Basis) -> _Eval:
         """The better (smaller residual) of the linear state and the cached solution scaled to X
-        (compared on residuals alone; the Jacobian is evaluated for the one kept)."""
-        U = self.linear_guess(X, omega, b)
+        (compared on residuals alone; the Jacobian is evaluated for the one kept); the cached one
+        alone where its residual is below ``START_CLOSE`` of the force scale."""
         if b.odd in self._cache:
             Xc, _, Uc = self._cache[b.odd]
             Us = Uc * (float(np.linalg.norm(X)) / max(float(np.linalg.norm(Xc)), 1e-300))
-            if self.evaluate(Us, X, omega, b, False).res < self.evaluate(U, X, omega, b, False).res:
-                U = Us
-        return self.evaluate(U, X, omega, b)
+            cached = self.evaluate(Us, X, omega, b, not self.lazy_jacobian)
+            if cached.res <= START_CLOSE * self.scale(X):  # Newton's start: the linear state cannot do better
+                return self.with_jacobian(cached, X, omega, b)
+            ev = self.evaluate(self.linear_guess(X, omega, b), X, omega, b, not self.lazy_jacobian)
+            return self.with_jacobian(cached if cached.res < ev.res else ev, X, omega, b)
+        return self.evaluate(self.linear_guess(X, omega, b), X, omega, b)
 
     def newton(self, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int = NEWTON_MAX_ITER) -> tuple:
         """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
@@ -189,12 +217,12 @@ class FixedBar:
                 break
             dU = -fac.solve(ev.R)
             t = 1.0
-            for _ in range(30):
-                trial = self.evaluate(ev.U + t * dU, X, omega, b)
+            for _ in range(30):  # the Jacobian only for the trial accepted
+                trial = self.evaluate(ev.U + t * dU, X, omega, b, not self.lazy_jacobian)
                 if trial.res <= (1.0 - 1e-4 * t) * ev.res:
                     break
                 t *= 0.5
-            ev = trial
+            ev = self.with_jacobian(trial, X, omega, b)
         return ev, fac, ev.res <= tol, it
 
     def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:

@@ -28,6 +28,27 @@ def aft_matrices(H: int, n_t: int) -> tuple[NDArray[np.float64], NDArray[np.floa
     return E, P, order
 
 
+#: Products are done in blocks of rows of at most this many multiply-adds: OpenBLAS runs a GEMM of more
+#: than 4 * 65536 of them on every thread it has, and for these small products on a shared 2-core machine
+#: waking and waiting for the threads costs more than the product (measured: the 128-cell, H = 31 rung of
+#: the main job's peak 2 to 8 times slower with threads than with one).
+GEMM_SERIAL = 1 << 18
+
+
+def rows_product(A: NDArray[np.float64], B: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``A @ B`` (A of shape (m, k), B (k, n)) in blocks of rows of at most :data:`GEMM_SERIAL`
+    multiply-adds each, so that a threaded BLAS runs every block on one thread."""
+    m, k = A.shape
+    n = B.shape[1]
+    rows = max(1, GEMM_SERIAL // max(1, k * n))
+    if m <= rows:
+        return A @ B
+    out = np.empty((m, n))
+    for i in range(0, m, rows):
+        np.matmul(A[i:i + rows], B, out=out[i:i + rows])
+    return out
+
+
 def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64]
                      ) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.intp], NDArray[np.bool_]]:
     """Steady periodic force of m Jenkins elements (stiffness ``kc``, slip force ``p``) for the
@@ -80,23 +101,57 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     return f, stuck, anchor, never
 
 
+def jacobian_prefix(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(Q, CP)``: the prefix sums over the samples of ``P[:, k] E[k]^T`` (n_t, s, s) and of
+    ``P[:, k]`` (n_t, s), ``Q[j] = sum_{k <= j} P[:, k] E[k]^T``.  They depend on the basis only
+    (not on the nodes), so a caller that evaluates many times keeps them (``jenkins_harmonic``'s
+    ``prefix``)."""
+    return np.cumsum(P.T[:, :, None] * E[:, None, :], axis=0), np.cumsum(P.T, axis=0)
+
+
 def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64],
                      E: NDArray[np.float64], P: NDArray[np.float64], *, jacobian: bool = True,
-                     jacobian_basis: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+                     jacobian_basis: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None,
+                     prefix: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
                      ) -> tuple[NDArray[np.float64], NDArray[np.float64] | None, NDArray[np.bool_]]:
     """Harmonic coefficients T (m, 2H+1) of the periodic Jenkins forces of m nodes whose
     displacements have coefficients U (m, 2H+1), the exact Jacobians dT/dU (m, 2H+1, 2H+1) and
     the mask of samples at which each node slips (m, n_t): AFT, ``T = P f(E U)``.
     ``jacobian_basis=(E2, P2)``: the Jacobian on other coefficients (same samples; E2's first
-    column the mean), e.g. the even block at an odd solution, without the full one."""
-    u = U @ E.T
+    column the mean), e.g. the even block at an odd solution, without the full one.
+    ``prefix``: ``jacobian_prefix`` of the Jacobian's basis (computed here when not given).
+
+    The Jacobian of a node that slips somewhere: ``df_k = kc (du_k - du_a)`` on a stuck sample k
+    whose stick phase began at the slipping sample a (its anchor), 0 on slipping samples, so
+    ``dT/dU = kc sum_k stuck_k P[:, k] (E_k - E_a(k))^T``.  The stuck samples form runs
+    (a, e] (circularly) with one anchor each, and a run's part is a difference of the prefix
+    sums of ``jacobian_prefix``: ``Q[e] - Q[a] - (CP[e] - CP[a]) E_a^T`` (plus the totals
+    ``Q[-1]``, ``CP[-1]`` where the run wraps past the last sample): O(runs s^2) per node
+    instead of O(n_t s^2)."""
+    u = rows_product(U, E.T)
     f, stuck, anchor, never = jenkins_periodic(u, kc, p)
-    T = f @ P.T
+    T = rows_product(f, P.T)
     if not jacobian:
         return T, None, ~stuck
-    if jacobian_basis is not None:
-        E, P = jacobian_basis
-    m, nh = U.shape[0], E.shape[1]
+    E, P = (E, P) if jacobian_basis is None else jacobian_basis
+    return T, jenkins_jacobian((u, stuck, anchor, never), kc, E, P, prefix), ~stuck
+
+
+def jenkins_state(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64],
+                  E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_], tuple]:
+    """``jenkins_harmonic`` without the Jacobian: ``(T, slip, state)``, ``state`` what
+    :func:`jenkins_jacobian` needs to add it later without marching the return map again."""
+    u = rows_product(U, E.T)
+    f, stuck, anchor, never = jenkins_periodic(u, kc, p)
+    return rows_product(f, P.T), ~stuck, (u, stuck, anchor, never)
+
+
+def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float64], P: NDArray[np.float64],
+                     prefix: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None) -> NDArray[np.float64]:
+    """The Jacobians dT/dU (m, s, s) on the basis (E, P) from the ``state`` of :func:`jenkins_state`
+    (the derivation in :func:`jenkins_harmonic`)."""
+    u, stuck, anchor, never = state
+    m, nh = u.shape[0], E.shape[1]
     J = np.empty((m, nh, nh))
     if np.any(never):
         # f = kc (u - c), c = (u_max + u_min)/2: dT/dU = kc (I - (P 1) dc/dU), P 1 the coefficients of
@@ -113,13 +168,19 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
         J[iv] = kc[iv, None, None] * Jn
     slips = np.flatnonzero(~never)
     if slips.size:
-        # df_k/dU = kc stuck_k (E_k - E_anchor(k)); dT/dU = P (df/dU)
+        Q, CP = jacobian_prefix(E, P) if prefix is None else prefix
         st = stuck[slips]
-        G = (E[None, :, :] - E[anchor[slips]]) * st[:, :, None]
-        # one small product per node (batched matmul): a single large GEMM would let a threaded BLAS
-        # spin its threads on a shared machine (measured 10x slower at 40 cells, H = 15, load 13)
-        J[slips] = kc[slips, None, None] * np.matmul(P, G)
-    return T, J, ~stuck
+        r, e = np.nonzero(st & ~np.roll(st, -1, axis=1))  # the last stuck sample of every run, by node
+        a = anchor[slips][r, e]
+        wrap = (e < a)[:, None]
+        C = CP[e] - CP[a] + wrap * CP[-1]
+        runs = Q[e] - Q[a] + wrap[:, :, None] * Q[-1] - C[:, :, None] * E[a][:, None, :]
+        Js = np.zeros((slips.size, nh, nh))
+        if r.size:
+            first = np.flatnonzero(np.r_[True, r[1:] != r[:-1]])
+            Js[r[first]] = np.add.reduceat(runs, first, axis=0)
+        J[slips] = kc[slips, None, None] * Js
+    return J
 
 
 class BlockTridiagonal:

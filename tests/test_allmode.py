@@ -9,7 +9,8 @@ import pytest
 
 from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip, QuadraticLoad,
                             SampledLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
-from contact_models._hbal import BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_periodic
+from contact_models._hbal import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
+                                  jenkins_state, rows_product)
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 UNIFORM = UniformLoad(N=100.0)
@@ -68,6 +69,34 @@ def test_jenkins_harmonic_jacobian_against_finite_differences():
               - jenkins_harmonic(U - dU, kc, p, E, P, jacobian=False)[0]) / (2 * h)
         np.testing.assert_allclose(J[:, :, j], fd, atol=1e-6)
 
+
+
+def test_jenkins_jacobian_by_runs_is_the_sum_over_every_stuck_sample():
+    """The Jacobian from prefix sums per stick run (wrapping runs included) against the sum over
+    every sample of kc stuck_k P[:, k] (E_k - E_anchor(k))^T, straight from the return map; and the
+    state kept without the Jacobian gives the same one."""
+    rng = np.random.default_rng(5)
+    E, P, _ = aft_matrices(7, 64)
+    U = rng.normal(size=(40, 15)) * np.exp(-0.3 * np.arange(15))  # many nodes, several runs, various phases
+    kc = rng.uniform(0.5, 2.0, 40)
+    p = rng.uniform(0.05, 1.5, 40)
+    _, J, _ = jenkins_harmonic(U, kc, p, E, P)
+    _, stuck, anchor, never = jenkins_periodic(U @ E.T, kc, p)
+    wraps = 0
+    for i in np.flatnonzero(~never):
+        G = (E - E[anchor[i]]) * stuck[i][:, None]
+        np.testing.assert_allclose(J[i], kc[i] * P @ G, rtol=0, atol=1e-13 * kc[i])
+        wraps += bool(stuck[i, -1] and stuck[i, 0])
+    assert wraps >= 3 and np.sum(never) >= 1 and np.sum(~never) >= 20
+    T2, slip, state = jenkins_state(U, kc, p, E, P)
+    np.testing.assert_array_equal(jenkins_jacobian(state, kc, E, P), J)
+
+
+def test_rows_product_is_the_product_in_blocks():
+    rng = np.random.default_rng(6)
+    A, B = rng.normal(size=(300, 32)), rng.normal(size=(32, 248))
+    np.testing.assert_allclose(rows_product(A, B), A @ B, rtol=1e-13, atol=1e-12)
+    assert rows_product(A[:3], B).shape == (3, 248)
 
 
 @pytest.mark.parametrize("odd", [False, True])

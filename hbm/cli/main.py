@@ -26,17 +26,11 @@ import numpy as np
 from contact_models import __version__
 from contact_models.accuracy import AccuracyWarning
 
-from ..frf import MODEL_SHARE, frequency_response
-from ..output import plot_frfs, plot_linear_reference
+from ..frf import DEFAULT_TOL, MODEL_SHARE, frequency_response
 from ..balance.presets import DEFAULT_RTOL
-from ..scenes import (MODELS, REQUIRED, SceneError, effect_lines, load_scene, output_names, parse_override,
-                      plan_scene, run_scene, schema, summary_lines)
-from ..scenes.checks import dot, show
-from ..scenes.template import template
-from ..study import FILES, Study, check_scene, read_records, run_study
-from .cases import Case, default_case
+from .cases import default_case
+from .figure import JobFigure
 from ..allmode_peak import AllModePeak, physical_peak
-from .progress import ProgressLine
 
 __all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
            "DESCRIPTION", "EXAMPLES",
@@ -63,29 +57,35 @@ def _default(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     rtol = args.rtol if args.rtol is not None else DEFAULT_RTOL
     model = getattr(args, "model", None) or "auto"
+    out = Path(args.out if args.out is not None else ".")
     with warnings.catch_warnings(record=True) as caught:  # auto: the single-mode curve's warning is superseded
         warnings.simplefilter("always", AccuracyWarning)
         frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=rtol,
-                                 model="auto" if model == "allmode" else "given")
+                                 tol=_tol(args), model="auto" if model == "allmode" else "given")
     pk = frf.peak()
     best = None
-    if model == "auto":
-        try:
-            best = physical_peak(frf, MODEL_SHARE)
-        except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
-            warnings.warn(f"the all-mode peak was not found ({exc}); the answer is the single-mode one",
-                          AccuracyWarning, stacklevel=2)
-    for w in caught:
-        if best is None or not issubclass(w.category, AccuracyWarning):
-            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-    if best is not None and best.error > frf.tolerance:
-        warnings.warn(f"the all-mode peak's estimated error {best.error:.2g} is above tol = {frf.tolerance:g} "
-                      f"({best.cells} cells, H = {best.harmonics}, the finest rungs)", AccuracyWarning, stacklevel=2)
-    elapsed = time.perf_counter() - t0
-    out = Path(args.out if args.out is not None else ".")
     out.mkdir(parents=True, exist_ok=True)
-    csv_path = frf.to_csv(out / "frf.csv")
-    png_path = _figure(frf, case, out / "frf.png", best)
+    # the figure is drawn in a forked process while the peak is solved (hbm.cli.figure)
+    figure = JobFigure(frf, case, out / "frf.png", fork=model == "auto")
+    try:
+        if model == "auto":
+            try:
+                best = physical_peak(frf, MODEL_SHARE)
+            except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
+                warnings.warn(f"the all-mode peak was not found ({exc}); the answer is the single-mode one",
+                              AccuracyWarning, stacklevel=2)
+        for w in caught:
+            if best is None or not issubclass(w.category, AccuracyWarning):
+                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+        if best is not None and best.error > frf.tolerance:
+            warnings.warn(f"the all-mode peak's estimated error {best.error:.2g} is above tol = {frf.tolerance:g} "
+                          f"({best.cells} cells, H = {best.harmonics}, the finest rungs)", AccuracyWarning,
+                          stacklevel=2)
+        elapsed = time.perf_counter() - t0
+        csv_path = frf.to_csv(out / "frf.csv")
+        png_path = figure.finish(best)
+    finally:
+        figure.cancel()
     a_min = case.element.slip_amplitude(pk.omega)
     print(f"case: {case.description}")
     print(f"{len(frf)} points in {elapsed:.2f} s ({frf.nsteps} steps, {frf.nit} Newton iterations, "
@@ -123,29 +123,12 @@ def allmode_line(best: AllModePeak, pk: Any, given: Any, tol: float) -> str:
             f"at the peak, more than tol = {tol:g})")
 
 
-def _figure(frf: Any, case: Case, path: Path, best: AllModePeak | None = None) -> Path:
-    # A bare Figure (no pyplot, no GUI backend) with fixed margins: tight_layout would draw the
-    # figure once more to measure it (0.06 s of the job's 0.7 s of CPU)
-    from matplotlib.figure import Figure  # heavy (0.1-0.5 s), lazily: only when the figure is drawn
-
-    el = case.element
-    fig = Figure(figsize=(6.4, 4.2))
-    ax = fig.subplots()
-    plot_linear_reference(ax, case.blade, el, case.omega_range, a_min=el.slip_amplitude(0.0))
-    plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
-    if best is not None:  # the all-mode bar near the peak: the scan (coarse rung) and the refined peak
-        ws, As = best.scan
-        ax.plot(ws, As, "C3--", lw=1, label="all-mode bar near the peak (32 cells, H = 15)")
-        ax.plot([best.omega], [best.amplitude], "C3o", ms=4,
-                label=f"all-mode peak ({best.cells} cells, H = {best.harmonics})")
-    ax.set_title("Blade with a two-region microslip damper")
-    ax.legend(fontsize=8)
-    fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.93)
-    fig.savefig(path, dpi=130)
-    return path
-
-
 def _run(args) -> int:
+    # lazily, here and in the other subcommands: the default job reads no scene (40 ms of its start)
+    from ..scenes import (SceneError, effect_lines, load_scene, output_names, parse_override, plan_scene,
+                          run_scene, summary_lines)
+    from .progress import ProgressLine
+
     try:
         overrides = dict(parse_override(text) for text in args.set)
         if args.rtol is not None:
@@ -234,6 +217,9 @@ def _interrupted_code(exc: BaseException) -> int:
 
 
 def _run_study(args, overrides) -> int:
+    from ..study import FILES, Study, check_scene, read_records, run_study  # lazily: as in _run
+    from .progress import ProgressLine  # lazily: as in _run
+
     if args.check:  # makes no run's point but the first: the same time for any number of runs
         print("\n".join(check_scene(args.scene, overrides=overrides)))
         return 0
@@ -276,8 +262,16 @@ def _default_arguments(parser):
     _model_argument(parser)
 
 
+def _tol(args: argparse.Namespace) -> float | None:
+    """``--tol`` of the default job (None: ``frequency_response``'s default, ``hbm.frf.DEFAULT_TOL``)."""
+    return getattr(args, "tol", None)
+
+
 def _model_argument(parser, suppress=True):
-    """``--model``: the default job's damper model."""
+    """``--model`` and ``--tol``: the default job's damper model and target relative error."""
+    parser.add_argument("--tol", type=float, default=argparse.SUPPRESS if suppress else None,
+                        help=f"the default job's target relative error of the peak (default {DEFAULT_TOL:g}): "
+                             "frequency_response's tol, and so the all-mode peak's")
     parser.add_argument("--model", choices=("auto", "given", "allmode"),
                         default=argparse.SUPPRESS if suppress else None,
                         help="the default job's damper: 'auto' (default: the single-mode curve, and the peak of the "
@@ -306,6 +300,8 @@ def _new(args) -> int:
     if path.exists() and not args.force:
         print(f"error: {path} exists (pass --force to overwrite it)", file=sys.stderr)
         return 2
+    from ..scenes.template import template  # lazily: as in _run
+
     path.write_text(template(path.stem))
     print(f"wrote {path.resolve()}: run it with: {args.prog} run {path}")
     return 0
@@ -317,6 +313,8 @@ def _new_arguments(parser):
 
 
 def _models(args) -> int:
+    from ..scenes import MODELS  # lazily: as in _run
+
     width = max(len(name) for name in MODELS)
     for name, spec in MODELS.items():
         own = f" (keys: {', '.join('damper.' + k for k in spec.keys)})" if spec.keys else ""
@@ -325,6 +323,9 @@ def _models(args) -> int:
 
 
 def _keys(args) -> int:
+    from ..scenes import REQUIRED, schema  # lazily: as in _run
+    from ..scenes.checks import dot, show  # lazily: as in _run
+
     for table, keys in schema().items():
         print(f"[{table}]" if table else "(top level)")
         for key, spec in keys.items():
@@ -337,7 +338,8 @@ def _keys(args) -> int:
 #: Subcommands: name -> (help, handler[, add_arguments]).  Each subcommand takes only the options
 #: its ``add_arguments`` declares (``--out`` and ``--rtol`` only ``default`` and ``run``).  No
 #: subcommand runs ``default``.
-COMMANDS = {"default": ("run the built-in default case (the same as no subcommand): default [--out DIR] [--rtol X]",
+COMMANDS = {"default": ("run the built-in default case (the same as no subcommand): default [--out DIR] [--rtol X] "
+                        "[--model M] [--tol X]",
                         _default, _default_arguments),
             "run": ("run a scene file: run SCENE.toml [--out DIR] [--set TABLE.KEY=VALUE] [--rtol X] [--quiet] "
                     "[--check] [--workers N] [--scheduler ADDRESS] [--executor NAME] (the last three for a "
@@ -379,7 +381,7 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
         for add in arguments:
             add(p)
         p.set_defaults(handler=handler, takes=frozenset(a.dest for a in p._actions))
-    parser.set_defaults(handler=_default, prog=prog, takes=frozenset({"out", "rtol", "model"}))
+    parser.set_defaults(handler=_default, prog=prog, takes=frozenset({"out", "rtol", "model", "tol"}))
     return parser
 
 
@@ -387,9 +389,10 @@ def _parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
     """Parse ``argv``; ``--out``/``--rtol`` given before a subcommand that does not take them is an
     error (exit code 2), not an option silently ignored."""
     args = parser.parse_args(argv)
-    for dest in ("out", "rtol", "model"):
+    for dest in ("out", "rtol", "model", "tol"):
         if getattr(args, dest) is not None and dest not in args.takes:
-            parser.error(f"--{dest} does not apply to {args.command} (only to the default job and run)")
+            where = "the default job" if dest in ("model", "tol") else "the default job and run"
+            parser.error(f"--{dest} does not apply to {args.command} (only to {where})")
     return args
 
 
