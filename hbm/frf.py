@@ -22,16 +22,14 @@ import numpy as np
 from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
-from . import continuation as cont  # the module (hbm.continuation)
-from . import curve
+from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
 from .balance import errors
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, apply,
                               harmonic_knobs, samples_for)
 from .balance.residual import HarmonicBalance, as_structure
-from .balance.start import force_homotopy
 from .blade import Blade
-from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
+from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response, Segment
 
 #: The target relative error of a solve that names none (``tol``): the warning's threshold.
 DEFAULT_TOL = 1e-3
@@ -230,47 +228,22 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         if adapt and structure.default_harmonics is None:
             harmonics = ADAPT_START
     n_t_given = n_t
-    again = adapt or model == "auto"  # the balance may solve again: stream the final solve's points at its end
-    live = dict(on_point=None, on_harmonics=None) if again else dict(on_point=on_point, on_harmonics=on_harmonics)
-
-    heard: list = []  # the elements' AccuracyWarnings of the final solve (said once, merged, at the end)
-
-    def solve(H):
-        nt = n_t_given if n_t_given is not None else _samples(H, preset)
-        problem = HarmonicBalance(system, contacts, harmonics=H, n_t=nt, response_dof=response_dof, rtol=rtol)
-        with errors.collected() as now:
-            out = _trace(problem, w0, w1, rtol, steps, stability, tolerance, **live)
-        heard[:] = now
-        return out
-
-    frf = solve(harmonics)
-    # ---- the model: the elements' refined models where their error exceeds a share of the tolerance
-    if model == "auto" and len(frf) and float(np.max(frf.error_sources["model"])) > MODEL_SHARE * tolerance:
-        refined = _refined_contacts(frf._problem.contacts)
-        if refined is not None:
-            contacts = refined
-            frf = solve(harmonics)
-    # ---- adapt H to the tolerance (time laws through AFT): 1 (a blade), 3, 7, 15, 31 harmonics
-    while (adapt and not frf._problem.one_dof and frf.harmonics < MAX_HARMONICS and len(frf)
-           and float(np.max(frf.error_sources["harmonics"])) > HARMONICS_SHARE * tolerance):
-        frf = solve(2 * frf.harmonics + 1)
-    if again and (on_point is not None or on_harmonics is not None):
-        report = _reporter(on_point, on_harmonics, frf._problem)
-        for u, rnorm in zip(frf._run.y, frf.residual_norm):
-            report(u, rnorm)
-    frf.accuracy_warning = _warn_once(frf, tolerance, heard)
+    again = adapt or model == "auto"  # the balance may solve again: stream the final points at the end
+    knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, steps, stability, tolerance,
+                        lambda H: n_t_given if n_t_given is not None else _samples(H, preset), response_dof)
+    live = None if again or (on_point is None and on_harmonics is None) else (
+        lambda problem: _reporter(on_point, on_harmonics, problem))
+    frf = along.solve(knobs, contacts, harmonics, live)
+    notes: list[str] = []
+    if again:  # the model and H chosen along the curve (hbm.adapt)
+        plan = along.Plan(MODEL_SHARE if model == "auto" else None, HARMONICS_SHARE if adapt else None,
+                          MAX_HARMONICS)
+        frf, notes = along.along(knobs, frf, plan)
+        if on_point is not None or on_harmonics is not None:
+            _stream(frf, on_point, on_harmonics)
+    heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in knobs.heard.get(id(f), [])]
+    frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes)
     return frf
-
-
-def _refined_contacts(contacts: list) -> list | None:
-    """The contacts with each element that offers one replaced by its refined model; None if none does."""
-    out, changed = [], False
-    for c in contacts:
-        better = c.element.refined_model()
-        changed |= better is not None
-        el = better if better is not None else c.element
-        out.append(c.with_element(el))
-    return out if changed else None
 
 
 def _tolerance(tol: Any, estimate_error: bool) -> float | None:
@@ -290,32 +263,6 @@ def _samples(H: Any, preset: Any) -> Any:
     if isinstance(H, (int, np.integer)) and not isinstance(H, bool) and H >= 1:
         return samples_for(int(H), preset)
     return None
-
-
-def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: dict, stability: bool,
-           tolerance: float | None, *, on_point: Any, on_harmonics: Any) -> FrequencyResponse:
-    """Scales, the stuck start at w0 (else a homotopy in the force), the continuation to w1, the result."""
-    problem.set_scales(w0, w1)
-    tol = NEWTON_TOL_FACTOR * rtol
-    scale = problem.arclength_scale()
-    w_ref = problem.omega_ref
-    report = None if on_point is None and on_harmonics is None else _reporter(on_point, on_harmonics, problem)
-
-    def trace(u_start):
-        return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
-                                 bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref), direction=1 if w1 > w0 else -1,
-                                 tol=tol, scale=scale, fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
-                                 on_point=report, curve_components=(*problem.response_components(), -1), **steps)
-
-    run = trace(problem.stuck_start(w0))
-    if run.status == cont.Status.START_FAILED:
-        u_h = force_homotopy(problem, w0, tol, scale)
-        if u_h is not None:
-            run = trace(u_h)
-    if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
-        run = curve.refine(problem, run, scale, (*problem.response_components(), -1), steps["curve_tol"], tol,
-                           parameter=problem.unknowns - 1)
-    return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale, stability=stability, tolerance=tolerance)
 
 
 #: What brings each source of error down (the warning's advice).
@@ -338,7 +285,7 @@ def _remedy(frf: FrequencyResponse, source: str) -> str:
     return REMEDY[source]
 
 
-def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]) -> str | None:
+def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str], notes: list[str] = ()) -> str | None:
     """One ``AccuracyWarning`` per call: where the estimate exceeds the tolerance, the worst point,
     its largest source and what would fix it; with it, the number of warnings the elements gave
     during the solve (each evaluation may warn) and the worst of them.  Returns its message (None:
@@ -349,13 +296,14 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
         source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
         parts.append(f"estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at omega = {frf.omega[i]:.6g} "
                      f"rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: {source}, "
-                     f"{frf.error_sources[source][i]:.2g}; H = {frf.harmonics}); for a closer answer use "
+                     f"{frf.error_sources[source][i]:.2g}; H = {frf.point_harmonics[i]}); for a closer answer use "
                      f"{_remedy(frf, source)}")
     elif heard and tolerance is not None and len(frf):
         parts.append(f"the response's estimated error (at most {float(np.nanmax(frf.error_estimate)):.2g}, "
                      f"tol {tolerance:g}) carries the elements' own estimates through the balance")
     if heard:
         parts.append(errors.heard_line(heard, "during the solve"))
+    parts += list(notes)  # windows whose refined trace failed: numerical trouble, said
     if not parts:
         return None
     message = "frequency_response: " + "; ".join(parts)
@@ -441,6 +389,21 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     z = blade.force * a / force(a)  # x_c - i x_s = F / (k - m w^2 + p + i (c w + q))
     return Response(omega=omega, x_c=z.real, x_s=-z.imag, amplitude=math.hypot(z.real, z.imag),
                     phase=math.atan2(-z.imag, z.real))
+
+
+def _stream(frf: FrequencyResponse, on_point: Callable | None, on_harmonics: Callable | None) -> None:
+    """The final points to the callbacks, in order (``_reporter``'s arguments; the harmonics padded
+    with zeros to the result's largest H)."""
+    if frf._pieces is None:
+        report = _reporter(on_point, on_harmonics, frf._problem)
+        for u, rnorm in zip(frf._run.y, frf.residual_norm):
+            report(u, rnorm)
+        return
+    for i, w in enumerate(frf.omega):
+        if on_point is not None:
+            on_point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]))
+        if on_harmonics is not None:
+            on_harmonics(float(w), frf._X[i, frf._r].copy())
 
 
 def _reporter(on_point: Callable | None, on_harmonics: Callable | None, problem: HarmonicBalance) -> Callable:
