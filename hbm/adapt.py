@@ -34,6 +34,8 @@ from .result import PEAK_XTOL_FACTOR, FrequencyResponse
 #: A window's refined trace ends at its first point beyond the hyperplane through the coarse end
 #: point within this many coarse chords of that point (or two of the longest steps).
 RADIUS_CHORDS = 3.0
+#: The point beyond is moved onto the hyperplane to this fraction of its last step.
+CUT_XTOL = 0.02
 
 
 @dataclasses.dataclass
@@ -166,7 +168,7 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
         if last or len(r.y) < 2 or not crossed:
             return r
         loc = cont.locate(problem, r.y[-2], r.y[-1], lambda u, t: float(t_end @ back(u)), tol=knobs.newton_tol,
-                          scale=scale, xtol=1e-6)
+                          scale=scale, xtol=CUT_XTOL)
         if loc is None:
             return r
         s = scale(loc.y)
@@ -229,7 +231,9 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
                                                             model_step, work, notes, full)]
     if plan.harmonics_share is not None:
         def harmonics_step(f):
-            return None if f._problem.one_dof or f.harmonics >= plan.max_harmonics else (f.contacts, 2 * f.harmonics + 1)
+            if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
+                return None
+            return f.contacts, 2 * f.harmonics + 1
 
         pieces = [p for f, lo, hi in pieces for p in _split(knobs, f, lo, hi, "harmonics",
                                                             plan.harmonics_share * tol, harmonics_step, work,
@@ -251,7 +255,7 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
     if nxt is None:
         return [(f, lo, hi)]
     out, at = [], lo
-    for i0, i1 in windows(f.error_sources[source], errors.nodes(f.amplitude), threshold, lo, hi):
+    for i0, i1 in windows(f.error_sources[source], f._nodes, threshold, lo, hi):
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
         g = solve(knobs, *nxt) if whole else window(knobs, f, i0, i1, *nxt)
         if whole and not len(g):

@@ -4,7 +4,8 @@
 one balance :class:`hbm.balance.HarmonicBalance` of the system (a blade is a one-DOF structure)
 with its contacts, picks its scales and the stuck start at ``w0``, traces the branch from ``w0``
 to ``w1`` through any folds with pseudo-arclength continuation (``hbm.continuation``) and wraps
-it in one result type, :class:`hbm.FrequencyResponse`, whatever the number of DOFs and harmonics.
+it in one result type, :class:`hbm.FrequencyResponse`, whatever the number of DOFs and harmonics;
+with ``tol`` it chooses H (and with ``model="auto"`` the model) along the curve (``hbm.adapt``).
 The continuation measures arclength with every coefficient scaled by the current first-harmonic
 amplitude and omega by the range width, so the number of points depends on the logarithm of the
 resonant amplification, not on the amplification.  ``response_at`` solves a blade's balance at
@@ -29,12 +30,13 @@ from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_S
                               harmonic_knobs, samples_for)
 from .balance.residual import HarmonicBalance, as_structure
 from .blade import Blade
-from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response, Segment
+from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
 #: The target relative error of a solve that names none (``tol``): the warning's threshold.
 DEFAULT_TOL = 1e-3
-#: With ``tol`` given and no ``harmonics``, a structure's balance starts at this H and doubles
-#: (H -> 2H + 1) while the harmonics' estimate exceeds ``HARMONICS_SHARE * tol``, up to ``MAX_HARMONICS``.
+#: With ``tol`` given and no ``harmonics``, a structure's balance starts at this H over the whole
+#: range; each window where the harmonics' estimate exceeds ``HARMONICS_SHARE * tol`` is traced again
+#: at H -> 2H + 1, up to ``MAX_HARMONICS`` (``hbm.adapt``).
 ADAPT_START = 3
 HARMONICS_SHARE = 0.5
 #: With ``tol`` given, the elements' tolerance rtol is at most this share of it (the peak is
@@ -42,8 +44,9 @@ HARMONICS_SHARE = 0.5
 RTOL_SHARE = 1e-2
 MAX_HARMONICS = 31
 
-#: ``model``: "given" solves with the elements as given; "auto" solves again with each element's
-#: refined model (``ContactElement.refined_model``) where the model error exceeds ``MODEL_SHARE * tol``.
+#: ``model``: "given" solves with the elements as given; "auto" traces again with each element's
+#: refined model (``ContactElement.refined_model``) the windows where the model error exceeds
+#: ``MODEL_SHARE * tol``.
 MODELS = ("given", "auto")
 MODEL_SHARE = 0.5
 
@@ -112,8 +115,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     tol : float, optional
         The target relative error of the response amplitude against the true periodic response
         of the physical system (all harmonics, the physical contact).  Given (and ``harmonics``
-        not), a structure's H is chosen: 3, 7, 15, 31 until the harmonics' estimate is below half
-        of it (a blade starts at 1).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
+        not), a structure's H is chosen along the curve (``hbm.adapt``): the whole range at 3 (a
+        blade at 1), then each window where the harmonics' estimate exceeds half of it traced again
+        at 2H + 1 (7, 15, 31), in turn (``point_harmonics``, ``segments``).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
         the worst point, its largest source and the fix.  The elements' own ``AccuracyWarning`` warnings
         during the solve (an element may warn at every evaluation) are merged into that one warning
         (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default ``DEFAULT_TOL`` (1e-3), for the
@@ -122,21 +126,23 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         Estimate the error of every point (``error_estimate``, ``error_sources``;
         ``hbm.balance.errors``).  Default True; False skips it (and the warning).
     model : {"given", "auto"}, optional
-        "given" (default): the elements as given.  "auto": where the estimate's model source
-        exceeds half the tolerance, solve again with each element's refined model
-        (``ContactElement.refined_model``: the all-mode bar for a single-mode microslip bar).
+        "given" (default): the elements as given.  "auto": the windows of the curve where the
+        estimate's model source exceeds half the tolerance are traced again with each element's
+        refined model (``ContactElement.refined_model``: the all-mode bar for a single-mode
+        microslip bar; ``point_models``).
     on_harmonics : callable, optional
         ``on_harmonics(omega, X)`` with each accepted point, right after ``on_point``: ``X`` the
         response DOF's harmonics in m, ``(X0, Xc1, Xs1, ..., XcH, XsH)`` (``c_h = Xc_h - i Xs_h`` of
         ``FrequencyResponse.coefficients``), as it is accepted (a scene streams them to its CSV).  Where the balance may solve again
-        (``model="auto"``, or ``tol`` without ``harmonics``), both callbacks get the final solve's points
-        once it ends, in order.
+        (``model="auto"``, or ``tol`` without ``harmonics``), both callbacks get the final, spliced
+        points once it ends, in order (``X`` zero-padded to the largest H).
 
     Returns
     -------
     FrequencyResponse
         The branch, with ``success`` and ``message``; a run that stops early keeps the points it
-        computed.
+        computed.  A window whose refined trace fails keeps its coarse points; ``message`` and the
+        warning say so.
 
     Raises
     ------

@@ -229,6 +229,7 @@ class FrequencyResponse:
         self.stability_dofs: list = []
         self.tolerance = tolerance
         self.accuracy_warning: str | None = None  #: set by frequency_response
+        self._nodes = errors.nodes(self.amplitude) if tolerance is not None else np.empty(0, dtype=np.intp)
         self.error_sources = errors.estimate(problem, X, w, rtol) if tolerance is not None else {}
         self.error_estimate = errors.total(self.error_sources) if tolerance is not None else np.full(len(w), np.nan)
         label = model_label(self.contacts)
@@ -241,8 +242,9 @@ class FrequencyResponse:
     def spliced(cls, pieces: list, work: list, note: str = "") -> "FrequencyResponse":
         """One result of the stretches ``pieces`` ``[(frf, lo, hi), ...]`` (points ``lo <= i < hi`` of
         each single-balance result ``frf``, in order along the branch); ``work``: every result solved
-        for it (their counters are summed); ``note`` is added to the message.  The problem, contacts
-        and element are those of the stretch holding the sampled maximum."""
+        for it, the whole range's trace first (its status and message, with ``note`` added; their
+        counters are summed).  The problem, contacts and element are those of the stretch holding
+        the sampled maximum."""
         out = object.__new__(cls)
         out.__dict__.update(pieces[0][0].__dict__)
         out._pieces, out._work = list(pieces), list(work)
@@ -256,6 +258,7 @@ class FrequencyResponse:
         L = 2 * out.harmonics + 1
         out._X = np.concatenate([np.pad(f._X[lo:hi], ((0, 0), (0, 0), (0, L - f._X.shape[2]))) for f, lo, hi in pieces])
         out.segments, out.fold_after, fw, fa, out.coarse, out.corners, at = [], [], [], [], [], [], 0
+        out._nodes = []
         for f, lo, hi in pieces:
             out.segments.append(Segment(at, at + hi - lo, f.harmonics, f.n_t, str(f.point_models[0])))
             for k, i in enumerate(f.fold_after):
@@ -265,15 +268,17 @@ class FrequencyResponse:
                         fw.append(f.folds_omega[k])
                         fa.append(f.folds_amplitude[k])
             out.coarse += [at + i - lo for i in f.coarse if lo < i < hi]
+            out._nodes += [at + i - lo for i in f._nodes if lo <= i < hi]
             out.corners += [at + i - lo for i in f.corners if lo < i < hi]
             at += hi - lo
-        out.fold_after, out.coarse, out.corners = (np.array(v, dtype=int) for v in (out.fold_after, out.coarse,
-                                                                                     out.corners))
+        out.fold_after, out.coarse, out.corners, out._nodes = (np.array(v, dtype=int) for v in (
+            out.fold_after, out.coarse, out.corners, out._nodes))
         out.folds_omega, out.folds_amplitude = np.array(fw, dtype=float), np.array(fa, dtype=float)
         top = out._site(int(np.argmax(out.amplitude)))[0] if len(out.omega) else pieces[0][0]
-        out._problem, out.contacts, out.element = top._problem, top.contacts, top.element
+        out._problem, out._run, out._scale = top._problem, top._run, top._scale
+        out.contacts, out.element = top.contacts, top.element
         out.nsteps = sum(f.nsteps for f in work)
-        out.message = pieces[0][0].message + note
+        out.status, out.message = work[0].status, work[0].message + note
         out._peak, out.peak_refined, out._stable, out._exponents, out._changes = None, False, None, None, []
         return out
 
@@ -290,7 +295,7 @@ class FrequencyResponse:
     # ------------------------------------------------------------------ counters
     @property
     def success(self) -> bool:
-        return self._run.success
+        return self._work[0]._run.success  # the whole range's first trace: did it reach the end
 
     @property
     def nit(self) -> int:
