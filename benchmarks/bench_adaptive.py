@@ -4,10 +4,12 @@ Three rounds, each timing in turn:
 
 - the 3-DOF chain of ``benchmarks/bench_steps.py`` (``chain()``: omega 0.3..1.6 rad/s, the
   "precise" steps, ``tol=1e-5``, ``stability=False``, the refined peak): H along the curve (no
-  ``harmonics``), and the whole curve at ``harmonics=31`` and at ``harmonics=15``;
+  ``harmonics``), and the whole curve at ``harmonics=31``, 15, 7 and 3;
 - the Jenkins chain of ``docs/multiharmonic.md`` (omega 0.3..1.8 rad/s, default steps, ``tol=1e-3``):
-  H along the curve, the whole curve at ``harmonics=15`` (what the tolerance chose for the whole
-  curve before) and at ``harmonics=1``.
+  H along the curve, the whole curve at ``harmonics=15``, 7, 3 and 1.
+
+The whole-curve rule (H = 3, 7, 15, 31 in turn over the whole range until the estimate is below
+half the tolerance everywhere) costs the sum of the whole-curve times up to the H it ends at.
 
 Medians of the rounds; the peaks against the chain's true peak (``benchmarks/chain_peak_reference.py``:
 0.5212270 rad/s, 0.1592898 m).  ``--blade``: once, the default blade of ``python -m hbm`` with
@@ -57,8 +59,12 @@ CASES = {
     "precise, tol 1e-5: H along the curve": dict(omega_range=(0.3, 1.6), accuracy="precise", tol=1e-5),
     "precise, tol 1e-5: H = 31 everywhere": dict(omega_range=(0.3, 1.6), accuracy="precise", tol=1e-5, harmonics=31),
     "precise, tol 1e-5: H = 15 everywhere": dict(omega_range=(0.3, 1.6), accuracy="precise", tol=1e-5, harmonics=15),
+    "precise, tol 1e-5: H = 7 everywhere": dict(omega_range=(0.3, 1.6), accuracy="precise", tol=1e-5, harmonics=7),
+    "precise, tol 1e-5: H = 3 everywhere": dict(omega_range=(0.3, 1.6), accuracy="precise", tol=1e-5, harmonics=3),
     "Jenkins chain, tol 1e-3: H along the curve": dict(omega_range=(0.3, 1.8), tol=1e-3),
     "Jenkins chain, tol 1e-3: H = 15 everywhere": dict(omega_range=(0.3, 1.8), tol=1e-3, harmonics=15),
+    "Jenkins chain, tol 1e-3: H = 7 everywhere": dict(omega_range=(0.3, 1.8), tol=1e-3, harmonics=7),
+    "Jenkins chain, tol 1e-3: H = 3 everywhere": dict(omega_range=(0.3, 1.8), tol=1e-3, harmonics=3),
     "Jenkins chain, tol 1e-3: H = 1": dict(omega_range=(0.3, 1.8), tol=1e-3, harmonics=1),
 }
 
@@ -106,6 +112,10 @@ def main(argv=None):
         hs = ", ".join(f"{h}: {int(np.sum(frf.point_harmonics == h))}" for h in sorted(set(frf.point_harmonics)))
         print(f"| {name} | {statistics.median(times[name]):.2f} | {len(frf)} | {hs} | {pk.omega:.6f} | "
               f"{pk.amplitude / PEAK[1] - 1.0:+.1e} | {float(np.max(frf.error_estimate)):.1e} |")
+    for prefix, top in (("precise, tol 1e-5", 31), ("Jenkins chain, tol 1e-3", 15)):  # H for the whole curve:
+        rule = sum(statistics.median(times[f"{prefix}: H = {h} everywhere"]) for h in (3, 7, 15, 31) if h <= top)
+        print(f"{prefix}: the whole-curve rule (3, 7, ..., {top} in turn over the whole range) {rule:.2f} s; "
+              f"H along the curve {statistics.median(times[prefix + ': H along the curve']):.2f} s")
     if args.blade:
         print("| blade, tol 1e-2 | seconds | points | peak (rad/s) | peak (m) | estimate max | segments |")
         print("|---|---|---|---|---|---|---|")

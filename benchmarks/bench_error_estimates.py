@@ -70,7 +70,7 @@ def chain_rows(ref: dict) -> list[tuple]:
             true_a = float(np.hypot(X[1], X[2]))
             j = np.flatnonzero((frf.omega[:-1] - w) * (frf.omega[1:] - w) <= 0.0)
             for k in j:
-                f, i = frf._site(int(k))  # the segment holding the point (H chosen along the curve)
+                f, i = frf._interval(int(k))  # the segment holding the interval (H chosen along the curve)
                 pr = f._problem
                 loc = continuation.locate(pr, f._run.y[i], f._run.y[i + 1],
                                           lambda y, tt, pr=pr: y[-1] * pr.omega_ref - w, tol=f.tol, scale=f._scale,

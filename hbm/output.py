@@ -31,10 +31,11 @@ HZ_COLUMN = "f_Hz"
 #: Column of a point's stability by Hill's method (1 stable, 0 unstable; empty while not yet known)
 #: in a multi-harmonic table.
 STABLE_COLUMN = "stable"
-#: Columns of a point's number of harmonics and its model (the contacts' element class names,
-#: "+"-joined), written after the others where they vary along the curve (``hbm.frequency_response``
-#: with ``tol`` chooses them along the curve).
+#: Column of a point's number of harmonics, written last where it varies along the curve
+#: (``hbm.frequency_response`` with ``tol`` chooses H along the curve).
 H_COLUMN = "H"
+#: Column of a point's model (its contacts' element class names, "+"-joined), written last where it
+#: varies along the curve (``model="auto"``).
 MODEL_COLUMN = "model"
 #: Columns naming a scene's run in front of its rows.
 RUN_COLUMNS = ("run", "model", "normal_load_N")

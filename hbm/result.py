@@ -82,7 +82,7 @@ class Segment(NamedTuple):
     harmonics, n_t : int
         The number of harmonics H and the AFT samples per period of its balance.
     model : str
-        The element class names of its contacts, ``"+"``-joined (:func:`model_label`).
+        The element class names of its contacts, ``"+"``-joined (``hbm.result.model_label``).
     """
 
     start: int
@@ -291,6 +291,15 @@ class FrequencyResponse:
                 return f, lo + i
             i -= hi - lo
         raise IndexError(i)
+
+    def _interval(self, i: int) -> tuple["FrequencyResponse", int]:
+        """``(result, j)``: points ``j``, ``j + 1`` of one single-balance result that bracket the
+        interval ``(i, i + 1)`` of this one (across a splice: the segment that continues the branch)."""
+        f, j = self._site(i)
+        if j + 1 < len(f):
+            return f, j
+        f, j = self._site(i + 1)
+        return f, j - 1
 
     # ------------------------------------------------------------------ counters
     @property

@@ -61,7 +61,7 @@ def at_omega(frf, w):
     on the balance of the segment holding it (``hbm.continuation.locate``)."""
     out = []
     for j in np.flatnonzero((frf.omega[:-1] - w) * (frf.omega[1:] - w) <= 0.0):
-        f, k = frf._site(int(j))
+        f, k = frf._interval(int(j))
         pr = f._problem
         loc = cont.locate(pr, f._run.y[k], f._run.y[k + 1], lambda y, t: y[-1] * pr.omega_ref - w, tol=f.tol,
                           scale=f._scale, xtol=1e-13)
