@@ -138,8 +138,10 @@ def lift(problem: HarmonicBalance, X: np.ndarray, w: float) -> np.ndarray:
     return np.append(Xp.ravel() / xr, w / wr)
 
 
-def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any, H: int) -> FrequencyResponse | str:
-    """Points ``i0..i1`` of ``frf`` traced again with ``contacts`` at ``H``: the result, or why it failed."""
+def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any,
+           H: int) -> tuple[FrequencyResponse, str | None]:
+    """Points ``i0..i1`` of ``frf`` traced again with ``contacts`` at ``H``: the result, and why it
+    failed (None: it did not)."""
     problem = HarmonicBalance(knobs.system, contacts, harmonics=H, n_t=knobs.samples(H),
                               response_dof=knobs.response_dof, rtol=knobs.rtol)
     coarse, run = frf._problem, frf._run
@@ -187,10 +189,10 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
                     stop=None if last else beyond, cut=cut)
     knobs.heard[id(out)] = list(now)
     if not out.success:
-        return out._run.message
+        return out, out._run.message
     if not last and not crossed:
-        return "the refined branch did not pass the window's last point"
-    return out
+        return out, "the refined branch did not pass the window's last point"
+    return out, None
 
 
 def refined_contacts(contacts: list) -> list | None:
@@ -239,10 +241,8 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
                                                             plan.harmonics_share * tol, harmonics_step, work,
                                                             notes, full)]
     note = "".join(f"; {n}" for n in notes)
-    if len(pieces) == 1 and pieces[0][1] == 0 and pieces[0][2] == len(pieces[0][0]):
-        one = pieces[0][0]  # one stretch: that solve's own result
-        one.message += note
-        return one, notes
+    if len(pieces) == 1 and pieces[0][1] == 0 and pieces[0][2] == len(pieces[0][0]) and not notes:
+        return pieces[0][0], notes  # one setting everywhere: that solve's own result, as it was
     return FrequencyResponse.spliced(pieces, work, note), notes
 
 
@@ -257,15 +257,17 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
     out, at = [], lo
     for i0, i1 in windows(f.error_sources[source], f._nodes, threshold, lo, hi):
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
-        g = solve(knobs, *nxt) if whole else window(knobs, f, i0, i1, *nxt)
-        if whole and not len(g):
-            g = g.message
-        if isinstance(g, str):
+        if whole:
+            g = solve(knobs, *nxt)
+            why = None if len(g) else g.message
+        else:
+            g, why = window(knobs, f, i0, i1, *nxt)
+        work.append(g)  # its work is counted, kept or not
+        if why is not None:
             notes.append(f"the window omega = {f.omega[i0]:.6g}..{f.omega[i1]:.6g} rad/s traced again with H = "
-                         f"{nxt[1]}, {'+'.join(type(c.element).__name__ for c in nxt[0])} failed ({g}): its points "
+                         f"{nxt[1]}, {'+'.join(type(c.element).__name__ for c in nxt[0])} failed ({why}): its points "
                          f"at H = {f.harmonics} are kept")
             continue
-        work.append(g)
         if whole:
             full.add(id(g))
         if at < i0:

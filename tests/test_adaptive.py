@@ -239,3 +239,14 @@ def test_a_failed_window_keeps_the_coarse_points_and_says_so():
     assert "failed" in frf.message and "kept" in frf.message
     assert len(heard) == 1 and "failed" in heard[0] and frf.accuracy_warning == heard[0]
     assert abs(frf.peak().amplitude / plain.peak().amplitude - 1.0) < 1e-6  # the same force law, kept
+
+
+def test_callbacks_get_the_spliced_points_once_at_the_end(p1):
+    got, harm = [], []
+    frf = quiet(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=1e-4,
+                on_point=lambda w, xc, xs, r: got.append((w, xc, xs, r)), on_harmonics=lambda w, X: harm.append(X))
+    assert len(frf.segments) > 1
+    np.testing.assert_array_equal([g[0] for g in got], frf.omega)
+    np.testing.assert_array_equal([g[1] for g in got], frf.x_c)
+    assert {len(X) for X in harm} == {2 * frf.harmonics + 1}
+    np.testing.assert_array_equal(np.array(harm)[:, 1], frf.x_c)
