@@ -256,6 +256,8 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
         return [(f, lo, hi)]
     out, at = [], lo
     for i0, i1 in windows(f.error_sources[source], f._nodes, threshold, lo, hi):
+        if i1 <= i0:  # a stretch of one point (between two others' windows) is not traced alone
+            continue
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
         if whole:
             g = solve(knobs, *nxt)
