@@ -64,15 +64,16 @@ def chain_rows(ref: dict) -> list[tuple]:
         frf = frequency_response(s, contacts, omega_range=(0.3, 1.6), tol=tol)
         dt = time.perf_counter() - t
         worst_ratio, worst_true, worst_est = 0.0, 0.0, 0.0
-        pr = frf._problem
         for point in c["points"]:
             w = point["omega"]
             X = np.array(point["harmonics"]["real"])[2]
             true_a = float(np.hypot(X[1], X[2]))
             j = np.flatnonzero((frf.omega[:-1] - w) * (frf.omega[1:] - w) <= 0.0)
             for k in j:
-                loc = continuation.locate(pr, frf._run.y[k], frf._run.y[k + 1],
-                                          lambda y, tt: y[-1] * pr.omega_ref - w, tol=frf.tol, scale=frf._scale,
+                f, i = frf._interval(int(k))  # the segment holding the interval (H chosen along the curve)
+                pr = f._problem
+                loc = continuation.locate(pr, f._run.y[i], f._run.y[i + 1],
+                                          lambda y, tt, pr=pr: y[-1] * pr.omega_ref - w, tol=f.tol, scale=f._scale,
                                           xtol=1e-13)
                 if loc is None:
                     continue

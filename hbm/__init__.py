@@ -23,7 +23,7 @@ from .modes import NonlinearModes, nonlinear_modes
 from .single_mode import ModalFRF, forced_response
 from .damper_optimum import DamperOptimum, damper_optimum
 from .allmode_peak import AllModePeak, allmode_peak
-from .result import FrequencyResponse, Peak, Response
+from .result import FrequencyResponse, Peak, Response, Segment
 from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 from .structure import Contact, ReducedStructure, Structure
 from .reference.transient import BladeSimulation, simulate_blade
@@ -36,4 +36,4 @@ __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "P
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
 __all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]
 __all__ += ["nonlinear_modes", "NonlinearModes", "forced_response", "ModalFRF", "damper_optimum", "DamperOptimum"]
-__all__ += ["allmode_peak", "AllModePeak"]
+__all__ += ["allmode_peak", "AllModePeak", "Segment"]

@@ -150,7 +150,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
                  max_steps: int = 1000, tol: float = 1e-10, max_iter: int = NEWTON_MAX_ITER,
                  scale: Scale | None = None, locate_folds: bool = True, fold_xtol: float = 1e-10,
                  on_point: Callable[[NDArray[np.float64], float], object] | None = None,
-                 curve_tol: float | None = None, curve_components: ArrayLike | None = None) -> ContinuationResult:
+                 curve_tol: float | None = None, curve_components: ArrayLike | None = None,
+                 stop: Callable[[NDArray[np.float64]], bool] | None = None) -> ContinuationResult:
     """Trace the branch of ``residual(y) = 0`` through ``y0`` in the direction of ``parameter``.
 
     ``residual(y) -> (R, J)``; ``y0`` is corrected with the parameter held fixed first.  The
@@ -160,6 +161,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     Folds are located to ``fold_xtol`` (relative arclength) when ``locate_folds``.
     ``on_point(y, residual_norm)``: called with each point and its ``|R|`` as soon as it is accepted,
     in order (streaming).  ``curve_tol``: the step's error control (see module); None: off.
+    ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
     """
     y0 = np.array(y0, dtype=float).ravel()
     n = y0.size
@@ -179,7 +181,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     count = _Count()
     trace = _Trace(_counted(residual, count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
                    on_point if on_point is not None else (lambda y, rnorm: None), curve_tol,
-                   np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int))
+                   np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int), stop)
     failed = trace.start(y0, direction, step)
     if failed is not None:
         return failed
@@ -206,8 +208,8 @@ class _Trace:
     the bound at the end of the parameter range) and the step control."""
 
     def __init__(self, fun, p, lo, hi, tol, max_iter, scale, min_step, max_step, count, report, curve_tol=None,
-                 curve_components=None):
-        self.fun, self.p, self.lo, self.hi = fun, p, lo, hi
+                 curve_components=None, stop=None):
+        self.fun, self.p, self.lo, self.hi, self.stop = fun, p, lo, hi, stop
         self.target = None if curve_tol is None else PREDICTOR_SHARE * curve_tol  # e*
         self.retries, self.coarse, self.curve_components = 0, [], curve_components
         self.tol, self.max_iter, self.scale, self.count, self.report = tol, max_iter, scale, count, report
@@ -339,6 +341,9 @@ class _Trace:
         self.rn.append(new.rnorm)
         self.its.append(new.iterations)
         self.report(y, new.rnorm)
+        if self.stop is not None and self.stop(y):
+            self.status, self.detail = Status.REACHED_END, " (where the caller's stop(y) ended it)"
+            return
         self.normal = t
         at_corner = bool(self.corners) and self.corners[-1] == len(ys) - 1
         if at_corner:
@@ -520,8 +525,8 @@ def _tangent(J, s, prev):
             if prev is None:
                 raise np.linalg.LinAlgError
             t = np.linalg.solve(np.vstack([Js, prev]), rhs)
-        except np.linalg.LinAlgError:  # no reference, or the null space is orthogonal to it
-            t = _smallest_direction(Js)
+        except np.linalg.LinAlgError:  # no reference, or the null space is orthogonal to it: the last
+            t = np.linalg.svd(Js)[2][-1]  # right-singular vector, not orthogonal to the null space
     nrm = math.sqrt(float(t @ t))
     if not nrm > 0.0 or not math.isfinite(nrm):
         raise np.linalg.LinAlgError("the Jacobian has no one-dimensional null space here")
@@ -529,11 +534,6 @@ def _tangent(J, s, prev):
     if prev is not None and float(t @ prev) < 0.0:
         t = -t
     return t
-
-
-def _smallest_direction(Js):
-    """A vector not orthogonal to the null space of ``Js``: its last right-singular vector."""
-    return np.linalg.svd(Js)[2][-1]
 
 
 def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:

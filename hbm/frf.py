@@ -4,7 +4,8 @@
 one balance :class:`hbm.balance.HarmonicBalance` of the system (a blade is a one-DOF structure)
 with its contacts, picks its scales and the stuck start at ``w0``, traces the branch from ``w0``
 to ``w1`` through any folds with pseudo-arclength continuation (``hbm.continuation``) and wraps
-it in one result type, :class:`hbm.FrequencyResponse`, whatever the number of DOFs and harmonics.
+it in one result type, :class:`hbm.FrequencyResponse`, whatever the number of DOFs and harmonics;
+with ``tol`` it chooses H (and with ``model="auto"`` the model) along the curve (``hbm.adapt``).
 The continuation measures arclength with every coefficient scaled by the current first-harmonic
 amplitude and omega by the range width, so the number of points depends on the logarithm of the
 resonant amplification, not on the amplification.  ``response_at`` solves a blade's balance at
@@ -22,21 +23,20 @@ import numpy as np
 from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
-from . import continuation as cont  # the module (hbm.continuation)
-from . import curve
+from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
 from .balance import errors
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, TOLERANCE, apply,
                               harmonic_knobs, samples_for)
 from .balance.residual import HarmonicBalance, as_structure
-from .balance.start import force_homotopy
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
 #: The target relative error of a solve that names none (``tol``): the warning's threshold.
 DEFAULT_TOL = 1e-3
-#: With ``tol`` given and no ``harmonics``, a structure's balance starts at this H and doubles
-#: (H -> 2H + 1) while the harmonics' estimate exceeds ``HARMONICS_SHARE * tol``, up to ``MAX_HARMONICS``.
+#: With ``tol`` given and no ``harmonics``, a structure's balance starts at this H over the whole
+#: range; each window where the harmonics' estimate exceeds ``HARMONICS_SHARE * tol`` is traced again
+#: at H -> 2H + 1, up to ``MAX_HARMONICS`` (``hbm.adapt``).
 ADAPT_START = 3
 HARMONICS_SHARE = 0.5
 #: With ``tol`` given, the elements' tolerance rtol is at most this share of it (the peak is
@@ -44,8 +44,9 @@ HARMONICS_SHARE = 0.5
 RTOL_SHARE = 1e-2
 MAX_HARMONICS = 31
 
-#: ``model``: "given" solves with the elements as given; "auto" solves again with each element's
-#: refined model (``ContactElement.refined_model``) where the model error exceeds ``MODEL_SHARE * tol``.
+#: ``model``: "given" solves with the elements as given; "auto" traces again with each element's
+#: refined model (``ContactElement.refined_model``) the windows where the model error exceeds
+#: ``MODEL_SHARE * tol``.
 MODELS = ("given", "auto")
 MODEL_SHARE = 0.5
 
@@ -114,8 +115,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     tol : float, optional
         The target relative error of the response amplitude against the true periodic response
         of the physical system (all harmonics, the physical contact).  Given (and ``harmonics``
-        not), a structure's H is chosen: 3, 7, 15, 31 until the harmonics' estimate is below half
-        of it (a blade starts at 1).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
+        not), a structure's H is chosen along the curve (``hbm.adapt``): the whole range at 3 (a
+        blade at 1), then each window where the harmonics' estimate exceeds half of it traced again
+        at 2H + 1 (7, 15, 31), in turn (``point_harmonics``, ``segments``).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
         the worst point, its largest source and the fix.  The elements' own ``AccuracyWarning`` warnings
         during the solve (an element may warn at every evaluation) are merged into that one warning
         (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default: with a
@@ -125,21 +127,23 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         Estimate the error of every point (``error_estimate``, ``error_sources``;
         ``hbm.balance.errors``).  Default True; False skips it (and the warning).
     model : {"given", "auto"}, optional
-        "given" (default): the elements as given.  "auto": where the estimate's model source
-        exceeds half the tolerance, solve again with each element's refined model
-        (``ContactElement.refined_model``: the all-mode bar for a single-mode microslip bar).
+        "given" (default): the elements as given.  "auto": the windows of the curve where the
+        estimate's model source exceeds half the tolerance are traced again with each element's
+        refined model (``ContactElement.refined_model``: the all-mode bar for a single-mode
+        microslip bar; ``point_models``).
     on_harmonics : callable, optional
         ``on_harmonics(omega, X)`` with each accepted point, right after ``on_point``: ``X`` the
         response DOF's harmonics in m, ``(X0, Xc1, Xs1, ..., XcH, XsH)`` (``c_h = Xc_h - i Xs_h`` of
         ``FrequencyResponse.coefficients``), as it is accepted (a scene streams them to its CSV).  Where the balance may solve again
-        (``model="auto"``, or ``tol`` without ``harmonics``), both callbacks get the final solve's points
-        once it ends, in order.
+        (``model="auto"``, or ``tol`` without ``harmonics``), both callbacks get the final, spliced
+        points once it ends, in order (``X`` zero-padded to the largest H).
 
     Returns
     -------
     FrequencyResponse
         The branch, with ``success`` and ``message``; a run that stops early keeps the points it
-        computed.
+        computed.  A window whose refined trace fails keeps its coarse points; ``message`` and the
+        warning say so.
 
     Raises
     ------
@@ -231,47 +235,22 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         if adapt and structure.default_harmonics is None:
             harmonics = ADAPT_START
     n_t_given = n_t
-    again = adapt or model == "auto"  # the balance may solve again: stream the final solve's points at its end
-    live = dict(on_point=None, on_harmonics=None) if again else dict(on_point=on_point, on_harmonics=on_harmonics)
-
-    heard: list = []  # the elements' AccuracyWarnings of the final solve (said once, merged, at the end)
-
-    def solve(H):
-        nt = n_t_given if n_t_given is not None else _samples(H, preset)
-        problem = HarmonicBalance(system, contacts, harmonics=H, n_t=nt, response_dof=response_dof, rtol=rtol)
-        with errors.collected() as now:
-            out = _trace(problem, w0, w1, rtol, steps, stability, tolerance, **live)
-        heard[:] = now
-        return out
-
-    frf = solve(harmonics)
-    # ---- the model: the elements' refined models where their error exceeds a share of the tolerance
-    if model == "auto" and len(frf) and float(np.max(frf.error_sources["model"])) > MODEL_SHARE * tolerance:
-        refined = _refined_contacts(frf._problem.contacts)
-        if refined is not None:
-            contacts = refined
-            frf = solve(harmonics)
-    # ---- adapt H to the tolerance (time laws through AFT): 1 (a blade), 3, 7, 15, 31 harmonics
-    while (adapt and not frf._problem.one_dof and frf.harmonics < MAX_HARMONICS and len(frf)
-           and float(np.max(frf.error_sources["harmonics"])) > HARMONICS_SHARE * tolerance):
-        frf = solve(2 * frf.harmonics + 1)
-    if again and (on_point is not None or on_harmonics is not None):
-        report = _reporter(on_point, on_harmonics, frf._problem)
-        for u, rnorm in zip(frf._run.y, frf.residual_norm):
-            report(u, rnorm)
-    frf.accuracy_warning = _warn_once(frf, tolerance, heard)
+    again = adapt or model == "auto"  # the balance may solve again: stream the final points at the end
+    knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, steps, stability, tolerance,
+                        lambda H: n_t_given if n_t_given is not None else _samples(H, preset), response_dof)
+    live = None if again or (on_point is None and on_harmonics is None) else (
+        lambda problem: _reporter(on_point, on_harmonics, problem))
+    frf = along.solve(knobs, contacts, harmonics, live)
+    notes: list[str] = []
+    if again:  # the model and H chosen along the curve (hbm.adapt)
+        plan = along.Plan(MODEL_SHARE if model == "auto" else None, HARMONICS_SHARE if adapt else None,
+                          MAX_HARMONICS)
+        frf, notes = along.along(knobs, frf, plan)
+        if on_point is not None or on_harmonics is not None:
+            _stream(frf, on_point, on_harmonics)
+    heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in knobs.heard.get(id(f), [])]
+    frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes)
     return frf
-
-
-def _refined_contacts(contacts: list) -> list | None:
-    """The contacts with each element that offers one replaced by its refined model; None if none does."""
-    out, changed = [], False
-    for c in contacts:
-        better = c.element.refined_model()
-        changed |= better is not None
-        el = better if better is not None else c.element
-        out.append(c.with_element(el))
-    return out if changed else None
 
 
 def _tolerance(tol: Any, estimate_error: bool, accuracy: Any = None) -> float | None:
@@ -295,32 +274,6 @@ def _samples(H: Any, preset: Any) -> Any:
     return None
 
 
-def _trace(problem: HarmonicBalance, w0: float, w1: float, rtol: float, steps: dict, stability: bool,
-           tolerance: float | None, *, on_point: Any, on_harmonics: Any) -> FrequencyResponse:
-    """Scales, the stuck start at w0 (else a homotopy in the force), the continuation to w1, the result."""
-    problem.set_scales(w0, w1)
-    tol = NEWTON_TOL_FACTOR * rtol
-    scale = problem.arclength_scale()
-    w_ref = problem.omega_ref
-    report = None if on_point is None and on_harmonics is None else _reporter(on_point, on_harmonics, problem)
-
-    def trace(u_start):
-        return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
-                                 bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref), direction=1 if w1 > w0 else -1,
-                                 tol=tol, scale=scale, fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(rtol),
-                                 on_point=report, curve_components=(*problem.response_components(), -1), **steps)
-
-    run = trace(problem.stuck_start(w0))
-    if run.status == cont.Status.START_FAILED:
-        u_h = force_homotopy(problem, w0, tol, scale)
-        if u_h is not None:
-            run = trace(u_h)
-    if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
-        run = curve.refine(problem, run, scale, (*problem.response_components(), -1), steps["curve_tol"], tol,
-                           parameter=problem.unknowns - 1)
-    return FrequencyResponse(problem, run, rtol=rtol, tol=tol, scale=scale, stability=stability, tolerance=tolerance)
-
-
 #: What brings each source of error down (the warning's advice).
 REMEDY = {
     "harmonics": "more harmonics (give tol= and no harmonics= to let the balance choose, or raise harmonics=)",
@@ -341,7 +294,7 @@ def _remedy(frf: FrequencyResponse, source: str) -> str:
     return REMEDY[source]
 
 
-def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]) -> str | None:
+def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str], notes: list[str] = ()) -> str | None:
     """One ``AccuracyWarning`` per call: where the estimate exceeds the tolerance, the worst point,
     its largest source and what would fix it; with it, the number of warnings the elements gave
     during the solve (each evaluation may warn) and the worst of them.  Returns its message (None:
@@ -352,13 +305,14 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
         source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
         parts.append(f"estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at omega = {frf.omega[i]:.6g} "
                      f"rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: {source}, "
-                     f"{frf.error_sources[source][i]:.2g}; H = {frf.harmonics}); for a closer answer use "
+                     f"{frf.error_sources[source][i]:.2g}; H = {frf.point_harmonics[i]}); for a closer answer use "
                      f"{_remedy(frf, source)}")
     elif heard and tolerance is not None and len(frf):
         parts.append(f"the response's estimated error (at most {float(np.nanmax(frf.error_estimate)):.2g}, "
                      f"tol {tolerance:g}) carries the elements' own estimates through the balance")
     if heard:
         parts.append(errors.heard_line(heard, "during the solve"))
+    parts += list(notes)  # windows whose refined trace failed: numerical trouble, said
     if not parts:
         return None
     message = "frequency_response: " + "; ".join(parts)
@@ -444,6 +398,21 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     z = blade.force * a / force(a)  # x_c - i x_s = F / (k - m w^2 + p + i (c w + q))
     return Response(omega=omega, x_c=z.real, x_s=-z.imag, amplitude=math.hypot(z.real, z.imag),
                     phase=math.atan2(-z.imag, z.real))
+
+
+def _stream(frf: FrequencyResponse, on_point: Callable | None, on_harmonics: Callable | None) -> None:
+    """The final points to the callbacks, in order (``_reporter``'s arguments; the harmonics padded
+    with zeros to the result's largest H)."""
+    if frf._pieces is None:
+        report = _reporter(on_point, on_harmonics, frf._problem)
+        for u, rnorm in zip(frf._run.y, frf.residual_norm):
+            report(u, rnorm)
+        return
+    for i, w in enumerate(frf.omega):
+        if on_point is not None:
+            on_point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]))
+        if on_harmonics is not None:
+            on_harmonics(float(w), frf._X[i, frf._r].copy())
 
 
 def _reporter(on_point: Callable | None, on_harmonics: Callable | None, problem: HarmonicBalance) -> Callable:

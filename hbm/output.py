@@ -31,6 +31,12 @@ HZ_COLUMN = "f_Hz"
 #: Column of a point's stability by Hill's method (1 stable, 0 unstable; empty while not yet known)
 #: in a multi-harmonic table.
 STABLE_COLUMN = "stable"
+#: Column of a point's number of harmonics, written last where it varies along the curve
+#: (``hbm.frequency_response`` with ``tol`` chooses H along the curve).
+H_COLUMN = "H"
+#: Column of a point's model (its contacts' element class names, "+"-joined), written last where it
+#: varies along the curve (``model="auto"``).
+MODEL_COLUMN = "model"
 #: Columns naming a scene's run in front of its rows.
 RUN_COLUMNS = ("run", "model", "normal_load_N")
 #: Columns of an amplitude sweep's table (F_s, F_c normalised by k* a).
@@ -149,21 +155,29 @@ class CsvStream:
 def write_frf_csv(path: str | Path, frf: Any) -> Path:
     """Write a :class:`hbm.FrequencyResponse` as :func:`frf_columns` (:data:`FRF_COLUMNS` at one
     harmonic; above one, also every harmonic of the response DOF, from
-    ``frf.coefficients(frf.response_dof)``, and its stability); returns the path."""
+    ``frf.coefficients(frf.response_dof)``, zero above a point's own H, and its stability), then
+    :data:`H_COLUMN` and :data:`MODEL_COLUMN` where the point's H and model vary along the curve
+    (``frf.point_harmonics``, ``frf.point_models``); returns the path."""
     H = int(frf.harmonics)
-    with CsvStream(path, frf_columns(H)) as out:
+    n = len(frf.omega)
+    Hs, models = (np.asarray(getattr(frf, name, np.full(n, v))) for name, v in (("point_harmonics", H),
+                                                                                 ("point_models", "")))
+    extra = ((H_COLUMN,) if len(set(Hs.tolist())) > 1 else ()) + ((MODEL_COLUMN,) if len(set(models.tolist())) > 1
+                                                                  else ())
+    tail = [[str(int(h))] * (H_COLUMN in extra) + [str(m)] * (MODEL_COLUMN in extra) for h, m in zip(Hs, models)]
+    with CsvStream(path, frf_columns(H) + extra) as out:
         if H == 1:
-            for w, xc, xs, r, a, ph, e in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude, frf.phase,
-                                              frf.error_estimate):
-                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph, error=e))
+            for w, xc, xs, r, a, ph, e, t in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude,
+                                                 frf.phase, frf.error_estimate, tail):
+                out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph, error=e) + t)
         else:
             C = frf.coefficients(frf.response_dof)
             X = np.empty((len(C), 2 * H + 1))
             X[:, 0], X[:, 1::2], X[:, 2::2] = C[:, 0].real, C[:, 1:].real, -C[:, 1:].imag
-            for w, xc, xs, r, a, ph, x, st, e in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude,
-                                                     frf.phase, X, frf.stable, frf.error_estimate):
+            for w, xc, xs, r, a, ph, x, st, e, t in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude,
+                                                        frf.phase, X, frf.stable, frf.error_estimate, tail):
                 out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph, error=e) + harmonic_values(x, H)
-                          + [stable_value(st)])
+                          + [stable_value(st)] + t)
     return Path(path)
 
 

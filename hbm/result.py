@@ -72,6 +72,31 @@ class Response(NamedTuple):
     phase: float  #: lag of the displacement behind the force, x = a cos(omega t - phase)
 
 
+class Segment(NamedTuple):
+    """A stretch of a :class:`FrequencyResponse` solved with one balance.
+
+    Attributes
+    ----------
+    start, stop : int
+        The stretch's points are ``start <= i < stop`` (indices into the result's arrays).
+    harmonics, n_t : int
+        The number of harmonics H and the AFT samples per period of its balance.
+    model : str
+        The element class names of its contacts, ``"+"``-joined (``hbm.result.model_label``).
+    """
+
+    start: int
+    stop: int
+    harmonics: int
+    n_t: int
+    model: str
+
+
+def model_label(contacts: list) -> str:
+    """The element class names of ``contacts`` (``hbm.Contact``), ``"+"``-joined: a point's model."""
+    return "+".join(type(c.element).__name__ for c in contacts)
+
+
 class FrequencyResponse:
     """The FRF: arrays along the branch, in continuation order, and how the run went.
 
@@ -89,7 +114,13 @@ class FrequencyResponse:
         The located turning points of the branch (rad/s, m); where the locator cannot converge (a
         corner of the branch), the converged point at the turn, within one step of it.
     harmonics, n_t : int
-        The number of harmonics H and the AFT samples per period.
+        The number of harmonics H and the AFT samples per period (the largest along the curve).
+    point_harmonics : ndarray of int
+        The H of each point (``hbm.frequency_response`` with ``tol`` may choose H along the curve).
+    point_models : ndarray of str
+        The model of each point: its contacts' element class names, ``"+"``-joined.
+    segments : list of Segment
+        The stretches solved with one balance each, in order (one for a curve at one H and model).
     dofs : list of int
         The condensation DOFs (the contacts' DOFs and the response DOF).
     response_dof : int
@@ -198,25 +229,96 @@ class FrequencyResponse:
         self.stability_dofs: list = []
         self.tolerance = tolerance
         self.accuracy_warning: str | None = None  #: set by frequency_response
+        self._nodes = errors.nodes(self.amplitude) if tolerance is not None else np.empty(0, dtype=np.intp)
         self.error_sources = errors.estimate(problem, X, w, rtol) if tolerance is not None else {}
         self.error_estimate = errors.total(self.error_sources) if tolerance is not None else np.full(len(w), np.nan)
+        label = model_label(self.contacts)
+        self.point_harmonics, self.point_models = np.full(len(w), self.harmonics), np.full(len(w), label)
+        self.segments = [Segment(0, len(w), self.harmonics, self.n_t, label)]
+        self._pieces: list | None = None  # a spliced result: its (result, lo, hi) stretches (``spliced``)
+        self._work = [self]  # every solve the result's work counters sum
+
+    @classmethod
+    def spliced(cls, pieces: list, work: list, note: str = "") -> "FrequencyResponse":
+        """One result of the stretches ``pieces`` ``[(frf, lo, hi), ...]`` (points ``lo <= i < hi`` of
+        each single-balance result ``frf``, in order along the branch); ``work``: every result solved
+        for it, the whole range's trace first (its status and message, with ``note`` added; their
+        counters are summed).  The problem, contacts and element are those of the stretch holding
+        the sampled maximum."""
+        out = object.__new__(cls)
+        out.__dict__.update(pieces[0][0].__dict__)
+        out._pieces, out._work = list(pieces), list(work)
+        cat = lambda name: np.concatenate([getattr(f, name)[lo:hi] for f, lo, hi in pieces])  # noqa: E731
+        for name in ("omega", "x_c", "x_s", "amplitude", "phase", "residual_norm", "error_estimate",
+                     "point_harmonics", "point_models"):
+            setattr(out, name, cat(name))
+        out.error_sources = {k: np.concatenate([f.error_sources[k][lo:hi] for f, lo, hi in pieces])
+                             for k in pieces[0][0].error_sources}
+        out.harmonics, out.n_t = max(f.harmonics for f, _, _ in pieces), max(f.n_t for f, _, _ in pieces)
+        L = 2 * out.harmonics + 1
+        out._X = np.concatenate([np.pad(f._X[lo:hi], ((0, 0), (0, 0), (0, L - f._X.shape[2]))) for f, lo, hi in pieces])
+        out.segments, out.fold_after, fw, fa, out.coarse, out.corners, at = [], [], [], [], [], [], 0
+        out._nodes = []
+        for f, lo, hi in pieces:
+            out.segments.append(Segment(at, at + hi - lo, f.harmonics, f.n_t, str(f.point_models[0])))
+            for k, i in enumerate(f.fold_after):
+                if lo <= i < hi - 1:
+                    out.fold_after.append(at + i - lo)
+                    if k < len(f.folds_omega):
+                        fw.append(f.folds_omega[k])
+                        fa.append(f.folds_amplitude[k])
+            out.coarse += [at + i - lo for i in f.coarse if lo < i < hi]
+            out._nodes += [at + i - lo for i in f._nodes if lo <= i < hi]
+            out.corners += [at + i - lo for i in f.corners if lo < i < hi]
+            at += hi - lo
+        out.fold_after, out.coarse, out.corners, out._nodes = (np.array(v, dtype=int) for v in (
+            out.fold_after, out.coarse, out.corners, out._nodes))
+        out.folds_omega, out.folds_amplitude = np.array(fw, dtype=float), np.array(fa, dtype=float)
+        top = out._site(int(np.argmax(out.amplitude)))[0] if len(out.omega) else pieces[0][0]
+        out._problem, out._run, out._scale = top._problem, top._run, top._scale
+        out.contacts, out.element = top.contacts, top.element
+        out.nsteps = sum(f.nsteps for f in work)
+        out.status, out.message = work[0].status, work[0].message + note
+        out._peak, out.peak_refined, out._stable, out._exponents, out._changes = None, False, None, None, []
+        return out
+
+    def _site(self, i: int) -> tuple["FrequencyResponse", int]:
+        """The single-balance result holding point ``i`` and its index there."""
+        if self._pieces is None:
+            return self, i
+        for f, lo, hi in self._pieces:
+            if i < hi - lo:
+                return f, lo + i
+            i -= hi - lo
+        raise IndexError(i)
+
+    def _interval(self, i: int) -> tuple["FrequencyResponse", int]:
+        """``(result, j)``: points ``j``, ``j + 1`` of one single-balance result that bracket the
+        interval ``(i, i + 1)`` of this one (across a splice: the segment that continues the branch)."""
+        f, j = self._site(i)
+        if j + 1 < len(f):
+            return f, j
+        f, j = self._site(i + 1)
+        return f, j - 1
 
     # ------------------------------------------------------------------ counters
     @property
     def success(self) -> bool:
-        return self._run.success
+        return self._work[0]._run.success  # the whole range's first trace: did it reach the end
 
     @property
     def nit(self) -> int:
+        if self._pieces is not None:
+            return sum(f.nit for f in self._work)
         return self._nit0 + self._peak_nit
 
     @property
     def nfev(self) -> int:
-        return self._problem.nfev
+        return sum({id(f._problem): f._problem.nfev for f in self._work}.values())
 
     @property
     def nstuck(self) -> int:
-        return self._problem.nstuck
+        return sum({id(f._problem): f._problem.nstuck for f in self._work}.values())
 
     def __len__(self) -> int:
         return len(self.omega)
@@ -232,6 +334,9 @@ class FrequencyResponse:
         ``c_0 = X0``, ``c_h = Xc_h - i Xs_h``.  DOFs outside the condensation set are recovered
         exactly from the contact forces (``Z_h^-1 (f - P F_h)``)."""
         dof = self.structure._dof("dof", dof)
+        if self._pieces is not None and dof not in self.dofs:
+            return np.concatenate([np.pad(f.coefficients(dof)[lo:hi], ((0, 0), (0, self.harmonics - f.harmonics)))
+                                   for f, lo, hi in self._pieces])
         if dof in self.dofs:
             return to_complex(self._X[:, self.dofs.index(dof)])
         pr = self._problem
@@ -269,6 +374,13 @@ class FrequencyResponse:
         self._stable = np.ones(n, dtype=bool)
         self._exponents = np.empty((n, 0), dtype=complex)
         if not (self._with_stability and n):
+            return
+        if self._pieces is not None:  # each stretch by its own balance (2 n_s exponents at any H)
+            self._exponents = np.concatenate([f.exponents[lo:hi] for f, lo, hi in self._pieces])
+            self._stable = np.concatenate([f.stable[lo:hi] for f, lo, hi in self._pieces])
+            self.stability_dofs = self._pieces[0][0].stability_dofs
+            self._changes = stability_changes(self.omega, self.amplitude, self._exponents, self._stable,
+                                              self.fold_after, list(zip(self.folds_omega, self.folds_amplitude)))
             return
         pr, s = self._problem, self.structure
         L = pr.L
@@ -333,14 +445,15 @@ class FrequencyResponse:
             raise ValueError("the frequency response has no points")
         i = int(np.argmax(self.amplitude))
         best = Peak(float(self.omega[i]), float(self.amplitude[i]))
-        if 0 < i < len(self) - 1:
+        site, j = self._site(i)  # located with the balance of the stretch holding the maximum
+        if 0 < j < len(site) - 1:
             with errors.collected() as heard:  # the elements' warnings while locating: said once
-                loc = self._locate_peak(i)
+                loc = site._locate_peak(j)
             if heard:
                 warnings.warn(f"FrequencyResponse.peak: {errors.heard_line(heard, 'while locating the peak')}",
                               AccuracyWarning, stacklevel=2)
             if loc is not None:
-                X, w = self._problem.to_physical(loc.y)
+                X, w = site._problem.to_physical(loc.y)
                 a = float(math.hypot(X[self._r, 1], X[self._r, 2]))
                 if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
                     best = Peak(float(w), a)
@@ -451,4 +564,4 @@ class FrequencyResponse:
         return ax
 
 
-__all__ = ["FrequencyResponse", "Peak", "Response", "PEAK_XTOL_FACTOR"]
+__all__ = ["FrequencyResponse", "Peak", "Response", "Segment", "model_label", "PEAK_XTOL_FACTOR"]

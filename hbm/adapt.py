@@ -1,0 +1,281 @@
+"""Harmonics and model chosen along the curve: windows of a branch traced again, spliced into one result.
+
+``hbm.frequency_response`` with ``tol`` traces the whole range once at a start setting (H and the
+elements as given), then finds the **windows**: the contiguous stretches of the branch (by point
+index, so folds are fine) where one source of its error estimate exceeds a share of ``tol`` (the
+harmonics source, or the model source for ``model="auto"``), widened to the nearest estimate nodes
+(``hbm.balance.errors.nodes``) below the share on each side.  Each window is traced again with
+``H -> 2H + 1`` (or each element's refined model), starting from the window's first point lifted
+to the new setting (zero-padded harmonics, corrected by Newton at its frequency) and ending where
+the branch passes the window's last point: at the first accepted point beyond the hyperplane
+through the coarse end point normal to the coarse tangent, moved onto that hyperplane
+(``hbm.continuation.locate``).  The refined window is searched again with its own estimate, up to
+``MAX_HARMONICS``.  A window whose refined trace fails keeps the coarse points, and says so.  The
+stretches are spliced into one :class:`hbm.FrequencyResponse` (``FrequencyResponse.spliced``);
+``docs/multiharmonic.md`` ("Harmonics along the curve") gives the rules.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any, Callable
+
+import numpy as np
+
+from . import continuation as cont  # the module (hbm.continuation)
+from . import curve
+from .balance import errors
+from .balance.residual import HarmonicBalance
+from .balance.start import force_homotopy
+from .result import PEAK_XTOL_FACTOR, FrequencyResponse
+
+
+#: A window's refined trace ends at its first point beyond the hyperplane through the coarse end
+#: point within this many coarse chords of that point (or two of the longest steps).
+RADIUS_CHORDS = 3.0
+#: The point beyond is moved onto the hyperplane to this fraction of its last step.
+CUT_XTOL = 0.02
+
+
+@dataclasses.dataclass
+class Knobs:
+    """What every trace of one ``frequency_response`` call shares."""
+
+    system: Any
+    w0: float
+    w1: float
+    rtol: float
+    newton_tol: float  #: Newton tolerance on the scaled residual
+    steps: dict  #: the continuation's step settings (``max_step``, ``curve_tol``, ...)
+    stability: bool
+    tolerance: float | None
+    samples: Callable[[int], Any]  #: n_t for an H
+    response_dof: Any
+    heard: dict = dataclasses.field(default_factory=dict)  #: id(result) -> the elements' warnings in its solve
+
+
+def solve(knobs: Knobs, contacts: Any, H: int, reporter: Callable | None = None) -> FrequencyResponse:
+    """The whole range traced with ``contacts`` at ``H`` harmonics (the stuck start at w0);
+    ``reporter(problem)`` makes the continuation's ``on_point`` once the problem's scales are set."""
+    problem = HarmonicBalance(knobs.system, contacts, harmonics=H, n_t=knobs.samples(H),
+                              response_dof=knobs.response_dof, rtol=knobs.rtol)
+    with errors.collected() as now:
+        out = trace(problem, knobs, reporter=reporter)
+    knobs.heard[id(out)] = list(now)
+    return out
+
+
+def trace(problem: HarmonicBalance, knobs: Knobs, *, reporter: Callable | None = None, start: Any = None,
+          direction: int | None = None, stop: Callable | None = None,
+          cut: Callable | None = None) -> FrequencyResponse:
+    """Scales, the start (the stuck one at w0, else a homotopy in the force; or ``start``, scaled
+    unknowns, in ``direction``), the continuation to w1 or to ``stop``, ``cut(run, scale)`` of the
+    run, the check of its intervals (``curve_tol``), the result."""
+    w0, w1, steps = knobs.w0, knobs.w1, knobs.steps
+    problem.set_scales(w0, w1)
+    tol, scale, w_ref = knobs.newton_tol, problem.arclength_scale(), problem.omega_ref
+    components = (*problem.response_components(), -1)
+    report = reporter(problem) if reporter is not None else None
+
+    def run_from(u_start):
+        return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
+                                 bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
+                                 direction=direction or (1 if w1 > w0 else -1), tol=tol, scale=scale,
+                                 fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(knobs.rtol), on_point=report,
+                                 curve_components=components, stop=stop, **steps)
+
+    run = run_from(problem.stuck_start(w0) if start is None else start(problem))
+    if run.status == cont.Status.START_FAILED and start is None:
+        u_h = force_homotopy(problem, w0, tol, scale)
+        if u_h is not None:
+            run = run_from(u_h)
+    if cut is not None:
+        run = cut(run, scale)
+    if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
+        run = curve.refine(problem, run, scale, components, steps["curve_tol"], tol, parameter=problem.unknowns - 1)
+    return FrequencyResponse(problem, run, rtol=knobs.rtol, tol=tol, scale=scale, stability=knobs.stability,
+                             tolerance=knobs.tolerance)
+
+
+# ------------------------------------------------------------------ windows
+def windows(source: np.ndarray, nodes: np.ndarray, threshold: float, lo: int, hi: int) -> list[tuple[int, int]]:
+    """``[(i0, i1), ...]``: the stretches of ``lo <= i < hi`` where ``source`` exceeds ``threshold``,
+    each widened to the nearest estimate ``nodes`` on each side (else ``lo``, ``hi - 1``), merged
+    where they meet; ``i0``, ``i1`` inclusive.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> e = np.array([0.1, 0.2, 0.9, 0.8, 0.1, 0.1, 0.1, 0.7, 0.1, 0.1])
+    >>> windows(e, np.array([0, 4, 6, 9]), 0.5, 0, 10)
+    [(0, 4), (6, 9)]
+    """
+    above = np.flatnonzero(source[lo:hi] > threshold) + lo
+    out: list[tuple[int, int]] = []
+    if not len(above):
+        return out
+    breaks = np.flatnonzero(np.diff(above) > 1)
+    for a, b in zip(np.r_[above[0], above[breaks + 1]], np.r_[above[breaks], above[-1]]):
+        before, after = nodes[(nodes < a) & (nodes >= lo)], nodes[(nodes > b) & (nodes < hi)]
+        i0, i1 = (int(before[-1]) if len(before) else lo), (int(after[0]) if len(after) else hi - 1)
+        if out and i0 <= out[-1][1]:
+            out[-1] = (out[-1][0], max(out[-1][1], i1))
+        else:
+            out.append((i0, i1))
+    return out
+
+
+def lift(problem: HarmonicBalance, X: np.ndarray, w: float) -> np.ndarray:
+    """The scaled unknowns of ``problem`` for the physical point ``X`` (n_a, 2H'+1) at ``w``: harmonics
+    above the problem's H cut, missing ones zero (the same condensation DOFs)."""
+    xr, wr = problem.x_ref, problem.omega_ref
+    if problem.one_dof:
+        return np.array([X[0, 1] / xr, X[0, 2] / xr, w / wr])
+    Xp = np.zeros((problem.na, problem.L))
+    k = min(problem.L, X.shape[1])
+    Xp[:, :k] = X[:, :k]
+    return np.append(Xp.ravel() / xr, w / wr)
+
+
+def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any,
+           H: int) -> tuple[FrequencyResponse, str | None]:
+    """Points ``i0..i1`` of ``frf`` traced again with ``contacts`` at ``H``: the result, and why it
+    failed (None: it did not)."""
+    problem = HarmonicBalance(knobs.system, contacts, harmonics=H, n_t=knobs.samples(H),
+                              response_dof=knobs.response_dof, rtol=knobs.rtol)
+    coarse, run = frf._problem, frf._run
+    y_end, t_end = run.y[i1], run.tangent[i1]
+    s_end = frf._scale(y_end)
+    last = i1 == len(frf) - 1  # the window reaches the end of the range: the bound ends it
+
+    def back(u):  # the refined point in the coarse run's coordinates scaled at its end point
+        X, w = problem.to_physical(u)
+        return (lift(coarse, X, float(w)) - y_end) / s_end
+
+    # a crossing counts near the end point only (a bent branch may cross the hyperplane elsewhere):
+    # within RADIUS_CHORDS of its coarse chords, or two of the longest steps (a step lands that close)
+    chords = [float(np.linalg.norm((run.y[j] - y_end) / s_end)) for j in (i1 - 1, i1 + 1) if 0 <= j < len(run.y)]
+    radius = max(RADIUS_CHORDS * max(chords, default=0.0), 2.0 * knobs.steps["max_step"])
+
+    crossed: list = []
+
+    def beyond(u):
+        d = back(u)
+        if float(t_end @ d) >= 0.0 and float(np.linalg.norm(d)) <= radius:
+            crossed.append(True)
+        return bool(crossed)
+
+    def cut(r, scale):  # the point beyond, moved onto the hyperplane
+        if last or len(r.y) < 2 or not crossed:
+            return r
+        loc = cont.locate(problem, r.y[-2], r.y[-1], lambda u, t: float(t_end @ back(u)), tol=knobs.newton_tol,
+                          scale=scale, xtol=CUT_XTOL)
+        if loc is None:
+            return r
+        s = scale(loc.y)
+        t = loc.tangent / s
+        y, tg = r.y.copy(), r.tangent.copy()
+        y[-1], tg[-1] = loc.y, t / np.linalg.norm(t)
+        rn = r.residual_norm.copy()
+        rn[-1] = loc.residual_norm
+        return dataclasses.replace(r, y=y, tangent=tg, residual_norm=rn, nfev=r.nfev + loc.nfev)
+
+    X0, w_start = frf._X[i0], float(frf.omega[i0])
+    t0 = float(run.tangent[i0][-1])
+    direction = (1 if t0 > 0.0 else -1) if t0 != 0.0 else (1 if knobs.w1 > knobs.w0 else -1)
+    with errors.collected() as now:
+        out = trace(problem, knobs, start=lambda pr: lift(pr, X0, w_start), direction=direction,
+                    stop=None if last else beyond, cut=cut)
+    knobs.heard[id(out)] = list(now)
+    if not out.success:
+        return out, out._run.message
+    if not last and not crossed:
+        return out, "the refined branch did not pass the window's last point"
+    return out, None
+
+
+def refined_contacts(contacts: list) -> list | None:
+    """The contacts with each element that offers one replaced by its refined model; None if none does."""
+    out, changed = [], False
+    for c in contacts:
+        better = c.element.refined_model()
+        changed |= better is not None
+        el = better if better is not None else c.element
+        out.append(c.with_element(el))
+    return out if changed else None
+
+
+# ------------------------------------------------------------------ the passes and the splice
+@dataclasses.dataclass
+class Plan:
+    """What is chosen along the curve: the shares of ``tol`` above which a window is traced again
+    with the refined model (None: the elements as given) and with ``2H + 1`` harmonics (None: H fixed)."""
+
+    model_share: float | None
+    harmonics_share: float | None
+    max_harmonics: int
+
+
+def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyResponse, list[str]]:
+    """``frf`` (the whole range at the start setting) with its windows traced again: the model
+    pass, then the harmonics pass on every stretch; one result and the notes of the windows that
+    failed (their coarse points kept)."""
+    work, notes, full = [frf], [], {id(frf)}
+    pieces = [(frf, 0, len(frf))]
+    tol = knobs.tolerance
+    if plan.model_share is not None:
+        def model_step(f):
+            better = refined_contacts(f.contacts)
+            return None if better is None else (better, f.harmonics)
+
+        pieces = [p for f, lo, hi in pieces for p in _split(knobs, f, lo, hi, "model", plan.model_share * tol,
+                                                            model_step, work, notes, full)]
+    if plan.harmonics_share is not None:
+        def harmonics_step(f):
+            if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
+                return None
+            return f.contacts, 2 * f.harmonics + 1
+
+        pieces = [p for f, lo, hi in pieces for p in _split(knobs, f, lo, hi, "harmonics",
+                                                            plan.harmonics_share * tol, harmonics_step, work,
+                                                            notes, full)]
+    note = "".join(f"; {n}" for n in notes)
+    if len(pieces) == 1 and pieces[0][1] == 0 and pieces[0][2] == len(pieces[0][0]) and not notes:
+        return pieces[0][0], notes  # one setting everywhere: that solve's own result, as it was
+    return FrequencyResponse.spliced(pieces, work, note), notes
+
+
+def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, threshold: float, step: Callable,
+           work: list, notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
+    """Points ``lo <= i < hi`` of ``f`` as stretches ``(result, lo, hi)``: its windows of ``source``
+    above ``threshold`` traced again at ``step(f)`` (new contacts and H) and split the same way in
+    turn; a whole-range window is solved again from the stuck start, as a solve without windows."""
+    nxt = step(f) if len(f) and source in f.error_sources else None
+    if nxt is None:
+        return [(f, lo, hi)]
+    out, at = [], lo
+    for i0, i1 in windows(f.error_sources[source], f._nodes, threshold, lo, hi):
+        if i1 <= i0:  # a stretch of one point (between two others' windows) is not traced alone
+            continue
+        whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
+        if whole:
+            g = solve(knobs, *nxt)
+            why = None if len(g) else g.message
+        else:
+            g, why = window(knobs, f, i0, i1, *nxt)
+        work.append(g)  # its work is counted, kept or not
+        if why is not None:
+            notes.append(f"the window omega = {f.omega[i0]:.6g}..{f.omega[i1]:.6g} rad/s traced again with H = "
+                         f"{nxt[1]}, {'+'.join(type(c.element).__name__ for c in nxt[0])} failed ({why}): its points "
+                         f"at H = {f.harmonics} are kept")
+            continue
+        if whole:
+            full.add(id(g))
+        if at < i0:
+            out.append((f, at, i0))
+        out += _split(knobs, g, 0, len(g), source, threshold, step, work, notes, full)
+        at = i1 + 1
+    if at < hi:
+        out.append((f, at, hi))
+    return out

@@ -1,0 +1,252 @@
+"""Harmonics and model chosen along the curve (``hbm.adapt``): windows traced again, one result of segments.
+
+References: the true periodic responses of ``tests/data/periodic_reference.json`` (shooting on the
+exact event-driven integration) and the chain's true peak of ``benchmarks/chain_peak_reference.py``
+(0.5212270 rad/s, 0.1592898 m); the balance at one H solved by Newton at a point's frequency.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contact_models import AccuracyWarning, Macroslip
+from hbm import Contact, Structure, continuation as cont, frequency_response
+from hbm.adapt import lift, windows
+from hbm.balance.residual import HarmonicBalance
+from hbm.frf import MAX_HARMONICS
+
+DATA = json.loads((Path(__file__).parent / "data" / "periodic_reference.json").read_text())
+CHAIN = DATA["chain"]["parameters"]
+CHAIN_PEAK = 0.1592898  # m, benchmarks/chain_peak_reference.py
+P1 = DATA["jenkins"]["P1"]["peak_amplitude"]["amplitude"]
+
+
+def chain():
+    s = Structure(CHAIN["M"], CHAIN["C"], CHAIN["K"], force=CHAIN["force"])
+    return s, [Contact(Macroslip(1.0, 0.02), dof=0), Contact(Macroslip(1.0, 0.05), dofs=(0, 1))]
+
+
+def one_dof():
+    return Structure([[1.0]], [[0.004]], [[1.0]], force=[0.01])
+
+
+def quiet(*args, **kw):
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        return frequency_response(*args, **kw)
+
+
+@pytest.fixture(scope="module")
+def precise():
+    """The chain at tol = 1e-5 with the "precise" steps: H along the curve."""
+    s, cs = chain()
+    return quiet(s, cs, omega_range=(0.3, 1.6), accuracy="precise", tol=1e-5, stability=False)
+
+
+@pytest.fixture(scope="module")
+def default():
+    """The Jenkins chain of docs/multiharmonic.md at tol = 1e-3."""
+    s, cs = chain()
+    return quiet(s, cs, omega_range=(0.3, 1.8), tol=1e-3, stability=False)
+
+
+def at_omega(frf, w):
+    """The response DOF's first-harmonic amplitude at the branch's crossings of ``w``, each located
+    on the balance of the segment holding it (``hbm.continuation.locate``)."""
+    out = []
+    for j in np.flatnonzero((frf.omega[:-1] - w) * (frf.omega[1:] - w) <= 0.0):
+        f, k = frf._interval(int(j))
+        pr = f._problem
+        loc = cont.locate(pr, f._run.y[k], f._run.y[k + 1], lambda y, t: y[-1] * pr.omega_ref - w, tol=f.tol,
+                          scale=f._scale, xtol=1e-13)
+        X = pr.to_physical(loc.y)[0]
+        out.append(float(np.hypot(*X[pr.dofs.index(pr.response_dof), 1:3])))
+    return out
+
+
+def newton_at(problem, X, w, tol=1e-12):
+    """The balance ``problem`` solved by Newton at the fixed frequency ``w`` from ``X`` (zero-padded)."""
+    problem.set_scales(0.3, 1.8)
+    u = lift(problem, X, w)
+    for _ in range(30):
+        R, J = problem(u)
+        if np.linalg.norm(R) < tol:
+            break
+        u[:-1] -= np.linalg.solve(J[:, :-1], R)
+    assert np.linalg.norm(R) < 1e-9
+    X, _ = problem.to_physical(u)
+    return X
+
+
+# ------------------------------------------------------------------ windows
+def test_windows_are_widened_to_the_nodes_below_and_merged():
+    e = np.array([0.1, 0.2, 0.9, 0.8, 0.1, 0.1, 0.1, 0.7, 0.1, 0.1])
+    assert windows(e, np.array([0, 4, 6, 9]), 0.5, 0, 10) == [(0, 4), (6, 9)]
+    assert windows(e, np.array([0, 3, 9]), 0.5, 0, 10) == [(0, 9)]  # (0, 9) and (3, 9) merge
+    assert windows(e, np.array([0, 9]), 0.5, 1, 9) == [(1, 8)]  # the stretch's ends where no node is
+    assert windows(e, np.array([0, 9]), 0.95, 0, 10) == []
+
+
+# ------------------------------------------------------------------ the chain, precise
+def test_chain_peak_is_within_tol_of_the_true_peak_with_high_H_only_near_it(precise):
+    pk = precise.peak()
+    assert precise.success and abs(pk.amplitude / CHAIN_PEAK - 1.0) < 1e-5
+    i = int(np.argmax(precise.amplitude))
+    assert precise.point_harmonics[i] == MAX_HARMONICS == precise.harmonics
+    assert precise.point_harmonics[0] == precise.point_harmonics[-1] == 3
+    far = (precise.omega < 0.45) | ((precise.omega > 0.75) & (precise.omega < 1.3))
+    assert np.all(precise.point_harmonics[far] == 3)
+    high = precise.omega[precise.point_harmonics == 31]
+    assert 0.0 < high.min() < 0.5213 < high.max() and np.ptp(precise.omega[precise.point_harmonics == 31]) < 1.1
+
+
+def test_segments_describe_the_points(precise):
+    seg = precise.segments
+    assert seg[0].start == 0 and seg[-1].stop == len(precise) and len(seg) > 3
+    assert all(a.stop == b.start for a, b in zip(seg, seg[1:]))
+    for sg in seg:
+        assert np.all(precise.point_harmonics[sg.start:sg.stop] == sg.harmonics)
+        assert set(precise.point_models[sg.start:sg.stop]) == {"Macroslip+Macroslip"} == {sg.model}
+    assert precise.n_t == max(sg.n_t for sg in seg)
+    C = precise.coefficients(2)
+    assert C.shape == (len(precise), 32)
+    low = precise.point_harmonics == 3
+    assert np.all(C[low, 4:] == 0.0) and np.any(C[~low, 4:] != 0.0)
+    np.testing.assert_allclose(np.abs(C[:, 1]), precise.amplitude, rtol=1e-15)
+    assert precise.coefficients(1).shape == (len(precise), 32)  # a DOF recovered from the forces
+
+
+def test_splice_is_continuous(precise):
+    w = precise.omega
+    assert len(precise.fold_after) == 0 and np.all(np.diff(w) > 0.0)  # no duplicate, no step back
+    d = np.hypot(np.diff(w) / np.ptp(w), np.diff(precise.amplitude) / precise.amplitude.max())
+    for sg in precise.segments[1:]:  # no gap: the step across a splice is like its neighbours
+        i = sg.start - 1
+        assert d[i] <= 3.0 * max(d[max(i - 3, 0):i].max(), d[i + 1:i + 4].max())
+
+
+# ------------------------------------------------------------------ the Jenkins chain, tol = 1e-3
+def test_segmented_chain_agrees_with_the_global_high_H_balance(default):
+    H = default.harmonics
+    assert H > 3 and len(set(default.point_harmonics.tolist())) > 1
+    s, cs = chain()
+    top = HarmonicBalance(s, cs, harmonics=H, n_t=max(sg.n_t for sg in default.segments), response_dof=2)
+    for i in range(0, len(default), 9):
+        X = newton_at(top, default._X[i], float(default.omega[i]))
+        a = float(np.hypot(*X[top.dofs.index(2), 1:3]))
+        assert abs(default.amplitude[i] / a - 1.0) < 1e-3, (i, default.omega[i], default.point_harmonics[i])
+
+
+def test_segmented_chain_is_within_tol_of_the_true_response(default):
+    for ref in DATA["chain"]["points"]:
+        for a in at_omega(default, ref["omega"]):
+            assert abs(a / ref["amplitude"][2] - 1.0) < 1e-3, ref["omega"]
+    assert abs(default.peak().amplitude / CHAIN_PEAK - 1.0) < 1e-3
+
+
+# ------------------------------------------------------------------ one DOF: stability, CSV, one segment
+@pytest.fixture(scope="module")
+def p1():
+    return quiet(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=1e-4)
+
+
+def test_one_dof_peak_stability_and_counters(p1):
+    assert len(p1.segments) > 1 and abs(p1.peak().amplitude / P1 - 1.0) < 1e-4
+    assert p1.exponents.shape == (len(p1), 2) and p1.stable.all()  # 2 n_s exponents at any H
+    assert p1.nfev > sum(f._problem.nfev for f, _, _ in p1._pieces[1:2]) > 0
+    assert p1.nsteps >= len(p1) - 1 and p1.error_estimate.shape == (len(p1),)
+    assert set(p1.error_sources) == {"harmonics", "sampling", "element", "model", "peak"}
+
+
+def test_csv_has_H_column_where_it_varies(p1, tmp_path):
+    rows = list(csv.reader(p1.to_csv(tmp_path / "a.csv").open()))
+    head, body = rows[0], rows[1:]
+    assert head[-1] == "H" and "model" not in head and len(body) == len(p1)
+    assert [int(r[-1]) for r in body] == p1.point_harmonics.tolist()
+    assert head[head.index("Xc1_m") + 2 * (p1.harmonics - 1) + 1] == f"Xs{p1.harmonics}_m"
+    first = body[0]  # an H = 3 point: its harmonics above 3 are written as zeros
+    assert all(float(v) == 0.0 for v in first[head.index("Xc4_m"):head.index("stable")])
+    one = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8),
+                             harmonics=3, tol=0.5, stability=False)
+    assert len(one.segments) == 1 and one._pieces is None
+    assert "H" not in next(csv.reader(one.to_csv(tmp_path / "b.csv").open()))
+
+
+def test_one_segment_is_the_plain_solve():
+    a = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=0.05,
+                           stability=False)
+    b = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), harmonics=3,
+                           tol=0.05, stability=False)
+    assert a._pieces is None and a.harmonics == 3
+    np.testing.assert_array_equal(a.amplitude, b.amplitude)
+    assert a.peak() == b.peak() and a.nfev == b.nfev
+
+
+# ------------------------------------------------------------------ the model along the curve
+class Standing(Macroslip):
+    """A Jenkins element that says it is 1 % off its physical contact above 0.02 m (a stand-in for a
+    single-mode bar); its refined model is ``refined`` (a plain Jenkins element, or a failing one)."""
+
+    refined = None
+
+    def _model_error(self, a, omega):
+        return np.where(np.asarray(a) > 0.02, 0.01, 0.0)
+
+    def _refined_model(self):
+        return self.refined(1.0, 0.02)
+
+
+class Brittle(Macroslip):
+    """A Jenkins element whose evaluation fails above 0.025 m."""
+
+    def _harmonic_force(self, X, omega, n_t, rtol):
+        if np.hypot(X[1], X[2]) > 0.025:
+            raise FloatingPointError("Brittle: beyond 0.025 m")
+        return super()._harmonic_force(X, omega, n_t, rtol)
+
+
+def model_run(refined):
+    el = Standing(1.0, 0.02)
+    el.refined = refined
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", AccuracyWarning)
+        frf = frequency_response(one_dof(), [Contact(el, dof=0)], omega_range=(0.6, 1.8), harmonics=3, tol=1e-3,
+                                 model="auto", stability=False)
+    return frf, [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+
+
+def test_model_auto_refines_only_the_window_where_the_model_error_is_large():
+    frf, _ = model_run(Macroslip)
+    models = frf.point_models
+    assert set(models.tolist()) == {"Standing", "Macroslip"} and models[0] == models[-1] == "Standing"
+    assert frf.amplitude[models == "Macroslip"].max() == frf.amplitude.max()
+    assert frf.amplitude[models == "Standing"].min() < 0.02
+    assert np.all(frf.error_sources["model"][models == "Macroslip"] == 0.0)
+    assert frf.element.__class__ is Macroslip  # the peak's segment
+    assert np.all(np.diff(frf.omega[:np.argmax(frf.amplitude)]) > 0.0)
+
+
+def test_a_failed_window_keeps_the_coarse_points_and_says_so():
+    frf, heard = model_run(Brittle)
+    plain, _ = model_run(Macroslip)
+    assert frf.success and set(frf.point_models.tolist()) == {"Standing"}
+    assert "failed" in frf.message and "kept" in frf.message
+    assert len(heard) == 1 and "failed" in heard[0] and frf.accuracy_warning == heard[0]
+    assert abs(frf.peak().amplitude / plain.peak().amplitude - 1.0) < 1e-6  # the same force law, kept
+
+
+def test_callbacks_get_the_spliced_points_once_at_the_end(p1):
+    got, harm = [], []
+    frf = quiet(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=1e-4,
+                on_point=lambda w, xc, xs, r: got.append((w, xc, xs, r)), on_harmonics=lambda w, X: harm.append(X))
+    assert len(frf.segments) > 1
+    np.testing.assert_array_equal([g[0] for g in got], frf.omega)
+    np.testing.assert_array_equal([g[1] for g in got], frf.x_c)
+    assert {len(X) for X in harm} == {2 * frf.harmonics + 1}
+    np.testing.assert_array_equal(np.array(harm)[:, 1], frf.x_c)
