@@ -40,9 +40,11 @@ WIGGLE_RTOL = 1e-15
 #: Most iterations (Newton; bisection where Newton leaves the bracket) for a reversal or a
 #: stick -> slip instant (bisection alone halves a bracket of at most 2 pi to rounding in 55).
 NEWTON_ITERATIONS = 60
-#: Newton stops after a step below this (rad): quadratic convergence leaves an error of the order
-#: of its square times |x''/x'|.  The force is continuous at every switching instant, so an error
-#: dtheta there moves F by O(k |x'| dtheta^2) (stick -> slip) or O(k |x''| dtheta^3) (reversals).
+#: Newton stops after a step below this (rad): quadratic convergence leaves an error of about its
+#: square times |x''/(2 x')| (1e-14 rad for a path of a few harmonics; the starts from the cubic
+#: through a grid cell are usually within it already).  The force is continuous at every switching
+#: instant, so an error dtheta there moves F by O(k |x'| dtheta^2) (stick -> slip) or
+#: O(k |x''| dtheta^3) (a reversal), and the Jacobian by O(k H dtheta) (the anchors, the pieces' ends).
 STEP_DONE = 1e-7
 
 
@@ -74,7 +76,7 @@ def jenkins_harmonics(X: Array, k: float, fs: float) -> tuple[Array, Array]:
     C = X[1::2] - 1j * X[2::2]  # x = X0 + Re sum_m C_m e^{i m theta}
     if not np.any(C):
         return _stuck(X, k, 0.0, 0.0, np.pi, H)
-    th = reversals(C)
+    th, grid = _reversals(C)
     xr = (X[0] + (np.exp(1j * np.outer(th, np.arange(1, H + 1))) @ C).real).tolist()
     th = th.tolist()
     iM = max(range(len(xr)), key=xr.__getitem__)
@@ -86,7 +88,7 @@ def jenkins_harmonics(X: Array, k: float, fs: float) -> tuple[Array, Array]:
     th = th[iM:] + [t + two_pi for t in th[:iM + 1]]
     xr = xr[iM:] + xr[:iM + 1]
     pieces, levels = _march(xr, k, fs)
-    return _integrals(X, k, th, _crossings(float(X[0]), C, th, xr, levels), pieces, H)
+    return _integrals(X, k, th, _crossings(float(X[0]), C, th, xr, levels, grid), pieces, H)
 
 
 def _stuck(X: Array, k: float, xc: float, th_max: float, th_min: float, H: int) -> tuple[Array, Array]:
@@ -116,6 +118,11 @@ def _derivatives(C: NDArray[np.complex128], theta: Array) -> Array:
 
 
 def reversals(C: NDArray[np.complex128]) -> Array:
+    """The instants in [0, 2 pi) where ``x'`` changes sign (:func:`_reversals`)."""
+    return _reversals(C)[0]
+
+
+def _reversals(C: NDArray[np.complex128]) -> tuple[Array, tuple]:
     """The instants in [0, 2 pi) where ``x'`` changes sign, for ``x = Re sum_m C_m e^{i m theta}``
     (m = 1..H), sorted.
 
@@ -125,43 +132,61 @@ def reversals(C: NDArray[np.complex128]) -> Array:
     interpolant's error bound), and to hold one root where ``x'`` changes sign and ``x''`` keeps
     its sign with ``min |x''| > M4 w^2/8``.  Other cells are split (:data:`SPLIT`) until certified or
     until a pair of roots they might hide would open an inner loop below ``M3 w^3/8 <=
-    WIGGLE_RTOL sum |C_m|``.  Each root is then found by bracketed Newton.
+    WIGGLE_RTOL sum |C_m|``.  Each root is then found by bracketed Newton from the cubic through
+    the cell's ends.  Also returns the grid ``(x - X0, x', w, n)`` (the starts of the stick -> slip
+    instants).
     """
     H = C.size
-    m = np.arange(1, H + 1)
+    n, fac, m34 = _grid(H)
     absC = np.abs(C)
-    bounds = (float(absC @ m**3), float(absC @ m**4), WIGGLE_RTOL * float(absC.sum()))
-    n = _grid(H)
-    spec = np.zeros((2, n // 2 + 1), dtype=complex)
-    spec[0, 1:H + 1] = (0.5 * n) * (1j * m * C)
-    spec[1, 1:H + 1] = (0.5 * n) * (-(m * m) * C)
-    g, gp = np.fft.irfft(spec, n=n)
+    M3, M4 = (absC @ m34).tolist()
+    bounds = (M3, M4, WIGGLE_RTOL * float(absC.sum()))
+    spec = np.zeros((3, n // 2 + 1), dtype=complex)
+    spec[:, 1:H + 1] = fac * C
+    xg, g, gp = np.fft.irfft(spec, n=n)
     g1 = np.concatenate((g[1:], g[:1]))
     w = 2.0 * np.pi / n
     # the cells [i w, (i + 1) w] that the grid alone does not certify free of roots: next to the roots
     cells = np.flatnonzero(((g >= 0.0) != (g1 >= 0.0))
-                           | (np.minimum(np.abs(g), np.abs(g1)) <= bounds[0] * w * w / 8.0)).tolist()
+                           | (np.minimum(np.abs(g), np.abs(g1)) <= M3 * w * w / 8.0)).tolist()
     found: list = []
     for i in cells:
         _cell(C, bounds, i * w, w, float(g[i]), float(g1[i]), float(gp[i]), float(gp[(i + 1) % n]), found)
+    m = np.arange(1, H + 1)
     A, B = (1j * m * C).tolist(), (-(m * m) * C).tolist()
-    roots = [_newton(A, B, 0.0, t - p * cw / (q - p), t, t + cw, q > p) for t, cw, p, q in found]
-    return np.sort(np.mod(roots, 2.0 * np.pi))
+    roots = [_newton(A, B, 0.0, _hermite_root(t, cw, p, q, dp, dq), t, t + cw, q > p) for t, cw, p, q, dp, dq in found]
+    return np.sort(np.mod(roots, 2.0 * np.pi)), (xg.tolist(), g.tolist(), w, n)
+
+
+def _hermite_root(lo: float, w: float, g0: float, g1: float, p0: float, p1: float) -> float:
+    """The root in ``[lo, lo + w]`` of the cubic through the values g0, g1 (of opposite signs) with
+    the slopes p0, p1 at the ends (Newton on it from the secant, kept in the cell): a start within
+    O(w^4) of the root of a smooth function."""
+    t = -g0 / (g1 - g0) if g1 != g0 else 0.5  # in units of w
+    d0, d1 = p0 * w, p1 * w
+    for _ in range(3):  # Hermite basis on t in [0, 1]
+        t2, t3 = t * t, t * t * t
+        v = (2 * t3 - 3 * t2 + 1) * g0 + (t3 - 2 * t2 + t) * d0 + (-2 * t3 + 3 * t2) * g1 + (t3 - t2) * d1
+        dv = (6 * t2 - 6 * t) * g0 + (3 * t2 - 4 * t + 1) * d0 + (-6 * t2 + 6 * t) * g1 + (3 * t2 - 2 * t) * d1
+        if dv == 0.0:
+            break
+        t = min(max(t - v / dv, 0.0), 1.0)
+    return lo + t * w
 
 
 def _cell(C: NDArray[np.complex128], bounds: tuple, lo: float, w: float, g0: float, g1: float, p0: float,
           p1: float, found: list) -> None:
     """Certify the cell ``[lo, lo + w]`` (``x'`` = g0, g1 and ``x''`` = p0, p1 at its ends): append
-    ``(lo, w, g0, g1)`` to ``found`` if it holds one root (or is finest and ``x'`` changes sign),
+    ``(lo, w, g0, g1, p0, p1)`` to ``found`` if it holds one root (or is finest and ``x'`` changes sign),
     nothing if it holds none, else split it (:func:`reversals`)."""
     M3, M4, tiny = bounds
     change = (g0 >= 0.0) != (g1 >= 0.0)
     if M3 * w**3 / 8.0 <= tiny:  # finest: a pair of roots it may hide is an inner loop below rounding
         if change:
-            found.append((lo, w, g0, g1))
+            found.append((lo, w, g0, g1, p0, p1))
         return
     if change and p0 * p1 > 0.0 and min(abs(p0), abs(p1)) > M4 * w * w / 8.0:
-        found.append((lo, w, g0, g1))
+        found.append((lo, w, g0, g1, p0, p1))
         return
     if not change and min(abs(g0), abs(g1)) > M3 * w * w / 8.0:
         return
@@ -173,9 +198,13 @@ def _cell(C: NDArray[np.complex128], bounds: tuple, lo: float, w: float, g0: flo
 
 
 @lru_cache(maxsize=32)
-def _grid(H: int) -> int:
-    """Grid points for :func:`reversals`: a power of two >= GRID_PER_HARMONIC H and >= GRID_MIN."""
-    return max(GRID_MIN, 1 << int(math.ceil(math.log2(GRID_PER_HARMONIC * H))))
+def _grid(H: int) -> tuple[int, NDArray[np.complex128], Array]:
+    """For :func:`reversals`: the grid's size ``n`` (a power of two >= GRID_PER_HARMONIC H and
+    >= GRID_MIN), the factors taking ``C_m`` to the inverse real FFT's input of ``x - X0``, ``x'``
+    and ``x''`` (3, H), and ``[m^3, m^4]`` (H, 2)."""
+    n = max(GRID_MIN, 1 << int(math.ceil(math.log2(GRID_PER_HARMONIC * H))))
+    m = np.arange(1, H + 1, dtype=float)
+    return n, (0.5 * n) * np.stack((np.ones(H) + 0j, 1j * m, -m * m + 0j)), np.stack((m**3, m**4), axis=1)
 
 
 def _pair(A: list, B: list, th: float) -> tuple[float, float]:
@@ -239,18 +268,31 @@ def _march(xr: list, k: float, fs: float) -> tuple[list, list]:
     return pieces, levels
 
 
-def _crossings(X0: float, C: NDArray[np.complex128], th: list, xr: list, levels: list) -> list:
+def _crossings(X0: float, C: NDArray[np.complex128], th: list, xr: list, levels: list, grid: tuple) -> list:
     """The instants where ``x`` crosses ``levels[j][1]`` in the monotone stretch after reversal
-    ``levels[j][0]``: Newton from the half-cosine guess (exact for one harmonic), kept in the
-    stretch."""
+    ``levels[j][0]``: the grid cell that holds it (bisection on the grid's ``x`` in the stretch),
+    the cubic through its ends (``x``, ``x'``; a reversal's ``x' = 0`` where the stretch ends in
+    the cell), then Newton, kept in the stretch."""
+    xg, dg, w, n = grid
     m = np.arange(1, C.size + 1)
     A, B = C.tolist(), (1j * m * C).tolist()
     out = []
     for i, level in levels:
-        a, b, xa, xb = th[i], th[i + 1], xr[i], xr[i + 1]
-        u = min(max((level - xa) / (xb - xa), 0.0), 1.0)
-        t = a + (b - a) * math.acos(1.0 - 2.0 * u) / math.pi
-        out.append(_newton(A, B, X0 - level, t, a, b, xb > xa))
+        a, b, xa, xb = th[i], th[i + 1], xr[i] - X0, xr[i + 1] - X0
+        L = level - X0
+        s = 1.0 if xb > xa else -1.0
+        j0, j1 = math.floor(a / w) + 1, math.ceil(b / w)  # the grid points in (a, b): j0 .. j1 - 1
+        lo, hi = j0, j1
+        while lo < hi:  # the first grid point at or past the level
+            mid = (lo + hi) // 2
+            if s * (xg[mid % n] - L) >= 0.0:
+                hi = mid
+            else:
+                lo = mid + 1
+        tl, vl, dl = (a, xa, 0.0) if lo == j0 else ((lo - 1) * w, xg[(lo - 1) % n], dg[(lo - 1) % n])
+        tr, vr, dr = (b, xb, 0.0) if lo == j1 else (lo * w, xg[lo % n], dg[lo % n])
+        t = _hermite_root(tl, tr - tl, vl - L, vr - L, dl, dr) if tr > tl else tl
+        out.append(_newton(A, B, X0 - level, t, a, b, s > 0.0))
     return out
 
 
