@@ -37,6 +37,10 @@ SPLIT = 8
 #: Two reversals closer than the finest cell are not resolved: the inner loop they would open is
 #: then smaller than this fraction of the displacement's oscillation (``sum_h |X_h|``).
 WIGGLE_RTOL = 1e-15
+#: Reversals closer than this (rad) are one: the same root found from two cells, or a pair whose
+#: inner loop (about |x''| 1e-24) is below rounding.  The march takes each stretch's direction from
+#: the values of x, so a reversal too many or a pair too few changes nothing.
+SAME_REVERSAL = 1e-12
 #: Most iterations (Newton; bisection where Newton leaves the bracket) for a reversal or a
 #: stick -> slip instant (bisection alone halves a bracket of at most 2 pi to rounding in 55).
 NEWTON_ITERATIONS = 60
@@ -118,7 +122,25 @@ def _derivatives(C: NDArray[np.complex128], theta: Array) -> Array:
 
 
 def reversals(C: NDArray[np.complex128]) -> Array:
-    """The instants in [0, 2 pi) where ``x'`` changes sign (:func:`_reversals`)."""
+    """The reversals of a trigonometric path: the instants in [0, 2 pi) where ``x'`` changes sign.
+
+    Parameters
+    ----------
+    C : ndarray of complex
+        ``C_m = Xc_m - i Xs_m``, m = 1..H: ``x = X0 + Re sum_m C_m e^{i m theta}``; not all zero.
+
+    Returns
+    -------
+    ndarray
+        The instants (rad), sorted; two that enclose an inner loop below ``WIGGLE_RTOL sum |C_m|``
+        may be missed, and two closer than ``SAME_REVERSAL`` are kept once.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> np.round(reversals(np.array([1.0 + 0j])), 12).tolist()   # x = cos theta
+    [0.0, 3.14159265359]
+    """
     return _reversals(C)[0]
 
 
@@ -155,7 +177,11 @@ def _reversals(C: NDArray[np.complex128]) -> tuple[Array, tuple]:
     m = np.arange(1, H + 1)
     A, B = (1j * m * C).tolist(), (-(m * m) * C).tolist()
     roots = [_newton(A, B, 0.0, _hermite_root(t, cw, p, q, dp, dq), t, t + cw, q > p) for t, cw, p, q, dp, dq in found]
-    return np.sort(np.mod(roots, 2.0 * np.pi)), (xg.tolist(), g.tolist(), w, n)
+    th = np.sort(np.mod(roots, 2.0 * np.pi))
+    if th.size > 1:  # one reversal found from two cells (the grid's and the direct sums' rounding differ)
+        keep = np.diff(th, append=th[0] + 2.0 * np.pi) > SAME_REVERSAL
+        th = th[keep] if keep.any() else th[:1]
+    return th, (xg.tolist(), g.tolist(), w, n)
 
 
 def _hermite_root(lo: float, w: float, g0: float, g1: float, p0: float, p1: float) -> float:
