@@ -13,10 +13,12 @@ stuck, ``f_s = k a, f_c = 0``, for ``a <= y = slip_force/k``; above, with
 
 ``stiffness=math.inf`` is the rigid Coulomb slider: ``f_s = 0``, ``f_c = 4 slip_force/pi``
 for ``a > 0``.  The time-domain law (``step``, ``force_history``) is the exact return map
-of the slider for a displacement that is monotone between samples; ``periodic_force`` and
-``harmonic_force`` (multi-harmonic AFT) follow Masing's rules with memory from
-``loading_curve`` and its slope (``contact_models.base``).  The rigid slider has no time law
-there (its tangent is a Dirac at each reversal): it is a first-harmonic element.
+of the slider for a displacement that is monotone between samples; ``periodic_force`` follows Masing's rules
+with memory from ``loading_curve`` and its slope (``contact_models.base``).  ``harmonic_force`` at
+H > 1 is exact for the centred slider: the Fourier coefficients of the piecewise force and their
+Jacobian in closed form (``contact_models.numerics.jenkins``, no samples: ``n_t`` is not used,
+``exact_harmonics``); "from rest" goes through AFT.  The rigid slider has no time law there (its
+tangent is a Dirac at each reversal): it is a first-harmonic element.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.checks import positive
+from .numerics.jenkins import jenkins_harmonics
 from .base import ContactElement, masing_loop
 
 #: The slider conventions of the time law: "centred" (the library's, the Masing march of
@@ -92,7 +95,7 @@ class Macroslip(ContactElement):
         it is not unique, i.e. while the slider sticks all period.  "centred" (default): the slider
         at the middle of the displacement's range, the state a decaying shake-down leaves and the
         limit of the slipping states (``contact_models.numerics.masing``); the describing function
-        answers at H = 1.  "from rest": the slider starts at 0 and the element is marched two
+        answers at H = 1, the exact harmonics above (``contact_models.numerics.jenkins``).  "from rest": the slider starts at 0 and the element is marched two
         periods (NLvib's convention), answering by AFT at every H (``docs/contacts_normal.md``).
 
     Raises
@@ -157,6 +160,21 @@ class Macroslip(ContactElement):
     def _is_masing(self) -> bool:
         """The centred slider follows the base's Masing march; "from rest" has its own time law."""
         return self.slider == "centred"
+
+    @property
+    def exact_harmonics(self) -> bool:
+        """True for the centred slider: :meth:`harmonic_force` is exact at every H (the describing
+        function at H = 1, the closed form of ``contact_models.numerics.jenkins`` above), so ``n_t``
+        is not used and the error estimate's "sampling" source is zero; False for "from rest"
+        (AFT)."""
+        return self.slider == "centred"
+
+    def _harmonic_force(self, X, omega, n_t, rtol):
+        """At H > 1 the centred slider's exact harmonics (``jenkins_harmonics``); else the base's."""
+        if X.size > 3 and self.exact_harmonics and not self.rigid:
+            F, J = jenkins_harmonics(X, self.stiffness, self.slip_force)
+            return F, J, np.zeros_like(F)
+        return super()._harmonic_force(X, omega, n_t, rtol)
 
     def _periodic_tangent(self, x, omega):
         if self.slider == "centred":

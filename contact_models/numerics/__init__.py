@@ -6,6 +6,8 @@
   importing ``scipy.optimize``).
 - :mod:`~contact_models.numerics.masing`: alternating frequency-time (AFT) transforms and the
   periodic state of a Masing (rate-independent hysteretic) element.
+- :mod:`~contact_models.numerics.jenkins`: the Jenkins element's harmonics and their Jacobian in
+  closed form (no samples).
 - :mod:`~contact_models.numerics.genalpha` and :mod:`~contact_models.numerics.stepping`: the
   generalized-alpha integrator and the discretised bar's return map, for time-domain references.
 - :mod:`~contact_models.numerics.compat`: old module paths kept importable with a

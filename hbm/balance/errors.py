@@ -11,7 +11,8 @@ periodic response of the physical system, at the point's frequency (``docs/valid
   element's own loop gives its force harmonics ``F_h`` (``hysteresis``), the blade's dynamic
   stiffness at ``h omega`` the missing response ``X_h``, and the element's stuck stiffness
   ``k*`` bounds their effect on the first harmonic, ``|dX_1| <= k* sum |X_h| / s_min(J)``.
-- ``sampling``: the AFT's samples: the balance at ``2 n_t`` samples, one Newton step.
+- ``sampling``: the AFT's samples: the balance at ``2 n_t`` samples, one Newton step; zero where
+  every element declares ``exact_harmonics`` (its harmonic force uses no samples).
 - ``element``: the error of the elements' evaluation at ``rtol``: the balance's residual with the
   elements evaluated again at ``ELEMENT_TIGHTEN * rtol``, less the residual at ``rtol``, through
   the balance (one Newton step); at least ``ROUNDING``.  Where that evaluation fails, the bound
@@ -301,7 +302,8 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     same = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, **kw)
     H2 = 2 * H + 1
     more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2, n_t=max(n_t, default_samples(H2)), **kw)
-    finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw)
+    sampled = not all(getattr(el, "exact_harmonics", False) for el, _ in same._attach)
+    finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw) if sampled else None
     tight = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, response_dof=problem.response_dof,
                             rtol=ELEMENT_TIGHTEN * rtol)
     r = problem.dofs.index(problem.response_dof)
@@ -317,8 +319,9 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
         Xp = np.zeros((problem.na, 2 * H2 + 1))
         Xp[:, :L] = x
         out["harmonics"][j] = abs(_truncation_step(more, Xp, w, r, H)) / a
-        Rf, _ = finer._condensed(x, w)
-        out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
+        if finer is not None:
+            Rf, _ = finer._condensed(x, w)
+            out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
         out["element"][j] = _element_condensed(tight, R, Jx, x, w, r, L, rtol)
         out["model"][j] = _model(problem, same, x, w, Jx) / a
     _count(problem, same, more, finer, tight)
