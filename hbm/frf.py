@@ -249,6 +249,12 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         if on_point is not None or on_harmonics is not None:
             _stream(frf, on_point, on_harmonics)
     heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in knobs.heard.get(id(f), [])]
+    if tolerance is not None and len(frf) and float(np.max(frf.error_sources["peak"])) > tolerance:
+        # the sampled maximum may fall short of the peak by more than tol: the peak located, its
+        # source is then its own error (``FrequencyResponse.peak``)
+        with errors.collected() as at_peak:
+            frf.peak()
+        heard += at_peak
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes)
     return frf
 

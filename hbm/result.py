@@ -458,8 +458,20 @@ class FrequencyResponse:
                 if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
                     best = Peak(float(w), a)
                     self.peak_refined = True
+                    self._located_peak_source(i)
         self._peak = best
         return best
+
+    def _located_peak_source(self, i: int) -> None:
+        """The located peak is a converged point where d(a^2)/ds = 0: the peak source at the sampled
+        maximum ``i`` and its neighbours becomes the Newton tolerance, in place of the parabola's bound
+        on how far the sampled maximum falls short (``hbm.balance.errors.peak_location``)."""
+        if "peak" not in self.error_sources:
+            return
+        src = self.error_sources["peak"].copy()
+        src[max(i - 1, 0):i + 2] = errors.NEWTON_SHARE * self.rtol
+        self.error_sources = {**self.error_sources, "peak": src}
+        self.error_estimate = errors.total(self.error_sources)
 
     def _locate_peak(self, i: int) -> cont.Located | None:
         """The zero of d(a^2)/ds near the sampled maximum ``i``, or None."""
