@@ -125,7 +125,9 @@ def test_the_default_scene_with_model_auto_gives_the_main_job_s_peak(tmp_path):
     assert pk["model"] == "AllModeMicroslip" and pk["tol"] == 1e-3
     assert pk["error_rel"] == run.allmode.error and 0.0 < pk["error_rel"] < 1e-3
     assert pk["largest_source"] in ("cells", "harmonics", "other")
-    assert "computed: the model part of the estimate at the peak is 0.02 > tol/2" in effect(run.plan).reason
+    reason = effect(run.plan).reason
+    said = float(reason.split("computed: the model part of the estimate at the peak is ")[1].split(" ")[0])
+    assert "> tol/2" in reason and 0.015 <= said <= 0.03  # the single-mode peak is 1.5 % below the all-mode one
     with (tmp_path / "frf.csv").open() as fh:
         rows = list(csv.DictReader(fh))
     assert len(rows) == len(run.frf)
