@@ -1,4 +1,4 @@
-"""What accuracy costs in the analytic microslip elements (issue 7, item 1a).
+"""What accuracy costs in the analytic microslip elements.
 
 Elements: ``TwoRegionMicroslip`` (uniform load, 100 N) and ``ThreeRegionMicroslip`` (concave
 load ``QuadraticLoad.from_ratio(100, 12)``) on the DESIGN.md bar.  Knobs:

@@ -1,4 +1,4 @@
-"""What accuracy costs in ``NumericalMicroslip`` (issue 7, item 1c), against the analytic element.
+"""What accuracy costs in ``NumericalMicroslip``, against the analytic element.
 
 The numerical bar (``contact_models.numerical``) integrated in time, uniform load 100 N on the
 DESIGN.md bar; knobs ``cells`` (n), ``steps_per_cycle`` and ``steady_tol``, each swept with the

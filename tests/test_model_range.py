@@ -1,4 +1,4 @@
-"""The single-mode elements' range (issue 13): the warning against the validity map it reads
+"""The single-mode elements' range: the warning against the validity map it reads
 (contact_models/data/validity_map.csv, examples/validity_map.py), against off-grid points it does
 not read (docs/data/validity_check.csv), and the warning itself."""
 
