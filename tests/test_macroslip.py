@@ -40,7 +40,7 @@ def piecewise_constant_fourier(element, a, n=4096):
 
 
 # ---------------------------------------------------------------- closed forms
-def test_issue_formula_values():
+def test_jenkins_formula_values():
     """The describing function as written in docs/point_contact.md (section 1), at a = 3 y."""
     el = Macroslip(stiffness=K, slip_force=F)
     a = 3.0 * Y
