@@ -1,7 +1,7 @@
-"""What accuracy costs in the analytic microslip elements (issue 7, item 1a).
+"""What accuracy costs in the analytic microslip elements.
 
 Elements: ``TwoRegionMicroslip`` (uniform load, 100 N) and ``ThreeRegionMicroslip`` (concave
-load ``QuadraticLoad.from_ratio(100, 12)``) on the DESIGN.md bar.  Knobs:
+load ``QuadraticLoad.from_ratio(100, 12)``) on the reference bar (docs/theory.md).  Knobs:
 
 - ``rtol`` of ``fourier`` (public; the quadrature refines its Gauss-Legendre rule until two
   successive rules agree to ``rtol / 10``);

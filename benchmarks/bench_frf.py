@@ -1,4 +1,4 @@
-"""Benchmark of ``hbm.frequency_response`` (issue 4): the default case and a Jenkins damper.
+"""Benchmark of ``hbm.frequency_response``: the default case and a Jenkins damper.
 
 Each case: ``frequency_response(...)`` then ``.peak()``, timed ``REPEATS`` times (wall clock
 and process CPU time), median reported, with the point count, the counters and the peak's

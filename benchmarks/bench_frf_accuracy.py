@@ -1,4 +1,4 @@
-"""What accuracy costs in ``hbm.frequency_response`` (issue 7, items 1b and 2).
+"""What accuracy costs in ``hbm.frequency_response``.
 
 Cases:
 

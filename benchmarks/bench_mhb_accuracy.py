@@ -1,5 +1,5 @@
 """What accuracy costs in the multi-harmonic balance: peak error against the true periodic peak
-versus time, for H in 1, 3, 5, 7, 11, 15, 21 and two sample counts (issue 12, item 6).
+versus time, for H in 1, 3, 5, 7, 11, 15, 21 and two sample counts.
 
 Problems P1-P3 (m = k = 1, F = 0.01, Jenkins k = 1 to ground, omega 0.6..1.8; P1 c = 0.004,
 F_s = 0.02; P2 c = 0.004, F_s = 0.005; P3 c = 0.0002, F_s = 0.02).  True peaks:

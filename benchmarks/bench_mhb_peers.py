@@ -1,4 +1,4 @@
-"""Speed and accuracy of the multi-harmonic balance against pyHarm 1.2.2 on P1-P3 (issue 12).
+"""Speed and accuracy of the multi-harmonic balance against pyHarm 1.2.2 on P1-P3 (docs/performance.md).
 
 In one run: pyHarm (``benchmarks/peers/pyharm_p123.py``, executed by the python of a separate
 virtual environment, default ``/work/venvs/pyharm``; never a dependency of this project) at

@@ -1,5 +1,5 @@
 """Speed of the multi-harmonic balance at the H that reaches 1e-5 against pyHarm 1.2.2 at H = 7
-on P1-P3, in one run (issue 12, "Speed").
+on P1-P3 (docs/performance.md), in one run.
 
 Ours: ``frequency_response(Structure, [Contact(Macroslip)], harmonics=15, n_t=2048,
 max_step=0.1, stability=False)`` with the refined peak (the "precise" preset's H and n_t),

@@ -1,7 +1,7 @@
-"""What accuracy costs in ``NumericalMicroslip`` (issue 7, item 1c), against the analytic element.
+"""What accuracy costs in ``NumericalMicroslip``, against the analytic element.
 
 The numerical bar (``contact_models.numerical``) integrated in time, uniform load 100 N on the
-DESIGN.md bar; knobs ``cells`` (n), ``steps_per_cycle`` and ``steady_tol``, each swept with the
+reference bar (docs/theory.md); knobs ``cells`` (n), ``steps_per_cycle`` and ``steady_tol``, each swept with the
 others fixed.  Error: max over a in {1.5, 3, 10} a_min of max(|F_s - F_s,ref|, |F_c - F_c,ref|)
 in units of k* a, against ``TwoRegionMicroslip`` (rtol 1e-13):
 

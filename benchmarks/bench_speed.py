@@ -1,4 +1,4 @@
-"""Issue 15: the microslip FRF, a scalar ``fourier`` call, ``import`` and ``python -m hbm``,
+"""Speed: the microslip FRF, a scalar ``fourier`` call, ``import`` and ``python -m hbm``,
 measured against the code of an earlier commit in the same run.
 
 The earlier code (``--baseline``, default 7c28cd0, main at the start of the speed work) is
@@ -55,7 +55,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 BASELINE = "7c28cd0"
 THREE_SCENE = "examples/scenes/three_region_concave_frf.toml"
-#: The issue's estimate of the default FRF's physical floor (s).
+#: The estimate, made before the speed work, of the default FRF's physical floor (s).
 FLOOR = 0.045
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-#: Repetitions of every timed run (the median is reported); the issue asks for at least 5.
+#: Repetitions of every timed run (the median is reported); at least 5, for a stable median.
 REPEATS = 5
 #: Errors below this are drawn at this value on log axes (the rounding floor of doubles).
 ERROR_FLOOR = 1e-16

@@ -1,4 +1,4 @@
-"""A numba prototype of the two-region element's scalar call (issue 15: is a compiled
+"""A numba prototype of the two-region element's scalar call (is a compiled
 accelerator worth an optional dependency?).  Not used by the library.
 
 ``fused_numba`` is ``bench_speed.fused_two_region`` (the element's formulas at its node counts,

@@ -1,6 +1,6 @@
 """Regenerate ``tests/data/periodic_reference.json``: the true periodic responses (shooting on
 the event-driven exact integration, ``hbm.periodic_response``) that the multi-harmonic balance
-of issue 12 is checked against.
+is checked against.
 
 Contents (every problem's parameters are stored beside its numbers):
 
@@ -42,7 +42,7 @@ OUT = ROOT / "tests" / "data" / "periodic_reference.json"
 #: Harmonics stored, and samples per period of the reference (aliasing of c_1 < 1e-13).
 H = 21
 STEPS = 1024
-#: The Jenkins problems of issue 12.
+#: The Jenkins problems P1-P3 (parameters in the module docstring).
 JENKINS = {"P1": dict(damping=0.004, slip_force=0.02), "P2": dict(damping=0.004, slip_force=0.005),
            "P3": dict(damping=0.0002, slip_force=0.02)}
 CHAIN_OMEGA = [0.40, 0.47, 0.52, 0.56, 0.62, 1.00, 1.36, 1.38]

@@ -7,7 +7,7 @@
 
 Order: the analytic elements (``bench_element``), the FRF knobs and presets
 (``bench_frf_accuracy``), the numerical bar (``bench_numerical``, last: the slowest), then the
-issue-4 FRF table (``bench_frf``, printed only: its section of docs/performance.md is kept as
+FRF timing table (``bench_frf``, printed only: its section of docs/performance.md is kept as
 it is).  Writes ``docs/figures/accuracy_{element,frf,numerical}.png`` and replaces the text
 between the ``BEGIN``/``END`` markers of ``docs/performance.md``; nothing else in that file
 changes.  Each benchmark also runs alone (``python benchmarks/bench_element.py`` etc.).
@@ -247,7 +247,7 @@ def main(argv=None):
         fr = bench_frf_accuracy.measure(log=log)
         log(f"  done at {time.perf_counter() - t0:.0f} s; numerical bar ...")
         nu = bench_numerical.measure(log=log)
-        log(f"  done at {time.perf_counter() - t0:.0f} s; issue-4 FRF table (printed only) ...")
+        log(f"  done at {time.perf_counter() - t0:.0f} s; FRF timing table (printed only) ...")
         buf = io.StringIO()
         with contextlib.redirect_stdout(buf):
             bench_frf.main()
@@ -259,7 +259,7 @@ def main(argv=None):
     text = section(el, fr, nu, info, elapsed)
     print(text)
     if frf_table is not None:
-        print("\n## bench_frf.py (the issue-4 table of docs/performance.md, not rewritten)\n")
+        print("\n## bench_frf.py (the FRF timing table of docs/performance.md, not rewritten)\n")
         print(frf_table)
     if not args.no_docs:
         figs = [bench_element.plot(el), bench_frf_accuracy.plot(fr), bench_numerical.plot(nu)]

@@ -14,7 +14,7 @@ settings.register_profile("random", max_examples=25, deadline=None)
 settings.register_profile("long", max_examples=400, deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
-#: The DESIGN.md bar.
+#: The reference bar (docs/theory.md).
 BAR = dict(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 
 

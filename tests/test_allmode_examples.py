@@ -24,7 +24,7 @@ def test_stored_reference_is_complete_and_steady():
 
 
 def test_all_mode_defaults_within_1e_3_of_converged_time_integration():
-    """Issue 13's tolerance: |dF_s|, |dF_c| <= 1e-3 k* a at every stored point (uniform and concave
+    """The target tolerance: |dF_s|, |dF_c| <= 1e-3 k* a at every stored point (uniform and concave
     loads at 0.01, 0.2, 0.5, 0.8 omega_c, a/a_min 0.5 to 100; the wavy load with seven regions),
     AllModeMicroslip at its defaults (40 cells, H = 15; 80 cells for the wavy load); and the
     difference is at most 3 times the element's error estimate plus 1e-4 k* a (the reference's own

@@ -1,5 +1,5 @@
 """Time integration of the blade with the discretised bar (hbm.transient) against the harmonic
-balance, and the one-frequency balance ``response_at`` (issue 5 item 5).
+balance, and the one-frequency balance ``response_at``.
 
 CI runs a coarse discretisation (20 cells, 128 steps per cycle); the converged study is
 ``python examples/validation_blade.py`` (docs/validation.md), its small form marked slow.

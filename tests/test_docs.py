@@ -21,7 +21,7 @@ sys.path.insert(0, str(DOCS / "_ext"))
 
 import frictiondamp_docs as fd  # noqa: E402
 
-#: The packages whose ``__all__`` the reference documents (the issue names the first two).
+#: The packages whose ``__all__`` the reference documents (the two packages and the scenes subpackage).
 PACKAGES = ("contact_models", "hbm", "hbm.scenes")
 
 #: The main entry points: each docstring has these numpydoc sections.

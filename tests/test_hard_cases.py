@@ -1,4 +1,4 @@
-"""Every hard case of DESIGN.md, for every element and for the solver.
+"""Every hard case of docs/theory.md (section 6), for every element and for the solver.
 
 Each test asserts finite, continuous and accurate output against a limit or an independent
 value, not only the absence of an exception.  Property tests over random parameters are in
@@ -15,7 +15,7 @@ from contact_models import (Bar, ContactElement, Macroslip, PointContact, Quadra
 from conftest import BAR
 from hbm import Blade, frequency_response
 
-A_MIN = 7.5e-7  # two-region a_min of the DESIGN.md bar
+A_MIN = 7.5e-7  # two-region a_min of the reference bar (docs/theory.md)
 
 
 @pytest.fixture(scope="module")

@@ -16,7 +16,7 @@ def run():
     return case, frf
 
 
-def test_default_case_is_what_the_issue_asks(run):
+def test_default_case_is_the_documented_blade_and_damper(run):
     case, frf = run
     bar = case.element.bar
     k_star = case.element.stuck_stiffness(0.0)

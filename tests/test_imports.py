@@ -1,4 +1,4 @@
-"""``import contact_models`` and ``import hbm`` stay light (issue 15): scipy.optimize,
+"""``import contact_models`` and ``import hbm`` stay light (import time): scipy.optimize,
 scipy.integrate and matplotlib are imported where they are used, not at package import."""
 
 import json

@@ -1,5 +1,5 @@
 """The four-parameter Iwan element (Segalman 2005) against closed forms, limits and a
-time-stepped discretisation into parallel Jenkins elements (issue 11, item 3)."""
+time-stepped discretisation into parallel Jenkins elements."""
 
 import math
 
@@ -158,7 +158,7 @@ class _SampledJenkins(Macroslip):
 
 def test_multi_harmonic_frf_with_huge_beta_is_the_jenkins_frf():
     """Through the multi-harmonic balance (H = 7) the Iwan element with beta -> inf gives the
-    Jenkins element's FRF (problem P1 of issue 12), both sampled alike (n_t = 512)."""
+    Jenkins element's FRF (problem P1 of docs/performance.md), both sampled alike (n_t = 512)."""
     from hbm import Contact, Structure, frequency_response
 
     s = Structure(np.eye(1), np.array([[0.004]]), np.eye(1), force=[0.01])

@@ -40,8 +40,8 @@ def piecewise_constant_fourier(element, a, n=4096):
 
 
 # ---------------------------------------------------------------- closed forms
-def test_issue_formula_values():
-    """The describing function as written in the issue, at a = 3 y."""
+def test_jenkins_formula_values():
+    """The describing function as written in docs/point_contact.md (section 1), at a = 3 y."""
     el = Macroslip(stiffness=K, slip_force=F)
     a = 3.0 * Y
     psi = math.acos(1.0 - 2.0 * F / (K * a))

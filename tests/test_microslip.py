@@ -195,7 +195,7 @@ def test_convex_load_whose_left_end_slips_is_refused(bar):
 
 
 def test_static_fold_is_refused_up_front_with_a_true_message():
-    """Issue 11: hypothesis found this concave load (ratio 2.5) on a stiff layer (lambda L = 2.49).
+    """Hypothesis found this concave load (ratio 2.5) on a stiff layer (lambda L = 2.49).
 
     Its static (omega = 0) loading curve folds: slip starts at the tip, and as the slip zone moves
     into the lighter middle the tip displacement falls, so the slip front would jump.  The element

@@ -1,4 +1,4 @@
-"""The single-mode elements' range (issue 13): the warning against the validity map it reads
+"""The single-mode elements' range: the warning against the validity map it reads
 (contact_models/data/validity_map.csv, examples/validity_map.py), against off-grid points it does
 not read (docs/data/validity_check.csv), and the warning itself."""
 
@@ -107,7 +107,7 @@ def test_warning_decision_is_the_map_at_every_map_point(elements):
 
 @pytest.mark.parametrize("load", ["uniform", "concave12"])
 def test_fourier_warns_where_the_map_says_and_not_elsewhere(load):
-    """The same through the public ``fourier``, for the DESIGN.md bar: the warning fires at every
+    """The same through the public ``fourier``, for the reference bar: the warning fires at every
     map point with more than 1 % error and at no other."""
     el = element(1.0, 1.0, load)
     fired = quiet = 0
@@ -148,7 +148,7 @@ def example():
 
 
 def test_the_stored_map_is_reproduced(tmp_path):
-    """The script on a small grid of the DESIGN.md bar (examples/validity_map.py ``compute``) gives the
+    """The script on a small grid of the reference bar (examples/validity_map.py ``compute``) gives the
     stored map's rows."""
     vm = example()
     rows, _ = vm.compute(tmp_path / "map.csv", bars=((1.0, 1.0),), ratios=(0.5, 2.0), frequencies=(0.01, 0.3),
@@ -178,7 +178,7 @@ def test_the_stored_check_points_are_reproduced():
 
 @pytest.mark.parametrize("load", ["uniform", "concave12"])
 def test_frequency_limit_lies_where_the_map_first_exceeds_one_percent(load):
-    """omega_1 of the DESIGN.md bar lies between the last map frequency at which every amplitude is
+    """omega_1 of the reference bar lies between the last map frequency at which every amplitude is
     within 1 % and the first at which one is not (read from the CSV here)."""
     rows = [r for r in read(MAP_FILE) if (r["lamL"], r["betaL_EA"], r["load"]) == (1.0, 1.0, load)]
     el = element(1.0, 1.0, load)

@@ -1,7 +1,7 @@
-"""NumericalMicroslip: the discretised bar of Eq. 30, integrated in time (issue 5; issue 2's check).
+"""NumericalMicroslip: the discretised bar of Eq. 30, integrated in time (docs/validation.md).
 
 Order: closed forms of the discretised stuck bar, the quasi-static check against the analytic
-elements (issue 2), properties (f_c >= 0, energy = loop area, steady state), the dynamic element
+elements, properties (f_c >= 0, energy = loop area, steady state), the dynamic element
 at low frequency, derivatives of the shooting map against finite differences, convergence,
 cost.  Long studies are marked slow (docs/validation.md has their numbers).
 """
@@ -18,7 +18,7 @@ from contact_models import QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicrosl
 from contact_models import numerical as nm
 from contact_models.numerical import NumericalMicroslip
 
-# Amplitudes of the issue-2 check, in units of each element's own a_min.
+# Amplitudes of the quasi-static check, in units of each element's own a_min.
 RATIOS = (1.5, 3.0, 10.0, 30.0)
 
 
@@ -71,9 +71,10 @@ def test_slip_amplitude(bar, two, three):
     assert num.slip_amplitude(0.0) == pytest.approx(three.slip_amplitude(0.0), rel=1e-4)
 
 
-# --------------------------------------------------------------- issue 2: quasi-static check
+# --------------------------------------------------------------- quasi-static check
 def test_quasi_static_agrees_with_analytic(pair):
-    """Issue 2's independent check: n = 400 cells, a/a_min in {1.5, 3, 10, 30}, target 0.5 %.
+    """The independent quasi-static check of the analytic elements: n = 400 cells,
+    a/a_min in {1.5, 3, 10, 30}, target 0.5 %.
 
     At omega = 0 the single-mode solution is exact, so the difference is the discretisation
     error; it is below 1e-4 here (docs/validation.md)."""
@@ -208,7 +209,7 @@ def test_steady_state_criterion(bar):
 
 # --------------------------------------------------------------- dynamic element
 def test_low_frequency_dynamic_agrees_with_analytic(pair, bar):
-    """Issue 5: at omega = 0.01 omega_c, F_s and F_c within 1 %, L1 within 2 % of L (coarse CI setting)."""
+    """At omega = 0.01 omega_c, F_s and F_c within 1 %, L1 within 2 % of L (coarse CI setting)."""
     analytic, load = pair
     w = 0.01 * bar.omega_c
     num = NumericalMicroslip(bar, load, cells=50, steps_per_cycle=256)
@@ -273,7 +274,7 @@ def test_shooting_derivative_against_finite_differences(bar):
 
 
 def test_halving_cell_and_step_within_error_bars(bar):
-    """Issue 5: halving h and dt changes F_s, F_c by less than the stated error bars (coarse CI setting).
+    """Halving h and dt changes F_s, F_c by less than the stated error bars (coarse CI setting).
 
     docs/validation.md states, for cells=50, steps_per_cycle=256 at up to 0.5 omega_c, error
     bars of 2e-3 on F_s and F_c (relative to k* a); here one point at 0.3 omega_c."""
@@ -328,7 +329,7 @@ def test_bad_inputs(bar):
 @pytest.mark.parametrize("w_ratio", [0.2, 0.3, 0.5])
 def test_dynamic_convergence_study(pair, bar, w_ratio):
     """The coarse setting's error bar (2e-3 k* a for cells=50, 256 steps) at every amplitude and
-    frequency of the issue-5 table; docs/validation.md has the finer study (4.7e-5 at 200 cells)."""
+    at 0.2, 0.3 and 0.5 omega_c; docs/validation.md has the finer study (4.7e-5 at 200 cells)."""
     analytic, load = pair
     w = w_ratio * bar.omega_c
     a = np.array(RATIOS) * analytic.slip_amplitude(0.0)

@@ -15,7 +15,7 @@ from contact_models import Bar, TwoRegionMicroslip, UniformLoad
 from contact_models.macroslip import Macroslip
 from contact_models.point_contact import PointContact
 
-#: A layout of the size the fit gives for the DESIGN.md bar.
+#: A layout of the size the fit gives for the reference bar (docs/theory.md).
 LAYOUT = dict(k_s=1.0e8, beta_p=2.5e7, k_p=4.0e7, slip_force=46.0)
 #: Steps per cycle of the time-stepped reference.
 STEPS = 2**14
@@ -48,7 +48,7 @@ def bilinear_masing(K1, K2, a_g, a):
 
 
 class StandIn:
-    """The microslip interface the fit reads, with the DESIGN.md two-region numbers at omega = 0."""
+    """The microslip interface the fit reads, with the reference bar's two-region numbers at omega = 0."""
 
     bar = SimpleNamespace(mu=0.3, k=8.0e8, L=0.05)
     load = SimpleNamespace(N=100.0)

@@ -1,4 +1,4 @@
-"""Issue-2 evidence: the analytic elements at omega = 0 against an independent discretised bar.
+"""The analytic elements at omega = 0 against an independent discretised bar.
 
 ``NumericalMicroslip(..., quasi_static=True)`` is a bar of n cells with one Jenkins element per
 node, driven quasi-statically through full cycles with exact return mapping (no Masing rule,

@@ -1,4 +1,4 @@
-"""Scenes (issue 6): effect selection changes what is computed, streaming, the command line.
+"""Scenes (docs/scenes.md): effect selection changes what is computed, streaming, the command line.
 
 Malformed scenes are in ``test_scenes_invalid.py``; the example scenes in ``test_scenes_examples.py``.
 """

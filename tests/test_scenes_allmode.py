@@ -1,4 +1,4 @@
-"""The scene effect "phase differences along the bar" (issue 13): AllModeMicroslip where the
+"""The scene effect "phase differences along the bar": AllModeMicroslip where the
 single-mode element is out of its range, the single-mode one where it holds."""
 
 from pathlib import Path

@@ -1,4 +1,4 @@
-"""Scenes with ``effects.harmonics = H`` (issue 12, item 6): the multi-harmonic balance where the
+"""Scenes with ``effects.harmonics = H``: the multi-harmonic balance where the
 element has a time law (the quasi-static bar), refused by name where it has none."""
 
 from pathlib import Path

@@ -1,6 +1,6 @@
-"""A scene describes a structure from matrix files (issue 12, item 6): ``[structure]``.
+"""A scene describes a structure from matrix files: ``[structure]``.
 
-The 3-DOF chain of issue 12 (unit masses and springs ground-0-1-2, C = 0.004 K, forced at DOF 2),
+The 3-DOF chain of docs/multiharmonic.md (unit masses and springs ground-0-1-2, C = 0.004 K, forced at DOF 2),
 its M and K written as Matrix Market and .npz files, a Jenkins element to ground at DOF 0: the
 scene's FRF is exactly ``frequency_response(Structure, [Contact])`` with the same options, at
 H = 1 and at H = 5 (``effects.harmonics``), and bad input names its key.

@@ -159,10 +159,10 @@ def stored():
     return json.loads(DATA.read_text())
 
 
-@pytest.mark.parametrize("name, issue", [("P1", -0.431), ("P2", 0.024), ("P3", -0.419)])
-def test_single_harmonic_misses_the_true_peaks_by_the_issues_percentages(stored, name, issue):
+@pytest.mark.parametrize("name, stated", [("P1", -0.431), ("P2", 0.024), ("P3", -0.419)])
+def test_single_harmonic_misses_the_true_peaks_by_the_documented_percentages(stored, name, stated):
     err = stored["jenkins"][name]["single_harmonic"]["amplitude_error"]
-    assert round(100 * err, 3) == issue
+    assert round(100 * err, 3) == stated
 
 
 def test_stored_p1_peak_reproduced(stored):

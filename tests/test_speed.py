@@ -1,4 +1,4 @@
-"""The shortcuts of issue 15 (speed) give the answers of the long way round.
+"""The speed shortcuts give the answers of the long way round.
 
 Each shortcut is checked against an independent computation: the stuck answer against the
 stuck stiffness (and that no loading path is built for it), the closed-form onset against the

@@ -1,4 +1,4 @@
-"""Structures and contacts: bad input refused up front by name (issue 12, item 7), helpers
+"""Structures and contacts: bad input refused up front by name, helpers
 (damping, files, Craig-Bampton), and a property suite over random small structures."""
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Time laws of the elements for multi-harmonic balance (issue 12, item 2).
+"""Time laws of the elements for multi-harmonic balance.
 
 Every Masing time law against direct time stepping (``step``/``force_history`` from rest,
 several periods) for periodic signals with several reversals; the quasi-static bar against the

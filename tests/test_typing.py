@@ -1,4 +1,4 @@
-"""Type hints on the public API (issue 11 item 7): every public function, method and property of
+"""Type hints on the public API: every public function, method and property of
 every module of both packages annotates all its parameters and its return.
 
 The public names are those of each package's ``__all__`` and of each listed module (its

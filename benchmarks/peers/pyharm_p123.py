@@ -1,4 +1,4 @@
-"""pyHarm 1.2.2 on the Jenkins problems P1-P3 of issue 12 (runs INSIDE the pyHarm venv).
+"""pyHarm 1.2.2 on the Jenkins problems P1-P3 of docs/performance.md (runs INSIDE the pyHarm venv).
 
 Problem: ``m x'' + c x' + k x + f_J = F cos(omega t)``, m = k = 1, F = 0.01, one Jenkins element
 (pyHarm ``Jenkins``: spring k = 1 behind a slider of force mu N0; mu = 1, N0 = slip force) from
