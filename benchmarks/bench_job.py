@@ -26,12 +26,13 @@ import resource
 import statistics
 import subprocess
 import sys
-import tarfile
 import tempfile
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from common import checkout  # noqa: E402  (the benchmarks' shared helpers)
 
 #: Run in a child with the tree first on sys.path: the job with its phases timed.
 PHASES = r"""
@@ -64,16 +65,6 @@ with contextlib.redirect_stdout(io.StringIO()):
 out["job (main)"] = time.perf_counter() - t1
 print(json.dumps(out))
 """
-
-
-def checkout(commit: str) -> Path:
-    """The tree of ``commit`` in a new temporary folder (``git archive``)."""
-    data = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", commit], check=True,
-                          capture_output=True).stdout
-    folder = Path(tempfile.mkdtemp(prefix=f"frictiondamp-{commit}-"))
-    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
-        tar.extractall(folder, filter="data")
-    return folder
 
 
 def job(tree: Path, out: Path) -> tuple[float, float, str]:

@@ -39,7 +39,6 @@ from __future__ import annotations
 
 import argparse
 import functools
-import io
 import json
 import os
 import resource
@@ -47,12 +46,13 @@ import shutil
 import statistics
 import subprocess
 import sys
-import tarfile
 import tempfile
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "benchmarks"))
+from common import checkout  # noqa: E402  (the benchmarks' shared helpers)
 BASELINE = "7c28cd0"
 THREE_SCENE = "examples/scenes/three_region_concave_frf.toml"
 #: The estimate, made before the speed work, of the default FRF's physical floor (s).
@@ -335,16 +335,6 @@ def _worker(task, repeats):
 
 
 # ---------------------------------------------------------------------------- driver
-def checkout(commit: str) -> Path:
-    """The tree of ``commit`` in a new temporary folder (``git archive``)."""
-    data = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", commit], check=True,
-                          capture_output=True).stdout
-    folder = Path(tempfile.mkdtemp(prefix=f"frictiondamp-{commit}-"))
-    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
-        tar.extractall(folder, filter="data")
-    return folder
-
-
 def _env(tree):
     env = dict(os.environ)
     env["PYTHONPATH"] = str(tree)

@@ -10,10 +10,14 @@ from times measured in the same run this way.
 from __future__ import annotations
 
 import datetime
+import io
 import math
 import os
 import platform
 import statistics
+import subprocess
+import tarfile
+import tempfile
 import time
 from pathlib import Path
 
@@ -26,6 +30,16 @@ ERROR_FLOOR = 1e-16
 
 ROOT = Path(__file__).resolve().parent.parent
 FIGURES = ROOT / "docs" / "figures"
+
+
+def checkout(commit: str) -> Path:
+    """The tree of ``commit`` in a new temporary folder (``git archive``)."""
+    data = subprocess.run(["git", "-C", str(ROOT), "archive", "--format=tar", commit], check=True,
+                          capture_output=True).stdout
+    folder = Path(tempfile.mkdtemp(prefix=f"frictiondamp-{commit}-"))
+    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
+        tar.extractall(folder, filter="data")
+    return folder
 
 
 class Timing:
