@@ -19,7 +19,6 @@ process now, whose import and drawing overlap the peak).
 from __future__ import annotations
 
 import argparse
-import io
 import json
 import os
 import resource
