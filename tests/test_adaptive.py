@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact_models import AccuracyWarning, Macroslip
+from contact_models import AccuracyWarning, CubicSpring, Macroslip
 from hbm import Contact, Structure, continuation as cont, frequency_response
 from hbm.adapt import lift, windows
 from hbm.balance import errors
@@ -274,3 +274,23 @@ def test_the_harmonics_source_sees_a_resonance_between_the_nodes():
     true = abs(a / ref["amplitude"][2] - 1.0)
     i = int(np.argmin(np.abs(frf.omega - 0.62)))
     assert true > 1e-3 and frf.error_sources["harmonics"][i] >= 0.5 * true
+
+
+def test_folds_and_stability_across_a_splice():
+    """A hardening Duffing oscillator (a cubic spring, k3 = 1) at tol 1e-4: H = 7 only over part of
+    the resonance, the splice between its two folds.  Both folds are located, each in its own
+    segment, where the whole curve at H = 7 has them; the middle branch between them, and nothing
+    else, is unstable (Hill's method per segment, across the splice)."""
+    s = Structure(np.eye(1), [[0.02]], np.eye(1), force=[0.1])
+    frf = quiet(s, [Contact(CubicSpring(1.0), dof=0)], omega_range=(0.5, 3.0), tol=1e-4)
+    ref = quiet(s, [Contact(CubicSpring(1.0), dof=0)], omega_range=(0.5, 3.0), harmonics=7)
+    assert len(frf.fold_after) == 2 == len(ref.fold_after)
+    i0, i1 = (int(i) for i in frf.fold_after)
+    splices = [sg.start for sg in frf.segments[1:]]
+    assert any(i0 < j <= i1 for j in splices)  # the unstable branch is split between two balances
+    assert {int(frf.point_harmonics[i0]), int(frf.point_harmonics[i1])} == {3, 7}
+    np.testing.assert_allclose(frf.folds_omega, ref.folds_omega, rtol=1e-4)
+    np.testing.assert_allclose(frf.folds_amplitude, ref.folds_amplitude, rtol=1e-4)
+    unstable = np.flatnonzero(~frf.stable)
+    assert unstable.tolist() == list(range(i0 + 1, i1 + 1))
+    assert [c.kind for c in frf.stability_changes] == ["fold", "fold"]
