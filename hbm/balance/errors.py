@@ -311,8 +311,9 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2, n_t=max(n_t, default_samples(H2)), **kw)
     sampled = not all(getattr(el, "exact_harmonics", False) for el, _ in same._attach)
     finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw) if sampled else None
+    # elements exact to rounding at every H (``exact_harmonics``) ignore rtol: their source is the floor
     tight = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, response_dof=problem.response_dof,
-                            rtol=ELEMENT_TIGHTEN * rtol)
+                            rtol=ELEMENT_TIGHTEN * rtol) if sampled else None
     r = problem.dofs.index(problem.response_dof)
     n = len(omega)
     out = {s: np.zeros(n) for s in ("harmonics", "sampling", "element", "model")}
@@ -329,7 +330,7 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
         if finer is not None:
             Rf, _ = finer._condensed(x, w)
             out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
-        out["element"][j] = _element_condensed(tight, R, Jx, x, w, r, L, rtol)
+        out["element"][j] = ROUNDING if tight is None else _element_condensed(tight, R, Jx, x, w, r, L, rtol)
         out["model"][j] = _model(problem, same, x, w, Jx) / a
     _count(problem, same, more, finer, tight)
     return out
