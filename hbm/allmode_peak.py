@@ -49,11 +49,13 @@ from the single-mode curve's estimate at its peak (``other``) and are added.  Me
 from __future__ import annotations
 
 import math
+import warnings
 from typing import Any, NamedTuple
 
 import numpy as np
 
 from contact_models import AllModeMicroslip
+from contact_models.accuracy import AccuracyWarning
 from contact_models.allmode import richardson
 from contact_models.numerics.checks import nonnegative, positive
 
@@ -315,10 +317,10 @@ def physical_peak(frf: Any, share: float = 0.5) -> AllModePeak | None:
     added to its own; otherwise (or for any other FRF: a structure, no estimate, no refined model, a
     failed run) None, and the curve's own peak stands.
 
-    Raises
-    ------
-    FloatingPointError
-        Where the all-mode amplitude equation does not converge near the peak.
+    Numerical trouble is said, not raised: where the all-mode amplitude equation does not converge
+    near the peak, an ``AccuracyWarning`` says so and None is returned (the single-mode peak stands);
+    where the all-mode peak's own estimate is above the tolerance, an ``AccuracyWarning`` says that
+    too (the finest rungs reached).
     """
     el = frf.element
     if (not frf.success or not len(frf) or frf.tolerance is None or not frf._problem.one_dof or el is None
@@ -329,4 +331,13 @@ def physical_peak(frf: Any, share: float = 0.5) -> AllModePeak | None:
         return None
     other = sum(float(v[i]) for k, v in frf.error_sources.items() if k != "model")
     pk = frf.peak()
-    return allmode_peak(frf.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance, other)
+    try:
+        best = allmode_peak(frf.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance, other)
+    except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
+        warnings.warn(f"the all-mode peak was not found ({exc}); the peak is the single-mode one", AccuracyWarning,
+                      stacklevel=2)
+        return None
+    if best.error > frf.tolerance:
+        warnings.warn(f"the all-mode peak's estimated error {best.error:.2g} is above tol = {frf.tolerance:g} "
+                      f"({best.cells} cells, H = {best.harmonics}, the finest rungs)", AccuracyWarning, stacklevel=2)
+    return best

@@ -11,14 +11,11 @@ from __future__ import annotations
 import csv
 import json
 import time
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable
 
 import numpy as np
-
-from contact_models.accuracy import AccuracyWarning
 
 from ..allmode_peak import physical_peak
 from ..frf import MODEL_SHARE, frequency_response
@@ -397,7 +394,7 @@ def _run_frequency(scene, plan, res, emit):
         res.peak = frf.peak()
         if p.name == "auto" and scene.effects["phase_differences"] == "auto":  # the model chosen by the estimate at
             # tol: the all-mode peak where the single-mode damper is off there (physical_peak: None for any other FRF)
-            res.allmode = _allmode_peak(frf)
+            res.allmode = physical_peak(frf, MODEL_SHARE)  # says its own trouble
             if scene.structure is None and p.harmonics in (None, 1):  # a blade at H = 1: physical_peak's case
                 _said(p, frf, res.allmode)
             if res.allmode is not None:
@@ -414,22 +411,6 @@ def accuracy_options(scene: Scene) -> dict:
     if "tol" in opts:
         out["tol"] = opts["tol"]
     return out
-
-
-def _allmode_peak(frf: Any) -> Any:
-    """``hbm.allmode_peak.physical_peak(frf)`` (the all-mode peak where the single-mode damper's model
-    error at the peak exceeds ``MODEL_SHARE`` of the tolerance, else None), with an ``AccuracyWarning``
-    where its own estimate is above the tolerance, or where it is not found (the single-mode peak stands)."""
-    try:
-        best = physical_peak(frf, MODEL_SHARE)
-    except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
-        warnings.warn(f"the all-mode peak was not found ({exc}); the peak is the single-mode one", AccuracyWarning,
-                      stacklevel=3)
-        return None
-    if best is not None and best.error > frf.tolerance:
-        warnings.warn(f"the all-mode peak's estimated error {best.error:.2g} is above tol = {frf.tolerance:g} "
-                      f"({best.cells} cells, H = {best.harmonics}, the finest rungs)", AccuracyWarning, stacklevel=3)
-    return best
 
 
 def _said(p: RunPlan, frf: Any, best: Any) -> None:
