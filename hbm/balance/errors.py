@@ -148,10 +148,13 @@ def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
     idx = nodes(amplitude)
     at = _one_dof if problem.one_dof else _condensed
     values = at(problem, X[idx], omega[idx], rtol)
+    every = not problem.one_dof and 1 < problem.H <= EVERY_POINT_HARMONICS
+    if not problem.one_dof and not every:
+        values["harmonics"] = _harmonics_condensed(problem, X[idx], omega[idx], rtol)
     for s, v in values.items():
         out[s] = np.interp(np.arange(n), idx, v) if len(idx) > 1 else np.full(n, v[0])
-    if not problem.one_dof and 1 < problem.H <= EVERY_POINT_HARMONICS:
-        out["harmonics"] = _harmonics_everywhere(problem, X, omega, rtol)
+    if every:  # at few harmonics, where the windows are decided: at every point, not interpolated
+        out["harmonics"] = _harmonics_condensed(problem, X, omega, rtol)
     return out
 
 
@@ -307,8 +310,6 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     H, n_t, L = problem.H, problem.n_t, problem.L
     kw = dict(response_dof=problem.response_dof, rtol=rtol)
     same = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, **kw)
-    H2 = 2 * H + 1
-    more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2, n_t=max(n_t, default_samples(H2)), **kw)
     sampled = not all(getattr(el, "exact_harmonics", False) for el, _ in same._attach)
     finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw) if sampled else None
     # elements exact to rounding at every H (``exact_harmonics``) ignore rtol: their source is the floor
@@ -316,7 +317,7 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
                             rtol=ELEMENT_TIGHTEN * rtol) if sampled else None
     r = problem.dofs.index(problem.response_dof)
     n = len(omega)
-    out = {s: np.zeros(n) for s in ("harmonics", "sampling", "element", "model")}
+    out = {s: np.zeros(n) for s in ("sampling", "element", "model")}  # the harmonics: _harmonics_condensed
     for j, (x, w) in enumerate(zip(X, omega)):
         w = float(w)
         a = math.hypot(x[r, 1], x[r, 2])
@@ -324,20 +325,18 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
             continue
         R, J = same._condensed(x, w)
         Jx = J[:, :-1]
-        Xp = np.zeros((problem.na, 2 * H2 + 1))
-        Xp[:, :L] = x
-        out["harmonics"][j] = abs(_truncation_step(more, Xp, w, r, H)) / a
         if finer is not None:
             Rf, _ = finer._condensed(x, w)
             out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
         out["element"][j] = ROUNDING if tight is None else _element_condensed(tight, R, Jx, x, w, r, L, rtol)
         out["model"][j] = _model(problem, same, x, w, Jx) / a
-    _count(problem, same, more, finer, tight)
+    _count(problem, same, finer, tight)
     return out
 
 
-def _harmonics_everywhere(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> NDArray:
-    """The harmonics source (condensed form) at every point ``X`` (points, n_a, 2H+1), ``omega``."""
+def _harmonics_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> NDArray:
+    """The harmonics source (condensed form) at the points ``X`` (points, n_a, 2H+1), ``omega``: one
+    Newton step of the balance at 2H + 1 harmonics from each point padded with zeros."""
     H, L = problem.H, problem.L
     H2 = 2 * H + 1
     more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2,
