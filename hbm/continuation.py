@@ -45,7 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
-from contact_models.numerics.small import chords, lagrange, solve_small as _solve
+from contact_models.numerics.small import lagrange, solve_small as _solve
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
