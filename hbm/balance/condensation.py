@@ -84,6 +84,7 @@ class Condensed:
             self._residues = np.vstack([(self.Va[:, None, :] * self.Ba.T[None, :, :]).reshape(na * na, -1),
                                         self.Va * self.bf[None, :]])
         self._cache: tuple | None = None
+        self._real_cache: tuple | None = None
 
     def at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
         """``(G, dG/domega, x_lin, dx_lin/domega)``: G (H+1, n_a, n_a) complex, x_lin (n_a,) complex."""
@@ -108,6 +109,26 @@ class Condensed:
         out = (G, dG, xl, dxl)
         self._cache = (omega, out)
         return out
+
+    def real_at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, NDArray]:
+        """For one condensation DOF: ``G`` and ``dG/domega`` as the multipliers ``(a, b)`` of the real
+        layout, ``G F = a F + b F_swapped`` (``a = [g_0, g_r1, g_r1, ...]``, ``b = [0, g_i1, -g_i1, ...]``,
+        ``F_swapped`` with each harmonic's cos and sin exchanged), then ``x_lin`` and ``dx_lin/domega``."""
+        if self._real_cache is not None and self._real_cache[0] == omega:
+            return self._real_cache[1]
+        G, dG, xl, dxl = self.at(omega)
+        L = 2 * self.h.size - 1
+        out = []
+        for g in (G[:, 0, 0], dG[:, 0, 0]):
+            a, b = np.empty(L), np.empty(L)
+            a[0], b[0] = g[0].real, 0.0
+            a[1::2] = a[2::2] = g[1:].real
+            b[1::2] = g[1:].imag
+            b[2::2] = -b[1::2]
+            out += [a, b]
+        res = (*out, xl[0], dxl[0])
+        self._real_cache = (omega, res)
+        return res
 
     def response(self, omega: float, F: NDArray) -> NDArray[np.complex128]:
         """Complex harmonics (n, H+1) of every DOF for contact-force harmonics F (n_a, 2H+1)."""

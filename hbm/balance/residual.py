@@ -218,6 +218,12 @@ class HarmonicBalance:
             self._init_one_dof()
         else:
             self.cond = Condensed(s, self.dofs, self.H)
+        # the fast path of the condensed form: one element between the one condensation DOF and ground
+        self._grounded_one = (not self.one_dof and self.na == 1 and len(self._attach) == 1
+                              and self._attach[0][1] == [[0]])
+        L = self.L
+        self._swap = np.array([0] + [j - 1 + 2 * (j % 2) for j in range(1, L)])  # 1 <-> 2, 3 <-> 4, ...
+        self._diag = (np.arange(L), np.arange(L))
 
     # ------------------------------------------------------------------ layout
     @property
@@ -322,6 +328,8 @@ class HarmonicBalance:
     def _condensed(self, X: NDArray, omega: float) -> tuple[NDArray, NDArray]:
         """``R = X - X_lin + G F(X)`` (n_a L,) and ``J`` (n_a L, n_a L + 1), physical units."""
         self.ncalls += 1
+        if self._grounded_one:
+            return self._condensed_one(X[0], omega)
         na, L = self.na, self.L
         G, dG, xl, dxl = self.cond.at(omega)
         F, dF, Fw = self.forces(X, omega)
@@ -340,6 +348,27 @@ class HarmonicBalance:
         J[np.arange(na * L), np.arange(na * L)] += 1.0
         J[:, -1] = Rw.ravel()
         return R.ravel(), J
+
+    def _condensed_one(self, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
+        """:meth:`_condensed` for one element on the one condensation DOF, to ground: the same
+        products in the real layout, ``(g F)_c = g_r F_c + g_i F_s``, ``(g F)_s = g_r F_s - g_i F_c``
+        (``g_h = g_r + i g_i``, ``c_h = F_c - i F_s``), without the complex copies."""
+        a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
+        f, dF, fw = self._attach[0][0].harmonic_force_unchecked(x, omega, self.n_t, self.rtol)
+        self.nfev += 1
+        p = self._swap  # cos <-> sin of each harmonic; the static term onto itself (b[0] = 0)
+        R = x + (a * f + b * f[p])
+        R[1] -= xl.real
+        R[2] += xl.imag
+        Rw = (aw * f + bw * f[p]) + (a * fw + b * fw[p])
+        Rw[1] -= dxl.real
+        Rw[2] += dxl.imag
+        L = self.L
+        J = np.empty((L, L + 1))
+        J[:, :-1] = a[:, None] * dF + b[:, None] * dF[p]
+        J[self._diag] += 1.0
+        J[:, -1] = Rw
+        return R, J
 
     # ------------------------------------------------------------------ one-DOF form
     def _init_one_dof(self) -> None:
