@@ -177,11 +177,12 @@ def _reversals(C: NDArray[np.complex128]) -> tuple[Array, tuple]:
     m = np.arange(1, H + 1)
     A, B = (1j * m * C).tolist(), (-(m * m) * C).tolist()
     roots = [_newton(A, B, 0.0, _hermite_root(t, cw, p, q, dp, dq), t, t + cw, q > p) for t, cw, p, q, dp, dq in found]
-    th = np.sort(np.mod(roots, 2.0 * np.pi))
-    if th.size > 1:  # one reversal found from two cells (the grid's and the direct sums' rounding differ)
-        keep = np.diff(th, append=th[0] + 2.0 * np.pi) > SAME_REVERSAL
-        th = th[keep] if keep.any() else th[:1]
-    return th, (xg.tolist(), g.tolist(), w, n)
+    two_pi = 2.0 * math.pi
+    th = sorted(r % two_pi for r in roots)  # Python floats: a few roots, cheaper than arrays
+    if len(th) > 1:  # one reversal found from two cells (the grid's and the direct sums' rounding differ)
+        nxt = th[1:] + [th[0] + two_pi]
+        th = [t for t, u in zip(th, nxt) if u - t > SAME_REVERSAL] or th[:1]
+    return np.array(th), (xg.tolist(), g.tolist(), w, n)
 
 
 def _hermite_root(lo: float, w: float, g0: float, g1: float, p0: float, p1: float) -> float:

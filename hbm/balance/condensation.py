@@ -76,6 +76,7 @@ class Condensed:
         self.Ba = B[:, self.dofs]  # (2n, n_a)
         self.bf = B @ structure.force  # (2n,)
         self.h = np.arange(harmonics + 1)
+        self._ih = (1j * self.h[:, None], -1j * self.h[:, None])  # i h and -i h, (H+1, 1)
         na = self.dofs.size
         # the residues of every pole at the pairs (a, b), once: G_h(omega) is then one matrix
         # product over the poles, (n_a^2, 2n) @ (2n, H+1), with the forcing's row appended
@@ -85,16 +86,18 @@ class Condensed:
                                         self.Va * self.bf[None, :]])
         self._cache: tuple | None = None
         self._real_cache: tuple | None = None
+        self._layout: tuple | None = None
 
     def at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
         """``(G, dG/domega, x_lin, dx_lin/domega)``: G (H+1, n_a, n_a) complex, x_lin (n_a,) complex."""
         if self._cache is not None and self._cache[0] == omega:
             return self._cache[1]
-        S = 1.0 / (1j * self.h[:, None] * omega - self.lam[None, :])  # (H+1, 2n)
-        dS = -1j * self.h[:, None] * S * S
+        ih, mih = self._ih
+        S = 1.0 / (ih * omega - self.lam[None, :])  # (H+1, 2n)
+        dS = mih * S * S
         na, n1 = self.dofs.size, self.h.size
         if self._residues is not None:
-            both = self._residues @ np.vstack([S, dS]).T  # (n_a^2 + n_a, 2 (H+1))
+            both = self._residues @ np.concatenate((S, dS)).T  # (n_a^2 + n_a, 2 (H+1))
             G = both[:na * na, :n1].T.reshape(n1, na, na)
             dG = both[:na * na, n1:].T.reshape(n1, na, na)
             xl, dxl = both[na * na:, 1], both[na * na:, n1 + 1]
@@ -117,16 +120,12 @@ class Condensed:
         if self._real_cache is not None and self._real_cache[0] == omega:
             return self._real_cache[1]
         G, dG, xl, dxl = self.at(omega)
-        L = 2 * self.h.size - 1
-        out = []
-        for g in (G[:, 0, 0], dG[:, 0, 0]):
-            a, b = np.empty(L), np.empty(L)
-            a[0], b[0] = g[0].real, 0.0
-            a[1::2] = a[2::2] = g[1:].real
-            b[1::2] = g[1:].imag
-            b[2::2] = -b[1::2]
-            out += [a, b]
-        res = (*out, xl[0], dxl[0])
+        if self._layout is None:  # h of each real coefficient [0, 1, 1, 2, 2, ...] and the signs of b
+            L = 2 * self.h.size - 1
+            self._layout = ((np.arange(L) + 1) // 2, np.array([0.0] + [1.0, -1.0] * self.h[-1]))
+        at, sign = self._layout
+        g, dg = G[:, 0, 0], dG[:, 0, 0]  # Im g_0 = Im dg_0 = 0
+        res = (g.real[at], g.imag[at] * sign, dg.real[at], dg.imag[at] * sign, xl[0], dxl[0])
         self._real_cache = (omega, res)
         return res
 
