@@ -349,7 +349,7 @@ class _Trace:
         if at_corner:
             self.c2 = self.c3 = self.zero
         else:
-            self.c2, self.c3 = _hermite(y_prev, _rescale(ts[-2], _scale(self.scale, y_prev), s), y, t, s)
+            self.c2, self.c3 = _hermite(y_prev, _rescale(ts[-2], s_old, s), y, t, s)  # s_old = scale(y_prev)
         # ---- step control from corrector effort and curvature
         f_newton = NEWTON_TARGET / max(new.iterations, 1)
         f_turn = MAX_TURN / max(turn, 1e-12) if not at_corner else 1.0
@@ -464,7 +464,7 @@ def _counted(residual, count):
 
 def _scale(scale, y):
     s = np.asarray(scale(y), dtype=float)
-    if s.shape != y.shape or np.any(~(s > 0.0)) or np.any(~np.isfinite(s)):
+    if s.shape != y.shape or not (s.size == 0 or 0.0 < float(s.min()) and float(s.max()) < math.inf):  # nan: False
         raise ValueError(f"scale(y) must return finite positive weights of shape {y.shape}, got {s!r}")
     return s
 
@@ -524,7 +524,7 @@ def _tangent(J, s, prev):
         try:
             if prev is None:
                 raise np.linalg.LinAlgError
-            t = np.linalg.solve(np.vstack([Js, prev]), rhs)
+            t = np.linalg.solve(np.concatenate((Js, prev[None])), rhs)
         except np.linalg.LinAlgError:  # no reference, or the null space is orthogonal to it: the last
             t = np.linalg.svd(Js)[2][-1]  # right-singular vector, not orthogonal to the null space
     nrm = math.sqrt(float(t @ t))
@@ -556,8 +556,8 @@ def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
             return _Newton(y, R, J, rnorm, k, True)
         if k == max_iter:
             break
-        A = np.vstack([J, w])
-        b = np.append(R, float(w @ y) - c)
+        A = np.concatenate((J, w[None]))  # [J; w], [R; w . y - c]
+        b = np.concatenate((R, [float(w @ y) - c]))
         try:
             dy = _solve(A, -b)
         except np.linalg.LinAlgError:
