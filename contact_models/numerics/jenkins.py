@@ -78,10 +78,10 @@ def jenkins_harmonics(X: Array, k: float, fs: float) -> tuple[Array, Array]:
     """
     H = (X.size - 1) // 2
     C = X[1::2] - 1j * X[2::2]  # x = X0 + Re sum_m C_m e^{i m theta}
-    if not np.any(C):
+    if not C.any():
         return _stuck(X, k, 0.0, 0.0, np.pi, H)
     th, grid = _reversals(C)
-    xr = (X[0] + (np.exp(1j * np.outer(th, np.arange(1, H + 1))) @ C).real).tolist()
+    xr = (X[0] + (np.exp(1j * np.outer(th, _grid(H)[3])) @ C).real).tolist()
     th = th.tolist()
     iM = max(range(len(xr)), key=xr.__getitem__)
     im = min(range(len(xr)), key=xr.__getitem__)
@@ -159,7 +159,7 @@ def _reversals(C: NDArray[np.complex128]) -> tuple[Array, tuple]:
     instants).
     """
     H = C.size
-    n, fac, m34 = _grid(H)
+    n, fac, m34, _, im, mm = _grid(H)
     absC = np.abs(C)
     M3, M4 = (absC @ m34).tolist()
     bounds = (M3, M4, WIGGLE_RTOL * float(absC.sum()))
@@ -174,15 +174,14 @@ def _reversals(C: NDArray[np.complex128]) -> tuple[Array, tuple]:
     found: list = []
     for i in cells:
         _cell(C, bounds, i * w, w, float(g[i]), float(g1[i]), float(gp[i]), float(gp[(i + 1) % n]), found)
-    m = np.arange(1, H + 1)
-    A, B = (1j * m * C).tolist(), (-(m * m) * C).tolist()
+    A, B = (im * C).tolist(), (mm * C).tolist()
     roots = [_newton(A, B, 0.0, _hermite_root(t, cw, p, q, dp, dq), t, t + cw, q > p) for t, cw, p, q, dp, dq in found]
     two_pi = 2.0 * math.pi
     th = sorted(r % two_pi for r in roots)  # Python floats: a few roots, cheaper than arrays
     if len(th) > 1:  # one reversal found from two cells (the grid's and the direct sums' rounding differ)
         nxt = th[1:] + [th[0] + two_pi]
         th = [t for t, u in zip(th, nxt) if u - t > SAME_REVERSAL] or th[:1]
-    return np.array(th), (xg.tolist(), g.tolist(), w, n)
+    return np.array(th), (xg, g, w, n)
 
 
 def _hermite_root(lo: float, w: float, g0: float, g1: float, p0: float, p1: float) -> float:
@@ -225,13 +224,17 @@ def _cell(C: NDArray[np.complex128], bounds: tuple, lo: float, w: float, g0: flo
 
 
 @lru_cache(maxsize=32)
-def _grid(H: int) -> tuple[int, NDArray[np.complex128], Array]:
+def _grid(H: int) -> tuple[int, NDArray[np.complex128], Array, NDArray[np.intp], NDArray[np.complex128],
+                           NDArray[np.intp]]:
     """For :func:`reversals`: the grid's size ``n`` (a power of two >= GRID_PER_HARMONIC H and
     >= GRID_MIN), the factors taking ``C_m`` to the inverse real FFT's input of ``x - X0``, ``x'``
-    and ``x''`` (3, H), and ``[m^3, m^4]`` (H, 2)."""
+    and ``x''`` (3, H), ``[m^3, m^4]`` (H, 2), and ``m``, ``i m``, ``-m^2`` (the factors of ``x'``
+    and ``x''``), m = 1..H."""
     n = max(GRID_MIN, 1 << int(math.ceil(math.log2(GRID_PER_HARMONIC * H))))
     m = np.arange(1, H + 1, dtype=float)
-    return n, (0.5 * n) * np.stack((np.ones(H) + 0j, 1j * m, -m * m + 0j)), np.stack((m**3, m**4), axis=1)
+    mi = np.arange(1, H + 1)
+    return (n, (0.5 * n) * np.stack((np.ones(H) + 0j, 1j * m, -m * m + 0j)), np.stack((m**3, m**4), axis=1),
+            mi, 1j * mi, -(mi * mi))
 
 
 def _pair(A: list, B: list, th: float) -> tuple[float, float]:
@@ -301,8 +304,8 @@ def _crossings(X0: float, C: NDArray[np.complex128], th: list, xr: list, levels:
     the cubic through its ends (``x``, ``x'``; a reversal's ``x' = 0`` where the stretch ends in
     the cell), then Newton, kept in the stretch."""
     xg, dg, w, n = grid
-    m = np.arange(1, C.size + 1)
-    A, B = C.tolist(), (1j * m * C).tolist()
+    xg, dg = xg.tolist(), dg.tolist()
+    A, B = C.tolist(), (_grid(C.size)[4] * C).tolist()
     out = []
     for i, level in levels:
         a, b, xa, xb = th[i], th[i + 1], xr[i] - X0, xr[i + 1] - X0
@@ -324,10 +327,11 @@ def _crossings(X0: float, C: NDArray[np.complex128], th: list, xr: list, levels:
 
 
 @lru_cache(maxsize=32)
-def _toeplitz_index(H: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-    """``(h - m + 2H, h + m + 2H)`` for h = 0..H (rows), m = 1..H (columns)."""
+def _toeplitz_index(H: int) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.complex128]]:
+    """``(h - m + 2H, h + m + 2H)`` for h = 0..H (rows), m = 1..H (columns); ``n`` and ``i/n``, n = 1..2H."""
     h, m = np.arange(H + 1)[:, None], np.arange(1, H + 1)[None, :]
-    return h - m + 2 * H, h + m + 2 * H
+    n = np.arange(1, 2 * H + 1)
+    return h - m + 2 * H, h + m + 2 * H, n, 1j / n
 
 
 def _integrals(X: Array, k: float, th: list, cross: list, pieces: list, H: int) -> tuple[Array, Array]:
@@ -339,15 +343,14 @@ def _integrals(X: Array, k: float, th: list, cross: list, pieces: list, H: int) 
     b = [th[p[0]] if p[0] >= 0 else cross[-p[0] - 1] for p in pieces] + [th[-1]]
     stuck = [j for j, p in enumerate(pieces) if p[3] >= 0]
     anchors = [th[pieces[j][3]] for j in stuck]
-    n = np.arange(1, 2 * H + 1)
+    mi, pl, n, i_n = _toeplitz_index(H)
     Z = np.exp(-1j * np.outer(b + anchors, n))  # e^{-i n theta} at the breakpoints, then the anchors
     E = np.empty((P, 2 * H + 1), dtype=complex)
-    E[:, 0] = np.diff(b)
-    E[:, 1:] = (Z[1:P + 1] - Z[:P]) * (1j / n)
+    E[:, 0] = [v - u for u, v in zip(b, b[1:])]
+    E[:, 1:] = (Z[1:P + 1] - Z[:P]) * i_n
     Es = E[stuck]
     S = Es.sum(axis=0)
     Sf = np.concatenate((S[:0:-1].conj(), S))  # S_n at n + 2H, n = -2H..2H
-    mi, pl = _toeplitz_index(H)
     T = np.empty((H + 1, 2 * H + 1), dtype=complex)
     T[:, 0] = S[:H + 1]
     T[:, 1::2] = 0.5 * (Sf[mi] + Sf[pl])
