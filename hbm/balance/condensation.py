@@ -92,9 +92,7 @@ class Condensed:
         """``(G, dG/domega, x_lin, dx_lin/domega)``: G (H+1, n_a, n_a) complex, x_lin (n_a,) complex."""
         if self._cache is not None and self._cache[0] == omega:
             return self._cache[1]
-        ih, mih = self._ih
-        S = 1.0 / (ih * omega - self.lam[None, :])  # (H+1, 2n)
-        dS = mih * S * S
+        S, dS = self._poles(omega)
         na, n1 = self.dofs.size, self.h.size
         if self._residues is not None:
             both = self._residues @ np.concatenate((S, dS)).T  # (n_a^2 + n_a, 2 (H+1))
@@ -113,19 +111,30 @@ class Condensed:
         self._cache = (omega, out)
         return out
 
+    def _poles(self, omega: float) -> tuple[NDArray, NDArray]:
+        """``1/(i h omega - lambda_j)`` (H+1, 2n) and its omega-derivative."""
+        ih, mih = self._ih
+        S = 1.0 / (ih * omega - self.lam[None, :])
+        return S, mih * S * S
+
     def real_at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, NDArray]:
         """For one condensation DOF: ``G`` and ``dG/domega`` as the multipliers ``(a, b)`` of the real
         layout, ``G F = a F + b F_swapped`` (``a = [g_0, g_r1, g_r1, ...]``, ``b = [0, g_i1, -g_i1, ...]``,
         ``F_swapped`` with each harmonic's cos and sin exchanged), then ``x_lin`` and ``dx_lin/domega``."""
         if self._real_cache is not None and self._real_cache[0] == omega:
             return self._real_cache[1]
-        G, dG, xl, dxl = self.at(omega)
+        if self._residues is None:
+            G, dG, xl, dxl = self.at(omega)
+            g, dg, xl, dxl = G[:, 0, 0], dG[:, 0, 0], xl[0], dxl[0]
+        else:  # at's product, without its (H+1, 1, 1) copies
+            n1 = self.h.size
+            both = self._residues @ np.concatenate(self._poles(omega)).T  # (2, 2 (H+1))
+            g, dg, xl, dxl = both[0, :n1], both[0, n1:], both[1, 1], both[1, n1 + 1]
         if self._layout is None:  # h of each real coefficient [0, 1, 1, 2, 2, ...] and the signs of b
             L = 2 * self.h.size - 1
             self._layout = ((np.arange(L) + 1) // 2, np.array([0.0] + [1.0, -1.0] * self.h[-1]))
         at, sign = self._layout
-        g, dg = G[:, 0, 0], dG[:, 0, 0]  # Im g_0 = Im dg_0 = 0
-        res = (g.real[at], g.imag[at] * sign, dg.real[at], dg.imag[at] * sign, xl[0], dxl[0])
+        res = (g.real[at], g.imag[at] * sign, dg.real[at], dg.imag[at] * sign, xl, dxl)  # sign[0] = 0: Im g_0 out
         self._real_cache = (omega, res)
         return res
 

@@ -223,7 +223,6 @@ class HarmonicBalance:
                               and self._attach[0][1] == [[0]])
         L = self.L
         self._swap = np.array([0] + [j - 1 + 2 * (j % 2) for j in range(1, L)])  # 1 <-> 2, 3 <-> 4, ...
-        self._diag = (np.arange(L), np.arange(L))
 
     # ------------------------------------------------------------------ layout
     @property
@@ -269,12 +268,20 @@ class HarmonicBalance:
         if self.one_dof:
             return self._scaled_one_dof(u)
         xr, wr = self.x_ref, self.omega_ref
-        X = (u[:-1] * xr).reshape(self.na, self.L)
-        R, J = self._condensed(X, float(u[-1]) * wr)
-        # sigma's own derivative multiplies R and vanishes on the branch: left out of J
-        sigma = max(1.0, math.sqrt(float(np.sum(X[:, 1:3] ** 2))) / xr)
+        if self._grounded_one:
+            x = u[:-1] * xr
+            self.ncalls += 1
+            R, J = self._condensed_one(x, float(u[-1]) * wr)
+            xc, xs = float(x[1]), float(x[2])
+            sigma = max(1.0, math.sqrt(xc * xc + xs * xs) / xr)
+        else:
+            X = (u[:-1] * xr).reshape(self.na, self.L)
+            R, J = self._condensed(X, float(u[-1]) * wr)
+            # sigma's own derivative multiplies R and vanishes on the branch: left out of J
+            sigma = max(1.0, math.sqrt(float(np.sum(X[:, 1:3] ** 2))) / xr)
         J[:, -1] *= wr / xr
-        return R / (xr * sigma), J / sigma
+        J /= sigma  # J is the balance's own new array
+        return R / (xr * sigma), J
 
     # ------------------------------------------------------------------ the contacts' forces
     def forces(self, X: NDArray, omega: float, *, perturbation: bool = False) -> tuple[NDArray, NDArray, NDArray]:
@@ -360,13 +367,19 @@ class HarmonicBalance:
         R = x + (a * f + b * f[p])
         R[1] -= xl.real
         R[2] += xl.imag
-        Rw = (aw * f + bw * f[p]) + (a * fw + b * fw[p])
+        Rw = aw * f + bw * f[p]
+        if fw.any():  # an element with an omega-derivative (the exact Jenkins element has none)
+            Rw += a * fw + b * fw[p]
         Rw[1] -= dxl.real
         Rw[2] += dxl.imag
         L = self.L
         J = np.empty((L, L + 1))
-        J[:, :-1] = a[:, None] * dF + b[:, None] * dF[p]
-        J[self._diag] += 1.0
+        Jx = J[:, :-1]
+        np.multiply(a[:, None], dF, out=Jx)
+        swapped = dF[p]
+        swapped *= b[:, None]
+        Jx += swapped
+        J.flat[::L + 2] += 1.0  # the diagonal of J[:, :-1]
         J[:, -1] = Rw
         return R, J
 
