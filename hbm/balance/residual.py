@@ -29,6 +29,8 @@ Two evaluations of this one balance, chosen by the problem's size:
   ``G_h = Z_h^-1`` restricted to the DOFs a, ``R = X - X_lin(omega) + G(omega) F(X)``, which
   stays bounded at the resonances of the eliminated DOFs; R is scaled by ``x_ref sigma``
   (``sigma = max(1, |X_1|/x_ref)``, so the Newton tolerance is relative to the response).
+  One element between the one condensation DOF and ground (a blade with its damper) takes the
+  same products in the real layout, without complex copies (``_condensed_one``).
 - **one DOF at H = 1** with at most one contact answering by its describing function (the
   blade of the paper): the same equations in stiffness form, in floats,
 
