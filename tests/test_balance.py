@@ -135,3 +135,30 @@ def test_the_chain_at_three_harmonics_traces_with_the_default_sampling():
     ref = frequency_response(s, contacts, omega_range=(0.3, 0.8), harmonics=3, n_t=2048).peak()
     assert frf.peak().amplitude == pytest.approx(ref.amplitude, rel=1e-4)
     assert frf.peak().omega == pytest.approx(ref.omega, rel=1e-3)
+
+
+@pytest.mark.parametrize("element", [Macroslip(1.0, 0.02), Macroslip(1.0, 0.02, slider="from rest")],
+                         ids=["centred", "from rest"])
+def test_the_one_element_fast_path_is_the_general_condensed_balance(element):
+    # one element between the one DOF and ground: G F in the real layout (a F + b F_swapped) must be
+    # the complex product of the general assembly, for R and for every column of J (omega included)
+    s = Structure(np.eye(1), np.array([[0.004]]), np.eye(1), force=[0.01])
+    hb = HarmonicBalance(s, [Contact(element, dof=0)], harmonics=3, n_t=256)
+    assert hb._grounded_one
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        u = np.append(rng.normal(scale=0.05, size=hb.unknowns - 1), rng.uniform(0.6, 1.8))
+        R, J = hb(u)
+        hb._grounded_one = False
+        R0, J0 = hb(u)
+        hb._grounded_one = True
+        np.testing.assert_allclose(R, R0, rtol=0.0, atol=1e-15 * np.abs(R0).max())
+        np.testing.assert_allclose(J, J0, rtol=0.0, atol=1e-15 * np.abs(J0).max())
+
+
+def test_the_fast_path_is_only_for_one_element_to_ground():
+    K = np.array([[2.0, -1.0], [-1.0, 1.0]])
+    s = Structure(np.eye(2), 0.004 * K, K, force=[0.0, 0.01])
+    between = HarmonicBalance(s, [Contact(Macroslip(1.0, 0.02), dofs=(0, 1))], harmonics=3)
+    two = HarmonicBalance(s, [Contact(Macroslip(1.0, 0.02), dof=0)], harmonics=3)  # response DOF 1 too
+    assert not between._grounded_one and not two._grounded_one
