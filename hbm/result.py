@@ -22,14 +22,16 @@ from . import continuation as cont  # the module (hbm.continuation)
 from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
-from .balance.stability import STABILITY_TOL, HillProblem, stability_changes
+from .balance.stability import STABILITY_TOL, HillProblem, band_modes, stability_changes
 from .output import AMPLITUDE_UNITS, OMEGA_UNITS, plot_branch, write_frf_csv
 
 #: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
 #: amplitude error is quadratic in that distance.
 PEAK_XTOL_FACTOR = 1e-3
 #: Hill's method runs on the structure itself up to this many DOFs, else on a Craig-Bampton
-#: model of the condensation DOFs plus ``STABILITY_MODES`` fixed-interface modes.
+#: model of the condensation DOFs plus at most ``STABILITY_MODES`` fixed-interface modes: those
+#: within the band the balance resolves, ``(H + 1/2)`` times the branch's largest omega, and the
+#: first one above it (``hbm.balance.stability.band_modes``).
 STABILITY_FULL_DOFS = 6
 STABILITY_MODES = 4
 
@@ -389,15 +391,18 @@ class FrequencyResponse:
         else:
             model = s.reduce(self.dofs, modes=min(STABILITY_MODES, s.n - len(self.dofs)))
             place = list(range(len(self.dofs)))
-        self.stability_dofs = list(range(model.n)) if model is s else [f"CB:{d}" for d in self.dofs] + [
-            f"mode {j}" for j in range(model.n - len(self.dofs))]
         M, C, K = (np.asarray(A.toarray() if hasattr(A, "toarray") else A) for A in (model.M, model.C, model.K))
+        if model is not s:
+            keep = band_modes(M, K, len(self.dofs), (self.harmonics + 0.5) * float(np.max(self.omega)))
+            M, C, K = (A[np.ix_(keep, keep)] for A in (M, C, K))
+        self.stability_dofs = list(range(model.n)) if model is s else [f"CB:{d}" for d in self.dofs] + [
+            f"mode {j}" for j in range(M.shape[0] - len(self.dofs))]
         idx = (np.asarray(place)[:, None] * L + np.arange(L)[None, :]).ravel()
         lams = []
         hill = HillProblem(M, C, K, self.harmonics)
         for X, w in zip(self._X, self.omega):
             dFa = pr.perturbation_jacobian(X, float(w))
-            dF = np.zeros((model.n * L, model.n * L))
+            dF = np.zeros((M.shape[0] * L, M.shape[0] * L))
             dF[np.ix_(idx, idx)] = dFa
             lams.append(hill.exponents(float(w), dF))
         self._exponents = np.array(lams)

@@ -111,6 +111,7 @@ class HillProblem:
         self.M, self.C, self.K = (np.asarray(A, dtype=float) for A in (M, C, K))
         self.n, self.H, self.L = self.M.shape[0], int(harmonics), 2 * int(harmonics) + 1
         self._Minv = np.linalg.inv(self.M)
+        self._eye = np.eye(self.L)
         parity = np.r_[0, np.repeat(np.arange(1, self.H + 1), 2)] % 2
         self._parts = (np.flatnonzero(parity == 0), np.flatnonzero(parity == 1))
         # the rows of every DOF's even and odd coefficients in the DOF-major layout
@@ -125,7 +126,9 @@ class HillProblem:
         """The ``2 n`` Floquet exponents (1/s) at ``omega`` for the contacts' Jacobian ``dF``."""
         n, L, H = self.n, self.L, self.H
         Kc = dF[::L, ::L]
-        if np.array_equal(dF, np.kron(Kc, np.eye(L))):  # time-invariant: the k = 0 member of each family
+        blocks = dF.reshape(n, L, n, L)
+        if np.array_equal(blocks, Kc[:, None, :, None] * self._eye[None, :, None, :]):
+            # time-invariant (dF = kron(Kc, I)): the k = 0 member of each family
             key = Kc.tobytes()
             if self._invariant[0] != key:
                 lam = _state_space_eigenvalues(self.M, self.C, self.K + Kc)
@@ -195,6 +198,24 @@ class HillProblem:
         P = np.zeros((self.n, self.L, 2 * size), dtype=complex)
         P[:, part] = V.reshape(self.n, part.size, 2 * size)
         return wr + 1j * wi, P
+
+
+def band_modes(M: NDArray, K: NDArray, kept: int, band: float) -> list[int]:
+    """Rows of a Craig-Bampton model (``kept`` physical DOFs, then its fixed-interface modes in
+    ascending frequency) Hill's method keeps: the physical DOFs, every mode of frequency within
+    ``band`` (rad/s) and the first mode above it.  A mode above the band has no member of its family
+    of exponents in the strip the truncation resolves; it couples to the contacts quasi-statically,
+    and the first one above carries most of that coupling (``docs/multiharmonic.md``, "Stability").
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> band_modes(np.eye(5), np.diag([9.0, 4.0, 1.0, 16.0, 100.0]), 2, 3.5)  # modes at 1, 4, 10 rad/s
+    [0, 1, 2, 3]
+    """
+    omega = np.sqrt(np.diag(K)[kept:] / np.diag(M)[kept:])
+    above = int(np.searchsorted(omega, band, side="right"))
+    return list(range(kept + min(above + 1, omega.size)))
 
 
 def _state_space_eigenvalues(M: NDArray, C: NDArray, K: NDArray) -> NDArray[np.complex128]:
