@@ -484,9 +484,9 @@ class AllModeMicroslip(ContactElement):
     def _warn(self, shortfalls) -> None:
         """One AccuracyWarning for the worst point of a call that missed ``tol``."""
         if shortfalls:
-            warnings.warn(shortfall_message(shortfalls, self.tol, f"up to {MAX_CELLS}" if self.cells is None else "as "
-                                            "given", f"up to {MAX_HARMONICS}" if self.harmonics is None else "as given"),
-                          AccuracyWarning, stacklevel=4)
+            cells = f"up to {MAX_CELLS}" if self.cells is None else "as given"
+            warnings.warn(shortfall_message(shortfalls, self.tol, cells, f"up to {MAX_HARMONICS}"
+                                            if self.harmonics is None else "as given"), AccuracyWarning, stacklevel=4)
 
     # ------------------------------------------------------------ the stuck bar
     def _disc(self, cells: int) -> _Discretisation:

@@ -5,8 +5,10 @@ elements as given), then finds the **windows**: the contiguous stretches of the 
 index, so folds are fine) where one source of its error estimate exceeds a share of ``tol`` (the
 harmonics source, or the model source for ``model="auto"``), widened to the nearest estimate nodes
 (``hbm.balance.errors.nodes``) below the share on each side.  Each window is traced again with
-``H -> 2H + 1`` (or each element's refined model), starting from the window's first point lifted
-to the new setting (zero-padded harmonics, corrected by Newton at its frequency) and ending where
+``H -> 2H + 1`` (or each element's refined model: for a fixed rung of a discretised element such as
+``AllModeMicroslip``, the next rung its estimate predicts for the window, ``refined_contacts``),
+starting from the window's first point lifted to the new setting (zero-padded harmonics, corrected
+by Newton at its frequency) and ending where
 the branch passes the window's last point: at the first accepted point beyond the hyperplane
 through the coarse end point normal to the coarse tangent, moved onto that hyperplane
 (``hbm.continuation.locate``).  The refined window is searched again with its own estimate, up to

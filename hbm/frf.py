@@ -127,7 +127,11 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         during the solve (an element may warn at every evaluation) are merged into that one warning
         (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default: with a
         named ``accuracy`` its tolerance (``hbm.balance.presets.TOLERANCE``: 1e-2, 1e-3, 1e-5), else
-        ``DEFAULT_TOL`` (1e-3); for the estimate's target and the warning only.
+        ``DEFAULT_TOL`` (1e-3); for the estimate's target and the warning only.  With it, an element
+        that chooses its discretisation at every call and offers ``start_rung`` (``AllModeMicroslip``
+        with cells and harmonics None) is traced on that fixed start rung, and each window where the
+        model source exceeds half the tolerance on the rung its estimate predicts (``hbm.adapt``;
+        ``point_models`` names the rungs; ``RUNGS_ALONG_CURVE``).
     estimate_error : bool, optional
         Estimate the error of every point (``error_estimate``, ``error_sources``;
         ``hbm.balance.errors``).  Default True; False skips it (and the warning).
@@ -135,7 +139,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         "given" (default): the elements as given.  "auto": the windows of the curve where the
         estimate's model source exceeds half the tolerance are traced again with each element's
         refined model (``ContactElement.refined_model``: the all-mode bar for a single-mode
-        microslip bar; ``point_models``).
+        microslip bar, on its fixed rungs; ``point_models``).
     on_harmonics : callable, optional
         ``on_harmonics(omega, X)`` with each accepted point, right after ``on_point``: ``X`` the
         response DOF's harmonics in m, ``(X0, Xc1, Xs1, ..., XcH, XsH)`` (``c_h = Xc_h - i Xs_h`` of
