@@ -304,6 +304,8 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
         nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / threshold,
                    (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))))
+        if nxt is None:  # nothing to refine for this window (a rung whose parts there are zero): kept
+            continue
         if whole:
             g = solve(knobs, *nxt)
             why = None if len(g) else g.message
