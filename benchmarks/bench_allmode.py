@@ -11,11 +11,14 @@ Time per amplitude point (median of ``REPEATS`` round-robin runs, process CPU se
 - numerical: ``simulate(a, omega)`` per point, timed once per point (it takes seconds).
 The ratios are formed from times of this one run.  Run ``python benchmarks/bench_allmode.py``.
 
-``python benchmarks/bench_allmode.py --frf [repeats]``: the default case's FRF (``hbm.cli.cases``)
-with the single-mode damper and with ``AllModeMicroslip`` at fixed 40 cells, H = 15 (the old
-defaults) and choosing to tol 1e-2 and 1e-3, round-robin (one run each per round), wall-clock
-medians of ``repeats`` (default 3), with the points, the peak and the AccuracyWarnings of the last
-round, and each time as a ratio to the single-mode one of the same run.
+``python benchmarks/bench_allmode.py --frf [repeats] [--no-before]``: the default case's FRF
+(``hbm.cli.cases``) with the single-mode damper, with ``AllModeMicroslip`` at fixed 16 cells, H = 7,
+and choosing its rungs at the FRF's tol 1e-2 and 1e-3, each before (the element choosing per call:
+``hbm.frf.RUNGS_ALONG_CURVE = False``) and after (rungs chosen along the curve), round-robin (one
+run each per round), wall-clock medians of ``repeats`` (default 3), with the points, the peak, the
+largest estimate and the AccuracyWarnings of the last round, and each time as a ratio to the
+single-mode one of the same run.  ``--frf-study [tol]``: 50 all-mode FRFs (normal loads 40..300 N)
+at ``tol`` (default 1e-2) on two processes.
 
 ``python benchmarks/bench_allmode.py --peak [repeats]``: the main job's all-mode peak (``hbm.allmode_peak``) against the
 single-mode FRF, and the whole job (``python -m hbm`` in a new process) with ``--model given`` and by
@@ -176,35 +179,87 @@ def estimate_rows():
     return rows, auto
 
 
-def frf_rows(repeats: int = 3):
-    """The default FRF with each damper, round-robin; rows of (label, median s, ratio, points, peak, warnings)."""
+def _frf_along(case, el, tol, along):
+    """The default case's FRF with ``el`` at ``tol``: rungs chosen along the curve (``along``) or the
+    element choosing per call (``hbm.frf.RUNGS_ALONG_CURVE = False``, the path before)."""
     from hbm import frequency_response  # lazily: the element benchmark above needs no solver
+    from hbm import frf as frf_module
+
+    frf_module.RUNGS_ALONG_CURVE = along
+    try:
+        return frequency_response(case.blade, el, omega_range=case.omega_range, tol=tol)
+    finally:
+        frf_module.RUNGS_ALONG_CURVE = True
+
+
+def frf_rows(repeats: int = 3, before: bool = True):
+    """The default FRF with each damper, round-robin; rows of (label, median s, ratio, points, peak,
+    estimate, warnings).  The all-mode bar choosing its rungs: at the FRF's tol 1e-2 and 1e-3 (the
+    element's tol the same), before (per call) and after (along the curve); ``before=False`` skips
+    the per-call tol = 1e-3 run (tens of seconds)."""
     from hbm.cli.cases import default_case
 
     case = default_case()
     bar, load = case.element.bar, case.element.load
-    dampers = (("single-mode TwoRegionMicroslip", lambda: case.element),
-               ("all-mode 40 cells, H = 15 (fixed, the old default)", lambda: AllModeMicroslip(bar, load, 40, 15)),
-               ("all-mode tol = 1e-2", lambda: AllModeMicroslip(bar, load, tol=1e-2)),
-               ("all-mode tol = 1e-3 (default)", lambda: AllModeMicroslip(bar, load)))
-    times = {label: [] for label, _ in dampers}
+    dampers = [("single-mode TwoRegionMicroslip", lambda: case.element, 1e-3, True),
+               ("all-mode 16 cells, H = 7 (fixed)", lambda: AllModeMicroslip(bar, load, 16, 7), 1e-3, True),
+               ("all-mode tol = 1e-2, before (per call)", lambda: AllModeMicroslip(bar, load, tol=1e-2), 1e-2, False),
+               ("all-mode tol = 1e-2, after (along the curve)", lambda: AllModeMicroslip(bar, load, tol=1e-2), 1e-2,
+                True),
+               ("all-mode tol = 1e-3, before (per call)", lambda: AllModeMicroslip(bar, load), 1e-3, False),
+               ("all-mode tol = 1e-3, after (along the curve)", lambda: AllModeMicroslip(bar, load), 1e-3, True)]
+    if not before:
+        dampers = [d for d in dampers if not d[0].startswith("all-mode tol = 1e-3, before")]
+    times = {label: [] for label, *_ in dampers}
     last = {}
     for _ in range(repeats):
-        for label, make in dampers:
+        for label, make, tol, along in dampers:
             el = make()  # a new element each run: no warm start carried between runs
             with warnings.catch_warnings(record=True) as caught:
                 warnings.simplefilter("always", AccuracyWarning)
                 t = time.perf_counter()
-                frf = frequency_response(case.blade, el, omega_range=case.omega_range)
+                frf = _frf_along(case, el, tol, along)
                 times[label].append(time.perf_counter() - t)
             pk = frf.peak()
             n_warn = sum(issubclass(w.category, AccuracyWarning) for w in caught)
-            last[label] = (len(frf), f"{pk.amplitude:.6e} m at {pk.omega:.2f} rad/s", n_warn)
+            last[label] = (len(frf), f"{pk.amplitude:.6e} m at {pk.omega:.2f} rad/s",
+                           f"{float(np.max(frf.error_estimate)):.1e}", n_warn)
     base = statistics.median(times[dampers[0][0]])
     rows = [[label, f"{statistics.median(ts):.2f} s", f"{statistics.median(ts) / base:.0f}x", str(last[label][0]),
-             last[label][1], str(last[label][2])] for label, ts in times.items()]
+             last[label][1], last[label][2], str(last[label][3])] for label, ts in times.items()]
     print(machine_line(machine()))
-    print(table(["damper", f"wall, median of {repeats}", "/ single-mode", "points", "peak", "AccuracyWarnings"], rows))
+    print(table(["damper", f"wall, median of {repeats}", "/ single-mode", "points", "peak", "largest estimate",
+                 "AccuracyWarnings"], rows))
+    return rows
+
+
+def _frf_run(args):
+    """One run of the all-mode FRF study: the default case with normal load N at ``tol``, rungs along
+    the curve; (N, peak amplitude, largest estimate, CPU s)."""
+    from hbm.cli.cases import default_case
+
+    N, tol = args
+    warnings.simplefilter("ignore")
+    case = default_case()
+    t0 = time.process_time()
+    frf = _frf_along(case, AllModeMicroslip(case.element.bar, UniformLoad(N=N), tol=tol), tol, True)
+    return N, frf.peak().amplitude, float(np.max(frf.error_estimate)), time.process_time() - t0
+
+
+def frf_study(tol: float = 1e-2, runs: int = 50):
+    """``runs`` all-mode FRFs (normal loads 40..300 N) at ``tol`` on two processes: wall and CPU."""
+    from multiprocessing import Pool  # lazily: only this study runs processes
+
+    info = machine()
+    t = time.perf_counter()
+    with Pool(2) as pool:
+        rows = pool.map(_frf_run, [(N, tol) for N in np.linspace(40.0, 300.0, runs)], chunksize=1)
+    wall = time.perf_counter() - t
+    cpu = sum(r[3] for r in rows)
+    print(machine_line(info))
+    print(f"{runs} all-mode FRFs at tol {tol:g}: {wall:.1f} s wall on 2 processes, {cpu:.1f} s CPU in all "
+          f"({cpu / runs:.2f} s per run, slowest {max(r[3] for r in rows):.2f} s), {sum(r[2] > tol for r in rows)} "
+          f"above tol; load average {os.getloadavg()[0]:.1f} at the end")
     return rows
 
 
@@ -302,6 +357,10 @@ def peak_study(runs: int = 50):
 
 
 if __name__ == "__main__":
+    if "--frf-study" in sys.argv:
+        rest = [a for a in sys.argv[1:] if a != "--frf-study"]
+        frf_study(float(rest[0]) if rest else 1e-2)
+        sys.exit()
     if "--peak-study" in sys.argv:
         peak_study()
         sys.exit()
@@ -313,6 +372,6 @@ if __name__ == "__main__":
         estimate_rows()
     elif "--frf" in sys.argv:
         rest = [a for a in sys.argv[1:] if a != "--frf"]
-        frf_rows(int(rest[0]) if rest else 3)
+        frf_rows(int(rest[0]) if rest else 3, before="--no-before" not in sys.argv)
     else:
         main(numerical="--no-numerical" not in sys.argv)

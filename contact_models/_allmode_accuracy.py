@@ -135,3 +135,14 @@ def start_cells(bar: Bar, omega: float, H: int) -> int:
     n = max(CELLS_PER_WAVELENGTH * bar.L * wave / (2.0 * math.pi), CELLS_PER_DECAY * bar.lam * bar.L,
             MIN_START_CELLS)
     return int(math.ceil(n))
+
+
+def shortfall_message(shortfalls: list, tol: float, cells: str, harmonics: str) -> str:
+    """The warning of a call of ``AllModeMicroslip`` that missed ``tol``: its worst point of the
+    ``shortfalls`` ``(omega, a, relative estimate, [(cells, H, estimate) tried])`` and the rungs tried;
+    ``cells``, ``harmonics``: how they were set (``"as given"``, ``"up to 640"``)."""
+    omega, a, rel, tried = max(shortfalls, key=lambda s: s[2])
+    rungs = ", ".join(f"{n} cells H = {h}: {e:.2g}" for n, h, e in tried)
+    return (f"AllModeMicroslip: estimated relative error {rel:.3g} of (f_s, f_c) above tol = {tol:g} at omega = "
+            f"{omega:.6g} rad/s, a = {a:.4g} m ({len(shortfalls)} point(s) of this call); tried {rungs}; cells "
+            f"{cells}, harmonics {harmonics}")

@@ -16,7 +16,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_state
+from ._hbal import (aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
+                    jenkins_state)
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -50,7 +51,8 @@ class AllModeSolution:
     error of (F_s, F_c) in N (the larger component of the sum of its parts), ``relative_error``:
     the same relative to max(|F|, 0.01 k* a) component by component (as ``tol``), and
     ``error_parts``: ``"cells"`` (Richardson in cells with the observed order) and
-    ``"harmonics"`` (the same in H), in N; None and empty when not estimated.
+    ``"harmonics"`` (the same in H), in N; None and empty when not estimated.  ``error_components``:
+    the sum of the parts on (F_c, F_s) in N (the components of ``error``).
     """
 
     X: NDArray[np.float64]
@@ -69,6 +71,7 @@ class AllModeSolution:
     error: float | None = None
     relative_error: float | None = None
     error_parts: dict = field(default_factory=dict)
+    error_components: NDArray[np.float64] | None = None
 
     @property
     def f_s(self) -> float:
@@ -287,6 +290,18 @@ class FixedBar:
         return AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
                                slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay,
                                cells=self.cells, H=self.H)
+
+    def end_force(self, sol: AllModeSolution, theta: Array, x: Array) -> Array:
+        """The end force (N) in time at the angles ``theta`` (a closed cycle, last = first + 2 pi) for the
+        end motion ``x`` there: the axial term from node n-1's series, the tip Jenkins marched on x."""
+        d, H = self.disc, sol.H
+        Ef = np.ones((theta.size, 2 * H + 1))
+        hth = np.outer(theta, np.arange(1, H + 1))
+        Ef[:, 1::2], Ef[:, 2::2] = np.cos(hth), np.sin(hth)
+        u_prev = Ef @ sol.U[-2]
+        tau, *_ = jenkins_periodic(x[None, :-1], d.kc[-1:], d.p[-1:])
+        tau = np.append(tau[0], tau[0, 0])
+        return -d.off * (x - u_prev) + tau - d.m[-1] * sol.omega**2 * x
 
     def even_block(self, sol: AllModeSolution) -> None:
         """Fill the even-even block of ``sol.dF_dX`` for a half-wave symmetric solution solved in

@@ -46,7 +46,9 @@ call ended (a continuation calls at neighbouring points) and the estimate of a c
 half the tolerance, is reused.  Where the largest rungs (``MAX_CELLS``, ``MAX_HARMONICS``) cannot
 meet ``tol`` the call warns (``AccuracyWarning``) once, naming the worst point.  While the bar is
 stuck (a <= ``slip_amplitude``) the answer is linear; its cells are chosen the same way on the
-stuck stiffness.  ``model_error(a, omega)`` returns the relative estimate.
+stuck stiffness.  ``model_error(a, omega)`` returns the relative estimate.  Along a frequency
+response the choice is made once per stretch instead, on fixed rungs (``start_rung``, ``refined_rung``:
+``contact_models._allmode_rungs``).
 """
 from __future__ import annotations
 
@@ -57,9 +59,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import FLOOR, ladder, relative, richardson, start_cells
+from ._allmode_accuracy import FLOOR, ladder, relative, richardson, shortfall_message, start_cells
+from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung
 from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd
-from ._hbal import aft_matrices, jenkins_periodic
+from ._hbal import aft_matrices
 from .accuracy import AccuracyWarning
 from .bar import Bar
 from .base import DEFAULT_RTOL, ContactElement
@@ -165,6 +168,11 @@ class AllModeMicroslip(ContactElement):
     #: It owns a force law for any periodic end motion (a nested harmonic balance), so the
     #: multi-harmonic solver may use it at H > 1 (it implements the hook ``_harmonic_force``).
     has_time_law = True
+    #: Its harmonic force is the nested balance solved to rounding (relative residual 1e-11) whatever
+    #: the caller's ``n_t`` and ``rtol`` (its own samples go with its H): the solver's estimate counts no
+    #: sampling error and no evaluation error beyond rounding; its discretisation error (cells, H and
+    #: its own samples) is ``model_error``.
+    exact_harmonics = True
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int | None = None,
                  harmonics: int | None = None, *, n_t: int | None = None, tol: float = TOL) -> None:
@@ -192,6 +200,7 @@ class AllModeMicroslip(ContactElement):
         self._stuck: dict = {}  # omega -> (cells, K, a_min, relative estimate)
         self._last: tuple | None = None  # (cells, H, cells part, harmonics part) the previous call ended at
         self._reuse: tuple | None = None  # the last estimate: (a, omega, odd, cells, H, parts, relative)
+        self._seen: list = []  # a fixed rung's estimates (omega, a, cells part, harmonics part): refined_rung
 
     def __repr__(self) -> str:
         return (f"AllModeMicroslip({self.bar!r}, {self.load!r}, cells={self.cells}, "
@@ -200,6 +209,55 @@ class AllModeMicroslip(ContactElement):
     @property
     def _fixed(self) -> bool:
         return self.cells is not None and self.harmonics is not None
+
+    @property
+    def model_name(self) -> str:
+        """The name a frequency response gives the points solved with this element
+        (``FrequencyResponse.point_models``): with its rung where cells and harmonics are fixed."""
+        return f"AllModeMicroslip(cells={self.cells}, H={self.harmonics})" if self._fixed else "AllModeMicroslip"
+
+    # ------------------------------------------------------------ rungs along a curve
+    def start_rung(self, omega_range: tuple[float, float]) -> AllModeMicroslip | None:
+        """The cheap fixed rung a frequency response over ``omega_range`` (rad/s) starts on where this
+        element chooses its cells and harmonics (both None): ``START_HARMONICS`` = 7 harmonics and
+        ``START_CELLS`` = 16 cells, doubled while fewer than the wavelength of the 7th harmonic at the
+        top of the range asks for (``start_cells``); the same ``tol``.  None where cells or harmonics
+        are given.  ``hbm.frequency_response`` with a tolerance refines it along the curve
+        (``refined_rung``; docs/theory.md, "The all-mode bar along a curve")."""
+        if self.cells is not None or self.harmonics is not None:
+            return None
+        w_hi = max(nonnegative("omega_range", w) for w in omega_range)
+        n = START_CELLS
+        while n < min(MAX_CELLS, start_cells(self.bar, w_hi, START_HARMONICS)):
+            n *= 2
+        return AllModeMicroslip(self.bar, self.load, n, START_HARMONICS, tol=self.tol)
+
+    def refined_rung(self, excess: float | None = None,
+                     omega: tuple[float, float] | None = None) -> AllModeMicroslip | None:
+        """The next fixed rung for the points this fixed rung was estimated at (``model_error``): at
+        the worst of them (within ``omega = (lo, hi)`` rad/s if given and any is), the rung predicted
+        to bring its estimate down by the factor ``excess`` (default: its estimate over ``tol``;
+        ``contact_models._allmode_rungs.next_rung``).  None where cells or harmonics are chosen per
+        call, where nothing was estimated yet, or at the top (``CURVE_MAX_CELLS``, ``MAX_HARMONICS``).
+
+        Raises
+        ------
+        ValueError
+            ``excess`` not a positive number.
+        """
+        if not self._fixed or not self._seen:
+            return None
+        seen = [s for s in self._seen if omega is None or min(omega) <= s[0] <= max(omega)] or self._seen
+        _, _, rel_c, rel_h = max(seen, key=lambda s: s[2] + s[3])
+        excess = (rel_c + rel_h) / self.tol if excess is None else positive("excess", excess)
+        w_hi = max(s[0] for s in seen)
+        rung = next_rung(self.cells, self.harmonics, rel_c, rel_h, excess, max_cells=max(self.cells, CURVE_MAX_CELLS),
+                         ladder=HARMONIC_LADDER, cells_for=lambda h: start_cells(self.bar, w_hi, h))
+        return None if rung is None else AllModeMicroslip(self.bar, self.load, *rung, tol=self.tol)
+
+    def _refined_model(self):
+        """A fixed rung's refined model: the next rung (``refined_rung``) for its own ``tol``."""
+        return self.refined_rung()
 
     # ------------------------------------------------------------ extras
     @property
@@ -398,6 +456,7 @@ class AllModeMicroslip(ContactElement):
     def _fill(self, sol, parts, floor) -> float:
         total = parts["cells"] + parts["harmonics"]
         sol.error_parts = {k: float(np.max(v)) for k, v in parts.items()}
+        sol.error_components = total
         sol.error = float(np.max(total))
         sol.relative_error = relative(total, sol.F[1:3], floor)
         return sol.relative_error
@@ -424,14 +483,10 @@ class AllModeMicroslip(ContactElement):
 
     def _warn(self, shortfalls) -> None:
         """One AccuracyWarning for the worst point of a call that missed ``tol``."""
-        if not shortfalls:
-            return
-        omega, a, rel, tried = max(shortfalls, key=lambda s: s[2])
-        rungs = ", ".join(f"{n} cells H = {h}: {e:.2g}" for n, h, e in tried)
-        warnings.warn(f"AllModeMicroslip: estimated relative error {rel:.3g} of (f_s, f_c) above tol = {self.tol:g} at "
-                      f"omega = {omega:.6g} rad/s, a = {a:.4g} m ({len(shortfalls)} point(s) of this call); tried "
-                      f"{rungs}; cells {'as given' if self.cells else f'up to {MAX_CELLS}'}, harmonics "
-                      f"{'as given' if self.harmonics else f'up to {MAX_HARMONICS}'}", AccuracyWarning, stacklevel=4)
+        if shortfalls:
+            cells = f"up to {MAX_CELLS}" if self.cells is None else "as given"
+            warnings.warn(shortfall_message(shortfalls, self.tol, cells, f"up to {MAX_HARMONICS}"
+                                            if self.harmonics is None else "as given"), AccuracyWarning, stacklevel=4)
 
     # ------------------------------------------------------------ the stuck bar
     def _disc(self, cells: int) -> _Discretisation:
@@ -473,22 +528,36 @@ class AllModeMicroslip(ContactElement):
         return self._stuck_data(float(omega))[2]
 
     def _model_error(self, a, omega):
-        """The relative estimate of the discretisation error of (f_s, f_c) (relative to
-        max(|f|, 0.01 k* a) component by component): of the stuck stiffness below slip, else of the
-        solution this element gives (the rungs it chooses, or the fixed ones with their estimate)."""
-        out = np.zeros(np.shape(a))
+        """The pair ``(e_s, e_c)``: the relative estimates of the discretisation error of f_s and of
+        f_c, each relative to max(|f|, 0.01 k* a) of its own component: of the stuck stiffness below
+        slip (f_c = 0 exactly there), else of the solution this element gives (the rungs it chooses,
+        or the fixed ones with their estimate).  A fixed rung records each estimate's parts
+        (``refined_rung``)."""
+        e_s, e_c = np.zeros(np.shape(a)), np.zeros(np.shape(a))
         for i, (ai, wi) in enumerate(zip(np.ravel(a), np.ravel(omega))):
             ai, wi = float(ai), float(wi)
             n_s, _, a_lin, rel_s = self._stuck_data(wi)
             if ai <= a_lin:
-                out.flat[i] = rel_s
-                continue
-            X = np.array([0.0, 0.0, ai])
-            sol, _ = self._resolved(X, wi, True)
-            if sol.relative_error is None and sol.success:
-                self._fill(sol, self._parts(X, wi, True, sol), self._floor(X))
-            out.flat[i] = sol.relative_error if sol.success else math.inf
-        return out
+                e_s.flat[i], seen = rel_s, (wi, ai, rel_s, 0.0)
+            else:
+                X = np.array([0.0, 0.0, ai])
+                floor = self._floor(X)
+                sol, _ = self._resolved(X, wi, True)
+                parts = None
+                if sol.relative_error is None and sol.success:
+                    parts = self._parts(X, wi, True, sol)
+                    self._fill(sol, parts, floor)
+                if not sol.success:
+                    e_s.flat[i] = e_c.flat[i] = math.inf
+                    seen = (wi, ai, math.inf, math.inf)
+                else:
+                    scale = np.maximum(np.abs(sol.F[1:3]), floor)  # (F_c, F_s)
+                    e_c.flat[i], e_s.flat[i] = (float(v) for v in sol.error_components / scale)
+                    seen = (wi, ai, *(relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics"))) \
+                        if parts is not None else None
+            if self._fixed and seen is not None:
+                self._seen.append(seen)
+        return e_s, e_c
 
     def _fourier_derivatives(self, a, omega, rtol):
         fs, fc, dfs, dfc = (np.zeros_like(a) for _ in range(4))
@@ -517,16 +586,7 @@ class AllModeMicroslip(ContactElement):
         if a <= self._slip_amplitude(omega):
             return x, self._stuck_stiffness(omega) * x
         sol = self.solve(a, omega)
-        d, H = self._level(sol.cells, sol.H).disc, sol.H
-        # end force in time: axial term from node n-1's series, tip Jenkins marched on x itself
-        Ef = np.ones((n, 2 * H + 1))
-        hth = np.outer(theta, np.arange(1, H + 1))
-        Ef[:, 1::2], Ef[:, 2::2] = np.cos(hth), np.sin(hth)
-        u_prev = Ef @ sol.U[-2]
-        tau, *_ = jenkins_periodic(x[None, :-1], d.kc[-1:], d.p[-1:])
-        tau = np.append(tau[0], tau[0, 0])
-        f = -d.off * (x - u_prev) + tau - d.m[-1] * omega**2 * x
-        return x, f
+        return x, self._level(sol.cells, sol.H).end_force(sol, theta, x)
 
     def _end_vector(self, a) -> NDArray[np.float64]:
         arr = np.asarray(a, dtype=float)

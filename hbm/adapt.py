@@ -5,8 +5,10 @@ elements as given), then finds the **windows**: the contiguous stretches of the 
 index, so folds are fine) where one source of its error estimate exceeds a share of ``tol`` (the
 harmonics source, or the model source for ``model="auto"``), widened to the nearest estimate nodes
 (``hbm.balance.errors.nodes``) below the share on each side.  Each window is traced again with
-``H -> 2H + 1`` (or each element's refined model), starting from the window's first point lifted
-to the new setting (zero-padded harmonics, corrected by Newton at its frequency) and ending where
+``H -> 2H + 1`` (or each element's refined model: for a fixed rung of a discretised element such as
+``AllModeMicroslip``, the next rung its estimate predicts for the window, ``refined_contacts``),
+starting from the window's first point lifted to the new setting (zero-padded harmonics, corrected
+by Newton at its frequency) and ending where
 the branch passes the window's last point: at the first accepted point beyond the hyperplane
 through the coarse end point normal to the coarse tangent, moved onto that hyperplane
 (``hbm.continuation.locate``).  The refined window is searched again with its own estimate, up to
@@ -28,7 +30,7 @@ from . import curve
 from .balance import errors
 from .balance.residual import HarmonicBalance
 from .balance.start import force_homotopy
-from .result import PEAK_XTOL_FACTOR, FrequencyResponse
+from .result import PEAK_XTOL_FACTOR, FrequencyResponse, model_label
 
 
 #: A window's refined trace ends at its first point beyond the hyperplane through the coarse end
@@ -153,7 +155,9 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
     coarse, run = frf._problem, frf._run
     y_end, t_end = run.y[i1], run.tangent[i1]
     s_end = frf._scale(y_end)
-    last = i1 == len(frf) - 1  # the window reaches the end of the range: the bound ends it
+    # the window reaches the end of the range (not the end of a window's own trace): the bound ends it
+    last = i1 == len(frf) - 1 and min(abs(float(frf.omega[-1]) - w) for w in (knobs.w0, knobs.w1)) <= 1e-9 * max(
+        abs(knobs.w0), abs(knobs.w1))
 
     def back(u):  # the refined point in the coarse run's coordinates scaled at its end point
         X, w = problem.to_physical(u)
@@ -217,11 +221,26 @@ def next_harmonics(H: int, excess: float, top: int) -> int:
     return min(nxt, top)
 
 
-def refined_contacts(contacts: list) -> list | None:
-    """The contacts with each element that offers one replaced by its refined model; None if none does."""
+def refined_contacts(contacts: list, excess: float = 1.0, span: tuple[float, float] | None = None,
+                     omega_range: tuple[float, float] | None = None, rungs_only: bool = False) -> list | None:
+    """The contacts with each element that offers one replaced by its refined model; None if none does.
+
+    An element that is one rung of a discretisation (it offers ``refined_rung(excess, omega)``, e.g. a
+    fixed ``AllModeMicroslip``) gets the next rung predicted for the window ``span = (lo, hi)`` rad/s
+    whose estimate must fall by the factor ``excess``; a refined model that chooses its own
+    discretisation at every call and offers a fixed ``start_rung(omega_range)`` is replaced by that
+    start rung (refined in turn along the curve).  ``rungs_only``: only rungs are refined (a choosing
+    element given by the caller, traced on its rungs; the other elements as given)."""
     out, changed = [], False
     for c in contacts:
-        better = c.element.refined_model()
+        refine = getattr(c.element, "refined_rung", None)
+        if callable(refine) and refine() is not None:
+            better = refine(excess, span)
+        else:
+            better = None if rungs_only else c.element.refined_model()
+            start = getattr(better, "start_rung", None)
+            if callable(start) and omega_range is not None:
+                better = start(omega_range) or better
         changed |= better is not None
         el = better if better is not None else c.element
         out.append(c.with_element(el))
@@ -237,31 +256,33 @@ class Plan:
     model_share: float | None
     harmonics_share: float | None
     max_harmonics: int
+    rungs_only: bool = False  #: the model pass refines only the rungs of a discretisation (``refined_contacts``)
 
 
 def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyResponse, list[str]]:
     """``frf`` (the whole range at the start setting) with its windows traced again: the model
-    pass, then the harmonics pass on every stretch; one result and the notes of the windows that
+    pass, then the harmonics pass on every stretch (the other way round with ``plan.rungs_only``: the
+    structure's harmonics do not depend on the rung, so a stretch is traced at its H on the cheap rung
+    first, and the expensive rungs once, at that H); one result and the notes of the windows that
     failed (their coarse points kept)."""
     work, notes, full = [frf], [], {id(frf)}
     pieces = [(frf, 0, len(frf))]
     tol = knobs.tolerance
-    if plan.model_share is not None:
-        def model_step(f, excess=1.0):
-            better = refined_contacts(f.contacts)
-            return None if better is None else (better, f.harmonics)
 
-        pieces = [p for f, lo, hi in pieces for p in _split(knobs, f, lo, hi, "model", plan.model_share * tol,
-                                                            model_step, work, notes, full)]
-    if plan.harmonics_share is not None:
-        def harmonics_step(f, excess=1.0):
-            if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
-                return None
-            return f.contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
+    def model_step(f, excess=1.0, span=None):
+        better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), plan.rungs_only)
+        return None if better is None else (better, f.harmonics)
 
-        pieces = [p for f, lo, hi in pieces for p in _split(knobs, f, lo, hi, "harmonics",
-                                                            plan.harmonics_share * tol, harmonics_step, work,
-                                                            notes, full)]
+    def harmonics_step(f, excess=1.0, span=None):
+        if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
+            return None
+        return f.contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
+
+    passes = [("model", plan.model_share, model_step), ("harmonics", plan.harmonics_share, harmonics_step)]
+    for source, share, step in (passes[::-1] if plan.rungs_only else passes):
+        if share is not None:
+            pieces = [p for f, lo, hi in pieces for p in _split(knobs, f, lo, hi, source, share * tol, step, work,
+                                                                notes, full)]
     note = "".join(f"; {n}" for n in notes)
     if len(pieces) == 1 and pieces[0][1] == 0 and pieces[0][2] == len(pieces[0][0]) and not notes:
         return pieces[0][0], notes  # one setting everywhere: that solve's own result, as it was
@@ -281,7 +302,10 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
         if i1 <= i0:  # a stretch of one point (between two others' windows) is not traced alone
             continue
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
-        nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / threshold)
+        nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / threshold,
+                   (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))))
+        if nxt is None:  # nothing to refine for this window (a rung whose parts there are zero): kept
+            continue
         if whole:
             g = solve(knobs, *nxt)
             why = None if len(g) else g.message
@@ -290,7 +314,7 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
         work.append(g)  # its work is counted, kept or not
         if why is not None:
             notes.append(f"the window omega = {f.omega[i0]:.6g}..{f.omega[i1]:.6g} rad/s traced again with H = "
-                         f"{nxt[1]}, {'+'.join(type(c.element).__name__ for c in nxt[0])} failed ({why}): its points "
+                         f"{nxt[1]}, {model_label(nxt[0])} failed ({why}): its points "
                          f"at H = {f.harmonics} are kept")
             continue
         if whole:

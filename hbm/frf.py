@@ -28,7 +28,7 @@ from .balance import errors
 from ._validation import count, nonnegative, omega_range_pair, positive
 from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, TOLERANCE, apply,
                               harmonic_knobs, samples_for)
-from .balance.residual import HarmonicBalance, as_structure
+from .balance.residual import HarmonicBalance, as_contacts, as_structure
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
@@ -49,6 +49,11 @@ MAX_HARMONICS = 31
 #: ``MODEL_SHARE * tol``.
 MODELS = ("given", "auto")
 MODEL_SHARE = 0.5
+#: With a tolerance, an element that chooses its discretisation at every call and offers a fixed
+#: ``start_rung(omega_range)`` (``AllModeMicroslip`` with cells and harmonics None) is traced on that
+#: start rung and its windows on finer rungs (``hbm.adapt``, the model pass).  False: the element
+#: as given, choosing per call (the path timed as "before" in docs/performance.md).
+RUNGS_ALONG_CURVE = True
 
 #: Newton tolerance on the scaled residual (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref``
 #: otherwise) as a fraction of ``rtol``.
@@ -122,7 +127,11 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         during the solve (an element may warn at every evaluation) are merged into that one warning
         (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default: with a
         named ``accuracy`` its tolerance (``hbm.balance.presets.TOLERANCE``: 1e-2, 1e-3, 1e-5), else
-        ``DEFAULT_TOL`` (1e-3); for the estimate's target and the warning only.
+        ``DEFAULT_TOL`` (1e-3); for the estimate's target and the warning only.  With it, an element
+        that chooses its discretisation at every call and offers ``start_rung`` (``AllModeMicroslip``
+        with cells and harmonics None) is traced on that fixed start rung, and each window where the
+        model source exceeds half the tolerance on the rung its estimate predicts (``hbm.adapt``;
+        ``point_models`` names the rungs; ``RUNGS_ALONG_CURVE``).
     estimate_error : bool, optional
         Estimate the error of every point (``error_estimate``, ``error_sources``;
         ``hbm.balance.errors``).  Default True; False skips it (and the warning).
@@ -130,7 +139,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         "given" (default): the elements as given.  "auto": the windows of the curve where the
         estimate's model source exceeds half the tolerance are traced again with each element's
         refined model (``ContactElement.refined_model``: the all-mode bar for a single-mode
-        microslip bar; ``point_models``).
+        microslip bar, on its fixed rungs; ``point_models``).
     on_harmonics : callable, optional
         ``on_harmonics(omega, X)`` with each accepted point, right after ``on_point``: ``X`` the
         response DOF's harmonics in m, ``(X0, Xc1, Xs1, ..., XcH, XsH)`` (``c_h = Xc_h - i Xs_h`` of
@@ -235,7 +244,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         if adapt and structure.default_harmonics is None:
             harmonics = ADAPT_START
     n_t_given = n_t
-    again = adapt or model == "auto"  # the balance may solve again: stream the final points at the end
+    rungs = False
+    if tolerance is not None and RUNGS_ALONG_CURVE:
+        contacts, rungs = _start_rungs(contacts, structure, (w0, w1))
+    again = adapt or model == "auto" or rungs  # the balance may solve again: stream the final points at the end
     knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, steps, stability, tolerance,
                         lambda H: n_t_given if n_t_given is not None else _samples(H, preset), response_dof)
     live = None if again or (on_point is None and on_harmonics is None) else (
@@ -243,8 +255,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     frf = along.solve(knobs, contacts, harmonics, live)
     notes: list[str] = []
     if again:  # the model and H chosen along the curve (hbm.adapt)
-        plan = along.Plan(MODEL_SHARE if model == "auto" else None, HARMONICS_SHARE if adapt else None,
-                          MAX_HARMONICS)
+        plan = along.Plan(MODEL_SHARE if model == "auto" or rungs else None, HARMONICS_SHARE if adapt else None,
+                          MAX_HARMONICS, rungs_only=model != "auto")
         frf, notes = along.along(knobs, frf, plan)
         if on_point is not None or on_harmonics is not None:
             _stream(frf, on_point, on_harmonics)
@@ -257,6 +269,19 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         heard += at_peak
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes)
     return frf
+
+
+def _start_rungs(contacts: Any, structure: Any, omega_range: tuple[float, float]) -> tuple[Any, bool]:
+    """``(contacts, replaced)``: each element that offers a ``start_rung(omega_range)`` (a choosing
+    ``AllModeMicroslip``) replaced by it; the contacts as given where none does."""
+    listed = as_contacts(contacts, structure.n)
+    out = []
+    for c in listed:
+        start = getattr(c.element, "start_rung", None)
+        rung = start(omega_range) if callable(start) else None
+        out.append(c if rung is None else c.with_element(rung))
+    replaced = any(a is not b for a, b in zip(out, listed))
+    return (out if replaced else contacts), replaced
 
 
 def _tolerance(tol: Any, estimate_error: bool, accuracy: Any = None) -> float | None:
@@ -295,7 +320,8 @@ REFINED_REMEDY = ("a finer discretisation of the element (AllModeMicroslip: cell
 
 def _remedy(frf: FrequencyResponse, source: str) -> str:
     """What brings ``source`` down; for the model source, the refined model only where one exists."""
-    if source == "model" and all(c.element.refined_model() is None for c in frf.contacts):
+    if source == "model" and all(c.element.refined_model() is None or callable(getattr(c.element, "refined_rung", None))
+                                 for c in frf.contacts):
         return REFINED_REMEDY
     return REMEDY[source]
 

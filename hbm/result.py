@@ -84,7 +84,7 @@ class Segment(NamedTuple):
     harmonics, n_t : int
         The number of harmonics H and the AFT samples per period of its balance.
     model : str
-        The element class names of its contacts, ``"+"``-joined (``hbm.result.model_label``).
+        The element names of its contacts, ``"+"``-joined (``hbm.result.model_label``).
     """
 
     start: int
@@ -95,8 +95,10 @@ class Segment(NamedTuple):
 
 
 def model_label(contacts: list) -> str:
-    """The element class names of ``contacts`` (``hbm.Contact``), ``"+"``-joined: a point's model."""
-    return "+".join(type(c.element).__name__ for c in contacts)
+    """The element names of ``contacts`` (``hbm.Contact``), ``"+"``-joined: a point's model.  An element's
+    name is its ``model_name`` where it has one (a fixed rung of ``AllModeMicroslip`` names its cells and
+    H), else its class name."""
+    return "+".join(getattr(c.element, "model_name", None) or type(c.element).__name__ for c in contacts)
 
 
 class FrequencyResponse:
@@ -120,7 +122,7 @@ class FrequencyResponse:
     point_harmonics : ndarray of int
         The H of each point (``hbm.frequency_response`` with ``tol`` may choose H along the curve).
     point_models : ndarray of str
-        The model of each point: its contacts' element class names, ``"+"``-joined.
+        The model of each point: its contacts' element names (``model_name``, else the class name), ``"+"``-joined.
     segments : list of Segment
         The stretches solved with one balance each, in order (one for a curve at one H and model).
     dofs : list of int

@@ -1,5 +1,5 @@
 """AllModeMicroslip's accuracy: the Richardson estimate with the observed order against converged
-references, the cells and harmonics it chooses to ``tol``, its warning and ``_model_error``.
+references, the cells and harmonics it chooses to ``tol``, its warning and ``model_error``.
 
 The references are solutions of the same discretised model converged by doubling the cells (and
 raising H), computed once and stored here; ``test_references_regenerate`` (slow) recomputes them:
@@ -108,7 +108,7 @@ def test_the_chosen_discretisation_meets_tol(name):
         sol = el.solve(a, w * WC)
     assert sol.relative_error <= 1e-3
     assert true_error(sol, ref, a) <= 1e-3
-    assert float(el._model_error(np.array([a]), np.array([w * WC]))[0]) == pytest.approx(sol.relative_error, rel=0.5)
+    assert float(el.model_error(a, w * WC)) == pytest.approx(sol.relative_error, rel=0.5)
 
 
 def test_far_above_the_cut_off_it_warns_once_naming_the_point():
@@ -149,7 +149,7 @@ def test_stuck_answer_and_its_estimate():
     w = 0.3 * WC
     a = 0.5 * el.slip_amplitude(w)
     assert el.slip_amplitude(w) == pytest.approx(7.5e-7, rel=1e-3)  # uniform load: onset at the tip
-    e = float(el._model_error(np.array([a]), np.array([w]))[0])
+    e = float(el.model_error(a, w))
     assert 0.0 < e <= 0.25e-3
     K = float(BAR.stuck_stiffness(w))  # the continuum's stuck stiffness (closed form)
     assert el.stuck_stiffness(w) == pytest.approx(K, rel=1e-3)
