@@ -16,8 +16,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import (aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
-                    jenkins_state)
+from ._hbal import (aft_matrices, factorise, jacobian_pattern, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
+                    jenkins_periodic, jenkins_state, same_pattern)
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -166,13 +166,18 @@ class FixedBar:
         ev = _Eval(U, R, float(np.max(np.abs(R))), T, None, slip, lin, state)
         return self.with_jacobian(ev, X, omega, b) if jacobian else ev
 
-    def with_jacobian(self, ev: _Eval, X: Array, omega: float, b: _Basis) -> _Eval:
+    def with_jacobian(self, ev: _Eval, X: Array, omega: float, b: _Basis, like: _Eval | None = None) -> _Eval:
         """``ev`` (at X, omega) with its Jacobians: from the return map's state it kept (no second
-        march), or evaluated again where it kept none."""
+        march), or evaluated again where it kept none.  ``like``: an evaluation in the same basis
+        with its Jacobians; where its stick/slip pattern (``jacobian_pattern``) is ``ev``'s, its
+        Jacobians are ``ev``'s (the forces are piecewise linear) and are taken as they are."""
         if ev.J is not None:
             return ev
         if ev.state is None:
             return self.evaluate(ev.U, X, omega, b)
+        if like is not None and like.J is not None and like.state is not None:
+            if same_pattern(jacobian_pattern(like.state), jacobian_pattern(ev.state)):
+                return ev._replace(J=like.J)
         return ev._replace(J=jenkins_jacobian(ev.state, self.disc.kc, b.E, b.P, b.prefix))
 
     def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
@@ -213,9 +218,11 @@ class FixedBar:
         """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
         iterations).  Armijo backtracking on max|R|; accepted trials are reused."""
         tol = NEWTON_TOL * self.scale(X)
+        fac, J = None, None
         for it in range(max_iter + 1):
-            B = ev.J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None]
-            fac = factorise(B, self.disc.off)
+            if ev.J is not J:  # the same Jacobian (an unchanged stick/slip pattern) keeps its factorisation
+                J = ev.J
+                fac = factorise(J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None], self.disc.off)
             if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
                 break
             dU = -fac.solve(ev.R)
@@ -225,7 +232,7 @@ class FixedBar:
                 if trial.res <= (1.0 - 1e-4 * t) * ev.res:
                     break
                 t *= 0.5
-            ev = self.with_jacobian(trial, X, omega, b)
+            ev = self.with_jacobian(trial, X, omega, b, like=ev)
         return ev, fac, ev.res <= tol, it
 
     def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:
