@@ -135,6 +135,8 @@ class FixedBar:
         self.disc = _Discretisation(bar, load, cells)
         self._aft: dict = {}
         self._cache: dict = {}  # odd -> (X, omega, U) of the last converged solve
+        self._even: tuple | None = None  # the even coefficients: (idx, E, P, jacobian_prefix)
+        self._last: tuple = (None, None)  # (the last solution in the odd basis, its return map's state)
 
     def basis(self, odd: bool) -> _Basis:
         """Harmonics 0..H, or only the odd ones: a drive with only odd harmonics (``a sin``) has a
@@ -294,9 +296,12 @@ class FixedBar:
         if ok:
             self._cache[b.odd] = (Xb.copy(), omega, U.copy())
         msg = "converged" if ok else f"Newton did not converge (residual {ev.res:.3g} N)"
-        return AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
-                               slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay,
-                               cells=self.cells, H=self.H)
+        sol = AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
+                              slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay,
+                              cells=self.cells, H=self.H)
+        if b.odd:
+            self._last = (sol, ev.state)
+        return sol
 
     def end_force(self, sol: AllModeSolution, theta: Array, x: Array) -> Array:
         """The end force (N) in time at the angles ``theta`` (a closed cycle, last = first + 2 pi) for the
@@ -315,11 +320,21 @@ class FixedBar:
         the odd basis.  There the Jacobian commutes with the half-period shift, so it is block
         diagonal in (odd, even) coefficients: F_even = 0, dF_even/dX_odd = dF_odd/dX_even = 0,
         dF_even/domega = 0, and dF_even/dX_even is the Schur complement of the even blocks of the
-        full-basis Jacobian at the solution (one evaluation and one block elimination)."""
+        full-basis Jacobian at the solution (one evaluation and one block elimination).  The even
+        basis and its prefix sums are kept; the return map's state is the one the odd solve kept
+        where ``sol`` is the last solution of this bar (the same samples: no second march)."""
         d = self.disc
         b = self.basis(False)
-        even = np.flatnonzero(b.order % 2 == 0)
-        _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(b.E[:, even], b.P[even]))
+        if self._even is None:
+            even = np.flatnonzero(b.order % 2 == 0)
+            Ee, Pe = b.E[:, even], b.P[even]
+            self._even = (even, Ee, Pe, jacobian_prefix(Ee, Pe))
+        even, Ee, Pe, prefix = self._even
+        last, state = self._last
+        if last is sol and state is not None:
+            Je = jenkins_jacobian(state, d.kc, Ee, Pe, prefix)
+        else:
+            _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(Ee, Pe), prefix=prefix)
         lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
         fac = factorise(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
         sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.last_inverse()
