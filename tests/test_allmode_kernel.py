@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from contact_models._allmode_solve import FixedBar
-from contact_models._hbal import jenkins_jacobian, jenkins_periodic, jenkins_state
+from contact_models._hbal import aft_matrices, jacobian_prefix, jenkins_jacobian, jenkins_periodic, jenkins_state
 from contact_models.allmode import AllModeMicroslip
 from hbm.cli.cases import default_case
 
@@ -143,3 +143,12 @@ def test_even_block_matches_the_dense_schur_complement(bar_load):
     block = np.diag(lin[-1]) + J[-1] - d.off**2 * Ainv_last
     got = sol.dF_dX[np.ix_(even, even)]
     assert np.max(np.abs(got - block)) <= 1e-10 * np.max(np.abs(block))  # measured 6e-14
+
+
+def test_jacobian_prefix_needs_a_trigonometric_basis():
+    E, P, _ = aft_matrices(3, 16)
+    jacobian_prefix(E[:, [1, 2, 5]], P[[1, 2, 5]])  # any subset of the columns
+    with pytest.raises(ValueError, match="aft_matrices"):
+        jacobian_prefix(E + 0.1, P)
+    with pytest.raises(ValueError, match="aft_matrices"):
+        jacobian_prefix(E, 2.0 * P[::-1])
