@@ -9,6 +9,7 @@ its ladder of cells and harmonics and chooses among them (``contact_models._allm
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, NamedTuple
@@ -117,6 +118,19 @@ class _Eval(NamedTuple):
     state: tuple | None = None
 
 
+@functools.lru_cache(maxsize=32)
+def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
+    """The :class:`_Basis` of H harmonics (odd ones only if ``odd``) on n_t samples, built once per
+    process for every bar of that H and n_t (its arrays are read-only)."""
+    E, P, order = aft_matrices(H, n_t)
+    idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
+    Eb, Pb = E[:, idx], P[idx]
+    basis = _Basis(H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
+    for a in (idx, Eb, Pb, basis.order, *basis.prefix):
+        a.flags.writeable = False
+    return basis
+
+
 def is_odd(X: NDArray[np.float64]) -> bool:
     """True when the coefficients ``X`` hold odd harmonics only (h = 0, 2, 4, ... sit at 0, 3, 4, 7, 8, ...)."""
     return not np.any(X[0::4]) and not np.any(X[3::4])
@@ -143,10 +157,7 @@ class FixedBar:
         half-wave symmetric steady state (u(t + T/2) = -u(t) at every node: the equations are odd
         and invariant under the half-period shift), so the even coefficients vanish."""
         if odd not in self._aft:
-            E, P, order = aft_matrices(self.H, self.n_t)
-            idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
-            Eb, Pb = E[:, idx], P[idx]
-            self._aft[odd] = _Basis(self.H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
+            self._aft[odd] = shared_basis(self.H, self.n_t, odd)
         return self._aft[odd]
 
     def scale(self, X: Array) -> float:
