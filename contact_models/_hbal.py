@@ -224,11 +224,14 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
     m, nh = u.shape[0], E.shape[1]
     if not np.any(never):
         J = _slip_jacobians(stuck, anchor, E, P, prefix)
+        J *= kc[:, None, None]
     else:
         J = np.empty((m, nh, nh))
         slips = np.flatnonzero(~never)
         if slips.size:
-            J[slips] = _slip_jacobians(stuck[slips], anchor[slips], E, P, prefix)
+            Js = _slip_jacobians(stuck[slips], anchor[slips], E, P, prefix)
+            Js *= kc[slips, None, None]
+            J[slips] = Js
         # f = kc (u - c), c = (u_max + u_min)/2: dT/dU = kc (I - (P 1) dc/dU), P 1 the coefficients of
         # a constant (e0 in a basis with the mean, 0 in the odd basis), dc/dU = (E_max + E_min)/2.
         # A constant row (no motion: max and min not unique) has no derivative of c; its one-sided
@@ -239,8 +242,7 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
         kmin = np.argmin(u[iv], axis=1)
         dc = 0.5 * (E[kmax] + E[kmin])
         dc[u[iv, kmax] == u[iv, kmin]] = E.mean(axis=0)
-        J[iv] = np.eye(nh) - P.sum(axis=1)[None, :, None] * dc[:, None, :]
-    J *= kc[:, None, None]
+        J[iv] = kc[iv, None, None] * (np.eye(nh) - P.sum(axis=1)[None, :, None] * dc[:, None, :])
     return J
 
 
