@@ -119,7 +119,7 @@ def _trig_columns(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArr
 
 def jacobian_prefix(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple:
     """What :func:`jenkins_jacobian` sums over the stuck runs, from the basis alone (a caller that
-    evaluates many times keeps it: ``jenkins_harmonic``'s ``prefix``): ``(S, CP, I1, I2)``.
+    evaluates many times keeps it: ``jenkins_harmonic``'s ``prefix``): ``(S, CP, I1, I2, coefs)``.
 
     ``Q[j] = sum_{k <= j} P[:, k] E[k]^T`` (s, s) is not stored: the entry (a, b) of
     ``P[:, k] E[k]^T`` is ``f_a phi_a(theta_k) phi_b(theta_k)`` (phi cos h theta, sin h theta or 1,
@@ -128,8 +128,9 @@ def jacobian_prefix(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple:
     ``sin x cos y = (sin(x+y) + sin(x-y))/2`` it is a sum of two terms ``c g_n(theta_k)``, g_n the cosines
     and sines of the frequencies 0..2 h_max.  So ``Q[j]`` follows from ``S[j] = sum_{k <= j} g(theta_k)``
     (n_t, L): for a vector V of such sums, the matrix is ``W[I1] + W[I2]`` (flattened (s, s)) with
-    ``W = (c V)`` over the distinct coefficients c, ``I1``, ``I2`` (s*s,) indices into W (an index to a
-    zero column for sin 0).  ``CP`` (n_t, s): the prefix sums of ``P[:, k]``."""
+    ``W = (c V for c in coefs)`` flattened, ``coefs`` the distinct coefficients, ``I1``, ``I2`` (s*s,)
+    indices into W (an index to a zero column for sin 0).  ``CP`` (n_t, s): the prefix sums of
+    ``P[:, k]``.  The derivation: docs/theory.md, "The Jacobian by stick runs"."""
     n_t, s = E.shape
     h, sine, f = _trig_columns(E, P)
     nf = 2 * int(h.max()) + 1  # frequencies 0 .. 2 h_max
