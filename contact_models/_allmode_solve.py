@@ -9,6 +9,7 @@ its ladder of cells and harmonics and chooses among them (``contact_models._allm
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, NamedTuple
@@ -16,8 +17,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import (aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
-                    jenkins_state)
+from ._hbal import (aft_matrices, factorise, jacobian_pattern, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
+                    jenkins_periodic, jenkins_state, same_pattern)
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -117,6 +118,29 @@ class _Eval(NamedTuple):
     state: tuple | None = None
 
 
+#: Bytes of an array allocated and freed once per basis.  glibc's malloc maps every block above
+#: its threshold afresh (the kernel then zero-fills each page on first touch) and raises the
+#: threshold to the size of a mapped block when it is freed; the bar's Jacobian stacks and
+#: block inverses are about 1 MB at 128 cells, H = 31, near that threshold, and were mapped anew
+#: on every solve (about 1000 page faults, 1.5 ms of a 5 ms solve, measured).  Freeing one larger
+#: block raises the threshold above them, so they come from the heap (no effect elsewhere).
+HEAP_HINT = 1 << 23
+
+
+@functools.lru_cache(maxsize=32)
+def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
+    """The :class:`_Basis` of H harmonics (odd ones only if ``odd``) on n_t samples, built once per
+    process for every bar of that H and n_t (its arrays are read-only)."""
+    E, P, order = aft_matrices(H, n_t)
+    idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
+    Eb, Pb = E[:, idx], P[idx]
+    basis = _Basis(H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
+    np.empty(HEAP_HINT, np.uint8)  # allocated and freed at once: see HEAP_HINT
+    for a in (idx, Eb, Pb, basis.order, *basis.prefix):
+        a.flags.writeable = False
+    return basis
+
+
 def is_odd(X: NDArray[np.float64]) -> bool:
     """True when the coefficients ``X`` hold odd harmonics only (h = 0, 2, 4, ... sit at 0, 3, 4, 7, 8, ...)."""
     return not np.any(X[0::4]) and not np.any(X[3::4])
@@ -135,16 +159,15 @@ class FixedBar:
         self.disc = _Discretisation(bar, load, cells)
         self._aft: dict = {}
         self._cache: dict = {}  # odd -> (X, omega, U) of the last converged solve
+        self._even: tuple | None = None  # the even coefficients: (idx, E, P, jacobian_prefix)
+        self._last: tuple = (None, None)  # (the last solution in the odd basis, its return map's state)
 
     def basis(self, odd: bool) -> _Basis:
         """Harmonics 0..H, or only the odd ones: a drive with only odd harmonics (``a sin``) has a
         half-wave symmetric steady state (u(t + T/2) = -u(t) at every node: the equations are odd
         and invariant under the half-period shift), so the even coefficients vanish."""
         if odd not in self._aft:
-            E, P, order = aft_matrices(self.H, self.n_t)
-            idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
-            Eb, Pb = E[:, idx], P[idx]
-            self._aft[odd] = _Basis(self.H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
+            self._aft[odd] = shared_basis(self.H, self.n_t, odd)
         return self._aft[odd]
 
     def scale(self, X: Array) -> float:
@@ -166,13 +189,18 @@ class FixedBar:
         ev = _Eval(U, R, float(np.max(np.abs(R))), T, None, slip, lin, state)
         return self.with_jacobian(ev, X, omega, b) if jacobian else ev
 
-    def with_jacobian(self, ev: _Eval, X: Array, omega: float, b: _Basis) -> _Eval:
+    def with_jacobian(self, ev: _Eval, X: Array, omega: float, b: _Basis, like: _Eval | None = None) -> _Eval:
         """``ev`` (at X, omega) with its Jacobians: from the return map's state it kept (no second
-        march), or evaluated again where it kept none."""
+        march), or evaluated again where it kept none.  ``like``: an evaluation in the same basis
+        with its Jacobians; where its stick/slip pattern (``jacobian_pattern``) is ``ev``'s, its
+        Jacobians are ``ev``'s (the forces are piecewise linear) and are taken as they are."""
         if ev.J is not None:
             return ev
         if ev.state is None:
             return self.evaluate(ev.U, X, omega, b)
+        if like is not None and like.J is not None and like.state is not None:
+            if same_pattern(jacobian_pattern(like.state), jacobian_pattern(ev.state)):
+                return ev._replace(J=like.J)
         return ev._replace(J=jenkins_jacobian(ev.state, self.disc.kc, b.E, b.P, b.prefix))
 
     def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
@@ -213,9 +241,11 @@ class FixedBar:
         """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
         iterations).  Armijo backtracking on max|R|; accepted trials are reused."""
         tol = NEWTON_TOL * self.scale(X)
+        fac, J = None, None
         for it in range(max_iter + 1):
-            B = ev.J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None]
-            fac = factorise(B, self.disc.off)
+            if ev.J is not J:  # the same Jacobian (an unchanged stick/slip pattern) keeps its factorisation
+                J = ev.J
+                fac = factorise(J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None], self.disc.off)
             if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
                 break
             dU = -fac.solve(ev.R)
@@ -225,7 +255,7 @@ class FixedBar:
                 if trial.res <= (1.0 - 1e-4 * t) * ev.res:
                     break
                 t *= 0.5
-            ev = self.with_jacobian(trial, X, omega, b)
+            ev = self.with_jacobian(trial, X, omega, b, like=ev)
         return ev, fac, ev.res <= tol, it
 
     def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:
@@ -287,9 +317,12 @@ class FixedBar:
         if ok:
             self._cache[b.odd] = (Xb.copy(), omega, U.copy())
         msg = "converged" if ok else f"Newton did not converge (residual {ev.res:.3g} N)"
-        return AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
-                               slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay,
-                               cells=self.cells, H=self.H)
+        sol = AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
+                              slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay,
+                              cells=self.cells, H=self.H)
+        if b.odd:
+            self._last = (sol, ev.state)
+        return sol
 
     def end_force(self, sol: AllModeSolution, theta: Array, x: Array) -> Array:
         """The end force (N) in time at the angles ``theta`` (a closed cycle, last = first + 2 pi) for the
@@ -308,11 +341,21 @@ class FixedBar:
         the odd basis.  There the Jacobian commutes with the half-period shift, so it is block
         diagonal in (odd, even) coefficients: F_even = 0, dF_even/dX_odd = dF_odd/dX_even = 0,
         dF_even/domega = 0, and dF_even/dX_even is the Schur complement of the even blocks of the
-        full-basis Jacobian at the solution (one evaluation and one block elimination)."""
+        full-basis Jacobian at the solution (one evaluation and one block elimination).  The even
+        basis and its prefix sums are kept; the return map's state is the one the odd solve kept
+        where ``sol`` is the last solution of this bar (the same samples: no second march)."""
         d = self.disc
         b = self.basis(False)
-        even = np.flatnonzero(b.order % 2 == 0)
-        _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(b.E[:, even], b.P[even]))
+        if self._even is None:
+            even = np.flatnonzero(b.order % 2 == 0)
+            Ee, Pe = b.E[:, even], b.P[even]
+            self._even = (even, Ee, Pe, jacobian_prefix(Ee, Pe))
+        even, Ee, Pe, prefix = self._even
+        last, state = self._last
+        if last is sol and state is not None:
+            Je = jenkins_jacobian(state, d.kc, Ee, Pe, prefix)
+        else:
+            _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(Ee, Pe), prefix=prefix)
         lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
         fac = factorise(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
         sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.last_inverse()

@@ -101,12 +101,62 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     return f, stuck, anchor, never
 
 
-def jacobian_prefix(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """``(Q, CP)``: the prefix sums over the samples of ``P[:, k] E[k]^T`` (n_t, s, s) and of
-    ``P[:, k]`` (n_t, s), ``Q[j] = sum_{k <= j} P[:, k] E[k]^T``.  They depend on the basis only
-    (not on the nodes), so a caller that evaluates many times keeps them (``jenkins_harmonic``'s
-    ``prefix``)."""
-    return np.cumsum(P.T[:, :, None] * E[:, None, :], axis=0), np.cumsum(P.T, axis=0)
+def _trig_columns(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.intp], NDArray[np.bool_],
+                                                                         NDArray[np.float64]]:
+    """The harmonic h, whether a sine, and the analysis factor f (``P[a] = f E[:, a]^T``) of every
+    column a of E, for columns of :func:`aft_matrices` (checked: ValueError otherwise)."""
+    n_t = E.shape[0]
+    spec = np.fft.rfft(E, axis=0)
+    h = np.argmax(np.abs(spec), axis=0)
+    sine = np.abs(spec[h, np.arange(E.shape[1])].imag) > np.abs(spec[h, np.arange(E.shape[1])].real)
+    theta = 2.0 * np.pi * np.arange(n_t) / n_t
+    model = np.where(sine, np.sin(np.outer(theta, h)), np.cos(np.outer(theta, h)))
+    f = np.einsum("ak,ka->a", P, E) / np.einsum("ka,ka->a", E, E)
+    if np.max(np.abs(model - E)) > 1e-12 or np.max(np.abs(P - f[:, None] * E.T)) > 1e-12 * np.max(np.abs(f)):
+        raise ValueError("jacobian_prefix: E and P must be columns of aft_matrices (a sampled trigonometric basis)")
+    return h, sine, f
+
+
+def jacobian_prefix(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple:
+    """What :func:`jenkins_jacobian` sums over the stuck runs, from the basis alone (a caller that
+    evaluates many times keeps it: ``jenkins_harmonic``'s ``prefix``): ``(S, CP, I1, I2, coefs)``.
+
+    ``Q[j] = sum_{k <= j} P[:, k] E[k]^T`` (s, s) is not stored: the entry (a, b) of
+    ``P[:, k] E[k]^T`` is ``f_a phi_a(theta_k) phi_b(theta_k)`` (phi cos h theta, sin h theta or 1,
+    f the analysis factor 2/n_t, 1/n_t for the mean), and by ``cos x cos y = (cos(x-y) + cos(x+y))/2``,
+    ``sin x sin y = (cos(x-y) - cos(x+y))/2``, ``cos x sin y = (sin(x+y) - sin(x-y))/2`` and
+    ``sin x cos y = (sin(x+y) + sin(x-y))/2`` it is a sum of two terms ``c g_n(theta_k)``, g_n the cosines
+    and sines of the frequencies 0..2 h_max.  So ``Q[j]`` follows from ``S[j] = sum_{k <= j} g(theta_k)``
+    (n_t, L): for a vector V of such sums, the matrix is ``W[I1] + W[I2]`` (flattened (s, s)) with
+    ``W = (c V for c in coefs)`` flattened, ``coefs`` the distinct coefficients, ``I1``, ``I2`` (s*s,)
+    indices into W (an index to a zero column for sin 0).  ``CP`` (n_t, s): the prefix sums of
+    ``P[:, k]``.  The derivation: docs/theory.md, "The Jacobian by stick runs"."""
+    n_t, s = E.shape
+    h, sine, f = _trig_columns(E, P)
+    nf = 2 * int(h.max()) + 1  # frequencies 0 .. 2 h_max
+    theta = 2.0 * np.pi * np.arange(n_t) / n_t
+    nt = np.outer(theta, np.arange(nf))
+    g = np.concatenate([np.cos(nt), np.sin(nt), np.zeros((n_t, 1))], axis=1)  # columns: cos n, sin n, 0
+    L = g.shape[1]
+    ha, hb = h[:, None], h[None, :]
+    sa, sb = sine[:, None], sine[None, :]
+    # the two terms (frequency, sine?, sign) of phi_a phi_b = (t1 + t2)/2
+    f1, f2 = ha - hb, ha + hb
+    sin_term = sa ^ sb
+    sign1 = np.where(sin_term, np.where(sa, 1.0, -1.0), 1.0)  # cos a sin b: -sin(a-b); sin a cos b: +sin(a-b)
+    sign2 = np.where(sin_term, 1.0, np.where(sa, -1.0, 1.0))  # sin a sin b: -cos(a+b)
+    sign1 = sign1 * np.where(sin_term & (f1 < 0), -1.0, 1.0)  # sin(-n) = -sin(n)
+    f1 = np.abs(f1)
+
+    def column(freq, is_sin):
+        return np.where(is_sin, np.where(freq == 0, L - 1, nf + freq), freq)
+
+    c1 = (0.5 * f[:, None] * sign1).ravel()
+    c2 = (0.5 * f[:, None] * sign2 * np.ones_like(hb)).ravel()
+    coefs, inv = np.unique(np.concatenate([c1, c2]), return_inverse=True)
+    cols = np.concatenate([column(f1, sin_term).ravel(), column(f2, sin_term).ravel()])
+    idx = inv * L + cols
+    return np.cumsum(g, axis=0), np.cumsum(P.T, axis=0), idx[: s * s], idx[s * s:], coefs
 
 
 def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64],
@@ -124,10 +174,12 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     The Jacobian of a node that slips somewhere: ``df_k = kc (du_k - du_a)`` on a stuck sample k
     whose stick phase began at the slipping sample a (its anchor), 0 on slipping samples, so
     ``dT/dU = kc sum_k stuck_k P[:, k] (E_k - E_a(k))^T``.  The stuck samples form runs
-    (a, e] (circularly) with one anchor each, and a run's part is a difference of the prefix
-    sums of ``jacobian_prefix``: ``Q[e] - Q[a] - (CP[e] - CP[a]) E_a^T`` (plus the totals
-    ``Q[-1]``, ``CP[-1]`` where the run wraps past the last sample): O(runs s^2) per node
-    instead of O(n_t s^2)."""
+    (a, e] (circularly) with one anchor each, and a run's part is a difference of prefix
+    sums, ``Q[e] - Q[a] - (CP[e] - CP[a]) E_a^T`` (plus the totals ``Q[-1]``, ``CP[-1]`` where
+    the run wraps past the last sample), ``Q[j] = sum_{k <= j} P[:, k] E[k]^T``: O(runs s^2) per
+    node instead of O(n_t s^2).  ``Q`` is kept as the prefix sums of the sampled cosines and sines
+    of twice the basis's frequencies (``jacobian_prefix``): a node's runs are summed on those
+    (O(runs H)) and expanded to (s, s) once."""
     u = rows_product(U, E.T)
     f, stuck, anchor, never = jenkins_periodic(u, kc, p)
     T = rows_product(f, P.T)
@@ -146,14 +198,41 @@ def jenkins_state(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np
     return rows_product(f, P.T), ~stuck, (u, stuck, anchor, never)
 
 
+def jacobian_pattern(state: tuple) -> tuple:
+    """What :func:`jenkins_jacobian` of ``state`` depends on besides the basis and kc: the rows that
+    never slip, the stuck masks and anchors of the others, and the samples of the maximum and the
+    minimum of the never-slipping rows (with the rows that do not move).  The force is piecewise
+    linear in the displacements, so two states of equal patterns (:func:`same_pattern`) have equal
+    Jacobians, bit for bit."""
+    u, stuck, anchor, never = state
+    iv = np.flatnonzero(never)
+    kmax = np.argmax(u[iv], axis=1)
+    kmin = np.argmin(u[iv], axis=1)
+    rows = ~never
+    return never, stuck[rows], anchor[rows], kmax, kmin, u[iv, kmax] == u[iv, kmin]
+
+
+def same_pattern(p: tuple, q: tuple) -> bool:
+    """True when the :func:`jacobian_pattern` ``p`` and ``q`` are equal (then so are the Jacobians)."""
+    return all(np.array_equal(x, y) for x, y in zip(p, q))
+
+
 def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float64], P: NDArray[np.float64],
                      prefix: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None) -> NDArray[np.float64]:
     """The Jacobians dT/dU (m, s, s) on the basis (E, P) from the ``state`` of :func:`jenkins_state`
     (the derivation in :func:`jenkins_harmonic`)."""
     u, stuck, anchor, never = state
     m, nh = u.shape[0], E.shape[1]
-    J = np.empty((m, nh, nh))
-    if np.any(never):
+    if not np.any(never):
+        J = _slip_jacobians(stuck, anchor, E, P, prefix)
+        J *= kc[:, None, None]
+    else:
+        J = np.empty((m, nh, nh))
+        slips = np.flatnonzero(~never)
+        if slips.size:
+            Js = _slip_jacobians(stuck[slips], anchor[slips], E, P, prefix)
+            Js *= kc[slips, None, None]
+            J[slips] = Js
         # f = kc (u - c), c = (u_max + u_min)/2: dT/dU = kc (I - (P 1) dc/dU), P 1 the coefficients of
         # a constant (e0 in a basis with the mean, 0 in the odd basis), dc/dU = (E_max + E_min)/2.
         # A constant row (no motion: max and min not unique) has no derivative of c; its one-sided
@@ -164,22 +243,41 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
         kmin = np.argmin(u[iv], axis=1)
         dc = 0.5 * (E[kmax] + E[kmin])
         dc[u[iv, kmax] == u[iv, kmin]] = E.mean(axis=0)
-        Jn = np.eye(nh) - P.sum(axis=1)[None, :, None] * dc[:, None, :]
-        J[iv] = kc[iv, None, None] * Jn
-    slips = np.flatnonzero(~never)
-    if slips.size:
-        Q, CP = jacobian_prefix(E, P) if prefix is None else prefix
-        st = stuck[slips]
-        r, e = np.nonzero(st & ~np.roll(st, -1, axis=1))  # the last stuck sample of every run, by node
-        a = anchor[slips][r, e]
-        wrap = (e < a)[:, None]
-        C = CP[e] - CP[a] + wrap * CP[-1]
-        runs = Q[e] - Q[a] + wrap[:, :, None] * Q[-1] - C[:, :, None] * E[a][:, None, :]
-        Js = np.zeros((slips.size, nh, nh))
-        if r.size:
-            first = np.flatnonzero(np.r_[True, r[1:] != r[:-1]])
-            Js[r[first]] = np.add.reduceat(runs, first, axis=0)
-        J[slips] = kc[slips, None, None] * Js
+        J[iv] = kc[iv, None, None] * (np.eye(nh) - P.sum(axis=1)[None, :, None] * dc[:, None, :])
+    return J
+
+
+def _slip_jacobians(st: NDArray[np.bool_], anchor: NDArray[np.intp], E: NDArray[np.float64], P: NDArray[np.float64],
+                    prefix: tuple | None) -> NDArray[np.float64]:
+    """``sum_runs Q[e] - Q[a] + wrap Q[-1] - (CP[e] - CP[a] + wrap CP[-1]) E_a^T`` of every node
+    (m, s, s), the Jacobians divided by kc of m nodes that slip, from their stuck masks ``st`` and
+    ``anchor`` (m, n_t).
+
+    The sums of ``Q`` are summed as the vectors ``S`` of :func:`jacobian_prefix` (L numbers a run,
+    not s^2) and expanded to (s, s) once per node; every node's runs are padded to the largest
+    number K of runs of a node with empty runs (e = a = 0: their terms are exactly 0), and the
+    rank-K part ``sum_runs C E_a^T`` is one stacked product (m, s, K) @ (m, K, s)."""
+    S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
+    m, nh = st.shape[0], E.shape[1]
+    r, e = np.nonzero(st & ~np.roll(st, -1, axis=1))  # the last stuck sample of every run, by node
+    a = anchor[r, e]
+    counts = np.bincount(r, minlength=m)
+    K = max(1, int(counts.max()))
+    slot = np.arange(r.size) - np.concatenate([[0], np.cumsum(counts)[:-1]])[r]  # run number within its node
+    ep = np.zeros((K, m), np.intp)
+    ap = np.zeros((K, m), np.intp)
+    ep[slot, r] = e
+    ap[slot, r] = a
+    wrap = ep < ap
+    C = CP[ep] - CP[ap]  # (K, m, s)
+    C += wrap[:, :, None] * CP[-1]
+    V = (S[ep] - S[ap]).sum(axis=0)  # (m, L)
+    V += wrap.sum(axis=0)[:, None] * S[-1]
+    W = (V[:, None, :] * coefs[None, :, None]).reshape(m, -1)
+    J = np.take(W, I1, axis=1).reshape(m, nh, nh)
+    work = np.take(W, I2, axis=1).reshape(m, nh, nh)
+    J += work
+    J -= np.matmul(C.transpose(1, 2, 0), E[ap].transpose(1, 0, 2), out=work)
     return J
 
 
@@ -189,15 +287,22 @@ class BlockTridiagonal:
     Thomas elimination: ``C_0 = B_0``, ``C_i = B_i - c^2 C_{i-1}^{-1}``; O(n s^3) work."""
 
     def __init__(self, B: NDArray[np.float64], c: float) -> None:
-        n = B.shape[0]
+        from scipy.linalg import lapack  # lazily: import contact_models stays light
+
+        n, s, _ = B.shape
         self.c = c
         self.inv = np.empty_like(B)
+        gesv, eye = lapack.dgesv, np.eye(s)
         Ci = B[0]
         c2 = c * c
         for i in range(n):
             if i:
                 Ci = B[i] - c2 * self.inv[i - 1]
-            self.inv[i] = np.linalg.inv(Ci)
+            # LAPACK's dgesv on the identity, as numpy.linalg.inv does, without its per-call overhead
+            # (a third of the time of a 32 x 32 inversion)
+            _, _, self.inv[i], info = gesv(Ci, eye)
+            if info > 0:
+                raise np.linalg.LinAlgError(f"singular block {i} in the block elimination")
 
     def last_inverse(self) -> NDArray[np.float64]:
         """C_{n-1}^{-1}, the last diagonal block of the inverse."""

@@ -1,0 +1,154 @@
+"""The all-mode bar's nested solve against an independent dense one.
+
+The Jacobian of every node is assembled here sample by sample, ``dT/dU = kc P M E`` with the
+(n_t, n_t) matrix ``M`` of ``df_k/du_j / kc`` (1 on a stuck sample, -1 at its anchor; a row that never
+slips: ``f = kc (u - (u_max + u_min)/2)``), without the prefix sums, the grouping of runs or the
+block elimination of the library.  The bar's Jacobian is then the dense (n s, n s) matrix, Newton
+runs on it with ``numpy.linalg.solve`` to the residual's rounding floor, and the end force and its
+derivatives follow from dense solves (the Schur complement of the end node)."""
+
+import numpy as np
+import pytest
+
+from contact_models._allmode_solve import FixedBar
+from contact_models._hbal import aft_matrices, jacobian_prefix, jenkins_jacobian, jenkins_periodic, jenkins_state
+from contact_models.allmode import AllModeMicroslip
+from hbm.cli.cases import default_case
+
+
+def dense_node_jacobians(U, kc, p, E, P):
+    """dT/dU (m, s, s) of every node, by samples (an independent assembly)."""
+    u = U @ E.T
+    _, stuck, anchor, never = jenkins_periodic(u, kc, p)
+    m, n_t = u.shape
+    J = np.empty((m, E.shape[1], E.shape[1]))
+    k = np.arange(n_t)
+    for i in range(m):
+        M = np.zeros((n_t, n_t))
+        if never[i]:
+            M[k, k] = 1.0
+            M[:, np.argmax(u[i])] -= 0.5
+            M[:, np.argmin(u[i])] -= 0.5
+        else:
+            s = stuck[i]
+            M[k[s], k[s]] += 1.0
+            np.subtract.at(M, (k[s], anchor[i, s]), 1.0)
+        J[i] = kc[i] * (P @ M @ E)
+    return J
+
+
+def dense_matrix(fb, U, X, omega, b):
+    """The bar's residual R (n s) and its dense Jacobian (n s, n s) at U."""
+    d = fb.disc
+    full = np.vstack([U, X[None, :]])
+    T, _, _ = jenkins_state(full, d.kc, d.p, b.E, b.P)
+    J = dense_node_jacobians(full, d.kc, d.p, b.E, b.P)
+    lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2
+    n, s = U.shape
+    R = lin[:-1] * U + T[:-1]
+    R[1:] += d.off * U[:-1]
+    R[:-1] += d.off * U[1:]
+    R[-1] += d.off * X
+    A = np.zeros((n * s, n * s))
+    for i in range(n):
+        A[i * s:(i + 1) * s, i * s:(i + 1) * s] = J[i] + np.diag(lin[i])
+        if i:
+            A[i * s:(i + 1) * s, (i - 1) * s:i * s] = d.off * np.eye(s)
+            A[(i - 1) * s:i * s, i * s:(i + 1) * s] = d.off * np.eye(s)
+    return R.ravel(), A, T, J, lin
+
+
+@pytest.fixture(scope="module")
+def bar_load():
+    case = default_case()
+    return case.element.bar, case.element.load
+
+
+def test_node_jacobians_match_the_sample_assembly(bar_load):
+    bar, load = bar_load
+    el = AllModeMicroslip(bar, load, cells=32, harmonics=31)
+    sol = el.solve(1.5355e-6, 38820.0)
+    fb = el._level(32, 31)
+    d = fb.disc
+    for odd in (True, False):
+        b = fb.basis(odd)
+        U = sol.U[:, b.idx]
+        U = U + 1e-8 * np.cos(np.arange(U.size)).reshape(U.shape)  # even harmonics too where not odd
+        state = jenkins_state(U, d.kc, d.p, b.E, b.P)[2]
+        assert state[3].any() and not state[3].all()  # rows that never slip and rows that do
+        J = jenkins_jacobian(state, d.kc, b.E, b.P, b.prefix)
+        Jd = dense_node_jacobians(U, d.kc, d.p, b.E, b.P)
+        assert np.max(np.abs(J - Jd)) <= 1e-12 * np.max(np.abs(Jd))
+
+
+@pytest.mark.parametrize("a, omega", [(1.5355e-6, 38820.0), (3e-6, 37000.0)])
+def test_nested_solve_matches_a_dense_newton(bar_load, a, omega):
+    bar, load = bar_load
+    cells, H = 32, 31
+    el = AllModeMicroslip(bar, load, cells=cells, harmonics=H)
+    sol = el.solve(a, omega)
+    fb = FixedBar(bar, load, cells, H, el._level(cells, H).n_t)
+    b = fb.basis(True)
+    X = np.zeros(2 * H + 1)
+    X[2] = a
+    Xb = X[b.idx]
+    d = fb.disc
+    U = fb.linear_guess(Xb, omega, b)
+    n, s = U.shape
+    for _ in range(60):  # plain Newton to the rounding floor (the residual is piecewise linear)
+        R, A, T, J, lin = dense_matrix(fb, U, Xb, omega, b)
+        step = np.linalg.solve(A, -R).reshape(n, s)
+        U = U + step
+        if np.max(np.abs(step)) <= 1e-15 * np.max(np.abs(U)):
+            break
+    R, A, T, J, lin = dense_matrix(fb, U, Xb, omega, b)
+    assert np.max(np.abs(R)) <= 1e-12 * fb.scale(Xb)
+    F = lin[-1] * Xb + d.off * U[-1] + T[-1]
+    Ainv_last = np.linalg.solve(A, np.vstack([np.zeros(((n - 1) * s, s)), np.eye(s)]))[-s:]
+    dF_dX = np.diag(lin[-1]) + J[-1] - d.off**2 * Ainv_last
+    dU_dw = np.linalg.solve(A, (2.0 * omega * d.m[:-1, None] * b.order[None, :] ** 2 * U).ravel()).reshape(n, s)
+    dF_dw = -2.0 * omega * d.m[-1] * b.order**2 * Xb + d.off * dU_dw[-1]
+    ix = np.ix_(b.idx, b.idx)
+    assert sol.success
+    # measured: F to 2e-14, dF_dX and dF_domega to 2e-12 (the bar's Jacobian has a condition number
+    # near 1e5-1e6 at the peak, and the library stops Newton at a residual of 1e-11 of the force scale)
+    assert np.max(np.abs(sol.F[b.idx] - F)) <= 1e-10 * np.max(np.abs(F))
+    assert np.max(np.abs(sol.dF_dX[ix] - dF_dX)) <= 1e-10 * np.max(np.abs(dF_dX))
+    assert np.max(np.abs(sol.dF_domega[b.idx] - dF_dw)) <= 1e-10 * np.max(np.abs(dF_dw))
+
+
+def test_even_block_matches_the_dense_schur_complement(bar_load):
+    """A half-wave symmetric solution (odd basis) gets its even-even block of dF/dX from the
+    return map's state its solve kept; here from the dense full-basis Jacobian's even part."""
+    bar, load = bar_load
+    cells, H, omega = 32, 31, 38820.0
+    fb = FixedBar(bar, load, cells, H, AllModeMicroslip(bar, load, cells=cells, harmonics=H)._level(cells, H).n_t)
+    X = np.zeros(2 * H + 1)
+    X[2] = 1.5355e-6
+    sol = fb.solve(X, omega, odd=True)
+    fb.even_block(sol)
+    b = fb.basis(False)
+    d = fb.disc
+    even = np.flatnonzero(b.order % 2 == 0)
+    J = dense_node_jacobians(sol.U, d.kc, d.p, b.E, b.P)[:, even][:, :, even]
+    lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, even] ** 2
+    n, s = cells, even.size
+    A = np.zeros((n * s, n * s))
+    for i in range(n):
+        A[i * s:(i + 1) * s, i * s:(i + 1) * s] = J[i] + np.diag(lin[i])
+        if i:
+            A[i * s:(i + 1) * s, (i - 1) * s:i * s] = d.off * np.eye(s)
+            A[(i - 1) * s:i * s, i * s:(i + 1) * s] = d.off * np.eye(s)
+    Ainv_last = np.linalg.solve(A, np.vstack([np.zeros(((n - 1) * s, s)), np.eye(s)]))[-s:]
+    block = np.diag(lin[-1]) + J[-1] - d.off**2 * Ainv_last
+    got = sol.dF_dX[np.ix_(even, even)]
+    assert np.max(np.abs(got - block)) <= 1e-10 * np.max(np.abs(block))  # measured 6e-14
+
+
+def test_jacobian_prefix_needs_a_trigonometric_basis():
+    E, P, _ = aft_matrices(3, 16)
+    jacobian_prefix(E[:, [1, 2, 5]], P[[1, 2, 5]])  # any subset of the columns
+    with pytest.raises(ValueError, match="aft_matrices"):
+        jacobian_prefix(E + 0.1, P)
+    with pytest.raises(ValueError, match="aft_matrices"):
+        jacobian_prefix(E, 2.0 * P[::-1])
