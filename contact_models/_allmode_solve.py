@@ -118,15 +118,6 @@ class _Eval(NamedTuple):
     state: tuple | None = None
 
 
-#: Bytes of an array allocated and freed once per basis.  glibc's malloc maps every block above
-#: its threshold afresh (the kernel then zero-fills each page on first touch) and raises the
-#: threshold to the size of a mapped block when it is freed; the bar's Jacobian stacks and
-#: block inverses are about 1 MB at 128 cells, H = 31, near that threshold, and were mapped anew
-#: on every solve (about 1000 page faults, 1.5 ms of a 5 ms solve, measured).  Freeing one larger
-#: block raises the threshold above them, so they come from the heap (no effect elsewhere).
-HEAP_HINT = 1 << 23
-
-
 @functools.lru_cache(maxsize=32)
 def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
     """The :class:`_Basis` of H harmonics (odd ones only if ``odd``) on n_t samples, built once per
@@ -135,7 +126,6 @@ def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
     idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
     Eb, Pb = E[:, idx], P[idx]
     basis = _Basis(H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
-    np.empty(HEAP_HINT, np.uint8)  # allocated and freed at once: see HEAP_HINT
     for a in (idx, Eb, Pb, basis.order, *basis.prefix):
         a.flags.writeable = False
     return basis
