@@ -37,6 +37,17 @@ def dense_node_jacobians(U, kc, p, E, P):
     return J
 
 
+def dense_tridiagonal(J, lin, off, n, s):
+    """The bar's Jacobian (n s, n s) densely: node i's block ``J[i] + diag(lin[i])``, ``off I`` beside it."""
+    A = np.zeros((n * s, n * s))
+    for i in range(n):
+        A[i * s:(i + 1) * s, i * s:(i + 1) * s] = J[i] + np.diag(lin[i])
+        if i:
+            A[i * s:(i + 1) * s, (i - 1) * s:i * s] = off * np.eye(s)
+            A[(i - 1) * s:i * s, i * s:(i + 1) * s] = off * np.eye(s)
+    return A
+
+
 def dense_matrix(fb, U, X, omega, b):
     """The bar's residual R (n s) and its dense Jacobian (n s, n s) at U."""
     d = fb.disc
@@ -49,12 +60,7 @@ def dense_matrix(fb, U, X, omega, b):
     R[1:] += d.off * U[:-1]
     R[:-1] += d.off * U[1:]
     R[-1] += d.off * X
-    A = np.zeros((n * s, n * s))
-    for i in range(n):
-        A[i * s:(i + 1) * s, i * s:(i + 1) * s] = J[i] + np.diag(lin[i])
-        if i:
-            A[i * s:(i + 1) * s, (i - 1) * s:i * s] = d.off * np.eye(s)
-            A[(i - 1) * s:i * s, i * s:(i + 1) * s] = d.off * np.eye(s)
+    A = dense_tridiagonal(J, lin, d.off, n, s)
     return R.ravel(), A, T, J, lin
 
 
@@ -133,12 +139,7 @@ def test_even_block_matches_the_dense_schur_complement(bar_load):
     J = dense_node_jacobians(sol.U, d.kc, d.p, b.E, b.P)[:, even][:, :, even]
     lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, even] ** 2
     n, s = cells, even.size
-    A = np.zeros((n * s, n * s))
-    for i in range(n):
-        A[i * s:(i + 1) * s, i * s:(i + 1) * s] = J[i] + np.diag(lin[i])
-        if i:
-            A[i * s:(i + 1) * s, (i - 1) * s:i * s] = d.off * np.eye(s)
-            A[(i - 1) * s:i * s, i * s:(i + 1) * s] = d.off * np.eye(s)
+    A = dense_tridiagonal(J, lin, d.off, n, s)
     Ainv_last = np.linalg.solve(A, np.vstack([np.zeros(((n - 1) * s, s)), np.eye(s)]))[-s:]
     block = np.diag(lin[-1]) + J[-1] - d.off**2 * Ainv_last
     got = sol.dF_dX[np.ix_(even, even)]
