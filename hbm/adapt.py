@@ -234,7 +234,7 @@ def refined_contacts(contacts: list, excess: float = 1.0, span: tuple[float, flo
     out, changed = [], False
     for c in contacts:
         refine = getattr(c.element, "refined_rung", None)
-        if callable(refine) and refine() is not None:
+        if callable(refine):  # a rung (its refined model is its next rung) or a choosing element (None)
             better = refine(excess, span)
         else:
             better = None if rungs_only else c.element.refined_model()
