@@ -402,10 +402,10 @@ class FrequencyResponse:
         idx = (np.asarray(place)[:, None] * L + np.arange(L)[None, :]).ravel()
         lams = []
         hill = HillProblem(M, C, K, self.harmonics)
+        dF = np.zeros((M.shape[0] * L, M.shape[0] * L))  # zero but on the contacts' rows, every point
+        rows = np.ix_(idx, idx)
         for X, w in zip(self._X, self.omega):
-            dFa = pr.perturbation_jacobian(X, float(w))
-            dF = np.zeros((M.shape[0] * L, M.shape[0] * L))
-            dF[np.ix_(idx, idx)] = dFa
+            dF[rows] = pr.perturbation_jacobian(X, float(w))
             lams.append(hill.exponents(float(w), dF))
         self._exponents = np.array(lams)
         self._stable = self._exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)

@@ -162,3 +162,34 @@ def test_the_fast_path_is_only_for_one_element_to_ground():
     between = HarmonicBalance(s, [Contact(Macroslip(1.0, 0.02), dofs=(0, 1))], harmonics=3)
     two = HarmonicBalance(s, [Contact(Macroslip(1.0, 0.02), dof=0)], harmonics=3)  # response DOF 1 too
     assert not between._grounded_one and not two._grounded_one
+
+
+def test_hill_reuses_the_balances_element_jacobians_bit_for_bit(monkeypatch):
+    # Hill's method asks the elements for dF/dX again at the branch's points: where the balance
+    # evaluated the same displacement it gets that call's Jacobian (no new element call), equal bit for
+    # bit to a fresh evaluation; the kept Jacobians stay within their byte bound, the oldest dropped
+    import hbm.balance.residual as residual
+
+    K = np.array([[2.0, -1.0], [-1.0, 1.0]])
+    s = Structure(np.eye(2), 0.004 * K, K, force=[0.0, 0.05])
+    contacts = [Contact(Macroslip(1.0, 0.02), dof=0), Contact(Macroslip(2.0, 0.01), dofs=(0, 1))]
+    hb = HarmonicBalance(s, contacts, harmonics=3, n_t=128)
+    fresh = HarmonicBalance(s, contacts, harmonics=3, n_t=128)
+    X = np.zeros((2, hb.L))
+    X[0, 1:3], X[1, 1:3] = (0.08, 0.03), (0.2, -0.05)  # both elements slip
+    hb.forces(X, 1.3)
+    calls = hb.nfev
+    dF = hb.perturbation_jacobian(X, 1.3)
+    assert hb.nfev == calls  # nothing evaluated again
+    dF0 = fresh.perturbation_jacobian(X, 1.3)
+    assert fresh.nfev == 2 and np.abs(dF0).max() > 0.0
+    np.testing.assert_array_equal(dF, dF0)
+    monkeypatch.setattr(residual, "JACOBIAN_KEEP_BYTES", 3 * hb.L**2 * 8)  # room for three
+    for factor in (1.0, 1.1, 1.2, 1.3):
+        hb.forces(X * factor, 1.3)
+    assert hb._jacobian_bytes <= 3 * hb.L**2 * 8 and len(hb._jacobians) == 3
+    calls = hb.nfev
+    hb.perturbation_jacobian(X * 1.3, 1.3)
+    assert hb.nfev == calls
+    hb.perturbation_jacobian(X, 1.3)  # dropped: evaluated again
+    assert hb.nfev == calls + 2

@@ -73,6 +73,9 @@ STUCK_FD_STEP = 1e-5
 #: Relative change of omega (or, next, of a) after which the element's omega-derivative is retaken.
 OMEGA_REFRESH = 3e-3
 AMP_REFRESH = 3e-2
+#: The elements' Jacobians of the balance's evaluations are kept up to this many bytes (the oldest
+#: dropped first) for Hill's method, which asks for them again at the branch's points.
+JACOBIAN_KEEP_BYTES = 4 * 2**20
 
 
 def as_structure(system: Any) -> Structure:
@@ -212,6 +215,8 @@ class HarmonicBalance:
         self.one_dof = solved_as_one_dof(s, self.contacts, self.H)
         self.element = self.contacts[0].element if len(self.contacts) == 1 else None
         self.fresh_omega_derivative = False
+        self._jacobians: dict = {}  # (contact, omega, its displacement's bytes) -> its element's dF/dX
+        self._jacobian_bytes = 0
         self.nfev = 0
         self.nstuck = 0
         self.nfev_omega = 0
@@ -308,16 +313,22 @@ class HarmonicBalance:
         F = np.zeros((na, L))
         dF = np.zeros((na, L, na, L))
         Fw = np.zeros((na, L))
-        for el, comps in self._attach:
+        for e, (el, comps) in enumerate(self._attach):
             Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
             c = len(comps)
             linear = False
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
-            if force or not linear:
+            key = (e, omega, Xrel.tobytes())
+            if not force and not linear and key in self._jacobians:
+                # a point the balance evaluated: the Jacobian of that same call (bit for bit)
+                f, J, fw = np.zeros(c * L), self._jacobians[key], np.zeros(c * L)
+            elif force or not linear:
                 f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol)
                 self.nfev += 1
+                if not perturbation:
+                    self._keep_jacobian(key, J)
             else:  # the forces are not asked for
                 f, fw = np.zeros(L), np.zeros(L)
             if linear:
@@ -332,6 +343,16 @@ class HarmonicBalance:
                         for j, sj in signs[b]:
                             dF[i, :, j, :] += (si * sj) * J[a, :, b, :]
         return F, dF.reshape(na * L, na * L), Fw
+
+    def _keep_jacobian(self, key: tuple, J: NDArray) -> None:
+        """Keep an element's Jacobian of a balance evaluation (a copy: an element may reuse its
+        arrays) for :meth:`perturbation_jacobian`, dropping the oldest beyond ``JACOBIAN_KEEP_BYTES``."""
+        kept = self._jacobians
+        if key not in kept:
+            kept[key] = np.array(J, dtype=float)
+            self._jacobian_bytes += kept[key].nbytes
+        while self._jacobian_bytes > JACOBIAN_KEEP_BYTES:
+            self._jacobian_bytes -= kept.pop(next(iter(kept))).nbytes
 
     # ------------------------------------------------------------------ condensed form
     def _condensed(self, X: NDArray, omega: float) -> tuple[NDArray, NDArray]:

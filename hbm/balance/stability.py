@@ -134,31 +134,25 @@ class HillProblem:
                 lam = _state_space_eigenvalues(self.M, self.C, self.K + Kc)
                 self._invariant = (key, lam[np.argsort(-lam.real, kind="stable")])
             return self._invariant[1].copy()
-        even, odd = self._parts
         ie, io = self._rows
         scale = float(np.max(np.abs(dF))) if dF.size else 0.0
         cross = max(float(np.max(np.abs(dF[np.ix_(ie, io)]), initial=0.0)),
                     float(np.max(np.abs(dF[np.ix_(io, ie)]), initial=0.0)))
-        parts = [even, odd] if H > 0 and cross <= PARITY_RTOL * scale else [np.arange(L)]
-        lams, Ps = [], []
+        parts = self._parts if H > 0 and cross <= PARITY_RTOL * scale else (np.arange(L),)
+        lams, centres = [], []
         for part in parts:
-            lam, P = self._eig(omega, dF, part)
+            lam, centre = self._eig(omega, dF, part)
             lams.append(lam)
-            Ps.append(P)
-        lam, P = np.concatenate(lams), np.concatenate(Ps, axis=2)
-        zp = P[:, 1::2] - 1j * P[:, 2::2]  # 2 z_{+h}
-        zm = P[:, 1::2] + 1j * P[:, 2::2]  # 2 z_{-h}
-        h = np.arange(1, H + 1)[None, :, None]
-        wp, wm = np.sum(np.abs(zp) ** 2, axis=0), np.sum(np.abs(zm) ** 2, axis=0)
-        total = 4.0 * np.sum(np.abs(P[:, 0]) ** 2, axis=0) + np.sum(wp + wm, axis=0)
-        centre = np.abs(np.sum(h[0] * (wp - wm), axis=0)) / np.maximum(total, 1e-300)
+            centres.append(centre)
+        lam, centre = np.concatenate(lams), np.concatenate(centres)
         # ties (equally centred members, e.g. a real exponent's symmetric +-1 content and a spurious
         # purely static member at H = 1) go to the smaller |Im lambda|
         lam = lam[np.lexsort((np.abs(lam.imag), np.round(centre, 2)))[:2 * n]]
         return lam[np.argsort(-lam.real, kind="stable")]
 
     def _operators(self, part: NDArray) -> tuple:
-        """The omega-free parts of ``-M^-1 D0`` and ``-M^-1 D1`` on the coefficients ``part``."""
+        """The omega-free parts of ``-M^-1 D0`` and ``-M^-1 D1`` on the coefficients ``part``, and
+        what :meth:`_eig` needs to weigh the eigenvectors' harmonics."""
         key = tuple(part.tolist())
         if key not in self._ops:
             n, L, p = self.n, self.L, part.size
@@ -166,20 +160,25 @@ class HillProblem:
             I = np.eye(p)
             Minv = np.kron(self._Minv, I)
             idx = np.ravel(np.arange(n)[:, None] * L + part[None, :])
+            # the part's cosine and sine rows of each harmonic h >= 1 (layout 2h - 1, 2h), and its h
+            pos = {int(c): j for j, c in enumerate(part)}
+            hs = [h for h in range(1, self.H + 1) if 2 * h - 1 in pos]
+            rows = (np.array([pos[2 * h - 1] for h in hs], dtype=int), np.array([pos[2 * h] for h in hs], dtype=int))
             self._ops[key] = (idx, Minv, Minv @ np.kron(self.K, I), Minv @ np.kron(self.C, Nop),
                               Minv @ np.kron(self.M, Nop @ Nop), Minv @ np.kron(self.C, I),
-                              Minv @ np.kron(self.M, Nop))
+                              Minv @ np.kron(self.M, Nop), np.eye(idx.size), 0 in pos, rows,
+                              np.array(hs, dtype=float)[None, :, None])
         return self._ops[key]
 
-    def _eig(self, omega: float, dF: NDArray, part: NDArray) -> tuple[NDArray[np.complex128], NDArray[np.complex128]]:
-        """Eigenvalues and displacement eigenvectors (n, 2H+1, m) of the QEP (module docstring)
-        on the coefficients ``part`` of every DOF (the rest of the layout zero)."""
+    def _eig(self, omega: float, dF: NDArray, part: NDArray) -> tuple[NDArray[np.complex128], NDArray[np.float64]]:
+        """Eigenvalues of the QEP (module docstring) on the coefficients ``part`` of every DOF (the
+        rest of the layout zero), and the centre of each displacement eigenvector (module docstring)."""
         from scipy.linalg.lapack import dgeev, dgeev_lwork  # lazily: import hbm stays light
 
-        idx, Minv, MK, MCN, MMN2, MC, MMN = self._operators(part)
+        idx, Minv, MK, MCN, MMN2, MC, MMN, eye, static, (rc, rs), h = self._operators(part)
         size = idx.size
-        A = np.zeros((2 * size, 2 * size))
-        A[:size, size:] = np.eye(size)
+        A = np.zeros((2 * size, 2 * size), order="F")  # LAPACK's order: no copy on the call
+        A[:size, size:] = eye
         A[size:, :size] = -(MK + omega * MCN + omega * omega * MMN2 + Minv @ dF[np.ix_(idx, idx)])
         A[size:, size:] = -(MC + 2.0 * omega * MMN)
         # LAPACK's real eigensolver, right vectors only (scipy.linalg.eig's own call, without its
@@ -190,14 +189,20 @@ class HillProblem:
         wr, wi, _, vr, info = dgeev(A, compute_vl=0, compute_vr=1, lwork=self._lwork[2 * size], overwrite_a=1)
         if info != 0:
             raise np.linalg.LinAlgError(f"Hill's eigenproblem at omega = {omega!r}: LAPACK dgeev info = {info}")
-        Vd = vr[:size]
-        V = Vd.astype(complex)
+        # the eigenvector a + i b of each column (a pair's second column: its conjugate, the same
+        # centre up to sign); with z_{+-h} = (c_h -+ i s_h) / 2 per DOF, |2 z_+h|^2 + |2 z_-h|^2 =
+        # 2 (a_c^2 + a_s^2 + b_c^2 + b_s^2) and |2 z_+h|^2 - |2 z_-h|^2 = 4 (a_c b_s - a_s b_c)
+        a = vr[:size].reshape(self.n, part.size, 2 * size)
+        b = np.zeros_like(a)
         j = np.flatnonzero(wi > 0.0)
-        V[:, j] += 1j * Vd[:, j + 1]
-        V[:, j + 1] = np.conj(V[:, j])
-        P = np.zeros((self.n, self.L, 2 * size), dtype=complex)
-        P[:, part] = V.reshape(self.n, part.size, 2 * size)
-        return wr + 1j * wi, P
+        b[:, :, j] = b[:, :, j + 1] = a[:, :, j + 1]
+        a[:, :, j + 1] = a[:, :, j]
+        ac, as_, bc, bs = a[:, rc], a[:, rs], b[:, rc], b[:, rs]
+        total = 2.0 * np.sum(ac * ac + as_ * as_ + bc * bc + bs * bs, axis=(0, 1))
+        if static:
+            total += 4.0 * np.sum(a[:, 0] ** 2 + b[:, 0] ** 2, axis=0)
+        centre = 4.0 * np.abs(np.sum(h * (ac * bs - as_ * bc), axis=(0, 1))) / np.maximum(total, 1e-300)
+        return wr + 1j * wi, centre
 
 
 def band_modes(M: NDArray, K: NDArray, kept: int, band: float) -> list[int]:
