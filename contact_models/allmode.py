@@ -275,7 +275,8 @@ class AllModeMicroslip(ContactElement):
             Frequency (rad/s), >= 0.
         estimate_error : bool
             With fixed ``cells`` and ``harmonics``: also solve on the lower rungs (cells n/4, n/2;
-            harmonics about H/4, H/2: ``_allmode_accuracy.harmonic_rungs``) and fill ``error``, ``relative_error`` and ``error_parts``.
+            harmonics about H/4, H/2: ``_allmode_accuracy.harmonic_rungs``) and fill ``error``,
+            ``relative_error`` and ``error_parts``.
             Where the element chooses, they are always filled.  Default False.
 
         Returns
@@ -461,8 +462,9 @@ class AllModeMicroslip(ContactElement):
     def _parts(self, X, omega, odd, sol):
         """The estimate's parts (N, on (F_c, F_s)): Richardson in cells (n/4, n/2, n) and in
         harmonics (about H/4, H/2, H or, where a harmonic at a mode would drop out, H - 2d, H - d, H;
-        never below the drive's harmonics: ``harmonic_rungs``) with the observed order; with two rungs only, the last difference; with
-        one, inf (cells) or the decay of the harmonics kept (harmonics)."""
+        never below the drive's harmonics: ``harmonic_rungs``) with the observed order; with two
+        rungs only, the last difference; with one, inf (cells) or the decay of the harmonics kept
+        (harmonics)."""
         n, H, Hx = sol.cells, sol.H, (X.size - 1) // 2
         F = sol.F[1:3]
 

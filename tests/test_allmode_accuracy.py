@@ -22,7 +22,8 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, UniformLoad
-from contact_models._allmode_accuracy import harmonic_rungs, observed_order, relative, resonant_harmonics, richardson
+from contact_models._allmode_accuracy import (harmonic_rungs, observed_order, relative, resonant_harmonics,
+                                              richardson)
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 KS = BAR.k_star
@@ -115,7 +116,8 @@ def test_harmonic_rungs_never_drop_a_resonant_harmonic_that_h_minus_2d_keeps():
     # a peak at 5, kept by the far rungs' 7 already: unchanged
     assert harmonic_rungs(31, F=_spectrum([1.0, 1e-2, 0.1, 1e-3] + [1e-4] * 12)) == [7, 15]
     # never below the drive's harmonics, never at H
-    assert harmonic_rungs(31, 19, notch) == [19] and harmonic_rungs(31, 9, notch) == [15, 23] and harmonic_rungs(3) == [1] and harmonic_rungs(1) == []
+    assert harmonic_rungs(31, 19, notch) == [19] and harmonic_rungs(31, 9, notch) == [15, 23]
+    assert harmonic_rungs(3) == [1] and harmonic_rungs(1) == []
 
 
 def test_at_the_notch_the_harmonics_part_bounds_h_63_and_is_sharp():
