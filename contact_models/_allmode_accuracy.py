@@ -2,8 +2,7 @@
 where the ladder of cells starts.
 
 ``AllModeMicroslip`` estimates the error of its (F_s, F_c) from three solutions on a ladder of
-resolutions N_1 < N_2 < N_3 (cells n/4, n/2, n; harmonics about H/4, H/2, H, or H - 2d, H - d, H
-where a harmonic at a mode of the bar would drop out: ``harmonic_rungs``), component by
+resolutions N_1 < N_2 < N_3 (cells n/4, n/2, n; harmonics about H/4, H/2, H), component by
 component.  With e(N) = C N^-p the differences d_1 = F_2 - F_1, d_2 = F_3 - F_2 fix the observed
 order p (``observed_order``) and the error of the finest, |d_2| / ((N_3/N_2)^p - 1).  It is used
 only where it is safe:
@@ -35,8 +34,6 @@ if TYPE_CHECKING:
 MIN_ORDER = 1.0
 #: Observed orders above this are capped (see the module docstring).
 MAX_ORDER = 3.0
-#: A harmonic of the end force this many times both its neighbours is at a mode of the bar.
-PEAK_RATIO = 2.0
 #: The validity map's floor: errors relative to max(|F|, FLOOR k* a), component by component.
 FLOOR = 0.01
 #: Cells per wavelength of the highest harmonic, and per decay length 1/lambda of the shear
@@ -101,45 +98,6 @@ def richardson(N: tuple[float, float, float], F: NDArray[np.float64]) -> tuple[N
             err[j] = abs(d2) / (r**p - 1.0)
             order[j] = p
     return err, order
-
-
-def resonant_harmonics(F: NDArray[np.float64], lo: int, hi: int, step: int = 2) -> list[int]:
-    """The harmonics h in (lo, hi] at a mode of the bar: where the end force's spectrum (``F``, the
-    layout [F0, Fc1, Fs1, ...]) rises to a local peak, |F_h| > ``PEAK_RATIO`` max(|F_{h-step}|,
-    |F_{h+step}|) (``step`` 2 where only odd harmonics are present).  Away from a mode the spectrum
-    of the friction force falls with h (a force with kinks: like h^-2); a peak over both neighbours
-    is the bar ringing in a mode at h omega (docs/theory.md, "The rungs of harmonics").
-
-    >>> F = np.zeros(2 * 15 + 1); F[1::4] = [1.0, 5e-2, 1e-2, 2e-3, 2e-3, 4e-3, 0.1, 2e-3]  # h = 1, 3, .. 15
-    >>> resonant_harmonics(F, 5, 15)
-    [13]
-    """
-    amp = np.hypot(F[1::2], F[2::2])  # |F_h|, h = 1 .. H
-    top = amp.size
-    return [h for h in range(max(lo + 1, step + 1), min(hi, top - step) + 1)
-            if amp[h - 1] > PEAK_RATIO * max(amp[h - 1 - step], amp[h - 1 + step])]
-
-
-def harmonic_rungs(H: int, least: int = 1, F: NDArray[np.float64] | None = None, step: int = 2) -> list[int]:
-    """The lower rungs of harmonics of the estimate at H, each at least ``least`` (the drive's
-    harmonics), those below H, increasing: about H/4 and H/2 (31: 7, 15; 15: 3, 7; 7: 1, 3), unless
-    the top rung's end force ``F`` (if given) has a harmonic at a mode of the bar
-    (:func:`resonant_harmonics`) that the lowest of them drops and H - 2d keeps: then H - 2d and
-    H - d, d = 2 round((H + 1)/8) (31: 15, 23), so that no difference of the ladder is the jump of
-    that harmonic's resonance (docs/theory.md, "The rungs of harmonics").
-
-    >>> harmonic_rungs(31), harmonic_rungs(15), harmonic_rungs(7), harmonic_rungs(1)
-    ([7, 15], [3, 7], [1, 3], [])
-    >>> F = np.zeros(2 * 31 + 1); F[1::4] = [1.0, 5e-2, 1e-2, 2e-3, 2e-3, 4e-3, 0.1] + [1e-4] * 9
-    >>> harmonic_rungs(31, F=F), harmonic_rungs(15, F=F[:31])
-    ([15, 23], [3, 7])
-    """
-    half = max(1, (H - 1) // 2)  # about H/2, odd for odd H
-    lower = (max(1, (half - 1) // 2), half)
-    d = 2 * max(1, math.floor((H + 1) / 8 + 0.5))
-    if F is not None and H - 2 * d > lower[0] and resonant_harmonics(F, max(lower[0], least), H - 2 * d, step):
-        lower = (H - 2 * d, H - d)
-    return sorted({max(h, least) for h in lower if max(h, least) < H})
 
 
 def ladder(N: tuple, F: list, alone: NDArray[np.float64]) -> NDArray[np.float64]:

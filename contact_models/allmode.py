@@ -39,8 +39,7 @@ component relative to max(|f|, 0.01 k* a) as in the validity map, is below ``tol
 from a start tied to the wavelength of the highest harmonic and to the shear layer's decay length
 (``_allmode_accuracy.start_cells``), and harmonics climb the ladder 7, 15, 31, whichever part of
 the estimate is larger.  The estimate is Richardson extrapolation with the observed order on three
-rungs (cells n/4, n/2, n; harmonics about H/4, H/2, H, higher where a harmonic at a mode of the bar
-would drop out), guarded where the order is not asymptotic
+rungs (cells n/4, n/2, n; harmonics about H/4, H/2, H), guarded where the order is not asymptotic
 (``contact_models._allmode_accuracy``); its two parts add.  The ladder starts where the previous
 call ended (a continuation calls at neighbouring points) and the estimate of a call within
 ``REUSE_AMPLITUDE`` and ``REUSE_FREQUENCY`` of the last estimated point, whose estimate was below
@@ -60,8 +59,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import (FLOOR, harmonic_rungs, ladder, relative, richardson, shortfall_message,
-                                start_cells)
+from ._allmode_accuracy import FLOOR, ladder, relative, richardson, shortfall_message, start_cells
 from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung
 from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd
 from ._hbal import aft_matrices
@@ -101,6 +99,11 @@ REUSE_FREQUENCY = 0.005
 
 def _samples(H: int) -> int:
     return 4 * math.ceil(SAMPLES_PER_HARMONIC * H / 4)
+
+
+def _lower(H: int) -> int:
+    """The harmonics rung below H (about H/2, odd for odd H: 31 -> 15 -> 7 -> 3 -> 1)."""
+    return max(1, (H - 1) // 2)
 
 
 def _pad(X: NDArray[np.float64], H: int) -> NDArray[np.float64]:
@@ -275,8 +278,7 @@ class AllModeMicroslip(ContactElement):
             Frequency (rad/s), >= 0.
         estimate_error : bool
             With fixed ``cells`` and ``harmonics``: also solve on the lower rungs (cells n/4, n/2;
-            harmonics about H/4, H/2: ``_allmode_accuracy.harmonic_rungs``) and fill ``error``,
-            ``relative_error`` and ``error_parts``.
+            harmonics about H/4, H/2) and fill ``error``, ``relative_error`` and ``error_parts``.
             Where the element chooses, they are always filled.  Default False.
 
         Returns
@@ -461,10 +463,9 @@ class AllModeMicroslip(ContactElement):
 
     def _parts(self, X, omega, odd, sol):
         """The estimate's parts (N, on (F_c, F_s)): Richardson in cells (n/4, n/2, n) and in
-        harmonics (about H/4, H/2, H or, where a harmonic at a mode would drop out, H - 2d, H - d, H;
-        never below the drive's harmonics: ``harmonic_rungs``) with the observed order; with two
-        rungs only, the last difference; with one, inf (cells) or the decay of the harmonics kept
-        (harmonics)."""
+        harmonics (about H/4, H/2, H, never below the drive's harmonics) with the observed order;
+        with two rungs only, the last difference; with one, inf (cells) or the decay of the
+        harmonics kept (harmonics)."""
         n, H, Hx = sol.cells, sol.H, (X.size - 1) // 2
         F = sol.F[1:3]
 
@@ -473,7 +474,7 @@ class AllModeMicroslip(ContactElement):
             return s.F[1:3] if s.success else np.full(2, np.nan)
 
         cells = [c for c in (n // 4, n // 2) if c >= 2 and c < n]
-        hs = harmonic_rungs(H, Hx, sol.F, 2 if odd else 1)
+        hs = sorted({h for h in (max(_lower(_lower(H)), Hx), max(_lower(H), Hx)) if h < H})
         parts = {}
         for key, rungs, solve_at in (("cells", cells, lambda c: at(c, H)), ("harmonics", hs, lambda h: at(n, h))):
             alone = np.full(2, np.inf) if key == "cells" else np.full(2, sol.decay * math.hypot(*F))
