@@ -316,12 +316,24 @@ REMEDY = {
 #: The model source's advice where every element already is the complete model (no refined model).
 REFINED_REMEDY = ("a finer discretisation of the element (AllModeMicroslip: cells and harmonics left to be chosen, "
                   "or a smaller tol=)")
+#: The model source's advice where the point's all-mode bar is on its finest rung along a curve.
+TOP_RUNG_REMEDY = ("the element alone at that point (AllModeMicroslip with tol=, cells up to 640): along the curve "
+                   "the all-mode bar is on its finest rung there ({rung}), where its estimate can be pessimistic if a "
+                   "harmonic of the drive meets a mode of the bar")
 
 
-def _remedy(frf: FrequencyResponse, source: str) -> str:
-    """What brings ``source`` down; for the model source, the refined model only where one exists."""
-    if source == "model" and all(c.element.refined_model() is None or callable(getattr(c.element, "refined_rung", None))
-                                 for c in frf.contacts):
+def _remedy(frf: FrequencyResponse, source: str, i: int) -> str:
+    """What brings ``source`` down at point ``i``; for the model source, the refined model only where
+    one exists, and the element alone where the point's all-mode rung is the finest along a curve."""
+    if source != "model":
+        return REMEDY[source]
+    site, _ = frf._site(i)
+    top = [c.element for c in site.contacts if callable(getattr(c.element, "refined_rung", None))
+           and getattr(c.element, "cells", None) is not None and c.element.refined_rung() is None]
+    if top:
+        return TOP_RUNG_REMEDY.format(rung=f"{top[0].cells} cells, H = {top[0].harmonics}")
+    if all(c.element.refined_model() is None or callable(getattr(c.element, "refined_rung", None))
+           for c in frf.contacts):
         return REFINED_REMEDY
     return REMEDY[source]
 
@@ -338,7 +350,7 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
         parts.append(f"estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at omega = {frf.omega[i]:.6g} "
                      f"rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: {source}, "
                      f"{frf.error_sources[source][i]:.2g}; H = {frf.point_harmonics[i]}); for a closer answer use "
-                     f"{_remedy(frf, source)}")
+                     f"{_remedy(frf, source, i)}")
     elif heard and tolerance is not None and len(frf):
         parts.append(f"the response's estimated error (at most {float(np.nanmax(frf.error_estimate)):.2g}, "
                      f"tol {tolerance:g}) carries the elements' own estimates through the balance")

@@ -83,6 +83,12 @@ def test_the_curve_is_traced_on_rungs_named_per_point(curve, tmp_path):
         source = max(frf.error_sources, key=lambda k: frf.error_sources[k][int(np.argmax(frf.error_estimate))])
         assert len(heard) == 1 and frf.accuracy_warning == str(heard[0].message)
         assert f"largest source: {source}" in frf.accuracy_warning
+        # there the bar is on its finest rung along a curve: the advice is the element alone, not a
+        # smaller tol= or cells left to be chosen (they are)
+        top = f"AllModeMicroslip(cells={CURVE_MAX_CELLS}, H=31)"
+        assert source == "model" and frf.point_models[int(np.argmax(frf.error_estimate))] == top
+        assert f"finest rung there ({CURVE_MAX_CELLS} cells, H = 31)" in frf.accuracy_warning
+        assert "left to be chosen" not in frf.accuracy_warning
     rows = list(csv.DictReader(open(write_frf_csv(tmp_path / "frf.csv", frf))))
     assert [r["model"] for r in rows] == frf.point_models.tolist()
 
