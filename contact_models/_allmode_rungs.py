@@ -18,6 +18,12 @@ smallest doubling of n within its share; harmonics: the smallest rung of the lad
 each at most its top.  Where the prediction is short (the cells converge at order 1 near the onset of
 slip, the harmonics erratically where a harmonic meets a mode of the bar) the refined window's own
 estimate asks again.  None where both are at their top.
+
+**Tried before traced** (:func:`probed_rung`).  Tracing a window on a rung that turns out short costs
+the whole window's points; so the predicted rung is first solved, with its estimate, at the window's
+worst point alone, and while its estimate there still misses the target the rung after it is
+predicted from that estimate, at most ``PROBES`` times.  The window is then traced on the last rung
+tried; its own estimate along the window decides, as before, whether it is refined again.
 """
 
 from __future__ import annotations
@@ -37,6 +43,8 @@ CURVE_MAX_CELLS = 128
 #: The orders the parts of the estimate are predicted to fall with (module docstring).
 CELLS_ORDER = 2.0
 HARMONICS_ORDER = 4.0
+#: The most rungs tried at a window's worst point before the window is traced (module docstring).
+PROBES = 3
 
 
 def next_rung(n: int, H: int, rel_c: float, rel_h: float, excess: float, *, max_cells: int,
@@ -95,3 +103,26 @@ def next_rung(n: int, H: int, rel_c: float, rel_h: float, excess: float, *, max_
     if (n_new, H_new) == (n, H):
         return None
     return n_new, H_new
+
+
+def probed_rung(rung: tuple[int, int], worst: tuple[float, float], target: float, build: Callable,
+                predict: Callable) -> object:
+    """The element a window is traced on: the rung ``rung = (cells, H)`` built by ``build(cells, H)``
+    and solved with its estimate at the window's worst point ``worst = (omega, a)``; while that
+    estimate (``rel_c + rel_h``, the parts the element records) is above ``target``, the rung
+    ``predict(element, rel_c, rel_h, excess)`` gives (None at the top), at most ``PROBES`` rungs
+    (module docstring)."""
+    element = build(*rung)
+    for _ in range(PROBES):
+        seen = len(element._seen)
+        element.model_error(worst[1], worst[0])
+        if len(element._seen) == seen:  # nothing recorded (a failed solve): trace it as it is
+            break
+        rel_c, rel_h = element._seen[-1][2:]
+        if not rel_c + rel_h > target:
+            break
+        rung = predict(element, rel_c, rel_h, (rel_c + rel_h) / target)
+        if rung is None:
+            break
+        element = build(*rung)
+    return element

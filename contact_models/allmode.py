@@ -60,7 +60,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._allmode_accuracy import FLOOR, ladder, relative, richardson, shortfall_message, start_cells
-from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung
+from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
 from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd
 from ._hbal import aft_matrices
 from .accuracy import AccuracyWarning
@@ -74,8 +74,7 @@ if TYPE_CHECKING:
 
 __all__ = ["AllModeMicroslip", "AllModeSolution", "CELLS", "HARMONICS", "SAMPLES_PER_HARMONIC", "NEWTON_TOL",
            "NEWTON_MAX_ITER", "TOL", "HARMONIC_LADDER", "MAX_CELLS", "MAX_HARMONICS", "richardson"]
-# ``richardson`` (the estimate's extrapolation with the observed order, guarded) is re-exported for
-# estimates built on the element's answers elsewhere (hbm.allmode_peak: the all-mode peak's error).
+# ``richardson`` is re-exported for estimates built on the element's answers (hbm.allmode_peak).
 
 #: Cells of a bar with a fixed mesh where one is wanted (the scenes' ``cells`` key); the element's
 #: own default is None: cells chosen per call to ``tol``.
@@ -101,8 +100,7 @@ def _samples(H: int) -> int:
     return 4 * math.ceil(SAMPLES_PER_HARMONIC * H / 4)
 
 
-def _lower(H: int) -> int:
-    """The harmonics rung below H (about H/2, odd for odd H: 31 -> 15 -> 7 -> 3 -> 1)."""
+def _lower(H: int) -> int:  # the harmonics rung below H (about H/2, odd for odd H: 31 -> 15 -> 7 -> 3 -> 1)
     return max(1, (H - 1) // 2)
 
 
@@ -221,9 +219,8 @@ class AllModeMicroslip(ContactElement):
         """The cheap fixed rung a frequency response over ``omega_range`` (rad/s) starts on where this
         element chooses its cells and harmonics (both None): ``START_HARMONICS`` = 15 harmonics and
         ``START_CELLS`` = 16 cells, doubled while fewer than the wavelength of the 15th harmonic at the
-        top of the range asks for (``start_cells``); the same ``tol``.  None where cells or harmonics
-        are given.  ``hbm.frequency_response`` with a tolerance refines it along the curve
-        (``refined_rung``; docs/theory.md, "The all-mode bar along a curve")."""
+        top of the range asks for (``start_cells``); the same ``tol``; None where cells or harmonics are
+        given.  Refined along the curve (``refined_rung``; docs/theory.md, "The all-mode bar along a curve")."""
         if self.cells is not None or self.harmonics is not None:
             return None
         w_hi = max(nonnegative("omega_range", w) for w in omega_range)
@@ -237,8 +234,9 @@ class AllModeMicroslip(ContactElement):
         """The next fixed rung for the points this fixed rung was estimated at (``model_error``): at
         the worst of them (within ``omega = (lo, hi)`` rad/s if given and any is), the rung predicted
         to bring its estimate down by the factor ``excess`` (default: its estimate over ``tol``;
-        ``contact_models._allmode_rungs.next_rung``).  None where cells or harmonics are chosen per
-        call, where nothing was estimated yet, or at the top (``CURVE_MAX_CELLS``, ``MAX_HARMONICS``).
+        ``_allmode_rungs.next_rung``), tried at that point first and predicted again from there while
+        short (``_allmode_rungs.probed_rung``).  None where cells or harmonics are chosen per call,
+        where nothing was estimated yet, or at the top (``CURVE_MAX_CELLS``, ``MAX_HARMONICS``).
 
         Raises
         ------
@@ -248,12 +246,15 @@ class AllModeMicroslip(ContactElement):
         if not self._fixed or not self._seen:
             return None
         seen = [s for s in self._seen if omega is None or min(omega) <= s[0] <= max(omega)] or self._seen
-        _, _, rel_c, rel_h = max(seen, key=lambda s: s[2] + s[3])
+        w, a, rel_c, rel_h = max(seen, key=lambda s: s[2] + s[3])
         excess = (rel_c + rel_h) / self.tol if excess is None else positive("excess", excess)
         w_hi = max(s[0] for s in seen)
-        rung = next_rung(self.cells, self.harmonics, rel_c, rel_h, excess, max_cells=max(self.cells, CURVE_MAX_CELLS),
-                         ladder=HARMONIC_LADDER, cells_for=lambda h: start_cells(self.bar, w_hi, h))
-        return None if rung is None else AllModeMicroslip(self.bar, self.load, *rung, tol=self.tol)
+        predict = lambda el, rc, rh, ex: next_rung(  # noqa: E731
+            el.cells, el.harmonics, rc, rh, ex, max_cells=max(el.cells, CURVE_MAX_CELLS), ladder=HARMONIC_LADDER,
+            cells_for=lambda h: start_cells(self.bar, w_hi, h))
+        rung = predict(self, rel_c, rel_h, excess)
+        return None if rung is None else probed_rung(rung, (w, a), (rel_c + rel_h) / excess, lambda n, h:
+                                                     AllModeMicroslip(self.bar, self.load, n, h, tol=self.tol), predict)
 
     def _refined_model(self):
         """A fixed rung's refined model: the next rung (``refined_rung``) for its own ``tol``."""

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, TwoRegionMicroslip
-from contact_models._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung
+from contact_models._allmode_rungs import CURVE_MAX_CELLS, PROBES, START_CELLS, START_HARMONICS, next_rung
 from hbm import frequency_response
 from hbm.allmode_peak import amplitude_at
 from hbm.cli.cases import default_case
@@ -55,9 +55,21 @@ def test_start_rung_and_refined_rung_of_the_element():
     assert float(max(e_s, e_c)) == pytest.approx(sol.relative_error, rel=1e-9)  # its components' larger
     rung = start.refined_rung(10.0)
     (_, _, rel_c, rel_h), = start._seen
-    assert (rung.cells, rung.harmonics) == next_rung(16, 15, rel_c, rel_h, 10.0, max_cells=CURVE_MAX_CELLS,
-                                                     ladder=LADDER)
-    assert rung.cells > 16 and rung.tol == el.tol
+    # the predicted rung is tried at that point first, and the next predicted from there while its
+    # estimate misses the target (near the slip onset the cells converge at order 1, slower than the
+    # prediction's order 2): 64 cells first, then 128
+    target = (rel_c + rel_h) / 10.0
+    tried = [next_rung(16, 15, rel_c, rel_h, 10.0, max_cells=CURVE_MAX_CELLS, ladder=LADDER)]
+    assert tried == [(64, 15)]
+    for _ in range(PROBES - 1):
+        probe = AllModeMicroslip(BAR, LOAD, *tried[-1])
+        probe.model_error(a, w)
+        (_, _, rc, rh), = probe._seen
+        if rc + rh <= target:
+            break
+        tried.append(next_rung(*tried[-1], rc, rh, (rc + rh) / target, max_cells=CURVE_MAX_CELLS, ladder=LADDER))
+    assert tried[:2] == [(64, 15), (128, 15)] and (rung.cells, rung.harmonics) == tried[-1]
+    assert rung.tol == el.tol and rung._seen[0][:2] == (w, a)  # traced from where it was tried
 
 
 # ------------------------------------------------------------------ the FRF on rungs
