@@ -47,6 +47,12 @@ HARMONICS_ORDER = 4.0
 PROBES = 3
 
 
+def lower_rung(H: int) -> int:
+    """The rung of harmonics below H in the element's estimate (about H/2, odd for odd H: 31 -> 15 -> 7
+    -> 3 -> 1)."""
+    return max(1, (H - 1) // 2)
+
+
 def next_rung(n: int, H: int, rel_c: float, rel_h: float, excess: float, *, max_cells: int,
               ladder: tuple[int, ...], cells_for: Callable[[int], int] | None = None) -> tuple[int, int] | None:
     """``(n', H')``: the rung after ``(n, H)`` predicted to bring the estimate ``rel_c + rel_h`` down by

@@ -131,6 +131,11 @@ def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
     return basis
 
 
+def pad_harmonics(X: NDArray[np.float64], H: int) -> NDArray[np.float64]:
+    """The coefficients ``X`` (layout [X0, Xc1, Xs1, ...]) on H harmonics: zeros added, or cut."""
+    return np.pad(X, (0, 2 * H + 1 - X.size)) if X.size < 2 * H + 1 else X[: 2 * H + 1]
+
+
 def is_odd(X: NDArray[np.float64]) -> bool:
     """True when the coefficients ``X`` hold odd harmonics only (h = 0, 2, 4, ... sit at 0, 3, 4, 7, 8, ...)."""
     return not np.any(X[0::4]) and not np.any(X[3::4])

@@ -60,8 +60,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._allmode_accuracy import FLOOR, ladder, relative, richardson, shortfall_message, start_cells
-from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
-from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd
+from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, lower_rung, next_rung, probed_rung
+from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd, pad_harmonics
 from ._hbal import aft_matrices
 from .accuracy import AccuracyWarning
 from .bar import Bar
@@ -98,14 +98,6 @@ REUSE_FREQUENCY = 0.005
 
 def _samples(H: int) -> int:
     return 4 * math.ceil(SAMPLES_PER_HARMONIC * H / 4)
-
-
-def _lower(H: int) -> int:  # the harmonics rung below H (about H/2, odd for odd H: 31 -> 15 -> 7 -> 3 -> 1)
-    return max(1, (H - 1) // 2)
-
-
-def _pad(X: NDArray[np.float64], H: int) -> NDArray[np.float64]:
-    return np.pad(X, (0, 2 * H + 1 - X.size)) if X.size < 2 * H + 1 else X[: 2 * H + 1]
 
 
 class AllModeMicroslip(ContactElement):
@@ -209,6 +201,12 @@ class AllModeMicroslip(ContactElement):
         return self.cells is not None and self.harmonics is not None
 
     @property
+    def at_top_rung(self) -> bool:
+        """Whether this is a fixed rung a curve does not refine (``CURVE_MAX_CELLS`` cells or more at
+        ``MAX_HARMONICS``): ``refined_rung`` returns None."""
+        return self._fixed and self.cells >= CURVE_MAX_CELLS and self.harmonics >= MAX_HARMONICS
+
+    @property
     def model_name(self) -> str:
         """The name a frequency response gives the points solved with this element
         (``FrequencyResponse.point_models``): with its rung where cells and harmonics are fixed."""
@@ -249,12 +247,13 @@ class AllModeMicroslip(ContactElement):
         w, a, rel_c, rel_h = max(seen, key=lambda s: s[2] + s[3])
         excess = (rel_c + rel_h) / self.tol if excess is None else positive("excess", excess)
         w_hi = max(s[0] for s in seen)
-        predict = lambda el, rc, rh, ex: next_rung(  # noqa: E731
-            el.cells, el.harmonics, rc, rh, ex, max_cells=max(el.cells, CURVE_MAX_CELLS), ladder=HARMONIC_LADDER,
-            cells_for=lambda h: start_cells(self.bar, w_hi, h))
+
+        def predict(el, rc, rh, ex):  # the rung after el (here and where probed_rung tries the rungs)
+            return next_rung(el.cells, el.harmonics, rc, rh, ex, max_cells=max(el.cells, CURVE_MAX_CELLS),
+                             ladder=HARMONIC_LADDER, cells_for=lambda h: start_cells(self.bar, w_hi, h))
         rung = predict(self, rel_c, rel_h, excess)
-        return None if rung is None else probed_rung(rung, (w, a), (rel_c + rel_h) / excess, lambda n, h:
-                                                     AllModeMicroslip(self.bar, self.load, n, h, tol=self.tol), predict)
+        build = lambda n, h: AllModeMicroslip(self.bar, self.load, n, h, tol=self.tol)  # noqa: E731
+        return None if rung is None else probed_rung(rung, (w, a), (rel_c + rel_h) / excess, build, predict)
 
     def _refined_model(self):
         """A fixed rung's refined model: the next rung (``refined_rung``) for its own ``tol``."""
@@ -306,7 +305,7 @@ class AllModeMicroslip(ContactElement):
         odd = is_odd(X)
         if self._fixed:
             sol = self._level(self.cells, max(self.harmonics, (X.size - 1) // 2)).solve(
-                _pad(X, self.harmonics), omega, odd)
+                pad_harmonics(X, self.harmonics), omega, odd)
             if estimate_error and sol.success:
                 self._fill(sol, self._parts(X, omega, odd, sol), self._floor(X))
             return sol
@@ -386,7 +385,7 @@ class AllModeMicroslip(ContactElement):
         (no estimate), or on the rungs chosen to ``tol``."""
         if self._fixed:
             H = max((X.size - 1) // 2, self.harmonics)
-            return self._level(self.cells, H).solve(_pad(X, H), omega, odd), None
+            return self._level(self.cells, H).solve(pad_harmonics(X, H), omega, odd), None
         return self._choose(X, omega, odd)
 
     def _first_rung(self, omega, Hx):
@@ -417,7 +416,7 @@ class AllModeMicroslip(ContactElement):
         a = floor / (FLOOR * self.bar.k_star)
         tried = []
         while True:
-            sol = self._level(n, H).solve(_pad(X, H), omega, odd)
+            sol = self._level(n, H).solve(pad_harmonics(X, H), omega, odd)
             if not sol.success:
                 return sol, None
             reused = self._reused(a, omega, odd, n, H)
@@ -471,11 +470,11 @@ class AllModeMicroslip(ContactElement):
         F = sol.F[1:3]
 
         def at(cells, h):
-            s = self._level(cells, h).solve(_pad(X, h), omega, odd)
+            s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd)
             return s.F[1:3] if s.success else np.full(2, np.nan)
 
         cells = [c for c in (n // 4, n // 2) if c >= 2 and c < n]
-        hs = sorted({h for h in (max(_lower(_lower(H)), Hx), max(_lower(H), Hx)) if h < H})
+        hs = sorted({h for h in (max(lower_rung(lower_rung(H)), Hx), max(lower_rung(H), Hx)) if h < H})
         parts = {}
         for key, rungs, solve_at in (("cells", cells, lambda c: at(c, H)), ("harmonics", hs, lambda h: at(n, h))):
             alone = np.full(2, np.inf) if key == "cells" else np.full(2, sol.decay * math.hypot(*F))

@@ -328,8 +328,7 @@ def _remedy(frf: FrequencyResponse, source: str, i: int) -> str:
     if source != "model":
         return REMEDY[source]
     site, _ = frf._site(i)
-    top = [c.element for c in site.contacts if callable(getattr(c.element, "refined_rung", None))
-           and getattr(c.element, "cells", None) is not None and c.element.refined_rung() is None]
+    top = [c.element for c in site.contacts if getattr(c.element, "at_top_rung", False)]
     if top:
         return TOP_RUNG_REMEDY.format(rung=f"{top[0].cells} cells, H = {top[0].harmonics}")
     if all(c.element.refined_model() is None or callable(getattr(c.element, "refined_rung", None))

@@ -72,6 +72,16 @@ def test_start_rung_and_refined_rung_of_the_element():
     assert rung.tol == el.tol and rung._seen[0][:2] == (w, a)  # traced from where it was tried
 
 
+def test_the_top_rung_is_where_a_curve_refines_no_further():
+    tops = {(n, h): AllModeMicroslip(BAR, LOAD, n, h).at_top_rung for n in (64, CURVE_MAX_CELLS, 256) for h in (15, 31)}
+    assert tops == {(64, 15): False, (64, 31): False, (CURVE_MAX_CELLS, 15): False, (CURVE_MAX_CELLS, 31): True,
+                    (256, 15): False, (256, 31): True}
+    assert not AllModeMicroslip(BAR, LOAD).at_top_rung and not AllModeMicroslip(BAR, LOAD, cells=256).at_top_rung
+    top = AllModeMicroslip(BAR, LOAD, CURVE_MAX_CELLS, 31)
+    top.model_error(1.2e-6, 38500.0)  # estimated, and still no rung after it
+    assert top._seen and top.refined_rung(10.0) is None
+
+
 # ------------------------------------------------------------------ the FRF on rungs
 @pytest.fixture(scope="module")
 def curve():
