@@ -407,6 +407,7 @@ class FrequencyResponse:
         for X, w in zip(self._X, self.omega):
             dF[rows] = pr.perturbation_jacobian(X, float(w))
             lams.append(hill.exponents(float(w), dF))
+        pr.forget_jacobians()  # every point's exponents are kept: the balance's Jacobians are not needed
         self._exponents = np.array(lams)
         self._stable = self._exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)
         folds = list(zip(self.folds_omega, self.folds_amplitude))

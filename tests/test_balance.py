@@ -193,3 +193,7 @@ def test_hill_reuses_the_balances_element_jacobians_bit_for_bit(monkeypatch):
     assert hb.nfev == calls
     hb.perturbation_jacobian(X, 1.3)  # dropped: evaluated again
     assert hb.nfev == calls + 2
+    hb.forget_jacobians()  # what a FrequencyResponse does once Hill's method has run
+    assert hb._jacobians == {} and hb._jacobian_bytes == 0
+    frf = frequency_response(s, contacts, omega_range=(0.9, 1.3), harmonics=3, n_t=128)
+    assert frf._problem._jacobians and frf.stable.size == len(frf) and frf._problem._jacobians == {}

@@ -73,8 +73,7 @@ STUCK_FD_STEP = 1e-5
 #: Relative change of omega (or, next, of a) after which the element's omega-derivative is retaken.
 OMEGA_REFRESH = 3e-3
 AMP_REFRESH = 3e-2
-#: The elements' Jacobians of the balance's evaluations are kept up to this many bytes (the oldest
-#: dropped first) for Hill's method, which asks for them again at the branch's points.
+#: Bytes of the elements' Jacobians of the balance's evaluations kept for Hill's method (oldest dropped).
 JACOBIAN_KEEP_BYTES = 4 * 2**20
 
 
@@ -215,8 +214,7 @@ class HarmonicBalance:
         self.one_dof = solved_as_one_dof(s, self.contacts, self.H)
         self.element = self.contacts[0].element if len(self.contacts) == 1 else None
         self.fresh_omega_derivative = False
-        self._jacobians: dict = {}  # (contact, omega, its displacement's bytes) -> its element's dF/dX
-        self._jacobian_bytes = 0
+        self._jacobians, self._jacobian_bytes = {}, 0  # (contact, omega, its displacement's bytes) -> dF/dX
         self.nfev = 0
         self.nstuck = 0
         self.nfev_omega = 0
@@ -321,8 +319,7 @@ class HarmonicBalance:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
             key = (e, omega, Xrel.tobytes())
-            if not force and not linear and key in self._jacobians:
-                # a point the balance evaluated: the Jacobian of that same call (bit for bit)
+            if not force and not linear and key in self._jacobians:  # that same call's Jacobian, bit for bit
                 f, J, fw = np.zeros(c * L), self._jacobians[key], np.zeros(c * L)
             elif force or not linear:
                 f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol)
@@ -344,9 +341,12 @@ class HarmonicBalance:
                             dF[i, :, j, :] += (si * sj) * J[a, :, b, :]
         return F, dF.reshape(na * L, na * L), Fw
 
+    def forget_jacobians(self) -> None:
+        """Drop the elements' Jacobians kept for :meth:`perturbation_jacobian` (Hill's method has run)."""
+        self._jacobians, self._jacobian_bytes = {}, 0
+
     def _keep_jacobian(self, key: tuple, J: NDArray) -> None:
-        """Keep an element's Jacobian of a balance evaluation (a copy: an element may reuse its
-        arrays) for :meth:`perturbation_jacobian`, dropping the oldest beyond ``JACOBIAN_KEEP_BYTES``."""
+        """Keep an element's Jacobian of a balance evaluation (a copy) within ``JACOBIAN_KEEP_BYTES``."""
         kept = self._jacobians
         if key not in kept:
             kept[key] = np.array(J, dtype=float)
