@@ -197,3 +197,5 @@ def test_hill_reuses_the_balances_element_jacobians_bit_for_bit(monkeypatch):
     assert hb._jacobians == {} and hb._jacobian_bytes == 0
     frf = frequency_response(s, contacts, omega_range=(0.9, 1.3), harmonics=3, n_t=128)
     assert frf._problem._jacobians and frf.stable.size == len(frf) and frf._problem._jacobians == {}
+    frf = frequency_response(s, contacts, omega_range=(0.9, 1.3), harmonics=3, n_t=128, stability=False)
+    assert frf._problem._jacobians == {}  # kept for Hill's method only
