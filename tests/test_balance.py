@@ -17,6 +17,7 @@ import pytest
 
 import contact_models
 import hbm
+import hbm.balance.residual as residual
 from contact_models import Bar, Macroslip, TwoRegionMicroslip, UniformLoad
 from hbm import Blade, Contact, FrequencyResponse, HarmonicBalance, Structure, frequency_response
 
@@ -168,8 +169,6 @@ def test_hill_reuses_the_balances_element_jacobians_bit_for_bit(monkeypatch):
     # Hill's method asks the elements for dF/dX again at the branch's points: where the balance
     # evaluated the same displacement it gets that call's Jacobian (no new element call), equal bit for
     # bit to a fresh evaluation; the kept Jacobians stay within their byte bound, the oldest dropped
-    import hbm.balance.residual as residual
-
     K = np.array([[2.0, -1.0], [-1.0, 1.0]])
     s = Structure(np.eye(2), 0.004 * K, K, force=[0.0, 0.05])
     contacts = [Contact(Macroslip(1.0, 0.02), dof=0), Contact(Macroslip(2.0, 0.01), dofs=(0, 1))]
