@@ -68,6 +68,7 @@ def solve(knobs: Knobs, contacts: Any, H: int, reporter: Callable | None = None)
     ``reporter(problem)`` makes the continuation's ``on_point`` once the problem's scales are set."""
     problem = HarmonicBalance(knobs.system, contacts, harmonics=H, n_t=knobs.samples(H),
                               response_dof=knobs.response_dof, rtol=knobs.rtol)
+    problem.keep_jacobians = knobs.stability  # for Hill's method at the points (FrequencyResponse.stable)
     with errors.collected() as now:
         out = trace(problem, knobs, reporter=reporter)
     knobs.heard[id(out)] = list(now)
@@ -152,6 +153,7 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
     failed (None: it did not)."""
     problem = HarmonicBalance(knobs.system, contacts, harmonics=H, n_t=knobs.samples(H),
                               response_dof=knobs.response_dof, rtol=knobs.rtol)
+    problem.keep_jacobians = knobs.stability  # for Hill's method at the points (FrequencyResponse.stable)
     coarse, run = frf._problem, frf._run
     y_end, t_end = run.y[i1], run.tangent[i1]
     s_end = frf._scale(y_end)

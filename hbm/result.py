@@ -227,8 +227,6 @@ class FrequencyResponse:
         self._peak_nit = 0
         self.peak_refined = False  #: whether peak() located the maximum between samples
         self._with_stability = bool(stability)
-        if not self._with_stability and hasattr(problem, "forget_jacobians"):
-            problem.forget_jacobians()  # kept for Hill's method only
         self._stable: NDArray | None = None
         self._exponents: NDArray | None = None
         self._changes: list = []

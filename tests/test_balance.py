@@ -173,6 +173,7 @@ def test_hill_reuses_the_balances_element_jacobians_bit_for_bit(monkeypatch):
     s = Structure(np.eye(2), 0.004 * K, K, force=[0.0, 0.05])
     contacts = [Contact(Macroslip(1.0, 0.02), dof=0), Contact(Macroslip(2.0, 0.01), dofs=(0, 1))]
     hb = HarmonicBalance(s, contacts, harmonics=3, n_t=128)
+    hb.keep_jacobians = True  # as frequency_response sets it where Hill's method will run
     fresh = HarmonicBalance(s, contacts, harmonics=3, n_t=128)
     X = np.zeros((2, hb.L))
     X[0, 1:3], X[1, 1:3] = (0.08, 0.03), (0.2, -0.05)  # both elements slip
@@ -183,6 +184,8 @@ def test_hill_reuses_the_balances_element_jacobians_bit_for_bit(monkeypatch):
     dF0 = fresh.perturbation_jacobian(X, 1.3)
     assert fresh.nfev == 2 and np.abs(dF0).max() > 0.0
     np.testing.assert_array_equal(dF, dF0)
+    fresh.forces(X, 1.3)
+    assert fresh._jacobians == {}  # a balance not asked to keeps none
     monkeypatch.setattr(residual, "JACOBIAN_KEEP_BYTES", 3 * hb.L**2 * 8)  # room for three
     for factor in (1.0, 1.1, 1.2, 1.3):
         hb.forces(X * factor, 1.3)
@@ -197,4 +200,16 @@ def test_hill_reuses_the_balances_element_jacobians_bit_for_bit(monkeypatch):
     frf = frequency_response(s, contacts, omega_range=(0.9, 1.3), harmonics=3, n_t=128)
     assert frf._problem._jacobians and frf.stable.size == len(frf) and frf._problem._jacobians == {}
     frf = frequency_response(s, contacts, omega_range=(0.9, 1.3), harmonics=3, n_t=128, stability=False)
-    assert frf._problem._jacobians == {}  # kept for Hill's method only
+    assert frf._problem._jacobians == {}  # kept for Hill's method only: none without stability
+    # one element on the one condensation DOF to ground (its own fast path) keeps them the same way
+    one = HarmonicBalance(Structure(np.eye(1), np.array([[0.004]]), np.eye(1), force=[0.05]),
+                          [Contact(Macroslip(1.0, 0.02), dof=0)], harmonics=3, n_t=128)
+    one.keep_jacobians = True
+    assert one._grounded_one
+    u = np.zeros(one.unknowns)
+    u[1:3], u[-1] = (0.08, 0.03), 1.3
+    one(u)
+    calls = one.nfev
+    dF = one.perturbation_jacobian(u[:-1].reshape(1, -1), 1.3)
+    assert one.nfev == calls
+    np.testing.assert_array_equal(dF, one._attach[0][0].harmonic_force_unchecked(u[:-1], 1.3, 128, one.rtol)[1])

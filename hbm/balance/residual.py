@@ -214,7 +214,7 @@ class HarmonicBalance:
         self.one_dof = solved_as_one_dof(s, self.contacts, self.H)
         self.element = self.contacts[0].element if len(self.contacts) == 1 else None
         self.fresh_omega_derivative = False
-        self._jacobians, self._jacobian_bytes = {}, 0  # (contact, omega, its displacement's bytes) -> dF/dX
+        self.keep_jacobians, self._jacobians, self._jacobian_bytes = False, {}, 0  # for Hill: frequency_response
         self.nfev = 0
         self.nstuck = 0
         self.nfev_omega = 0
@@ -226,8 +226,7 @@ class HarmonicBalance:
         # the fast path of the condensed form: one element between the one condensation DOF and ground
         self._grounded_one = (not self.one_dof and self.na == 1 and len(self._attach) == 1
                               and self._attach[0][1] == [[0]])
-        L = self.L
-        self._swap = np.array([0] + [j - 1 + 2 * (j % 2) for j in range(1, L)])  # 1 <-> 2, 3 <-> 4, ...
+        self._swap = np.array([0] + [j - 1 + 2 * (j % 2) for j in range(1, self.L)])  # 1 <-> 2, 3 <-> 4, ..
 
     # ------------------------------------------------------------------ layout
     @property
@@ -346,9 +345,9 @@ class HarmonicBalance:
         self._jacobians, self._jacobian_bytes = {}, 0
 
     def _keep_jacobian(self, key: tuple, J: NDArray) -> None:
-        """Keep an element's Jacobian of a balance evaluation (a copy) within ``JACOBIAN_KEEP_BYTES``."""
+        """Keep an element's Jacobian (a copy) at key (contact, omega, its X's bytes) where ``keep_jacobians``."""
         kept = self._jacobians
-        if key not in kept:
+        if self.keep_jacobians and key not in kept:
             kept[key] = np.array(J, dtype=float)
             self._jacobian_bytes += kept[key].nbytes
         while self._jacobian_bytes > JACOBIAN_KEEP_BYTES:
@@ -386,6 +385,7 @@ class HarmonicBalance:
         a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
         f, dF, fw = self._attach[0][0].harmonic_force_unchecked(x, omega, self.n_t, self.rtol)
         self.nfev += 1
+        self._keep_jacobian((0, omega, x.tobytes()), dF)  # the key _assemble looks up (its Xrel is [x])
         p = self._swap  # cos <-> sin of each harmonic; the static term onto itself (b[0] = 0)
         R = x + (a * f + b * f[p])
         R[1] -= xl.real
