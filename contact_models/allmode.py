@@ -61,7 +61,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._allmode_accuracy import FLOOR, ladder, relative, richardson, shortfall_message, start_cells
 from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, lower_rung, next_rung, probed_rung
-from ._allmode_solve import NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd, pad_harmonics
+from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd, pad_harmonics,
+                             truncated)
 from ._hbal import aft_matrices
 from .accuracy import AccuracyWarning
 from .bar import Bar
@@ -325,18 +326,17 @@ class AllModeMicroslip(ContactElement):
         ``rtol`` of the caller are accepted and not used: the nested AFT samples every node, and
         Newton converges to rounding); the result is truncated to H.  Derivatives by the implicit
         function theorem (exact for the discrete model).  Raises FloatingPointError when the
-        nested solve fails (the solver's continuation then shortens its step).
+        nested solve fails (the solver's continuation then shortens its step).  An X whose even
+        coefficients are rounding (``EVEN_ROUNDING``) is solved in the odd basis (``truncated``).
         """
-        H = (X.size - 1) // 2
-        odd = is_odd(X)
+        odd = is_odd(X, EVEN_ROUNDING)
         sol, short = self._resolved(X, float(omega), odd)
         if not sol.success:  # numerical trouble, not bad input: a continuation shrinks its step on it
             raise FloatingPointError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
         self._warn([short] if short else [])
         if odd:
             self._level(sol.cells, sol.H).even_block(sol)
-        m = 2 * H + 1
-        return sol.F[:m].copy(), sol.dF_dX[:m, :m].copy(), sol.dF_domega[:m].copy()
+        return truncated(sol, X, odd)
 
     def _periodic_force(self, x, omega):
         """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end

@@ -235,6 +235,44 @@ def test_symmetric_end_motion_solved_in_the_odd_basis_has_the_full_jacobian():
 
 
 
+def test_even_coefficients_of_rounding_size_are_solved_in_the_odd_basis():
+    """Even coefficients at 1e-15 of the first harmonic (what a balance's linear solves leave of a
+    half-wave symmetric response) are rounding: the bar is solved in the odd basis and the force
+    gets its first-order even part; it equals the full-basis solve of the same X to Newton's
+    tolerance.  Even coefficients at 1e-9 are motion: the full basis, as before."""
+    X = np.zeros(7)
+    X[2], X[5] = 2e-6, -0.3e-6
+    X[0], X[3], X[4] = 3e-21, -2e-21, 1e-21
+    el = AllModeMicroslip(BAR, CONCAVE, cells=10, harmonics=5)
+    F, dX, dw = el.harmonic_force(X, 0.4 * WC)
+    assert set(el._level(10, 5)._cache) == {True}  # one solve, in the odd basis
+    full = el._solve(np.pad(X, (0, 4)), 0.4 * WC, 5, odd=False)
+    np.testing.assert_allclose(F, full.F[:7], atol=1e-10 * np.max(np.abs(F)))
+    np.testing.assert_allclose(dX, full.dF_dX[:7, :7], atol=1e-9 * KS)
+    np.testing.assert_allclose(dw, full.dF_domega[:7], atol=1e-9 * np.max(np.abs(dw)))
+    X[0] = 2e-15
+    motion = AllModeMicroslip(BAR, CONCAVE, cells=10, harmonics=5)
+    F2 = motion.harmonic_force(X, 0.4 * WC)[0]
+    assert set(motion._level(10, 5)._cache) == {False}
+    assert F2[0] == pytest.approx(float(dX[0] @ X), rel=1e-6)  # the static force of the static motion
+
+
+def test_a_three_harmonic_balance_keeps_the_bar_in_the_odd_basis():
+    """The blade at H = 3 with the all-mode bar: the balance's even coefficients are rounding, and no
+    nested solve is in the full basis (63 coefficients a node instead of 32 at H = 31)."""
+    from hbm import Contact, Structure, frequency_response
+    from hbm.cli.cases import default_case
+
+    b = default_case().blade
+    el = AllModeMicroslip(default_case().element.bar, UNIFORM, cells=8, harmonics=7)
+    structure = Structure([[b.mass]], [[b.damping]], [[b.stiffness]], force=[b.force])
+    frf = frequency_response(structure, [Contact(el, dof=0)], (38300.0, 38900.0), harmonics=3)
+    assert frf.success and len(frf.omega) > 5
+    assert set(el._level(8, 7)._cache) == {True}
+    even = np.abs(frf.coefficients(0)[:, [0, 2]])
+    assert 0.0 < np.max(even) < 1e-12 * np.max(np.abs(frf.coefficients(0)[:, 1]))
+
+
 def test_end_at_rest_is_exact_with_the_stuck_jacobian_and_no_warning():
     """X = 0 (the start of the solver's force homotopy): F = 0 exactly, so its estimate is 0 (not
     0/0) on the first rung, and dF/dX is the stuck bar's dynamic stiffness on cos 1 and sin 1 alike
