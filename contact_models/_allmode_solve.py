@@ -172,6 +172,15 @@ def is_odd(X: NDArray[np.float64], rtol: float = 0.0) -> bool:
     return not np.any(even > rtol * float(np.max(np.abs(X), initial=0.0)))
 
 
+def stuck_prefix(ev: _Eval, b: _Basis) -> int:
+    """How many of the bar's first nodes never slip at ``ev`` (0 without its return map's state, or
+    in a basis with the mean): their Jacobian blocks are ``kc I`` plus the diagonal linear part."""
+    if ev.state is None or not b.odd:
+        return 0
+    never = ev.state[3][:-1]
+    return int(never.size if never.all() else np.argmin(never))
+
+
 class FixedBar:
     """The bar on ``cells`` cells with ``harmonics`` harmonics and ``n_t`` samples (inputs checked by
     the caller); ``solve(X, omega, odd)`` with X of length 2 harmonics + 1."""
@@ -271,7 +280,8 @@ class FixedBar:
         for it in range(max_iter + 1):
             if ev.J is not J:  # the same Jacobian (an unchanged stick/slip pattern) keeps its factorisation
                 J = ev.J
-                fac = factorise(J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None], self.disc.off)
+                fac = factorise(J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None], self.disc.off,
+                                stuck_prefix(ev, b))
             if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
                 break
             dU = -fac.solve(ev.R)

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from contact_models._allmode_solve import FixedBar
-from contact_models._hbal import aft_matrices, jacobian_prefix, jenkins_jacobian, jenkins_periodic, jenkins_state
+from contact_models._hbal import (BlockTridiagonal, aft_matrices, jacobian_prefix, jenkins_jacobian, jenkins_periodic,
+                                  jenkins_state)
 from contact_models.allmode import AllModeMicroslip
 from hbm.cli.cases import default_case
 
@@ -153,3 +154,46 @@ def test_jacobian_prefix_needs_a_trigonometric_basis():
         jacobian_prefix(E + 0.1, P)
     with pytest.raises(ValueError, match="aft_matrices"):
         jacobian_prefix(E, 2.0 * P[::-1])
+
+
+@pytest.mark.parametrize("k", [1, 5, 12])
+def test_block_elimination_of_a_diagonal_start_is_the_dense_one_bit_for_bit(k):
+    """The first k blocks diagonal (the nodes that never slip, in the odd basis): eliminated as
+    vectors, the factorisation solves bit for bit as the one by dense blocks, and as a dense solve."""
+    rng = np.random.default_rng(k)
+    n, s, c = 12, 24, -1.3
+    B = 0.1 * rng.normal(size=(n, s, s)) + 5.0 * np.eye(s)
+    B[:k] = 0.0
+    B[:k, np.arange(s), np.arange(s)] = rng.uniform(3.0, 6.0, (k, s))
+    fast, plain = BlockTridiagonal(B, c, diagonal=k), BlockTridiagonal(B, c)
+    assert np.array_equal(fast.last_inverse(), plain.last_inverse())
+    A = dense_tridiagonal(B, np.zeros((n, s)), c, n, s)
+    for r in (rng.normal(size=(n, s)), rng.normal(size=(n, s, 3))):
+        x = fast.solve(r)
+        assert np.array_equal(x, plain.solve(r))
+        dense = np.linalg.solve(A, r.reshape(n * s, -1)).reshape(r.shape)
+        assert np.max(np.abs(x - dense)) <= 1e-12 * np.max(np.abs(dense))
+
+
+def test_block_elimination_of_a_singular_diagonal_block_says_which():
+    B = np.zeros((3, 22, 22))
+    B[:, np.arange(22), np.arange(22)] = 2.0
+    B[1, 5, 5] = 0.5  # C_1 = B_1 - c^2 / B_0 has a zero at 5 for c = 1
+    with pytest.raises(np.linalg.LinAlgError, match="singular block 1"):
+        BlockTridiagonal(B, 1.0, diagonal=3)
+
+
+def test_a_never_slipping_node_is_the_spring_on_every_odd_harmonic_exactly(bar_load):
+    """In the odd basis the Jacobian block of a node that never slips is kc I to the bit (the
+    coefficients of a constant are 0 there), so the elimination may take it as a diagonal."""
+    bar, load = bar_load
+    fb = FixedBar(bar, load, 32, 31, AllModeMicroslip(bar, load, cells=32, harmonics=31)._level(32, 31).n_t)
+    X = np.zeros(63)
+    X[2] = 1.2e-6
+    sol = fb.solve(X, 39200.0, odd=True)
+    b, d = fb.basis(True), fb.disc
+    state = jenkins_state(sol.U[:, b.idx], d.kc, d.p, b.E, b.P)[2]
+    never = np.flatnonzero(state[3])
+    assert 0 < never.size < 33
+    J = jenkins_jacobian(state, d.kc, b.E, b.P, b.prefix)
+    assert np.array_equal(J[never], d.kc[never, None, None] * np.eye(b.idx.size)[None])
