@@ -215,7 +215,7 @@ class FixedBar:
         coefficients)."""
         d = self.disc
         full = np.vstack([U, X[None, :]])
-        T, slip, state = jenkins_state(full, d.kc, d.p, b.E, b.P)
+        T, slip, state = jenkins_state(full, d.kc, d.p, b.E, b.P, b.odd)
         lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
         R = lin[:-1] * U + T[:-1]
         R[1:] += d.off * U[:-1]

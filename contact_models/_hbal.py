@@ -49,7 +49,7 @@ def rows_product(A: NDArray[np.float64], B: NDArray[np.float64]) -> NDArray[np.f
     return out
 
 
-def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64]
+def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64], half: bool = False
                      ) -> tuple[NDArray[np.float64], NDArray[np.bool_], NDArray[np.intp], NDArray[np.bool_]]:
     """Steady periodic force of m Jenkins elements (stiffness ``kc``, slip force ``p``) for the
     sampled periodic displacements ``u`` (m, n_t).
@@ -59,6 +59,11 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     steady cycle it slips on the way up to the maximum, so the force there is ``p`` and one
     pass is periodic; if it never slips (``kc (u_max - u_min) <= 2 p``) the slider sits at the
     centre of the motion (the Masing convention, with an odd loop about the mean).
+
+    ``half``: the rows are half-wave antisymmetric (``u(t + T/2) = -u(t)``, n_t even: the odd
+    harmonics only), and so is the steady force, whose loop is odd: the map is marched over the
+    half period from the maximum, and the other half is the first one negated (the force at the
+    minimum is ``-p`` where the row slips, as it is ``p`` at the maximum).
 
     Returns ``(f, stuck, anchor, never)``: forces (m, n_t), the mask of samples at which the
     element sticks, the sample index at which the current stick phase began (the last slipping
@@ -76,19 +81,24 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     order = kmax[None, :] + np.arange(n_t)[:, None]
     order[order >= n_t] -= n_t
     ur = u[rows[None, :], order]
-    dku = kc * np.diff(ur, axis=0)
+    steps = n_t // 2 if half else n_t  # marched samples
+    dku = kc * np.diff(ur[:steps], axis=0)
     trial = np.empty((n_t, m))
     fk = np.where(never, 0.5 * kc * (umax - umin), p)
     trial[0] = fk
     lo = -p
-    for j in range(1, n_t):  # in place: no array is allocated per step
+    for j in range(1, steps):  # in place: no array is allocated per step
         t = trial[j]
         np.add(fk, dku[j - 1], out=t)
         np.maximum(t, lo, out=fk)
         np.minimum(fk, p, out=fk)
+    if half:
+        np.negative(trial[:steps], out=trial[steps:])
     fr = np.minimum(np.maximum(trial, lo), p)
     st = np.abs(trial) <= p
     st[0] = never
+    if half:
+        st[steps] = never
     # the stick phase at step j began at the last slipping step (step 0 slips unless `never`)
     last = np.where(st, 0, np.arange(n_t)[:, None])
     last = np.maximum.accumulate(last, axis=0)
@@ -190,11 +200,13 @@ def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
 
 
 def jenkins_state(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64],
-                  E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.bool_], tuple]:
+                  E: NDArray[np.float64], P: NDArray[np.float64], half: bool = False
+                  ) -> tuple[NDArray[np.float64], NDArray[np.bool_], tuple]:
     """``jenkins_harmonic`` without the Jacobian: ``(T, slip, state)``, ``state`` what
-    :func:`jenkins_jacobian` needs to add it later without marching the return map again."""
+    :func:`jenkins_jacobian` needs to add it later without marching the return map again.
+    ``half``: the basis holds odd harmonics only (:func:`jenkins_periodic`)."""
     u = rows_product(U, E.T)
-    f, stuck, anchor, never = jenkins_periodic(u, kc, p)
+    f, stuck, anchor, never = jenkins_periodic(u, kc, p, half)
     return rows_product(f, P.T), ~stuck, (u, stuck, anchor, never)
 
 

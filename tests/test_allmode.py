@@ -54,6 +54,26 @@ def test_jenkins_periodic_matches_cycling_from_rest_when_it_slips():
             np.testing.assert_allclose(f[i], kc[i] * (u[i] - 0.5 * (u[i].max() + u[i].min())), atol=1e-13)
 
 
+def test_jenkins_periodic_over_half_a_period_for_odd_harmonics():
+    """Half-wave antisymmetric motions (odd harmonics, wiggles from the higher ones included):
+    marched over half the period and negated, the force is the independent cycling from rest's
+    (and the never-slipping rows' closed form), and the stick/slip states are the full march's."""
+    rng = np.random.default_rng(3)
+    E, P, order = aft_matrices(9, 72)
+    U = rng.normal(size=(7, 19)) / (1.0 + order)
+    U[:, order % 2 == 0] = 0.0
+    kc = np.full(7, 3.0)
+    p = np.array([5.7, 0.3, 1.0, 2.0, 1.6, 0.0, 50.0])  # slips little, much, at once; the last never
+    u = U @ E.T
+    f, stuck, anchor, never = jenkins_periodic(u, kc, p, half=True)
+    f_full, stuck_full, anchor_full, never_full = jenkins_periodic(u, kc, p)
+    assert np.array_equal(never, never_full) and never[-1] and not never[:-1].any()
+    assert np.array_equal(stuck, stuck_full) and np.array_equal(anchor[~never], anchor_full[~never])
+    np.testing.assert_allclose(f, f_full, atol=1e-13)
+    for i in range(6):
+        np.testing.assert_allclose(f[i], _jenkins_by_cycling(u[i], kc[i], p[i]), atol=1e-13)
+    np.testing.assert_allclose(f[6], kc[6] * (u[6] - 0.5 * (u[6].max() + u[6].min())), atol=1e-13)
+
 def test_jenkins_harmonic_jacobian_against_finite_differences():
     rng = np.random.default_rng(2)
     E, P, _ = aft_matrices(4, 48)
