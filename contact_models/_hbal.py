@@ -338,24 +338,18 @@ class BlockTridiagonal:
         """C_{n-1}^{-1}, the last diagonal block of the inverse."""
         return self.inv[-1] if self.inv.shape[0] else np.diag(self.inv_d[-1])
 
-    def _times_inverse(self, i: int, y: NDArray[np.float64]) -> NDArray[np.float64]:
-        """``C_i^{-1} y`` (y of shape (s,) or (s, q))."""
-        if i < self.k:
-            d = self.inv_d[i]
-            return d * y if y.ndim == 1 else d[:, None] * y
-        return self.inv[i - self.k] @ y
-
     def solve(self, r: NDArray[np.float64]) -> NDArray[np.float64]:
         """Solve for ``r`` of shape (n, s) or (n, s, q) (q right-hand sides)."""
-        c = self.c
-        n = self.k + self.inv.shape[0]
+        c, k, inv = self.c, self.k, self.inv
+        n = k + inv.shape[0]
+        d = self.inv_d if np.ndim(r) == 2 else self.inv_d[:, :, None]  # the diagonal C_i^{-1}
         y = np.array(r, dtype=float, copy=True)
         for i in range(1, n):
-            y[i] -= c * self._times_inverse(i - 1, y[i - 1])
+            y[i] -= c * (d[i - 1] * y[i - 1] if i <= k else inv[i - 1 - k] @ y[i - 1])
         x = np.empty_like(y)
-        x[n - 1] = self._times_inverse(n - 1, y[n - 1])
+        x[n - 1] = d[n - 1] * y[n - 1] if n == k else inv[-1] @ y[n - 1]
         for i in range(n - 2, -1, -1):
-            x[i] = self._times_inverse(i, y[i] - c * x[i + 1])
+            x[i] = d[i] * (y[i] - c * x[i + 1]) if i < k else inv[i - k] @ (y[i] - c * x[i + 1])
         return x
 
 
