@@ -11,6 +11,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from . import _hbal_compiled
+
 
 def aft_matrices(H: int, n_t: int) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """``(E, P, order)``: synthesis E (n_t, 2H+1) with ``x = E X``, analysis P (2H+1, n_t) with
@@ -71,6 +73,10 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     ``df_k = kc (du_k - du_anchor)`` on stuck samples, 0 on slipping ones, and for never-slipping
     rows ``f = kc (u - (u_max + u_min)/2)``.
     """
+    kernels = _hbal_compiled.kernels()
+    if kernels is not None:
+        return kernels.march(np.ascontiguousarray(u, dtype=float), np.ascontiguousarray(kc, dtype=float),
+                             np.ascontiguousarray(p, dtype=float), bool(half))
     m, n_t = u.shape
     rows = np.arange(m)
     kmax = np.argmax(u, axis=1)
@@ -271,6 +277,10 @@ def _slip_jacobians(st: NDArray[np.bool_], anchor: NDArray[np.intp], E: NDArray[
     number K of runs of a node with empty runs (e = a = 0: their terms are exactly 0), and the
     rank-K part ``sum_runs C E_a^T`` is one stacked product (m, s, K) @ (m, K, s)."""
     S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
+    kernels = _hbal_compiled.kernels()
+    if kernels is not None:
+        return kernels.slip_jacobians(np.ascontiguousarray(st), np.ascontiguousarray(anchor), np.ascontiguousarray(E),
+                                      S, CP, I1, I2, coefs)
     m, nh = st.shape[0], E.shape[1]
     r, e = np.nonzero(st & ~np.roll(st, -1, axis=1))  # the last stuck sample of every run, by node
     a = anchor[r, e]
@@ -310,6 +320,12 @@ class BlockTridiagonal:
         n, s, _ = B.shape
         self.c = c
         self.k = k = min(int(diagonal), n)
+        kernels = _hbal_compiled.kernels()
+        if kernels is not None:
+            self.inv_d, self.inv, bad = kernels.block_factor(np.ascontiguousarray(B, dtype=float), float(c), k)
+            if bad >= 0:
+                raise np.linalg.LinAlgError(f"singular block {bad} in the block elimination")
+            return
         self.inv_d = inv_d = np.empty((k, s))  # the inverses of the diagonal C_i
         self.inv = np.empty((n - k, s, s))  # the inverses of the others, from C_k on
         c2 = c * c
@@ -341,6 +357,9 @@ class BlockTridiagonal:
     def solve(self, r: NDArray[np.float64]) -> NDArray[np.float64]:
         """Solve for ``r`` of shape (n, s) or (n, s, q) (q right-hand sides)."""
         c, k, inv = self.c, self.k, self.inv
+        kernels = _hbal_compiled.kernels()
+        if kernels is not None:
+            return kernels.block_solve(self.inv_d, inv, float(c), np.array(r, dtype=float))
         n = k + inv.shape[0]
         d = self.inv_d if np.ndim(r) == 2 else self.inv_d[:, :, None]  # the diagonal C_i^{-1}
         y = np.array(r, dtype=float, copy=True)

@@ -5,11 +5,13 @@ The Jacobian of every node is assembled here sample by sample, ``dT/dU = kc P M 
 slips: ``f = kc (u - (u_max + u_min)/2)``), without the prefix sums, the grouping of runs or the
 block elimination of the library.  The bar's Jacobian is then the dense (n s, n s) matrix, Newton
 runs on it with ``numpy.linalg.solve`` to the residual's rounding floor, and the end force and its
-derivatives follow from dense solves (the Schur complement of the end node)."""
+derivatives follow from dense solves (the Schur complement of the end node).  Each check runs on
+the numpy path and on the compiled kernels (where numba is installed)."""
 
 import numpy as np
 import pytest
 
+from contact_models import _hbal_compiled
 from contact_models._allmode_solve import FixedBar
 from contact_models._hbal import (BlockTridiagonal, aft_matrices, jacobian_prefix, jenkins_jacobian, jenkins_periodic,
                                   jenkins_state)
@@ -63,6 +65,18 @@ def dense_matrix(fb, U, X, omega, b):
     R[-1] += d.off * X
     A = dense_tridiagonal(J, lin, d.off, n, s)
     return R.ravel(), A, T, J, lin
+
+
+@pytest.fixture(params=["numpy", "compiled"], autouse=True)
+def path(request):
+    """Every check on the numpy path and, where numba is installed, on the compiled kernels."""
+    if request.param == "numpy":
+        with _hbal_compiled.numpy_only():
+            yield
+    elif _hbal_compiled.kernels() is None:
+        pytest.skip("numba is not installed (the fast extra)")
+    else:
+        yield
 
 
 @pytest.fixture(scope="module")

@@ -1,0 +1,213 @@
+"""Compiled kernels of the all-mode bar's nested solve (``contact_models._hbal``), used where numba
+is installed (the optional ``fast`` extra: ``pip install -e ".[fast]"``).
+
+The numpy path stays the library's definition: every kernel here does the same floating-point
+operations in the same order (the return map, the stick-run sums of the Jacobian, LAPACK's
+``dgesv`` on each pivot block and BLAS for the products), so the answers are those of the numpy
+path; ``tests/test_hbal_compiled.py`` holds them to it (measured here: equal bit for bit).  What
+the kernels remove is Python's cost per sample, per node and per block: the return map is a loop
+over n_t samples in numpy, each step three array calls.
+
+Set the environment variable ``FRICTIONDAMP_COMPILED=0`` to keep the numpy path with numba
+installed.  The first use in a fresh installation compiles the kernels (some seconds); numba
+caches them beside this module, so later processes load them.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+from collections.abc import Iterator
+from types import SimpleNamespace
+
+import numpy as np
+from numpy.typing import NDArray
+
+Array = NDArray  # any dtype: float samples and forces, bool masks, intp anchors
+_KERNELS: SimpleNamespace | None = None
+_TRIED = False
+#: False while :func:`numpy_only` is in force.
+_ENABLED = True
+
+
+def kernels() -> SimpleNamespace | None:
+    """The compiled kernels, or None: numba not installed, ``FRICTIONDAMP_COMPILED=0``, or
+    inside :func:`numpy_only`.  Compiled (or loaded from numba's cache) on the first call."""
+    global _KERNELS, _TRIED
+    if not _ENABLED or os.environ.get("FRICTIONDAMP_COMPILED", "1") == "0":
+        return None
+    if not _TRIED:
+        _TRIED = True
+        try:
+            import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
+        except ImportError:
+            return None
+        jit = numba.njit(cache=True, nogil=True)
+        _KERNELS = SimpleNamespace(march=jit(march), slip_jacobians=jit(slip_jacobians),
+                                   block_factor=jit(block_factor), block_solve=jit(block_solve))
+    return _KERNELS
+
+
+@contextlib.contextmanager
+def numpy_only() -> Iterator[None]:
+    """Within the block the nested solve takes the numpy path (the kernels' tests compare the two)."""
+    global _ENABLED
+    before, _ENABLED = _ENABLED, False
+    try:
+        yield
+    finally:
+        _ENABLED = before
+
+
+# The kernels, plain Python here (``kernels`` compiles them): each mirrors the numpy function named.
+
+def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Array, Array]:  # pragma: no cover - run compiled
+    """``_hbal.jenkins_periodic(u, kc, p, half)``: one row at a time, the same operations."""
+    m, n_t = u.shape
+    f = np.empty((m, n_t))
+    stuck = np.empty((m, n_t), np.bool_)
+    anchor = np.empty((m, n_t), np.intp)
+    never = np.empty(m, np.bool_)
+    steps = n_t // 2 if half else n_t
+    trial = np.empty(n_t)
+    for i in range(m):
+        km = 0
+        umax = u[i, 0]
+        umin = u[i, 0]
+        for k in range(1, n_t):
+            if u[i, k] > umax:
+                umax = u[i, k]
+                km = k
+            if u[i, k] < umin:
+                umin = u[i, k]
+        ki, pi = kc[i], p[i]
+        nv = ki * (umax - umin) <= 2.0 * pi
+        never[i] = nv
+        lo = -pi
+        fk = 0.5 * ki * (umax - umin) if nv else pi
+        trial[0] = fk
+        prev = umax
+        for j in range(1, steps):
+            k = km + j if km + j < n_t else km + j - n_t
+            t = fk + ki * (u[i, k] - prev)
+            prev = u[i, k]
+            trial[j] = t
+            fk = max(t, lo)
+            fk = min(fk, pi)
+        if half:
+            for j in range(steps):
+                trial[steps + j] = -trial[j]
+        last = 0
+        for j in range(n_t):
+            t = trial[j]
+            st = nv if j == 0 or (half and j == steps) else abs(t) <= pi
+            if not st:
+                last = j
+            k = km + j if km + j < n_t else km + j - n_t
+            f[i, k] = min(max(t, lo), pi)
+            stuck[i, k] = st
+            anchor[i, k] = km + last if km + last < n_t else km + last - n_t
+    return f, stuck, anchor, never
+
+
+def slip_jacobians(st: Array, anchor: Array, E: Array, S: Array, CP: Array, I1: Array, I2: Array,
+                   coefs: Array) -> Array:  # pragma: no cover - run compiled
+    """``_hbal._slip_jacobians``: the Jacobians / kc of nodes that slip, from their stick runs."""
+    m, n_t = st.shape
+    s = E.shape[1]
+    L = S.shape[1]
+    J = np.empty((m, s, s))
+    V = np.empty(L)
+    ends = np.empty(n_t, np.intp)
+    c1, v1, c2, v2 = np.empty(s * s), I1 % L, np.empty(s * s), I2 % L  # once a call, not once a node
+    for q in range(s * s):
+        c1[q], c2[q] = coefs[I1[q] // L], coefs[I2[q] // L]
+    for i in range(m):
+        V[:] = 0.0
+        wraps = 0
+        K = 0
+        for e in range(n_t):  # the last stuck sample of every run, and the sums of S over the runs
+            if st[i, e] and not st[i, e + 1 if e + 1 < n_t else 0]:
+                ends[K] = e
+                K += 1
+                a = anchor[i, e]
+                for q in range(L):
+                    V[q] += S[e, q] - S[a, q]
+                if e < a:
+                    wraps += 1
+        for q in range(L):
+            V[q] += wraps * S[n_t - 1, q]
+        Ji = J[i]
+        for r in range(s):
+            for q in range(s):
+                e = r * s + q
+                Ji[r, q] = c1[e] * V[v1[e]] + c2[e] * V[v2[e]]
+        if K == 0:
+            continue
+        C = np.empty((s, K))
+        Ea = np.empty((K, s))
+        for r in range(K):
+            e = ends[r]
+            a = anchor[i, e]
+            w = 1.0 if e < a else 0.0
+            for q in range(s):
+                C[q, r] = CP[e, q] - CP[a, q] + w * CP[n_t - 1, q]
+                Ea[r, q] = E[a, q]
+        G = C @ Ea  # BLAS, as numpy's product of the stacks
+        for q in range(s):
+            for r in range(s):
+                Ji[q, r] -= G[q, r]
+    return J
+
+
+def block_factor(B: Array, c: float, k: int) -> tuple[Array, Array, int]:  # pragma: no cover - run compiled
+    """``_hbal.BlockTridiagonal(B, c, k)``: ``(inv_d, inv, bad)``, the inverses of the diagonal
+    pivots, those of the others, and the first singular block (-1 if none)."""
+    n, s, _ = B.shape
+    inv_d = np.empty((k, s))
+    inv = np.empty((n - k, s, s))
+    c2 = c * c
+    eye = np.eye(s)
+    for i in range(k):
+        for q in range(s):
+            di = B[i, q, q] - c2 * inv_d[i - 1, q] if i else B[0, q, q]
+            if di == 0.0:
+                return inv_d, inv, i
+            inv_d[i, q] = 1.0 / di
+    for i in range(k, n):
+        Ci = B[i].copy()
+        if i == k and k:
+            for q in range(s):
+                Ci[q, q] -= c2 * inv_d[k - 1, q]
+        elif i:
+            Ci -= c2 * inv[i - 1 - k]
+        if not np.all(np.isfinite(Ci)):  # NaN in, NaN out (the caller's checks catch it)
+            inv[i - k] = np.nan
+            continue
+        try:
+            inv[i - k] = np.linalg.solve(Ci, eye)  # LAPACK's dgesv, as the numpy path
+        except Exception:  # singular
+            return inv_d, inv, i
+    return inv_d, inv, -1
+
+
+def block_solve(inv_d: Array, inv: Array, c: float, r: Array) -> Array:  # pragma: no cover - run compiled
+    """``_hbal.BlockTridiagonal.solve`` for r of shape (n, s, q)."""
+    k = inv_d.shape[0]
+    n = k + inv.shape[0]
+    y = r.copy()
+    for i in range(1, n):
+        if i <= k:
+            for q in range(y.shape[1]):
+                y[i, q] -= c * (inv_d[i - 1, q] * y[i - 1, q])
+        else:
+            y[i] -= c * (inv[i - 1 - k] @ y[i - 1])
+    x = np.empty_like(y)
+    for i in range(n - 1, -1, -1):
+        z = y[i] - c * x[i + 1] if i < n - 1 else y[i].copy()
+        if i < k:
+            for q in range(z.shape[0]):
+                x[i, q] = inv_d[i, q] * z[q]
+        else:
+            x[i] = inv[i - k] @ z
+    return x

@@ -1,0 +1,155 @@
+"""The compiled kernels of the all-mode bar (the optional ``fast`` extra, numba) against the numpy
+path, which stays the library's definition: the same numbers to 1e-12 relative, kernel by kernel,
+solve by solve and along a whole FRF (measured on the development machine: equal bit for bit).
+Skipped where numba is not installed; ``tests/test_allmode_kernel.py`` runs its independent dense
+checks on both paths."""
+
+import numpy as np
+import pytest
+
+pytest.importorskip("numba")
+
+from contact_models import AllModeMicroslip  # noqa: E402
+from contact_models import _hbal_compiled as compiled  # noqa: E402
+from contact_models._allmode_solve import FixedBar  # noqa: E402
+from contact_models._hbal import (BlockTridiagonal, aft_matrices, jenkins_jacobian, jenkins_periodic,  # noqa: E402
+                                  jenkins_state)
+from hbm import frequency_response  # noqa: E402
+from hbm.cli.cases import default_case  # noqa: E402
+
+#: The agreement asked of the two paths.
+RTOL = 1e-12
+
+
+def both(run):
+    """``(numpy path's answer, compiled path's answer)`` of ``run()``."""
+    assert compiled.kernels() is not None
+    with compiled.numpy_only():
+        plain = run()
+    return plain, run()
+
+
+def assert_same(a, b):
+    """Arrays (or tuples of them) equal to RTOL of the largest entry; masks and indices exactly."""
+    if isinstance(a, (tuple, list)):
+        assert len(a) == len(b)
+        for x, y in zip(a, b):
+            assert_same(x, y)
+        return
+    a, b = np.asarray(a), np.asarray(b)
+    assert a.shape == b.shape and a.dtype == b.dtype
+    if a.dtype.kind in "bi":
+        assert np.array_equal(a, b)
+    else:
+        assert np.max(np.abs(a - b), initial=0.0) <= RTOL * np.max(np.abs(a), initial=0.0)
+
+
+def test_the_kernels_are_switched_off_by_the_environment_and_in_numpy_only(monkeypatch):
+    assert compiled.kernels() is not None
+    with compiled.numpy_only():
+        assert compiled.kernels() is None
+    assert compiled.kernels() is not None
+    monkeypatch.setenv("FRICTIONDAMP_COMPILED", "0")
+    assert compiled.kernels() is None
+
+
+@pytest.mark.parametrize("half", [False, True])
+def test_the_return_map_is_the_numpy_one(half):
+    rng = np.random.default_rng(5)
+    E, P, order = aft_matrices(9, 72)
+    U = rng.normal(size=(9, 19)) / (1.0 + order)
+    if half:
+        U[:, order % 2 == 0] = 0.0
+    kc = rng.uniform(1.0, 4.0, 9)
+    p = np.array([0.05, 0.3, 1.0, 2.0, 0.0, 0.6, 1.3, 50.0, 80.0])  # the last two never slip
+    u = U @ E.T
+    plain, fast = both(lambda: jenkins_periodic(u, kc, p, half))
+    assert plain[3][-2:].all() and not plain[3][:-2].any()
+    assert_same(plain, fast)
+
+
+@pytest.fixture(scope="module")
+def bar_load():
+    case = default_case()
+    return case.element.bar, case.element.load
+
+
+@pytest.mark.parametrize("odd", [True, False])
+def test_the_jacobians_by_stick_runs_are_the_numpy_ones(bar_load, odd):
+    bar, load = bar_load
+    fb = FixedBar(bar, load, 32, 31, 248)
+    b, d = fb.basis(odd), fb.disc
+    X = np.zeros(63)
+    X[2] = 1.4e-6
+    U = FixedBar(bar, load, 32, 31, 248).solve(X, 38900.0, odd=True).U[:, b.idx]
+    if not odd:
+        U = U + 1e-8 * np.cos(np.arange(U.size)).reshape(U.shape)  # even harmonics too
+    state = jenkins_state(U, d.kc, d.p, b.E, b.P, odd)[2]
+    assert state[3].any() and not state[3].all()
+    plain, fast = both(lambda: jenkins_jacobian(state, d.kc, b.E, b.P, b.prefix))
+    assert_same(plain, fast)
+
+
+@pytest.mark.parametrize("k", [0, 4, 12])
+def test_the_block_elimination_is_the_numpy_one(k):
+    rng = np.random.default_rng(k)
+    n, s, c = 12, 24, 0.9
+    B = 0.1 * rng.normal(size=(n, s, s)) + 4.0 * np.eye(s)
+    B[:k] = 0.0
+    B[:k, np.arange(s), np.arange(s)] = rng.uniform(3.0, 6.0, (k, s))
+    r2, r3 = rng.normal(size=(n, s)), rng.normal(size=(n, s, 3))
+
+    def run():
+        fac = BlockTridiagonal(B, c, diagonal=k)
+        return fac.last_inverse(), fac.solve(r2), fac.solve(r3)
+
+    assert_same(*both(run))
+
+
+@pytest.mark.parametrize("where", [0, 5])
+def test_a_singular_block_is_named_on_both_paths(where):
+    B = np.zeros((8, 22, 22))
+    B[:, np.arange(22), np.arange(22)] = 2.0
+    if where:  # C_where = B_where - c^2 C_(where-1)^-1 = 0
+        B[where] = 0.25 * BlockTridiagonal(B[:where], 0.5).last_inverse()
+    else:
+        B[0] = 0.0
+    for diagonal in (0, 8):
+        with compiled.numpy_only(), pytest.raises(np.linalg.LinAlgError, match=f"singular block {where} "):
+            BlockTridiagonal(B, 0.5, diagonal)
+        with pytest.raises(np.linalg.LinAlgError, match=f"singular block {where} "):
+            BlockTridiagonal(B, 0.5, diagonal)
+
+
+@pytest.mark.parametrize("cells, H", [(16, 15), (32, 31)])
+def test_the_nested_solves_are_the_numpy_ones(bar_load, cells, H):
+    """Odd-basis solves with their even block, below and above slip, and a full-basis solve."""
+    bar, load = bar_load
+
+    def run():
+        fb = FixedBar(bar, load, cells, H, 8 * H if H > 15 else 128)
+        out = []
+        for a, w in [(0.7e-6, 38000.0), (1.0e-6, 38500.0), (1.535e-6, 38820.0), (1.2e-6, 39200.0)]:
+            X = np.zeros(2 * H + 1)
+            X[1], X[2] = 0.1 * a, a
+            sol = fb.solve(X, w, odd=True)
+            fb.even_block(sol)
+            out += [sol.F, sol.dF_dX, sol.dF_domega, sol.slip]
+        X[0], X[3] = 1e-8, 2e-9
+        sol = fb.solve(X, 38700.0, odd=False)
+        return out + [sol.F, sol.dF_dX, sol.dF_domega, sol.slip]
+
+    assert_same(*both(run))
+
+
+def test_an_all_mode_frf_is_the_numpy_one(bar_load):
+    bar, load = bar_load
+    blade = default_case().blade
+
+    def run():
+        frf = frequency_response(blade, AllModeMicroslip(bar, load, cells=16, harmonics=15), (38400.0, 39200.0))
+        return frf.omega, frf.amplitude, frf.error_estimate
+
+    plain, fast = both(run)
+    assert plain[0].size > 20
+    assert_same(plain, fast)
