@@ -240,6 +240,12 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
     """The Jacobians dT/dU (m, s, s) on the basis (E, P) from the ``state`` of :func:`jenkins_state`
     (the derivation in :func:`jenkins_harmonic`)."""
     u, stuck, anchor, never = state
+    kernels = _hbal_compiled.kernels()
+    if kernels is not None:
+        S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
+        E = np.ascontiguousarray(E)
+        return kernels.jacobians(u, stuck, anchor, never, np.ascontiguousarray(kc, dtype=float), E,
+                                 np.rint(P.sum(axis=1)), E.mean(axis=0), S, CP, I1, I2, coefs)
     m, nh = u.shape[0], E.shape[1]
     if not np.any(never):
         J = _slip_jacobians(stuck, anchor, E, P, prefix)
@@ -277,10 +283,6 @@ def _slip_jacobians(st: NDArray[np.bool_], anchor: NDArray[np.intp], E: NDArray[
     number K of runs of a node with empty runs (e = a = 0: their terms are exactly 0), and the
     rank-K part ``sum_runs C E_a^T`` is one stacked product (m, s, K) @ (m, K, s)."""
     S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
-    kernels = _hbal_compiled.kernels()
-    if kernels is not None:
-        return kernels.slip_jacobians(np.ascontiguousarray(st), np.ascontiguousarray(anchor), np.ascontiguousarray(E),
-                                      S, CP, I1, I2, coefs)
     m, nh = st.shape[0], E.shape[1]
     r, e = np.nonzero(st & ~np.roll(st, -1, axis=1))  # the last stuck sample of every run, by node
     a = anchor[r, e]

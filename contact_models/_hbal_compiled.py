@@ -43,7 +43,7 @@ def kernels() -> SimpleNamespace | None:
         except ImportError:
             return None
         jit = numba.njit(cache=True, nogil=True)
-        _KERNELS = SimpleNamespace(march=jit(march), slip_jacobians=jit(slip_jacobians),
+        _KERNELS = SimpleNamespace(march=jit(march), jacobians=jit(jacobians),
                                    block_factor=jit(block_factor), block_solve=jit(block_solve))
     return _KERNELS
 
@@ -110,19 +110,32 @@ def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Arra
     return f, stuck, anchor, never
 
 
-def slip_jacobians(st: Array, anchor: Array, E: Array, S: Array, CP: Array, I1: Array, I2: Array,
-                   coefs: Array) -> Array:  # pragma: no cover - run compiled
-    """``_hbal._slip_jacobians``: the Jacobians / kc of nodes that slip, from their stick runs."""
+def jacobians(u: Array, st: Array, anchor: Array, never: Array, kc: Array, E: Array, P1: Array, Emean: Array,
+              S: Array, CP: Array, I1: Array, I2: Array, coefs: Array) -> Array:  # pragma: no cover - compiled
+    """``_hbal.jenkins_jacobian`` of the state ``(u, st, anchor, never)``: the nodes that slip from
+    their stick runs (``_slip_jacobians``), the others ``kc (I - P1 dc)``; ``P1`` the rounded
+    coefficients of a constant, ``Emean`` the mean row of E."""
     m, n_t = st.shape
     s = E.shape[1]
     L = S.shape[1]
     J = np.empty((m, s, s))
     V = np.empty(L)
+    dc = np.empty(s)
     ends = np.empty(n_t, np.intp)
     c1, v1, c2, v2 = np.empty(s * s), I1 % L, np.empty(s * s), I2 % L  # once a call, not once a node
     for q in range(s * s):
         c1[q], c2[q] = coefs[I1[q] // L], coefs[I2[q] // L]
     for i in range(m):
+        Ji = J[i]
+        k = kc[i]
+        if never[i]:
+            kmax, kmin = np.argmax(u[i]), np.argmin(u[i])
+            for q in range(s):
+                dc[q] = Emean[q] if u[i, kmax] == u[i, kmin] else 0.5 * (E[kmax, q] + E[kmin, q])
+            for q in range(s):
+                for r in range(s):
+                    Ji[q, r] = k * ((1.0 if q == r else 0.0) - P1[q] * dc[r])
+            continue
         V[:] = 0.0
         wraps = 0
         K = 0
@@ -137,26 +150,27 @@ def slip_jacobians(st: Array, anchor: Array, E: Array, S: Array, CP: Array, I1: 
                     wraps += 1
         for q in range(L):
             V[q] += wraps * S[n_t - 1, q]
-        Ji = J[i]
-        for r in range(s):
-            for q in range(s):
-                e = r * s + q
-                Ji[r, q] = c1[e] * V[v1[e]] + c2[e] * V[v2[e]]
-        if K == 0:
-            continue
-        C = np.empty((s, K))
-        Ea = np.empty((K, s))
-        for r in range(K):
-            e = ends[r]
-            a = anchor[i, e]
-            w = 1.0 if e < a else 0.0
-            for q in range(s):
-                C[q, r] = CP[e, q] - CP[a, q] + w * CP[n_t - 1, q]
-                Ea[r, q] = E[a, q]
-        G = C @ Ea  # BLAS, as numpy's product of the stacks
         for q in range(s):
             for r in range(s):
-                Ji[q, r] -= G[q, r]
+                e = q * s + r
+                Ji[q, r] = c1[e] * V[v1[e]] + c2[e] * V[v2[e]]
+        if K:
+            C = np.empty((s, K))
+            Ea = np.empty((K, s))
+            for r in range(K):
+                e = ends[r]
+                a = anchor[i, e]
+                w = 1.0 if e < a else 0.0
+                for q in range(s):
+                    C[q, r] = CP[e, q] - CP[a, q] + w * CP[n_t - 1, q]
+                    Ea[r, q] = E[a, q]
+            G = C @ Ea  # BLAS, as numpy's product of the stacks
+            for q in range(s):
+                for r in range(s):
+                    Ji[q, r] -= G[q, r]
+        for q in range(s):
+            for r in range(s):
+                Ji[q, r] *= k
     return J
 
 
