@@ -61,8 +61,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._allmode_accuracy import FLOOR, ladder, relative, richardson, shortfall_message, start_cells
 from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, lower_rung, next_rung, probed_rung
-from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, is_odd, pad_harmonics,
-                             truncated)
+from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, ForceMemo, is_odd,
+                             pad_harmonics, scaled_samples, truncated)
 from ._hbal import aft_matrices
 from .accuracy import AccuracyWarning
 from .bar import Bar
@@ -192,6 +192,7 @@ class AllModeMicroslip(ContactElement):
         self._last: tuple | None = None  # (cells, H, cells part, harmonics part) the previous call ended at
         self._reuse: tuple | None = None  # the last estimate: (a, omega, odd, cells, H, parts, relative)
         self._seen: list = []  # a fixed rung's estimates (omega, a, cells part, harmonics part): refined_rung
+        self._memo = ForceMemo()  # a fixed rung's harmonic forces by their exact motion and frequency
 
     def __repr__(self) -> str:
         return (f"AllModeMicroslip({self.bar!r}, {self.load!r}, cells={self.cells}, "
@@ -316,26 +317,29 @@ class AllModeMicroslip(ContactElement):
 
     def _harmonic_force(self, X: NDArray[np.float64], omega: float, n_t: int, rtol: float
                         ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """End force coefficients ``F`` (2H+1), ``dF/dX`` (2H+1, 2H+1) and ``dF/domega`` (2H+1)
-        for the end displacement coefficients ``X`` (length 2H+1, H >= 1) at ``omega`` (rad/s),
-        checked by ``harmonic_force`` (or trusted by ``harmonic_force_unchecked``).
-
-        The multi-harmonic hook (docs/extending.md, section 1, "Time laws") with a nested solve:
-        the bar is solved with at least H harmonics (its internal motion needs its own resolution:
-        ``harmonics``, or the rung chosen to ``tol``) and its own sample count (``n_t`` and
-        ``rtol`` of the caller are accepted and not used: the nested AFT samples every node, and
-        Newton converges to rounding); the result is truncated to H.  Derivatives by the implicit
-        function theorem (exact for the discrete model).  Raises FloatingPointError when the
-        nested solve fails (the solver's continuation then shortens its step).  An X whose even
-        coefficients are rounding (``EVEN_ROUNDING``) is solved in the odd basis (``truncated``).
+        """End force coefficients ``F`` (2H+1), ``dF/dX`` and ``dF/domega`` for the end displacement
+        coefficients ``X`` (length 2H+1, H >= 1) at ``omega`` (rad/s): the multi-harmonic hook
+        (docs/extending.md, section 1, "Time laws"), checked by ``harmonic_force`` (or trusted by
+        ``harmonic_force_unchecked``).  A nested solve with at least H harmonics (the bar's own
+        resolution: ``harmonics``, or the rung chosen to ``tol``) on its own samples (``n_t`` and
+        ``rtol`` are not used: Newton converges to rounding), truncated to H; derivatives by the
+        implicit function theorem (exact for the discrete model).  FloatingPointError where the
+        nested solve fails (the solver's continuation shortens its step).  Even coefficients of
+        rounding size (``EVEN_ROUNDING``): the odd basis (``truncated``); a fixed rung's answers are
+        kept by their exact motion and frequency (``ForceMemo``).
         """
         odd = is_odd(X, EVEN_ROUNDING)
+        key = ForceMemo.key(X, omega, max((X.size - 1) // 2, self.harmonics), odd) if self._fixed else None
+        if key is not None and (kept := self._memo.get(key, X.size)) is not None:
+            return truncated(kept, X, odd)
         sol, short = self._resolved(X, float(omega), odd)
         if not sol.success:  # numerical trouble, not bad input: a continuation shrinks its step on it
             raise FloatingPointError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
         self._warn([short] if short else [])
         if odd:
             self._level(sol.cells, sol.H).even_block(sol)
+        if key is not None:  # kept for an estimate's Newton step at 2H + 1 harmonics too
+            self._memo.put(key, sol, 2 * X.size + 1)
         return truncated(sol, X, odd)
 
     def _periodic_force(self, x, omega):
@@ -363,12 +367,7 @@ class AllModeMicroslip(ContactElement):
     def _level(self, cells: int, H: int) -> FixedBar:
         key = (cells, H)
         if key not in self._levels:
-            if self.n_t is None:
-                n_t = _samples(H)
-            elif H == self.harmonics:
-                n_t = self.n_t
-            else:
-                n_t = max(4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(self.n_t * H / self.harmonics / 4))
+            n_t = _samples(H) if self.n_t is None else scaled_samples(self.n_t, self.harmonics, H)
             self._levels[key] = FixedBar(self.bar, self.load, cells, H, n_t)
         return self._levels[key]
 
