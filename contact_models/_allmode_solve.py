@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._hbal import (aft_matrices, factorise, jacobian_pattern, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
-                    jenkins_periodic, jenkins_state, same_pattern)
+                    jenkins_periodic, jenkins_state, same_pattern, scalar_tridiagonal)
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -295,21 +295,7 @@ class FixedBar:
         """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
         d = self.disc
         diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * b.order[None, :] ** 2
-        off, n = d.off, d.n
-        # per coefficient a tridiagonal solve, all at once (scalar Thomas)
-        cp = np.empty_like(diag)
-        y = np.zeros_like(diag)
-        cp[0] = diag[0]
-        y[-1] = -off * X
-        for i in range(1, n):
-            w = off / cp[i - 1]
-            cp[i] = diag[i] - w * off
-            y[i] -= w * y[i - 1]
-        U = np.empty_like(y)
-        U[-1] = y[-1] / cp[-1]
-        for i in range(n - 2, -1, -1):
-            U[i] = (y[i] - off * U[i + 1]) / cp[i]
-        return U
+        return scalar_tridiagonal(diag, d.off, -d.off * X)  # per coefficient, all at once
 
     def start(self, X: Array, omega: float, b: _Basis) -> _Eval:
         """The better (smaller residual) of the linear state and the cached solution scaled to X

@@ -306,6 +306,28 @@ def _slip_jacobians(st: NDArray[np.bool_], anchor: NDArray[np.intp], E: NDArray[
     return J
 
 
+def scalar_tridiagonal(diag: NDArray[np.float64], off: float, last: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Solve the tridiagonal systems with diagonal ``diag[:, j]`` (n, s), every off-diagonal ``off``
+    and right-hand side zero but ``last`` (s) in the last row, for every column j at once (Thomas)."""
+    kernels = _hbal_compiled.kernels()
+    if kernels is not None:
+        return kernels.thomas(np.ascontiguousarray(diag, dtype=float), float(off), np.asarray(last, dtype=float))
+    n = diag.shape[0]
+    cp = np.empty_like(diag)
+    y = np.zeros_like(diag)
+    cp[0] = diag[0]
+    y[-1] = last
+    for i in range(1, n):
+        w = off / cp[i - 1]
+        cp[i] = diag[i] - w * off
+        y[i] -= w * y[i - 1]
+    U = np.empty_like(y)
+    U[-1] = y[-1] / cp[-1]
+    for i in range(n - 2, -1, -1):
+        U[i] = (y[i] - off * U[i + 1]) / cp[i]
+    return U
+
+
 class BlockTridiagonal:
     """Factorisation of the block-tridiagonal matrix with diagonal blocks ``B`` (n, s, s) and
     every off-diagonal block ``c I`` (the axial coupling of neighbouring nodes), by block

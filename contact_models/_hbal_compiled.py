@@ -44,7 +44,8 @@ def kernels() -> SimpleNamespace | None:
             return None
         jit = numba.njit(cache=True, nogil=True)
         _KERNELS = SimpleNamespace(march=jit(march), jacobians=jit(jacobians),
-                                   block_factor=jit(block_factor), block_solve=jit(block_solve))
+                                   block_factor=jit(block_factor), block_solve=jit(block_solve),
+                                   thomas=jit(thomas))
     return _KERNELS
 
 
@@ -225,3 +226,22 @@ def block_solve(inv_d: Array, inv: Array, c: float, r: Array) -> Array:  # pragm
         else:
             x[i] = inv[i - k] @ z
     return x
+
+
+def thomas(diag: Array, off: float, last: Array) -> Array:  # pragma: no cover - run compiled
+    """``_hbal.scalar_tridiagonal``: column by column, the same operations."""
+    n, s = diag.shape
+    U = np.empty((n, s))
+    cp = np.empty(n)
+    y = np.empty(n)
+    for j in range(s):
+        cp[0] = diag[0, j]
+        y[0] = last[j] if n == 1 else 0.0
+        for i in range(1, n):
+            w = off / cp[i - 1]
+            cp[i] = diag[i, j] - w * off
+            y[i] = (last[j] if i == n - 1 else 0.0) - w * y[i - 1]
+        U[n - 1, j] = y[n - 1] / cp[n - 1]
+        for i in range(n - 2, -1, -1):
+            U[i, j] = (y[i] - off * U[i + 1, j]) / cp[i]
+    return U

@@ -13,7 +13,7 @@ from contact_models import AllModeMicroslip  # noqa: E402
 from contact_models import _hbal_compiled as compiled  # noqa: E402
 from contact_models._allmode_solve import FixedBar  # noqa: E402
 from contact_models._hbal import (BlockTridiagonal, aft_matrices, jenkins_jacobian, jenkins_periodic,  # noqa: E402
-                                  jenkins_state)
+                                  jenkins_state, scalar_tridiagonal)
 from hbm import frequency_response  # noqa: E402
 from hbm.cli.cases import default_case  # noqa: E402
 
@@ -104,6 +104,19 @@ def test_the_block_elimination_is_the_numpy_one(k):
         return fac.last_inverse(), fac.solve(r2), fac.solve(r3)
 
     assert_same(*both(run))
+
+
+@pytest.mark.parametrize("n", [1, 2, 40])
+def test_the_scalar_tridiagonal_solve_is_the_numpy_one(n):
+    rng = np.random.default_rng(n)
+    diag, last = rng.uniform(2.0, 5.0, (n, 7)), rng.normal(size=7)
+    plain, fast = both(lambda: scalar_tridiagonal(diag, -0.9, last))
+    assert_same(plain, fast)
+    A = np.diag(np.ones(n - 1), 1) * -0.9 + np.diag(np.ones(n - 1), -1) * -0.9
+    for j in range(7):
+        rhs = np.zeros(n)
+        rhs[-1] = last[j]
+        np.testing.assert_allclose(plain[:, j], np.linalg.solve(A + np.diag(diag[:, j]), rhs), rtol=1e-12, atol=1e-15)
 
 
 @pytest.mark.parametrize("where", [0, 5])
