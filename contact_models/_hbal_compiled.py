@@ -10,7 +10,8 @@ over n_t samples in numpy, each step three array calls.
 
 Set the environment variable ``FRICTIONDAMP_COMPILED=0`` to keep the numpy path with numba
 installed.  The first use in a fresh installation compiles the kernels (some seconds); numba
-caches them beside this module, so later processes load them.
+caches them beside this module (or in the user's cache folder), so later processes load them;
+where it finds no writable place for its cache, every process compiles them again.
 """
 
 from __future__ import annotations
@@ -42,10 +43,12 @@ def kernels() -> SimpleNamespace | None:
             import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
         except ImportError:
             return None
-        jit = numba.njit(cache=True, nogil=True)
-        _KERNELS = SimpleNamespace(march=jit(march), jacobians=jit(jacobians),
-                                   block_factor=jit(block_factor), block_solve=jit(block_solve),
-                                   thomas=jit(thomas))
+        funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve,
+                     thomas=thomas)
+        try:
+            _KERNELS = SimpleNamespace(**{k: numba.njit(cache=True, nogil=True)(f) for k, f in funcs.items()})
+        except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
+            _KERNELS = SimpleNamespace(**{k: numba.njit(nogil=True)(f) for k, f in funcs.items()})
     return _KERNELS
 
 

@@ -53,6 +53,20 @@ def test_the_kernels_are_switched_off_by_the_environment_and_in_numpy_only(monke
     assert compiled.kernels() is None
 
 
+def test_without_a_writable_cache_the_kernels_are_compiled_uncached(monkeypatch):
+    """numba finds no place for its cache (a read-only installation and home): the kernels are
+    still made, uncached, instead of the error numba raises for ``cache=True``."""
+    from numba.core import caching
+
+    impl = getattr(caching, "CacheImpl", None) or caching._CacheImpl  # its name in numba 0.61 and older
+    monkeypatch.setattr(impl, "_locator_classes", [])
+    monkeypatch.setattr(compiled, "_TRIED", False)
+    monkeypatch.setattr(compiled, "_KERNELS", None)
+    kernels = compiled.kernels()
+    assert kernels is not None
+    assert type(kernels.march._cache).__name__ == "NullCache"  # a dispatcher without a cache
+
+
 @pytest.mark.parametrize("half", [False, True])
 def test_the_return_map_is_the_numpy_one(half):
     rng = np.random.default_rng(5)
