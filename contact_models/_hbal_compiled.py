@@ -65,7 +65,7 @@ def numpy_only() -> Iterator[None]:
 
 # The kernels, plain Python here (``kernels`` compiles them): each mirrors the numpy function named.
 
-def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Array, Array]:  # pragma: no cover - run compiled
+def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Array, Array]:
     """``_hbal.jenkins_periodic(u, kc, p, half)``: one row at a time, the same operations."""
     m, n_t = u.shape
     f = np.empty((m, n_t))
@@ -115,7 +115,7 @@ def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Arra
 
 
 def jacobians(u: Array, st: Array, anchor: Array, never: Array, kc: Array, E: Array, P1: Array, Emean: Array,
-              S: Array, CP: Array, I1: Array, I2: Array, coefs: Array) -> Array:  # pragma: no cover - compiled
+              S: Array, CP: Array, I1: Array, I2: Array, coefs: Array) -> Array:
     """``_hbal.jenkins_jacobian`` of the state ``(u, st, anchor, never)``: the nodes that slip from
     their stick runs (``_slip_jacobians``), the others ``kc (I - P1 dc)``; ``P1`` the rounded
     coefficients of a constant, ``Emean`` the mean row of E."""
@@ -178,7 +178,7 @@ def jacobians(u: Array, st: Array, anchor: Array, never: Array, kc: Array, E: Ar
     return J
 
 
-def block_factor(B: Array, c: float, k: int) -> tuple[Array, Array, int]:  # pragma: no cover - run compiled
+def block_factor(B: Array, c: float, k: int) -> tuple[Array, Array, int]:
     """``_hbal.BlockTridiagonal(B, c, k)``: ``(inv_d, inv, bad)``, the inverses of the diagonal
     pivots, those of the others, and the first singular block (-1 if none)."""
     n, s, _ = B.shape
@@ -209,7 +209,7 @@ def block_factor(B: Array, c: float, k: int) -> tuple[Array, Array, int]:  # pra
     return inv_d, inv, -1
 
 
-def block_solve(inv_d: Array, inv: Array, c: float, r: Array) -> Array:  # pragma: no cover - run compiled
+def block_solve(inv_d: Array, inv: Array, c: float, r: Array) -> Array:
     """``_hbal.BlockTridiagonal.solve`` for r of shape (n, s, q)."""
     k = inv_d.shape[0]
     n = k + inv.shape[0]
@@ -231,7 +231,7 @@ def block_solve(inv_d: Array, inv: Array, c: float, r: Array) -> Array:  # pragm
     return x
 
 
-def thomas(diag: Array, off: float, last: Array) -> Array:  # pragma: no cover - run compiled
+def thomas(diag: Array, off: float, last: Array) -> Array:
     """``_hbal.scalar_tridiagonal``: column by column, the same operations."""
     n, s = diag.shape
     U = np.empty((n, s))
