@@ -74,6 +74,7 @@ def test_jenkins_periodic_over_half_a_period_for_odd_harmonics():
         np.testing.assert_allclose(f[i], _jenkins_by_cycling(u[i], kc[i], p[i]), atol=1e-13)
     np.testing.assert_allclose(f[6], kc[6] * (u[6] - 0.5 * (u[6].max() + u[6].min())), atol=1e-13)
 
+
 def test_jenkins_harmonic_jacobian_against_finite_differences():
     rng = np.random.default_rng(2)
     E, P, _ = aft_matrices(4, 48)
@@ -270,6 +271,8 @@ def test_even_coefficients_of_rounding_size_are_solved_in_the_odd_basis():
     np.testing.assert_allclose(F, full.F[:7], atol=1e-10 * np.max(np.abs(F)))
     np.testing.assert_allclose(dX, full.dF_dX[:7, :7], atol=1e-9 * KS)
     np.testing.assert_allclose(dw, full.dF_domega[:7], atol=1e-9 * np.max(np.abs(dw)))
+    even = [0, 3, 4]
+    assert F[0] != 0.0 and F[even] == pytest.approx(dX[np.ix_(even, even)] @ X[even], rel=1e-12)  # not 0
     X[0] = 2e-15
     motion = AllModeMicroslip(BAR, CONCAVE, cells=10, harmonics=5)
     F2 = motion.harmonic_force(X, 0.4 * WC)[0]
