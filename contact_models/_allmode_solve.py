@@ -225,12 +225,13 @@ def is_odd(X: NDArray[np.float64], rtol: float = 0.0) -> bool:
     return not np.any(even > rtol * float(np.max(np.abs(X), initial=0.0)))
 
 
-def stuck_prefix(ev: _Eval, b: _Basis) -> int:
-    """How many of the bar's first nodes never slip at ``ev`` (0 without its return map's state, or
-    in a basis with the mean): their Jacobian blocks are ``kc I`` plus the diagonal linear part."""
-    if ev.state is None or not b.odd:
+def stuck_prefix(state: tuple | None) -> int:
+    """How many of the bar's first nodes never slip in the return map's ``state`` (0 without one):
+    their Jacobian blocks are ``kc I`` plus the diagonal linear part in the odd basis, and that but
+    for the first row (the mean's) in a basis with the mean (``factorise``'s ``row0``)."""
+    if state is None:
         return 0
-    never = ev.state[3][:-1]
+    never = state[3][:-1]
     return int(never.size if never.all() else np.argmin(never))
 
 
@@ -320,7 +321,7 @@ class FixedBar:
             if ev.J is not J:  # the same Jacobian (an unchanged stick/slip pattern) keeps its factorisation
                 J = ev.J
                 fac = factorise(J[:-1] + ev.lin[:-1, :, None] * np.eye(ev.lin.shape[1])[None], self.disc.off,
-                                stuck_prefix(ev, b))
+                                stuck_prefix(ev.state), not b.odd)
             if ev.res <= tol or it == max_iter or not np.isfinite(ev.res):
                 break
             dU = -fac.solve(ev.R)
@@ -431,6 +432,7 @@ class FixedBar:
             Je = jenkins_jacobian(state, d.kc, Ee, Pe, prefix)
         else:
             _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(Ee, Pe), prefix=prefix)
+            state = None
         lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
-        fac = factorise(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off)
+        fac = factorise(Je[:-1] + lin[:-1, :, None] * np.eye(even.size)[None], d.off, stuck_prefix(state), True)
         sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.last_inverse()

@@ -334,23 +334,28 @@ class BlockTridiagonal:
     Thomas elimination: ``C_0 = B_0``, ``C_i = B_i - c^2 C_{i-1}^{-1}``; O(n s^3) work.
 
     ``diagonal``: the first blocks that the caller knows to be diagonal (the bar's nodes that never
-    slip, in the odd basis: ``kc I`` plus the linear part).  There every ``C_i`` is diagonal and is
-    eliminated as a vector, ``1 / C_i`` elementwise, which is what LAPACK's solve gives on a diagonal
-    matrix, bit for bit: O(s) a node instead of O(s^3)."""
+    slip, in the odd basis: ``kc I`` plus the linear part), or, with ``row0``, diagonal but for their
+    first row (those nodes in a basis whose first coefficient is the mean: ``kc (I - e0 dc^T)``).
+    There every ``C_i`` keeps that form, ``diag(d) + e0 w^T`` (w_0 = 0), and so does its inverse,
+    ``diag(1/d) + e0 v^T`` with ``v_j = -w_j / (d_j d_0)``: O(s) a node instead of O(s^3).  Without
+    ``row0`` this is ``1 / C_i`` elementwise, what LAPACK's solve gives on a diagonal matrix, bit
+    for bit."""
 
-    def __init__(self, B: NDArray[np.float64], c: float, diagonal: int = 0) -> None:
+    def __init__(self, B: NDArray[np.float64], c: float, diagonal: int = 0, row0: bool = False) -> None:
         from scipy.linalg import lapack  # lazily: import contact_models stays light
 
         n, s, _ = B.shape
-        self.c = c
+        self.c, self.row0 = c, bool(row0)
         self.k = k = min(int(diagonal), n)
         kernels = _hbal_compiled.kernels()
         if kernels is not None:
-            self.inv_d, self.inv, bad = kernels.block_factor(np.ascontiguousarray(B, dtype=float), float(c), k)
+            self.inv_d, self.inv_v, self.inv, bad = kernels.block_factor(np.ascontiguousarray(B, dtype=float),
+                                                                         float(c), k, self.row0)
             if bad >= 0:
                 raise np.linalg.LinAlgError(f"singular block {bad} in the block elimination")
             return
-        self.inv_d = inv_d = np.empty((k, s))  # the inverses of the diagonal C_i
+        self.inv_d = inv_d = np.empty((k, s))  # the inverses of the first C_i: their diagonals
+        self.inv_v = inv_v = np.zeros((k, s))  # and the rest of their first rows (row0)
         self.inv = np.empty((n - k, s, s))  # the inverses of the others, from C_k on
         c2 = c * c
         d = np.diagonal(B[:k], axis1=1, axis2=2)
@@ -359,6 +364,9 @@ class BlockTridiagonal:
             if not np.all(di):
                 raise np.linalg.LinAlgError(f"singular block {i} in the block elimination")
             np.divide(1.0, di, out=inv_d[i])
+            if self.row0:
+                wi = B[i, 0, 1:] - c2 * inv_v[i - 1, 1:] if i else B[0, 0, 1:]
+                inv_v[i, 1:] = -wi * inv_d[i, 1:] * inv_d[i, 0]
         gesv, eye = lapack.dgesv, np.eye(s)
         for i in range(k, n):
             if i == 0:
@@ -366,6 +374,8 @@ class BlockTridiagonal:
             elif i == k:
                 Ci = B[i].copy()
                 Ci[np.diag_indices(s)] -= c2 * inv_d[-1]
+                if self.row0:
+                    Ci[0, 1:] -= c2 * inv_v[-1, 1:]
             else:
                 Ci = B[i] - c2 * self.inv[i - 1 - k]
             # LAPACK's dgesv on the identity, as numpy.linalg.inv does, without its per-call overhead
@@ -376,23 +386,34 @@ class BlockTridiagonal:
 
     def last_inverse(self) -> NDArray[np.float64]:
         """C_{n-1}^{-1}, the last diagonal block of the inverse."""
-        return self.inv[-1] if self.inv.shape[0] else np.diag(self.inv_d[-1])
+        if self.inv.shape[0]:
+            return self.inv[-1]
+        out = np.diag(self.inv_d[-1])
+        out[0, 1:] += self.inv_v[-1, 1:]
+        return out
+
+    def _first(self, i: int, z: NDArray[np.float64]) -> NDArray[np.float64]:
+        """``C_i^{-1} z`` for one of the first k pivots (z of shape (s,) or (s, q))."""
+        out = (self.inv_d[i] if z.ndim == 1 else self.inv_d[i][:, None]) * z
+        if self.row0:
+            out[0] += self.inv_v[i, 1:] @ z[1:]
+        return out
 
     def solve(self, r: NDArray[np.float64]) -> NDArray[np.float64]:
         """Solve for ``r`` of shape (n, s) or (n, s, q) (q right-hand sides)."""
         c, k, inv = self.c, self.k, self.inv
         kernels = _hbal_compiled.kernels()
         if kernels is not None:
-            return kernels.block_solve(self.inv_d, inv, float(c), np.array(r, dtype=float))
+            return kernels.block_solve(self.inv_d, self.inv_v, inv, float(c), np.array(r, dtype=float), self.row0)
         n = k + inv.shape[0]
-        d = self.inv_d if np.ndim(r) == 2 else self.inv_d[:, :, None]  # the diagonal C_i^{-1}
         y = np.array(r, dtype=float, copy=True)
         for i in range(1, n):
-            y[i] -= c * (d[i - 1] * y[i - 1] if i <= k else inv[i - 1 - k] @ y[i - 1])
+            y[i] -= c * (self._first(i - 1, y[i - 1]) if i <= k else inv[i - 1 - k] @ y[i - 1])
         x = np.empty_like(y)
-        x[n - 1] = d[n - 1] * y[n - 1] if n == k else inv[-1] @ y[n - 1]
+        x[n - 1] = self._first(n - 1, y[n - 1]) if n == k else inv[-1] @ y[n - 1]
         for i in range(n - 2, -1, -1):
-            x[i] = d[i] * (y[i] - c * x[i + 1]) if i < k else inv[i - k] @ (y[i] - c * x[i + 1])
+            z = y[i] - c * x[i + 1]
+            x[i] = self._first(i, z) if i < k else inv[i - k] @ z
         return x
 
 
@@ -440,9 +461,11 @@ class BandedBlockTridiagonal:
 BANDED_MAX_BLOCK = 20
 
 
-def factorise(B: NDArray[np.float64], c: float, diagonal: int = 0) -> BlockTridiagonal | BandedBlockTridiagonal:
+def factorise(B: NDArray[np.float64], c: float, diagonal: int = 0, row0: bool = False
+              ) -> BlockTridiagonal | BandedBlockTridiagonal:
     """The faster factorisation of the block-tridiagonal matrix (blocks ``B``, coupling ``c I``;
-    ``diagonal``: its first blocks known to be diagonal, see :class:`BlockTridiagonal`)."""
+    ``diagonal``, ``row0``: its first blocks known to be diagonal, or diagonal but for their first
+    row, see :class:`BlockTridiagonal`)."""
     if B.shape[1] <= BANDED_MAX_BLOCK:
         return BandedBlockTridiagonal(B, c)
-    return BlockTridiagonal(B, c, diagonal)
+    return BlockTridiagonal(B, c, diagonal, row0)

@@ -178,11 +178,13 @@ def jacobians(u: Array, st: Array, anchor: Array, never: Array, kc: Array, E: Ar
     return J
 
 
-def block_factor(B: Array, c: float, k: int) -> tuple[Array, Array, int]:
-    """``_hbal.BlockTridiagonal(B, c, k)``: ``(inv_d, inv, bad)``, the inverses of the diagonal
-    pivots, those of the others, and the first singular block (-1 if none)."""
+def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, Array, int]:
+    """``_hbal.BlockTridiagonal(B, c, k, row0)``: ``(inv_d, inv_v, inv, bad)``, the diagonals and
+    first rows of the first k pivots' inverses, the others' inverses, and the first singular block
+    (-1 if none)."""
     n, s, _ = B.shape
     inv_d = np.empty((k, s))
+    inv_v = np.zeros((k, s))
     inv = np.empty((n - k, s, s))
     c2 = c * c
     eye = np.eye(s)
@@ -190,13 +192,20 @@ def block_factor(B: Array, c: float, k: int) -> tuple[Array, Array, int]:
         for q in range(s):
             di = B[i, q, q] - c2 * inv_d[i - 1, q] if i else B[0, q, q]
             if di == 0.0:
-                return inv_d, inv, i
+                return inv_d, inv_v, inv, i
             inv_d[i, q] = 1.0 / di
+        if row0:
+            for q in range(1, s):
+                wi = B[i, 0, q] - c2 * inv_v[i - 1, q] if i else B[0, 0, q]
+                inv_v[i, q] = -wi * inv_d[i, q] * inv_d[i, 0]
     for i in range(k, n):
         Ci = B[i].copy()
         if i == k and k:
             for q in range(s):
                 Ci[q, q] -= c2 * inv_d[k - 1, q]
+            if row0:
+                for q in range(1, s):
+                    Ci[0, q] -= c2 * inv_v[k - 1, q]
         elif i:
             Ci -= c2 * inv[i - 1 - k]
         if not np.all(np.isfinite(Ci)):  # NaN in, NaN out (the caller's checks catch it)
@@ -205,27 +214,34 @@ def block_factor(B: Array, c: float, k: int) -> tuple[Array, Array, int]:
         try:
             inv[i - k] = np.linalg.solve(Ci, eye)  # LAPACK's dgesv, as the numpy path
         except Exception:  # singular
-            return inv_d, inv, i
-    return inv_d, inv, -1
+            return inv_d, inv_v, inv, i
+    return inv_d, inv_v, inv, -1
 
 
-def block_solve(inv_d: Array, inv: Array, c: float, r: Array) -> Array:
-    """``_hbal.BlockTridiagonal.solve`` for r of shape (n, s, q)."""
+def block_solve(inv_d: Array, inv_v: Array, inv: Array, c: float, r: Array, row0: bool) -> Array:
+    """``_hbal.BlockTridiagonal.solve`` for r of shape (n, s) or (n, s, q)."""
     k = inv_d.shape[0]
     n = k + inv.shape[0]
+    s = inv_d.shape[1]
     y = r.copy()
     for i in range(1, n):
         if i <= k:
-            for q in range(y.shape[1]):
-                y[i, q] -= c * (inv_d[i - 1, q] * y[i - 1, q])
+            z = y[i - 1].copy()
+            for q in range(s):
+                z[q] = inv_d[i - 1, q] * y[i - 1, q]
+            if row0:
+                z[0] += inv_v[i - 1, 1:] @ y[i - 1, 1:]
+            y[i] -= c * z
         else:
             y[i] -= c * (inv[i - 1 - k] @ y[i - 1])
     x = np.empty_like(y)
     for i in range(n - 1, -1, -1):
         z = y[i] - c * x[i + 1] if i < n - 1 else y[i].copy()
         if i < k:
-            for q in range(z.shape[0]):
+            for q in range(s):
                 x[i, q] = inv_d[i, q] * z[q]
+            if row0:
+                x[i, 0] += inv_v[i, 1:] @ z[1:]
         else:
             x[i] = inv[i - k] @ z
     return x

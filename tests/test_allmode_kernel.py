@@ -189,6 +189,27 @@ def test_block_elimination_of_a_diagonal_start_is_the_dense_one_bit_for_bit(k):
         assert np.max(np.abs(x - dense)) <= 1e-12 * np.max(np.abs(dense))
 
 
+@pytest.mark.parametrize("k", [1, 5, 12])
+def test_block_elimination_of_a_start_diagonal_but_for_the_first_row_is_the_dense_one(k):
+    """The first k blocks diagonal but for their first row (the nodes that never slip, in a basis with
+    the mean): eliminated in that form, the factorisation solves as a dense solve, and its last pivot
+    inverse is the dense inverse's last diagonal block."""
+    rng = np.random.default_rng(10 + k)
+    n, s, c = 12, 24, -1.3
+    B = 0.1 * rng.normal(size=(n, s, s)) + 5.0 * np.eye(s)
+    B[:k] = 0.0
+    B[:k, np.arange(s), np.arange(s)] = rng.uniform(3.0, 6.0, (k, s))
+    B[:k, 0, 1:] = rng.normal(size=(k, s - 1))
+    fac = BlockTridiagonal(B, c, diagonal=k, row0=True)
+    A = dense_tridiagonal(B, np.zeros((n, s)), c, n, s)
+    Ainv_last = np.linalg.inv(A)[-s:, -s:]
+    assert np.max(np.abs(fac.last_inverse() - Ainv_last)) <= 1e-12 * np.max(np.abs(Ainv_last))
+    for r in (rng.normal(size=(n, s)), rng.normal(size=(n, s, 3))):
+        x = fac.solve(r)
+        dense = np.linalg.solve(A, r.reshape(n * s, -1)).reshape(r.shape)
+        assert np.max(np.abs(x - dense)) <= 1e-12 * np.max(np.abs(dense))
+
+
 def test_block_elimination_of_a_singular_diagonal_block_says_which():
     B = np.zeros((3, 22, 22))
     B[:, np.arange(22), np.arange(22)] = 2.0

@@ -104,17 +104,20 @@ def test_the_jacobians_by_stick_runs_are_the_numpy_ones(bar_load, odd):
     assert_same(plain, fast)
 
 
+@pytest.mark.parametrize("row0", [False, True])
 @pytest.mark.parametrize("k", [0, 4, 12])
-def test_the_block_elimination_is_the_numpy_one(k):
+def test_the_block_elimination_is_the_numpy_one(k, row0):
     rng = np.random.default_rng(k)
     n, s, c = 12, 24, 0.9
     B = 0.1 * rng.normal(size=(n, s, s)) + 4.0 * np.eye(s)
     B[:k] = 0.0
     B[:k, np.arange(s), np.arange(s)] = rng.uniform(3.0, 6.0, (k, s))
+    if row0:
+        B[:k, 0, 1:] = rng.normal(size=(k, s - 1))
     r2, r3 = rng.normal(size=(n, s)), rng.normal(size=(n, s, 3))
 
     def run():
-        fac = BlockTridiagonal(B, c, diagonal=k)
+        fac = BlockTridiagonal(B, c, diagonal=k, row0=row0)
         return fac.last_inverse(), fac.solve(r2), fac.solve(r3)
 
     assert_same(*both(run))
