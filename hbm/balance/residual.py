@@ -312,18 +312,17 @@ class HarmonicBalance:
         Fw = np.zeros((na, L))
         for e, (el, comps) in enumerate(self._attach):
             Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
-            c = len(comps)
-            linear = False
+            c, linear = len(comps), False
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
-            key = (e, omega, Xrel.tobytes())
+            key = (e, omega, Xrel.tobytes()) if self.keep_jacobians else None  # (for Hill's method)
             if not force and not linear and key in self._jacobians:  # that same call's Jacobian, bit for bit
                 f, J, fw = np.zeros(c * L), self._jacobians[key], np.zeros(c * L)
             elif force or not linear:
                 f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol)
                 self.nfev += 1
-                if not perturbation:
+                if not perturbation and key is not None:
                     self._keep_jacobian(key, J)
             else:  # the forces are not asked for
                 f, fw = np.zeros(L), np.zeros(L)
@@ -345,11 +344,11 @@ class HarmonicBalance:
         self._jacobians, self._jacobian_bytes = {}, 0
 
     def _keep_jacobian(self, key: tuple, J: NDArray) -> None:
-        """Keep an element's Jacobian (a copy) at key (contact, omega, its X's bytes) where ``keep_jacobians``."""
+        """Keep an element's Jacobian (a copy) at key (contact, omega, its X's bytes), for ``keep_jacobians``."""
         kept = self._jacobians
-        if self.keep_jacobians and key not in kept:
-            kept[key] = np.array(J, dtype=float)
-            self._jacobian_bytes += kept[key].nbytes
+        if key not in kept:
+            kept[key] = J = np.array(J, dtype=float)
+            self._jacobian_bytes += J.nbytes
         while self._jacobian_bytes > JACOBIAN_KEEP_BYTES:
             self._jacobian_bytes -= kept.pop(next(iter(kept))).nbytes
 
@@ -385,7 +384,8 @@ class HarmonicBalance:
         a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
         f, dF, fw = self._attach[0][0].harmonic_force_unchecked(x, omega, self.n_t, self.rtol)
         self.nfev += 1
-        self._keep_jacobian((0, omega, x.tobytes()), dF)  # the key _assemble looks up (its Xrel is [x])
+        if self.keep_jacobians:  # under the key _assemble looks up (its Xrel is [x])
+            self._keep_jacobian((0, omega, x.tobytes()), dF)
         p = self._swap  # cos <-> sin of each harmonic; the static term onto itself (b[0] = 0)
         R = x + (a * f + b * f[p])
         R[1] -= xl.real
