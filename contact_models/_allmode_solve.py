@@ -131,15 +131,15 @@ def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
     return basis
 
 
-def truncated(sol: AllModeSolution | tuple, X: NDArray[np.float64], odd: bool) -> tuple:
-    """``(F, dF/dX, dF/domega)`` of ``sol`` (a solution or such a triple, at least as long as X) on
-    the harmonics of ``X`` (copies).  ``odd``: ``sol`` was solved in the odd basis, its even block
-    filled, for an ``X`` whose even coefficients are at most rounding (:data:`EVEN_ROUNDING`); the
+def truncated(force: tuple, X: NDArray[np.float64], odd: bool) -> tuple:
+    """``(F, dF/dX, dF/domega)`` of a solution (``force``, that triple, at least as long as X) on the
+    harmonics of ``X`` (copies).  ``odd``: it was solved in the odd basis, its even block filled,
+    for an ``X`` whose even coefficients are at most rounding (:data:`EVEN_ROUNDING`); the
     force is then the odd solution's plus its first-order even part ``dF/dX X_even`` (dF/dX is block
     diagonal in odd and even coefficients at an odd solution).  The remainder is of second order, or,
     where the even part moves a sample across a stick/slip change, at most about ``EVEN_ROUNDING`` of
     the force scale: below the nested Newton's tolerance."""
-    F, J, dw = (sol.F, sol.dF_dX, sol.dF_domega) if isinstance(sol, AllModeSolution) else sol
+    F, J, dw = force
     m = X.size
     F, J = F[:m].copy(), J[:m, :m].copy()
     if odd:
@@ -176,10 +176,11 @@ class ForceMemo:
         hit = self._kept.get(key)
         return hit if hit is not None and hit[0].size >= m else None
 
-    def put(self, key: tuple, sol: AllModeSolution, m: int) -> None:
-        """Keep ``sol``'s force and derivatives on its first m coefficients under ``key``."""
-        m = min(m, sol.F.size)
-        value = (sol.F[:m].copy(), sol.dF_dX[:m, :m].copy(), sol.dF_domega[:m].copy())
+    def put(self, key: tuple, force: tuple, m: int) -> None:
+        """Keep ``force`` (F, dF/dX, dF/domega) on its first m coefficients under ``key``."""
+        F, J, dw = force
+        m = min(m, F.size)
+        value = (F[:m].copy(), J[:m, :m].copy(), dw[:m].copy())
         old = self._kept.pop(key, None)
         if old is not None:
             self._bytes -= len(key[3]) + sum(a.nbytes for a in old)

@@ -338,9 +338,10 @@ class AllModeMicroslip(ContactElement):
         self._warn([short] if short else [])
         if odd:
             self._level(sol.cells, sol.H).even_block(sol)
+        force = (sol.F, sol.dF_dX, sol.dF_domega)
         if key is not None:  # kept for an estimate's Newton step at 2H + 1 harmonics too
-            self._memo.put(key, sol, 2 * X.size + 1)
-        return truncated(sol, X, odd)
+            self._memo.put(key, force, 2 * X.size + 1)
+        return truncated(force, X, odd)
 
     def _periodic_force(self, x, omega):
         """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end

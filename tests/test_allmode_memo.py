@@ -81,7 +81,7 @@ def test_the_memo_keeps_at_most_its_bytes_dropping_the_oldest():
         X = motion(7) * (1.0 + 0.1 * i)
         sol = fb.solve(X, OMEGA, odd=True)
         keys.append(ForceMemo.key(X, OMEGA, 7, True))
-        memo.put(keys[-1], sol, 7)
+        memo.put(keys[-1], (sol.F, sol.dF_dX, sol.dF_domega), 7)
     kept = [memo.get(k, 7) is not None for k in keys]
     assert kept[-1] and not kept[0] and 1 <= sum(kept) < 6
     assert memo._bytes <= 2000
