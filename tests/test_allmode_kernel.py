@@ -74,7 +74,7 @@ def path(request):
         with _hbal_compiled.numpy_only():
             yield
     elif _hbal_compiled.kernels() is None:
-        pytest.skip("numba is not installed (the fast extra)")
+        pytest.skip("the compiled kernels are off: numba not installed (the fast extra) or FRICTIONDAMP_COMPILED=0")
     else:
         yield
 

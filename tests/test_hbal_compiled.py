@@ -1,13 +1,17 @@
 """The compiled kernels of the all-mode bar (the optional ``fast`` extra, numba) against the numpy
 path, which stays the library's definition: the same numbers to 1e-12 relative, kernel by kernel,
 solve by solve and along a whole FRF (measured on the development machine: equal bit for bit).
-Skipped where numba is not installed; ``tests/test_allmode_kernel.py`` runs its independent dense
-checks on both paths."""
+Skipped where numba is not installed or ``FRICTIONDAMP_COMPILED=0`` turns the kernels off;
+``tests/test_allmode_kernel.py`` runs its independent dense checks on both paths."""
+
+import os
 
 import numpy as np
 import pytest
 
 pytest.importorskip("numba")
+if os.environ.get("FRICTIONDAMP_COMPILED", "1") == "0":
+    pytest.skip("FRICTIONDAMP_COMPILED=0 turns the compiled kernels off", allow_module_level=True)
 
 from contact_models import AllModeMicroslip  # noqa: E402
 from contact_models import _hbal_compiled as compiled  # noqa: E402
