@@ -173,13 +173,17 @@ class ForceMemo:
         self._bytes = 0
 
     @staticmethod
-    def key(X: NDArray[np.float64], omega: float, H: int, odd: bool) -> tuple:
-        """The key of the motion X (padded to the bar's H) at omega, solved in the odd basis or not."""
-        return H, odd, float(omega), pad_harmonics(np.asarray(X, dtype=float), H).tobytes()
+    def key(X: NDArray[np.float64], omega: float, H: int, odd: bool, even_block: bool = True) -> tuple:
+        """The key of the motion X (padded to the bar's H) at omega, solved in the odd basis or not, with
+        the even-even block of dF/dX or without (``AllModeMicroslip._odd_block_force``)."""
+        return H, odd, even_block, float(omega), pad_harmonics(np.asarray(X, dtype=float), H).tobytes()
 
     def get(self, key: tuple, m: int) -> tuple | None:
-        """The kept triple of ``key`` if it holds at least m coefficients, else None."""
+        """The kept triple of ``key`` if it holds at least m coefficients, else None; a key without the even
+        block is also served by the triple kept with it."""
         hit = self._kept.get(key)
+        if hit is None and not key[2]:
+            hit = self._kept.get(key[:2] + (True,) + key[3:])
         return hit if hit is not None and hit[0].size >= m else None
 
     def put(self, key: tuple, force: tuple, m: int) -> None:
@@ -189,12 +193,12 @@ class ForceMemo:
         value = (F[:m].copy(), J[:m, :m].copy(), dw[:m].copy())
         old = self._kept.pop(key, None)
         if old is not None:
-            self._bytes -= len(key[3]) + sum(a.nbytes for a in old)
+            self._bytes -= len(key[-1]) + sum(a.nbytes for a in old)
         self._kept[key] = value
-        self._bytes += len(key[3]) + sum(a.nbytes for a in value)
+        self._bytes += len(key[-1]) + sum(a.nbytes for a in value)
         while self._bytes > self.max_bytes and len(self._kept) > 1:
             k = next(iter(self._kept))
-            self._bytes -= len(k[3]) + sum(a.nbytes for a in self._kept.pop(k))
+            self._bytes -= len(k[-1]) + sum(a.nbytes for a in self._kept.pop(k))
 
 
 def scaled_samples(n_t: int, harmonics: int, H: int) -> int:

@@ -52,6 +52,7 @@ response the choice is made once per stretch instead, on fixed rungs (``start_ru
 """
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 from typing import TYPE_CHECKING
@@ -126,17 +127,15 @@ class AllModeMicroslip(ContactElement):
 
     Notes
     -----
-    The model, the solution and the choice of cells and harmonics are in the module docstring
-    and ``docs/theory.md`` (section "The all-mode bar").  Accuracy against converged references
-    and the cost of each knob: ``docs/validation.md`` and ``docs/performance.md``.  The steady
-    state of a node that never slips is taken with its slider at the centre of its motion (the
-    Masing convention; the symmetric state for the drive ``a sin(theta)``).  ``fourier``'s
-    ``rtol`` is not used: Newton converges to rounding (relative residual 1e-11), and the
-    accuracy is set by ``tol`` (or by ``cells``, ``harmonics`` and ``n_t`` when both are given:
-    then ``solve(..., estimate_error=True)`` and ``model_error`` estimate it, and nothing warns).
-    ``fourier`` raises FloatingPointError where the balance does not converge; ``solve`` reports
-    it in ``success`` and ``message``.  Where the largest rungs cannot meet ``tol`` a call warns
-    ``contact_models.AccuracyWarning`` once.
+    The model, the solution and the choice of cells and harmonics are in the module docstring and ``docs/theory.md``
+    (section "The all-mode bar").  Accuracy against converged references and the cost of each knob:
+    ``docs/validation.md`` and ``docs/performance.md``.  The steady state of a node that never slips is taken with its
+    slider at the centre of its motion (the Masing convention; the symmetric state for the drive ``a sin(theta)``).
+    ``fourier``'s ``rtol`` is not used: Newton converges to rounding (relative residual 1e-11), and the accuracy is
+    set by ``tol`` (or by ``cells``, ``harmonics`` and ``n_t`` when both are given: then ``solve(...,
+    estimate_error=True)`` and ``model_error`` estimate it, and nothing warns).  ``fourier`` raises FloatingPointError
+    where the balance does not converge; ``solve`` reports it in ``success`` and ``message``.  Where the largest rungs
+    cannot meet ``tol`` a call warns ``contact_models.AccuracyWarning`` once.
 
     Raises
     ------
@@ -156,13 +155,11 @@ class AllModeMicroslip(ContactElement):
     (True, True)
     """
 
-    #: It owns a force law for any periodic end motion (a nested harmonic balance), so the
-    #: multi-harmonic solver may use it at H > 1 (it implements the hook ``_harmonic_force``).
+    #: A force law for any periodic end motion (a nested balance: the hook ``_harmonic_force``), usable at H > 1.
     has_time_law = True
-    #: Its harmonic force is the nested balance solved to rounding (relative residual 1e-11) whatever
-    #: the caller's ``n_t`` and ``rtol`` (its own samples go with its H): the solver's estimate counts no
-    #: sampling error and no evaluation error beyond rounding; its discretisation error (cells, H and
-    #: its own samples) is ``model_error``.
+    #: Its harmonic force is the nested balance solved to rounding (relative residual 1e-11) whatever the caller's
+    #: ``n_t`` and ``rtol`` (its own samples go with its H): the solver's estimate counts no sampling error and no
+    #: evaluation error beyond rounding; its discretisation error (cells, H and its own samples) is ``model_error``.
     exact_harmonics = True
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int | None = None,
@@ -315,33 +312,37 @@ class AllModeMicroslip(ContactElement):
         self._warn([short] if short else [])
         return sol
 
-    def _harmonic_force(self, X: NDArray[np.float64], omega: float, n_t: int, rtol: float
+    def _harmonic_force(self, X: NDArray[np.float64], omega: float, n_t: int, rtol: float, even_block: bool = True
                         ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-        """End force coefficients ``F`` (2H+1), ``dF/dX`` and ``dF/domega`` for the end displacement
-        coefficients ``X`` (length 2H+1, H >= 1) at ``omega`` (rad/s): the multi-harmonic hook
-        (docs/extending.md, section 1, "Time laws"), checked by ``harmonic_force`` (or trusted by
-        ``harmonic_force_unchecked``).  A nested solve with at least H harmonics (the bar's own
-        resolution: ``harmonics``, or the rung chosen to ``tol``) on its own samples (``n_t`` and
-        ``rtol`` are not used: Newton converges to rounding), truncated to H; derivatives by the
-        implicit function theorem (exact for the discrete model).  FloatingPointError where the
-        nested solve fails (the solver's continuation shortens its step).  Even coefficients of
-        rounding size (``EVEN_ROUNDING``): the odd basis (``truncated``); a fixed rung's answers are
-        kept by their exact motion and frequency (``ForceMemo``).
+        """End force coefficients ``F`` (2H+1), ``dF/dX`` and ``dF/domega`` for the end displacement coefficients
+        ``X`` (length 2H+1, H >= 1) at ``omega`` (rad/s): the multi-harmonic hook (docs/extending.md, section 1,
+        "Time laws"), checked by ``harmonic_force`` (or trusted by ``harmonic_force_unchecked``).  A nested solve with
+        at least H harmonics (the bar's own resolution: ``harmonics``, or the rung chosen to ``tol``) on its own
+        samples (``n_t`` and ``rtol`` are not used: Newton converges to rounding), truncated to H; derivatives by the
+        implicit function theorem (exact for the discrete model).  FloatingPointError where the nested solve fails
+        (the solver's continuation shortens its step).  Even coefficients of rounding size (``EVEN_ROUNDING``): the
+        odd basis (``truncated``), where ``even_block=False`` (``_odd_block_force``) leaves the even-even block of
+        dF/dX 0 instead of its elimination on the even harmonics; a fixed rung's answers are kept by their exact
+        motion and frequency (``ForceMemo``).
         """
         odd = is_odd(X, EVEN_ROUNDING)
-        key = ForceMemo.key(X, omega, max((X.size - 1) // 2, self.harmonics), odd) if self._fixed else None
+        even_block = even_block or not odd
+        key = ForceMemo.key(X, omega, max((X.size - 1) // 2, self.harmonics), odd, even_block) if self._fixed else None
         if key is not None and (kept := self._memo.get(key, X.size)) is not None:
             return truncated(kept, X, odd)
         sol, short = self._resolved(X, float(omega), odd)
         if not sol.success:  # numerical trouble, not bad input: a continuation shrinks its step on it
             raise FloatingPointError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
         self._warn([short] if short else [])
-        if odd:
+        if odd and even_block:
             self._level(sol.cells, sol.H).even_block(sol)
         force = (sol.F, sol.dF_dX, sol.dF_domega)
         if key is not None:  # kept for an estimate's Newton step at 2H + 1 harmonics too
             self._memo.put(key, force, 2 * X.size + 1)
         return truncated(force, X, odd)
+
+    #: ``harmonic_force_unchecked(..., even_block=False)``: ``_harmonic_force`` without the even block.
+    _odd_block_force = functools.partialmethod(_harmonic_force, even_block=False)
 
     def _periodic_force(self, x, omega):
         """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end

@@ -206,11 +206,8 @@ class ContactElement(ABC):
         return (_shaped(e_s, shape), _shaped(e_c, shape)) if parts else _shaped(np.maximum(e_s, e_c), shape)
 
     def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
-        """``(f_s, f_c, df_s/da, df_c/da)`` on flat float64 arrays ``a``, ``omega`` of one size.
-
-        The solver's fast path: no validation and no broadcasting, so the caller guarantees
-        finite ``a >= 0``, ``omega >= 0`` and ``rtol > 0``.  Returns four flat arrays.
-        """
+        """``(f_s, f_c, df_s/da, df_c/da)``, four flat arrays, on flat float64 arrays ``a``, ``omega`` of one
+        size: the solver's fast path (no validation, no broadcasting: finite a, omega >= 0, rtol > 0)."""
         return self._fourier_derivatives(a, omega, rtol)
 
     def linear_amplitude(self, omega: float = 0.0) -> float:
@@ -228,10 +225,8 @@ class ContactElement(ABC):
         return self._linear_coefficients(nonnegative("omega", omega))
 
     def reference_amplitude(self, omega: float = 0.0) -> float:
-        """An amplitude (m) at which the element is clearly nonlinear (default ``slip_amplitude``).
-
-        Amplitude sweeps are measured in it, and property tests sample amplitudes around it.
-        """
+        """An amplitude (m) at which the element is clearly nonlinear (default ``slip_amplitude``):
+        amplitude sweeps are measured in it, and property tests sample amplitudes around it."""
         return self._reference_amplitude(nonnegative("omega", omega))
 
     def stuck_stiffness(self, omega: float = 0.0) -> float:
@@ -389,11 +384,15 @@ class ContactElement(ABC):
         n_t = count("n_t", n_t, 2 * H + 2)
         return self._harmonic_force(X, omega, n_t, rtol)
 
-    def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int,
-                                 rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:
+    def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL,
+                                 even_block: bool = True) -> tuple[NDArray, NDArray, NDArray]:
         """:meth:`harmonic_force` without validation: the solver's fast path (float64 ``X`` of
-        length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1)."""
-        return self._harmonic_force(X, omega, n_t, rtol)
+        length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1).  ``even_block=False``:
+        where X has no even harmonics beyond rounding, an element with the hook ``_odd_block_force``
+        (``AllModeMicroslip``) may leave the even-even block of dF/dX 0; a balance in receptance form
+        does not use it there (docs/multiharmonic.md, "Half-wave symmetry")."""
+        hook = self._harmonic_force if even_block else getattr(self, "_odd_block_force", self._harmonic_force)
+        return hook(X, omega, n_t, rtol)
 
     # ------------------------------------------------------------------ hooks
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:

@@ -7,8 +7,8 @@ import warnings
 import numpy as np
 import pytest
 
-from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, NumericalMicroslip, QuadraticLoad,
-                            SampledLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
+from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, Macroslip, NumericalMicroslip,
+                            QuadraticLoad, SampledLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models._allmode_solve import FixedBar
 from contact_models._hbal import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
                                   jenkins_state, rows_product)
@@ -282,8 +282,10 @@ def test_even_coefficients_of_rounding_size_are_solved_in_the_odd_basis():
 
 
 def test_a_three_harmonic_balance_keeps_the_bar_in_the_odd_basis():
-    """The blade at H = 3 with the all-mode bar: the balance's even coefficients are rounding, and no
-    nested solve is in the full basis (63 coefficients a node instead of 32 at H = 31)."""
+    """The blade at H = 3 with the all-mode bar: the balance's even coefficients are rounding (0 here: the
+    element leaves the even block of dF/dX out, so the balance's even block is the identity and its Newton
+    steps set them to 0), and no nested solve is in the full basis (63 coefficients a node instead of 32 at
+    H = 31)."""
     from hbm import Contact, Structure, frequency_response
     from hbm.cli.cases import default_case
 
@@ -294,7 +296,57 @@ def test_a_three_harmonic_balance_keeps_the_bar_in_the_odd_basis():
     assert frf.success and len(frf.omega) > 5
     assert set(el._level(8, 7)._cache) == {True}
     even = np.abs(frf.coefficients(0)[:, [0, 2]])
-    assert 0.0 < np.max(even) < 1e-12 * np.max(np.abs(frf.coefficients(0)[:, 1]))
+    assert np.max(even) <= 1e-12 * np.max(np.abs(frf.coefficients(0)[:, 1]))
+
+
+def test_without_the_even_block_the_force_and_the_odd_block_are_the_whole_answer():
+    """``harmonic_force_unchecked(..., even_block=False)``: for a half-wave symmetric motion the same
+    force, odd block and omega-derivative as the whole answer, the even-even block 0; a later call that
+    asks for the block gets it (the kept answer without it is not returned); a motion with even harmonics
+    gets the whole answer anyway; an element without the hook answers whole."""
+    X = np.zeros(7)
+    X[2], X[5] = 2e-6, -0.3e-6
+    w = 0.4 * WC
+    el = AllModeMicroslip(BAR, CONCAVE, cells=10, harmonics=5)
+    F, dX, dw = el.harmonic_force_unchecked(X, w, 64, 1e-6, False)
+    Fx, dXx, dwx = AllModeMicroslip(BAR, CONCAVE, cells=10, harmonics=5).harmonic_force(X, w)
+    odd, even = [1, 2, 5, 6], [0, 3, 4]
+    np.testing.assert_allclose(F, Fx, rtol=0, atol=1e-12 * np.max(np.abs(Fx)))
+    np.testing.assert_allclose(dX[np.ix_(odd, odd)], dXx[np.ix_(odd, odd)], rtol=0, atol=1e-12 * KS)
+    np.testing.assert_allclose(dw, dwx, rtol=0, atol=1e-12 * np.max(np.abs(dwx)))
+    assert not dX[np.ix_(even, even)].any() and np.max(np.abs(dXx[np.ix_(even, even)])) > 0.01 * KS
+    np.testing.assert_allclose(el.harmonic_force(X, w)[1], dXx, rtol=0, atol=1e-12 * KS)  # asked whole: whole
+    X[0], X[3] = 0.2e-6, 0.1e-6  # even harmonics: the full basis, whole
+    whole = AllModeMicroslip(BAR, CONCAVE, cells=10, harmonics=5).harmonic_force(X, w)[1]
+    np.testing.assert_allclose(el.harmonic_force_unchecked(X, w, 64, 1e-6, False)[1], whole, rtol=0, atol=1e-9 * KS)
+    jen = Macroslip(stiffness=2.0, slip_force=1.0)
+    for a, b in zip(jen.harmonic_force_unchecked(X * 1e6, 1.0, 64, 1e-6, False), jen.harmonic_force(X * 1e6, 1.0)):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_hill_on_an_all_mode_curve_asks_again_for_the_whole_jacobians(monkeypatch):
+    """A frequency response keeps no Jacobian of the all-mode bar (its even block is left out) and Hill's
+    method asks the element again, whole, at its points: the curve, its exponents and its stability are
+    those of the balance that kept the whole Jacobians (the element without ``_odd_block_force``)."""
+    from hbm import Contact, Structure, frequency_response
+    from hbm.cli.cases import default_case
+
+    case = default_case()
+    b = case.blade
+    structure = Structure([[b.mass]], [[b.damping]], [[b.stiffness]], force=[b.force])
+
+    def run():
+        el = AllModeMicroslip(case.element.bar, UNIFORM, cells=8, harmonics=7)
+        frf = frequency_response(structure, [Contact(el, dof=0)], (38300.0, 38900.0), harmonics=3)
+        return frf, frf.exponents, frf.stable
+
+    frf, exponents, stable = run()
+    monkeypatch.delattr(AllModeMicroslip, "_odd_block_force")
+    ref, ref_exponents, ref_stable = run()
+    assert frf.success and len(frf.omega) == len(ref.omega) > 5
+    np.testing.assert_allclose(frf.amplitude, ref.amplitude, rtol=1e-10)
+    np.testing.assert_array_equal(stable, ref_stable)
+    np.testing.assert_allclose(exponents, ref_exponents, rtol=0, atol=1e-8 * np.max(np.abs(ref_exponents)))
 
 
 def test_end_at_rest_is_exact_with_the_stuck_jacobian_and_no_warning():

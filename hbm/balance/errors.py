@@ -405,7 +405,7 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
         e_s, e_c = (float(v) for v in el.model_error(a_c, w, parts=True)) if a_c > 0.0 else (0.0, 0.0)
         if e_s == e_c == 0.0:
             continue
-        Fc, Fs = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), w, same.n_t, same.rtol)[0][1:3]
+        Fc, Fs = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), w, same.n_t, same.rtol, False)[0][1:3]
         p, q = (Fc * xc + Fs * xs) / a_c**2, (Fc * xs - Fs * xc) / a_c**2
         floor = 0.01 * abs(float(el.linear_coefficients(0.0)[0]))
         for dk, direction in ((e_s * max(abs(p), floor), (xc, xs)), (e_c * max(abs(q), floor), (xs, -xc))):

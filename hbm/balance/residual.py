@@ -25,29 +25,28 @@ element types or system types.
 
 Two evaluations of this one balance, chosen by the problem's size:
 
-- **condensed** (any structure, any H, any contacts): premultiplied by the compliance
-  ``G_h = Z_h^-1`` restricted to the DOFs a, ``R = X - X_lin(omega) + G(omega) F(X)``, which
-  stays bounded at the resonances of the eliminated DOFs; R is scaled by ``x_ref sigma``
-  (``sigma = max(1, |X_1|/x_ref)``, so the Newton tolerance is relative to the response).
-  One element between the one condensation DOF and ground (a blade with its damper) takes the
-  same products in the real layout, without complex copies (``_condensed_one``).
+- **condensed** (any structure, any H, any contacts): premultiplied by the compliance ``G_h = Z_h^-1`` restricted
+  to the DOFs a, ``R = X - X_lin(omega) + G(omega) F(X)``, which stays bounded at the resonances of the eliminated
+  DOFs; R is scaled by ``x_ref sigma`` (``sigma = max(1, |X_1|/x_ref)``, so the Newton tolerance is relative to the
+  response).  One element between the one condensation DOF and ground (a blade with its damper) takes the same
+  products in the real layout, without complex copies (``_condensed_one``).  Where X has no even harmonics an
+  element may leave dF/dX's even-even block 0 (docs/multiharmonic.md, "Half-wave symmetry").
 - **one DOF at H = 1** with at most one contact answering by its describing function (the
   blade of the paper): the same equations in stiffness form, in floats,
 
   ``R_c = (k - m omega^2 + p) x_c + (c omega + q) x_s - F``,
   ``R_s = (k - m omega^2 + p) x_s - (c omega + q) x_c``,
 
-  scaled by F (no static term: it is exactly zero).  An array evaluation of three unknowns costs
-  more than the element's own call, so this is twenty times faster; ``tests/test_balance.py``
-  checks that both evaluations give the same branch.
+  scaled by F (no static term: it is exactly zero).  An array evaluation of three unknowns costs more than the
+  element's own call, so this is twenty times faster; ``tests/test_balance.py`` checks that both evaluations give
+  the same branch.
 
-In the one-DOF form the element's omega-derivative (a frequency-dependent element gives none)
-is a forward difference of relative step ``sqrt(rtol)``, taken at most once per
-``OMEGA_REFRESH`` relative change of omega or ``AMP_REFRESH`` of a and reused in between; it
-enters only the Newton matrix and the tangent, never the residual, so it does not move the
-converged points.  ``fresh_omega_derivative = True`` takes it anew at every call (peaks,
-folds).  Up to the element's ``linear_amplitude(omega)`` the element is linear and its
-``linear_coefficients(omega)`` are used without calling its Fourier routine.
+In the one-DOF form the element's omega-derivative (a frequency-dependent element gives none) is a forward difference
+of relative step ``sqrt(rtol)``, taken at most once per ``OMEGA_REFRESH`` relative change of omega or ``AMP_REFRESH``
+of a and reused in between; it enters only the Newton matrix and the tangent, never the residual, so it does not move
+the converged points.  ``fresh_omega_derivative = True`` takes it anew at every call (peaks, folds).  Up to the
+element's ``linear_amplitude(omega)`` the element is linear and its ``linear_coefficients(omega)`` are used without
+calling its Fourier routine.
 """
 
 from __future__ import annotations
@@ -183,9 +182,8 @@ class HarmonicBalance:
 
     Notes
     -----
-    In the one-DOF form ``physical(y)`` takes ``y = (x_c, x_s, omega)`` and returns ``R`` (2,)
-    in N and ``J`` (2, 3); in the condensed form ``y = (X_a (n_a (2H+1)), omega)`` and ``R``
-    is in m.  The arguments are not validated.
+    In the one-DOF form ``physical(y)`` takes ``y = (x_c, x_s, omega)`` and returns ``R`` (2,) in N and ``J`` (2, 3);
+    in the condensed form ``y = (X_a (n_a (2H+1)), omega)`` and ``R`` is in m.  The arguments are not validated.
 
     Examples
     --------
@@ -291,28 +289,28 @@ class HarmonicBalance:
     def forces(self, X: NDArray, omega: float, *, perturbation: bool = False) -> tuple[NDArray, NDArray, NDArray]:
         """Contact forces' harmonics F (n_a, L), dF/dX (n_a L, n_a L), dF/domega (n_a, L).
 
-        ``perturbation=True`` (Hill's method): an element whose displacement stays within its
-        linear range all period is a linear spring for a perturbation (nothing slips, its
-        internal state does not move), so its Jacobian is ``k_s I``; the balance's own Jacobian
-        differs only in the static term, where the centring convention of a Masing element's
-        periodic state (``contact_models.numerics.masing``) gives ``K_inf``.  A two-component
-        element (``Contact2D``) gets the rows of its tangential and normal attachments, (2, L).
-        """
-        return self._assemble(X, omega, perturbation, True)
+        ``perturbation=True`` (Hill's method): an element whose displacement stays within its linear range all
+        period is a linear spring for a perturbation (nothing slips, its internal state does not move), so its
+        Jacobian is ``k_s I``; the balance's own Jacobian differs only in the static term, where the centring
+        convention of a Masing element's periodic state (``contact_models.numerics.masing``) gives ``K_inf``.  A
+        two-component element (``Contact2D``) gets the rows of its tangential and normal attachments, (2, L)."""
+        return self._assemble(X, omega, perturbation, True, True)
 
     def perturbation_jacobian(self, X: NDArray, omega: float) -> NDArray:
         """``dF/dX`` (n_a L, n_a L) of :meth:`forces` with ``perturbation=True``, without the forces:
         an element in its linear range all period is not evaluated (its Jacobian is ``k_s I``)."""
-        return self._assemble(X, omega, True, False)[1]
+        return self._assemble(X, omega, True, False, True)[1]
 
-    def _assemble(self, X: NDArray, omega: float, perturbation: bool, force: bool) -> tuple[NDArray, NDArray, NDArray]:
+    def _assemble(self, X: NDArray, omega: float, perturbation: bool, force: bool,
+                  whole: bool) -> tuple[NDArray, NDArray, NDArray]:  # whole: dF/dX with its even block
         na, L = self.na, self.L
         F = np.zeros((na, L))
         dF = np.zeros((na, L, na, L))
         Fw = np.zeros((na, L))
         for e, (el, comps) in enumerate(self._attach):
             Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
-            c, linear = len(comps), False
+            # dF/dX whole (and kept for Hill) where asked, or kept and el cannot leave its even block out
+            c, linear, ask = len(comps), False, whole or (self.keep_jacobians and not hasattr(el, "_odd_block_force"))
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
@@ -320,9 +318,9 @@ class HarmonicBalance:
             if not force and not linear and key in self._jacobians:  # that same call's Jacobian, bit for bit
                 f, J, fw = np.zeros(c * L), self._jacobians[key], np.zeros(c * L)
             elif force or not linear:
-                f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol)
+                f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol, ask)
                 self.nfev += 1
-                if not perturbation and key is not None:
+                if not perturbation and key is not None and ask:
                     self._keep_jacobian(key, J)
             else:  # the forces are not asked for
                 f, fw = np.zeros(L), np.zeros(L)
@@ -360,7 +358,7 @@ class HarmonicBalance:
             return self._condensed_one(X[0], omega)
         na, L = self.na, self.L
         G, dG, xl, dxl = self.cond.at(omega)
-        F, dF, Fw = self.forces(X, omega)
+        F, dF, Fw = self._assemble(X, omega, False, True, False)
         cF = to_complex(F)  # (n_a, H+1)
         R = X + from_complex(np.einsum("hab,bh->ah", G, cF))
         R[:, 1] -= xl.real
@@ -378,13 +376,15 @@ class HarmonicBalance:
         return R.ravel(), J
 
     def _condensed_one(self, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
-        """:meth:`_condensed` for one element on the one condensation DOF, to ground: the same
-        products in the real layout, ``(g F)_c = g_r F_c + g_i F_s``, ``(g F)_s = g_r F_s - g_i F_c``
-        (``g_h = g_r + i g_i``, ``c_h = F_c - i F_s``), without the complex copies."""
+        """:meth:`_condensed` for one element on the one condensation DOF, to ground: the same products in the real
+        layout, ``(g F)_c = g_r F_c + g_i F_s``, ``(g F)_s = g_r F_s - g_i F_c`` (``g_h = g_r + i g_i``,
+        ``c_h = F_c - i F_s``), without the complex copies."""
         a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
-        f, dF, fw = self._attach[0][0].harmonic_force_unchecked(x, omega, self.n_t, self.rtol)
+        el = self._attach[0][0]
+        whole = self.keep_jacobians and not hasattr(el, "_odd_block_force")  # as in _assemble
+        f, dF, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, whole)
         self.nfev += 1
-        if self.keep_jacobians:  # under the key _assemble looks up (its Xrel is [x])
+        if whole:  # under the key _assemble looks up (its Xrel is [x])
             self._keep_jacobian((0, omega, x.tobytes()), dF)
         p = self._swap  # cos <-> sin of each harmonic; the static term onto itself (b[0] = 0)
         R = x + (a * f + b * f[p])
@@ -558,9 +558,8 @@ class HarmonicBalance:
 
 
 def solved_as_one_dof(structure: Structure, contacts: Sequence[Contact], H: int) -> bool:
-    """Whether the balance of ``structure`` with ``contacts`` at ``H`` harmonics is the one-DOF
-    single-harmonic balance (which needs no static compliance; every other needs K nonsingular,
-    :func:`static_deflection`)."""
+    """Whether the balance of ``structure`` with ``contacts`` at ``H`` harmonics is the one-DOF single-harmonic
+    balance (which needs no static compliance; every other needs K nonsingular, :func:`static_deflection`)."""
     return (structure.n == 1 and H == 1 and len(contacts) <= 1
             and all(c.element.exact_describing_function for c in contacts))
 
@@ -576,15 +575,15 @@ def static_deflection(structure: Structure) -> NDArray[np.float64]:
         if not np.all(np.isfinite(x_static)):
             raise np.linalg.LinAlgError
     except np.linalg.LinAlgError:
-        raise ValueError("K must be nonsingular (a structure held only by its contacts has no static "
-                         "compliance to condense with), got a singular K") from None
+        raise ValueError("K must be nonsingular (a structure held only by its contacts has no static compliance to "
+                         "condense with), got a singular K") from None
     return x_static
 
 
-def linear_response(blade: Any, omega: ArrayLike,
-                    stiffness: complex | Callable[[np.ndarray], ArrayLike] = 0.0) -> np.ndarray:
-    """Closed-form complex amplitude ``x_c - i x_s = F / (k + k_d - m w^2 + i c w)`` of the blade
-    with a linear spring ``stiffness`` (a number or a function of omega) in place of the damper."""
+def linear_response(blade: Any, omega: ArrayLike, stiffness: complex | Callable[[np.ndarray], ArrayLike] = 0.0
+                    ) -> np.ndarray:
+    """Closed-form complex amplitude ``x_c - i x_s = F / (k + k_d - m w^2 + i c w)`` of the blade with a linear
+    spring ``stiffness`` (a number or a function of omega) in place of the damper."""
     omega = np.asarray(omega, dtype=float)
     kd = stiffness(omega) if callable(stiffness) else stiffness
     return blade.force / (blade.stiffness + kd - blade.mass * omega**2 + 1j * blade.damping * omega)
@@ -596,5 +595,5 @@ def _finite_or_zero(k: Any) -> float:
     return k if math.isfinite(k) else 0.0
 
 
-__all__ = ["HarmonicBalance", "as_structure", "as_contacts", "check_problem", "linear_response",
-           "solved_as_one_dof", "static_deflection"]
+__all__ = ["HarmonicBalance", "as_structure", "as_contacts", "check_problem", "linear_response", "solved_as_one_dof",
+           "static_deflection"]
