@@ -449,10 +449,17 @@ class BandedBlockTridiagonal:
         return x.reshape(shape)
 
     def last_inverse(self) -> NDArray[np.float64]:
+        """C_{n-1}^{-1}: the solve of ``e_(n-1) I`` on the factors' last two blocks alone, O(s^3) instead of
+        O(n s^3).  LAPACK's forward sweep does nothing before them (the right-hand side is 0 there and its row
+        swaps reach at most s rows down), and the back substitution's last block reads only the last block of
+        U: the full solve's last block, to rounding (the band solver's blocking differs)."""
         if self._last is None:
-            e = np.zeros((self.n, self.s, self.s))
-            e[-1] = np.eye(self.s)
-            self._last = self.solve(e)[-1]
+            s = self.s
+            a = max(0, (self.n - 2) * s)  # the first row of the last two blocks
+            e = np.zeros((self.n * s - a, s))
+            e[-s:] = np.eye(s)
+            x, _ = self._trs(self._lu[:, a:], s, s, e, self._piv[a:] - a)
+            self._last = x[-s:]
         return self._last
 
 
