@@ -13,8 +13,8 @@ import pytest
 
 from contact_models import _hbal_compiled
 from contact_models._allmode_solve import FixedBar
-from contact_models._hbal import (BlockTridiagonal, aft_matrices, jacobian_prefix, jenkins_jacobian, jenkins_periodic,
-                                  jenkins_state)
+from contact_models._hbal import (BandedBlockTridiagonal, BlockTridiagonal, aft_matrices, jacobian_prefix,
+                                  jenkins_jacobian, jenkins_periodic, jenkins_state)
 from contact_models.allmode import AllModeMicroslip
 from hbm.cli.cases import default_case
 
@@ -208,6 +208,25 @@ def test_block_elimination_of_a_start_diagonal_but_for_the_first_row_is_the_dens
         x = fac.solve(r)
         dense = np.linalg.solve(A, r.reshape(n * s, -1)).reshape(r.shape)
         assert np.max(np.abs(x - dense)) <= 1e-12 * np.max(np.abs(dense))
+
+
+@pytest.mark.parametrize("n, s", [(1, 6), (2, 6), (9, 16), (40, 16)])
+def test_banded_last_inverse_is_the_dense_inverses_last_block(n, s):
+    """The band factorisation's last pivot inverse, solved on its last two blocks' rows alone, is the dense
+    inverse's last diagonal block and the whole band solve's, with row swaps (blocks with small diagonals)."""
+    rng = np.random.default_rng(n)
+    c = 2.5
+    B = rng.normal(size=(n, s, s)) + 0.1 * np.eye(s)  # small diagonals: LAPACK swaps rows across blocks
+    fac = BandedBlockTridiagonal(B, c)
+    assert np.any(fac._piv != np.arange(n * s))
+    A = dense_tridiagonal(B, np.zeros((n, s)), c, n, s)
+    Ainv_last = np.linalg.inv(A)[-s:, -s:]
+    e = np.zeros((n, s, s))
+    e[-1] = np.eye(s)
+    whole = fac.solve(e)[-1]
+    scale = np.max(np.abs(Ainv_last))
+    assert np.max(np.abs(fac.last_inverse() - Ainv_last)) <= 1e-11 * scale
+    assert np.max(np.abs(fac.last_inverse() - whole)) <= 1e-12 * scale
 
 
 def test_block_elimination_of_a_singular_diagonal_block_says_which():
