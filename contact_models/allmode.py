@@ -341,8 +341,8 @@ class AllModeMicroslip(ContactElement):
             self._memo.put(key, force, 2 * X.size + 1)
         return truncated(force, X, odd)
 
-    #: ``harmonic_force_unchecked(..., even_block=False)``: ``_harmonic_force`` without the even block.
-    _odd_block_force = functools.partialmethod(_harmonic_force, even_block=False)
+    even_block_optional = True  # harmonic_force_unchecked(..., even_block=False) calls _odd_block_force:
+    _odd_block_force = functools.partialmethod(_harmonic_force, even_block=False)  # without the even block
 
     def _periodic_force(self, x, omega):
         """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end

@@ -83,8 +83,8 @@ class ContactElement(ABC):
     (``PUBLIC_HOOKS``).  What a solver reads of an element (and nothing else): :attr:`frequency_dependent`,
     :attr:`has_time_law`, :meth:`fourier`, :meth:`fourier_derivatives`, :meth:`fourier_derivatives_unchecked`,
     :meth:`stuck_stiffness`, :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
-    :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force`, :meth:`harmonic_force_unchecked`
-    and :meth:`model_error`; docs/extending.md, section 1, states each hook and default.
+    :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force`, :meth:`harmonic_force_unchecked`,
+    :attr:`even_block_optional` and :meth:`model_error`; docs/extending.md, section 1, states each hook and default.
 
     Examples
     --------
@@ -100,6 +100,8 @@ class ContactElement(ABC):
     has_time_law: bool = False
     #: Displacement components read (rows of x and X): 1, or 2 (tangential, normal) for Contact2D.
     components: int = 1
+    #: True for an element whose ``_odd_block_force`` may leave dF/dX's even-even block 0 (``AllModeMicroslip``).
+    even_block_optional: bool = False
 
     # ------------------------------------------------------------------ public
     def fourier(self, a: ArrayLike, omega: ArrayLike = 0.0, *,
@@ -387,11 +389,10 @@ class ContactElement(ABC):
     def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL,
                                  even_block: bool = True) -> tuple[NDArray, NDArray, NDArray]:
         """:meth:`harmonic_force` without validation: the solver's fast path (float64 ``X`` of
-        length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1).  ``even_block=False``:
-        where X has no even harmonics beyond rounding, an element with the hook ``_odd_block_force``
-        (``AllModeMicroslip``) may leave the even-even block of dF/dX 0; a balance in receptance form
-        does not use it there (docs/multiharmonic.md, "Half-wave symmetry")."""
-        hook = self._harmonic_force if even_block else getattr(self, "_odd_block_force", self._harmonic_force)
+        length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1).  ``even_block=False``: where X has
+        no even harmonics beyond rounding, an element with :attr:`even_block_optional` may leave the even-even block
+        of dF/dX 0 (a balance in receptance form does not use it there: docs/multiharmonic.md, "Half-wave symmetry")."""
+        hook = self._harmonic_force if even_block or not self.even_block_optional else self._odd_block_force
         return hook(X, omega, n_t, rtol)
 
     # ------------------------------------------------------------------ hooks

@@ -310,7 +310,7 @@ class HarmonicBalance:
         for e, (el, comps) in enumerate(self._attach):
             Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
             # dF/dX whole (and kept for Hill) where asked, or kept and el cannot leave its even block out
-            c, linear, ask = len(comps), False, whole or (self.keep_jacobians and not hasattr(el, "_odd_block_force"))
+            c, linear, ask = len(comps), False, whole or (self.keep_jacobians and not el.even_block_optional)
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
@@ -381,7 +381,7 @@ class HarmonicBalance:
         ``c_h = F_c - i F_s``), without the complex copies."""
         a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
         el = self._attach[0][0]
-        whole = self.keep_jacobians and not hasattr(el, "_odd_block_force")  # as in _assemble
+        whole = self.keep_jacobians and not el.even_block_optional  # as in _assemble
         f, dF, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, whole)
         self.nfev += 1
         if whole:  # under the key _assemble looks up (its Xrel is [x])
