@@ -303,7 +303,7 @@ def test_without_the_even_block_the_force_and_the_odd_block_are_the_whole_answer
     """``harmonic_force_unchecked(..., even_block=False)``: for a half-wave symmetric motion the same
     force, odd block and omega-derivative as the whole answer, the even-even block 0; a later call that
     asks for the block gets it (the kept answer without it is not returned); a motion with even harmonics
-    gets the whole answer anyway; an element without the hook answers whole."""
+    gets the whole answer anyway; an element without ``even_block_optional`` answers whole."""
     X = np.zeros(7)
     X[2], X[5] = 2e-6, -0.3e-6
     w = 0.4 * WC
