@@ -8,6 +8,8 @@ Layout (docs/extending.md, section 1, "Time laws"): a real vector ``[X0, Xc1, Xs
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -328,6 +330,14 @@ def scalar_tridiagonal(diag: NDArray[np.float64], off: float, last: NDArray[np.f
     return U
 
 
+@functools.lru_cache(maxsize=None)
+def _getri_lwork(s: int) -> int:
+    """LAPACK's optimal workspace of ``dgetri`` for s x s (its blocked code; numba's inverse asks the same)."""
+    from scipy.linalg import lapack  # lazily: import contact_models stays light
+
+    return max(1, int(lapack.dgetri_lwork(s)[0]))
+
+
 class BlockTridiagonal:
     """Factorisation of the block-tridiagonal matrix with diagonal blocks ``B`` (n, s, s) and
     every off-diagonal block ``c I`` (the axial coupling of neighbouring nodes), by block
@@ -338,7 +348,7 @@ class BlockTridiagonal:
     first row (those nodes in a basis whose first coefficient is the mean: ``kc (I - e0 dc^T)``).
     There every ``C_i`` keeps that form, ``diag(d) + e0 w^T`` (w_0 = 0), and so does its inverse,
     ``diag(1/d) + e0 v^T`` with ``v_j = -w_j / (d_j d_0)``: O(s) a node instead of O(s^3).  Without
-    ``row0`` this is ``1 / C_i`` elementwise, what LAPACK's solve gives on a diagonal matrix, bit
+    ``row0`` this is ``1 / C_i`` elementwise, what LAPACK's inverse gives on a diagonal matrix, bit
     for bit."""
 
     def __init__(self, B: NDArray[np.float64], c: float, diagonal: int = 0, row0: bool = False) -> None:
@@ -367,7 +377,8 @@ class BlockTridiagonal:
             if self.row0:
                 wi = B[i, 0, 1:] - c2 * inv_v[i - 1, 1:] if i else B[0, 0, 1:]
                 inv_v[i, 1:] = -wi * inv_d[i, 1:] * inv_d[i, 0]
-        gesv, eye = lapack.dgesv, np.eye(s)
+        getrf, getri = lapack.dgetrf, lapack.dgetri
+        lwork = _getri_lwork(s)
         for i in range(k, n):
             if i == 0:
                 Ci = B[0]
@@ -378,9 +389,11 @@ class BlockTridiagonal:
                     Ci[0, 1:] -= c2 * inv_v[-1, 1:]
             else:
                 Ci = B[i] - c2 * self.inv[i - 1 - k]
-            # LAPACK's dgesv on the identity, as numpy.linalg.inv does, without its per-call overhead
-            # (a third of the time of a 32 x 32 inversion)
-            _, _, self.inv[i - k], info = gesv(Ci, eye)
+            # LAPACK's dgetrf and dgetri (the inverse from the LU factors, with the optimal workspace), as the
+            # compiled kernel's numpy.linalg.inv does, without numpy's per-call overhead
+            lu, piv, info = getrf(Ci)
+            if info == 0:
+                self.inv[i - k], info = getri(lu, piv, lwork=lwork)
             if info > 0:
                 raise np.linalg.LinAlgError(f"singular block {i} in the block elimination")
 

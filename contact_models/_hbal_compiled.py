@@ -3,7 +3,7 @@ is installed (the optional ``fast`` extra: ``pip install -e ".[fast]"``).
 
 The numpy path stays the library's definition: every kernel here does the same floating-point
 operations in the same order (the return map, the stick-run sums of the Jacobian, LAPACK's
-``dgesv`` on each pivot block and BLAS for the products), so the answers are those of the numpy
+``dgetrf`` and ``dgetri`` on each pivot block and BLAS for the products), so the answers are those of the numpy
 path; ``tests/test_hbal_compiled.py`` holds them to it (measured here: equal bit for bit).  What
 the kernels remove is Python's cost per sample, per node and per block: the return map is a loop
 over n_t samples in numpy, each step three array calls.
@@ -187,7 +187,6 @@ def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, 
     inv_v = np.zeros((k, s))
     inv = np.empty((n - k, s, s))
     c2 = c * c
-    eye = np.eye(s)
     for i in range(k):
         for q in range(s):
             di = B[i, q, q] - c2 * inv_d[i - 1, q] if i else B[0, q, q]
@@ -212,7 +211,7 @@ def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, 
             inv[i - k] = np.nan
             continue
         try:
-            inv[i - k] = np.linalg.solve(Ci, eye)  # LAPACK's dgesv, as the numpy path
+            inv[i - k] = np.linalg.inv(Ci)  # LAPACK's dgetrf and dgetri, as the numpy path
         except Exception:  # singular
             return inv_d, inv_v, inv, i
     return inv_d, inv_v, inv, -1
