@@ -24,7 +24,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._allmode_solve import AllModeSolution, FixedBar, _Basis, _Eval
-from ._hbal import factorise
 from .contact2d import slip_origins, stuck_midpoint
 
 if TYPE_CHECKING:
@@ -134,7 +133,8 @@ class NormalBar(FixedBar):
         return self.normal_parts(sol)
 
     def normal_parts(self, sol: AllModeSolution) -> NormalSolution:
-        """Add the normal force, the derivatives in V (implicit function theorem) and the separation mask."""
+        """Add the normal force, the derivatives in V (implicit function theorem) and the separation mask;
+        ``sol`` is this bar's last solve (its factorisation of dR/dU is taken from the warm-start cache)."""
         d, b = self.disc, self.basis(False)
         out = NormalSolution(**sol.__dict__)
         out.V = self.V.copy()
@@ -146,15 +146,13 @@ class NormalBar(FixedBar):
         s = b.E.shape[1]
         if not sol.success:  # no converged state to differentiate: dF_dV stays None
             return out
-        _, J, _, origins = self.nodes(sol.U, b, True)
+        _, _, _, origins = self.nodes(sol.U, b, False)
         # dR_i/dV = s_i P (w1 dlim_r1 E_r1 + w2 dlim_r2 E_r2): the limits move with v_i = s_i v
         B = np.empty((d.n + 1, s, s))
         for i, (r1, r2, w1, w2) in enumerate(origins):
             dl = self.dlim[i]
             B[i] = self.s[i] * (b.P @ ((w1 * dl[r1])[:, None] * b.E[r1] + (w2 * dl[r2])[:, None] * b.E[r2]))
-        Jb = J[:-1] + (d.kdiag[:-1, None] - sol.omega**2 * d.m[:-1, None] * b.order[None, :] ** 2)[:, :, None] \
-            * np.eye(s)[None]
-        fac = factorise(Jb, d.off)
+        fac = self._cache[False][3]  # the factorisation of dR/dU at sol, which its solve (the last) kept
         dU = -fac.solve(B[:-1])
         out.dF_dV = B[-1] + d.off * dU[-1]
         return out
