@@ -214,6 +214,53 @@ def test_a_stale_lock_is_taken_over_and_the_lock_is_released_on_error(tmp_path):
     assert not (out / "study.lock").exists()
 
 
+class _Stop(Exception):
+    pass
+
+
+def _raise_stop(signum, frame):
+    raise _Stop(signum)
+
+
+def test_a_signal_between_the_log_and_the_table_is_acted_on_once_both_have_the_run(tmp_path, monkeypatch):
+    """SIGTERM that lands while a run is written (here: inside the table's write, after the log's)
+    stops the study after the table has the run too, so the log and the table agree (the table
+    used to miss the run the log had: one row fewer than the runs kept)."""
+    from hbm.output import CsvStream
+    from hbm.study.execute import signals_held
+
+    write = CsvStream.write
+    calls = []
+
+    def write_then_signal(self, row, **kw):
+        calls.extend([row] if kw.get("count", True) else [])  # the header is not counted
+        if len(calls) == 3 and kw.get("count", True):  # the third run's row: the log already has that run
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.01)  # the handler would run here, before the row, without the hold
+        return write(self, row, **kw)
+
+    monkeypatch.setattr(CsvStream, "write", write_then_signal)
+    previous = signal.signal(signal.SIGTERM, _raise_stop)
+    try:
+        out = tmp_path / "out"
+        with pytest.raises(_Stop):
+            run_study(Study(_square, grid({"x": [1.0, 2.0, 3.0, 4.0, 5.0]})), out, executor="serial",
+                      formats=("csv",))
+        assert signal.getsignal(signal.SIGTERM) is _raise_stop
+        kept = read_records(out / "runs.jsonl")
+        rows = (out / "study.partial.csv").read_text().splitlines()
+        assert len(kept) == 3 and len(rows) == 1 + 3 and not (out / "study.lock").exists()
+        noted = []
+        with pytest.raises(_Stop), signals_held():  # acted on at the end, once: the body runs whole
+            os.kill(os.getpid(), signal.SIGTERM)
+            os.kill(os.getpid(), signal.SIGTERM)
+            time.sleep(0.01)
+            noted.append(True)
+        assert noted == [True]
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
 def _square(point):
     return {"peak_amplitude_m": point["x"] ** 2}
 

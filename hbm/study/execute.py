@@ -164,6 +164,36 @@ def _sigint_deferred() -> Iterator[None]:
         signal.signal(signal.SIGINT, previous)
 
 
+@contextlib.contextmanager
+def signals_held() -> Iterator[None]:
+    """Hold Ctrl-C and SIGTERM back while the body runs, and act on the first one after it.
+
+    A study writes each finished run to two files (``runs.jsonl`` and the CSV table); a signal
+    raised between the two writes left the log a run ahead of the table.  The body runs with
+    handlers that only note a signal; the previous handlers come back at its end, and the first
+    signal noted is then handed to its own (which raises, as it would have).  Outside the main
+    thread, where handlers cannot be set, the body runs as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    noted: list = []
+    held = {s: signal.signal(s, lambda signum, frame: noted.append((signum, frame)))
+            for s in (signal.SIGINT, signal.SIGTERM) if signal.getsignal(s) is not None}
+    try:
+        yield
+    finally:
+        for s, handler in held.items():
+            signal.signal(s, handler)
+        if noted:
+            signum, frame = noted[0]
+            handler = held[signum]
+            if callable(handler):
+                handler(signum, frame)
+            elif handler == signal.SIG_DFL:
+                signal.raise_signal(signum)
+
+
 def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Executor, Callable[[], None]]:
     """``(executor, close)`` on a Dask cluster: a ``LocalCluster`` of ``workers`` single-threaded
     worker processes, or the running scheduler at ``scheduler``.  ``ImportError`` saying how to
@@ -311,4 +341,4 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     return sorted(lost)
 
 
-__all__ = ["EXECUTORS", "DASK_MISSING", "PARENT_CHECK_S", "BLAS_THREAD_VARIABLES", "single_threaded_blas", "cores", "check_executor", "dask_executor", "run_tasks"]
+__all__ = ["EXECUTORS", "DASK_MISSING", "PARENT_CHECK_S", "BLAS_THREAD_VARIABLES", "single_threaded_blas", "cores", "signals_held", "check_executor", "dask_executor", "run_tasks"]

@@ -30,6 +30,7 @@ import numpy as np
 from ..output import CsvStream
 from ..scenes.reporting import jsonable
 from ..scenes.running import duration
+from .execute import signals_held
 from .figures import figure
 from .lock import LOCK, hold
 from .runs import RESULT_COLUMNS
@@ -349,11 +350,14 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
 
     def on_done(i: int, rec: dict) -> None:
         rec = {"run": i + 1, "id": ids[i], "params": study.points[i], **rec}
-        out["log"].write(json.dumps(rec) + "\n")
-        out["log"].flush()
-        if out["stream"] is not None:
-            out["stream"].write(csv_row(rec, params))
-        records[i] = rec
+        line = json.dumps(rec) + "\n"
+        row = csv_row(rec, params) if out["stream"] is not None else None
+        with signals_held():  # the log and the table take the run together, or neither does
+            out["log"].write(line)
+            out["log"].flush()
+            if row is not None:
+                out["stream"].write(row)
+            records[i] = rec
         counts["points"] += 1
         counts["failed"] += not rec["success"]
         if progress is not None:
