@@ -443,10 +443,10 @@ class BandedBlockTridiagonal:
         self.n, self.s = n, s
         N, k = n * s, s
         ab = np.zeros((3 * k + 1, N))
-        a = np.arange(s)
-        rows = 2 * k + a[:, None] - a[None, :]  # band row of A[i, j] is 2k + i - j
-        cols = np.arange(n)[:, None, None] * s + a[None, None, :]
-        ab[np.broadcast_to(rows, (n, s, s)), np.broadcast_to(cols, (n, s, s))] = B
+        # band row of A[i, j] is 2k + i - j: block b's entry (i, j) is ab[2k + i - j, b s + j], one strided
+        # view of ab (steps s along b, N along i, 1 - N along j from ab[2k, 0]), filled by one copy
+        it = ab.itemsize
+        np.lib.stride_tricks.as_strided(ab[2 * k:], shape=(n, s, s), strides=(s * it, N * it, (1 - N) * it))[...] = B
         ab[k, s:] = c  # upper block diagonal c I: A[i, i + s]
         ab[3 * k, : N - s] = c  # lower: A[i + s, i]
         self._lu, self._piv, info = lapack.dgbtrf(ab, k, k)
