@@ -175,7 +175,7 @@ class ForceMemo:
     @staticmethod
     def key(X: NDArray[np.float64], omega: float, H: int, odd: bool, even_block: bool = True) -> tuple:
         """The key of the motion X (padded to the bar's H) at omega, solved in the odd basis or not, with
-        the even-even block of dF/dX or without (``AllModeMicroslip._odd_block_force``)."""
+        the even-even block of dF/dX or without (``AllModeMicroslip._harmonic_force``'s ``even_block``)."""
         return H, odd, even_block, float(omega), pad_harmonics(np.asarray(X, dtype=float), H).tobytes()
 
     def get(self, key: tuple, m: int) -> tuple | None:

@@ -52,7 +52,6 @@ response the choice is made once per stretch instead, on fixed rungs (``start_ru
 """
 from __future__ import annotations
 
-import functools
 import math
 import warnings
 from typing import TYPE_CHECKING
@@ -321,7 +320,7 @@ class AllModeMicroslip(ContactElement):
         samples (``n_t`` and ``rtol`` are not used: Newton converges to rounding), truncated to H; derivatives by the
         implicit function theorem (exact for the discrete model).  FloatingPointError where the nested solve fails
         (the solver's continuation shortens its step).  Even coefficients of rounding size (``EVEN_ROUNDING``): the
-        odd basis (``truncated``), where ``even_block=False`` (``_odd_block_force``) leaves the even-even block of
+        odd basis (``truncated``), where ``even_block=False`` (``even_block_optional``) leaves the even-even block of
         dF/dX 0 instead of its elimination on the even harmonics; a fixed rung's answers are kept by their exact
         motion and frequency (``ForceMemo``).
         """
@@ -341,8 +340,7 @@ class AllModeMicroslip(ContactElement):
             self._memo.put(key, force, 2 * X.size + 1)
         return truncated(force, X, odd)
 
-    even_block_optional = True  # harmonic_force_unchecked(..., even_block=False) calls _odd_block_force:
-    _odd_block_force = functools.partialmethod(_harmonic_force, even_block=False)  # without the even block
+    even_block_optional = True  # harmonic_force_unchecked(..., even_block=False) passes even_block on to the hook
 
     def _periodic_force(self, x, omega):
         """The time law the multi-harmonic contract asks for (``periodic_force``): the steady end

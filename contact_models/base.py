@@ -100,7 +100,7 @@ class ContactElement(ABC):
     has_time_law: bool = False
     #: Displacement components read (rows of x and X): 1, or 2 (tangential, normal) for Contact2D.
     components: int = 1
-    #: True for an element whose ``_odd_block_force`` may leave dF/dX's even-even block 0 (``AllModeMicroslip``).
+    #: True where ``_harmonic_force`` takes ``even_block=False`` (then dF/dX's even-even block may be 0: all-mode bar).
     even_block_optional: bool = False
 
     # ------------------------------------------------------------------ public
@@ -392,8 +392,8 @@ class ContactElement(ABC):
         length 2H+1, ``omega >= 0``, ``n_t >= 2H+2``, and a time law if H > 1).  ``even_block=False``: where X has
         no even harmonics beyond rounding, an element with :attr:`even_block_optional` may leave the even-even block
         of dF/dX 0 (a balance in receptance form does not use it there: docs/multiharmonic.md, "Half-wave symmetry")."""
-        hook = self._harmonic_force if even_block or not self.even_block_optional else self._odd_block_force
-        return hook(X, omega, n_t, rtol)
+        kw = {} if even_block or not self.even_block_optional else {"even_block": False}  # only elements that take it
+        return self._harmonic_force(X, omega, n_t, rtol, **kw)
 
     # ------------------------------------------------------------------ hooks
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
