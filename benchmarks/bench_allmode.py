@@ -20,6 +20,10 @@ largest estimate and the AccuracyWarnings of the last round, and each time as a 
 single-mode one of the same run.  ``--frf-study [tol]``: 50 all-mode FRFs (normal loads 40..300 N)
 at ``tol`` (default 1e-2) on two processes.
 
+``python benchmarks/bench_allmode.py --passes [repeats]``: where the all-mode FRF's time goes at tol 1e-3, pass by
+pass (each continuation and each curve estimate timed), the first FRF in the process apart from the medians of the next
+``repeats`` (docs/performance.md, "The all-mode FRF: where its time goes by pass").
+
 ``python benchmarks/bench_allmode.py --peak [repeats]``: the main job's all-mode peak (``hbm.allmode_peak``) against the
 single-mode FRF, and the whole job (``python -m hbm`` in a new process) with ``--model given`` and by
 default, round-robin, wall and CPU medians (docs/performance.md, "The all-mode FRF").
@@ -233,6 +237,71 @@ def frf_rows(repeats: int = 3, before: bool = True):
     return rows
 
 
+def pass_rows(repeats: int = 3, tol: float = 1e-3):
+    """Where the all-mode FRF's time goes: the default case at ``tol`` (the element's tol the same)
+    ``repeats + 1`` times in this process, each continuation (``hbm.continuation.continuation``, the
+    whole range and each window traced again) and each curve estimate (``hbm.balance.errors.estimate``)
+    timed by wrapping it; the first FRF (loading: numba's cached kernels, first calls) apart, then
+    the medians of the others, pass by pass, with the single-mode FRF's median for the ratio."""
+    from hbm import continuation as cont_module
+    from hbm import frequency_response
+    from hbm.balance import errors
+    from hbm.cli.cases import default_case
+
+    case = default_case()
+    bar, load = case.element.bar, case.element.load
+    log: list = []
+
+    def timed(kind, fn, what):
+        def wrapper(*args, **kwargs):
+            t = time.perf_counter()
+            out = fn(*args, **kwargs)
+            log.append((kind, *what(args, out), time.perf_counter() - t))
+            return out
+        return wrapper
+
+    def rung(problem):
+        return "; ".join(getattr(c.element, "model_name", type(c.element).__name__) for c in problem.contacts)
+
+    def traced(args, out):
+        om = args[0].to_physical(out.y)[1] if len(out.y) else np.zeros(1)
+        return args[0].H, rung(args[0]), len(out.y), out.nfev, f"{om.min():.0f}..{om.max():.0f}"
+
+    saved = cont_module.continuation, errors.estimate
+    cont_module.continuation = timed("trace", saved[0], traced)
+    errors.estimate = timed("estimate", saved[1], lambda args, out: (args[0].H, rung(args[0]), len(args[2]), 0, ""))
+    runs, single = [], []
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            for _ in range(repeats + 1):
+                log.clear()
+                t = time.perf_counter()
+                frf = frequency_response(case.blade, AllModeMicroslip(bar, load, tol=tol), case.omega_range, tol=tol)
+                runs.append((time.perf_counter() - t, list(log), len(frf)))
+                t = time.perf_counter()
+                frequency_response(case.blade, case.element, omega_range=case.omega_range)
+                single.append(time.perf_counter() - t)
+    finally:
+        cont_module.continuation, errors.estimate = saved
+    base = statistics.median(single[1:])
+    print(machine_line(machine()))
+    print(f"all-mode FRF at tol = {tol:g}: first in the process {runs[0][0]:.2f} s, then median of {repeats} "
+          f"{statistics.median(r[0] for r in runs[1:]):.2f} s ({statistics.median(r[0] for r in runs[1:]) / base:.0f}x "
+          f"the single-mode FRF, {base:.3f} s); {runs[-1][2]} points")
+    rows = []
+    for j, entry in enumerate(runs[-1][1]):
+        warm = statistics.median(r[1][j][-1] for r in runs[1:])
+        rows.append([entry[0], str(entry[1]), entry[2], str(entry[3]), str(entry[4] or ""), entry[5],
+                     f"{runs[0][1][j][-1]:.3f} s", f"{warm:.3f} s"])
+    rest = [r[0] - sum(e[-1] for e in r[1]) for r in runs]
+    rows.append(["the rest (rungs probed, splice)", "", "", "", "", "", f"{rest[0]:.3f} s",
+                 f"{statistics.median(rest[1:]):.3f} s"])
+    print(table(["what", "balance H", "rung", "points", "evaluations", "omega (rad/s)", "first FRF",
+                 f"median of {repeats}"], rows))
+    return rows
+
+
 def _frf_run(args):
     """One run of the all-mode FRF study: the default case with normal load N at ``tol``, rungs along
     the curve; (N, peak amplitude, largest estimate, CPU s)."""
@@ -367,6 +436,10 @@ if __name__ == "__main__":
     if "--peak" in sys.argv:
         rest = [a for a in sys.argv[1:] if a != "--peak"]
         peak_rows(int(rest[0]) if rest else 3)
+        sys.exit()
+    if "--passes" in sys.argv:
+        rest = [a for a in sys.argv[1:] if a != "--passes"]
+        pass_rows(int(rest[0]) if rest else 3)
         sys.exit()
     if "--estimates" in sys.argv:
         estimate_rows()
