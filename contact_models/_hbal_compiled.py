@@ -8,16 +8,27 @@ path; ``tests/test_hbal_compiled.py`` holds them to it (measured here: equal bit
 the kernels remove is Python's cost per sample, per node and per block: the return map is a loop
 over n_t samples in numpy, each step three array calls.
 
-Set the environment variable ``FRICTIONDAMP_COMPILED=0`` to keep the numpy path with numba
-installed.  The first use in a fresh installation compiles the kernels (some seconds); numba
-caches them beside this module (or in the user's cache folder), so later processes load them;
-where it finds no writable place for its cache, every process compiles them again.
+Loading them costs a process about 0.4 s (numba's import, its typing registries at the first cached
+kernel, the kernels themselves): what they save on about 0.8 s of nested solves on the numpy path,
+which they roughly halve.  So they are loaded when they pay: once the nested solves have spent
+``LOAD_AFTER`` seconds on the numpy path (the rent-or-buy rule: a process whose bar work is shorter,
+such as the main job's all-mode peak, is faster without them, and a longer one is late by at most
+those seconds of numpy work), or at once where a whole curve is about to be traced on the bar's
+rungs (``AllModeMicroslip.start_rung`` calls ``kernels(load=True)``).  The answers do not depend on
+when: both paths give the same numbers.
+
+The environment variable ``FRICTIONDAMP_COMPILED`` overrides the rule: ``0`` keeps the numpy path with
+numba installed, ``1`` loads the kernels at the first nested solve.  The first use in a fresh
+installation compiles the kernels (some seconds); numba caches them beside this module (or in the
+user's cache folder), so later processes load them; where it finds no writable place for its cache,
+every process compiles them again.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import time
 from collections.abc import Iterator
 from types import SimpleNamespace
 
@@ -29,15 +40,23 @@ _KERNELS: SimpleNamespace | None = None
 _TRIED = False
 #: False while :func:`numpy_only` is in force.
 _ENABLED = True
+#: Seconds of nested solves on the numpy path after which the kernels are loaded (module docstring):
+#: above the 0.3 s of the main job's all-mode peak, and about the 0.4 s that loading them costs.
+LOAD_AFTER = 0.5
+_NUMPY_SECONDS = 0.0  # the nested solves' time on the numpy path while the kernels were not loaded
 
 
-def kernels() -> SimpleNamespace | None:
-    """The compiled kernels, or None: numba not installed, ``FRICTIONDAMP_COMPILED=0``, or
-    inside :func:`numpy_only`.  Compiled (or loaded from numba's cache) on the first call."""
+def kernels(load: bool = False) -> SimpleNamespace | None:
+    """The compiled kernels, or None: numba not installed, ``FRICTIONDAMP_COMPILED=0``, inside
+    :func:`numpy_only`, or not loaded yet (the module docstring's rule; ``load=True`` loads them now).
+    Compiled, or loaded from numba's cache, once."""
     global _KERNELS, _TRIED
-    if not _ENABLED or os.environ.get("FRICTIONDAMP_COMPILED", "1") == "0":
+    mode = os.environ.get("FRICTIONDAMP_COMPILED", "")
+    if not _ENABLED or mode == "0":
         return None
     if not _TRIED:
+        if not (load or mode == "1" or _NUMPY_SECONDS >= LOAD_AFTER):
+            return None
         _TRIED = True
         try:
             import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
@@ -50,6 +69,18 @@ def kernels() -> SimpleNamespace | None:
         except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
             _KERNELS = SimpleNamespace(**{k: numba.njit(nogil=True)(f) for k, f in funcs.items()})
     return _KERNELS
+
+
+def numpy_clock() -> float | None:
+    """The time now where the kernels may still be loaded (enabled and not yet loaded), else None: a
+    nested solve that starts with it reports its time with :func:`numpy_spent`."""
+    return None if _TRIED or not _ENABLED else time.perf_counter()
+
+
+def numpy_spent(since: float) -> None:
+    """Count the time since ``since`` (from :func:`numpy_clock`) towards ``LOAD_AFTER``."""
+    global _NUMPY_SECONDS
+    _NUMPY_SECONDS += time.perf_counter() - since
 
 
 @contextlib.contextmanager

@@ -64,6 +64,7 @@ from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, lower
 from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, ForceMemo, is_odd,
                              pad_harmonics, scaled_samples, truncated)
 from ._hbal import aft_matrices
+from ._hbal_compiled import kernels
 from .accuracy import AccuracyWarning
 from .bar import Bar
 from .base import DEFAULT_RTOL, ContactElement
@@ -212,14 +213,15 @@ class AllModeMicroslip(ContactElement):
 
     # ------------------------------------------------------------ rungs along a curve
     def start_rung(self, omega_range: tuple[float, float]) -> AllModeMicroslip | None:
-        """The cheap fixed rung a frequency response over ``omega_range`` (rad/s) starts on where this
-        element chooses its cells and harmonics (both None): ``START_HARMONICS`` = 15 harmonics and
-        ``START_CELLS`` = 16 cells, doubled while fewer than the wavelength of the 15th harmonic at the
-        top of the range asks for (``start_cells``); the same ``tol``; None where cells or harmonics are
-        given.  Refined along the curve (``refined_rung``; docs/theory.md, "The all-mode bar along a curve")."""
+        """The cheap fixed rung a frequency response over ``omega_range`` (rad/s) starts on where this element chooses
+        its cells and harmonics (both None): ``START_HARMONICS`` = 15 harmonics and ``START_CELLS`` = 16 cells, doubled
+        while fewer than the wavelength of the 15th harmonic at the top of the range asks for (``start_cells``); the
+        same ``tol``; None where cells or harmonics are given.  Refined along the curve (``refined_rung``; see
+        docs/theory.md, "The all-mode bar along a curve"), so the compiled kernels, if installed, are loaded now."""
         if self.cells is not None or self.harmonics is not None:
             return None
         w_hi = max(nonnegative("omega_range", w) for w in omega_range)
+        kernels(load=True)
         n = START_CELLS
         while n < min(MAX_CELLS, start_cells(self.bar, w_hi, START_HARMONICS)):
             n *= 2

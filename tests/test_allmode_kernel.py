@@ -73,7 +73,7 @@ def path(request):
     if request.param == "numpy":
         with _hbal_compiled.numpy_only():
             yield
-    elif _hbal_compiled.kernels() is None:
+    elif _hbal_compiled.kernels(load=True) is None:
         pytest.skip("the compiled kernels are off: numba not installed (the fast extra) or FRICTIONDAMP_COMPILED=0")
     else:
         yield

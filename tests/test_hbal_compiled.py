@@ -27,7 +27,7 @@ RTOL = 1e-12
 
 def both(run):
     """``(numpy path's answer, compiled path's answer)`` of ``run()``."""
-    assert compiled.kernels() is not None
+    assert compiled.kernels(load=True) is not None
     with compiled.numpy_only():
         plain = run()
     return plain, run()
@@ -49,12 +49,55 @@ def assert_same(a, b):
 
 
 def test_the_kernels_are_switched_off_by_the_environment_and_in_numpy_only(monkeypatch):
-    assert compiled.kernels() is not None
+    assert compiled.kernels(load=True) is not None
     with compiled.numpy_only():
-        assert compiled.kernels() is None
+        assert compiled.kernels(load=True) is None
     assert compiled.kernels() is not None
     monkeypatch.setenv("FRICTIONDAMP_COMPILED", "0")
+    assert compiled.kernels(load=True) is None
+
+
+@pytest.fixture
+def not_loaded(monkeypatch):
+    """The kernels as in a fresh process: not loaded, no numpy time counted, no override."""
+    monkeypatch.delenv("FRICTIONDAMP_COMPILED", raising=False)
+    monkeypatch.setattr(compiled, "_TRIED", False)
+    monkeypatch.setattr(compiled, "_KERNELS", None)
+    monkeypatch.setattr(compiled, "_NUMPY_SECONDS", 0.0)
+
+
+def test_the_kernels_are_loaded_once_the_numpy_path_has_spent_load_after_in_nested_solves(not_loaded, monkeypatch,
+                                                                                          bar_load):
+    monkeypatch.setattr(compiled, "LOAD_AFTER", 0.02)
+    fb = FixedBar(*bar_load, 16, 15, 128)
+    X = np.zeros(31)
     assert compiled.kernels() is None
+    solves = 0
+    while compiled.kernels() is None:  # each solve on the numpy path counts its time
+        assert compiled.numpy_clock() is not None and solves < 1000
+        before = compiled._NUMPY_SECONDS
+        X[2] = (1.0 + 0.01 * solves) * 1e-6
+        fb.solve(X, 38500.0, odd=True)
+        assert compiled._NUMPY_SECONDS > before
+        solves += 1
+    assert compiled._NUMPY_SECONDS >= 0.02 and solves >= 1
+    assert compiled.numpy_clock() is None  # loaded: nothing counted any more
+    with compiled.numpy_only():  # nor is the numpy path asked for explicitly
+        assert compiled.numpy_clock() is None
+
+
+def test_a_curve_on_the_rungs_loads_them_at_once_and_the_environment_overrides_the_rule(not_loaded, monkeypatch,
+                                                                                        bar_load):
+    assert compiled.kernels() is None
+    assert AllModeMicroslip(*bar_load).start_rung((35000.0, 42000.0)) is not None
+    assert compiled.kernels() is not None and compiled._NUMPY_SECONDS == 0.0
+    monkeypatch.setattr(compiled, "_TRIED", False)
+    monkeypatch.setattr(compiled, "_KERNELS", None)
+    monkeypatch.setenv("FRICTIONDAMP_COMPILED", "0")
+    assert AllModeMicroslip(*bar_load).start_rung((35000.0, 42000.0)) is not None
+    assert compiled.kernels() is None and compiled.kernels(load=True) is None
+    monkeypatch.setenv("FRICTIONDAMP_COMPILED", "1")
+    assert compiled.kernels() is not None  # at the first use, whatever the time spent
 
 
 def test_without_a_writable_cache_the_kernels_are_compiled_uncached(monkeypatch):
@@ -66,7 +109,7 @@ def test_without_a_writable_cache_the_kernels_are_compiled_uncached(monkeypatch)
     monkeypatch.setattr(impl, "_locator_classes", [])
     monkeypatch.setattr(compiled, "_TRIED", False)
     monkeypatch.setattr(compiled, "_KERNELS", None)
-    kernels = compiled.kernels()
+    kernels = compiled.kernels(load=True)
     assert kernels is not None
     assert type(kernels.march._cache).__name__ == "NullCache"  # a dispatcher without a cache
 
