@@ -284,6 +284,8 @@ def pass_rows(repeats: int = 3, tol: float = 1e-3):
                 single.append(time.perf_counter() - t)
     finally:
         cont_module.continuation, errors.estimate = saved
+    if any(len(r[1]) != len(runs[-1][1]) for r in runs):  # the rows pair the passes of the runs in order
+        raise RuntimeError(f"the FRFs took different passes: {[len(r[1]) for r in runs]} traces and estimates")
     base = statistics.median(single[1:])
     print(machine_line(machine()))
     print(f"all-mode FRF at tol = {tol:g}: first in the process {runs[0][0]:.2f} s, then median of {repeats} "
