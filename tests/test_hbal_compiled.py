@@ -230,3 +230,23 @@ def test_an_all_mode_frf_is_the_numpy_one(bar_load):
     plain, fast = both(run)
     assert plain[0].size > 20
     assert_same(plain, fast)
+
+
+def test_an_frf_that_loads_the_kernels_midway_is_the_numpy_one(not_loaded, monkeypatch, bar_load):
+    """The rule switches paths between two nested solves of one curve: the curve is still the numpy one."""
+    bar, load = bar_load
+    blade = default_case().blade
+    monkeypatch.setattr(compiled, "LOAD_AFTER", 0.02)
+
+    def run():
+        frf = frequency_response(blade, AllModeMicroslip(bar, load, cells=16, harmonics=15), (38400.0, 39200.0))
+        return frf.omega, frf.amplitude, frf.error_estimate
+
+    with compiled.numpy_only():  # not counted towards loading
+        plain = run()
+    assert compiled._NUMPY_SECONDS == 0.0 and compiled.kernels() is None
+    mixed = run()
+    assert compiled.kernels() is not None and compiled._NUMPY_SECONDS >= 0.02  # loaded during the curve
+    assert plain[0].size > 20
+    assert_same(plain, mixed)
+
