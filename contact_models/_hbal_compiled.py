@@ -13,8 +13,8 @@ kernel, the kernels themselves): what they save on about 0.8 s of nested solves 
 which they roughly halve.  So they are loaded when they pay: once the nested solves have spent
 ``LOAD_AFTER`` seconds on the numpy path (the rent-or-buy rule: a process whose bar work is shorter,
 such as the main job's all-mode peak, is faster without them, and a longer one is late by at most
-those seconds of numpy work), or at once where a whole curve is about to be traced on the bar's
-rungs (``AllModeMicroslip.start_rung`` calls ``kernels(load=True)``).  The answers do not depend on
+those seconds of numpy work), or at once where a whole curve is about to be traced on the bar
+(``AllModeMicroslip.start_rung``, which a frequency response asks first, calls ``kernels(load=True)``).  The answers do not depend on
 when: both paths give the same numbers.
 
 The environment variable ``FRICTIONDAMP_COMPILED`` overrides the rule: ``0`` keeps the numpy path with

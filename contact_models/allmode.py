@@ -217,11 +217,11 @@ class AllModeMicroslip(ContactElement):
         its cells and harmonics (both None): ``START_HARMONICS`` = 15 harmonics and ``START_CELLS`` = 16 cells, doubled
         while fewer than the wavelength of the 15th harmonic at the top of the range asks for (``start_cells``); the
         same ``tol``; None where cells or harmonics are given.  Refined along the curve (``refined_rung``; see
-        docs/theory.md, "The all-mode bar along a curve"), so the compiled kernels, if installed, are loaded now."""
+        docs/theory.md, "The all-mode bar along a curve").  A curve follows: the compiled kernels load now."""
+        kernels(load=True)
         if self.cells is not None or self.harmonics is not None:
             return None
         w_hi = max(nonnegative("omega_range", w) for w in omega_range)
-        kernels(load=True)
         n = START_CELLS
         while n < min(MAX_CELLS, start_cells(self.bar, w_hi, START_HARMONICS)):
             n *= 2
