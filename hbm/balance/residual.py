@@ -15,13 +15,12 @@ The balance, harmonic by harmonic on the complex coefficients ``c_h = Xc_h - i X
 
     Z_h(omega) c_h + F_h(X, omega) = f_h,     Z_h = K - (h omega)^2 M + i h omega C,
 
-with the linear DOFs eliminated exactly (``hbm.balance.condensation``). The contacts answer
-``F``: at H = 1 an element whose describing function is exact (``exact_describing_function``)
-answers with it, ``F_c = p x_c + q x_s``, ``F_s = p x_s - q x_c`` (``p = f_s/a``, ``q = f_c/a``,
-``contact_models.numerics.describing``); otherwise its time law enters through alternating
-frequency-time (AFT, ``ContactElement.harmonic_force``) with the analytic Jacobian
-``E J_t E^-1``.  The balance asks each element what it can do; the solver has no switch over
-element types or system types.
+with the linear DOFs eliminated exactly (``hbm.balance.condensation``). The contacts answer ``F``: at H = 1 an
+element whose describing function is exact (``exact_describing_function``) answers with it, ``F_c = p x_c + q x_s``,
+``F_s = p x_s - q x_c`` (``p = f_s/a``, ``q = f_c/a``, ``contact_models.numerics.describing``); otherwise its time
+law enters through alternating frequency-time (AFT, ``ContactElement.harmonic_force``) with the analytic Jacobian
+``E J_t E^-1``.  The balance asks each element what it can do; the solver has no switch over element types or
+system types.
 
 Two evaluations of this one balance, chosen by the problem's size:
 
@@ -31,15 +30,14 @@ Two evaluations of this one balance, chosen by the problem's size:
   response).  One element between the one condensation DOF and ground (a blade with its damper) takes the same
   products in the real layout, without complex copies (``_condensed_one``).  Where X has no even harmonics an
   element may leave dF/dX's even-even block 0 (docs/multiharmonic.md, "Half-wave symmetry").
-- **one DOF at H = 1** with at most one contact answering by its describing function (the
-  blade of the paper): the same equations in stiffness form, in floats,
+- **one DOF at H = 1** with at most one contact answering by its describing function (the blade of the paper): the
+  same equations in stiffness form, in floats,
 
   ``R_c = (k - m omega^2 + p) x_c + (c omega + q) x_s - F``,
   ``R_s = (k - m omega^2 + p) x_s - (c omega + q) x_c``,
 
   scaled by F (no static term: it is exactly zero).  An array evaluation of three unknowns costs more than the
-  element's own call, so this is twenty times faster; ``tests/test_balance.py`` checks that both evaluations give
-  the same branch.
+  element's own call, so this is twenty times faster; ``tests/test_balance.py`` checks both give the same branch.
 
 In the one-DOF form the element's omega-derivative (a frequency-dependent element gives none) is a forward difference
 of relative step ``sqrt(rtol)``, taken at most once per ``OMEGA_REFRESH`` relative change of omega or ``AMP_REFRESH``
@@ -301,6 +299,10 @@ class HarmonicBalance:
         an element in its linear range all period is not evaluated (its Jacobian is ``k_s I``)."""
         return self._assemble(X, omega, True, False, True)[1]
 
+    def _whole_jacobian(self, el: ContactElement, asked: bool = False) -> bool:
+        """dF/dX whole from ``el``: where asked, or kept for Hill where ``el`` cannot leave its even block out."""
+        return asked or (self.keep_jacobians and not el.even_block_optional)
+
     def _assemble(self, X: NDArray, omega: float, perturbation: bool, force: bool,
                   whole: bool) -> tuple[NDArray, NDArray, NDArray]:  # whole: dF/dX with its even block
         na, L = self.na, self.L
@@ -309,8 +311,7 @@ class HarmonicBalance:
         Fw = np.zeros((na, L))
         for e, (el, comps) in enumerate(self._attach):
             Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
-            # dF/dX whole (and kept for Hill) where asked, or kept and el cannot leave its even block out
-            c, linear, ask = len(comps), False, whole or (self.keep_jacobians and not el.even_block_optional)
+            c, linear, ask = len(comps), False, self._whole_jacobian(el, whole)
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
@@ -381,7 +382,7 @@ class HarmonicBalance:
         ``c_h = F_c - i F_s``), without the complex copies."""
         a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
         el = self._attach[0][0]
-        whole = self.keep_jacobians and not el.even_block_optional  # as in _assemble
+        whole = self._whole_jacobian(el)
         f, dF, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, whole)
         self.nfev += 1
         if whole:  # under the key _assemble looks up (its Xrel is [x])
