@@ -14,8 +14,8 @@ which they roughly halve.  So they are loaded when they pay: once the nested sol
 ``LOAD_AFTER`` seconds on the numpy path (the rent-or-buy rule: a process whose bar work is shorter,
 such as the main job's all-mode peak, is faster without them, and a longer one is late by at most
 those seconds of numpy work), or at once where a whole curve is about to be traced on the bar
-(``AllModeMicroslip.start_rung``, which a frequency response asks first, calls ``kernels(load=True)``).  The answers do not depend on
-when: both paths give the same numbers.
+(``AllModeMicroslip.start_rung``, which a frequency response asks first, calls ``kernels(load=True)``).
+The answers do not depend on when: both paths give the same numbers.
 
 The environment variable ``FRICTIONDAMP_COMPILED`` overrides the rule: ``0`` keeps the numpy path with
 numba installed, ``1`` loads the kernels at the first nested solve.  The first use in a fresh
