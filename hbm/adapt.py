@@ -44,6 +44,10 @@ CUT_XTOL = 0.02
 #: like H^-4.2, H^-3.0, H^-2.1 from 3 to 7, 15, 31: the prediction is right at few harmonics and
 #: short at many, where the refined window's own estimate then asks for the next rung.
 DECAY_ORDER = 4.0
+#: Along a discretised element's rungs, a harmonics window whose points the model pass would trace again
+#: on a finer rung (the model source's windows above its share) for at least this fraction is traced once,
+#: at its new H on that finer rung, instead of at its new H on the cheap rung first (``rungs_too``).
+COMBINE_SHARE = 0.5
 
 
 @dataclasses.dataclass
@@ -249,6 +253,22 @@ def refined_contacts(contacts: list, excess: float = 1.0, span: tuple[float, flo
     return out if changed else None
 
 
+def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tuple[float, float],
+              knobs: Knobs) -> list | None:
+    """The contacts on their next rungs for a harmonics window ``i0..i1`` of ``f`` (the rungs' cheap
+    start), if the model pass would trace most of that window again anyway: where the model source's
+    windows above ``threshold`` cover at least ``COMBINE_SHARE`` of its points (then the window is
+    traced once, at its new H on the refined rungs, instead of on the cheap rung first); else None."""
+    if "model" not in f.error_sources:
+        return None
+    source = f.error_sources["model"]
+    covered = sum(b - a + 1 for a, b in windows(source, f._nodes, threshold, i0, i1 + 1))
+    if covered < COMBINE_SHARE * (i1 - i0 + 1):
+        return None
+    excess = float(np.max(source[i0:i1 + 1])) / threshold
+    return refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), True)
+
+
 # ------------------------------------------------------------------ the passes and the splice
 @dataclasses.dataclass
 class Plan:
@@ -265,20 +285,24 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
     """``frf`` (the whole range at the start setting) with its windows traced again: the model
     pass, then the harmonics pass on every stretch (the other way round with ``plan.rungs_only``: the
     structure's harmonics do not depend on the rung, so a stretch is traced at its H on the cheap rung
-    first, and the expensive rungs once, at that H); one result and the notes of the windows that
-    failed (their coarse points kept)."""
+    first, and the expensive rungs once, at that H, or at once where the model pass would trace most of
+    the harmonics window again: ``rungs_too``); one result and the notes of the windows that failed
+    (their coarse points kept)."""
     work, notes, full = [frf], [], {id(frf)}
     pieces = [(frf, 0, len(frf))]
     tol = knobs.tolerance
 
-    def model_step(f, excess=1.0, span=None):
+    def model_step(f, excess=1.0, span=None, points=None):
         better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), plan.rungs_only)
         return None if better is None else (better, f.harmonics)
 
-    def harmonics_step(f, excess=1.0, span=None):
+    def harmonics_step(f, excess=1.0, span=None, points=None):
         if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
             return None
-        return f.contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
+        contacts = f.contacts
+        if plan.rungs_only and plan.model_share is not None and points is not None:
+            contacts = rungs_too(f, *points, plan.model_share * tol, span, knobs) or contacts
+        return contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
 
     passes = [("model", plan.model_share, model_step), ("harmonics", plan.harmonics_share, harmonics_step)]
     for source, share, step in (passes[::-1] if plan.rungs_only else passes):
@@ -305,7 +329,7 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
             continue
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
         nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / threshold,
-                   (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))))
+                   (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))), (i0, i1))
         if nxt is None:  # nothing to refine for this window (a rung whose parts there are zero): kept
             continue
         if whole:

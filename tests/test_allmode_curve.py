@@ -145,3 +145,36 @@ def test_the_element_alone_keeps_its_choice_per_call():
     el = AllModeMicroslip(BAR, LOAD)
     sol = el.solve(1.5e-6, 38800.0)
     assert sol.relative_error <= el.tol and el.cells is None and el.harmonics is None
+
+
+def test_a_harmonics_window_the_model_pass_would_trace_again_is_traced_once_on_the_finer_rung(monkeypatch):
+    """At 300 N and tol = 1e-3 the window around the peak needs H = 3 and a finer rung: it is traced at
+    H = 3 on the finer rung at once (``hbm.adapt.rungs_too``), not on the start rung first, as it is with
+    that off (``COMBINE_SHARE`` above 1).  The curve is within tol, and its peak within its estimate of a
+    reference: the same balance (H = 3) with the bar on 256 cells and H = 31 (doubt: the change from 128
+    cells)."""
+    import hbm.adapt as adapt
+
+    load = type(LOAD)(N=300.0)
+
+    def frf():
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AccuracyWarning)
+            return frequency_response(CASE.blade, AllModeMicroslip(BAR, load, tol=1e-3), omega_range=CASE.omega_range,
+                                      tol=1e-3)
+
+    def traced(f):
+        return [(g.harmonics, str(g.point_models[0])) for g in f._work]
+
+    once = frf()
+    monkeypatch.setattr(adapt, "COMBINE_SHARE", 2.0)
+    twice = frf()
+    assert (3, START) not in traced(once) and (3, START) in traced(twice)
+    assert len(once._work) == len(twice._work) - 1
+    assert once.success and float(once.error_estimate.max()) <= 1e-3
+    assert any(s.harmonics == 3 and s.model != START for s in once.segments)
+    ref = {n: frequency_response(CASE.blade, AllModeMicroslip(BAR, load, n, 31), omega_range=(39200.0, 39500.0),
+                                 harmonics=3, estimate_error=False, max_step=0.02).peak().amplitude for n in (128, 256)}
+    i = int(np.argmax(once.amplitude))
+    doubt = abs(ref[128] / ref[256] - 1.0)
+    assert abs(once.amplitude[i] / ref[256] - 1.0) <= once.error_estimate[i] + doubt
