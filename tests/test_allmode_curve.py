@@ -178,3 +178,23 @@ def test_a_harmonics_window_the_model_pass_would_trace_again_is_traced_once_on_t
     i = int(np.argmax(once.amplitude))
     doubt = abs(ref[128] / ref[256] - 1.0)
     assert abs(once.amplitude[i] / ref[256] - 1.0) <= once.error_estimate[i] + doubt
+
+
+def test_the_estimate_is_computed_either_side_of_the_onset_of_slip():
+    """The model source has a kink at the onset of slip: below it the stuck stiffness's error, growing
+    towards the resonance; above it the slipping bar's.  The points either side of the onset are nodes
+    of the estimate (``hbm.balance.errors.onsets``), not interpolated: on 16 cells the last stuck point
+    before the resonance (38021 rad/s) was given 5.9e-4 interpolated between a stuck and a slipping node,
+    while it is 1.2e-3 off a converged reference (the stuck stiffness's 3.6e-4, through the balance)."""
+    from hbm.balance import errors
+
+    el = AllModeMicroslip(BAR, LOAD, 16, 15)
+    frf = frequency_response(CASE.blade, el, omega_range=(37000.0, 38300.0), harmonics=1, tol=1e-2)
+    stuck = frf.amplitude <= np.array([el.linear_amplitude(float(w)) for w in frf.omega])
+    i = int(np.flatnonzero(stuck[:-1] & ~stuck[1:])[0])  # the last stuck point
+    X = frf._X
+    assert set(errors.onsets(frf._problem, X, frf.omega, errors.nodes(frf.amplitude))) >= {i, i + 1}
+    alone = errors.estimate(frf._problem, X[i:i + 1], frf.omega[i:i + 1], frf.rtol)["model"][0]
+    assert frf.error_sources["model"][i] == pytest.approx(alone, rel=1e-12)
+    ref = amplitude_at(CASE.blade, AllModeMicroslip(BAR, LOAD, 512, 63), float(frf.omega[i]), float(frf.amplitude[i]))
+    assert abs(frf.amplitude[i] / ref - 1.0) <= frf.error_estimate[i]
