@@ -256,9 +256,14 @@ def refined_contacts(contacts: list, excess: float = 1.0, span: tuple[float, flo
 def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tuple[float, float],
               knobs: Knobs) -> list | None:
     """The contacts on their next rungs for a harmonics window ``i0..i1`` of ``f`` (the rungs' cheap
-    start), if the model pass would trace most of that window again anyway: where the model source's
-    windows above ``threshold`` cover at least ``COMBINE_SHARE`` of its points (then the window is
-    traced once, at its new H on the refined rungs, instead of on the cheap rung first); else None."""
+    start), if the model pass would trace most of that window again anyway and the rungs predicted are
+    the finest ones along a curve (``at_top_rung``): where the model source's windows above ``threshold``
+    cover at least ``COMBINE_SHARE`` of its points (then the window is traced once, at its new H on the
+    finest rungs, instead of on the cheap rung first); else None.  A cheap trace at the new H could only
+    lead to those rungs or coarser ones; a coarser rung predicted from the start rung's estimates at the
+    old H is not taken at once (at 252 N and 300 N the default case's peak window went to 128 cells and
+    H = 15 that way, where the cheap trace at H = 3 leads to H = 31; the nested solve's samples then
+    left its peaks 1.4 to 1.7 times their estimates off a converged reference)."""
     if "model" not in f.error_sources:
         return None
     source = f.error_sources["model"]
@@ -266,7 +271,10 @@ def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tu
     if covered < COMBINE_SHARE * (i1 - i0 + 1):
         return None
     excess = float(np.max(source[i0:i1 + 1])) / threshold
-    return refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), True)
+    better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), True)
+    if better is None or not all(getattr(c.element, "at_top_rung", False) for c in better):
+        return None
+    return better
 
 
 # ------------------------------------------------------------------ the passes and the splice
