@@ -45,8 +45,8 @@ CUT_XTOL = 0.02
 #: short at many, where the refined window's own estimate then asks for the next rung.
 DECAY_ORDER = 4.0
 #: Along a discretised element's rungs, a harmonics window whose points the model pass would trace again
-#: on a finer rung (the model source's windows above its share) for at least this fraction is traced once,
-#: at its new H on that finer rung, instead of at its new H on the cheap rung first (``rungs_too``).
+#: (the model source's windows above its share) for at least this fraction, on the finest rung predicted,
+#: is traced once, at its new H on that rung, instead of at its new H on the cheap rung first (``rungs_too``).
 COMBINE_SHARE = 0.5
 
 
