@@ -62,11 +62,11 @@ def quartic_peak(blade, bracket):
 def case(request):
     blade = Blade.from_modal(frequency=1.0, damping_ratio=request.param, mass=1.0, force=FORCE)
     frf = frequency_response(blade, macroslip(K_D, SLIP), omega_range=(0.5, 2.0))
-    return blade, frf
+    return blade, frf, (frf.nfev, frf.nit)  # the counters of the solve, before any test's peak() adds to them
 
 
 def test_every_point_satisfies_the_balance(case):
-    blade, frf = case
+    blade, frf, _ = case
     assert frf.success, frf.message
     R = np.array([balance(blade, xc, xs, w) for xc, xs, w in zip(frf.x_c, frf.x_s, frf.omega)])
     assert np.max(np.abs(R)) / blade.force <= 1e-8
@@ -74,7 +74,7 @@ def test_every_point_satisfies_the_balance(case):
 
 
 def test_peak_against_the_quartic(case):
-    blade, frf = case
+    blade, frf, _ = case
     w_pk, a_pk = frf.peak()
     w_ref, a_ref = quartic_peak(blade, (0.9 * a_pk, 1.1 * a_pk))
     assert a_pk == pytest.approx(a_ref, rel=1e-6)
@@ -84,10 +84,10 @@ def test_peak_against_the_quartic(case):
 
 
 def test_cost(case):
-    blade, frf = case
+    blade, frf, (nfev, nit) = case
     assert 200 <= len(frf) <= 300
-    assert frf.nfev <= 1.5 * len(frf)  # element calls: the stuck stretches cost none
-    assert frf.nit <= 1.5 * len(frf)
+    assert nfev <= 1.5 * len(frf)  # element calls: the stuck stretches cost none
+    assert nit <= 1.5 * len(frf)
 
 
 def time_integration(blade, omega, periods=60, samples=2048):
