@@ -169,7 +169,8 @@ def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
     amplitude = np.hypot(X[:, problem.dofs.index(problem.response_dof), 1],
                          X[:, problem.dofs.index(problem.response_dof), 2])
     out["peak"] = peak_location(amplitude, omega, NEWTON_SHARE * rtol)
-    idx = np.union1d(nodes(amplitude), onsets(problem, X, omega, nodes(amplitude)))
+    idx = nodes(amplitude)
+    idx = np.union1d(idx, onsets(problem, X, omega, idx))
     at = _one_dof if problem.one_dof else _condensed
     values = at(problem, X[idx], omega[idx], rtol)
     every = not problem.one_dof and 1 < problem.H <= EVERY_POINT_HARMONICS
