@@ -58,7 +58,8 @@ class AllModeSolution:
     ``cells``, ``H``: the discretisation this solution is on.  ``error``: the estimate of the
     error of (F_s, F_c) in N (the larger component of the sum of its parts), ``relative_error``:
     the same relative to max(|F|, 0.01 k* a) component by component (as ``tol``), and
-    ``error_parts``: ``"cells"`` (Richardson in cells with the observed order) and
+    ``error_parts``: ``"cells"`` (Richardson in cells with the observed order; below 128 cells
+    against the rung above, ``_allmode_accuracy.cells_error``) and
     ``"harmonics"`` (the same in H), in N; None and empty when not estimated.  ``error_components``:
     the sum of the parts on (F_c, F_s) in N (the components of ``error``).
     """

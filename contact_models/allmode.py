@@ -39,8 +39,9 @@ component relative to max(|f|, 0.01 k* a) as in the validity map, is below ``tol
 from a start tied to the wavelength of the highest harmonic and to the shear layer's decay length
 (``_allmode_accuracy.start_cells``), and harmonics climb the ladder 7, 15, 31, whichever part of
 the estimate is larger.  The estimate is Richardson extrapolation with the observed order on three
-rungs (cells n/4, n/2, n; harmonics about H/4, H/2, H), guarded where the order is not asymptotic
-(``contact_models._allmode_accuracy``); its two parts add.  The ladder starts where the previous
+rungs (cells n/2, n, 2n below 128 cells, with the difference to 2n added, else n/4, n/2, n; harmonics
+about H/4, H/2, H), guarded where the order is not asymptotic (``contact_models._allmode_accuracy``);
+its two parts add.  The ladder starts where the previous
 call ended (a continuation calls at neighbouring points) and the estimate of a call within
 ``REUSE_AMPLITUDE`` and ``REUSE_FREQUENCY`` of the last estimated point, whose estimate was below
 half the tolerance, is reused.  Where the largest rungs (``MAX_CELLS``, ``MAX_HARMONICS``) cannot
@@ -59,7 +60,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import FLOOR, ladder, relative, richardson, shortfall_message, start_cells
+from ._allmode_accuracy import FLOOR, cells_error, ladder, relative, richardson, shortfall_message, start_cells
 from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, lower_rung, next_rung, probed_rung
 from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, ForceMemo, is_odd,
                              pad_harmonics, scaled_samples, truncated)
@@ -277,9 +278,10 @@ class AllModeMicroslip(ContactElement):
         omega : float
             Frequency (rad/s), >= 0.
         estimate_error : bool
-            With fixed ``cells`` and ``harmonics``: also solve on the lower rungs (cells n/4, n/2;
-            harmonics about H/4, H/2) and fill ``error``, ``relative_error`` and ``error_parts``.
-            Where the element chooses, they are always filled.  Default False.
+            With fixed ``cells`` and ``harmonics``: also solve on the other rungs (cells n/2, 2n
+            below 128 cells, else n/4, n/2; harmonics about H/4, H/2) and fill ``error``,
+            ``relative_error`` and ``error_parts``.  Where the element chooses, they are always filled.
+            Default False.
 
         Returns
         -------
@@ -463,10 +465,10 @@ class AllModeMicroslip(ContactElement):
         return sol.relative_error
 
     def _parts(self, X, omega, odd, sol):
-        """The estimate's parts (N, on (F_c, F_s)): Richardson in cells (n/4, n/2, n) and in
-        harmonics (about H/4, H/2, H, never below the drive's harmonics) with the observed order;
-        with two rungs only, the last difference; with one, inf (cells) or the decay of the
-        harmonics kept (harmonics)."""
+        """The estimate's parts (N, on (F_c, F_s)): in cells ``cells_error`` (against the rung above
+        below 128 cells, else from n/4, n/2, n), in harmonics Richardson from about H/4, H/2, H (never
+        below the drive's harmonics) with the observed order; with two rungs only, the last difference;
+        with one, inf (cells) or the decay of the harmonics kept (harmonics)."""
         n, H, Hx = sol.cells, sol.H, (X.size - 1) // 2
         F = sol.F[1:3]
 
@@ -474,13 +476,10 @@ class AllModeMicroslip(ContactElement):
             s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd)
             return s.F[1:3] if s.success else np.full(2, np.nan)
 
-        cells = [c for c in (n // 4, n // 2) if c >= 2 and c < n]
         hs = sorted({h for h in (max(lower_rung(lower_rung(H)), Hx), max(lower_rung(H), Hx)) if h < H})
-        parts = {}
-        for key, rungs, solve_at in (("cells", cells, lambda c: at(c, H)), ("harmonics", hs, lambda h: at(n, h))):
-            alone = np.full(2, np.inf) if key == "cells" else np.full(2, sol.decay * math.hypot(*F))
-            parts[key] = ladder((*rungs, n if key == "cells" else H), [solve_at(r) for r in rungs] + [F], alone)
-        return parts
+        alone = np.full(2, sol.decay * math.hypot(*F))
+        return {"cells": cells_error(n, F, lambda c: at(c, H)),
+                "harmonics": ladder((*hs, H), [at(n, h) for h in hs] + [F], alone)}
 
     def _warn(self, shortfalls) -> None:
         """One AccuracyWarning for the worst point of a call that missed ``tol``."""

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, UniformLoad
-from contact_models._allmode_accuracy import observed_order, relative, richardson
+from contact_models._allmode_accuracy import cells_error, observed_order, relative, richardson
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 KS = BAR.k_star
@@ -77,6 +77,29 @@ def test_richardson_guards():
     # the old order-2 assumption on an order-1 sequence under-reads by 3: this does not
     F = np.array([[1 + 1 / 10], [1 + 1 / 20], [1 + 1 / 40]])
     assert richardson((10, 20, 40), F)[0][0] == pytest.approx(1 / 40)
+
+
+def test_the_cells_part_reads_a_coarse_rung_against_the_rung_above():
+    asked = []
+
+    def at(c, law=lambda c: 1.0 + 3.0 / c + 5.0 / c**2):
+        asked.append(c)
+        return np.array([law(c), 2.0])
+
+    # below 128 cells: n/2, n, 2n, the difference of n to 2n added; e = 3/c + 5/c^2 (order 2, then 1): the
+    # error of F_16 is 3/16 + 5/256 = 0.207; read 0.94 of it here, 0.81 from 4, 8, 16
+    e = cells_error(16, at(16), at)
+    assert sorted(set(asked)) == [8, 16, 32] and e[1] == 0.0
+    d2, d1 = 3 / 32 + 5 / 1024 - 3 / 16 - 5 / 256, 3 / 16 + 5 / 256 - 3 / 8 - 5 / 64
+    p = observed_order((8, 16, 32), abs(d1), abs(d2))
+    assert e[0] == pytest.approx(abs(d2) + abs(d2) / (2.0**p - 1.0), rel=1e-12)
+    assert 0.9 * (3 / 16 + 5 / 256) <= e[0] <= 1.1 * (3 / 16 + 5 / 256)
+    asked.clear()
+    assert cells_error(128, at(128), at)[0] > 0.0 and sorted(set(asked)) == [32, 64, 128]  # the finest: below
+    # a failed solve on a rung: inf, never nan
+    assert np.all(np.isinf(cells_error(16, at(16), lambda c: np.full(2, np.nan) if c == 32 else at(c))))
+    # fewer than 4 cells: n and 2n only, twice their difference
+    assert cells_error(3, at(3), at)[0] == pytest.approx(2 * (at(3)[0] - at(6)[0]), rel=1e-12)
 
 
 # ---------------------------------------------------------------- at the 13th harmonic's notch

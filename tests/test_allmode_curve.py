@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, TwoRegionMicroslip
-from contact_models._allmode_rungs import CURVE_MAX_CELLS, PROBES, START_CELLS, START_HARMONICS, next_rung
+from contact_models._allmode_rungs import (CURVE_MAX_CELLS, PROBES, START_CELLS, START_HARMONICS, next_rung,
+                                          probed_rung)
 from hbm import frequency_response
 from hbm.allmode_peak import amplitude_at
 from hbm.cli.cases import default_case
@@ -56,8 +57,8 @@ def test_start_rung_and_refined_rung_of_the_element():
     rung = start.refined_rung(10.0)
     (_, _, rel_c, rel_h), = start._seen
     # the predicted rung is tried at that point first, and the next predicted from there while its
-    # estimate misses the target (near the slip onset the cells converge at order 1, slower than the
-    # prediction's order 2): 64 cells first, then 128
+    # estimate misses the target: 64 cells, whose estimate (against 128 cells) meets it, as its error
+    # against 512 cells does (2.3e-3 of f_c against a target of 1e-2)
     target = (rel_c + rel_h) / 10.0
     tried = [next_rung(16, 15, rel_c, rel_h, 10.0, max_cells=CURVE_MAX_CELLS, ladder=LADDER)]
     assert tried == [(64, 15)]
@@ -68,8 +69,37 @@ def test_start_rung_and_refined_rung_of_the_element():
         if rc + rh <= target:
             break
         tried.append(next_rung(*tried[-1], rc, rh, (rc + rh) / target, max_cells=CURVE_MAX_CELLS, ladder=LADDER))
-    assert tried[:2] == [(64, 15), (128, 15)] and (rung.cells, rung.harmonics) == tried[-1]
+    assert tried == [(64, 15)] and (rung.cells, rung.harmonics) == tried[-1]
+    ref = AllModeMicroslip(BAR, LOAD, 512, 15).solve(a, w).F[1:3]
+    F = AllModeMicroslip(BAR, LOAD, 64, 15).solve(a, w).F[1:3]
+    assert np.max(np.abs(F - ref) / np.maximum(np.abs(ref), 0.01 * BAR.k_star * a)) <= target
     assert rung.tol == el.tol and rung._seen[0][:2] == (w, a)  # traced from where it was tried
+
+
+def test_a_probed_rung_is_followed_by_the_next_while_its_estimate_misses_the_target():
+    class Rung:  # an element whose estimate at a point is given per rung
+        def __init__(self, n, h):
+            self.rung, self._seen = (n, h), []
+
+        def model_error(self, a, w):
+            self._seen.append((w, a, *estimates[self.rung]))
+
+    estimates = {(64, 15): (3e-3, 1e-4), (128, 15): (8e-4, 1e-4), (256, 15): (2e-4, 1e-4)}
+    built = []
+
+    def build(n, h):
+        built.append((n, h))
+        return Rung(n, h)
+
+    def predict(el, rel_c, rel_h, excess):
+        return 2 * el.rung[0], el.rung[1]
+
+    assert probed_rung((64, 15), (38000.0, 1e-6), 1e-3, build, predict).rung == (128, 15)
+    assert built == [(64, 15), (128, 15)]  # 64 cells missed 1e-3 (3.1e-3), 128 met it (9e-4)
+    built.clear()
+    # PROBES = 3 rungs tried, all short of 1e-4: the one predicted after the third is traced untried
+    assert probed_rung((64, 15), (38000.0, 1e-6), 1e-4, build, predict).rung == (512, 15)
+    assert built == [(64, 15), (128, 15), (256, 15), (512, 15)] and PROBES == 3
 
 
 def test_the_top_rung_is_where_a_curve_refines_no_further():
