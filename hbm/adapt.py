@@ -330,8 +330,8 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
     turn; a whole-range window is solved again from the stuck start, as a solve without windows."""
     # anything to refine at all, asked with the stretch's largest excess as each window is below (asked
     # for a factor of 1, a rung whose parts are each within half of its estimate would refine nothing)
-    src = f.error_sources.get(source) if len(f) and hi > lo else None
-    nxt = None if src is None else step(f, max(1.0, float(np.max(src[lo:hi])) / threshold))
+    src = f.error_sources.get(source) if len(f) else None
+    nxt = None if src is None else step(f, max(1.0, float(np.max(src[lo:hi], initial=0.0)) / threshold))
     if nxt is None:
         return [(f, lo, hi)]
     out, at = [], lo
