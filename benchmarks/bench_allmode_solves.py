@@ -141,6 +141,8 @@ def survey_rows(tol: float = TOL, step: int = 2) -> None:
     rows, above = [], 0
     for i in range(0, len(frf.omega), step):
         m = re.match(r"AllModeMicroslip\(cells=(\d+), H=(\d+)\)", str(frf.point_models[i]))
+        if m is None:  # a point of another model (none on the default case)
+            continue
         n, H = int(m[1]), int(m[2])
         el = elements.setdefault((n, H), AllModeMicroslip(bar, load, n, H))
         w, a = float(frf.omega[i]), float(frf.amplitude[i])
