@@ -300,15 +300,15 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
     pieces = [(frf, 0, len(frf))]
     tol = knobs.tolerance
 
-    def model_step(f, excess=1.0, span=None, points=None):
+    def model_step(f, excess, span, points):
         better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), plan.rungs_only)
         return None if better is None else (better, f.harmonics)
 
-    def harmonics_step(f, excess=1.0, span=None, points=None):
+    def harmonics_step(f, excess, span, points):
         if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
             return None
         contacts = f.contacts
-        if plan.rungs_only and plan.model_share is not None and points is not None:
+        if plan.rungs_only and plan.model_share is not None:
             contacts = rungs_too(f, *points, plan.model_share * tol, span, knobs) or contacts
         return contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
 
@@ -326,13 +326,12 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
 def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, threshold: float, step: Callable,
            work: list, notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
     """Points ``lo <= i < hi`` of ``f`` as stretches ``(result, lo, hi)``: its windows of ``source``
-    above ``threshold`` traced again at ``step(f)`` (new contacts and H) and split the same way in
-    turn; a whole-range window is solved again from the stuck start, as a solve without windows."""
-    # anything to refine at all, asked with the stretch's largest excess as each window is below (asked
-    # for a factor of 1, a rung whose parts are each within half of its estimate would refine nothing)
-    src = f.error_sources.get(source) if len(f) else None
-    nxt = None if src is None else step(f, max(1.0, float(np.max(src[lo:hi], initial=0.0)) / threshold))
-    if nxt is None:
+    above ``threshold`` traced again at ``step(f, excess, span, points)`` (new contacts and H, None:
+    nothing to refine there, the window kept) and split the same way in turn; a whole-range window is
+    solved again from the stuck start, as a solve without windows.  Each window is asked with its own
+    excess: a rung asked for a factor of 1, as a question for the whole stretch once was, refines
+    nothing where its parts are each within half of its estimate, and its rung probes cost solves."""
+    if not len(f) or source not in f.error_sources:
         return [(f, lo, hi)]
     out, at = [], lo
     for i0, i1 in windows(f.error_sources[source], f._nodes, threshold, lo, hi):
