@@ -135,7 +135,7 @@ def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.f
     (2.0, 2.0)
     """
     if n < CHECK_ABOVE_CELLS:
-        rungs = [c for c in (n // 2,) if c >= 2] + [n, 2 * n]
+        rungs = ([n // 2] if n >= 4 else []) + [n, 2 * n]
         fine = at(2 * n)
         vals = [at(c) for c in rungs[:-2]] + [F, fine]
         e = np.abs(fine - F) + ladder(tuple(rungs), vals, np.full(F.shape, np.inf))
