@@ -117,9 +117,10 @@ def ladder(N: tuple, F: list, alone: NDArray[np.float64]) -> NDArray[np.float64]
     return np.where(np.isfinite(e), e, np.inf)
 
 
-def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.float64]]) -> NDArray[np.float64]:
+def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.float64] | None]) -> NDArray[np.float64]:
     """The cells part of the estimate (N, component by component) of the force ``F`` on n cells; ``at(c)``
-    is the force on c cells (nan where its solve failed).
+    is the force on c cells (nan where its solve failed, None where c cells cannot hold the rung's highest
+    harmonic: a lower rung that is None is left out, the estimate then read from the rungs above it).
 
     Below ``CHECK_ABOVE_CELLS`` cells, against the rung above: |F_2n - F_n| plus the error of F_2n,
     Richardson from n/2, n, 2n (:func:`ladder`); for a force e(n) = C n^-p exactly that error, C n^-p.
@@ -134,14 +135,17 @@ def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.f
     >>> float(cells_error(16, at(16), at)[0]) * 16**2, float(cells_error(128, at(128), at)[0]) * 128**2
     (2.0, 2.0)
     """
-    if n < CHECK_ABOVE_CELLS:
-        rungs = ([n // 2] if n >= 4 else []) + [n, 2 * n]
+    below = [] if n < CHECK_ABOVE_CELLS else [(c, at(c)) for c in (n // 4, n // 2) if c >= 2 and c < n]
+    below = [(c, v) for c, v in below if v is not None]
+    if n < CHECK_ABOVE_CELLS or not below:  # (from 128 cells on too where no rung below holds the harmonics)
+        lower = at(n // 2) if n >= 4 else None
         fine = at(2 * n)
-        vals = [at(c) for c in rungs[:-2]] + [F, fine]
-        e = np.abs(fine - F) + ladder(tuple(rungs), vals, np.full(F.shape, np.inf))
+        if fine is None:
+            return np.full(F.shape, np.inf)
+        rungs, vals = ([n // 2], [lower]) if lower is not None else ([], [])
+        e = np.abs(fine - F) + ladder((*rungs, n, 2 * n), vals + [F, fine], np.full(F.shape, np.inf))
     else:
-        rungs = [c for c in (n // 4, n // 2) if c >= 2 and c < n] + [n]
-        e = ladder(tuple(rungs), [at(c) for c in rungs[:-1]] + [F], np.full(F.shape, np.inf))
+        e = ladder(tuple(c for c, _ in below) + (n,), [v for _, v in below] + [F], np.full(F.shape, np.inf))
     return np.where(np.isfinite(e), e, np.inf)
 
 
@@ -178,3 +182,28 @@ def shortfall_message(shortfalls: list, tol: float, cells: str, harmonics: str) 
     return (f"AllModeMicroslip: estimated relative error {rel:.3g} of (f_s, f_c) above tol = {tol:g} at omega = "
             f"{omega:.6g} rad/s, a = {a:.4g} m ({len(shortfalls)} point(s) of this call); tried {rungs}; cells "
             f"{cells}, harmonics {harmonics}")
+
+
+def stuck_data(bar: Bar, disc_of: Callable, omega: float, n: int, fixed: bool, tol: float, linear: str,
+               max_cells: int) -> tuple[int, float, float, float]:
+    """``(cells, K, a_min, relative estimate of K)`` of the bar stuck everywhere at omega, from n cells on:
+    exact segments, ``_bar_segments.exact_stuck`` (the continuous bar's K on any mesh); lumped, n cells if
+    ``fixed``, else cells doubling from n until the Richardson estimates of the stuck stiffness (relative to
+    max(|K|, 0.01 k*)) and of the slip onset a_min are below tol / 4 (at most ``max_cells``)."""
+    from ._bar_segments import exact_stuck, stuck_end
+
+    if linear == "exact":
+        return exact_stuck(bar, disc_of, omega, n, max_cells)
+    floor = FLOOR * bar.k_star
+    while True:
+        rungs = [c for c in (n // 4, n // 2, n) if c >= 2]
+        vals = np.array([stuck_end(bar, disc_of(c), omega, linear) for c in rungs])
+        if len(rungs) == 3:
+            e = richardson(tuple(rungs), vals)[0]
+        else:
+            e = np.abs(vals[-1] - vals[0]) if len(rungs) == 2 else np.full(2, math.inf)
+        rel = e[0] / max(abs(vals[-1, 0]), floor)
+        rel_a = relative(e[1:], vals[-1, 1:], 0.0) if math.isfinite(vals[-1, 1]) else 0.0  # a_min = 0: 0/0
+        if fixed or max(rel, rel_a) <= 0.25 * tol or 2 * n > max_cells:
+            return n, float(vals[-1, 0]), float(vals[-1, 1]), float(rel)
+        n *= 2

@@ -79,7 +79,7 @@ class NormalBar(FixedBar):
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, kn: float, shape: tuple[float, float],
                  cells: int, harmonics: int, n_t: int) -> None:
-        super().__init__(bar, load, cells, harmonics, n_t)
+        super().__init__(bar, load, cells, harmonics, n_t, "lumped")
         d = self.disc
         self.mu = bar.mu
         self.n0 = np.asarray(load.q(d.x), dtype=float) * d.c  # nodal preload q(x_i) c_i (N)

@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from ._bar_segments import linear_part
 from ._hbal import (aft_matrices, factorise, jacobian_pattern, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
                     jenkins_periodic, jenkins_state, same_pattern, scalar_tridiagonal)
 from ._hbal_compiled import numpy_clock, numpy_spent
@@ -251,6 +252,33 @@ def with_diagonal(J: NDArray[np.float64], diag: NDArray[np.float64]) -> NDArray[
     return out
 
 
+class Coupled:
+    """A factorisation of the bar's block-tridiagonal Jacobian A (diagonal blocks, coupling diag(c) of
+    neighbouring nodes): held as the factorisation ``fac`` of A itself where c is one number (the lumped
+    bar), else of diag(c)^-1 A, whose coupling is the identity that ``_hbal.factorise`` takes (each block
+    row divided by c: diagonal blocks stay diagonal, so the nodes that never slip stay cheap)."""
+
+    def __init__(self, blocks: Array, c: Array, diagonal: int, row0: bool) -> None:
+        self.scaled = bool(np.any(c != c[0]))
+        self.c = c
+        if self.scaled:
+            self.fac = factorise(blocks / c[None, :, None], 1.0, diagonal, row0)
+        else:
+            self.fac = factorise(blocks, float(c[0]), diagonal, row0)
+
+    def solve(self, r: Array) -> Array:
+        """A^-1 r for r of shape (n, s) or (n, s, q)."""
+        if not self.scaled:
+            return self.fac.solve(r)
+        return self.fac.solve(r / self.c.reshape((-1,) + (1,) * (r.ndim - 2)))
+
+    def coupled_last_inverse(self) -> Array:
+        """diag(c) (A^-1)_{n-1,n-1} diag(c): the Schur complement's correction at the driven node."""
+        if not self.scaled:
+            return self.c[0] ** 2 * self.fac.last_inverse()
+        return self.c[:, None] * self.fac.last_inverse()  # (A^-1)_ll = (C^-1 A)^-1_ll C^-1
+
+
 def stuck_prefix(state: tuple | None) -> int:
     """How many of the bar's first nodes never slip in the return map's ``state`` (0 without one):
     their Jacobian blocks are ``kc I`` plus the diagonal linear part in the odd basis, and that but
@@ -269,9 +297,12 @@ class FixedBar:
     #: whose ``evaluate`` keeps no state sets it False: its evaluations then carry their Jacobians).
     lazy_jacobian = True
 
-    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int, harmonics: int, n_t: int) -> None:
+    def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int, harmonics: int, n_t: int,
+                 linear: str = "exact") -> None:
         self.cells, self.H, self.n_t = cells, harmonics, n_t
+        self.bar, self.linear_kind = bar, linear
         self.disc = _Discretisation(bar, load, cells)
+        self._linear: dict = {}  # (omega, basis key) -> LinearPart, the last few
         self._aft: dict = {}
         self._cache: dict = {}  # odd -> (X, omega, U, J's factorisation) of the last converged solve
         self._even: tuple | None = None  # the even coefficients: (idx, E, P, jacobian_prefix)
@@ -285,6 +316,17 @@ class FixedBar:
             self._aft[odd] = shared_basis(self.H, self.n_t, odd)
         return self._aft[odd]
 
+    def linear(self, omega: float, order: Array, key: object) -> tuple:
+        """The bar's linear part (``_bar_segments.LinearPart``: lin, c, dlin, dc) at omega on the orders
+        ``order`` (one basis, named by ``key``), kept for the last few frequencies."""
+        k = (float(omega), key)
+        part = self._linear.get(k)
+        if part is None:
+            if len(self._linear) >= 8:
+                self._linear.clear()
+            part = self._linear[k] = linear_part(self.bar, self.disc, omega, order, self.linear_kind)
+        return part
+
     def scale(self, X: Array) -> float:
         d = self.disc
         return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
@@ -296,11 +338,11 @@ class FixedBar:
         d = self.disc
         full = np.vstack([U, X[None, :]])
         T, slip, state = jenkins_state(full, d.kc, d.p, b.E, b.P, b.odd)
-        lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2  # (n+1, s)
+        lin, c = self.linear(omega, b.order, b.odd)[:2]  # (n+1, s), (s,)
         R = lin[:-1] * U + T[:-1]
-        R[1:] += d.off * U[:-1]
-        R[:-1] += d.off * U[1:]
-        R[-1] += d.off * X
+        R[1:] += c * U[:-1]
+        R[:-1] += c * U[1:]
+        R[-1] += c * X
         ev = _Eval(U, R, float(np.max(np.abs(R))), T, None, slip, lin, state)
         return self.with_jacobian(ev, X, omega, b) if jacobian else ev
 
@@ -321,20 +363,28 @@ class FixedBar:
     def linear_guess(self, X: Array, omega: float, b: _Basis) -> Array:
         """All nodes stuck (Jenkins as springs k c_i at every harmonic): the exact state below slip."""
         d = self.disc
-        diag = d.kdiag[:-1, None] + d.kc[:-1, None] - omega**2 * d.m[:-1, None] * b.order[None, :] ** 2
-        return scalar_tridiagonal(diag, d.off, -d.off * X)  # per coefficient, all at once
+        lin, c = self.linear(omega, b.order, b.odd)[:2]
+        diag = lin[:-1] + d.kc[:-1, None]
+        if not np.any(c != c[0]):  # the lumped bar: one coupling
+            return scalar_tridiagonal(diag, float(c[0]), -c[0] * X)  # per coefficient, all at once
+        return scalar_tridiagonal(diag / c, 1.0, -X)  # each row divided by its coefficient's coupling
 
     def tangent_guess(self, X: Array, omega: float, b: _Basis) -> Array:
         """The cached solution U_c (at X_c, omega_c) moved along its tangent to (X, omega):
         U_c + (dU/dX) (X - X_c) + (dU/domega) (omega - omega_c), both derivatives from the cached
-        factorisation of its Jacobian J (one block solve): J dU = 2 omega_c (omega - omega_c) h^2 m U_c
-        - e_(n-1) K_off (X - X_c).  Exact while the samples' stick/slip pattern stays that of U_c
-        (the forces are linear in U for a fixed pattern), so a continuation's next call often needs
-        no Newton step."""
+        factorisation of its Jacobian J (one block solve): J dU = -(omega - omega_c) dR/domega - e_(n-1) c
+        (X - X_c), dR/domega = dlin U_c + dc (U_c's neighbours, X_c at the last node).  Exact while the
+        samples' stick/slip pattern stays that of U_c (the forces are linear in U for a fixed pattern) and
+        to first order in the frequency, so a continuation's next call often needs no Newton step."""
         Xc, wc, Uc, fac = self._cache[b.odd]
-        d = self.disc
-        rhs = (2.0 * wc * (omega - wc)) * d.m[:-1, None] * b.order[None, :] ** 2 * Uc
-        rhs[-1] -= d.off * (X - Xc)
+        _, c, dlin, dc = self.linear(wc, b.order, b.odd)
+        rhs = dlin[:-1] * Uc
+        if np.any(dc):
+            rhs[1:] += dc * Uc[:-1]
+            rhs[:-1] += dc * Uc[1:]
+            rhs[-1] += dc * Xc
+        rhs *= wc - omega
+        rhs[-1] -= c * (X - Xc)
         return Uc + fac.solve(rhs)
 
     def start(self, X: Array, omega: float, b: _Basis) -> _Eval:
@@ -360,7 +410,8 @@ class FixedBar:
         for it in range(max_iter + 1):
             if ev.J is not J:  # the same Jacobian (an unchanged stick/slip pattern) keeps its factorisation
                 J = ev.J
-                fac = factorise(with_diagonal(J[:-1], ev.lin[:-1]), self.disc.off, stuck_prefix(ev.state), not b.odd)
+                c = self.linear(omega, b.order, b.odd)[1]
+                fac = Coupled(with_diagonal(J[:-1], ev.lin[:-1]), c, stuck_prefix(ev.state), not b.odd)
             if ev.res <= (tol if it else START_EXACT * scale) or it == max_iter or not np.isfinite(ev.res):
                 break
             dU = -fac.solve(ev.R)
@@ -415,11 +466,17 @@ class FixedBar:
                iters: int) -> AllModeSolution:
         d = self.disc
         U, T, J, lin = ev.U, ev.T, ev.J, ev.lin
+        _, c, dlin, dc = self.linear(omega, b.order, b.odd)
         full = 2 * b.H + 1
-        Fb = lin[-1] * Xb + d.off * U[-1] + T[-1]
-        dF_dXb = np.diag(lin[-1]) + J[-1] - d.off**2 * fac.last_inverse()
-        dU_dw = fac.solve(2.0 * omega * d.m[:-1, None] * b.order[None, :] ** 2 * U)
-        dF_dwb = -2.0 * omega * d.m[-1] * b.order**2 * Xb + d.off * dU_dw[-1]
+        Fb = lin[-1] * Xb + c * U[-1] + T[-1]
+        dF_dXb = np.diag(lin[-1]) + J[-1] - fac.coupled_last_inverse()
+        dR_dw = dlin[:-1] * U
+        if np.any(dc):
+            dR_dw[1:] += dc * U[:-1]
+            dR_dw[:-1] += dc * U[1:]
+            dR_dw[-1] += dc * Xb
+        dU_dw = fac.solve(-dR_dw)
+        dF_dwb = dlin[-1] * Xb + dc * U[-1] + c * dU_dw[-1]
         F = np.zeros(full)
         F[b.idx] = Fb
         dF_dX = np.zeros((full, full))
@@ -445,15 +502,17 @@ class FixedBar:
 
     def end_force(self, sol: AllModeSolution, theta: Array, x: Array) -> Array:
         """The end force (N) in time at the angles ``theta`` (a closed cycle, last = first + 2 pi) for the
-        end motion ``x`` there: the axial term from node n-1's series, the tip Jenkins marched on x."""
+        end motion ``x`` there (``sol.X`` in time): the linear part D_n X + c U_{n-1} from the harmonics,
+        the tip Jenkins marched on x."""
         d, H = self.disc, sol.H
+        b = self.basis(False)
+        lin, c = self.linear(sol.omega, b.order, False)[:2]
         Ef = np.ones((theta.size, 2 * H + 1))
         hth = np.outer(theta, np.arange(1, H + 1))
         Ef[:, 1::2], Ef[:, 2::2] = np.cos(hth), np.sin(hth)
-        u_prev = Ef @ sol.U[-2]
         tau, *_ = jenkins_periodic(x[None, :-1], d.kc[-1:], d.p[-1:])
         tau = np.append(tau[0], tau[0, 0])
-        return -d.off * (x - u_prev) + tau - d.m[-1] * sol.omega**2 * x
+        return Ef @ ((lin[-1] + d.kc[-1]) * sol.X + c * sol.U[-2]) - d.kc[-1] * x + tau
 
     def even_block(self, sol: AllModeSolution) -> None:
         """Fill the even-even block of ``sol.dF_dX`` for a half-wave symmetric solution solved in
@@ -476,6 +535,6 @@ class FixedBar:
         else:
             _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(Ee, Pe), prefix=prefix)
             state = None
-        lin = d.kdiag[:, None] - sol.omega**2 * d.m[:, None] * b.order[None, even] ** 2
-        fac = factorise(with_diagonal(Je[:-1], lin[:-1]), d.off, stuck_prefix(state), True)
-        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - d.off**2 * fac.last_inverse()
+        lin, c = self.linear(sol.omega, b.order[even], "even")[:2]
+        fac = Coupled(with_diagonal(Je[:-1], lin[:-1]), c, stuck_prefix(state), True)
+        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - fac.coupled_last_inverse()

@@ -1,54 +1,47 @@
 """The all-mode dynamic microslip bar in the frequency domain (the paper's future work).
 
-``AllModeMicroslip`` is the bar of Eq. 30 with every mode: the same finite-element bar as
-``NumericalMicroslip`` (``numerics.fe_bar``: n equal cells, lumped mass rho A c_i, a Jenkins element of
-stiffness k c_i and slip force mu q(x_i) c_i at node i, the beta spring at node 0, node n
-driven), but solved for its steady periodic state directly, by multi-harmonic balance with
-alternating frequency-time (AFT) at the nodes, instead of integrated in time.  It resolves the
-phase differences along the bar that the single-mode elements (``TwoRegionMicroslip``,
-``ThreeRegionMicroslip``) neglect, works for any normal load (any number of stick and slip
-regions) and any frequency, including above the cut-off sqrt(k/(rho A)).
+``AllModeMicroslip`` is the bar of Eq. 30 with every mode (n equal cells, a Jenkins element of stiffness
+k c_i and slip force mu q(x_i) c_i at node i, the beta spring at node 0, node n driven), solved for its
+steady periodic state directly, by multi-harmonic balance with alternating frequency-time (AFT) at the
+nodes.  It resolves the phase differences along the bar that the single-mode elements neglect, works for
+any normal load (any number of stick and slip regions) and any frequency, including above the cut-off
+sqrt(k/(rho A)).  Between the nodes the bar is exact (``linear="exact"``, ``_bar_segments``: each cell the
+continuous bar with its shear layer stuck, at every harmonic), or the finite-element bar of
+``NumericalMicroslip`` with lumped masses (``linear="lumped"``).
 
 Model.  Free nodes i = 0..n-1 with harmonic coefficients U_i (layout ``[U0, Uc1, Us1, ...]``,
 H harmonics), driven node U_n = X (the end displacement, ``a sin(theta)`` for ``fourier``):
 
-    R_i = (K_ii - (h omega)^2 m_i) U_i + K_off (U_{i-1} + U_{i+1}) + T_i(U_i) = 0,
+    R_i = D_i U_i + c (U_{i-1} + U_{i+1}) + T_i(U_i) = 0,
 
-with (h omega)^2 acting per harmonic h, K the tridiagonal axial stiffness (beta in K_00) and
-T_i = P tau_i(E U_i) the harmonic coefficients of node i's periodic Jenkins force (exact
-return map marched from the sample of the global maximum, ``_hbal.jenkins_periodic``).  The
-end force ``EA u_x(L)`` is the driven node's reaction,
+with D_i and c diagonal in the harmonics (the linear part, ``_bar_segments.linear_part``; lumped:
+D_i = K_ii - (h omega)^2 m_i, c = K_off) and T_i = P tau_i(E U_i) the harmonic coefficients of node i's
+periodic Jenkins force (exact return map, ``_hbal.jenkins_periodic``).  The end force ``EA u_x(L)`` is
+the driven node's reaction, F = D_n X + c U_{n-1} + T_n(X).
 
-    F = K_nn X + K_off U_{n-1} + T_n(X) - (h omega)^2 m_n X.
+Solution.  Newton's method on R (piecewise linear in U for a fixed stick/slip pattern, so it ends exactly
+once the pattern settles) with an Armijo line search; the Jacobian is block tridiagonal (blocks (2H+1)^2
+from AFT, coupling c), solved by block Thomas elimination in O(n H^3).  The derivatives of F follow from
+the implicit function theorem: only node n-1 couples to X, so ``dF/dX = D_n + dT_n/dX - c C_{n-1}^{-1} c``
+(C_{n-1} the last pivot block) and ``dF/domega = D_n' X + c' U_{n-1} + c dU_{n-1}/domega`` with ``J
+dU/domega = -dR/domega`` (' the derivative in omega).  The last solution warm-starts the next call; a
+failed Newton run falls back to continuation in the amplitude from the exactly linear (stuck) state.  One
+discretisation is a ``contact_models._allmode_solve.FixedBar``.
 
-Solution.  Newton's method on R (piecewise linear in U for a fixed stick/slip pattern, so it
-ends exactly once the pattern settles) with an Armijo backtracking line search; the Jacobian
-is block tridiagonal (diagonal blocks (2H+1)^2 from AFT, off-diagonal K_off I) and is solved
-by block Thomas elimination in O(n H^3).  The derivatives of F follow from the implicit
-function theorem at the converged Jacobian: only node n-1 couples to X, so
-``dF/dX = K_nn - (h omega)^2 m_n + dT_n/dX - K_off^2 C_{n-1}^{-1}`` with C_{n-1} the last
-pivot block of the elimination, and ``dF/domega = -2 omega h^2 m_n X + K_off dU_{n-1}/domega``
-with ``J dU/domega = 2 omega h^2 m U``.  The last solution is cached and warm-starts the next
-call (along amplitude and frequency); a failed Newton run falls back to continuation in the
-amplitude from the exactly linear (stuck) state.  One discretisation is a
-``contact_models._allmode_solve.FixedBar``.
-
-Accuracy.  With ``cells`` and ``harmonics`` left None the element chooses them per call
-(amplitude, frequency) so that its estimate of the relative error of (f_s, f_c), component by
-component relative to max(|f|, 0.01 k* a) as in the validity map, is below ``tol``: cells double
-from a start tied to the wavelength of the highest harmonic and to the shear layer's decay length
-(``_allmode_accuracy.start_cells``), and harmonics climb the ladder 7, 15, 31, whichever part of
-the estimate is larger.  The estimate is Richardson extrapolation with the observed order on three
-rungs (cells n/2, n, 2n below 128 cells, with the difference to 2n added, else n/4, n/2, n; harmonics
-about H/4, H/2, H), guarded where the order is not asymptotic (``contact_models._allmode_accuracy``);
-its two parts add.  The ladder starts where the previous
-call ended (a continuation calls at neighbouring points) and the estimate of a call within
-``REUSE_AMPLITUDE`` and ``REUSE_FREQUENCY`` of the last estimated point, whose estimate was below
-half the tolerance, is reused.  Where the largest rungs (``MAX_CELLS``, ``MAX_HARMONICS``) cannot
-meet ``tol`` the call warns (``AccuracyWarning``) once, naming the worst point.  While the bar is
-stuck (a <= ``slip_amplitude``) the answer is linear; its cells are chosen the same way on the
-stuck stiffness.  ``model_error(a, omega)`` returns the relative estimate.  Along a frequency
-response the choice is made once per stretch instead, on fixed rungs (``start_rung``, ``refined_rung``:
+Accuracy.  With ``cells`` and ``harmonics`` left None the element chooses them per call (amplitude,
+frequency) so that its estimate of the relative error of (f_s, f_c), component by component relative to
+max(|f|, 0.01 k* a) as in the validity map, is below ``tol``: cells double from a start tied to the
+wavelength of the highest harmonic and to the shear layer's decay length (``_allmode_accuracy.start_cells``),
+and harmonics climb the ladder 7, 15, 31, whichever part of the estimate is larger.  The estimate is
+Richardson extrapolation with the observed order on three rungs (cells n/2, n, 2n below 128 cells, with the
+difference to 2n added, else n/4, n/2, n; harmonics about H/4, H/2, H), guarded where the order is not
+asymptotic (``contact_models._allmode_accuracy``); its two parts add.  The ladder starts where the previous
+call ended and the estimate of a call within ``REUSE_AMPLITUDE`` and ``REUSE_FREQUENCY`` of the last
+estimated point, whose estimate was below half the tolerance, is reused.  Where the largest rungs
+(``MAX_CELLS``, ``MAX_HARMONICS``) cannot meet ``tol`` the call warns (``AccuracyWarning``) once, naming the
+worst point.  While the bar is stuck (a <= ``slip_amplitude``) the answer is linear (exact segments: the
+continuous bar's).  ``model_error(a, omega)`` returns the relative estimate.  Along a frequency response the
+choice is made once per stretch instead, on fixed rungs (``start_rung``, ``refined_rung``:
 ``contact_models._allmode_rungs``).
 """
 from __future__ import annotations
@@ -60,8 +53,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import FLOOR, cells_error, ladder, relative, richardson, shortfall_message, start_cells
+from ._allmode_accuracy import (FLOOR, cells_error, ladder, relative, richardson, shortfall_message, start_cells,
+                                stuck_data)
 from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, lower_rung, next_rung, probed_rung
+from ._bar_segments import KINDS as LINEAR_KINDS, UnresolvedWave
 from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, ForceMemo, is_odd,
                              pad_harmonics, scaled_samples, truncated)
 from ._hbal import aft_matrices
@@ -76,8 +71,8 @@ if TYPE_CHECKING:
     from .loads import QuadraticLoad, UniformLoad
 
 __all__ = ["AllModeMicroslip", "AllModeSolution", "CELLS", "HARMONICS", "SAMPLES_PER_HARMONIC", "NEWTON_TOL",
-           "NEWTON_MAX_ITER", "TOL", "HARMONIC_LADDER", "MAX_CELLS", "MAX_HARMONICS", "richardson"]
-# ``richardson`` is re-exported for estimates built on the element's answers (hbm.allmode_peak).
+           "NEWTON_MAX_ITER", "TOL", "HARMONIC_LADDER", "MAX_CELLS", "MAX_HARMONICS", "richardson", "cells_error"]
+# ``richardson`` and ``cells_error`` are re-exported for estimates built on the element's answers (hbm.allmode_peak).
 
 #: Cells of a bar with a fixed mesh where one is wanted (the scenes' ``cells`` key); the element's
 #: own default is None: cells chosen per call to ``tol``.
@@ -113,7 +108,7 @@ class AllModeMicroslip(ContactElement):
     load : UniformLoad, QuadraticLoad, FunctionLoad or SampledLoad
         Normal load q(x) >= 0 (any shape: any number of stick and slip regions).
     cells : int, optional
-        Linear finite elements along the bar, >= 2.  Default None: chosen per call to ``tol``
+        Cells along the bar, >= 2.  Default None: chosen per call to ``tol``
         (doubling from a start tied to the wavelength, up to ``MAX_CELLS``).
     harmonics : int, optional
         Harmonics H kept in every node's motion, >= 1.  Default None: chosen per call to ``tol``
@@ -125,6 +120,11 @@ class AllModeMicroslip(ContactElement):
         The relative error of (f_s, f_c) the element's choices aim at, in (0, 1): component by
         component relative to max(|f|, 0.01 k* a).  Default ``TOL`` = 1e-3.  Used where cells or
         harmonics are chosen; an explicit ``cells`` or ``harmonics`` is kept as given.
+    linear : {"exact", "lumped"}, optional
+        The bar between the nodes.  "exact" (default): each cell is the continuous bar with its shear
+        layer stuck, exact at every harmonic, so the cells resolve only where the layer slips (a bar
+        stuck everywhere is exact on any mesh).  "lumped": linear finite elements with lumped masses,
+        the bar ``NumericalMicroslip`` integrates in time.
 
     Notes
     -----
@@ -141,7 +141,8 @@ class AllModeMicroslip(ContactElement):
     Raises
     ------
     ValueError
-        ``bar`` not a ``Bar``; ``cells``, ``harmonics``, ``n_t`` or ``tol`` out of range; a load below 0.
+        ``bar`` not a ``Bar``; ``cells``, ``harmonics``, ``n_t``, ``tol`` or ``linear`` out of range; a load
+        below 0; at a call, exact cells longer than 0.9 of half the wavelength of the highest harmonic.
 
     Examples
     --------
@@ -164,7 +165,8 @@ class AllModeMicroslip(ContactElement):
     exact_harmonics = True
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int | None = None,
-                 harmonics: int | None = None, *, n_t: int | None = None, tol: float = TOL) -> None:
+                 harmonics: int | None = None, *, n_t: int | None = None, tol: float = TOL,
+                 linear: str = "exact") -> None:
         if not isinstance(bar, Bar):
             raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
         self.cells = None if cells is None else count("cells", cells, 2)
@@ -180,7 +182,9 @@ class AllModeMicroslip(ContactElement):
         self.tol = positive("tol", tol)
         if not self.tol < 1.0:
             raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
-        self.bar = bar
+        if linear not in LINEAR_KINDS:
+            raise ValueError(f"linear must be one of {', '.join(map(repr, LINEAR_KINDS))}, got linear={linear!r}")
+        self.bar, self.linear = bar, linear
         self.load = load.on(bar.L)
         if self.load.minimum() < 0.0:
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
@@ -194,7 +198,7 @@ class AllModeMicroslip(ContactElement):
 
     def __repr__(self) -> str:
         return (f"AllModeMicroslip({self.bar!r}, {self.load!r}, cells={self.cells}, "
-                f"harmonics={self.harmonics}, n_t={self.n_t}, tol={self.tol!r})")
+                f"harmonics={self.harmonics}, n_t={self.n_t}, tol={self.tol!r}, linear={self.linear!r})")
 
     @property
     def _fixed(self) -> bool:
@@ -207,6 +211,16 @@ class AllModeMicroslip(ContactElement):
         return self._fixed and self.cells >= CURVE_MAX_CELLS and self.harmonics >= MAX_HARMONICS
 
     @property
+    def refined_no_further(self) -> bool:
+        """Whether a curve refines this fixed rung no further where it was estimated worst: at the top rung, or
+        where the rung predicted after it is itself (its harmonics at their top, its cells part within share)."""
+        if self.at_top_rung or not self._fixed or not self._seen:
+            return self.at_top_rung
+        _, _, rc, rh = max(self._seen, key=lambda s: s[2] + s[3])
+        return next_rung(self.cells, self.harmonics, rc, rh, (rc + rh) / self.tol, ladder=HARMONIC_LADDER,
+                         max_cells=max(self.cells, CURVE_MAX_CELLS)) is None
+
+    @property
     def model_name(self) -> str:
         """The name a frequency response gives the points solved with this element
         (``FrequencyResponse.point_models``): with its rung where cells and harmonics are fixed."""
@@ -215,7 +229,7 @@ class AllModeMicroslip(ContactElement):
     # ------------------------------------------------------------ rungs along a curve
     def start_rung(self, omega_range: tuple[float, float]) -> AllModeMicroslip | None:
         """The cheap fixed rung a frequency response over ``omega_range`` (rad/s) starts on where this element chooses
-        its cells and harmonics (both None): ``START_HARMONICS`` = 15 harmonics and ``START_CELLS`` = 16 cells, doubled
+        its cells and harmonics (both None): ``START_HARMONICS`` = 15 harmonics and ``START_CELLS`` = 32 cells, doubled
         while fewer than the wavelength of the 15th harmonic at the top of the range asks for (``start_cells``); the
         same ``tol``; None where cells or harmonics are given.  Refined along the curve (``refined_rung``; see
         docs/theory.md, "The all-mode bar along a curve").  A curve follows: the compiled kernels load now."""
@@ -226,7 +240,7 @@ class AllModeMicroslip(ContactElement):
         n = START_CELLS
         while n < min(MAX_CELLS, start_cells(self.bar, w_hi, START_HARMONICS)):
             n *= 2
-        return AllModeMicroslip(self.bar, self.load, n, START_HARMONICS, tol=self.tol)
+        return AllModeMicroslip(self.bar, self.load, n, START_HARMONICS, tol=self.tol, linear=self.linear)
 
     def refined_rung(self, excess: float | None = None,
                      omega: tuple[float, float] | None = None) -> AllModeMicroslip | None:
@@ -253,7 +267,7 @@ class AllModeMicroslip(ContactElement):
             return next_rung(el.cells, el.harmonics, rc, rh, ex, max_cells=max(el.cells, CURVE_MAX_CELLS),
                              ladder=HARMONIC_LADDER, cells_for=lambda h: start_cells(self.bar, w_hi, h))
         rung = predict(self, rel_c, rel_h, excess)
-        build = lambda n, h: AllModeMicroslip(self.bar, self.load, n, h, tol=self.tol)  # noqa: E731
+        build = lambda n, h: AllModeMicroslip(self.bar, self.load, n, h, tol=self.tol, linear=self.linear)  # noqa: E731
         return None if rung is None else probed_rung(rung, (w, a), (rel_c + rel_h) / excess, build, predict)
 
     def _refined_model(self):
@@ -372,7 +386,7 @@ class AllModeMicroslip(ContactElement):
         key = (cells, H)
         if key not in self._levels:
             n_t = _samples(H) if self.n_t is None else scaled_samples(self.n_t, self.harmonics, H)
-            self._levels[key] = FixedBar(self.bar, self.load, cells, H, n_t)
+            self._levels[key] = FixedBar(self.bar, self.load, cells, H, n_t, self.linear)
         return self._levels[key]
 
     def _solve(self, X, omega, H, odd=False) -> AllModeSolution:
@@ -473,7 +487,10 @@ class AllModeMicroslip(ContactElement):
         F = sol.F[1:3]
 
         def at(cells, h):
-            s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd)
+            try:
+                s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd)
+            except UnresolvedWave:  # too few exact cells for this rung's highest harmonic: left out
+                return None
             return s.F[1:3] if s.success else np.full(2, np.nan)
 
         hs = sorted({h for h in (max(lower_rung(lower_rung(H)), Hx), max(lower_rung(H), Hx)) if h < H})
@@ -495,30 +512,13 @@ class AllModeMicroslip(ContactElement):
         return self._discs[cells]
 
     def _stuck_data(self, omega: float):
-        """``(cells, K, a_min, relative estimate of K)`` of the stuck bar at omega: the given cells,
-        or cells doubling from the start until the Richardson estimates of the stuck stiffness
-        (relative to max(|K|, 0.01 k*)) and of the slip onset a_min are below tol / 4."""
-        if omega in self._stuck:
-            return self._stuck[omega]
-        floor = FLOOR * self.bar.k_star
-        n = self.cells or start_cells(self.bar, omega, 1)
-        while True:
-            rungs = [c for c in (n // 4, n // 2, n) if c >= 2]
-            vals = np.array([(self._disc(c).stuck_solution(omega)[1], self._disc(c).slip_amplitude(omega))
-                             for c in rungs])
-            if len(rungs) == 3:
-                e = richardson(tuple(rungs), vals)[0]
-            else:
-                e = np.abs(vals[-1] - vals[0]) if len(rungs) == 2 else np.full(2, math.inf)
-            rel = e[0] / max(abs(vals[-1, 0]), floor)
-            rel_a = relative(e[1:], vals[-1, 1:], 0.0) if math.isfinite(vals[-1, 1]) else 0.0  # a_min = 0: 0/0
-            if self.cells is not None or max(rel, rel_a) <= 0.25 * self.tol or 2 * n > MAX_CELLS:
-                break
-            n *= 2
-        if len(self._stuck) > 512:
-            self._stuck.clear()
-        out = self._stuck[omega] = (n, float(vals[-1, 0]), float(vals[-1, 1]), float(rel))
-        return out
+        """``(cells, K, a_min, relative estimate of K)`` of the stuck bar at omega (``_allmode_accuracy.stuck_data``)."""
+        if omega not in self._stuck:
+            if len(self._stuck) > 512:
+                self._stuck.clear()
+            self._stuck[omega] = stuck_data(self.bar, self._disc, omega, self.cells or start_cells(self.bar, omega, 1),
+                                            self.cells is not None, self.tol, self.linear, MAX_CELLS)
+        return self._stuck[omega]
 
     # ------------------------------------------------------------ interface
     def _stuck_stiffness(self, omega):

@@ -133,7 +133,7 @@ class AllModeMicroslip2D(ContactElement):
         if self.load.minimum() < 0.0:
             raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
         # the normal at rest: the bar of AllModeMicroslip on the same cells and harmonics
-        self.at_rest = AllModeMicroslip(bar, load, self.cells, self.harmonics, n_t=self.n_t)
+        self.at_rest = AllModeMicroslip(bar, load, self.cells, self.harmonics, n_t=self.n_t, linear="lumped")
         self._levels: dict = {}
 
     def __repr__(self) -> str:

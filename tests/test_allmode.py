@@ -162,8 +162,9 @@ def test_block_thomas_solves_like_a_dense_solver():
 @pytest.mark.parametrize("w", [0.0, 0.3, 0.76, 0.95, 1.2])
 def test_stuck_is_the_exact_dynamic_stiffness_of_the_discretised_bar(w):
     """Below slip the Newton solve (not the shortcut) gives the discretised bar's stiffness, also
-    above the cut-off sqrt(k/(rho A)) = 0.758 omega_c, with no higher harmonics."""
-    el = AllModeMicroslip(BAR, UNIFORM, cells=30, harmonics=5)
+    above the cut-off sqrt(k/(rho A)) = 0.758 omega_c, with no higher harmonics (the lumped bar, the
+    one ``NumericalMicroslip`` integrates)."""
+    el = AllModeMicroslip(BAR, UNIFORM, cells=30, harmonics=5, linear="lumped")
     num = NumericalMicroslip(BAR, UNIFORM, cells=30)
     omega = w * WC
     a = 0.9 * el.slip_amplitude(omega)
@@ -173,6 +174,22 @@ def test_stuck_is_the_exact_dynamic_stiffness_of_the_discretised_bar(w):
     assert abs(sol.f_c) < 1e-12 * KS * a
     assert np.max(np.abs(sol.F[3:])) < 1e-12 * KS * a
     assert el.slip_amplitude(omega) == num.slip_amplitude(omega)
+
+
+@pytest.mark.parametrize("cells, w", [(c, w) for c in (3, 8, 30) for w in (0.0, 0.3, 0.76, 0.95, 1.2)] + [(8, 3.0), (30, 3.0)])
+def test_the_exact_bar_stuck_is_the_continuous_bar_on_any_mesh(w, cells):
+    """Below slip the exact segments give the continuous bar's dynamic stiffness (``Bar.stuck_stiffness``,
+    the closed form of the bar on its stuck shear layer) on 3 cells as on 30, below and above the cut-off,
+    and the nodes' displacements are the continuous bar's shape there (Newton solve, not the shortcut)."""
+    el = AllModeMicroslip(BAR, UNIFORM, cells=cells, harmonics=5)
+    omega = w * WC
+    a = 0.9 * el.slip_amplitude(omega)
+    sol = el.solve(a, omega)
+    K = float(BAR.stuck_stiffness(omega))
+    assert sol.success and sol.f_s == pytest.approx(K * a, rel=1e-10)
+    assert abs(sol.f_c) < 1e-12 * KS * a and np.max(np.abs(sol.F[3:])) < 1e-12 * KS * a
+    fine = AllModeMicroslip(BAR, UNIFORM, cells=10 * cells, harmonics=5).solve(a, omega)
+    np.testing.assert_allclose(sol.U[:, 2], fine.U[::10, 2], rtol=0, atol=1e-10 * a)
 
 
 @pytest.mark.parametrize("load, cls", [(UNIFORM, TwoRegionMicroslip), (CONCAVE, ThreeRegionMicroslip),
@@ -194,8 +211,11 @@ def test_quasi_static_limit_is_the_exact_single_mode_solution(load, cls):
 def test_gross_slip_limit():
     """Far past gross slip (quasi-static) the bar slides as a whole: f_s/a -> beta EA/(EA + beta L)
     and f_c -> (4 mu/pi) int q(x) phi(x) dx with phi = (EA + beta x)/(EA + beta L) the sliding
-    bar's shape, both with an O(a_min/a) correction (friction inside the bar)."""
-    el = AllModeMicroslip(BAR, UNIFORM, cells=40, harmonics=15)
+    bar's shape, both with an O(a_min/a) correction (friction inside the bar) on the lumped bar; the exact
+    segments' foundation is the consistent one at the driven node, so there f_s keeps -k h^2 / (6 EA) =
+    -1.0e-4 at 40 cells while the bar slides (an O(h^2) error that falls with the cells, not with a)."""
+    el = AllModeMicroslip(BAR, UNIFORM, cells=40, harmonics=15, linear="lumped")
+    exact = AllModeMicroslip(BAR, UNIFORM, cells=40, harmonics=15)
     EA, beta, L = BAR.EA, BAR.beta, BAR.L
     k_slide = beta * EA / (EA + beta * L)
     fc_lim = 4.0 * BAR.mu * 100.0 / math.pi * (EA + 0.5 * beta * L) / (EA + beta * L)
@@ -208,6 +228,10 @@ def test_gross_slip_limit():
     # 1.6 a_min/a here; f_s faster) and are small at 1e4 a_min
     assert np.all(errs[1] < 3e-4)
     assert np.all(errs[0] / errs[1] > 5.0)
+    fs, fc = exact.fourier(1e4 * 7.5e-7, 0.0)
+    h = L / 40
+    assert fs / (k_slide * 1e4 * 7.5e-7) - 1.0 == pytest.approx(-BAR.k * h**2 / (6 * EA), rel=0.1)
+    assert abs(fc / fc_lim - 1.0) < 3e-4
 
 
 # ---------------------------------------------------------------- derivatives (implicit function theorem)
@@ -352,7 +376,7 @@ def test_hill_on_an_all_mode_curve_asks_again_for_the_whole_jacobians(monkeypatc
 def test_end_at_rest_is_exact_with_the_stuck_jacobian_and_no_warning():
     """X = 0 (the start of the solver's force homotopy): F = 0 exactly, so its estimate is 0 (not
     0/0) on the first rung, and dF/dX is the stuck bar's dynamic stiffness on cos 1 and sin 1 alike
-    (the stuck solution of the discretised bar, ``stuck_stiffness``, on the same mesh)."""
+    (the continuous bar's, ``Bar.stuck_stiffness``: the exact segments on any mesh)."""
     omega = 0.29 * WC
     with warnings.catch_warnings():
         warnings.simplefilter("error")
@@ -361,7 +385,7 @@ def test_end_at_rest_is_exact_with_the_stuck_jacobian_and_no_warning():
         F, dX, _ = AllModeMicroslip(BAR, UNIFORM, cells=10, harmonics=3).harmonic_force(np.zeros(3), omega)
     assert sol.success and sol.relative_error == 0.0 and not np.any(sol.F)
     assert sol.cells < 64 and sol.H == 7  # the first rung, not the top of the ladder
-    k = NumericalMicroslip(BAR, UNIFORM, cells=10).stuck_stiffness(omega)
+    k = float(BAR.stuck_stiffness(omega))
     assert not np.any(F)
     np.testing.assert_allclose(np.diag(dX)[1:], [k, k], rtol=1e-10)
     assert abs(dX[1, 2]) < 1e-10 * k and abs(dX[2, 1]) < 1e-10 * k
@@ -378,7 +402,7 @@ def test_load_zero_at_a_node_slips_at_once_without_a_nan():
         cells, k, a_min, rel = el._stuck_data(0.2 * WC)
         err = float(el.model_error(1e-7, 0.2 * WC))
     assert a_min == 0.0 and el.slip_amplitude(0.2 * WC) == 0.0
-    assert k == pytest.approx(NumericalMicroslip(BAR, UNIFORM, cells=cells).stuck_stiffness(0.2 * WC), rel=1e-12)
+    assert k == pytest.approx(float(BAR.stuck_stiffness(0.2 * WC)), rel=1e-10)
     assert 0.0 <= rel < el.tol and 0.0 <= err < el.tol
 
 def test_frf_whose_first_point_slips_near_the_peak_starts():

@@ -40,14 +40,16 @@ def dense_node_jacobians(U, kc, p, E, P):
     return J
 
 
-def dense_tridiagonal(J, lin, off, n, s):
-    """The bar's Jacobian (n s, n s) densely: node i's block ``J[i] + diag(lin[i])``, ``off I`` beside it."""
+def dense_tridiagonal(J, lin, c, n, s):
+    """The bar's Jacobian (n s, n s) densely: node i's block ``J[i] + diag(lin[i])``, ``diag(c)`` beside it
+    (c one coupling or one per coefficient)."""
     A = np.zeros((n * s, n * s))
+    C = np.diag(np.broadcast_to(c, (s,)))
     for i in range(n):
         A[i * s:(i + 1) * s, i * s:(i + 1) * s] = J[i] + np.diag(lin[i])
         if i:
-            A[i * s:(i + 1) * s, (i - 1) * s:i * s] = off * np.eye(s)
-            A[(i - 1) * s:i * s, i * s:(i + 1) * s] = off * np.eye(s)
+            A[i * s:(i + 1) * s, (i - 1) * s:i * s] = C
+            A[(i - 1) * s:i * s, i * s:(i + 1) * s] = C
     return A
 
 
@@ -57,13 +59,13 @@ def dense_matrix(fb, U, X, omega, b):
     full = np.vstack([U, X[None, :]])
     T, _, _ = jenkins_state(full, d.kc, d.p, b.E, b.P)
     J = dense_node_jacobians(full, d.kc, d.p, b.E, b.P)
-    lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, :] ** 2
+    lin, c = fb.linear(omega, b.order, b.odd)[:2]
     n, s = U.shape
     R = lin[:-1] * U + T[:-1]
-    R[1:] += d.off * U[:-1]
-    R[:-1] += d.off * U[1:]
-    R[-1] += d.off * X
-    A = dense_tridiagonal(J, lin, d.off, n, s)
+    R[1:] += c * U[:-1]
+    R[:-1] += c * U[1:]
+    R[-1] += c * X
+    A = dense_tridiagonal(J, lin, c, n, s)
     return R.ravel(), A, T, J, lin
 
 
@@ -102,13 +104,17 @@ def test_node_jacobians_match_the_sample_assembly(bar_load):
         assert np.max(np.abs(J - Jd)) <= 1e-12 * np.max(np.abs(Jd))
 
 
+@pytest.mark.parametrize("linear", ["exact", "lumped"])
 @pytest.mark.parametrize("a, omega", [(1.5355e-6, 38820.0), (3e-6, 37000.0)])
-def test_nested_solve_matches_a_dense_newton(bar_load, a, omega):
+def test_nested_solve_matches_a_dense_newton(bar_load, a, omega, linear):
+    """The block elimination, the warm starts and the implicit function theorem against dense linear
+    algebra on the same balance (its linear part ``FixedBar.linear``, checked on its own in
+    ``test_bar_segments.py``)."""
     bar, load = bar_load
     cells, H = 32, 31
-    el = AllModeMicroslip(bar, load, cells=cells, harmonics=H)
+    el = AllModeMicroslip(bar, load, cells=cells, harmonics=H, linear=linear)
     sol = el.solve(a, omega)
-    fb = FixedBar(bar, load, cells, H, el._level(cells, H).n_t)
+    fb = FixedBar(bar, load, cells, H, el._level(cells, H).n_t, linear)
     b = fb.basis(True)
     X = np.zeros(2 * H + 1)
     X[2] = a
@@ -124,11 +130,16 @@ def test_nested_solve_matches_a_dense_newton(bar_load, a, omega):
             break
     R, A, T, J, lin = dense_matrix(fb, U, Xb, omega, b)
     assert np.max(np.abs(R)) <= 1e-12 * fb.scale(Xb)
-    F = lin[-1] * Xb + d.off * U[-1] + T[-1]
+    _, c, dlin, dc = fb.linear(omega, b.order, b.odd)
+    F = lin[-1] * Xb + c * U[-1] + T[-1]
     Ainv_last = np.linalg.solve(A, np.vstack([np.zeros(((n - 1) * s, s)), np.eye(s)]))[-s:]
-    dF_dX = np.diag(lin[-1]) + J[-1] - d.off**2 * Ainv_last
-    dU_dw = np.linalg.solve(A, (2.0 * omega * d.m[:-1, None] * b.order[None, :] ** 2 * U).ravel()).reshape(n, s)
-    dF_dw = -2.0 * omega * d.m[-1] * b.order**2 * Xb + d.off * dU_dw[-1]
+    dF_dX = np.diag(lin[-1]) + J[-1] - c[:, None] * Ainv_last * c[None, :]
+    dR_dw = dlin[:-1] * U
+    dR_dw[1:] += dc * U[:-1]
+    dR_dw[:-1] += dc * U[1:]
+    dR_dw[-1] += dc * Xb
+    dU_dw = np.linalg.solve(A, -dR_dw.ravel()).reshape(n, s)
+    dF_dw = dlin[-1] * Xb + dc * U[-1] + c * dU_dw[-1]
     ix = np.ix_(b.idx, b.idx)
     assert sol.success
     # measured: F to 2e-14, dF_dX and dF_domega to 2e-12 (the bar's Jacobian has a condition number
@@ -138,12 +149,14 @@ def test_nested_solve_matches_a_dense_newton(bar_load, a, omega):
     assert np.max(np.abs(sol.dF_domega[b.idx] - dF_dw)) <= 1e-10 * np.max(np.abs(dF_dw))
 
 
-def test_even_block_matches_the_dense_schur_complement(bar_load):
+@pytest.mark.parametrize("linear", ["exact", "lumped"])
+def test_even_block_matches_the_dense_schur_complement(bar_load, linear):
     """A half-wave symmetric solution (odd basis) gets its even-even block of dF/dX from the
     return map's state its solve kept; here from the dense full-basis Jacobian's even part."""
     bar, load = bar_load
     cells, H, omega = 32, 31, 38820.0
-    fb = FixedBar(bar, load, cells, H, AllModeMicroslip(bar, load, cells=cells, harmonics=H)._level(cells, H).n_t)
+    fb = FixedBar(bar, load, cells, H, AllModeMicroslip(bar, load, cells=cells, harmonics=H)._level(cells, H).n_t,
+                  linear)
     X = np.zeros(2 * H + 1)
     X[2] = 1.5355e-6
     sol = fb.solve(X, omega, odd=True)
@@ -152,11 +165,11 @@ def test_even_block_matches_the_dense_schur_complement(bar_load):
     d = fb.disc
     even = np.flatnonzero(b.order % 2 == 0)
     J = dense_node_jacobians(sol.U, d.kc, d.p, b.E, b.P)[:, even][:, :, even]
-    lin = d.kdiag[:, None] - omega**2 * d.m[:, None] * b.order[None, even] ** 2
+    lin, c = fb.linear(omega, b.order[even], "dense")[:2]
     n, s = cells, even.size
-    A = dense_tridiagonal(J, lin, d.off, n, s)
+    A = dense_tridiagonal(J, lin, c, n, s)
     Ainv_last = np.linalg.solve(A, np.vstack([np.zeros(((n - 1) * s, s)), np.eye(s)]))[-s:]
-    block = np.diag(lin[-1]) + J[-1] - d.off**2 * Ainv_last
+    block = np.diag(lin[-1]) + J[-1] - c[:, None] * Ainv_last * c[None, :]
     got = sol.dF_dX[np.ix_(even, even)]
     assert np.max(np.abs(got - block)) <= 1e-10 * np.max(np.abs(block))  # measured 6e-14
 

@@ -1,0 +1,155 @@
+"""The all-mode bar's linear part per harmonic: exact segments between the nodes, or the lumped bar.
+
+Between two nodes the bar is linear: while its shear layer sticks, a segment of length h is a rod on the
+elastic foundation k (N/m per metre), EA u'' - k u + rho A Omega^2 u = 0 at the frequency Omega = j omega
+of harmonic j.  Its end forces for the end displacements (u_l, u_r) are exact:
+
+    f_l = (EA/h) (A(z) u_l - B(z) u_r),   f_r = (EA/h) (-B(z) u_l + A(z) u_r),
+    z = q h^2,   q = (rho A Omega^2 - k) / EA,
+    A(z) = sqrt(z) cot sqrt(z),   B(z) = sqrt(z) / sin sqrt(z)      (z > 0, a travelling wave),
+    A(z) = s coth s,   B(z) = s / sinh s,   s = sqrt(-z)            (z < 0, an evanescent one),
+
+both analytic in z (A = 1 - z/3 - z^2/45 - 2 z^3/945 + ..., B = 1 + z/6 + 7 z^2/360 + 31 z^3/15120 + ...;
+A(0) = B(0) = 1 is the static spring EA/h).  Assembled, node i carries the diagonal (EA/h)(A_left +
+A_right) (one segment at the ends, the beta spring at node 0) and neighbouring nodes couple by
+c_j = -(EA/h) B(z_j), the same for every pair (equal cells).  The shear layer's Jenkins elements stay
+lumped at the nodes (k c_i, mu q(x_i) c_i with trapezoid weights c_i): since the segments already hold
+the foundation's springs, node i's residual carries T_i - k c_i U_i, which is zero wherever the node
+sticks.  So a bar that sticks everywhere is the continuous bar itself, on any mesh; the cells resolve
+only where the shear layer slips (``docs/theory.md``, "The all-mode bar's exact segments").
+
+``kind="lumped"`` is the finite-element bar of ``NumericalMicroslip`` (linear elements, lumped mass
+m_i = rho A c_i): diagonal K_ii - Omega^2 m_i (the Jenkins force carries k c_i), coupling -EA/h.
+
+A segment resonates with both its ends held where sqrt(z) reaches pi (a cell half a wavelength of the
+harmonic long): the coupling diverges there and the nodes no longer see the shear layer between them.
+:func:`linear_part` refuses meshes with sqrt(z) above ``MAX_SEGMENT_PHASE``, naming the cells needed.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Callable, NamedTuple
+
+import numpy as np
+from numpy.typing import NDArray
+
+if TYPE_CHECKING:
+    from .bar import Bar
+    from .numerics.fe_bar import _Discretisation
+
+Array = NDArray[np.float64]
+
+#: The largest phase sqrt(z) of a segment accepted (a fraction of pi: a cell at most 0.9 of half the
+#: wavelength of the highest harmonic).
+MAX_SEGMENT_PHASE = 0.9 * math.pi
+#: Below this |z| the series of A, B and their derivatives are used (their omitted terms are below 1e-13).
+SERIES_Z = 1e-3
+KINDS = ("exact", "lumped")
+#: The floor of the stuck stiffness's relative estimate, a share of k* (as the validity map's).
+FLOOR_SHARE = 0.01
+
+
+class UnresolvedWave(ValueError):
+    """Exact cells longer than ``MAX_SEGMENT_PHASE`` of the highest harmonic's half wavelength (a rung of the
+    element's estimate below it counts as a failed solve)."""
+
+
+class LinearPart(NamedTuple):
+    """The bar's linear part at one frequency on coefficients of the harmonic orders ``order`` (s,): the
+    diagonal ``lin`` (n + 1, s) of every node (the driven node last), the coupling ``c`` (s,) of
+    neighbouring nodes, and their derivatives in omega ``dlin``, ``dc``."""
+
+    lin: Array
+    c: Array
+    dlin: Array
+    dc: Array
+
+
+def segment_functions(z: Array) -> tuple[Array, Array, Array, Array]:
+    """``A(z), B(z), A'(z), B'(z)`` (module docstring) for the array z (z < pi^2): one complex formula for
+    both signs (sqrt(z) = i s turns cot and sin into coth and sinh), the series near z = 0."""
+    z = np.asarray(z, dtype=float)
+    s = np.sqrt(z.astype(complex))
+    small = np.abs(z) < SERIES_Z
+    s[small] = 1.0  # their values come from the series below
+    sn, cs = np.sin(s), np.cos(s)
+    A, B = (s * cs / sn).real, (s / sn).real
+    dA = ((cs / sn - s / sn**2) / (2.0 * s)).real  # dA/ds / (dz/ds)
+    dB = ((1.0 - s * cs / sn) / (2.0 * s * sn)).real
+    if np.any(small):
+        zs = z[small]
+        A[small] = 1.0 - zs / 3.0 - zs**2 / 45.0 - 2.0 * zs**3 / 945.0
+        B[small] = 1.0 + zs / 6.0 + 7.0 * zs**2 / 360.0 + 31.0 * zs**3 / 15120.0
+        dA[small] = -1.0 / 3.0 - 2.0 * zs / 45.0 - 6.0 * zs**2 / 945.0
+        dB[small] = 1.0 / 6.0 + 7.0 * zs / 180.0 + 93.0 * zs**2 / 15120.0
+    return A, B, dA, dB
+
+
+def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
+    """The fewest cells whose segments stay below ``MAX_SEGMENT_PHASE`` at harmonic H of omega."""
+    q = (bar.rho * bar.A * (H * omega) ** 2 - bar.k) / bar.EA
+    return max(1, int(math.floor(math.sqrt(max(q, 0.0)) * bar.L / MAX_SEGMENT_PHASE)) + 1)
+
+
+def linear_part(bar: Bar, disc: _Discretisation, omega: float, order: Array, kind: str) -> LinearPart:
+    """The :class:`LinearPart` of the bar on ``disc`` at omega for the harmonic orders ``order`` (module
+    docstring); ``kind`` "exact" (segments) or "lumped" (the finite-element bar).  ValueError where a
+    segment's phase exceeds ``MAX_SEGMENT_PHASE`` (too few cells for the highest harmonic)."""
+    order = np.asarray(order, dtype=float)
+    s = order.size
+    if kind == "lumped":
+        w2 = order[None, :] ** 2
+        lin = disc.kdiag[:, None] - omega**2 * disc.m[:, None] * w2
+        return LinearPart(lin, np.full(s, disc.off), -2.0 * omega * disc.m[:, None] * w2, np.zeros(s))
+    h, EA = disc.h, bar.EA
+    z = (bar.rho * bar.A * (omega * order) ** 2 - bar.k) / EA * h**2
+    if np.any(z > MAX_SEGMENT_PHASE**2):
+        H = int(np.max(order))
+        raise UnresolvedWave(f"cells={disc.n} are too few for harmonic {H} at omega={omega!r} rad/s: a cell is more than "
+                         f"0.9 of half its wavelength; use at least {cells_for_phase(bar, omega, H)} cells")
+    A, B, dA, dB = segment_functions(z)
+    k = EA / h
+    dz = (2.0 * bar.rho * bar.A * omega / EA * h**2) * order**2
+    lin = np.empty((disc.n + 1, s))
+    lin[:] = 2.0 * k * A
+    lin[0] = lin[-1] = k * A
+    lin[0] += bar.beta
+    lin -= disc.kc[:, None]
+    dlin = np.empty((disc.n + 1, s))
+    dlin[:] = 2.0 * k * dA * dz
+    dlin[0] = dlin[-1] = k * dA * dz
+    return LinearPart(lin, -k * B, dlin, -k * dB * dz)
+
+
+def stuck_end(bar: Bar, disc: _Discretisation, omega: float, kind: str) -> tuple[float, float]:
+    """``(K, a_min)`` of the bar stuck everywhere at omega: the driven end's stiffness K (N/m; its force
+    K a for the motion a sin) and the least end amplitude a_min at which a node's spring force k c_i |u_i|
+    reaches its slip force mu q(x_i) c_i (inf where none can).  Exact (the continuous bar's, at the nodes)
+    for ``kind="exact"``; the finite-element bar's for "lumped"."""
+    from ._hbal import scalar_tridiagonal  # the Thomas solve of the whole package
+
+    if kind == "lumped":  # the finite-element bar's own (``NumericalMicroslip`` gives the same numbers)
+        return disc.stuck_solution(omega)[1], disc.slip_amplitude(omega)
+    part = linear_part(bar, disc, omega, np.ones(1), kind)
+    c = float(part.c[0])
+    diag = part.lin[:, :1] + disc.kc[:, None]  # the stuck Jenkins elements are the springs k c_i
+    u = np.append(scalar_tridiagonal(diag[:-1] / c, 1.0, -np.ones(1))[:, 0], 1.0)
+    K = float(diag[-1, 0] + c * u[-2])
+    with np.errstate(divide="ignore"):
+        ratio = np.where(np.abs(u) > 0, disc.p / (disc.kc * np.abs(u)), np.inf)
+    return K, float(np.min(ratio))
+
+
+def exact_stuck(bar: Bar, disc_of: Callable[[int], _Discretisation], omega: float, n: int,
+                fine: int) -> tuple[int, float, float, float]:
+    """``(n, K, a_min, relative estimate of K)`` of the exact bar stuck everywhere on n cells (at least
+    the fewest that hold harmonic 1): K is the continuous bar's on any mesh, so its estimate is the change
+    to 2n cells (rounding); a_min is the least of n cells' nodes and of ``fine`` cells' nodes, which sample
+    the load q(x) finely (the nodes of a coarse mesh can miss a pocket of low load, where slip starts)."""
+    n = max(n, cells_for_phase(bar, omega, 1))
+    K, a_own = stuck_end(bar, disc_of(n), omega, "exact")
+    K2, _ = stuck_end(bar, disc_of(2 * n), omega, "exact")
+    a_fine = stuck_end(bar, disc_of(max(fine, n)), omega, "exact")[1]
+    rel = abs(K2 - K) / max(abs(K), FLOOR_SHARE * bar.k_star)
+    return n, K, min(a_own, a_fine), max(rel, 2 * n * np.finfo(float).eps)  # at least the solve's rounding
