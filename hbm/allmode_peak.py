@@ -31,16 +31,19 @@ interval), starting from the peak of the nearest rung already refined; the peak 
 The scan runs on the first rung's cells (16) and the middle harmonics (15; 13 is where the notch
 comes from, below): its largest point is where the first refinement, 16 cells at H = 31, starts,
 and on 16 cells H = 15 and H = 31 agree to 5e-4 of a over the scan, with their largest point at
-the same frequency on a 0.05 % grid.  The notch of the 13th harmonic moves with the mesh (at 38620, 38710, 38742, 38747 rad/s on 16, 32, 64, 128 cells at the
-default case, the peak at 38780 to 38820) and leaves a lower local maximum on its left (2 % below
-the peak on 16 cells, 0.5 % on 32): the largest scanned point is on the peak's hill, and each
-finer rung starts from the previous rung's peak, right of its notch.
+the same frequency on a 0.05 % grid.  The notch of the 13th harmonic (near 38750 rad/s at the default
+case, the peak at 38821) leaves a lower local maximum on its left: with the bar's exact segments 0.09 %
+below the peak on the scan's 16 cells (38691 against 38807 rad/s; with lumped masses the notch moved with
+the mesh and that maximum was 2 % below on 16 cells).  The largest scanned point is on the peak's hill,
+and each finer rung starts from the previous rung's peak, right of its notch.
 
-**The estimate.**  The peak amplitude on rungs n/4, n/2, n cells (at H = 31) and on H = 7, 15, 31
-(at min(n, ``HARMONICS_CELLS``) cells), each sequence through ``richardson`` (observed order, guarded;
-``contact_models.allmode.richardson``), the harmonics part never below what order 1 predicts
-(``_harmonics_part``), the two parts added, relative to the peak amplitude.  Cells double (to
-``MAX_CELLS``) while the sum is above the tolerance.  The sources this search does not resolve
+**The estimate.**  The cells part is the element's (``contact_models.allmode.cells_error``) on the peak
+amplitudes at H = 31: below 128 cells, the change to 2n plus the Richardson error of 2n from n/2, n, 2n;
+from 128 on, Richardson from n/4, n/2, n.  The harmonics part: H = 7, 15, 31 (at min(n,
+``HARMONICS_CELLS``) cells) through ``richardson`` (observed order, guarded;
+``contact_models.allmode.richardson``), never below what order 1 predicts (``_harmonics_part``).  The two
+parts add, relative to the peak amplitude.  Cells double (to ``MAX_CELLS``) while the sum is above the
+tolerance.  The sources this search does not resolve
 (the blade's own higher harmonics, AFT sampling, the element evaluation, the peak's location) come
 from the single-mode curve's estimate at its peak (``other``) and are added.  Measured against a converged reference in
 ``docs/validation.md`` ("The default blade with the all-mode damper").
@@ -56,7 +59,7 @@ import numpy as np
 
 from contact_models import AllModeMicroslip
 from contact_models.accuracy import AccuracyWarning
-from contact_models.allmode import richardson
+from contact_models.allmode import cells_error, richardson
 from contact_models.numerics.checks import nonnegative, positive
 
 __all__ = ["AllModePeak", "allmode_peak", "physical_peak", "amplitude_at", "SCAN", "SPAN", "SCAN_STEP", "CELLS", "HARMONICS",
@@ -294,8 +297,8 @@ def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: flo
 
     n = CELLS
     while True:
-        ladder_c = [peak(c, HARMONICS)[1] for c in (n // 4, n // 2, n)]
-        e_c = float(richardson((n // 4, n // 2, n), np.array(ladder_c)[:, None])[0][0]) / ladder_c[-1]
+        a_n = peak(n, HARMONICS)[1]
+        e_c = float(cells_error(n, np.array([a_n]), lambda c: np.array([peak(c, HARMONICS)[1]]))[0]) / a_n
         ladder_h = [peak(min(n, HARMONICS_CELLS), H)[1] for H in (7, 15, HARMONICS)]
         e_h = _harmonics_part(ladder_h)
         if e_c + e_h + other <= tol or 2 * n > MAX_CELLS:

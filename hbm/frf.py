@@ -318,17 +318,17 @@ REFINED_REMEDY = ("a finer discretisation of the element (AllModeMicroslip: cell
                   "or a smaller tol=)")
 #: The model source's advice where the point's all-mode bar is on its finest rung along a curve.
 TOP_RUNG_REMEDY = ("the element alone at that point (AllModeMicroslip with tol=, cells up to 640): along the curve "
-                   "the all-mode bar is on its finest rung there ({rung}), where its estimate can be pessimistic if a "
-                   "harmonic of the drive meets a mode of the bar")
+                   "the all-mode bar is on the last rung it is refined to there ({rung}), where its estimate can be "
+                   "pessimistic if a harmonic of the drive meets a mode of the bar")
 
 
 def _remedy(frf: FrequencyResponse, source: str, i: int) -> str:
     """What brings ``source`` down at point ``i``; for the model source, the refined model only where
-    one exists, and the element alone where the point's all-mode rung is the finest along a curve."""
+    one exists, and the element alone where a curve refines the point's all-mode rung no further."""
     if source != "model":
         return REMEDY[source]
     site, _ = frf._site(i)
-    top = [c.element for c in site.contacts if getattr(c.element, "at_top_rung", False)]
+    top = [c.element for c in site.contacts if getattr(c.element, "refined_no_further", False)]
     if top:
         return TOP_RUNG_REMEDY.format(rung=f"{top[0].cells} cells, H = {top[0].harmonics}")
     if all(c.element.refined_model() is None or callable(getattr(c.element, "refined_rung", None))
