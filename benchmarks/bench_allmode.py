@@ -165,11 +165,18 @@ def estimate_rows():
 
         grid = [(n, H) for H in ((7, 15) if w < 1 else (7,)) for n in ((16, 32, 64, 128) if w < 30 else (64, 128, 256))]
         for n, H in grid:
-            sol = AllModeMicroslip(BAR, load, n, H).solve(a, omega, estimate_error=True)
+            try:
+                sol = AllModeMicroslip(BAR, load, n, H).solve(a, omega, estimate_error=True)
+            except ValueError:  # exact cells longer than 0.9 of half the highest harmonic's wavelength
+                rows.append([name, str(n), str(H), "too few cells", "", "", "", ""])
+                continue
             f = sol.F[1:3]
             true = rel(np.abs(f - ref_v))
-            old = float(np.max(np.maximum(np.abs(f - F(n // 2, H)) / 3, np.abs(f - F(n, math.ceil(H / 2))))
-                               / np.maximum(np.abs(f), floor)))
+            try:
+                old = float(np.max(np.maximum(np.abs(f - F(n // 2, H)) / 3, np.abs(f - F(n, math.ceil(H / 2))))
+                                   / np.maximum(np.abs(f), floor)))
+            except ValueError:  # its half cells too few for the exact segments
+                old = math.nan
             rows.append([name, str(n), str(H), f"{sol.relative_error:.2e}", f"{true:.2e}",
                          f"{sol.relative_error / true:.2f}", f"{old:.2e}", f"{old / true:.2f}"])
         with warnings.catch_warnings(record=True) as caught:
