@@ -123,7 +123,7 @@ def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.f
     harmonic: a lower rung that is None is left out, the estimate then read from the rungs above it).
 
     Below ``CHECK_ABOVE_CELLS`` cells, against the rung above: |F_2n - F_n| plus the error of F_2n,
-    Richardson from n/2, n, 2n (:func:`ladder`); for a force e(n) = C n^-p exactly that error, C n^-p.
+    Richardson from n/2, n, 2n (``ladder``); for a force e(n) = C n^-p exactly that error, C n^-p.
     A coarse rung's own rungs below it, n/4 and n/2, are far from asymptotic where the bar slips:
     along the default all-mode FRF at tol = 1e-2, 16 cells read from 4, 8, 16 gave up to 3.3 times
     less than their error against 512 cells; read against 32 cells, at most 1.4 times less

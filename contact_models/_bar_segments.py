@@ -51,8 +51,8 @@ FLOOR_SHARE = 0.01
 
 
 class UnresolvedWave(ValueError):
-    """Exact cells longer than ``MAX_SEGMENT_PHASE`` of the highest harmonic's half wavelength (a rung of the
-    element's estimate below it counts as a failed solve)."""
+    """Exact cells longer than ``MAX_SEGMENT_PHASE`` / pi of the highest harmonic's half wavelength (a rung of
+    the element's estimate that is so is left out, ``_allmode_accuracy.cells_error``)."""
 
 
 class LinearPart(NamedTuple):
@@ -106,8 +106,8 @@ def linear_part(bar: Bar, disc: _Discretisation, omega: float, order: Array, kin
     z = (bar.rho * bar.A * (omega * order) ** 2 - bar.k) / EA * h**2
     if np.any(z > MAX_SEGMENT_PHASE**2):
         H = int(np.max(order))
-        raise UnresolvedWave(f"cells={disc.n} are too few for harmonic {H} at omega={omega!r} rad/s: a cell is more than "
-                         f"0.9 of half its wavelength; use at least {cells_for_phase(bar, omega, H)} cells")
+        raise UnresolvedWave(f"cells={disc.n} are too few for harmonic {H} at omega={omega!r} rad/s: a cell is more "
+                             f"than 0.9 of half its wavelength; use at least {cells_for_phase(bar, omega, H)} cells")
     A, B, dA, dB = segment_functions(z)
     k = EA / h
     dz = (2.0 * bar.rho * bar.A * omega / EA * h**2) * order**2

@@ -512,7 +512,8 @@ class AllModeMicroslip(ContactElement):
         return self._discs[cells]
 
     def _stuck_data(self, omega: float):
-        """``(cells, K, a_min, relative estimate of K)`` of the stuck bar at omega (``_allmode_accuracy.stuck_data``)."""
+        """``(cells, K, a_min, relative estimate of K)`` of the stuck bar at omega
+        (``_allmode_accuracy.stuck_data``)."""
         if omega not in self._stuck:
             if len(self._stuck) > 512:
                 self._stuck.clear()

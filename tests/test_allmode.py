@@ -176,7 +176,8 @@ def test_stuck_is_the_exact_dynamic_stiffness_of_the_discretised_bar(w):
     assert el.slip_amplitude(omega) == num.slip_amplitude(omega)
 
 
-@pytest.mark.parametrize("cells, w", [(c, w) for c in (3, 8, 30) for w in (0.0, 0.3, 0.76, 0.95, 1.2)] + [(8, 3.0), (30, 3.0)])
+@pytest.mark.parametrize("cells, w", [(c, w) for c in (3, 8, 30) for w in (0.0, 0.3, 0.76, 0.95, 1.2)]
+                         + [(8, 3.0), (30, 3.0)])
 def test_the_exact_bar_stuck_is_the_continuous_bar_on_any_mesh(w, cells):
     """Below slip the exact segments give the continuous bar's dynamic stiffness (``Bar.stuck_stiffness``,
     the closed form of the bar on its stuck shear layer) on 3 cells as on 30, below and above the cut-off,
