@@ -117,7 +117,8 @@ def ladder(N: tuple, F: list, alone: NDArray[np.float64]) -> NDArray[np.float64]
     return np.where(np.isfinite(e), e, np.inf)
 
 
-def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.float64] | None]) -> NDArray[np.float64]:
+def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.float64] | None],
+                check_above: float = CHECK_ABOVE_CELLS) -> NDArray[np.float64]:
     """The cells part of the estimate (N, component by component) of the force ``F`` on n cells; ``at(c)``
     is the force on c cells (nan where its solve failed, None where c cells cannot hold the rung's highest
     harmonic: a lower rung that is None is left out, the estimate then read from the rungs above it).
@@ -128,16 +129,16 @@ def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.f
     along the default all-mode FRF at tol = 1e-2, 16 cells read from 4, 8, 16 gave up to 3.3 times
     less than their error against 512 cells; read against 32 cells, at most 1.4 times less
     (``docs/validation.md``, "The element's estimate along the default FRF").  From
-    ``CHECK_ABOVE_CELLS`` cells on, Richardson from n/4, n/2, n: the rung above would cost twice the
-    rung itself at every estimated point.  inf wherever a solve failed.
+    ``CHECK_ABOVE_CELLS`` cells on (``check_above``), Richardson from n/4, n/2, n: the rung above would cost
+    twice the rung itself at every estimated point.  inf wherever a solve failed.
 
     >>> at = lambda c: np.array([1.0 + 2.0 / c**2])
     >>> float(cells_error(16, at(16), at)[0]) * 16**2, float(cells_error(128, at(128), at)[0]) * 128**2
     (2.0, 2.0)
     """
-    below = [] if n < CHECK_ABOVE_CELLS else [(c, at(c)) for c in (n // 4, n // 2) if c >= 2 and c < n]
+    below = [] if n < check_above else [(c, at(c)) for c in (n // 4, n // 2) if c >= 2 and c < n]
     below = [(c, v) for c, v in below if v is not None]
-    if n < CHECK_ABOVE_CELLS or not below:  # (from 128 cells on too where no rung below holds the harmonics)
+    if n < check_above or not below:  # (from 128 cells on too where no rung below holds the harmonics)
         lower = at(n // 2) if n >= 4 else None
         fine = at(2 * n)
         if fine is None:
