@@ -15,9 +15,9 @@ from hbm.allmode_peak import _vertex, allmode_peak, amplitude_at
 #: The default case's all-mode peak on finer rungs (the same peak search; 38820 rad/s).  Cells at
 #: H = 31, lumped masses: 128, 256, 512 cells give 1.5354640e-6, 1.5353988e-6, 1.5353834e-6 m (observed
 #: order 2.1; the limit CELLS_LIMIT, 5e-12 m from 512 cells); the exact segments (the default) approach it
-#: from below, irregularly: 1.5352841e-6, 1.5353577e-6, 1.5353707e-6, 1.5353751e-6 m on 64 to 512 cells.  Harmonics on 128 cells: H = 31, 47, 63 give 1.5354640e-6,
-#: 1.5352972e-6, 1.5352775e-6 m (at H >= 47 a sample point near a narrow superharmonic feature: the
-#: local maximum is at least that).  The limit of both, REFERENCE_AMPLITUDE, is known to about 3e-5.
+#: from below, irregularly: 1.5352841e-6, 1.5353577e-6, 1.5353707e-6, 1.5353751e-6 m on 64 to 512 cells.
+#: Harmonics on 128 cells: H = 31, 47, 63 give 1.5354640e-6, 1.5352972e-6, 1.5352775e-6 m (at H >= 47 a
+#: sample point near a narrow superharmonic feature: the local maximum is at least that).  The limit of both, REFERENCE_AMPLITUDE, is known to about 3e-5.
 CELLS_LIMIT = 1.535378e-6
 HARMONICS_CHANGE = (1.5354640e-6 - 1.5352775e-6) / 1.5354640e-6  # H = 31 -> 63 on 128 cells
 REFERENCE_AMPLITUDE = 1.535378e-6 - (1.5354640e-6 - 1.5352775e-6)
