@@ -279,6 +279,18 @@ class Coupled:
         return self.c[:, None] * self.fac.last_inverse()  # (A^-1)_ll = (C^-1 A)^-1_ll C^-1
 
 
+def residual_rate(dlin: Array, dc: Array, U: Array, X: Array) -> Array:
+    """dR/domega (n, s) of the free nodes at the state U (n, s) for the end motion X: the linear part's
+    derivatives ``dlin`` (n + 1, s) and ``dc`` (s,) of ``_bar_segments.LinearPart`` (the forces do not
+    depend on omega)."""
+    rate = dlin[:-1] * U
+    if np.any(dc):
+        rate[1:] += dc * U[:-1]
+        rate[:-1] += dc * U[1:]
+        rate[-1] += dc * X
+    return rate
+
+
 def stuck_prefix(state: tuple | None) -> int:
     """How many of the bar's first nodes never slip in the return map's ``state`` (0 without one):
     their Jacobian blocks are ``kc I`` plus the diagonal linear part in the odd basis, and that but
@@ -378,12 +390,7 @@ class FixedBar:
         to first order in the frequency, so a continuation's next call often needs no Newton step."""
         Xc, wc, Uc, fac = self._cache[b.odd]
         _, c, dlin, dc = self.linear(wc, b.order, b.odd)
-        rhs = dlin[:-1] * Uc
-        if np.any(dc):
-            rhs[1:] += dc * Uc[:-1]
-            rhs[:-1] += dc * Uc[1:]
-            rhs[-1] += dc * Xc
-        rhs *= wc - omega
+        rhs = (wc - omega) * residual_rate(dlin, dc, Uc, Xc)
         rhs[-1] -= c * (X - Xc)
         return Uc + fac.solve(rhs)
 
@@ -470,12 +477,7 @@ class FixedBar:
         full = 2 * b.H + 1
         Fb = lin[-1] * Xb + c * U[-1] + T[-1]
         dF_dXb = np.diag(lin[-1]) + J[-1] - fac.coupled_last_inverse()
-        dR_dw = dlin[:-1] * U
-        if np.any(dc):
-            dR_dw[1:] += dc * U[:-1]
-            dR_dw[:-1] += dc * U[1:]
-            dR_dw[-1] += dc * Xb
-        dU_dw = fac.solve(-dR_dw)
+        dU_dw = fac.solve(-residual_rate(dlin, dc, U, Xb))
         dF_dwb = dlin[-1] * Xb + dc * U[-1] + c * dU_dw[-1]
         F = np.zeros(full)
         F[b.idx] = Fb

@@ -212,13 +212,16 @@ class AllModeMicroslip(ContactElement):
 
     @property
     def refined_no_further(self) -> bool:
-        """Whether a curve refines this fixed rung no further where it was estimated worst: at the top rung, or
-        where the rung predicted after it is itself (its harmonics at their top, its cells part within share)."""
+        """Whether a curve refines this fixed rung no further where it was estimated worst (``_predict`` None)."""
         if self.at_top_rung or not self._fixed or not self._seen:
             return self.at_top_rung
         _, _, rc, rh = max(self._seen, key=lambda s: s[2] + s[3])
-        return next_rung(self.cells, self.harmonics, rc, rh, (rc + rh) / self.tol, ladder=HARMONIC_LADDER,
-                         max_cells=max(self.cells, CURVE_MAX_CELLS)) is None
+        return self._predict(self, rc, rh, (rc + rh) / self.tol, max(s[0] for s in self._seen)) is None
+
+    def _predict(self, el, rc, rh, excess, w_hi):
+        """The rung after the fixed rung ``el`` for its parts (``next_rung``; cells held to the wavelength at w_hi)."""
+        return next_rung(el.cells, el.harmonics, rc, rh, excess, max_cells=max(el.cells, CURVE_MAX_CELLS),
+                         ladder=HARMONIC_LADDER, cells_for=lambda h: start_cells(self.bar, w_hi, h))
 
     @property
     def model_name(self) -> str:
@@ -262,10 +265,7 @@ class AllModeMicroslip(ContactElement):
         w, a, rel_c, rel_h = max(seen, key=lambda s: s[2] + s[3])
         excess = (rel_c + rel_h) / self.tol if excess is None else positive("excess", excess)
         w_hi = max(s[0] for s in seen)
-
-        def predict(el, rc, rh, ex):  # the rung after el (here and where probed_rung tries the rungs)
-            return next_rung(el.cells, el.harmonics, rc, rh, ex, max_cells=max(el.cells, CURVE_MAX_CELLS),
-                             ladder=HARMONIC_LADDER, cells_for=lambda h: start_cells(self.bar, w_hi, h))
+        predict = lambda el, rc, rh, ex: self._predict(el, rc, rh, ex, w_hi)  # noqa: E731 (also probed_rung's)
         rung = predict(self, rel_c, rel_h, excess)
         build = lambda n, h: AllModeMicroslip(self.bar, self.load, n, h, tol=self.tol, linear=self.linear)  # noqa: E731
         return None if rung is None else probed_rung(rung, (w, a), (rel_c + rel_h) / excess, build, predict)
