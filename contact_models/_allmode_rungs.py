@@ -35,7 +35,7 @@ from typing import Callable
 #: at the top of the range asks for more: ``_allmode_accuracy.start_cells``).  32 cells: on 16 the exact
 #: segments' estimate (read from 8, 16, 32 cells, pre-asymptotic where the bar slips) predicted 128 cells
 #: for the default case's peak window, where 32 meet tol = 1e-3 (the FRF 1.72 s against 1.30 s).
-START_HARMONICS = 15
+START_HARMONICS = 7
 START_CELLS = 32
 #: The most cells a rung along a curve gets (the element alone: ``allmode.MAX_CELLS``): where a
 #: harmonic of the drive meets a mode of the bar the estimate stops falling with the cells (the default

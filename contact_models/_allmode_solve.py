@@ -12,15 +12,16 @@ from __future__ import annotations
 import functools
 import math
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, NamedTuple
+from typing import TYPE_CHECKING, Callable, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from ._bar_segments import linear_part
 from ._hbal import (aft_matrices, factorise, jacobian_pattern, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
                     jenkins_periodic, jenkins_state, same_pattern, scalar_tridiagonal)
 from ._hbal_compiled import numpy_clock, numpy_spent
+from .numerics.checks import nonnegative
 from .numerics.fe_bar import _Discretisation
 
 if TYPE_CHECKING:
@@ -212,12 +213,49 @@ def scaled_samples(n_t: int, harmonics: int, H: int) -> int:
     return max(4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(n_t * H / harmonics / 4))
 
 
+def checked_samples(n_t: int | None, harmonics: int | None, default: Callable[[int], int]) -> int | None:
+    """An element's ``n_t``: as given (a multiple of 4, at least 2 ``harmonics`` + 2), ``default(harmonics)`` where
+    only ``harmonics`` is given, None where neither is; ValueError naming ``n_t`` otherwise."""
+    if n_t is not None and harmonics is None:
+        raise ValueError(f"n_t is tied to H where harmonics are chosen: give harmonics with it, got n_t={n_t!r}")
+    if harmonics is not None and n_t is None:
+        return default(harmonics)
+    if n_t is not None and (isinstance(n_t, bool) or int(n_t) != n_t or n_t % 4 or n_t < 2 * harmonics + 2):
+        raise ValueError(f"n_t must be a multiple of 4 and >= 2 harmonics + 2 = {2 * harmonics + 2}, got n_t={n_t!r}")
+    return None if n_t is None else int(n_t)
+
+
+def end_vector(a: float | ArrayLike, H: int) -> NDArray[np.float64]:
+    """An element's end motion: coefficients [0, 0, a] for an amplitude ``a`` (``a sin``), or ``a`` as given (odd
+    length at most 2H + 1, finite); ValueError naming ``a`` otherwise."""
+    arr = np.asarray(a, dtype=float)
+    if arr.ndim == 0:
+        return np.array([0.0, 0.0, nonnegative("a", float(arr))])
+    if arr.ndim != 1 or arr.size % 2 == 0 or arr.size > 2 * H + 1 or not np.all(np.isfinite(arr)):
+        raise ValueError(f"a must be an amplitude or a finite coefficient vector of odd length <= {2 * H + 1}, got a={a!r}")
+    return arr.copy()
+
+
 def pad_harmonics(X: NDArray[np.float64], H: int) -> NDArray[np.float64]:
     """The coefficients ``X`` (layout [X0, Xc1, Xs1, ...]) on H harmonics: zeros added, or cut."""
     if X.size >= 2 * H + 1:
         return X[: 2 * H + 1]
     out = np.zeros(2 * H + 1)  # (np.pad costs ten times as much on these short vectors)
     out[: X.size] = X
+    return out
+
+
+def transferred(U: NDArray[np.float64], cells: int, H: int) -> NDArray[np.float64]:
+    """Nodal coefficients ``U`` (n + 1 nodes, full layout) of one rung moved to another of ``cells`` cells and
+    H harmonics: linear in x between the nodes, harmonics cut or zeros added.  Newton's start on a rung an
+    estimate reads at the same motion and frequency (``FixedBar.solve``'s ``guess``)."""
+    n = U.shape[0] - 1
+    pos = np.arange(cells + 1) * (n / cells)
+    i = np.minimum(pos.astype(np.intp), n - 1)
+    w = (pos - i)[:, None]
+    k = min(U.shape[1], 2 * H + 1)
+    out = np.zeros((cells + 1, 2 * H + 1))
+    out[:, :k] = (1.0 - w) * U[i, :k] + w * U[i + 1, :k]
     return out
 
 
@@ -394,11 +432,18 @@ class FixedBar:
         rhs[-1] -= c * (X - Xc)
         return Uc + fac.solve(rhs)
 
-    def start(self, X: Array, omega: float, b: _Basis) -> _Eval:
+    def start(self, X: Array, omega: float, b: _Basis, guess: Array | None = None) -> _Eval:
         """The better (smaller residual) of the linear state and the cached solution moved along its
         tangent to (X, omega) (``tangent_guess``; compared on residuals alone; the Jacobian is
         evaluated for the one kept); the cached one alone where its residual is below
-        ``START_CLOSE`` of the force scale."""
+        ``START_CLOSE`` of the force scale.  With a ``guess`` (free nodes in the basis b), the better of
+        it and the cached one (the linear state is not tried)."""
+        if guess is not None:
+            ev = self.evaluate(guess, X, omega, b, not self.lazy_jacobian)
+            if b.odd in self._cache and ev.res > START_CLOSE * self.scale(X):
+                cached = self.evaluate(self.tangent_guess(X, omega, b), X, omega, b, not self.lazy_jacobian)
+                ev = cached if cached.res < ev.res else ev
+            return self.with_jacobian(ev, X, omega, b)
         if b.odd in self._cache:
             cached = self.evaluate(self.tangent_guess(X, omega, b), X, omega, b, not self.lazy_jacobian)
             if cached.res <= START_CLOSE * self.scale(X):  # Newton's start: the linear state cannot do better
@@ -431,12 +476,14 @@ class FixedBar:
             ev = self.with_jacobian(trial, X, omega, b, like=ev)
         return ev, fac, ev.res <= tol, it
 
-    def solve(self, X: Array, omega: float, odd: bool = False) -> AllModeSolution:
-        """Steady state for the full-layout X (2H+1) at omega, in the odd basis if asked."""
+    def solve(self, X: Array, omega: float, odd: bool = False, guess: Array | None = None) -> AllModeSolution:
+        """Steady state for the full-layout X (2H+1) at omega, in the odd basis if asked; ``guess``: nodal
+        coefficients (cells + 1 nodes, full layout, ``transferred``) to start Newton from."""
         since = numpy_clock()  # its time counts towards loading the compiled kernels while they are not
         b = self.basis(odd)
         Xb = X[b.idx]
-        ev, fac, ok, iters = self.newton(self.start(Xb, omega, b), Xb, omega, b)
+        start = self.start(Xb, omega, b, None if guess is None else np.ascontiguousarray(guess[:-1, b.idx]))
+        ev, fac, ok, iters = self.newton(start, Xb, omega, b)
         if not ok:
             ev, fac, ok, extra = self.continuation(Xb, omega, b)
             iters += extra

@@ -34,7 +34,8 @@ max(|f|, 0.01 k* a) as in the validity map, is below ``tol``: cells double from 
 wavelength of the highest harmonic and to the shear layer's decay length (``_allmode_accuracy.start_cells``),
 and harmonics climb the ladder 7, 15, 31, whichever part of the estimate is larger.  The estimate is
 Richardson extrapolation with the observed order on three rungs (cells n/2, n, 2n below 128 cells, with the
-difference to 2n added, else n/4, n/2, n; harmonics about H/4, H/2, H), guarded where the order is not
+difference to 2n added, else n/4, n/2, n; harmonics H/2, H, 2H+1 below 15 with the difference to 2H+1 added,
+else about H/4, H/2, H), guarded where the order is not
 asymptotic (``contact_models._allmode_accuracy``); its two parts add.  The ladder starts where the previous
 call ended and the estimate of a call within ``REUSE_AMPLITUDE`` and ``REUSE_FREQUENCY`` of the last
 estimated point, whose estimate was below half the tolerance, is reused.  Where the largest rungs
@@ -53,12 +54,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import (FLOOR, cells_error, ladder, relative, richardson, shortfall_message, start_cells,
-                                stuck_data)
-from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, lower_rung, next_rung, probed_rung
+from ._allmode_accuracy import (FLOOR, cells_error, harmonics_error, relative, richardson, shortfall_message,
+                                start_cells, stuck_data)
+from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
 from ._bar_segments import KINDS as LINEAR_KINDS, UnresolvedWave
-from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, ForceMemo, is_odd,
-                             pad_harmonics, scaled_samples, truncated)
+from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, ForceMemo,
+                             checked_samples, end_vector, is_odd, pad_harmonics, scaled_samples, transferred, truncated)
 from ._hbal import aft_matrices
 from ._hbal_compiled import kernels
 from .accuracy import AccuracyWarning
@@ -171,14 +172,7 @@ class AllModeMicroslip(ContactElement):
             raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
         self.cells = None if cells is None else count("cells", cells, 2)
         self.harmonics = None if harmonics is None else count("harmonics", harmonics, 1)
-        if n_t is not None and self.harmonics is None:
-            raise ValueError(f"n_t is tied to H where harmonics are chosen: give harmonics with it, got n_t={n_t!r}")
-        if self.harmonics is not None and n_t is None:
-            n_t = _samples(self.harmonics)
-        if n_t is not None and (isinstance(n_t, bool) or int(n_t) != n_t or n_t % 4 or n_t < 2 * self.harmonics + 2):
-            raise ValueError(f"n_t must be a multiple of 4 and >= 2 harmonics + 2 = {2 * self.harmonics + 2}, "
-                             f"got n_t={n_t!r}")
-        self.n_t = None if n_t is None else int(n_t)
+        self.n_t = checked_samples(n_t, self.harmonics, _samples)
         self.tol = positive("tol", tol)
         if not self.tol < 1.0:
             raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
@@ -270,6 +264,20 @@ class AllModeMicroslip(ContactElement):
         build = lambda n, h: AllModeMicroslip(self.bar, self.load, n, h, tol=self.tol, linear=self.linear)  # noqa: E731
         return None if rung is None else probed_rung(rung, (w, a), (rel_c + rel_h) / excess, build, predict)
 
+    def harmonics_of(self, rung: AllModeMicroslip) -> AllModeMicroslip | None:
+        """This fixed rung's cells at the top harmonics of ``rung`` (one refined from it) if this one has fewer; else None."""
+        if not (self._fixed and rung._fixed and rung.harmonics >= MAX_HARMONICS > self.harmonics):
+            return None
+        return self.for_balance(1, rung.harmonics)
+
+    def for_balance(self, H: int, at_least: int = 0) -> AllModeMicroslip:
+        """This fixed rung in a balance of H harmonics: with at least 4 H + 3 of its own (two rungs of the ladder
+        above H, at most ``MAX_HARMONICS``) and ``at_least``; itself where it has them, or where it chooses."""
+        h = max(min(4 * H + 3, MAX_HARMONICS), at_least)
+        if not self._fixed or h <= self.harmonics:
+            return self
+        return AllModeMicroslip(self.bar, self.load, self.cells, h, tol=self.tol, linear=self.linear)
+
     def _refined_model(self):
         """A fixed rung's refined model: the next rung (``refined_rung``) for its own ``tol``."""
         return self.refined_rung()
@@ -317,7 +325,7 @@ class AllModeMicroslip(ContactElement):
         (True, 0.19, True)
         """
         omega = nonnegative("omega", omega)
-        X = self._end_vector(a)
+        X = end_vector(a, self.harmonics or MAX_HARMONICS)
         odd = is_odd(X)
         if self._fixed:
             sol = self._level(self.cells, max(self.harmonics, (X.size - 1) // 2)).solve(
@@ -480,23 +488,21 @@ class AllModeMicroslip(ContactElement):
 
     def _parts(self, X, omega, odd, sol):
         """The estimate's parts (N, on (F_c, F_s)): in cells ``cells_error`` (against the rung above
-        below 128 cells, else from n/4, n/2, n), in harmonics Richardson from about H/4, H/2, H (never
-        below the drive's harmonics) with the observed order; with two rungs only, the last difference;
-        with one, inf (cells) or the decay of the harmonics kept (harmonics)."""
+        below 128 cells, else from n/4, n/2, n), in harmonics ``harmonics_error`` (against the rung above
+        below 15 harmonics, else from about H/4, H/2, H; never below the drive's harmonics)."""
         n, H, Hx = sol.cells, sol.H, (X.size - 1) // 2
         F = sol.F[1:3]
 
         def at(cells, h):
             try:
-                s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd)
+                s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd, transferred(sol.U, cells, h))
             except UnresolvedWave:  # too few exact cells for this rung's highest harmonic: left out
                 return None
             return s.F[1:3] if s.success else np.full(2, np.nan)
 
-        hs = sorted({h for h in (max(lower_rung(lower_rung(H)), Hx), max(lower_rung(H), Hx)) if h < H})
         alone = np.full(2, sol.decay * math.hypot(*F))
         return {"cells": cells_error(n, F, lambda c: at(c, H)),
-                "harmonics": ladder((*hs, H), [at(n, h) for h in hs] + [F], alone)}
+                "harmonics": harmonics_error(H, Hx, F, lambda h: at(n, h), alone)}
 
     def _warn(self, shortfalls) -> None:
         """One AccuracyWarning for the worst point of a call that missed ``tol``."""
@@ -588,13 +594,3 @@ class AllModeMicroslip(ContactElement):
             return x, self._stuck_stiffness(omega) * x
         sol = self.solve(a, omega)
         return x, self._level(sol.cells, sol.H).end_force(sol, theta, x)
-
-    def _end_vector(self, a) -> NDArray[np.float64]:
-        arr = np.asarray(a, dtype=float)
-        if arr.ndim == 0:
-            return np.array([0.0, 0.0, nonnegative("a", float(arr))])
-        H = self.harmonics or MAX_HARMONICS
-        if arr.ndim != 1 or arr.size % 2 == 0 or arr.size > 2 * H + 1 or not np.all(np.isfinite(arr)):
-            raise ValueError(f"a must be an amplitude or a finite coefficient vector of odd length <= "
-                             f"{2 * H + 1}, got a={a!r}")
-        return arr.copy()

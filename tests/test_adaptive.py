@@ -294,3 +294,45 @@ def test_folds_and_stability_across_a_splice():
     unstable = np.flatnonzero(~frf.stable)
     assert unstable.tolist() == list(range(i0 + 1, i1 + 1))
     assert [c.kind for c in frf.stability_changes] == ["fold", "fold"]
+
+
+def test_a_window_whose_lifted_start_fails_is_started_in_stages(monkeypatch):
+    """Windows that jump two rungs of H (forced here: H -> 4H + 3) whose start lifted straight from the coarse H
+    fails (made to fail here: its first residual raises) are started from the point solved at the H between and
+    at their own (``hbm.adapt.staged``); the curve is the one traced without the failure, and no window is given
+    up."""
+    import hbm.adapt as adapt
+
+    s, cs = chain()
+    monkeypatch.setattr(adapt, "next_harmonics", lambda H, excess, top: min(4 * H + 3, top))
+    plain = quiet(s, cs, omega_range=(0.3, 1.8), tol=1e-3, stability=False)
+    trace, staged, failed = adapt.trace, adapt.staged, []
+
+    class FailsFirst:  # the balance whose first residual fails (the window's lifted start)
+        def __init__(self, problem):
+            self.problem, self.calls = problem, 0
+
+        def __getattr__(self, name):
+            return getattr(self.problem, name)
+
+        def __call__(self, u):
+            self.calls += 1
+            if self.calls == 1:
+                raise FloatingPointError("made to fail")
+            return self.problem(u)
+
+    def failing(problem, knobs, *, start=None, **kw):  # every window's first start, not its retry
+        if start is not None and len(failed) < 3 and not (failed and failed[-1] is None):
+            failed.append(None)
+            return trace(FailsFirst(problem), knobs, start=start, **kw)
+        if failed and failed[-1] is None:
+            failed[-1] = True
+        return trace(problem, knobs, start=start, **kw)
+
+    calls = []
+    monkeypatch.setattr(adapt, "trace", failing)
+    monkeypatch.setattr(adapt, "staged", lambda *a: calls.append(a[4:]) or staged(*a))
+    frf = quiet(s, cs, omega_range=(0.3, 1.8), tol=1e-3, stability=False)
+    assert failed and len(calls) == len(failed) and all(H > H0 for H0, H in calls)
+    assert "failed" not in frf.message and len(frf) == len(plain)
+    assert frf.peak().amplitude == pytest.approx(plain.peak().amplitude, rel=1e-8)

@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, UniformLoad
-from contact_models._allmode_accuracy import cells_error, observed_order, relative, richardson
+from contact_models._allmode_accuracy import cells_error, harmonics_error, observed_order, relative, richardson
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 KS = BAR.k_star
@@ -271,3 +271,43 @@ def test_the_cells_part_leaves_out_rungs_too_coarse_for_the_harmonics():
                                                                              rel=1e-12)
     assert float(cells_error(128, F(128), coarse(64))[0]) == pytest.approx(abs(2 / 128**2 - 2 / 64**2), rel=1e-12)
     assert float(cells_error(128, F(128), lambda c: None if c != 128 else F(c))[0]) == math.inf
+
+
+def test_the_harmonics_part_below_15_is_read_against_the_rung_above():
+    """A force that changes only above its rung's harmonics (a harmonic above H meeting a mode of the bar) reads
+    0 from the rungs below (1, 3, 7); against the rung above (15) it is the change, twice (the last difference is
+    its own error's bound).  From 15 harmonics on the rungs below are read (no solve on 31); where the cells
+    cannot hold the rung above (None), the rungs below too."""
+    vals = {1: 1.0, 3: 1.0, 7: 1.0, 15: 1.1}
+    at = lambda h: np.array([vals[h]]) if h in vals else pytest.fail(f"solved at H = {h}")  # noqa: E731
+    assert float(harmonics_error(7, 1, at(7), at, np.zeros(1))[0]) == pytest.approx(0.2, rel=1e-12)
+    below = lambda h: None if h == 15 else at(h)  # noqa: E731
+    assert float(harmonics_error(7, 1, at(7), below, np.zeros(1))[0]) == 0.0
+    assert float(harmonics_error(15, 1, at(15), at, np.zeros(1))[0]) > 0.0  # 3, 7, 15: no solve on 31
+
+
+def test_a_rung_of_7_harmonics_sees_the_13th_meet_a_mode_of_the_bar():
+    """Near the default case's peak the 13th harmonic meets the bar's second tip-fixed mode (the notch at
+    38751 rad/s).  On 32 cells and H = 7, f_c is 4.4e-2 off the converged bar there (512 cells, H = 31); read
+    against H = 15 the estimate covers it (0.10), read from H = 1, 3, 7 it was 7.8e-3."""
+    import contact_models._allmode_accuracy as acc
+    from hbm.cli.cases import default_case
+
+    damper = default_case().element
+    bar, load = damper.bar, damper.load
+    a, w = 1.5e-6, 38751.0
+    ref = AllModeMicroslip(bar, load, 512, 31).solve(a, w).F[1:3]
+    floor = 0.01 * bar.k_star * a
+
+    def estimate():
+        sol = AllModeMicroslip(bar, load, 32, 7).solve(a, w, estimate_error=True)
+        return sol.relative_error, float(np.max(np.abs(sol.F[1:3] - ref) / np.maximum(np.abs(ref), floor)))
+
+    est, true = estimate()
+    assert 3e-2 < true <= est
+    acc.CHECK_ABOVE_HARMONICS, saved = 1, acc.CHECK_ABOVE_HARMONICS
+    try:
+        below, _ = estimate()
+    finally:
+        acc.CHECK_ABOVE_HARMONICS = saved
+    assert below < 0.25 * true

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from contact_models import _hbal_compiled
-from contact_models._allmode_solve import FixedBar
+from contact_models._allmode_solve import FixedBar, transferred
 from contact_models._hbal import (BandedBlockTridiagonal, BlockTridiagonal, aft_matrices, jacobian_prefix,
                                   jenkins_jacobian, jenkins_periodic, jenkins_state)
 from contact_models.allmode import AllModeMicroslip
@@ -264,3 +264,30 @@ def test_a_never_slipping_node_is_the_spring_on_every_odd_harmonic_exactly(bar_l
     assert 0 < never.size < 33
     J = jenkins_jacobian(state, d.kc, b.E, b.P, b.prefix)
     assert np.array_equal(J[never], d.kc[never, None, None] * np.eye(b.idx.size)[None])
+
+
+def test_transferred_moves_nodal_coefficients_between_rungs():
+    """Linear in x between the nodes (exact for a motion linear in x), harmonics cut or padded with zeros."""
+    def linear(cells):
+        x = np.linspace(0.0, 1.0, cells + 1)[:, None]
+        return np.hstack([3.0 * x, 1.0 + x, -x])  # H = 1
+
+    U = linear(8)
+    fine = transferred(U, 16, 2)
+    assert fine.shape == (17, 5) and not np.any(fine[:, 3:])
+    np.testing.assert_allclose(fine[:, :3], linear(16), rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(transferred(U, 4, 0), U[::2, :1])
+
+
+def test_a_solve_started_from_another_rung_is_the_solve(bar_load):
+    """Newton started from a coarser rung's state transferred (``guess``) converges to the same state as from its
+    own start: the estimate's rungs give the same force either way."""
+    bar, load = bar_load
+    a, w = 1.2e-6, 38400.0
+    X = np.zeros(15)
+    X[2] = a
+    coarse = FixedBar(bar, load, 16, 7, 56).solve(X, w, True)
+    plain = FixedBar(bar, load, 32, 7, 56).solve(X, w, True)
+    started = FixedBar(bar, load, 32, 7, 56).solve(X, w, True, transferred(coarse.U, 32, 7))
+    assert plain.success and started.success
+    np.testing.assert_allclose(started.F, plain.F, rtol=0, atol=1e-9 * np.max(np.abs(plain.F)))

@@ -19,9 +19,9 @@ def solves(monkeypatch):
     count = [0]
     solve = FixedBar.solve
 
-    def counted(self, X, omega, odd=False):
+    def counted(self, X, omega, odd=False, guess=None):
         count[0] += 1
-        return solve(self, X, omega, odd)
+        return solve(self, X, omega, odd, guess)
 
     monkeypatch.setattr(FixedBar, "solve", counted)
     return count
