@@ -232,7 +232,8 @@ def end_vector(a: float | ArrayLike, H: int) -> NDArray[np.float64]:
     if arr.ndim == 0:
         return np.array([0.0, 0.0, nonnegative("a", float(arr))])
     if arr.ndim != 1 or arr.size % 2 == 0 or arr.size > 2 * H + 1 or not np.all(np.isfinite(arr)):
-        raise ValueError(f"a must be an amplitude or a finite coefficient vector of odd length <= {2 * H + 1}, got a={a!r}")
+        raise ValueError(f"a must be an amplitude or a finite coefficient vector of odd length <= {2 * H + 1}, "
+                         f"got a={a!r}")
     return arr.copy()
 
 

@@ -265,10 +265,14 @@ class AllModeMicroslip(ContactElement):
         return None if rung is None else probed_rung(rung, (w, a), (rel_c + rel_h) / excess, build, predict)
 
     def harmonics_of(self, rung: AllModeMicroslip) -> AllModeMicroslip | None:
-        """This fixed rung's cells at the top harmonics of ``rung`` (one refined from it) if this one has fewer; else None."""
+        """This fixed rung at ``rung``'s top harmonics if it has fewer (``rung`` refined from it), its cells doubled
+        up to ``rung``'s while the top harmonic's wavelength at its estimated points asks (``start_cells``); else None."""
         if not (self._fixed and rung._fixed and rung.harmonics >= MAX_HARMONICS > self.harmonics):
             return None
-        return self.for_balance(1, rung.harmonics)
+        n, w_hi = self.cells, max((s[0] for s in self._seen), default=0.0)
+        n *= 2 ** max(0, math.ceil(math.log2(min(rung.cells, start_cells(self.bar, w_hi, rung.harmonics)) / n)))
+        return AllModeMicroslip(self.bar, self.load, n, self.harmonics, tol=self.tol, linear=self.linear).for_balance(
+            1, rung.harmonics)
 
     def for_balance(self, H: int, at_least: int = 0) -> AllModeMicroslip:
         """This fixed rung in a balance of H harmonics: with at least 4 H + 3 of its own (two rungs of the ladder

@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, TwoRegionMicroslip
+from contact_models._allmode_accuracy import start_cells
 from contact_models._allmode_rungs import (CURVE_MAX_CELLS, PROBES, START_CELLS, START_HARMONICS, next_rung,
                                           probed_rung)
 from hbm import frequency_response
@@ -224,6 +225,10 @@ def test_harmonics_of_raises_a_rung_to_the_top_harmonics_on_its_cells():
     assert start.harmonics_of(AllModeMicroslip(BAR, LOAD, 64, 15)) is None  # not the top harmonics
     assert AllModeMicroslip(BAR, LOAD, 32, 31).harmonics_of(AllModeMicroslip(BAR, LOAD, 64, 31)) is None
     assert AllModeMicroslip(BAR, LOAD).harmonics_of(AllModeMicroslip(BAR, LOAD, 64, 31)) is None  # choosing
+    # too few cells for the 31st harmonic's wavelength at the points estimated (18 at 43946 rad/s): doubled
+    few = AllModeMicroslip(BAR, LOAD, 4, 7)
+    few.model_error(1.5e-6, 43946.0)
+    assert start_cells(BAR, 43946.0, 31) == 18 and few.harmonics_of(AllModeMicroslip(BAR, LOAD, 64, 31)).cells == 32
 
 
 def test_the_estimate_is_computed_either_side_of_the_onset_of_slip():
