@@ -314,7 +314,9 @@ def balanced(contacts: list, H: int) -> list:
     ``a sin`` (``model_error``) and cannot see the harmonics the balance adds to the drive: the default case's
     rung of 64 cells and H = 7 traced at H = 3 at 200 N was 1.0e-3 off a converged reference at 39425 rad/s,
     with an estimate of 2.2e-4; with two rungs of harmonics above the balance's (15 at H = 3) the rungs'
-    estimates hold."""
+    estimates hold.  At H = 1 the drive is ``a sin``: the contacts as they are."""
+    if H <= 1:
+        return contacts
     return [c.with_element(getattr(c.element, "for_balance", lambda _: c.element)(H)) for c in contacts]
 
 
@@ -377,11 +379,10 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
     def harmonics_step(f, excess, span, points):
         if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
             return None
-        contacts = f.contacts
-        if plan.rungs_only and plan.model_share is not None:
-            contacts = rungs_too(f, *points, plan.model_share * tol, span, knobs) or contacts
-        H = next_harmonics(f.harmonics, excess, plan.max_harmonics)
-        return balanced(contacts, H), H
+        contacts, H = f.contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
+        if plan.rungs_only and plan.model_share is not None:  # rungs chosen along the curve (not an element given)
+            contacts = balanced(rungs_too(f, *points, plan.model_share * tol, span, knobs) or contacts, H)
+        return contacts, H
 
     passes = [("model", plan.model_share, model_step), ("harmonics", plan.harmonics_share, harmonics_step)]
     for source, share, step in (passes[::-1] if plan.rungs_only else passes):

@@ -263,3 +263,15 @@ def test_the_40_N_curve_starts_its_H_31_window_in_stages():
     assert frf.success and "failed" not in frf.message
     assert any(sg.harmonics == 31 and 38500.0 < frf.omega[sg.start] < 38600.0 for sg in frf.segments)
     assert float(frf.error_estimate.max()) < 1e-2
+
+
+def test_an_element_given_fixed_keeps_its_harmonics_in_every_window():
+    """Rungs chosen along a curve get 4H + 3 harmonics in a balance of H (``hbm.adapt.balanced``); an element
+    given with its cells and harmonics is not a choice of the curve's and keeps them in the windows at H = 3
+    and 7 (its estimate says what that costs)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        frf = frequency_response(CASE.blade, AllModeMicroslip(BAR, LOAD, 16, 3), omega_range=(38000.0, 39500.0),
+                                 tol=1e-3)
+    assert max(sg.harmonics for sg in frf.segments) >= 3
+    assert set(frf.point_models.tolist()) == {"AllModeMicroslip(cells=16, H=3)"}
