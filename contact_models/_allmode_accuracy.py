@@ -28,6 +28,8 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 from numpy.typing import NDArray
 
+from ._allmode_rungs import lower_rung
+
 if TYPE_CHECKING:
     from .bar import Bar
 
@@ -171,8 +173,6 @@ def harmonics_error(H: int, Hx: int, F: NDArray[np.float64], at: Callable[[int],
     >>> float(harmonics_error(7, 1, at(7), at, np.zeros(1))[0]) > 2.0 / 7**4 - 2.0 / 15**4
     True
     """
-    from ._allmode_rungs import lower_rung  # (that module's rungs are read by this one's estimates)
-
     fine = at(2 * H + 1) if H < CHECK_ABOVE_HARMONICS else None
     if fine is not None:
         low = max(lower_rung(H), Hx)

@@ -271,8 +271,7 @@ class AllModeMicroslip(ContactElement):
             return None
         n, w_hi = self.cells, max((s[0] for s in self._seen), default=0.0)
         n *= 2 ** max(0, math.ceil(math.log2(min(rung.cells, start_cells(self.bar, w_hi, rung.harmonics)) / n)))
-        return AllModeMicroslip(self.bar, self.load, n, self.harmonics, tol=self.tol, linear=self.linear).for_balance(
-            1, rung.harmonics)
+        return AllModeMicroslip(self.bar, self.load, n, rung.harmonics, tol=self.tol, linear=self.linear)
 
     def for_balance(self, H: int, at_least: int = 0) -> AllModeMicroslip:
         """This fixed rung in a balance of H harmonics: with at least 4 H + 3 of its own (two rungs of the ladder

@@ -202,14 +202,16 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
     X0, w_start = frf._X[i0], float(frf.omega[i0])
     t0 = float(run.tangent[i0][-1])
     direction = (1 if t0 > 0.0 else -1) if t0 != 0.0 else (1 if knobs.w1 > knobs.w0 else -1)
+    def traced_from(X):
+        return trace(problem, knobs, start=lambda pr: lift(pr, X, w_start), direction=direction,
+                     stop=None if last else beyond, cut=cut)
+
     with errors.collected() as now:
-        out = trace(problem, knobs, start=lambda pr: lift(pr, X0, w_start), direction=direction,
-                    stop=None if last else beyond, cut=cut)
+        out = traced_from(X0)
         if out._run.status == cont.Status.START_FAILED and H > frf.harmonics:
             X1 = staged(knobs, contacts, X0, w_start, frf.harmonics, H)
             if X1 is not None:
-                out = trace(problem, knobs, start=lambda pr: lift(pr, X1, w_start), direction=direction,
-                            stop=None if last else beyond, cut=cut)
+                out = traced_from(X1)
     knobs.heard[id(out)] = list(now)
     if not out.success:
         return out, out._run.message
@@ -332,7 +334,7 @@ def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tu
     from the start rung's estimates at the old H is not taken whole: at 252 N and 300 N the default
     case's peak window went to 128 cells and H = 15 that way, where the cheap trace at H = 3 leads to
     H = 31, and the nested solve's samples left its peaks 1.4 to 1.7 times their estimates off a
-    converged reference.  The top harmonics cannot be short that way."""
+    converged reference.  At the top harmonics no prediction can ask for more of them."""
     if "model" not in f.error_sources:
         return None
     source = f.error_sources["model"]
