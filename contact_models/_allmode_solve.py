@@ -17,9 +17,9 @@ from typing import TYPE_CHECKING, Callable, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._bar_segments import linear_part
-from ._hbal import (aft_matrices, factorise, jacobian_pattern, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
-                    jenkins_periodic, jenkins_state, same_pattern, scalar_tridiagonal)
+from ._bar_segments import Segments
+from ._hbal import (aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
+                    jenkins_state, same_jacobian, scalar_tridiagonal)
 from ._hbal_compiled import numpy_clock, numpy_spent
 from .numerics.checks import nonnegative
 from .numerics.fe_bar import _Discretisation
@@ -70,8 +70,8 @@ class AllModeSolution:
     omega: float
     F: NDArray[np.float64]
     U: NDArray[np.float64]
-    dF_dX: NDArray[np.float64]
-    dF_domega: NDArray[np.float64]
+    dF_dX: NDArray[np.float64] | None
+    dF_domega: NDArray[np.float64] | None
     slip: NDArray[np.bool_]
     success: bool
     message: str
@@ -111,6 +111,7 @@ class _Basis(NamedTuple):
     P: NDArray[np.float64]
     order: NDArray[np.float64]
     prefix: tuple
+    flat: NDArray[np.intp]  #: the (idx, idx) block's entries in the flattened full-layout matrix, row by row
 
 
 class _Eval(NamedTuple):
@@ -135,74 +136,11 @@ def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
     E, P, order = aft_matrices(H, n_t)
     idx = np.flatnonzero(order % 2 == 1) if odd else np.arange(order.size)
     Eb, Pb = E[:, idx], P[idx]
-    basis = _Basis(H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb))
-    for a in (idx, Eb, Pb, basis.order, *basis.prefix):
+    flat = (idx[:, None] * order.size + idx[None, :]).ravel()
+    basis = _Basis(H, odd, idx, Eb, Pb, order[idx], jacobian_prefix(Eb, Pb), flat)
+    for a in (idx, Eb, Pb, basis.order, *basis.prefix, flat):
         a.flags.writeable = False
     return basis
-
-
-def truncated(force: tuple, X: NDArray[np.float64], odd: bool) -> tuple:
-    """``(F, dF/dX, dF/domega)`` of a solution (``force``, that triple, at least as long as X) on the
-    harmonics of ``X`` (copies).  ``odd``: it was solved in the odd basis, its even block filled,
-    for an ``X`` whose even coefficients are at most rounding (:data:`EVEN_ROUNDING`); the
-    force is then the odd solution's plus its first-order even part ``dF/dX X_even`` (dF/dX is block
-    diagonal in odd and even coefficients at an odd solution).  The remainder is of second order, or,
-    where the even part moves a sample across a stick/slip change, at most about ``EVEN_ROUNDING`` of
-    the force scale: below the nested Newton's tolerance."""
-    F, J, dw = force
-    m = X.size
-    F, J = F[:m].copy(), J[:m, :m].copy()
-    if odd:
-        F += J @ even_part(X)
-    return F, J, dw[:m].copy()
-
-
-#: What a :class:`ForceMemo` keeps at most (bytes of its keys and values), the oldest dropped first.
-MEMO_BYTES = 2 * 2**20
-
-
-class ForceMemo:
-    """The harmonic forces a fixed rung returned, by their exact end motion and frequency.
-
-    A harmonic balance asks again for the force at motions it asked for before, to the bit: its
-    error estimate evaluates every converged point again (the point's residual, and a Newton step
-    at 2H + 1 harmonics from the point padded with zeros, whose end motion is the same on the bar's
-    harmonics).  A solve there would start from another cached state and could differ from the
-    first answer within Newton's tolerance; the memo returns the first answer, without a solve (at
-    the default all-mode FRF, 28 % of the calls at tol = 1e-3)."""
-
-    def __init__(self, max_bytes: int = MEMO_BYTES) -> None:
-        self.max_bytes = max_bytes
-        self._kept: dict = {}  # key -> (F, dF/dX, dF/domega), in the order kept
-        self._bytes = 0
-
-    @staticmethod
-    def key(X: NDArray[np.float64], omega: float, H: int, odd: bool, even_block: bool = True) -> tuple:
-        """The key of the motion X (padded to the bar's H) at omega, solved in the odd basis or not, with
-        the even-even block of dF/dX or without (``AllModeMicroslip._harmonic_force``'s ``even_block``)."""
-        return H, odd, even_block, float(omega), pad_harmonics(np.asarray(X, dtype=float), H).tobytes()
-
-    def get(self, key: tuple, m: int) -> tuple | None:
-        """The kept triple of ``key`` if it holds at least m coefficients, else None; a key without the even
-        block is also served by the triple kept with it."""
-        hit = self._kept.get(key)
-        if hit is None and not key[2]:
-            hit = self._kept.get(key[:2] + (True,) + key[3:])
-        return hit if hit is not None and hit[0].size >= m else None
-
-    def put(self, key: tuple, force: tuple, m: int) -> None:
-        """Keep ``force`` (F, dF/dX, dF/domega) on its first m coefficients under ``key``."""
-        F, J, dw = force
-        m = min(m, F.size)
-        value = (F[:m].copy(), J[:m, :m].copy(), dw[:m].copy())
-        old = self._kept.pop(key, None)
-        if old is not None:
-            self._bytes -= len(key[-1]) + sum(a.nbytes for a in old)
-        self._kept[key] = value
-        self._bytes += len(key[-1]) + sum(a.nbytes for a in value)
-        while self._bytes > self.max_bytes and len(self._kept) > 1:
-            k = next(iter(self._kept))
-            self._bytes -= len(k[-1]) + sum(a.nbytes for a in self._kept.pop(k))
 
 
 def scaled_samples(n_t: int, harmonics: int, H: int) -> int:
@@ -354,6 +292,9 @@ class FixedBar:
         self.bar, self.linear_kind = bar, linear
         self.disc = _Discretisation(bar, load, cells)
         self._linear: dict = {}  # (omega, basis key) -> LinearPart, the last few
+        self._segments: dict = {}  # basis key -> _bar_segments.Segments
+        d = self.disc
+        self._scale = (abs(d.off) + float(np.max(d.kc)), float(np.max(d.p)))
         self._aft: dict = {}
         self._cache: dict = {}  # odd -> (X, omega, U, J's factorisation) of the last converged solve
         self._even: tuple | None = None  # the even coefficients: (idx, E, P, jacobian_prefix)
@@ -375,12 +316,16 @@ class FixedBar:
         if part is None:
             if len(self._linear) >= 8:
                 self._linear.clear()
-            part = self._linear[k] = linear_part(self.bar, self.disc, omega, order, self.linear_kind)
+            segments = self._segments.get(key)
+            if segments is None:
+                segments = self._segments[key] = Segments(self.bar, self.disc, order, self.linear_kind)
+            part = self._linear[k] = segments.at(omega)
         return part
 
     def scale(self, X: Array) -> float:
-        d = self.disc
-        return (abs(d.off) + float(np.max(d.kc))) * max(float(np.max(np.abs(X))), 1e-300) + float(np.max(d.p))
+        """The force scale of the end motion X (N): Newton's tolerance is ``NEWTON_TOL`` of it."""
+        stiff, slip = self._scale
+        return stiff * max(float(np.max(np.abs(X))), 1e-300) + slip
 
     def evaluate(self, U: Array, X: Array, omega: float, b: _Basis, jacobian: bool = True) -> _Eval:
         """Residual R (n, s) at U (n, s) with the Jenkins forces and Jacobians of all n + 1 nodes
@@ -407,7 +352,7 @@ class FixedBar:
         if ev.state is None:
             return self.evaluate(ev.U, X, omega, b)
         if like is not None and like.J is not None and like.state is not None:
-            if same_pattern(jacobian_pattern(like.state), jacobian_pattern(ev.state)):
+            if same_jacobian(like.state, ev.state):
                 return ev._replace(J=like.J)
         return ev._replace(J=jenkins_jacobian(ev.state, self.disc.kc, b.E, b.P, b.prefix))
 
@@ -453,19 +398,27 @@ class FixedBar:
             return self.with_jacobian(cached if cached.res < ev.res else ev, X, omega, b)
         return self.evaluate(self.linear_guess(X, omega, b), X, omega, b)
 
-    def newton(self, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int = NEWTON_MAX_ITER) -> tuple:
+    def newton(self, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int = NEWTON_MAX_ITER,
+               derivatives: bool = True) -> tuple:
         """Damped Newton from the evaluation ``ev``: (last evaluation, its factorisation, converged,
         iterations).  Armijo backtracking on max|R|; accepted trials are reused.  At least one step
-        unless the start's residual is of rounding size (``START_EXACT``)."""
+        unless the start's residual is of rounding size (``START_EXACT``).  Without ``derivatives`` the
+        last evaluation is not factorised (nor its Jacobian evaluated) where no step follows it: the
+        factorisation returned is the last one made (None if none was)."""
         scale = self.scale(X)
         tol = NEWTON_TOL * scale
-        fac, J = None, None
+        fac, J, prev = None, None, None
         for it in range(max_iter + 1):
+            done = ev.res <= (tol if it else START_EXACT * scale) or it == max_iter or not np.isfinite(ev.res)
+            if done and not derivatives:
+                break
+            if ev.J is None:  # an accepted trial: its Jacobian, or its predecessor's for the same pattern
+                ev = self.with_jacobian(ev, X, omega, b, like=prev)
             if ev.J is not J:  # the same Jacobian (an unchanged stick/slip pattern) keeps its factorisation
                 J = ev.J
                 c = self.linear(omega, b.order, b.odd)[1]
                 fac = Coupled(with_diagonal(J[:-1], ev.lin[:-1]), c, stuck_prefix(ev.state), not b.odd)
-            if ev.res <= (tol if it else START_EXACT * scale) or it == max_iter or not np.isfinite(ev.res):
+            if done:
                 break
             dU = -fac.solve(ev.R)
             t = 1.0
@@ -474,21 +427,25 @@ class FixedBar:
                 if trial.res <= (1.0 - 1e-4 * t) * ev.res:
                     break
                 t *= 0.5
-            ev = self.with_jacobian(trial, X, omega, b, like=ev)
+            prev, ev = ev, trial
         return ev, fac, ev.res <= tol, it
 
-    def solve(self, X: Array, omega: float, odd: bool = False, guess: Array | None = None) -> AllModeSolution:
+    def solve(self, X: Array, omega: float, odd: bool = False, guess: Array | None = None,
+              derivatives: bool = True) -> AllModeSolution:
         """Steady state for the full-layout X (2H+1) at omega, in the odd basis if asked; ``guess``: nodal
-        coefficients (cells + 1 nodes, full layout, ``transferred``) to start Newton from."""
+        coefficients (cells + 1 nodes, full layout, ``transferred``) to start Newton from.  Without
+        ``derivatives`` the solution's ``dF_dX`` and ``dF_domega`` are None (an estimate's rungs read the force
+        alone) and its last state is not factorised."""
         since = numpy_clock()  # its time counts towards loading the compiled kernels while they are not
         b = self.basis(odd)
         Xb = X[b.idx]
         start = self.start(Xb, omega, b, None if guess is None else np.ascontiguousarray(guess[:-1, b.idx]))
-        ev, fac, ok, iters = self.newton(start, Xb, omega, b)
-        if not ok:
+        ev, fac, ok, iters = self.newton(start, Xb, omega, b, derivatives=derivatives)
+        if not ok:  # (the fallback's solution is factorised)
             ev, fac, ok, extra = self.continuation(Xb, omega, b)
             iters += extra
-        sol = self.finish(ev, fac, X, Xb, omega, b, ok, iters)
+            derivatives = True
+        sol = self.finish(ev, fac, X, Xb, omega, b, ok, iters, derivatives)
         if since is not None:
             numpy_spent(since)
         return sol
@@ -518,35 +475,48 @@ class FixedBar:
         return ev, fac, ok and s >= 1.0, total
 
     def finish(self, ev: _Eval, fac: object, X: Array, Xb: Array, omega: float, b: _Basis, ok: bool,
-               iters: int) -> AllModeSolution:
+               iters: int, derivatives: bool = True) -> AllModeSolution:
         d = self.disc
         U, T, J, lin = ev.U, ev.T, ev.J, ev.lin
         _, c, dlin, dc = self.linear(omega, b.order, b.odd)
         full = 2 * b.H + 1
         Fb = lin[-1] * Xb + c * U[-1] + T[-1]
-        dF_dXb = np.diag(lin[-1]) + J[-1] - fac.coupled_last_inverse()
-        dU_dw = fac.solve(-residual_rate(dlin, dc, U, Xb))
-        dF_dwb = dlin[-1] * Xb + dc * U[-1] + c * dU_dw[-1]
-        F = np.zeros(full)
-        F[b.idx] = Fb
-        dF_dX = np.zeros((full, full))
-        dF_dX[np.ix_(b.idx, b.idx)] = dF_dXb
-        dF_dw = np.zeros(full)
-        dF_dw[b.idx] = dF_dwb
-        Ufull = np.zeros((d.n + 1, full))
-        Ufull[:-1, b.idx] = U
+        if derivatives:
+            dF_dXb = J[-1] - fac.coupled_last_inverse()
+            dF_dXb.flat[:: dF_dXb.shape[0] + 1] += lin[-1]
+            dU_dw = fac.solve(-residual_rate(dlin, dc, U, Xb))
+            dF_dwb = dlin[-1] * Xb + dc * U[-1] + c * dU_dw[-1]
+        else:
+            dF_dXb = dF_dwb = None
+        if b.odd:  # onto the full layout (the even coefficients 0; their block is ``even_block``'s)
+            F = np.zeros(full)
+            F[b.idx] = Fb
+            dF_dX = dF_dw = None
+            if derivatives:
+                dF_dX = np.zeros((full, full))
+                dF_dX.flat[b.flat] = dF_dXb
+                dF_dw = np.zeros(full)
+                dF_dw[b.idx] = dF_dwb
+        else:
+            F, dF_dX, dF_dw = Fb, dF_dXb, dF_dwb
+        Ufull = np.empty((d.n + 1, full))
+        if b.odd:
+            Ufull[:-1] = 0.0
+            Ufull[:-1, b.idx] = U
+        else:
+            Ufull[:-1] = U
         Ufull[-1] = X
         F1 = math.hypot(F[1], F[2])
         FH = max(math.hypot(F[-2], F[-1]), math.hypot(F[-4], F[-3]) if b.H >= 2 else 0.0)
         decay = FH / F1 if F1 > 0 else 0.0
-        ok = bool(ok and np.all(np.isfinite(F)) and np.all(np.isfinite(dF_dX)))
-        if ok:
+        ok = bool(ok and np.isfinite(Fb).all() and (not derivatives or np.isfinite(dF_dXb).all()))
+        if ok and fac is not None:  # (without derivatives, the last factorisation made: a start's guess only)
             self._cache[b.odd] = (Xb.copy(), omega, U.copy(), fac)
         msg = "converged" if ok else f"Newton did not converge (residual {ev.res:.3g} N)"
         sol = AllModeSolution(X=X.copy(), omega=omega, F=F, U=Ufull, dF_dX=dF_dX, dF_domega=dF_dw,
                               slip=ev.slip, success=ok, message=msg, iterations=iters, decay=decay,
                               cells=self.cells, H=self.H)
-        if b.odd:
+        if b.odd and derivatives:
             self._last = (sol, ev.state)
         return sol
 

@@ -32,7 +32,7 @@ import math
 from typing import TYPE_CHECKING, Callable, NamedTuple
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
     from .bar import Bar
@@ -66,24 +66,30 @@ class LinearPart(NamedTuple):
     dc: Array
 
 
+#: The series of A, B, A', B' in powers z^0..z^3 (rows), for |z| < ``SERIES_Z``.
+_SERIES = np.array([[1.0, -1.0 / 3.0, -1.0 / 45.0, -2.0 / 945.0],
+                    [1.0, 1.0 / 6.0, 7.0 / 360.0, 31.0 / 15120.0],
+                    [-1.0 / 3.0, -2.0 / 45.0, -6.0 / 945.0, 0.0],
+                    [1.0 / 6.0, 7.0 / 180.0, 93.0 / 15120.0, 0.0]])
+_POWERS = np.arange(4.0)[:, None]
+
+
 def segment_functions(z: Array) -> tuple[Array, Array, Array, Array]:
     """``A(z), B(z), A'(z), B'(z)`` (module docstring) for the array z (z < pi^2): one complex formula for
-    both signs (sqrt(z) = i s turns cot and sin into coth and sinh), the series near z = 0."""
+    both signs (sqrt(z) = i s turns cot and sin into coth and sinh), the series near z = 0.  With
+    csc = 1/sin s and cot = cos s csc: A = s cot, B = s csc, A' = (cot - B csc)/(2 s), B' = (1 - A) csc/(2 s)."""
     z = np.asarray(z, dtype=float)
-    s = np.sqrt(z.astype(complex))
     small = np.abs(z) < SERIES_Z
-    s[small] = 1.0  # their values come from the series below
-    sn, cs = np.sin(s), np.cos(s)
-    A, B = (s * cs / sn).real, (s / sn).real
-    dA = ((cs / sn - s / sn**2) / (2.0 * s)).real  # dA/ds / (dz/ds)
-    dB = ((1.0 - s * cs / sn) / (2.0 * s * sn)).real
-    if np.any(small):
-        zs = z[small]
-        A[small] = 1.0 - zs / 3.0 - zs**2 / 45.0 - 2.0 * zs**3 / 945.0
-        B[small] = 1.0 + zs / 6.0 + 7.0 * zs**2 / 360.0 + 31.0 * zs**3 / 15120.0
-        dA[small] = -1.0 / 3.0 - 2.0 * zs / 45.0 - 6.0 * zs**2 / 945.0
-        dB[small] = 1.0 / 6.0 + 7.0 * zs / 180.0 + 93.0 * zs**2 / 15120.0
-    return A, B, dA, dB
+    series = _SERIES @ (z[None, :] ** _POWERS)  # (4, m)
+    if small.all():
+        return series[0], series[1], series[2], series[3]
+    s = np.sqrt(np.where(small, 1.0, z).astype(complex))  # the small ones' closed form is not used
+    csc = 1.0 / np.sin(s)
+    cot = np.cos(s) * csc
+    A, B = s * cot, s * csc
+    half = 0.5 / s
+    out = np.where(small, series, np.array([A, B, (cot - B * csc) * half, (1.0 - A) * csc * half]).real)
+    return out[0], out[1], out[2], out[3]
 
 
 def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
@@ -92,34 +98,58 @@ def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
     return max(1, int(math.floor(math.sqrt(max(q, 0.0)) * bar.L / MAX_SEGMENT_PHASE)) + 1)
 
 
+class Segments:
+    """The :class:`LinearPart` of the bar on ``disc`` for the harmonic orders ``order`` (s,), ``kind`` "exact"
+    (segments) or "lumped" (the finite-element bar), at any omega: ``at(omega)``.  What does not depend on
+    omega is done once, and the segment functions once for each distinct order (a basis holds each harmonic
+    twice, cos and sin)."""
+
+    def __init__(self, bar: Bar, disc: _Discretisation, order: ArrayLike, kind: str) -> None:
+        order = np.asarray(order, dtype=float)
+        self.kind, self.bar, self.disc, self.order = kind, bar, disc, order
+        if kind == "lumped":
+            self.w2 = order[None, :] ** 2
+            return
+        uniq, self.inv = np.unique(order, return_inverse=True)
+        h, EA = disc.h, bar.EA
+        self.zq = (bar.rho * bar.A / EA * h**2) * uniq**2  # z = zq omega^2 - z0
+        self.z0 = bar.k / EA * h**2
+        self.dzq = (2.0 * bar.rho * bar.A / EA * h**2) * uniq**2  # dz/domega = dzq omega
+        self.k = EA / h
+        ends = np.full((disc.n + 1, 1), 2.0)  # two segments meet at an inner node, one at each end
+        ends[0] = ends[-1] = 1.0
+        self.ends = ends
+        offs = -disc.kc
+        offs[0] += bar.beta
+        self.offs = offs[:, None]
+
+    def at(self, omega: float) -> LinearPart:
+        """The linear part at omega; ``UnresolvedWave`` where a segment's phase exceeds ``MAX_SEGMENT_PHASE``
+        (too few cells for the highest harmonic)."""
+        disc = self.disc
+        if self.kind == "lumped":
+            s = self.order.size
+            lin = disc.kdiag[:, None] - omega**2 * disc.m[:, None] * self.w2
+            return LinearPart(lin, np.full(s, disc.off), -2.0 * omega * disc.m[:, None] * self.w2, np.zeros(s))
+        z = self.zq * omega**2 - self.z0
+        if z.size and float(np.max(z)) > MAX_SEGMENT_PHASE**2:
+            H = int(np.max(self.order))
+            raise UnresolvedWave(f"cells={disc.n} are too few for harmonic {H} at omega={omega!r} rad/s: a cell is "
+                                 f"more than 0.9 of half its wavelength; use at least "
+                                 f"{cells_for_phase(self.bar, omega, H)} cells")
+        A, B, dA, dB = segment_functions(z)
+        k, i = self.k, self.inv
+        dz = self.dzq * omega
+        return LinearPart(self.ends * (k * A)[i] + self.offs, (-k * B)[i], self.ends * (k * dA * dz)[i],
+                          (-k * dB * dz)[i])
+
+
 def linear_part(bar: Bar, disc: _Discretisation, omega: float, order: Array, kind: str) -> LinearPart:
     """The :class:`LinearPart` of the bar on ``disc`` at omega for the harmonic orders ``order`` (module
     docstring); ``kind`` "exact" (segments) or "lumped" (the finite-element bar).  ValueError where a
-    segment's phase exceeds ``MAX_SEGMENT_PHASE`` (too few cells for the highest harmonic)."""
-    order = np.asarray(order, dtype=float)
-    s = order.size
-    if kind == "lumped":
-        w2 = order[None, :] ** 2
-        lin = disc.kdiag[:, None] - omega**2 * disc.m[:, None] * w2
-        return LinearPart(lin, np.full(s, disc.off), -2.0 * omega * disc.m[:, None] * w2, np.zeros(s))
-    h, EA = disc.h, bar.EA
-    z = (bar.rho * bar.A * (omega * order) ** 2 - bar.k) / EA * h**2
-    if np.any(z > MAX_SEGMENT_PHASE**2):
-        H = int(np.max(order))
-        raise UnresolvedWave(f"cells={disc.n} are too few for harmonic {H} at omega={omega!r} rad/s: a cell is more "
-                             f"than 0.9 of half its wavelength; use at least {cells_for_phase(bar, omega, H)} cells")
-    A, B, dA, dB = segment_functions(z)
-    k = EA / h
-    dz = (2.0 * bar.rho * bar.A * omega / EA * h**2) * order**2
-    lin = np.empty((disc.n + 1, s))
-    lin[:] = 2.0 * k * A
-    lin[0] = lin[-1] = k * A
-    lin[0] += bar.beta
-    lin -= disc.kc[:, None]
-    dlin = np.empty((disc.n + 1, s))
-    dlin[:] = 2.0 * k * dA * dz
-    dlin[0] = dlin[-1] = k * dA * dz
-    return LinearPart(lin, -k * B, dlin, -k * dB * dz)
+    segment's phase exceeds ``MAX_SEGMENT_PHASE`` (too few cells for the highest harmonic).  At many
+    frequencies, :class:`Segments` does the work that does not depend on omega once."""
+    return Segments(bar, disc, order, kind).at(omega)
 
 
 def stuck_end(bar: Bar, disc: _Discretisation, omega: float, kind: str) -> tuple[float, float]:

@@ -237,6 +237,31 @@ def same_pattern(p: tuple, q: tuple) -> bool:
     return all(np.array_equal(x, y) for x, y in zip(p, q))
 
 
+def same_jacobian(a: tuple, b: tuple) -> bool:
+    """True when the return map's states ``a`` and ``b`` (:func:`jenkins_state`) have equal patterns
+    (:func:`same_pattern` of their :func:`jacobian_pattern`): then their Jacobians are equal, bit for bit."""
+    kernels = _hbal_compiled.kernels()
+    if kernels is not None:
+        return bool(kernels.same_pattern(*a, *b))
+    return same_pattern(jacobian_pattern(a), jacobian_pattern(b))
+
+
+#: What ``jenkins_jacobian``'s kernel takes besides the prefix, by basis: ``(id(E), id(P)) -> (E, P, E contiguous,
+#: P 1, the mean of E)``, for bases that are not changed in place (E and P are kept, so that their ids are not
+#: reused while kept).
+_DERIVED: dict = {}
+
+
+def _derived(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple:
+    hit = _DERIVED.get((id(E), id(P)))
+    if hit is None or hit[0] is not E or hit[1] is not P:
+        if len(_DERIVED) >= 64:
+            _DERIVED.clear()
+        Ec = np.ascontiguousarray(E)
+        hit = _DERIVED[(id(E), id(P))] = (E, P, Ec, np.rint(P.sum(axis=1)), Ec.mean(axis=0))
+    return hit
+
+
 def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float64], P: NDArray[np.float64],
                      prefix: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None) -> NDArray[np.float64]:
     """The Jacobians dT/dU (m, s, s) on the basis (E, P) from the ``state`` of :func:`jenkins_state`
@@ -245,9 +270,9 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
     kernels = _hbal_compiled.kernels()
     if kernels is not None:
         S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
-        E = np.ascontiguousarray(E)
-        return kernels.jacobians(u, stuck, anchor, never, np.ascontiguousarray(kc, dtype=float), E,
-                                 np.rint(P.sum(axis=1)), E.mean(axis=0), S, CP, I1, I2, coefs)
+        _, _, E, P1, mean = _derived(E, P)
+        return kernels.jacobians(u, stuck, anchor, never, np.ascontiguousarray(kc, dtype=float), E, P1, mean, S, CP,
+                                 I1, I2, coefs)
     m, nh = u.shape[0], E.shape[1]
     if not np.any(never):
         J = _slip_jacobians(stuck, anchor, E, P, prefix)

@@ -63,7 +63,7 @@ def kernels(load: bool = False) -> SimpleNamespace | None:
         except ImportError:
             return None
         funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve,
-                     thomas=thomas)
+                     thomas=thomas, same_pattern=same_pattern)
         try:
             _KERNELS = SimpleNamespace(**{k: numba.njit(cache=True, nogil=True)(f) for k, f in funcs.items()})
         except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
@@ -143,6 +143,29 @@ def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Arra
             stuck[i, k] = st
             anchor[i, k] = km + last if km + last < n_t else km + last - n_t
     return f, stuck, anchor, never
+
+
+def same_pattern(ua: Array, sa: Array, aa: Array, na: Array, ub: Array, sb: Array, ab: Array, nb: Array) -> bool:
+    """``_hbal.same_jacobian`` of the states ``(ua, sa, aa, na)`` and ``(ub, sb, ab, nb)``: the rows that never
+    slip equal, the stuck masks and anchors of the others equal, and for the rows that never slip the samples
+    of the maximum and the minimum (``np.argmax``, ``np.argmin``) and whether the row moves."""
+    if ua.shape != ub.shape or sa.shape != sb.shape or aa.shape != ab.shape or na.shape != nb.shape:
+        return False
+    m, n_t = sa.shape
+    for i in range(m):
+        if na[i] != nb[i]:
+            return False
+    for i in range(m):
+        if na[i]:
+            ka, kb = np.argmax(ua[i]), np.argmax(ub[i])
+            ja, jb = np.argmin(ua[i]), np.argmin(ub[i])
+            if ka != kb or ja != jb or (ua[i, ka] == ua[i, ja]) != (ub[i, kb] == ub[i, jb]):
+                return False
+        else:
+            for k in range(n_t):
+                if sa[i, k] != sb[i, k] or aa[i, k] != ab[i, k]:
+                    return False
+    return True
 
 
 def jacobians(u: Array, st: Array, anchor: Array, never: Array, kc: Array, E: Array, P1: Array, Emean: Array,

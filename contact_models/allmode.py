@@ -58,8 +58,9 @@ from ._allmode_accuracy import (FLOOR, cells_error, harmonics_error, relative, r
                                 start_cells, stuck_data)
 from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
 from ._bar_segments import KINDS as LINEAR_KINDS, UnresolvedWave
-from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, ForceMemo,
-                             checked_samples, end_vector, is_odd, pad_harmonics, scaled_samples, transferred, truncated)
+from ._allmode_memo import ForceMemo, truncated
+from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_samples,
+                             end_vector, is_odd, pad_harmonics, scaled_samples, transferred)
 from ._hbal import aft_matrices
 from ._hbal_compiled import kernels
 from .accuracy import AccuracyWarning
@@ -498,7 +499,7 @@ class AllModeMicroslip(ContactElement):
 
         def at(cells, h):
             try:
-                s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd, transferred(sol.U, cells, h))
+                s = self._level(cells, h).solve(pad_harmonics(X, h), omega, odd, transferred(sol.U, cells, h), False)
             except UnresolvedWave:  # too few exact cells for this rung's highest harmonic: left out
                 return None
             return s.F[1:3] if s.success else np.full(2, np.nan)
