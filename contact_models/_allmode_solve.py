@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from ._bar_segments import Segments
 from ._hbal import (aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
                     jenkins_state, same_jacobian, scalar_tridiagonal)
-from ._hbal_compiled import numpy_clock, numpy_spent
+from ._hbal_compiled import kernels, numpy_clock, numpy_spent
 from .numerics.checks import nonnegative
 from .numerics.fe_bar import _Discretisation
 
@@ -332,9 +332,14 @@ class FixedBar:
         (None without ``jacobian``), the slip masks and the linear part (X, U in the basis b of s
         coefficients)."""
         d = self.disc
+        lin, c = self.linear(omega, b.order, b.odd)[:2]  # (n+1, s), (s,)
+        fused = kernels()
+        if fused is not None:  # the same operations in one compiled call
+            R, res, T, *state = fused.residual(np.ascontiguousarray(U), X, lin, c, d.kc, d.p, b.E.T, b.P.T, b.odd)
+            ev = _Eval(U, R, res, T, None, ~state[1], lin, tuple(state))
+            return self.with_jacobian(ev, X, omega, b) if jacobian else ev
         full = np.vstack([U, X[None, :]])
         T, slip, state = jenkins_state(full, d.kc, d.p, b.E, b.P, b.odd)
-        lin, c = self.linear(omega, b.order, b.odd)[:2]  # (n+1, s), (s,)
         R = lin[:-1] * U + T[:-1]
         R[1:] += c * U[:-1]
         R[:-1] += c * U[1:]

@@ -36,6 +36,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 Array = NDArray  # any dtype: float samples and forces, bool masks, intp anchors
+_march = _rows_c = None  # the compiled ``march`` and ``_rows``, which ``residual`` calls (set by ``_compiled``)
 _KERNELS: SimpleNamespace | None = None
 _TRIED = False
 #: False while :func:`numpy_only` is in force.
@@ -62,13 +63,24 @@ def kernels(load: bool = False) -> SimpleNamespace | None:
             import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
         except ImportError:
             return None
-        funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve,
-                     thomas=thomas, same_pattern=same_pattern)
-        try:
-            _KERNELS = SimpleNamespace(**{k: numba.njit(cache=True, nogil=True)(f) for k, f in funcs.items()})
-        except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
-            _KERNELS = SimpleNamespace(**{k: numba.njit(nogil=True)(f) for k, f in funcs.items()})
+        _KERNELS = _compiled(numba)
     return _KERNELS
+
+
+def _compiled(numba: object) -> SimpleNamespace:
+    """The kernels compiled (or loaded from numba's cache): ``residual`` calls the compiled ``march`` and ``_rows``,
+    which it finds as the module's ``_march`` and ``_rows_c`` when it is compiled."""
+    global _march, _rows_c
+    funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve, thomas=thomas,
+                 same_pattern=same_pattern, residual=residual, rows=_rows)
+    try:
+        jit = numba.njit(cache=True, nogil=True)
+        jit(march)  # (the test of a writable cache)
+    except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
+        jit = numba.njit(nogil=True)
+    out = SimpleNamespace(**{k: jit(f) for k, f in funcs.items()})
+    _march, _rows_c = out.march, out.rows
+    return out
 
 
 def numpy_clock() -> float | None:
@@ -143,6 +155,56 @@ def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Arra
             stuck[i, k] = st
             anchor[i, k] = km + last if km + last < n_t else km + last - n_t
     return f, stuck, anchor, never
+
+
+def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: Array, PT: Array,
+             half: bool) -> tuple:
+    """``FixedBar.evaluate`` without the Jacobian: ``(R, max|R|, T, u, stuck, anchor, never)`` for the free nodes'
+    coefficients U (n, s) and the end's X (s,), the linear part's diagonal ``lin`` (n + 1, s) and coupling ``c``
+    (s,), with ``ET``, ``PT`` the basis's E^T and P^T: the samples u = [U; X] E^T and the forces T = f P^T in
+    blocks of rows as ``_hbal.rows_product``, the return map ``march`` and R = lin U + T + c (neighbours), the
+    same operations in the same order."""
+    n, s = U.shape
+    full = np.empty((n + 1, s))
+    full[:n] = U
+    full[n] = X
+    u = _rows_c(full, ET)
+    f, stuck, anchor, never = _march(u, kc, p, half)
+    T = _rows_c(f, PT)
+    R = np.empty((n, s))
+    for i in range(n):
+        for q in range(s):
+            R[i, q] = lin[i, q] * U[i, q] + T[i, q]
+    for i in range(1, n):
+        for q in range(s):
+            R[i, q] += c[q] * U[i - 1, q]
+    for i in range(n - 1):
+        for q in range(s):
+            R[i, q] += c[q] * U[i + 1, q]
+    res = 0.0
+    for q in range(s):
+        R[n - 1, q] += c[q] * X[q]
+    for i in range(n):
+        for q in range(s):
+            res = max(res, abs(R[i, q]))
+    return R, res, T, u, stuck, anchor, never
+
+
+#: ``_hbal.GEMM_SERIAL``: products in blocks of rows of at most this many multiply-adds (one BLAS thread each).
+_GEMM_SERIAL = 1 << 18
+
+
+def _rows(A: Array, B: Array) -> Array:
+    """``_hbal.rows_product``: ``A @ B`` in blocks of rows."""
+    m, k = A.shape
+    n = B.shape[1]
+    rows = max(1, _GEMM_SERIAL // max(1, k * n))
+    if m <= rows:
+        return A @ B
+    out = np.empty((m, n))
+    for i in range(0, m, rows):
+        out[i:i + rows] = A[i:i + rows] @ B
+    return out
 
 
 def same_pattern(ua: Array, sa: Array, aa: Array, na: Array, ub: Array, sb: Array, ab: Array, nb: Array) -> bool:
