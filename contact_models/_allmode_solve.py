@@ -388,13 +388,15 @@ class FixedBar:
         tangent to (X, omega) (``tangent_guess``; compared on residuals alone; the Jacobian is
         evaluated for the one kept); the cached one alone where its residual is below
         ``START_CLOSE`` of the force scale.  With a ``guess`` (free nodes in the basis b), the better of
-        it and the cached one (the linear state is not tried)."""
-        if guess is not None:
-            ev = self.evaluate(guess, X, omega, b, not self.lazy_jacobian)
-            if b.odd in self._cache and ev.res > START_CLOSE * self.scale(X):
+        it and the cached one, the cached one alone within ``START_CLOSE`` (the linear state is not tried)."""
+        if guess is not None:  # (the cached one first: where it is within START_CLOSE, the guess is not evaluated)
+            cached = None
+            if b.odd in self._cache:
                 cached = self.evaluate(self.tangent_guess(X, omega, b), X, omega, b, not self.lazy_jacobian)
-                ev = cached if cached.res < ev.res else ev
-            return self.with_jacobian(ev, X, omega, b)
+                if cached.res <= START_CLOSE * self.scale(X):
+                    return self.with_jacobian(cached, X, omega, b)
+            ev = self.evaluate(guess, X, omega, b, not self.lazy_jacobian)
+            return self.with_jacobian(cached if cached is not None and cached.res < ev.res else ev, X, omega, b)
         if b.odd in self._cache:
             cached = self.evaluate(self.tangent_guess(X, omega, b), X, omega, b, not self.lazy_jacobian)
             if cached.res <= START_CLOSE * self.scale(X):  # Newton's start: the linear state cannot do better

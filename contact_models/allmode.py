@@ -409,12 +409,12 @@ class AllModeMicroslip(ContactElement):
         a = math.hypot(X[1], X[2]) if X.size >= 3 else 0.0
         return FLOOR * self.bar.k_star * (a if a > 0.0 else float(np.max(np.abs(X))))
 
-    def _resolved(self, X, omega, odd):
-        """``(solution, shortfall)`` for the full-layout X at omega: on the fixed mesh and harmonics
-        (no estimate), or on the rungs chosen to ``tol``."""
+    def _resolved(self, X, omega, odd, derivatives=True):
+        """``(solution, shortfall)`` for the full-layout X at omega: on the fixed mesh and harmonics (no estimate;
+        without ``derivatives``, none), or on the rungs chosen to ``tol``."""
         if self._fixed:
             H = max((X.size - 1) // 2, self.harmonics)
-            return self._level(self.cells, H).solve(pad_harmonics(X, H), omega, odd), None
+            return self._level(self.cells, H).solve(pad_harmonics(X, H), omega, odd, None, derivatives), None
         return self._choose(X, omega, odd)
 
     def _first_rung(self, omega, Hx):
@@ -553,7 +553,7 @@ class AllModeMicroslip(ContactElement):
             else:
                 X = np.array([0.0, 0.0, ai])
                 floor = self._floor(X)
-                sol, _ = self._resolved(X, wi, True)
+                sol, _ = self._resolved(X, wi, True, False)  # the force and the rungs' forces alone
                 parts = None
                 if sol.relative_error is None and sol.success:
                     parts = self._parts(X, wi, True, sol)
