@@ -56,6 +56,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ._allmode_accuracy import (FLOOR, cells_error, harmonics_error, relative, richardson, shortfall_message,
                                 start_cells, stuck_data)
+from ._allmode_estimate import model_errors
 from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
 from ._bar_segments import KINDS as LINEAR_KINDS, UnresolvedWave
 from ._allmode_memo import ForceMemo, truncated
@@ -543,32 +544,8 @@ class AllModeMicroslip(ContactElement):
         f_c, each relative to max(|f|, 0.01 k* a) of its own component: of the stuck stiffness below
         slip (f_c = 0 exactly there), else of the solution this element gives (the rungs it chooses,
         or the fixed ones with their estimate).  A fixed rung records each estimate's parts
-        (``refined_rung``)."""
-        e_s, e_c = np.zeros(np.shape(a)), np.zeros(np.shape(a))
-        for i, (ai, wi) in enumerate(zip(np.ravel(a), np.ravel(omega))):
-            ai, wi = float(ai), float(wi)
-            n_s, _, a_lin, rel_s = self._stuck_data(wi)
-            if ai <= a_lin:
-                e_s.flat[i], seen = rel_s, (wi, ai, rel_s, 0.0)
-            else:
-                X = np.array([0.0, 0.0, ai])
-                floor = self._floor(X)
-                sol, _ = self._resolved(X, wi, True, False)  # the force and the rungs' forces alone
-                parts = None
-                if sol.relative_error is None and sol.success:
-                    parts = self._parts(X, wi, True, sol)
-                    self._fill(sol, parts, floor)
-                if not sol.success:
-                    e_s.flat[i] = e_c.flat[i] = math.inf
-                    seen = (wi, ai, math.inf, math.inf)
-                else:
-                    scale = np.maximum(np.abs(sol.F[1:3]), floor)  # (F_c, F_s)
-                    e_c.flat[i], e_s.flat[i] = (float(v) for v in sol.error_components / scale)
-                    seen = (wi, ai, *(relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics"))) \
-                        if parts is not None else None
-            if self._fixed and seen is not None:
-                self._seen.append(seen)
-        return e_s, e_c
+        (``refined_rung``).  Many points: on two threads where they pay (``_allmode_estimate``)."""
+        return model_errors(self, a, omega)
 
     def _fourier_derivatives(self, a, omega, rtol):
         fs, fc, dfs, dfc = (np.zeros_like(a) for _ in range(4))

@@ -343,6 +343,7 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     r = problem.dofs.index(problem.response_dof)
     n = len(omega)
     out = {s: np.zeros(n) for s in ("sampling", "element", "model")}  # the harmonics: _harmonics_condensed
+    known = _model_errors(same, X, omega)
     for j, (x, w) in enumerate(zip(X, omega)):
         w = float(w)
         a = math.hypot(x[r, 1], x[r, 2])
@@ -354,7 +355,7 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
             Rf, _ = finer._condensed(x, w)
             out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
         out["element"][j] = ROUNDING if tight is None else _element_condensed(tight, R, Jx, x, w, r, L, rtol)
-        out["model"][j] = _model(problem, same, x, w, Jx) / a
+        out["model"][j] = _model(problem, same, x, w, Jx, {c: (e_s[j], e_c[j]) for c, (e_s, e_c) in known.items()}) / a
     _count(problem, same, finer, tight)
     return out
 
@@ -412,22 +413,49 @@ def _amplitude_step(Jx: NDArray, R: NDArray, x: NDArray, r: int, L: int) -> floa
     return float((xc * dX[r * L + 1] + xs * dX[r * L + 2]) / math.hypot(xc, xs))
 
 
-def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float, Jx: NDArray) -> float:
+def _relative_motion(x: NDArray, ix: tuple) -> NDArray:
+    """A contact's relative motion's coefficients at the point ``x`` (n_a, 2H+1)."""
+    return x[ix[0]] - x[ix[1]] if len(ix) == 2 else x[ix[0]]
+
+
+def _model_errors(same: HarmonicBalance, X: NDArray, omega: NDArray) -> dict[int, tuple[NDArray, NDArray]]:
+    """``{contact index: (e_s, e_c)}`` at every point of ``X`` (points, n_a, 2H+1), ``omega`` for the contacts with
+    a model error (one direction): each element asked once for all points, which it may spread over threads
+    (``AllModeMicroslip``); ``_model`` reads them."""
+    out = {}
+    for c, (el, comps) in enumerate(same._attach):
+        if len(comps) > 1 or type(el)._model_error is ContactElement._model_error:
+            continue
+        a = np.array([math.hypot(*(float(v) for v in _relative_motion(x, comps[0])[1:3])) for x in X])
+        e_s, e_c = (np.zeros(len(a)) for _ in range(2))
+        some = a > 0.0
+        if np.any(some):
+            e_s[some], e_c[some] = el.model_error(a[some], np.asarray(omega, dtype=float)[some], parts=True)
+        out[c] = (e_s, e_c)
+    return out
+
+
+def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float, Jx: NDArray,
+           known: dict | None = None) -> float:
     """The response amplitude's change (m) from each contact's model error ``e`` as errors
     ``e_s max(|p|, 0.01 k*)``, ``e_c max(|q|, 0.01 k*)`` of its first-harmonic stiffness, through the
-    condensed balance (``R = X + G F``, so ``dR = G dF``); the contacts' effects add."""
+    condensed balance (``R = X + G F``, so ``dR = G dF``); the contacts' effects add.  ``known``: the
+    errors ``(e_s, e_c)`` of contacts (by index) at this point, asked for before (``_model_errors``)."""
     G1 = same.cond.at(w)[0][1]
     L, na = same.L, same.na
     r = same.dofs.index(same.response_dof)
     total = 0.0
-    for el, comps in same._attach:
+    for c, (el, comps) in enumerate(same._attach):
         if len(comps) > 1:  # a contact with a normal direction is exact for what it models
             continue
         ix = comps[0]
-        Xrel = x[ix[0]] - x[ix[1]] if len(ix) == 2 else x[ix[0]]
+        Xrel = _relative_motion(x, ix)
         xc, xs = float(Xrel[1]), float(Xrel[2])
         a_c = math.hypot(xc, xs)
-        e_s, e_c = (float(v) for v in el.model_error(a_c, w, parts=True)) if a_c > 0.0 else (0.0, 0.0)
+        if known is not None and c in known:
+            e_s, e_c = (float(v) for v in known[c])
+        else:
+            e_s, e_c = (float(v) for v in el.model_error(a_c, w, parts=True)) if a_c > 0.0 else (0.0, 0.0)
         if e_s == e_c == 0.0:
             continue
         Fc, Fs = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), w, same.n_t, same.rtol, False)[0][1:3]
