@@ -1,14 +1,16 @@
-"""``AllModeMicroslip.model_error`` at many points: the estimate of every point, on two threads where they pay.
+"""``AllModeMicroslip.model_error`` at many points: the estimate of every point, in two halves, on two threads where
+they pay.
 
 The points are estimated in order, each nested solve starting from the state its rung solved last (moved along its
-tangent).  Where at least ``THREAD_MIN_POINTS`` of them slip, the second half runs on a second thread on a copy of
-the element's rungs (the same states to start from), and the element takes over that copy's last states at the end,
-as if it had estimated all the points in turn.  The compiled kernels (the return map, the Jacobians, the block
-elimination) release the interpreter's lock, so the two halves overlap where those kernels are most of the work (the
-rungs of 31 harmonics: along the default all-mode FRF the estimate of its peak window takes 0.11 s instead of 0.16 s
-on the 2-core machine).  The halves are fixed by the points alone, so the answer does not depend on the threads'
-timing; it differs from the one-thread answer only by where the second half's first solves start (within the nested
-Newton's tolerance).  Threads are used only in a process's main process (a study's workers each use one core).
+tangent).  Where at least ``SPLIT_MIN_POINTS`` of them slip, they are estimated in two halves: the first on the
+element's rungs, the second on a copy of them (the same states to start from); the element then takes over the copy's
+last states, as if it had estimated all the points in turn.  The halves are fixed by the points alone, so the answer
+does not depend on whether they run one after the other or at once, nor on the threads' timing.  With the compiled
+kernels (the return map, the Jacobians, the block elimination), which release the interpreter's lock, the second half
+runs on a second thread: the two overlap where those kernels are most of the work (the rungs of 31 harmonics: along
+the default all-mode FRF the estimate of its peak window takes 0.10 s instead of 0.17 s on the 2-core machine).  On
+the numpy path the lock is held most of the time (that FRF took 1.99 and 2.02 s with two threads, 1.89 and 1.93 s
+with one), and a study's worker processes each have a core: there the halves run in turn.
 """
 
 from __future__ import annotations
@@ -24,53 +26,61 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._allmode_accuracy import relative
+from ._hbal_compiled import kernels
 
 AllModeMicroslip = Any  # the element (``contact_models.allmode``, which imports this module)
 
-#: Threads an estimate of many points runs on (1: none besides the caller's).
+#: Threads an estimate of many points runs on (1: the halves in turn).
 ESTIMATE_THREADS = 2
-#: The fewest points above the slip onset that an estimate spreads over threads.
-THREAD_MIN_POINTS = 8
+#: The fewest points above the slip onset that an estimate splits in two halves.
+SPLIT_MIN_POINTS = 8
 
 
 def threads() -> int:
-    """The threads an estimate may use here: ``ESTIMATE_THREADS`` in a main process on a machine of at least as many
-    cores, else 1."""
-    if ESTIMATE_THREADS < 2 or multiprocessing.parent_process() is not None:
+    """The threads an estimate uses here: ``ESTIMATE_THREADS`` where the compiled kernels are loaded, in a main
+    process, on a machine of at least as many cores; else 1 (module docstring)."""
+    if ESTIMATE_THREADS < 2 or kernels() is None or multiprocessing.parent_process() is not None:
         return 1
     return min(ESTIMATE_THREADS, os.cpu_count() or 1)
 
 
 def model_errors(el: AllModeMicroslip, a: NDArray, omega: NDArray) -> tuple[NDArray, NDArray]:
     """``(e_s, e_c)`` of ``el`` at the points ``a``, ``omega`` (the shape of ``a``): each point's estimate
-    (``estimate_one``); the points above the slip onset split between two threads where there are at least
-    ``THREAD_MIN_POINTS`` of them (module docstring)."""
+    (``estimate_one``) in order, in two halves where at least ``SPLIT_MIN_POINTS`` of them slip (the second from
+    the middle slipping point on, on a copy of the element's rungs), at once on two threads where ``threads()``
+    allows (module docstring)."""
     a_f, w_f = (np.ravel(v).astype(float) for v in (a, omega))
     e_s, e_c = np.zeros(a_f.size), np.zeros(a_f.size)
+
+    def run(element, points):
+        return [estimate_one(element, float(a_f[i]), float(w_f[i]), e_s, e_c, i) for i in points]
+
     slipping = [i for i in range(a_f.size) if a_f[i] > el._stuck_data(float(w_f[i]))[2]]
-    if threads() < 2 or len(slipping) < THREAD_MIN_POINTS:
-        seen = [estimate_one(el, float(ai), float(wi), e_s, e_c, i) for i, (ai, wi) in enumerate(zip(a_f, w_f))]
+    if len(slipping) < SPLIT_MIN_POINTS:
+        seen = run(el, range(a_f.size))
     else:
-        cut = slipping[len(slipping) // 2]  # the second thread from the middle slipping point on
+        cut = slipping[len(slipping) // 2]
         other = _copy(el)
-        box: dict[str, Any] = {}
+        if threads() < 2:
+            seen = run(el, range(cut)) + run(other, range(cut, a_f.size))
+        else:
+            box: dict[str, Any] = {}
 
-        def second():
+            def second():
+                try:
+                    box["seen"] = run(other, range(cut, a_f.size))
+                except BaseException as exc:  # raised again on the caller's thread
+                    box["error"] = exc
+
+            worker = threading.Thread(target=second, name="AllModeMicroslip estimate")
+            worker.start()
             try:
-                box["seen"] = [estimate_one(other, float(a_f[i]), float(w_f[i]), e_s, e_c, i)
-                               for i in range(cut, a_f.size)]
-            except BaseException as exc:  # raised again on the caller's thread
-                box["error"] = exc
-
-        worker = threading.Thread(target=second, name="AllModeMicroslip estimate")
-        worker.start()
-        try:
-            seen = [estimate_one(el, float(a_f[i]), float(w_f[i]), e_s, e_c, i) for i in range(cut)]
-        finally:
-            worker.join()
-        if "error" in box:
-            raise box["error"]
-        seen += box["seen"]
+                seen = run(el, range(cut))
+            finally:
+                worker.join()
+            if "error" in box:
+                raise box["error"]
+            seen += box["seen"]
         _take_over(el, other)
     if el._fixed:
         el._seen.extend(s for s in seen if s is not None)

@@ -18,8 +18,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._bar_segments import Segments
-from ._hbal import (aft_matrices, factorise, jacobian_prefix, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
-                    jenkins_state, same_jacobian, scalar_tridiagonal)
+from ._hbal import (aft_matrices, factorise, half_products, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
+                    jenkins_periodic, jenkins_state, same_jacobian, scalar_tridiagonal)
 from ._hbal_compiled import kernels, numpy_clock, numpy_spent
 from .numerics.checks import nonnegative
 from .numerics.fe_bar import _Discretisation
@@ -335,7 +335,8 @@ class FixedBar:
         lin, c = self.linear(omega, b.order, b.odd)[:2]  # (n+1, s), (s,)
         fused = kernels()
         if fused is not None:  # the same operations in one compiled call
-            R, res, T, *state = fused.residual(np.ascontiguousarray(U), X, lin, c, d.kc, d.p, b.E.T, b.P.T, b.odd)
+            ET, PT = half_products(b.E, b.P) if b.odd else (b.E.T, b.P.T)
+            R, res, T, *state = fused.residual(np.ascontiguousarray(U), X, lin, c, d.kc, d.p, ET, PT, b.odd)
             ev = _Eval(U, R, res, T, None, ~state[1], lin, tuple(state))
             return self.with_jacobian(ev, X, omega, b) if jacobian else ev
         full = np.vstack([U, X[None, :]])

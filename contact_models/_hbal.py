@@ -212,10 +212,28 @@ def jenkins_state(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np
                   ) -> tuple[NDArray[np.float64], NDArray[np.bool_], tuple]:
     """``jenkins_harmonic`` without the Jacobian: ``(T, slip, state)``, ``state`` what
     :func:`jenkins_jacobian` needs to add it later without marching the return map again.
-    ``half``: the basis holds odd harmonics only (:func:`jenkins_periodic`)."""
-    u = rows_product(U, E.T)
-    f, stuck, anchor, never = jenkins_periodic(u, kc, p, half)
-    return rows_product(f, P.T), ~stuck, (u, stuck, anchor, never)
+    ``half``: the basis holds odd harmonics only (:func:`jenkins_periodic`; the products on half the samples,
+    :func:`half_products`)."""
+    if not half:
+        u = rows_product(U, E.T)
+        f, stuck, anchor, never = jenkins_periodic(u, kc, p)
+        return rows_product(f, P.T), ~stuck, (u, stuck, anchor, never)
+    EhT, Ph2T = half_products(E, P)
+    uh = rows_product(U, EhT)
+    u = np.concatenate((uh, -uh), axis=1)
+    f, stuck, anchor, never = jenkins_periodic(u, kc, p, True)
+    return rows_product(np.ascontiguousarray(f[:, :EhT.shape[1]]), Ph2T), ~stuck, (u, stuck, anchor, never)
+
+
+def half_products(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """``(E_h^T, 2 P_h^T)``: the synthesis and analysis of a basis of odd harmonics on the first half of its n_t
+    samples (``E_h = E[:n_t/2]``, ``P_h = P[:, :n_t/2]``; contiguous, kept per basis).  Such a motion is half-wave
+    antisymmetric, u(theta + pi) = -u(theta), and so is the Jenkins force of ``jenkins_periodic(..., half=True)``: the
+    samples u = U E^T are those of the first half and their negatives, and the coefficients P f of the force are
+    twice the first half's sum, 2 P_h f_h.  Half the work of the two products, exactly (the second half's samples
+    of E and P are the first half's negatives but for rounding)."""
+    d = _derived(E, P)
+    return d[5], d[6]
 
 
 def jacobian_pattern(state: tuple) -> tuple:
@@ -246,9 +264,9 @@ def same_jacobian(a: tuple, b: tuple) -> bool:
     return same_pattern(jacobian_pattern(a), jacobian_pattern(b))
 
 
-#: What ``jenkins_jacobian``'s kernel takes besides the prefix, by basis: ``(id(E), id(P)) -> (E, P, E contiguous,
-#: P 1, the mean of E)``, for bases that are not changed in place (E and P are kept, so that their ids are not
-#: reused while kept).
+#: What ``jenkins_jacobian``'s kernel takes besides the prefix, and ``half_products``, by basis: ``(id(E), id(P)) ->
+#: (E, P, E contiguous, P 1, the mean of E, E_h^T, 2 P_h^T)``, for bases that are not changed in place (E and P are
+#: kept, so that their ids are not reused while kept).
 _DERIVED: dict = {}
 
 
@@ -257,8 +275,9 @@ def _derived(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple:
     if hit is None or hit[0] is not E or hit[1] is not P:
         if len(_DERIVED) >= 64:
             _DERIVED.clear()
-        Ec = np.ascontiguousarray(E)
-        hit = _DERIVED[(id(E), id(P))] = (E, P, Ec, np.rint(P.sum(axis=1)), Ec.mean(axis=0))
+        Ec, h = np.ascontiguousarray(E), E.shape[0] // 2
+        hit = _DERIVED[(id(E), id(P))] = (E, P, Ec, np.rint(P.sum(axis=1)), Ec.mean(axis=0),
+                                          np.ascontiguousarray(E[:h].T), np.ascontiguousarray((2.0 * P[:, :h]).T))
     return hit
 
 
@@ -270,7 +289,7 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
     kernels = _hbal_compiled.kernels()
     if kernels is not None:
         S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
-        _, _, E, P1, mean = _derived(E, P)
+        E, P1, mean = _derived(E, P)[2:5]
         return kernels.jacobians(u, stuck, anchor, never, np.ascontiguousarray(kc, dtype=float), E, P1, mean, S, CP,
                                  I1, I2, coefs)
     m, nh = u.shape[0], E.shape[1]

@@ -161,16 +161,26 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
              half: bool) -> tuple:
     """``FixedBar.evaluate`` without the Jacobian: ``(R, max|R|, T, u, stuck, anchor, never)`` for the free nodes'
     coefficients U (n, s) and the end's X (s,), the linear part's diagonal ``lin`` (n + 1, s) and coupling ``c``
-    (s,), with ``ET``, ``PT`` the basis's E^T and P^T: the samples u = [U; X] E^T and the forces T = f P^T in
-    blocks of rows as ``_hbal.rows_product``, the return map ``march`` and R = lin U + T + c (neighbours), the
-    same operations in the same order."""
+    (s,), with ``ET``, ``PT`` the basis's E^T and P^T (``half``: its ``_hbal.half_products``): the samples
+    u = [U; X] E^T and the forces T = f P^T in blocks of rows as ``_hbal.rows_product`` (``half``: on the first
+    half of the samples, as ``_hbal.jenkins_state``), the return map ``march`` and R = lin U + T + c (neighbours),
+    the same operations in the same order."""
     n, s = U.shape
     full = np.empty((n + 1, s))
     full[:n] = U
     full[n] = X
-    u = _rows_c(full, ET)
-    f, stuck, anchor, never = _march(u, kc, p, half)
-    T = _rows_c(f, PT)
+    if half:
+        uh = _rows_c(full, ET)
+        h = uh.shape[1]
+        u = np.empty((n + 1, 2 * h))
+        u[:, :h] = uh
+        u[:, h:] = -uh
+        f, stuck, anchor, never = _march(u, kc, p, True)
+        T = _rows_c(np.ascontiguousarray(f[:, :h]), PT)
+    else:
+        u = _rows_c(full, ET)
+        f, stuck, anchor, never = _march(u, kc, p, False)
+        T = _rows_c(f, PT)
     R = np.empty((n, s))
     for i in range(n):
         for q in range(s):

@@ -1,6 +1,7 @@
-"""``AllModeMicroslip.model_error`` at many points on two threads (``contact_models._allmode_estimate``): the
-answer of one thread to the nested Newton's tolerance, independent of the threads' timing, the same records kept,
-errors raised on the caller's thread, and one thread in a study's worker processes."""
+"""``AllModeMicroslip.model_error`` at many points in two halves, on two threads where they pay
+(``contact_models._allmode_estimate``): the answer of the halves in turn bit for bit, independent of the threads'
+timing, the one-piece answer to the nested Newton's tolerance, the same records kept, errors raised on the caller's
+thread, and one thread on the numpy path and in a study's worker processes."""
 
 import threading
 import time
@@ -37,7 +38,7 @@ def serial(el, monkeypatch):
         monkeypatch.undo()
 
 
-def test_two_threads_give_the_one_thread_estimate_to_newtons_tolerance(element, monkeypatch):
+def test_two_threads_give_the_halves_in_turn_bit_for_bit_and_one_piece_to_newtons_tolerance(element, monkeypatch):
     one_el, two_el = element(), element()
     one = serial(one_el, monkeypatch)
     calls = []
@@ -48,9 +49,13 @@ def test_two_threads_give_the_one_thread_estimate_to_newtons_tolerance(element, 
     assert calls == ["AllModeMicroslip estimate"]  # the second half did run on a thread
     assert np.all(one[0][:12] > 0.0) and np.all(one[1][:12] > 0.0)  # slipping: estimates of both components
     for a, b in zip(one, both):
-        np.testing.assert_allclose(b, a, rtol=1e-8, atol=0.0)  # measured: 6e-11
+        assert np.array_equal(a, b)
     assert [s[:2] for s in two_el._seen] == [s[:2] for s in one_el._seen]  # the records, in the points' order
     assert len(two_el._seen) == 14
+    monkeypatch.setattr(est, "SPLIT_MIN_POINTS", 100)  # one piece: the second half's first solves start elsewhere
+    whole = element().model_error(AMPLITUDE, OMEGA, parts=True)
+    for a, b in zip(whole, both):
+        np.testing.assert_allclose(b, a, rtol=1e-8, atol=0.0)  # measured: 6e-11
 
 
 def test_the_answer_does_not_depend_on_the_threads_timing(element, two, monkeypatch):
@@ -81,15 +86,22 @@ def test_an_error_on_the_second_thread_is_raised_on_the_callers(element, two, mo
         element().model_error(AMPLITUDE, OMEGA)
 
 
-def test_few_points_a_study_worker_and_one_thread_asked_for_run_on_the_callers_thread(element, monkeypatch):
+def test_few_points_the_numpy_path_a_study_worker_and_one_thread_asked_for_run_on_the_callers(element, monkeypatch):
     started = []
     monkeypatch.setattr(threading.Thread, "start", lambda self: started.append(self))
     monkeypatch.setattr(est, "threads", lambda: 2)
-    element().model_error(AMPLITUDE[:est.THREAD_MIN_POINTS - 1], OMEGA[:est.THREAD_MIN_POINTS - 1])
+    element().model_error(AMPLITUDE[:est.SPLIT_MIN_POINTS - 1], OMEGA[:est.SPLIT_MIN_POINTS - 1])
     assert not started
     monkeypatch.undo()
-    monkeypatch.setattr(est.multiprocessing, "parent_process", lambda: object())
-    assert est.threads() == 1
-    monkeypatch.undo()
-    monkeypatch.setattr(est, "ESTIMATE_THREADS", 1)
-    assert est.threads() == 1
+    monkeypatch.setattr(est, "kernels", lambda: object())  # as if loaded
+    monkeypatch.setattr(est.os, "cpu_count", lambda: 2)
+    assert est.threads() == 2
+    with monkeypatch.context() as m:
+        m.setattr(est, "kernels", lambda: None)
+        assert est.threads() == 1
+    with monkeypatch.context() as m:
+        m.setattr(est.multiprocessing, "parent_process", lambda: object())
+        assert est.threads() == 1
+    with monkeypatch.context() as m:
+        m.setattr(est, "ESTIMATE_THREADS", 1)
+        assert est.threads() == 1
