@@ -18,8 +18,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._bar_segments import Segments
-from ._hbal import (aft_matrices, factorise, half_products, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
-                    jenkins_periodic, jenkins_state, same_jacobian, scalar_tridiagonal)
+from ._hbal import (BANDED_MAX_BLOCK, BlockTridiagonal, aft_matrices, factorise, half_products, jacobian_prefix,
+                    jenkins_harmonic, jenkins_jacobian, jenkins_periodic, jenkins_state, same_jacobian,
+                    scalar_tridiagonal)
 from ._hbal_compiled import kernels, numpy_clock, numpy_spent
 from .numerics.checks import nonnegative
 from .numerics.fe_bar import _Discretisation
@@ -243,6 +244,22 @@ class Coupled:
         else:
             self.fac = factorise(blocks, float(c[0]), diagonal, row0)
 
+    @classmethod
+    def of(cls, J: Array, lin: Array, c: Array, diagonal: int, row0: bool) -> Coupled:
+        """``Coupled(with_diagonal(J[:-1], lin[:-1]), c, diagonal, row0)``: in one compiled call where the blocks are
+        eliminated one by one (more than ``BANDED_MAX_BLOCK`` coefficients a node), the same numbers."""
+        fused = kernels()
+        if fused is None or J.shape[1] <= BANDED_MAX_BLOCK:
+            return cls(with_diagonal(J[:-1], lin[:-1]), c, diagonal, row0)
+        out = cls.__new__(cls)
+        out.scaled, out.c = bool(np.any(c != c[0])), c
+        k = min(int(diagonal), J.shape[0] - 1)
+        inv_d, inv_v, inv, bad = fused.coupled_factor(J, lin, c, k, bool(row0), out.scaled)
+        if bad >= 0:
+            raise np.linalg.LinAlgError(f"singular block {bad} in the block elimination")
+        out.fac = BlockTridiagonal.from_factors(inv_d, inv_v, inv, 1.0 if out.scaled else float(c[0]), row0)
+        return out
+
     def solve(self, r: Array) -> Array:
         """A^-1 r for r of shape (n, s) or (n, s, q)."""
         if not self.scaled:
@@ -425,7 +442,7 @@ class FixedBar:
             if ev.J is not J:  # the same Jacobian (an unchanged stick/slip pattern) keeps its factorisation
                 J = ev.J
                 c = self.linear(omega, b.order, b.odd)[1]
-                fac = Coupled(with_diagonal(J[:-1], ev.lin[:-1]), c, stuck_prefix(ev.state), not b.odd)
+                fac = Coupled.of(J, ev.lin, c, stuck_prefix(ev.state), not b.odd)
             if done:
                 break
             dU = -fac.solve(ev.R)

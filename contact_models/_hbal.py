@@ -441,6 +441,15 @@ class BlockTridiagonal:
             if info > 0:
                 raise np.linalg.LinAlgError(f"singular block {i} in the block elimination")
 
+    @classmethod
+    def from_factors(cls, inv_d: NDArray[np.float64], inv_v: NDArray[np.float64], inv: NDArray[np.float64], c: float,
+                     row0: bool) -> BlockTridiagonal:
+        """The factorisation from the arrays ``block_factor`` returns (``_hbal_compiled.coupled_factor``)."""
+        out = cls.__new__(cls)
+        out.c, out.row0, out.k = c, bool(row0), inv_d.shape[0]
+        out.inv_d, out.inv_v, out.inv = inv_d, inv_v, inv
+        return out
+
     def last_inverse(self) -> NDArray[np.float64]:
         """C_{n-1}^{-1}, the last diagonal block of the inverse."""
         if self.inv.shape[0]:

@@ -36,7 +36,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 Array = NDArray  # any dtype: float samples and forces, bool masks, intp anchors
-_march = _rows_c = None  # the compiled ``march`` and ``_rows``, which ``residual`` calls (set by ``_compiled``)
+_march = _rows_c = _block_factor_c = None  # compiled kernels that other kernels call (set by ``_compiled``)
 _KERNELS: SimpleNamespace | None = None
 _TRIED = False
 #: False while :func:`numpy_only` is in force.
@@ -69,17 +69,18 @@ def kernels(load: bool = False) -> SimpleNamespace | None:
 
 def _compiled(numba: object) -> SimpleNamespace:
     """The kernels compiled (or loaded from numba's cache): ``residual`` calls the compiled ``march`` and ``_rows``,
-    which it finds as the module's ``_march`` and ``_rows_c`` when it is compiled."""
-    global _march, _rows_c
+    ``coupled_factor`` the compiled ``block_factor``, which they find as the module's ``_march``, ``_rows_c`` and
+    ``_block_factor_c`` when they are compiled."""
+    global _march, _rows_c, _block_factor_c
     funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve, thomas=thomas,
-                 same_pattern=same_pattern, residual=residual, rows=_rows)
+                 same_pattern=same_pattern, residual=residual, rows=_rows, coupled_factor=coupled_factor)
     try:
         jit = numba.njit(cache=True, nogil=True)
         jit(march)  # (the test of a writable cache)
     except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
         jit = numba.njit(nogil=True)
     out = SimpleNamespace(**{k: jit(f) for k, f in funcs.items()})
-    _march, _rows_c = out.march, out.rows
+    _march, _rows_c, _block_factor_c = out.march, out.rows, out.block_factor
     return out
 
 
@@ -341,6 +342,22 @@ def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, 
         except Exception:  # singular
             return inv_d, inv_v, inv, i
     return inv_d, inv_v, inv, -1
+
+
+def coupled_factor(J: Array, lin: Array, c: Array, k: int, row0: bool, scaled: bool) -> tuple:
+    """``_allmode_solve.Coupled``'s block elimination of the Jacobian blocks ``J[:-1]`` with the linear part
+    ``lin[:-1]`` on their diagonals (``with_diagonal``), each row divided by its coupling ``c`` where ``scaled``:
+    ``block_factor`` of those blocks with the coupling 1 (else ``c[0]``), the same operations."""
+    n, s = J.shape[0] - 1, J.shape[1]
+    B = np.empty((n, s, s))
+    for i in range(n):
+        for q in range(s):
+            for r in range(s):
+                v = J[i, q, r]
+                if q == r:
+                    v += lin[i, q]
+                B[i, q, r] = v / c[q] if scaled else v
+    return _block_factor_c(B, 1.0 if scaled else c[0], k, row0)
 
 
 def block_solve(inv_d: Array, inv_v: Array, inv: Array, c: float, r: Array, row0: bool) -> Array:
