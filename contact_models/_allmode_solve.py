@@ -18,9 +18,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._bar_segments import Segments
-from ._hbal import (BANDED_MAX_BLOCK, BlockTridiagonal, aft_matrices, factorise, half_products, jacobian_prefix,
-                    jenkins_harmonic, jenkins_jacobian, jenkins_periodic, jenkins_state, same_jacobian,
-                    scalar_tridiagonal)
+from ._allmode_coupled import Coupled, residual_rate, stuck_prefix, with_diagonal
+from ._hbal import (BANDED_MAX_BLOCK, aft_matrices, half_products, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
+                    jenkins_periodic, jenkins_state, kernel_constants, same_jacobian, scalar_tridiagonal)
 from ._hbal_compiled import kernels, numpy_clock, numpy_spent
 from .numerics.checks import nonnegative
 from .numerics.fe_bar import _Discretisation
@@ -221,80 +221,6 @@ def is_odd(X: NDArray[np.float64], rtol: float = 0.0) -> bool:
     return not np.any(even > rtol * float(np.max(np.abs(X), initial=0.0)))
 
 
-def with_diagonal(J: NDArray[np.float64], diag: NDArray[np.float64]) -> NDArray[np.float64]:
-    """The blocks ``J`` (n, s, s) with ``diag`` (n, s) added to their diagonals, in a new array (a third of
-    the time of ``J + diag[:, :, None] * I``, which forms the (n, s, s) product first)."""
-    out = np.array(J, dtype=float)
-    n, s = diag.shape
-    out.reshape(n, s * s)[:, :: s + 1] += diag
-    return out
-
-
-class Coupled:
-    """A factorisation of the bar's block-tridiagonal Jacobian A (diagonal blocks, coupling diag(c) of
-    neighbouring nodes): held as the factorisation ``fac`` of A itself where c is one number (the lumped
-    bar), else of diag(c)^-1 A, whose coupling is the identity that ``_hbal.factorise`` takes (each block
-    row divided by c: diagonal blocks stay diagonal, so the nodes that never slip stay cheap)."""
-
-    def __init__(self, blocks: Array, c: Array, diagonal: int, row0: bool) -> None:
-        self.scaled = bool(np.any(c != c[0]))
-        self.c = c
-        if self.scaled:
-            self.fac = factorise(blocks / c[None, :, None], 1.0, diagonal, row0)
-        else:
-            self.fac = factorise(blocks, float(c[0]), diagonal, row0)
-
-    @classmethod
-    def of(cls, J: Array, lin: Array, c: Array, diagonal: int, row0: bool) -> Coupled:
-        """``Coupled(with_diagonal(J[:-1], lin[:-1]), c, diagonal, row0)``: in one compiled call where the blocks are
-        eliminated one by one (more than ``BANDED_MAX_BLOCK`` coefficients a node), the same numbers."""
-        fused = kernels()
-        if fused is None or J.shape[1] <= BANDED_MAX_BLOCK:
-            return cls(with_diagonal(J[:-1], lin[:-1]), c, diagonal, row0)
-        out = cls.__new__(cls)
-        out.scaled, out.c = bool(np.any(c != c[0])), c
-        k = min(int(diagonal), J.shape[0] - 1)
-        inv_d, inv_v, inv, bad = fused.coupled_factor(J, lin, c, k, bool(row0), out.scaled)
-        if bad >= 0:
-            raise np.linalg.LinAlgError(f"singular block {bad} in the block elimination")
-        out.fac = BlockTridiagonal.from_factors(inv_d, inv_v, inv, 1.0 if out.scaled else float(c[0]), row0)
-        return out
-
-    def solve(self, r: Array) -> Array:
-        """A^-1 r for r of shape (n, s) or (n, s, q)."""
-        if not self.scaled:
-            return self.fac.solve(r)
-        return self.fac.solve(r / self.c.reshape((-1,) + (1,) * (r.ndim - 2)))
-
-    def coupled_last_inverse(self) -> Array:
-        """diag(c) (A^-1)_{n-1,n-1} diag(c): the Schur complement's correction at the driven node."""
-        if not self.scaled:
-            return self.c[0] ** 2 * self.fac.last_inverse()
-        return self.c[:, None] * self.fac.last_inverse()  # (A^-1)_ll = (C^-1 A)^-1_ll C^-1
-
-
-def residual_rate(dlin: Array, dc: Array, U: Array, X: Array) -> Array:
-    """dR/domega (n, s) of the free nodes at the state U (n, s) for the end motion X: the linear part's
-    derivatives ``dlin`` (n + 1, s) and ``dc`` (s,) of ``_bar_segments.LinearPart`` (the forces do not
-    depend on omega)."""
-    rate = dlin[:-1] * U
-    if np.any(dc):
-        rate[1:] += dc * U[:-1]
-        rate[:-1] += dc * U[1:]
-        rate[-1] += dc * X
-    return rate
-
-
-def stuck_prefix(state: tuple | None) -> int:
-    """How many of the bar's first nodes never slip in the return map's ``state`` (0 without one):
-    their Jacobian blocks are ``kc I`` plus the diagonal linear part in the odd basis, and that but
-    for the first row (the mean's) in a basis with the mean (``factorise``'s ``row0``)."""
-    if state is None:
-        return 0
-    never = state[3][:-1]
-    return int(never.size if never.all() else np.argmin(never))
-
-
 class FixedBar:
     """The bar on ``cells`` cells with ``harmonics`` harmonics and ``n_t`` samples (inputs checked by
     the caller); ``solve(X, omega, odd)`` with X of length 2 harmonics + 1."""
@@ -432,6 +358,9 @@ class FixedBar:
         factorisation returned is the last one made (None if none was)."""
         scale = self.scale(X)
         tol = NEWTON_TOL * scale
+        fused = kernels()
+        if fused is not None and ev.J is not None and ev.state is not None and ev.U.shape[1] > BANDED_MAX_BLOCK:
+            return self.compiled_newton(fused, ev, X, omega, b, max_iter, derivatives, scale)
         fac, J, prev = None, None, None
         for it in range(max_iter + 1):
             done = ev.res <= (tol if it else START_EXACT * scale) or it == max_iter or not np.isfinite(ev.res)
@@ -454,6 +383,20 @@ class FixedBar:
                 t *= 0.5
             prev, ev = ev, trial
         return ev, fac, ev.res <= tol, it
+
+    def compiled_newton(self, fused: object, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int,
+                        derivatives: bool, scale: float) -> tuple:
+        """``newton`` in one compiled call (``_hbal_compiled.newton``: the same steps and numbers) where the blocks
+        are eliminated one by one and the start's Jacobian is known."""
+        d = self.disc
+        c = self.linear(omega, b.order, b.odd)[1]
+        ET, PT = half_products(b.E, b.P) if b.odd else (b.E.T, b.P.T)
+        E, P1, mean = kernel_constants(b.E, b.P)
+        U, R, res, T, u, st, an, nv, J, has_J, inv_d, inv_v, inv, has_fac, bad, it, ok = fused.newton(
+            np.ascontiguousarray(ev.U), ev.R, ev.res, ev.T, *ev.state, ev.J, X, ev.lin, c, d.kc, d.p, ET, PT, b.odd,
+            E, P1, mean, *b.prefix, NEWTON_TOL * scale, START_EXACT * scale, max_iter, not b.odd, derivatives)
+        fac = Coupled.from_factors(inv_d, inv_v, inv, bad, c, not b.odd) if has_fac else None
+        return _Eval(U, R, res, T, J if has_J else None, ~st, ev.lin, (u, st, an, nv)), fac, bool(ok), int(it)
 
     def solve(self, X: Array, omega: float, odd: bool = False, guess: Array | None = None,
               derivatives: bool = True) -> AllModeSolution:

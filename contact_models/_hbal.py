@@ -225,6 +225,12 @@ def jenkins_state(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np
     return rows_product(np.ascontiguousarray(f[:, :EhT.shape[1]]), Ph2T), ~stuck, (u, stuck, anchor, never)
 
 
+def kernel_constants(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple:
+    """``(E contiguous, P 1 rounded, the mean of E)``: what the Jacobian kernel takes besides the prefix (kept per
+    basis)."""
+    return _derived(E, P)[2:5]
+
+
 def half_products(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """``(E_h^T, 2 P_h^T)``: the synthesis and analysis of a basis of odd harmonics on the first half of its n_t
     samples (``E_h = E[:n_t/2]``, ``P_h = P[:, :n_t/2]``; contiguous, kept per basis).  Such a motion is half-wave
@@ -289,7 +295,7 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
     kernels = _hbal_compiled.kernels()
     if kernels is not None:
         S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
-        E, P1, mean = _derived(E, P)[2:5]
+        E, P1, mean = kernel_constants(E, P)
         return kernels.jacobians(u, stuck, anchor, never, np.ascontiguousarray(kc, dtype=float), E, P1, mean, S, CP,
                                  I1, I2, coefs)
     m, nh = u.shape[0], E.shape[1]

@@ -36,7 +36,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 Array = NDArray  # any dtype: float samples and forces, bool masks, intp anchors
-_march = _rows_c = _block_factor_c = None  # compiled kernels that other kernels call (set by ``_compiled``)
+# compiled kernels that other kernels call (set by ``_compiled``)
+_march = _rows_c = _block_factor_c = _jacobians_c = _same_c = _residual_c = _coupled_c = _block_solve_c = None
 _KERNELS: SimpleNamespace | None = None
 _TRIED = False
 #: False while :func:`numpy_only` is in force.
@@ -68,12 +69,13 @@ def kernels(load: bool = False) -> SimpleNamespace | None:
 
 
 def _compiled(numba: object) -> SimpleNamespace:
-    """The kernels compiled (or loaded from numba's cache): ``residual`` calls the compiled ``march`` and ``_rows``,
-    ``coupled_factor`` the compiled ``block_factor``, which they find as the module's ``_march``, ``_rows_c`` and
-    ``_block_factor_c`` when they are compiled."""
-    global _march, _rows_c, _block_factor_c
+    """The kernels compiled (or loaded from numba's cache).  Kernels that call others (``residual``,
+    ``coupled_factor``, ``newton``) find them compiled as the module's ``_march``, ``_rows_c``, ... when they are
+    compiled."""
+    global _march, _rows_c, _block_factor_c, _jacobians_c, _same_c, _residual_c, _coupled_c, _block_solve_c
     funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve, thomas=thomas,
-                 same_pattern=same_pattern, residual=residual, rows=_rows, coupled_factor=coupled_factor)
+                 same_pattern=same_pattern, residual=residual, rows=_rows, coupled_factor=coupled_factor,
+                 newton=newton)
     try:
         jit = numba.njit(cache=True, nogil=True)
         jit(march)  # (the test of a writable cache)
@@ -81,6 +83,8 @@ def _compiled(numba: object) -> SimpleNamespace:
         jit = numba.njit(nogil=True)
     out = SimpleNamespace(**{k: jit(f) for k, f in funcs.items()})
     _march, _rows_c, _block_factor_c = out.march, out.rows, out.block_factor
+    _jacobians_c, _same_c, _residual_c = out.jacobians, out.same_pattern, out.residual
+    _coupled_c, _block_solve_c = out.coupled_factor, out.block_solve
     return out
 
 
@@ -345,7 +349,7 @@ def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, 
 
 
 def coupled_factor(J: Array, lin: Array, c: Array, k: int, row0: bool, scaled: bool) -> tuple:
-    """``_allmode_solve.Coupled``'s block elimination of the Jacobian blocks ``J[:-1]`` with the linear part
+    """``_allmode_coupled.Coupled``'s block elimination of the Jacobian blocks ``J[:-1]`` with the linear part
     ``lin[:-1]`` on their diagonals (``with_diagonal``), each row divided by its coupling ``c`` where ``scaled``:
     ``block_factor`` of those blocks with the coupling 1 (else ``c[0]``), the same operations."""
     n, s = J.shape[0] - 1, J.shape[1]
@@ -358,6 +362,64 @@ def coupled_factor(J: Array, lin: Array, c: Array, k: int, row0: bool, scaled: b
                     v += lin[i, q]
                 B[i, q, r] = v / c[q] if scaled else v
     return _block_factor_c(B, 1.0 if scaled else c[0], k, row0)
+
+
+def newton(U: Array, R: Array, res: float, T: Array, u: Array, st: Array, an: Array, nv: Array, J: Array, X: Array,
+           lin: Array, c: Array, kc: Array, p: Array, ET: Array, PT: Array, half: bool, E: Array, P1: Array,
+           mean: Array, S: Array, CP: Array, I1: Array, I2: Array, coefs: Array, tol: float, exact: float,
+           max_iter: int, row0: bool, derivatives: bool) -> tuple:
+    """``_allmode_solve.FixedBar.newton`` from the evaluation ``(U, R, res, T, (u, st, an, nv), J)`` (its Jacobian
+    given) where the blocks are eliminated one by one: the same steps, tests and operations (``residual``,
+    ``jacobians``, ``same_pattern``, ``coupled_factor``, ``block_solve``).  Returns the last evaluation, whether its
+    Jacobian is known (``has_J``) and the last factorisation (``has_fac``; ``bad`` its first singular block or -1),
+    the iterations and whether ``res <= tol``:
+    ``(U, R, res, T, u, st, an, nv, J, has_J, inv_d, inv_v, inv, has_fac, bad, it, converged)``."""
+    scaled = False
+    for q in range(c.size):
+        if c[q] != c[0]:
+            scaled = True
+    has_J = True
+    version, p_version, fac_version = 0, 0, -1  # which Jacobian: the start's 0, each one evaluated the next number
+    inv_d, inv_v, inv = np.empty((0, 1)), np.empty((0, 1)), np.empty((0, 1, 1))
+    has_fac, bad = False, -1
+    pJ, pu, pst, pan, pnv = J, u, st, an, nv
+    it = 0
+    for it in range(max_iter + 1):
+        done = res <= (tol if it else exact) or it == max_iter or not np.isfinite(res)
+        if done and not derivatives:
+            break
+        if not has_J:  # an accepted trial: its predecessor's Jacobian for the same pattern
+            if _same_c(pu, pst, pan, pnv, u, st, an, nv):
+                J, version = pJ, p_version
+            else:
+                J, version = _jacobians_c(u, st, an, nv, kc, E, P1, mean, S, CP, I1, I2, coefs), p_version + 1
+            has_J = True
+        if version != fac_version:
+            n = nv.size - 1
+            k = n
+            for i in range(n):
+                if not nv[i]:
+                    k = i
+                    break
+            inv_d, inv_v, inv, bad = _coupled_c(J, lin, c, k, row0, scaled)
+            fac_version, has_fac = version, True
+            if bad >= 0:
+                break
+        if done:
+            break
+        r = R / c if scaled else R.copy()
+        dU = -_block_solve_c(inv_d, inv_v, inv, 1.0 if scaled else c[0], r, row0)
+        t = 1.0
+        for _ in range(30):  # the Jacobian only for the trial accepted
+            tU = U + t * dU
+            tR, tres, tT, tu, tst, tan, tnv = _residual_c(tU, X, lin, c, kc, p, ET, PT, half)
+            if tres <= (1.0 - 1e-4 * t) * res:
+                break
+            t *= 0.5
+        pJ, pu, pst, pan, pnv, p_version = J, u, st, an, nv, version
+        U, R, res, T, u, st, an, nv = tU, tR, tres, tT, tu, tst, tan, tnv
+        has_J = False
+    return U, R, res, T, u, st, an, nv, J, has_J, inv_d, inv_v, inv, has_fac, bad, it, res <= tol
 
 
 def block_solve(inv_d: Array, inv_v: Array, inv: Array, c: float, r: Array, row0: bool) -> Array:
