@@ -2,11 +2,13 @@
 
 ``python benchmarks/bench_allmode_solves.py --solves [repeats]``: the default case's all-mode FRF at
 tol = 1e-3 once to warm up, then ``repeats`` times (default 3) with every nested solve
-(``FixedBar.solve``) timed by rung and by who asked (a continuation or a curve estimate), and on the
-finest rung what one solve is made of: the evaluations of the bar's balance (``jenkins_state``, the
-return map and the AFT), the Jacobians (``jenkins_jacobian``) and the block factorisations
-(``factorise``); and for each continuation the Newton updates its points took.  Medians over the
-repeats (docs/performance.md, "The all-mode FRF: one nested solve on the finest rung").
+(``FixedBar.solve``) timed by rung and by who asked (a continuation or a curve estimate), and what the solves
+are made of, by coefficients a node: the evaluations of the bar's balance (``FixedBar.evaluate``: the return
+map and the AFT), the Jacobians (``jenkins_jacobian``), the factorisations (``factorise``), and, with the
+compiled kernels, the Newton loops of more than 20 coefficients a node done in one call each
+(``FixedBar.compiled_newton``: their evaluations, Jacobians and factorisations inside it are not counted apart);
+and for each continuation the Newton updates its points took.  Medians over the repeats
+(docs/performance.md, "The all-mode FRF: one nested solve on the finest rung").
 
 ``python benchmarks/bench_allmode_solves.py --survey [tol] [step]``: the same FRF at ``tol`` (default
 1e-3); at every ``step``-th point (default 2) the element of that point's rung is asked at the
@@ -65,9 +67,11 @@ def solve_rows(repeats: int = 3) -> None:
     from hbm import continuation as cont
     from hbm.balance import errors
 
+    from contact_models import _allmode_coupled as C
     from contact_models import _allmode_solve as S
 
-    saved = (S.FixedBar.solve, S.factorise, S.jenkins_state, S.jenkins_jacobian, cont.continuation, errors.estimate)
+    saved = (S.FixedBar.solve, C.factorise, S.FixedBar.evaluate, S.jenkins_jacobian, S.FixedBar.compiled_newton,
+             cont.continuation, errors.estimate)
     caller = ["trace"]
     runs: list = []
     counts: collections.Counter = collections.Counter()
@@ -98,9 +102,10 @@ def solve_rows(repeats: int = 3) -> None:
         return wrapper
 
     _wrap(S.FixedBar, "solve", solved)
-    _wrap(S, "factorise", part("factorisations", lambda a: a[0].shape[1]))
-    _wrap(S, "jenkins_state", part("evaluations", lambda a: a[3].shape[1]))
+    _wrap(C, "factorise", part("factorisations", lambda a: a[0].shape[1]))
+    _wrap(S.FixedBar, "evaluate", part("evaluations", lambda a: a[1].shape[1]))
     _wrap(S, "jenkins_jacobian", part("Jacobians", lambda a: a[2].shape[1]))
+    _wrap(S.FixedBar, "compiled_newton", part("compiled Newton loops", lambda a: a[2].U.shape[1]))
     _wrap(cont, "continuation", traced)
     errors.estimate = estimating(errors.estimate)
     try:
@@ -113,7 +118,8 @@ def solve_rows(repeats: int = 3) -> None:
             _, frf = _frf(TOL)
             runs.append((time.perf_counter() - t, dict(counts), dict(times), [u.copy() for u in updates], len(frf)))
     finally:
-        S.FixedBar.solve, S.factorise, S.jenkins_state, S.jenkins_jacobian, cont.continuation, errors.estimate = saved
+        (S.FixedBar.solve, C.factorise, S.FixedBar.evaluate, S.jenkins_jacobian, S.FixedBar.compiled_newton,
+         cont.continuation, errors.estimate) = saved
     print(machine_line(machine()))
     print(f"all-mode FRF at tol = {TOL:g}: median of {repeats} {statistics.median(r[0] for r in runs):.2f} s, "
           f"{runs[-1][4]} points")

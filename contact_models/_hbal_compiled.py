@@ -201,7 +201,9 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
         R[n - 1, q] += c[q] * X[q]
     for i in range(n):
         for q in range(s):
-            res = max(res, abs(R[i, q]))
+            a = abs(R[i, q])
+            if a > res or a != a:  # a NaN stays, as in np.max
+                res = a
     return R, res, T, u, stuck, anchor, never
 
 

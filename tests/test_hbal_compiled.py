@@ -256,3 +256,16 @@ def test_an_frf_that_loads_the_kernels_midway_is_the_numpy_one(not_loaded, monke
     assert plain[0].size > 20
     assert_same(plain, mixed)
 
+
+
+def test_a_nan_in_the_state_gives_a_nan_residual_on_both_paths(bar_load):
+    """The compiled residual's max|R| keeps a NaN as np.max does (a NaN state is never taken as converged)."""
+    bar, load = bar_load
+    fb = FixedBar(bar, load, 16, 31, 248)
+    b = fb.basis(True)
+    X = np.zeros(b.idx.size)
+    X[1] = 1e-6
+    U = fb.linear_guess(X, 38000.0, b)
+    U[3, 2] = np.nan
+    plain, fast = both(lambda: fb.evaluate(U, X, 38000.0, b, False).res)
+    assert np.isnan(plain) and np.isnan(fast)
