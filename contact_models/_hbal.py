@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import _hbal_compiled
+from ._hbal_compiled import GEMM_SERIAL, rows_product  # noqa: F401  (this module's names too)
 
 
 def aft_matrices(H: int, n_t: int) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -30,27 +31,6 @@ def aft_matrices(H: int, n_t: int) -> tuple[NDArray[np.float64], NDArray[np.floa
     P = E.T * (2.0 / n_t)
     P[0] *= 0.5
     return E, P, order
-
-
-#: Products are done in blocks of rows of at most this many multiply-adds: OpenBLAS runs a GEMM of more
-#: than 4 * 65536 of them on every thread it has, and for these small products on a shared 2-core machine
-#: waking and waiting for the threads costs more than the product (measured: the 128-cell, H = 31 rung of
-#: the main job's peak 2 to 8 times slower with threads than with one).
-GEMM_SERIAL = 1 << 18
-
-
-def rows_product(A: NDArray[np.float64], B: NDArray[np.float64]) -> NDArray[np.float64]:
-    """``A @ B`` (A of shape (m, k), B (k, n)) in blocks of rows of at most :data:`GEMM_SERIAL`
-    multiply-adds each, so that a threaded BLAS runs every block on one thread."""
-    m, k = A.shape
-    n = B.shape[1]
-    rows = max(1, GEMM_SERIAL // max(1, k * n))
-    if m <= rows:
-        return A @ B
-    out = np.empty((m, n))
-    for i in range(0, m, rows):
-        np.matmul(A[i:i + rows], B, out=out[i:i + rows])
-    return out
 
 
 def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64], half: bool = False

@@ -74,7 +74,7 @@ def _compiled(numba: object) -> SimpleNamespace:
     compiled."""
     global _march, _rows_c, _block_factor_c, _jacobians_c, _same_c, _residual_c, _coupled_c, _block_solve_c
     funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve, thomas=thomas,
-                 same_pattern=same_pattern, residual=residual, rows=_rows, coupled_factor=coupled_factor,
+                 same_pattern=same_pattern, residual=residual, rows=rows_product, coupled_factor=coupled_factor,
                  newton=newton)
     try:
         jit = numba.njit(cache=True, nogil=True)
@@ -207,15 +207,20 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
     return R, res, T, u, stuck, anchor, never
 
 
-#: ``_hbal.GEMM_SERIAL``: products in blocks of rows of at most this many multiply-adds (one BLAS thread each).
-_GEMM_SERIAL = 1 << 18
+#: Products are done in blocks of rows of at most this many multiply-adds: OpenBLAS runs a GEMM of more
+#: than 4 * 65536 of them on every thread it has, and for these small products on a shared 2-core machine
+#: waking and waiting for the threads costs more than the product (measured: the 128-cell, H = 31 rung of
+#: the main job's peak 2 to 8 times slower with threads than with one).
+GEMM_SERIAL = 1 << 18
 
 
-def _rows(A: Array, B: Array) -> Array:
-    """``_hbal.rows_product``: ``A @ B`` in blocks of rows."""
+def rows_product(A: Array, B: Array) -> Array:
+    """``A @ B`` (A of shape (m, k), B (k, n)) in blocks of rows of at most :data:`GEMM_SERIAL`
+    multiply-adds each, so that a threaded BLAS runs every block on one thread.  Plain numpy, and compiled
+    as it is (the kernels' ``rows``)."""
     m, k = A.shape
     n = B.shape[1]
-    rows = max(1, _GEMM_SERIAL // max(1, k * n))
+    rows = max(1, GEMM_SERIAL // max(1, k * n))
     if m <= rows:
         return A @ B
     out = np.empty((m, n))
