@@ -8,7 +8,7 @@ last states, as if it had estimated all the points in turn.  The halves are fixe
 does not depend on whether they run one after the other or at once, nor on the threads' timing.  With the compiled
 kernels (the return map, the Jacobians, the block elimination), which release the interpreter's lock, the second half
 runs on a second thread: the two overlap where those kernels are most of the work (the rungs of 31 harmonics: along
-the default all-mode FRF the estimate of its peak window takes 0.10 s instead of 0.17 s on the 2-core machine).  On
+the default all-mode FRF the estimate of its peak window takes 0.09 s instead of 0.17 s on the 2-core machine).  On
 the numpy path the lock is held most of the time (that FRF took 1.99 and 2.02 s with two threads, 1.89 and 1.93 s
 with one), and a study's worker processes each have a core: there the halves run in turn.
 """
