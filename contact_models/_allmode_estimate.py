@@ -7,10 +7,11 @@ element's rungs, the second on a copy of them (the same states to start from); t
 last states, as if it had estimated all the points in turn.  The halves are fixed by the points alone, so the answer
 does not depend on whether they run one after the other or at once, nor on the threads' timing.  With the compiled
 kernels (the return map, the Jacobians, the block elimination), which release the interpreter's lock, the second half
-runs on a second thread: the two overlap where those kernels are most of the work (the rungs of 31 harmonics: along
-the default all-mode FRF the estimate of its peak window takes 0.09 s instead of 0.17 s on the 2-core machine).  On
-the numpy path the lock is held most of the time (that FRF took 1.99 and 2.02 s with two threads, 1.89 and 1.93 s
-with one), and a study's worker processes each have a core: there the halves run in turn.
+runs on a second thread on the rungs whose Newton loop is compiled (31 harmonics): there the two overlap, those
+kernels being most of the work (along the default all-mode FRF the estimate of its peak window takes 0.09 s instead
+of 0.17 s on the 2-core machine).  On smaller rungs and on the numpy path the lock is held most of the time (that FRF
+took 1.99 and 2.02 s with two threads on the numpy path, 1.89 and 1.93 s with one), and a study's worker processes
+each have a core: there the halves run in turn.
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from ._allmode_accuracy import relative
+from ._hbal import BANDED_MAX_BLOCK
 from ._hbal_compiled import kernels
 
 AllModeMicroslip = Any  # the element (``contact_models.allmode``, which imports this module)
@@ -36,10 +38,15 @@ ESTIMATE_THREADS = 2
 SPLIT_MIN_POINTS = 8
 
 
-def threads() -> int:
-    """The threads an estimate uses here: ``ESTIMATE_THREADS`` where the compiled kernels are loaded, in a main
-    process, on a machine of at least as many cores; else 1 (module docstring)."""
+def threads(el: AllModeMicroslip) -> int:
+    """The threads an estimate of ``el`` uses here: ``ESTIMATE_THREADS`` where the compiled kernels are loaded, for a
+    fixed rung whose nested Newton loop is compiled (more than ``BANDED_MAX_BLOCK`` coefficients a node in the odd
+    basis: H = 31), in a main process, on a machine of at least as many cores; else 1 (module docstring).  A
+    smaller rung's solves are mostly Python, which holds the lock: along the default all-mode FRF its start rung's
+    estimate on two threads made the FRF take 0.630 and 0.643 s against 0.600 and 0.612 s on one."""
     if ESTIMATE_THREADS < 2 or kernels() is None or multiprocessing.parent_process() is not None:
+        return 1
+    if not (el._fixed and el.harmonics + 1 > BANDED_MAX_BLOCK):
         return 1
     return min(ESTIMATE_THREADS, os.cpu_count() or 1)
 
@@ -47,7 +54,7 @@ def threads() -> int:
 def model_errors(el: AllModeMicroslip, a: NDArray, omega: NDArray) -> tuple[NDArray, NDArray]:
     """``(e_s, e_c)`` of ``el`` at the points ``a``, ``omega`` (the shape of ``a``): each point's estimate
     (``estimate_one``) in order, in two halves where at least ``SPLIT_MIN_POINTS`` of them slip (the second from
-    the middle slipping point on, on a copy of the element's rungs), at once on two threads where ``threads()``
+    the middle slipping point on, on a copy of the element's rungs), at once on two threads where ``threads(el)``
     allows (module docstring)."""
     a_f, w_f = (np.ravel(v).astype(float) for v in (a, omega))
     e_s, e_c = np.zeros(a_f.size), np.zeros(a_f.size)
@@ -61,7 +68,7 @@ def model_errors(el: AllModeMicroslip, a: NDArray, omega: NDArray) -> tuple[NDAr
     else:
         cut = slipping[len(slipping) // 2]
         other = _copy(el)
-        if threads() < 2:
+        if threads(el) < 2:
             seen = run(el, range(cut)) + run(other, range(cut, a_f.size))
         else:
             box: dict[str, Any] = {}

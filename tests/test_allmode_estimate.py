@@ -1,7 +1,8 @@
 """``AllModeMicroslip.model_error`` at many points in two halves, on two threads where they pay
 (``contact_models._allmode_estimate``): the answer of the halves in turn bit for bit, independent of the threads'
 timing, the one-piece answer to the nested Newton's tolerance, the same records kept, errors raised on the caller's
-thread, and one thread on the numpy path and in a study's worker processes."""
+thread, and one thread on rungs whose Newton loop is not compiled, on the numpy path and in a study's worker
+processes."""
 
 import threading
 import time
@@ -27,11 +28,11 @@ def element():
 
 @pytest.fixture
 def two(monkeypatch):
-    monkeypatch.setattr(est, "threads", lambda: 2)
+    monkeypatch.setattr(est, "threads", lambda el: 2)
 
 
 def serial(el, monkeypatch):
-    monkeypatch.setattr(est, "threads", lambda: 1)
+    monkeypatch.setattr(est, "threads", lambda el: 1)
     try:
         return el.model_error(AMPLITUDE, OMEGA, parts=True)
     finally:
@@ -44,7 +45,7 @@ def test_two_threads_give_the_halves_in_turn_bit_for_bit_and_one_piece_to_newton
     calls = []
     start = threading.Thread.start
     monkeypatch.setattr(threading.Thread, "start", lambda self: (calls.append(self.name), start(self)))
-    monkeypatch.setattr(est, "threads", lambda: 2)
+    monkeypatch.setattr(est, "threads", lambda el: 2)
     both = two_el.model_error(AMPLITUDE, OMEGA, parts=True)
     assert calls == ["AllModeMicroslip estimate"]  # the second half did run on a thread
     assert np.all(one[0][:12] > 0.0) and np.all(one[1][:12] > 0.0)  # slipping: estimates of both components
@@ -86,22 +87,28 @@ def test_an_error_on_the_second_thread_is_raised_on_the_callers(element, two, mo
         element().model_error(AMPLITUDE, OMEGA)
 
 
-def test_few_points_the_numpy_path_a_study_worker_and_one_thread_asked_for_run_on_the_callers(element, monkeypatch):
+def test_few_points_small_rungs_the_numpy_path_a_study_worker_and_one_thread_asked_for_run_on_the_callers(
+        element, monkeypatch):
     started = []
     monkeypatch.setattr(threading.Thread, "start", lambda self: started.append(self))
-    monkeypatch.setattr(est, "threads", lambda: 2)
+    monkeypatch.setattr(est, "threads", lambda el: 2)
     element().model_error(AMPLITUDE[:est.SPLIT_MIN_POINTS - 1], OMEGA[:est.SPLIT_MIN_POINTS - 1])
     assert not started
     monkeypatch.undo()
     monkeypatch.setattr(est, "kernels", lambda: object())  # as if loaded
     monkeypatch.setattr(est.os, "cpu_count", lambda: 2)
-    assert est.threads() == 2
+    case = default_case()
+    top = AllModeMicroslip(case.element.bar, case.element.load, cells=32, harmonics=31)
+    assert est.threads(top) == 2
+    for small in (element(), AllModeMicroslip(case.element.bar, case.element.load, cells=32, harmonics=7),
+                  AllModeMicroslip(case.element.bar, case.element.load)):  # Python-bound rungs, a choosing element
+        assert est.threads(small) == 1
     with monkeypatch.context() as m:
         m.setattr(est, "kernels", lambda: None)
-        assert est.threads() == 1
+        assert est.threads(top) == 1
     with monkeypatch.context() as m:
         m.setattr(est.multiprocessing, "parent_process", lambda: object())
-        assert est.threads() == 1
+        assert est.threads(top) == 1
     with monkeypatch.context() as m:
         m.setattr(est, "ESTIMATE_THREADS", 1)
-        assert est.threads() == 1
+        assert est.threads(top) == 1
