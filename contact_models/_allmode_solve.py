@@ -144,6 +144,12 @@ def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
     return basis
 
 
+def aft_products(b: _Basis) -> tuple[Array, Array]:
+    """The synthesis and analysis the compiled residual takes for the basis ``b``: on half the samples in the odd
+    basis (``_hbal.half_products``), else E^T and P^T."""
+    return half_products(b.E, b.P) if b.odd else (b.E.T, b.P.T)
+
+
 def scaled_samples(n_t: int, harmonics: int, H: int) -> int:
     """The samples of a bar of H harmonics where ``n_t`` was given for ``harmonics``: n_t itself at that
     H, else n_t scaled with H (a multiple of 4, at least 2H + 2)."""
@@ -278,7 +284,7 @@ class FixedBar:
         lin, c = self.linear(omega, b.order, b.odd)[:2]  # (n+1, s), (s,)
         fused = kernels()
         if fused is not None:  # the same operations in one compiled call
-            ET, PT = half_products(b.E, b.P) if b.odd else (b.E.T, b.P.T)
+            ET, PT = aft_products(b)
             R, res, T, *state = fused.residual(np.ascontiguousarray(U), X, lin, c, d.kc, d.p, ET, PT, b.odd)
             ev = _Eval(U, R, res, T, None, ~state[1], lin, tuple(state))
             return self.with_jacobian(ev, X, omega, b) if jacobian else ev
@@ -390,7 +396,7 @@ class FixedBar:
         are eliminated one by one and the start's Jacobian is known."""
         d = self.disc
         c = self.linear(omega, b.order, b.odd)[1]
-        ET, PT = half_products(b.E, b.P) if b.odd else (b.E.T, b.P.T)
+        ET, PT = aft_products(b)
         E, P1, mean = kernel_constants(b.E, b.P)
         U, R, res, T, u, st, an, nv, J, has_J, inv_d, inv_v, inv, has_fac, bad, it, ok = fused.newton(
             np.ascontiguousarray(ev.U), ev.R, ev.res, ev.T, *ev.state, ev.J, X, ev.lin, c, d.kc, d.p, ET, PT, b.odd,

@@ -68,12 +68,16 @@ class Knobs:
     response_dof: Any
     heard: dict = dataclasses.field(default_factory=dict)  #: id(result) -> the elements' warnings in its solve
 
+    def balance(self, contacts: Any, H: int) -> HarmonicBalance:
+        """The balance of ``contacts`` at ``H`` harmonics that every trace of this call solves."""
+        return HarmonicBalance(self.system, contacts, harmonics=H, n_t=self.samples(H),
+                               response_dof=self.response_dof, rtol=self.rtol)
+
 
 def solve(knobs: Knobs, contacts: Any, H: int, reporter: Callable | None = None) -> FrequencyResponse:
     """The whole range traced with ``contacts`` at ``H`` harmonics (the stuck start at w0);
     ``reporter(problem)`` makes the continuation's ``on_point`` once the problem's scales are set."""
-    problem = HarmonicBalance(knobs.system, contacts, harmonics=H, n_t=knobs.samples(H),
-                              response_dof=knobs.response_dof, rtol=knobs.rtol)
+    problem = knobs.balance(contacts, H)
     problem.keep_jacobians = knobs.stability  # for Hill's method at the points (FrequencyResponse.stable)
     with errors.collected() as now:
         out = trace(problem, knobs, reporter=reporter)
@@ -157,8 +161,7 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
            H: int) -> tuple[FrequencyResponse, str | None]:
     """Points ``i0..i1`` of ``frf`` traced again with ``contacts`` at ``H``: the result, and why it
     failed (None: it did not)."""
-    problem = HarmonicBalance(knobs.system, contacts, harmonics=H, n_t=knobs.samples(H),
-                              response_dof=knobs.response_dof, rtol=knobs.rtol)
+    problem = knobs.balance(contacts, H)
     problem.keep_jacobians = knobs.stability  # for Hill's method at the points (FrequencyResponse.stable)
     coarse, run = frf._problem, frf._run
     y_end, t_end = run.y[i1], run.tangent[i1]
@@ -229,8 +232,7 @@ def staged(knobs: Knobs, contacts: Any, X: np.ndarray, w: float, H0: int, H: int
     steps), and from 15 too; damped, it converged in 29 updates.  None where a stage fails."""
     h = min(2 * H0 + 1, H)
     while True:
-        problem = HarmonicBalance(knobs.system, contacts, harmonics=h, n_t=knobs.samples(h),
-                                  response_dof=knobs.response_dof, rtol=knobs.rtol)
+        problem = knobs.balance(contacts, h)
         problem.set_scales(knobs.w0, knobs.w1)
         u = damped_newton(problem, lift(problem, X, w), knobs.newton_tol)
         if u is None:
