@@ -166,6 +166,8 @@ class AllModeMicroslip(ContactElement):
     #: ``n_t`` and ``rtol`` (its own samples go with its H): the solver's estimate counts no sampling error and no
     #: evaluation error beyond rounding; its discretisation error (cells, H and its own samples) is ``model_error``.
     exact_harmonics = True
+    #: Its accuracy is its discretisation's (cells, harmonics): refined along a curve by its rungs.
+    discretised = True
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int | None = None,
                  harmonics: int | None = None, *, n_t: int | None = None, tol: float = TOL,

@@ -84,7 +84,10 @@ class ContactElement(ABC):
     :attr:`has_time_law`, :meth:`fourier`, :meth:`fourier_derivatives`, :meth:`fourier_derivatives_unchecked`,
     :meth:`stuck_stiffness`, :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
     :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force`, :meth:`harmonic_force_unchecked`,
-    :attr:`even_block_optional` and :meth:`model_error`; docs/extending.md, section 1, states each hook and default.
+    :attr:`even_block_optional` and :meth:`model_error`, and the refinement questions declared with their defaults
+    (:attr:`exact_harmonics`, :attr:`discretised`, :attr:`model_name`, :meth:`harmonics_law`, :meth:`refined_model`, :meth:`start_rung`,
+    :meth:`refined_rung`, :attr:`at_top_rung`, :attr:`refined_no_further`, :meth:`harmonics_of`, :meth:`for_balance`);
+    docs/extending.md, section 1, states each hook and default.
 
     Examples
     --------
@@ -510,6 +513,63 @@ class ContactElement(ABC):
     def _refined_model(self) -> ContactElement | None:
         """Hook of :meth:`refined_model`.  Default: None (the element is the complete model)."""
         return None
+
+    # ------------------------------------------------------------ refinement: what a solver may ask
+    # Declared here with their defaults (docs/extending.md, "Refinement"): the solver asks every element
+    # the same questions and branches on no element type.  An element with nothing to refine keeps them.
+
+    #: True where the element's harmonic force uses no AFT samples and is exact to rounding at any rtol (its
+    #: discretisation error, if any, is its ``model_error``): the estimate's sampling and element sources are 0.
+    exact_harmonics: bool = False
+    #: True for an element whose accuracy is set by its own discretisation (cells, internal harmonics):
+    #: its ``model_error`` is that discretisation's error, which ``start_rung``/``refined_rung`` refine.
+    discretised: bool = False
+
+    @property
+    def model_name(self) -> str:
+        """The name a frequency response gives the points solved with this element
+        (``FrequencyResponse.point_models``).  Default: the class name."""
+        return type(self).__name__
+
+    def harmonics_law(self) -> ContactElement | None:
+        """An element with a time law that carries this element's higher force harmonics, for the
+        estimate of the harmonics a first-harmonic balance leaves out.  Default: the element itself
+        where it has a time law, else None (the estimate then bounds them from its loop)."""
+        return self if self.has_time_law else None
+
+    def start_rung(self, omega_range: tuple[float, float]) -> ContactElement | None:
+        """The fixed, cheap discretisation of this element that a curve over ``omega_range`` (rad/s) is
+        traced on first and refined from (:meth:`refined_rung`), or None: the element as given.
+        Default None (an element that does not choose its own discretisation)."""
+        return None
+
+    def refined_rung(self, excess: float | None = None,
+                     omega: tuple[float, float] | None = None) -> ContactElement | None:
+        """The next rung of this element's own discretisation ladder for the points it was estimated
+        at (``model_error``), whose estimate must fall by the factor ``excess`` (within ``omega = (lo,
+        hi)`` rad/s if given), or None at the end of the ladder.  Default None (no ladder)."""
+        return None
+
+    @property
+    def at_top_rung(self) -> bool:
+        """Whether this is the finest rung a curve refines to.  Default False."""
+        return False
+
+    @property
+    def refined_no_further(self) -> bool:
+        """Whether a curve refines this rung no further where it was estimated worst (the ladder's end
+        there).  Default False."""
+        return False
+
+    def harmonics_of(self, rung: ContactElement) -> ContactElement | None:
+        """This rung with the internal harmonics of ``rung`` (a rung refined from it) and its own cells
+        where that is the cheaper way to reach them, or None.  Default None."""
+        return None
+
+    def for_balance(self, H: int) -> ContactElement:
+        """The element to use in a balance of ``H`` harmonics (a rung of a nested balance keeps enough of
+        its own harmonics above the drive's).  Default: the element itself."""
+        return self
 
     def _model_error(self, a: np.ndarray, omega: np.ndarray) -> np.ndarray:
         """Hook of :meth:`model_error`: flat float arrays in (m, rad/s), the relative error of

@@ -40,6 +40,7 @@ from .base import ContactElement, masing_loop
 from .loads import QuadraticLoad, UniformLoad
 from .model_range import check_single_mode, single_mode_error
 from .numerics.checks import nonnegative
+from .quasi_static import QuasiStatic
 
 
 class _MicroslipBar(ContactElement):
@@ -165,6 +166,11 @@ class _MicroslipBar(ContactElement):
     def _refined_model(self):
         """The all-mode bar of the same bar and load (every mode, the phase along the bar)."""
         return AllModeMicroslip(self.bar, self.load)
+
+    def harmonics_law(self):
+        """The quasi-static bar (``QuasiStatic``): its Masing loop carries this bar's higher force
+        harmonics to order (omega/omega_c)^2, which this first-harmonic element does not give."""
+        return QuasiStatic(self)
 
     def _model_error(self, a, omega):
         """The validity map's errors of F_s and F_c against the all-mode bar (``contact_models.model_range``)."""

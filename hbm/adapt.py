@@ -30,7 +30,7 @@ from . import curve
 from .balance import errors
 from .balance.residual import HarmonicBalance
 from .balance.start import force_homotopy
-from .result import PEAK_XTOL_FACTOR, FrequencyResponse, model_label
+from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, model_label
 
 
 #: A window's refined trace ends at its first point beyond the hyperplane through the coarse end
@@ -40,9 +40,9 @@ RADIUS_CHORDS = 3.0
 CUT_XTOL = 0.02
 #: A window's next H is predicted from its largest harmonics estimate ``e`` at H as the smallest H' of
 #: the ladder (2H + 1, 2(2H + 1) + 1, ...) with ``e (H/H')^DECAY_ORDER`` below the share of tol, so that
-#: a window is traced again once rather than once per rung.  The 3-DOF Jenkins chain's estimate fell
-#: like H^-4.2, H^-3.0, H^-2.1 from 3 to 7, 15, 31: the prediction is right at few harmonics and
-#: short at many, where the refined window's own estimate then asks for the next rung.
+#: a window is traced again once rather than once per rung.  A friction contact's force harmonics fall
+#: like h^-2 (a kink per stick/slip switch), the response's two orders faster at a well-separated
+#: resonance; where the decay is slower the refined window's own estimate asks for the next rung.
 DECAY_ORDER = 4.0
 #: Newton updates at most at each stage of a window's start solved again after its lifted start failed (``staged``).
 STAGED_MAX_ITER = 40
@@ -113,8 +113,11 @@ def trace(problem: HarmonicBalance, knobs: Knobs, *, reporter: Callable | None =
         run = cut(run, scale)
     if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
         run = curve.refine(problem, run, scale, components, steps["curve_tol"], tol, parameter=problem.unknowns - 1)
-    return FrequencyResponse(problem, run, rtol=knobs.rtol, tol=tol, scale=scale, stability=knobs.stability,
-                             tolerance=knobs.tolerance)
+    out = FrequencyResponse(problem, run, rtol=knobs.rtol, newton_tol=tol, scale=scale, stability=knobs.stability,
+                            tol=knobs.tolerance)
+    if knobs.tolerance is not None:
+        out._estimated(errors.estimate(problem, out._X, out.omega, knobs.rtol), errors.nodes(out.amplitude))
+    return out
 
 
 # ------------------------------------------------------------------ windows
@@ -227,9 +230,9 @@ def staged(knobs: Knobs, contacts: Any, X: np.ndarray, w: float, H0: int, H: int
     """The point ``X`` (solved at ``H0`` harmonics, physical) solved again at ``w`` at each H of the ladder
     ``2 H0 + 1, ...`` up to ``H`` in turn, each lifted from the last, by Newton's method with a backtracking
     line search on |R| (``STAGED_MAX_ITER`` updates at most): a window's start where plain Newton from the
-    lift straight to ``H`` fails.  The default case at 40 N, tol = 1e-3: from H = 7 to 31 at 38516 rad/s plain
-    Newton stopped contracting (|R| halving at best: the nested bar's stick/slip pattern changes under the
-    steps), and from 15 too; damped, it converged in 29 updates.  None where a stage fails."""
+    lift straight to ``H`` fails, as it can where the stick/slip pattern of a nested element changes under
+    the full steps (Newton then stops contracting); the line search keeps |R| falling.  None where a
+    stage fails."""
     h = min(2 * H0 + 1, H)
     while True:
         problem = knobs.balance(contacts, h)
@@ -288,24 +291,21 @@ def next_harmonics(H: int, excess: float, top: int) -> int:
 
 def refined_contacts(contacts: list, excess: float = 1.0, span: tuple[float, float] | None = None,
                      omega_range: tuple[float, float] | None = None, rungs_only: bool = False) -> list | None:
-    """The contacts with each element that offers one replaced by its refined model; None if none does.
+    """The contacts with each element that has one replaced by its refinement; None if none has.
 
-    An element that is one rung of a discretisation (it offers ``refined_rung(excess, omega)``, e.g. a
-    fixed ``AllModeMicroslip``) gets the next rung predicted for the window ``span = (lo, hi)`` rad/s
-    whose estimate must fall by the factor ``excess``; a refined model that chooses its own
-    discretisation at every call and offers a fixed ``start_rung(omega_range)`` is replaced by that
-    start rung (refined in turn along the curve).  ``rungs_only``: only rungs are refined (a choosing
+    An element that is one rung of a discretisation (``ContactElement.refined_rung``, e.g. a fixed
+    ``AllModeMicroslip``) gets the next rung predicted for the window ``span = (lo, hi)`` rad/s whose
+    estimate must fall by the factor ``excess``; any other element its refined model
+    (``ContactElement.refined_model``), on that model's start rung where it has one
+    (``ContactElement.start_rung``; refined in turn along the curve).  ``rungs_only``: only rungs are refined (a choosing
     element given by the caller, traced on its rungs; the other elements as given)."""
     out, changed = [], False
     for c in contacts:
-        refine = getattr(c.element, "refined_rung", None)
-        if callable(refine):  # a rung (its refined model is its next rung) or a choosing element (None)
-            better = refine(excess, span)
-        else:
-            better = None if rungs_only else c.element.refined_model()
-            start = getattr(better, "start_rung", None)
-            if callable(start) and omega_range is not None:
-                better = start(omega_range) or better
+        better = c.element.refined_rung(excess, span)  # a rung of a discretisation: its next rung
+        if better is None and not rungs_only:  # else the more complete model, on its start rung
+            better = c.element.refined_model()
+            if better is not None and omega_range is not None:
+                better = better.start_rung(omega_range) or better
         changed |= better is not None
         el = better if better is not None else c.element
         out.append(c.with_element(el))
@@ -313,15 +313,14 @@ def refined_contacts(contacts: list, excess: float = 1.0, span: tuple[float, flo
 
 
 def balanced(contacts: list, H: int) -> list:
-    """The contacts for a balance of H harmonics: each element that offers ``for_balance(H)`` (a rung of a
-    nested balance, e.g. a fixed ``AllModeMicroslip``) replaced by it.  Its estimate is made for the drive
-    ``a sin`` (``model_error``) and cannot see the harmonics the balance adds to the drive: the default case's
-    rung of 64 cells and H = 7 traced at H = 3 at 200 N was 1.0e-3 off a converged reference at 39425 rad/s,
-    with an estimate of 2.2e-4; with two rungs of harmonics above the balance's (15 at H = 3) the rungs'
-    estimates hold.  At H = 1 the drive is ``a sin``: the contacts as they are."""
+    """The contacts for a balance of H harmonics: each element replaced by ``for_balance(H)`` (a rung of a
+    nested balance, e.g. a fixed ``AllModeMicroslip``, keeps two rungs of its own harmonics above the
+    balance's).  A rung's estimate is made for the drive ``a sin`` (``model_error``) and cannot see the
+    harmonics the balance adds to the drive; its own harmonics well above them keep it valid
+    (``docs/validation.md``).  At H = 1 the drive is ``a sin``: the contacts as they are."""
     if H <= 1:
         return contacts
-    return [c.with_element(getattr(c.element, "for_balance", lambda _: c.element)(H)) for c in contacts]
+    return [c.with_element(c.element.for_balance(H)) for c in contacts]
 
 
 def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tuple[float, float],
@@ -333,10 +332,9 @@ def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tu
     have the top harmonics but not the finest cells, the present rungs' cells at those harmonics
     (``harmonics_of``): the window is traced once at its new H with the bar's harmonics it needs, and the
     model pass refines only the cells, where the window's own estimate asks.  A coarser rung predicted
-    from the start rung's estimates at the old H is not taken whole: at 252 N and 300 N the default
-    case's peak window went to 128 cells and H = 15 that way, where the cheap trace at H = 3 leads to
-    H = 31, and the nested solve's samples left its peaks 1.4 to 1.7 times their estimates off a
-    converged reference.  At the top harmonics no prediction can ask for more of them."""
+    from the start rung's estimates at the old H is not taken whole: estimated at the old H, it can be
+    short of the harmonics the new H needs.  At the top harmonics no prediction can ask for more of
+    them."""
     if "model" not in f.error_sources:
         return None
     source = f.error_sources["model"]
@@ -347,9 +345,9 @@ def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tu
     better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), True)
     if better is None:
         return None
-    if all(getattr(c.element, "at_top_rung", False) for c in better):
+    if all(c.element.at_top_rung for c in better):
         return better
-    raised = [getattr(c.element, "harmonics_of", lambda _: None)(b.element) for c, b in zip(f.contacts, better)]
+    raised = [c.element.harmonics_of(b.element) for c, b in zip(f.contacts, better)]
     return None if None in raised else [c.with_element(el) for c, el in zip(f.contacts, raised)]
 
 
@@ -438,3 +436,77 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
     if at < hi:
         out.append((f, at, hi))
     return out
+
+
+# ------------------------------------------------------------------ the peak
+def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float]) -> Peak:
+    """The peak of ``frf`` located on the branch, stored in it (``FrequencyResponse.peak`` returns it).
+
+    Between the neighbours of the largest sampled point the branch is parametrised by its chord and
+    the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a fresh
+    omega-derivative) is found by Brent's method (``hbm.continuation.locate``); every trial point is
+    a converged Newton point, so the located peak carries the Newton tolerance alone as its peak
+    source.  A maximum at an end of the branch is kept as sampled and is not interior: at an end of
+    ``omega_range`` the resonance may lie outside the range, and where a branch stopped early the
+    response may still rise beyond.  The elements' warnings while locating join the call's."""
+    if len(frf) == 0:
+        raise ValueError("the frequency response has no points")
+    n = len(frf)
+    i = int(np.argmax(frf.amplitude))
+    w, a = float(frf.omega[i]), float(frf.amplitude[i])
+    reasons = []
+    located = False
+    site, j = frf._site(i)  # located with the balance of the stretch holding the maximum
+    if 0 < j < len(site) - 1:
+        loc, nit = _locate_on(site, j)
+        frf._peak_nit += nit
+        if loc is not None:
+            X, w_loc = site._problem.to_physical(loc.y)
+            a_loc = float(math.hypot(X[frf._r, 1], X[frf._r, 2]))
+            if a_loc >= a * (1.0 - errors.PEAK_ACCEPT * frf.rtol):
+                w, a, located = float(w_loc), a_loc, True
+                frf.peak_refined = True
+                frf._located_peak_source(i)
+    lo, hi = min(omega_range), max(omega_range)
+    at_edge = i in (0, n - 1) and min(abs(w - lo), abs(w - hi)) <= 1e-9 * max(abs(lo), abs(hi))
+    at_stop = not frf.success and i == n - 1
+    if at_edge:
+        reasons.append(f"the largest response is at the end of omega_range, omega = {w:.6g} rad/s: the resonance "
+                       f"may lie outside the range")
+    elif at_stop:
+        reasons.append(f"the largest response is where the branch stopped, omega = {w:.6g} rad/s: it may rise "
+                       f"beyond")
+    elif not frf.success:
+        reasons.append(f"the branch stopped at omega = {float(frf.omega[-1]):.6g} rad/s before the end of the range: "
+                       f"the peak found is the largest on the traced part only")
+    elif not located:
+        reasons.append("the maximum could not be located between points (the largest sampled point is given)")
+    estimate = float(frf.error_estimate[i]) if len(frf.error_estimate) else math.nan
+    if frf.tol is not None and estimate > frf.tol:
+        reasons.append(f"its estimated error {estimate:.2g} exceeds tol {frf.tol:g}")
+    interior = not (at_edge or at_stop)
+    frf._peak = Peak(w, a, interior=interior, converged=not reasons, estimate=estimate, message="; ".join(reasons))
+    return frf._peak
+
+
+def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int]:
+    """The zero of d(a^2)/ds near point ``i`` of the single-balance result ``f`` (None where there is
+    none between its neighbours), and the Newton updates spent."""
+    pr = f._problem
+    pr.fresh_omega_derivative = True
+    counter = cont._Count()
+    y = f._run.y
+    c, s_ = pr.response_components()
+
+    def slope(u, t):  # proportional to d(a^2)/ds along the branch
+        return u[c] * t[c] + u[s_] * t[s_]
+
+    try:
+        xtol = PEAK_XTOL_FACTOR * math.sqrt(f.rtol)
+        for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
+            loc = cont.locate(pr, y[ja], y[jb], slope, tol=f.newton_tol, scale=f._scale, xtol=xtol, count=counter)
+            if loc is not None:
+                return loc, counter.nit
+        return None, counter.nit
+    finally:
+        pr.fresh_omega_derivative = False

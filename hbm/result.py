@@ -9,14 +9,11 @@ points, how the run went, and the CSV and plot of the points.
 from __future__ import annotations
 
 import math
-import warnings
 from pathlib import Path
 from typing import Any, Callable, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
-
-from contact_models.accuracy import AccuracyWarning
 
 from . import continuation as cont  # the module (hbm.continuation)
 from .balance import errors
@@ -36,8 +33,11 @@ STABILITY_FULL_DOFS = 6
 STABILITY_MODES = 4
 
 
-class Peak(NamedTuple):
-    """The largest first-harmonic amplitude on the branch and its frequency.
+class Peak(tuple):
+    """The largest first-harmonic amplitude on the branch, ``(omega, amplitude)``, and what it is.
+
+    It unpacks as the pair ``omega, amplitude = frf.peak()``; its attributes say whether it can be
+    trusted as the resonance peak of the range asked for.
 
     Attributes
     ----------
@@ -45,10 +45,43 @@ class Peak(NamedTuple):
         Frequency (rad/s).
     amplitude : float
         First-harmonic amplitude (m).
+    interior : bool
+        The maximum lies inside the branch: not at an end of ``omega_range`` (the resonance may be
+        outside the range) and not at the point where a branch that stopped early ends.
+    converged : bool
+        ``interior``, on a branch that reached the end of its range, located between points (the
+        zero of d(a^2)/ds), and with its error estimate within the tolerance asked for.
+    estimate : float
+        The estimated relative error of ``amplitude`` at the peak (NaN without an estimate).
+    message : str
+        Why the peak is not converged ("" where it is).
     """
 
-    omega: float
-    amplitude: float
+    def __new__(cls, omega: float, amplitude: float, *, interior: bool = True, converged: bool = True,
+                estimate: float = math.nan, message: str = "") -> "Peak":
+        out = super().__new__(cls, (float(omega), float(amplitude)))
+        out.interior, out.converged, out.estimate, out.message = bool(interior), bool(converged), float(estimate), message
+        return out
+
+    @property
+    def omega(self) -> float:
+        return self[0]
+
+    @property
+    def amplitude(self) -> float:
+        return self[1]
+
+    def __repr__(self) -> str:
+        return (f"Peak(omega={self.omega!r}, amplitude={self.amplitude!r}, interior={self.interior}, "
+                f"converged={self.converged}, estimate={self.estimate:.2g})")
+
+    def __reduce__(self):
+        return (_peak, (self.omega, self.amplitude, self.interior, self.converged, self.estimate, self.message))
+
+
+def _peak(omega: float, amplitude: float, interior: bool, converged: bool, estimate: float, message: str) -> Peak:
+    """A :class:`Peak` from its fields (pickling)."""
+    return Peak(omega, amplitude, interior=interior, converged=converged, estimate=estimate, message=message)
 
 
 class Response(NamedTuple):
@@ -96,9 +129,9 @@ class Segment(NamedTuple):
 
 def model_label(contacts: list) -> str:
     """The element names of ``contacts`` (``hbm.Contact``), ``"+"``-joined: a point's model.  An element's
-    name is its ``model_name`` where it has one (a fixed rung of ``AllModeMicroslip`` names its cells and
-    H), else its class name."""
-    return "+".join(getattr(c.element, "model_name", None) or type(c.element).__name__ for c in contacts)
+    name is its ``ContactElement.model_name`` (its class name; a fixed rung of ``AllModeMicroslip`` names
+    its cells and H)."""
+    return "+".join(c.element.model_name for c in contacts)
 
 
 class FrequencyResponse:
@@ -154,19 +187,19 @@ class FrequencyResponse:
         a corner of the branch, drawn as its chord); the corners found (the tangent jumps between
         ``i - 1`` and ``i``).
     nsteps, nit, nfev, nstuck : int
-        Accepted steps, Newton iterations, element evaluations, stuck evaluations; they include
-        the work of :meth:`peak` once it has been called.
-    tolerance : float or None
-        The target relative error asked for (``frequency_response(..., tol=...)``; None:
-        ``estimate_error=False``, no estimate).
+        Accepted steps, Newton iterations, element evaluations, stuck evaluations, with those of
+        locating the peak.
+    tol : float or None
+        The target relative error asked for (``frequency_response(..., tol=...)``; None: no
+        estimate was asked for).
     error_estimate : ndarray
         Per point, the estimated relative error of ``amplitude`` against the true periodic
         response of the physical system (all sources; NaN without an estimate).
     error_sources : dict of ndarray
         The estimate per source, ``"harmonics"``, ``"sampling"``, ``"element"``, ``"model"``,
         ``"peak"`` (``hbm.balance.errors``).
-    rtol, tol : float
-        The elements' tolerance and the Newton tolerance on the scaled residual.
+    rtol, newton_tol : float
+        The elements' tolerance and the Newton tolerance on the scaled residual, both derived from ``tol``.
     accuracy_warning : str or None
         The message of the one ``AccuracyWarning`` the call emitted (the estimate above the
         tolerance, and the elements' own warnings during the solve, merged), or None.
@@ -186,13 +219,14 @@ class FrequencyResponse:
     (1, 2)
     """
 
-    def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, tol: float,
+    def __init__(self, problem: HarmonicBalance, run: cont.ContinuationResult, *, rtol: float, newton_tol: float,
                  scale: Callable[[np.ndarray], np.ndarray], stability: bool = True,
-                 tolerance: float | None = None) -> None:
+                 tol: float | None = None) -> None:
         self._problem = problem
         self._run = run
         self._scale = scale
         self.rtol = rtol
+        self.newton_tol = newton_tol
         self.tol = tol
         self.structure = problem.structure
         self.system = self.blade = problem.system
@@ -231,16 +265,27 @@ class FrequencyResponse:
         self._exponents: NDArray | None = None
         self._changes: list = []
         self.stability_dofs: list = []
-        self.tolerance = tolerance
         self.accuracy_warning: str | None = None  #: set by frequency_response
-        self._nodes = errors.nodes(self.amplitude) if tolerance is not None else np.empty(0, dtype=np.intp)
-        self.error_sources = errors.estimate(problem, X, w, rtol) if tolerance is not None else {}
-        self.error_estimate = errors.total(self.error_sources) if tolerance is not None else np.full(len(w), np.nan)
+        self.refined_peak: Any = None  #: the peak solved again with the refined model (``hbm.refine_peak``)
+        self._nodes = np.empty(0, dtype=np.intp)
+        self.error_sources: dict = {}
+        self.error_estimate = np.full(len(w), np.nan)
         label = model_label(self.contacts)
         self.point_harmonics, self.point_models = np.full(len(w), self.harmonics), np.full(len(w), label)
         self.segments = [Segment(0, len(w), self.harmonics, self.n_t, label)]
         self._pieces: list | None = None  # a spliced result: its (result, lo, hi) stretches (``spliced``)
         self._work = [self]  # every solve the result's work counters sum
+
+    def _estimated(self, sources: dict, nodes: NDArray) -> None:
+        """Store the error estimate the solve computed for these points (``hbm.balance.errors.estimate``) and
+        the indices it was computed at (``nodes``)."""
+        self.error_sources, self._nodes = sources, np.asarray(nodes, dtype=np.intp)
+        self.error_estimate = errors.total(sources)
+
+    @property
+    def tolerance(self) -> float | None:
+        """The target relative error asked for: the same as :attr:`tol` (an older name)."""
+        return self.tol
 
     @classmethod
     def spliced(cls, pieces: list, work: list, note: str = "") -> "FrequencyResponse":
@@ -258,6 +303,9 @@ class FrequencyResponse:
             setattr(out, name, cat(name))
         out.error_sources = {k: np.concatenate([f.error_sources[k][lo:hi] for f, lo, hi in pieces])
                              for k in pieces[0][0].error_sources}
+        if "peak" in out.error_sources:  # the peak's location is a property of the whole curve, not of each stretch's
+            out.error_sources["peak"] = errors.peak_location(out.amplitude, out.omega, errors.NEWTON_SHARE * out.rtol)
+            out.error_estimate = errors.total(out.error_sources)
         out.harmonics, out.n_t = max(f.harmonics for f, _, _ in pieces), max(f.n_t for f, _, _ in pieces)
         L = 2 * out.harmonics + 1
         out._X = np.concatenate([np.pad(f._X[lo:hi], ((0, 0), (0, 0), (0, L - f._X.shape[2]))) for f, lo, hi in pieces])
@@ -283,7 +331,8 @@ class FrequencyResponse:
         out.contacts, out.element = top.contacts, top.element
         out.nsteps = sum(f.nsteps for f in work)
         out.status, out.message = work[0].status, work[0].message + note
-        out._peak, out.peak_refined, out._stable, out._exponents, out._changes = None, False, None, None, []
+        out._peak, out._peak_nit, out.peak_refined = None, 0, False
+        out._stable, out._exponents, out._changes = None, None, []
         return out
 
     def _site(self, i: int) -> tuple["FrequencyResponse", int]:
@@ -313,7 +362,7 @@ class FrequencyResponse:
     @property
     def nit(self) -> int:
         if self._pieces is not None:
-            return sum(f.nit for f in self._work)
+            return sum(f.nit for f in self._work) + self._peak_nit
         return self._nit0 + self._peak_nit
 
     @property
@@ -416,18 +465,18 @@ class FrequencyResponse:
 
     # ------------------------------------------------------------------ peak
     def peak(self) -> Peak:
-        """``(omega, amplitude)`` of the largest response, located on the branch.
+        """The largest response on the branch, as the solve located it (``hbm.adapt.locate_peak``).
 
-        Between the neighbours of the largest sampled point the branch is parametrised by its
-        chord and the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a
-        fresh omega-derivative) is found by Brent's method; every trial point is a converged
-        Newton point.  A maximum at an end of the branch is returned as sampled.  The elements'
-        ``AccuracyWarning`` warnings while locating it are said once (their count and the worst).
+        Between the neighbours of the largest sampled point the solve found the zero of
+        ``d(a^2)/ds`` on the branch; the :class:`Peak` says whether that maximum is interior (not at
+        an end of the range or where a stopped branch ends) and converged (located, on a branch that
+        reached the end of its range, its estimate within ``tol``), and why not.
 
         Returns
         -------
         Peak
-            ``(omega, amplitude)`` in rad/s and m; cached after the first call.
+            ``(omega, amplitude)`` in rad/s and m, with ``interior``, ``converged``, ``estimate``
+            and ``message``.
 
         Raises
         ------
@@ -442,33 +491,19 @@ class FrequencyResponse:
         >>> from hbm import frequency_response
         >>> from hbm.cli.cases import default_case
         >>> case = default_case()
-        >>> frf = frequency_response(case.blade, case.element, omega_range=case.omega_range)
+        >>> frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, model="given")
         >>> pk = frf.peak()
-        >>> round(pk.omega, -1), round(pk.amplitude / 7.5e-7, 2)     # rad/s, a/a_min
-        (38770.0, 2.02)
+        >>> round(pk.omega, -1), round(pk.amplitude / 7.5e-7, 2), pk.interior     # rad/s, a/a_min
+        (38770.0, 2.02, True)
         """
         if self._peak is not None:
             return self._peak
         if len(self) == 0:
             raise ValueError("the frequency response has no points")
         i = int(np.argmax(self.amplitude))
-        best = Peak(float(self.omega[i]), float(self.amplitude[i]))
-        site, j = self._site(i)  # located with the balance of the stretch holding the maximum
-        if 0 < j < len(site) - 1:
-            with errors.collected() as heard:  # the elements' warnings while locating: said once
-                loc = site._locate_peak(j)
-            if heard:
-                warnings.warn(f"FrequencyResponse.peak: {errors.heard_line(heard, 'while locating the peak')}",
-                              AccuracyWarning, stacklevel=2)
-            if loc is not None:
-                X, w = site._problem.to_physical(loc.y)
-                a = float(math.hypot(X[self._r, 1], X[self._r, 2]))
-                if a >= best.amplitude * (1.0 - 10.0 * self.rtol):
-                    best = Peak(float(w), a)
-                    self.peak_refined = True
-                    self._located_peak_source(i)
-        self._peak = best
-        return best
+        est = float(self.error_estimate[i]) if len(self.error_estimate) else math.nan
+        return Peak(float(self.omega[i]), float(self.amplitude[i]), interior=0 < i < len(self) - 1, converged=False,
+                    estimate=est, message="the largest sampled point, not located between points")
 
     def _located_peak_source(self, i: int) -> None:
         """The located peak is a converged point where d(a^2)/ds = 0: the peak source at the sampled
@@ -480,29 +515,6 @@ class FrequencyResponse:
         src[max(i - 1, 0):i + 2] = errors.NEWTON_SHARE * self.rtol
         self.error_sources = {**self.error_sources, "peak": src}
         self.error_estimate = errors.total(self.error_sources)
-
-    def _locate_peak(self, i: int) -> cont.Located | None:
-        """The zero of d(a^2)/ds near the sampled maximum ``i``, or None."""
-        pr = self._problem
-        pr.fresh_omega_derivative = True
-        counter = cont._Count()
-        y = self._run.y
-        c, s_ = pr.response_components()
-
-        def slope(u, t):  # proportional to d(a^2)/ds along the branch
-            return u[c] * t[c] + u[s_] * t[s_]
-
-        try:
-            xtol = PEAK_XTOL_FACTOR * math.sqrt(self.rtol)
-            for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
-                loc = cont.locate(pr, y[ja], y[jb], slope, tol=self.tol, scale=self._scale, xtol=xtol,
-                                  count=counter)
-                if loc is not None:
-                    return loc
-            return None
-        finally:
-            pr.fresh_omega_derivative = False
-            self._peak_nit += counter.nit
 
     # ------------------------------------------------------------------ output
     def to_csv(self, path: str | Path) -> Path:

@@ -47,7 +47,6 @@ from numpy.typing import NDArray
 
 from contact_models.accuracy import AccuracyWarning
 from contact_models.base import ContactElement, default_samples
-from contact_models import QuasiStatic
 
 from ..structure import Contact
 from .residual import HarmonicBalance
@@ -301,16 +300,11 @@ def _amplitude_change(Jx: NDArray, xc: float, xs: float, dp: float, dq: float) -
 
 
 def _harmonic_proxy(problem: HarmonicBalance, el: Any, rtol: float) -> HarmonicBalance | None:
-    """The balance at H = 3 (condensed form) of the one-DOF system with a time law standing for the
-    element: the element itself, or for a dynamic bar without one its quasi-static bar, whose
-    Masing loop carries the same higher harmonics to order (omega/omega_c)^2; None if neither."""
-    law = el if el.has_time_law else None
-    if law is None and getattr(el, "bar", None) is not None:
-        try:
-            law = QuasiStatic(el)
-        except (TypeError, ValueError):
-            law = None
-    if law is None:
+    """The balance at H = 3 (condensed form) of the one-DOF system with the element's stand-in with a
+    time law (``ContactElement.harmonics_law``: the element itself, or for a single-mode dynamic bar
+    its quasi-static bar); None where it has none."""
+    law = el.harmonics_law()
+    if law is None or not law.has_time_law:
         return None
     return HarmonicBalance(problem.structure, [Contact(law, dof=0)], harmonics=3, n_t=default_samples(3), rtol=rtol)
 
@@ -335,7 +329,7 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     H, n_t, L = problem.H, problem.n_t, problem.L
     kw = dict(response_dof=problem.response_dof, rtol=rtol)
     same = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, **kw)
-    sampled = not all(getattr(el, "exact_harmonics", False) for el, _ in same._attach)
+    sampled = not all(el.exact_harmonics for el, _ in same._attach)
     finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw) if sampled else None
     # elements exact to rounding at every H (``exact_harmonics``) ignore rtol: their source is the floor
     tight = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, response_dof=problem.response_dof,
