@@ -73,7 +73,7 @@ def chain_rows(ref: dict) -> list[tuple]:
                 f, i = frf._interval(int(k))  # the segment holding the interval (H chosen along the curve)
                 pr = f._problem
                 loc = continuation.locate(pr, f._run.y[i], f._run.y[i + 1],
-                                          lambda y, tt, pr=pr: y[-1] * pr.omega_ref - w, tol=f.tol, scale=f._scale,
+                                          lambda y, tt, pr=pr: y[-1] * pr.omega_ref - w, tol=f.newton_tol, scale=f._scale,
                                           xtol=1e-13)
                 if loc is None:
                     continue

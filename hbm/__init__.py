@@ -18,7 +18,8 @@ from contact_models.accuracy import AccuracyWarning  # the library's one accurac
 from . import continuation
 from .balance import HarmonicBalance
 from .blade import Blade
-from .frf import frequency_response, response_at
+from .frf import Point, frequency_response, refine_peak, response_at
+from .balance.presets import Steps
 from .modes import NonlinearModes, nonlinear_modes
 from .single_mode import ModalFRF, forced_response
 from .damper_optimum import DamperOptimum, damper_optimum
@@ -31,9 +32,9 @@ from .reference.transient import BladeSimulation, simulate_blade
 #: The result of a structure's solve is the one result type (this name is kept for old code).
 MultiHarmonicResponse = FrequencyResponse
 
-__all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "HarmonicBalance",
+__all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "Point", "Steps", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
 __all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]
 __all__ += ["nonlinear_modes", "NonlinearModes", "forced_response", "ModalFRF", "damper_optimum", "DamperOptimum"]
-__all__ += ["allmode_peak", "AllModePeak", "Segment"]
+__all__ += ["allmode_peak", "AllModePeak", "Segment", "refine_peak"]

@@ -314,10 +314,10 @@ def allmode_peak(blade: Any, bar: Any, load: Any, w_single: float, a_single: flo
 def physical_peak(frf: Any, share: float = 0.5) -> AllModePeak | None:
     """The all-mode peak where the single-mode damper of a blade's FRF is too far off it, else None.
 
-    ``frf`` is a blade's :class:`hbm.FrequencyResponse` with one single-mode microslip element (an
-    element with ``bar``, ``load`` and a refined model, ``ContactElement.refined_model``) and its
+    ``frf`` is a blade's :class:`hbm.FrequencyResponse` with one element whose refined model
+    (``ContactElement.refined_model``) is the all-mode bar (a single-mode microslip bar), and its
     error estimate.  Where the model source of the estimate at the sampled maximum exceeds
-    ``share * frf.tolerance``, the peak is solved again with the bar with every mode
+    ``share * frf.tol``, the peak is solved again with the bar with every mode
     (:func:`allmode_peak`, centred on ``frf.peak()``), the other sources of the curve's estimate there
     added to its own; otherwise (or for any other FRF: a structure, no estimate, no refined model, a
     failed run) None, and the curve's own peak stands.
@@ -328,21 +328,22 @@ def physical_peak(frf: Any, share: float = 0.5) -> AllModePeak | None:
     too (the finest rungs reached).
     """
     el = frf.element
-    if (not frf.success or not len(frf) or frf.tolerance is None or not frf._problem.one_dof or el is None
-            or el.refined_model() is None or not hasattr(el, "bar") or not hasattr(el, "load")):
+    refined = el.refined_model() if el is not None and not el.discretised else None
+    if (not frf.success or not len(frf) or frf.tol is None or not frf._problem.one_dof
+            or not isinstance(refined, AllModeMicroslip)):
         return None
     i = int(np.argmax(frf.amplitude))
-    if float(frf.error_sources["model"][i]) <= share * frf.tolerance:
+    if float(frf.error_sources["model"][i]) <= share * frf.tol:
         return None
     other = sum(float(v[i]) for k, v in frf.error_sources.items() if k != "model")
     pk = frf.peak()
     try:
-        best = allmode_peak(frf.blade, el.bar, el.load, pk.omega, pk.amplitude, frf.tolerance, other)
+        best = allmode_peak(frf.blade, refined.bar, refined.load, pk.omega, pk.amplitude, frf.tol, other)
     except FloatingPointError as exc:  # numerical trouble: the single-mode answer stands, said so
         warnings.warn(f"the all-mode peak was not found ({exc}); the peak is the single-mode one", AccuracyWarning,
                       stacklevel=2)
         return None
-    if best.error > frf.tolerance:
-        warnings.warn(f"the all-mode peak's estimated error {best.error:.2g} is above tol = {frf.tolerance:g} "
+    if best.error > frf.tol:
+        warnings.warn(f"the all-mode peak's estimated error {best.error:.2g} is above tol = {frf.tol:g} "
                       f"({best.cells} cells, H = {best.harmonics}, the finest rungs)", AccuracyWarning, stacklevel=2)
     return best

@@ -14,9 +14,10 @@ one frequency by Brent's method, for elements without derivatives.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import warnings
-from typing import Any, Callable
+from typing import Any, Callable, NamedTuple
 
 import numpy as np
 
@@ -24,57 +25,97 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
+from .allmode_peak import physical_peak
 from .balance import errors
-from ._validation import count, nonnegative, omega_range_pair, positive
-from .balance.presets import (DEFAULT_MAX_STEP, DEFAULT_MAX_STEPS, DEFAULT_MIN_STEP, DEFAULT_RTOL, TOLERANCE, apply,
-                              harmonic_knobs, samples_for)
+from ._validation import nonnegative, omega_range_pair, positive
+from .balance.presets import DEFAULT_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
 from .balance.residual import HarmonicBalance, as_contacts, as_structure
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
-#: The target relative error of a solve that names none (``tol``): the warning's threshold.
+#: The target relative error of a solve that names none (``tol``).
 DEFAULT_TOL = 1e-3
-#: With ``tol`` given and no ``harmonics``, a structure's balance starts at this H over the whole
-#: range; each window where the harmonics' estimate exceeds ``HARMONICS_SHARE * tol`` is traced again
-#: at H -> 2H + 1, up to ``MAX_HARMONICS`` (``hbm.adapt``).
+#: The named tolerances ``tol`` accepts: each is the number it names, and adapts as that number does.
+PRESETS = dict(TOLERANCE)
+#: With ``tol`` and no ``harmonics``, a structure's balance starts at this H over the whole range (a
+#: blade at its own, 1); each window where the harmonics' estimate exceeds ``HARMONICS_SHARE * tol`` is
+#: traced again at H -> 2H + 1, up to ``MAX_HARMONICS`` (``hbm.adapt``).
 ADAPT_START = 3
 HARMONICS_SHARE = 0.5
-#: With ``tol`` given, the elements' tolerance rtol is at most this share of it (the peak is
+#: With ``tol``, the elements' tolerance rtol is this share of it, at most ``DEFAULT_RTOL`` (the peak is
 #: accepted within 10 rtol: ``hbm.balance.errors``).
 RTOL_SHARE = 1e-2
 MAX_HARMONICS = 31
+#: Without ``tol`` (``tol=None``: no estimate, nothing chosen), a structure's H where none is given.
+FIXED_HARMONICS = 7
 
-#: ``model``: "given" solves with the elements as given; "auto" traces again with each element's
-#: refined model (``ContactElement.refined_model``) the windows where the model error exceeds
-#: ``MODEL_SHARE * tol``.
-MODELS = ("given", "auto")
+#: ``model``, where the solve uses each element's refined model (``ContactElement.refined_model``):
+#: "given" nowhere; "peak" in the peak's window only, where the estimate's model source there exceeds
+#: ``MODEL_SHARE * tol`` (a blade with a single-mode microslip bar: the all-mode peak, ``hbm.allmode_peak``);
+#: "auto" in every window of the curve where it does.
+MODELS = ("given", "peak", "auto")
 MODEL_SHARE = 0.5
 #: With a tolerance, an element that chooses its discretisation at every call and offers a fixed
-#: ``start_rung(omega_range)`` (``AllModeMicroslip`` with cells and harmonics None) is traced on that
-#: start rung and its windows on finer rungs (``hbm.adapt``, the model pass).  False: the element
-#: as given, choosing per call (the path timed as "before" in docs/performance.md).
+#: start rung (``ContactElement.curve_element``: ``AllModeMicroslip`` with cells and harmonics None) is
+#: traced on that start rung and its windows on finer rungs (``hbm.adapt``, the model pass).
 RUNGS_ALONG_CURVE = True
 
 #: Newton tolerance on the scaled residual (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref``
 #: otherwise) as a fraction of ``rtol``.
 NEWTON_TOL_FACTOR = 5e-3
 
+#: The keywords of earlier releases, each with what replaces it (they warn ``DeprecationWarning``).
+DEPRECATED = {
+    "rtol": "tol (the elements' tolerance is tol/100, at most 1e-6)",
+    "accuracy": "tol (a name: tol='fast', 'default' or 'precise')",
+    "estimate_error": "tol=None (no estimate)",
+    "max_step": "steps=hbm.Steps(max_step=...)",
+    "min_step": "steps=hbm.Steps(min_step=...)",
+    "max_steps": "steps=hbm.Steps(max_steps=...)",
+    "curve_tol": "steps=hbm.Steps(curve_tol=...)",
+    "locate_folds": "steps=hbm.Steps(locate_folds=...)",
+    "on_point": "callback=f, called with an hbm.Point",
+    "on_harmonics": "callback=f, called with an hbm.Point (its harmonics)",
+}
+
+
+class Point(NamedTuple):
+    """One accepted point of a branch, as ``frequency_response``'s ``callback`` receives it.
+
+    Attributes
+    ----------
+    omega : float
+        Frequency (rad/s).
+    x_c, x_s : float
+        The response DOF's first harmonic (m), ``x ~ x_c cos(omega t) + x_s sin(omega t)``.
+    residual : float
+        The point's scaled residual.
+    harmonics : ndarray
+        The response DOF's harmonics (m), ``(X0, Xc1, Xs1, ..., XcH, XsH)``.
+    """
+
+    omega: float
+    x_c: float
+    x_s: float
+    residual: float
+    harmonics: Any
+
 
 def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[float, float] | None = None, *,
-                       rtol: float = DEFAULT_RTOL, max_step: float = DEFAULT_MAX_STEP,
-                       min_step: float = DEFAULT_MIN_STEP, max_steps: int = DEFAULT_MAX_STEPS,
-                       locate_folds: bool = True, on_point: Callable[[float, float, float, float], None] | None = None,
-                       accuracy: str | float | None = None, harmonics: int | None = None, n_t: int | None = None,
-                       response_dof: int | None = None, stability: bool = True, tol: float | None = None,
-                       estimate_error: bool = True, model: str = "given",
-                       on_harmonics: Callable[[float, Any], None] | None = None,
-                       curve_tol: float | None = None) -> FrequencyResponse:
+                       tol: float | str | None = "default", harmonics: int | None = None, n_t: int | None = None,
+                       model: str = "given", steps: Steps | None = None, callback: Callable[[Point], None] | None = None,
+                       response_dof: int | None = None, stability: bool = True,
+                       **deprecated: Any) -> FrequencyResponse:
     """FRF of ``system`` (a :class:`Blade` or a :class:`Structure`) with its ``contacts`` over
-    ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds.
+    ``omega_range = (w0, w1)`` rad/s, traced from ``w0`` to ``w1`` through any folds, to ``tol``.
 
     One balance for every system (``hbm.balance``): a blade is a one-DOF structure, a contact
-    element given alone attaches to its DOF.  The element is evaluated to ``rtol`` and every point
-    solves the balance to ``NEWTON_TOL_FACTOR * rtol`` in its scaled residual.
+    element given alone attaches to its DOF.  ``tol`` sets every accuracy knob the call does not
+    fix itself: the harmonics H along the curve, the elements' tolerance (tol/100, at most 1e-6) and
+    the Newton tolerance of every point (``NEWTON_TOL_FACTOR`` times that), and with ``model`` the
+    model; every point carries its estimated error by source, and where the estimate exceeds
+    ``tol``, where the branch stops before the end of the range, or where the peak is not an
+    interior, converged maximum, one ``AccuracyWarning`` says so.
 
     Parameters
     ----------
@@ -85,74 +126,49 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         ``contact_models`` element) on a one-DOF system is the damper at its DOF; None for none.
     omega_range : tuple of float
         ``(w0, w1)`` in rad/s, >= 0 and different; traced from w0 to w1 (either way).
-    rtol : float, optional
-        Relative accuracy, in (0, 0.1).  Default 1e-6.
-    max_step, min_step : float, optional
-        Largest and smallest continuation step in scaled arclength.  Defaults 0.03, 1e-9.
-    max_steps : int, optional
-        Step budget.  Default 5000.
-    curve_tol : float, optional
-        Step control by accuracy: the steps are sized so that the curve between points (the cubic
-        through the four nearest points, ``hbm.curve``) is within ``curve_tol`` of the branch
-        (relative to the first-harmonic amplitude; omega to its reference), ``max_step`` then only a
-        safeguard; after the run every interval whose neighbouring cubics disagree is checked at its
-        mid-point against a converged solve and split there if off (those points are not streamed
-        to ``on_point``).  Intervals still off (across corners of the branch) are listed in ``coarse``.
-        Default None: the step is limited by ``max_step`` (the "precise" preset sets 1e-5).
-    locate_folds : bool, optional
-        Locate the turning points of the branch.  Default True.
-    on_point : callable, optional
-        ``on_point(omega, x_c, x_s, residual)`` with each accepted point (the response DOF's first
-        harmonic, in m) and its scaled residual, as soon as it is accepted, in continuation order.
-    accuracy : {"fast", "default", "precise"} or float, optional
-        A preset of ``hbm.balance.presets`` instead of ``rtol`` and the step settings (not combined
-        with them); for a structure it also sets H and n_t unless they are given.
+    tol : float, {"fast", "default", "precise"} or None, optional
+        The target relative error of the response amplitude against the true periodic response of
+        the physical system (all harmonics, the physical contact), in (0, 1); a name stands for its
+        number (``PRESETS``: "fast" 1e-2, "default" 1e-3, "precise" 1e-5) and adapts exactly as that
+        number does.  Default "default" (``DEFAULT_TOL`` = 1e-3).  Without ``harmonics``, a
+        structure's H is chosen along the curve (``hbm.adapt``): the whole range at 3 (a blade at
+        1), then each window where the harmonics' estimate exceeds half of it traced again at
+        2H + 1 (7, 15, 31), where every contact has a time law.  None: no estimate and nothing
+        chosen (H as given, else 1 for a blade and ``FIXED_HARMONICS`` for a structure).
     harmonics : int, optional
-        The number of harmonics H.  Default: 1 for a blade, the accuracy preset's for a structure
-        (``Structure.default_harmonics``).  Above 1 every contact needs a time law.
+        The number of harmonics H, fixed.  Above 1 every contact needs a time law.
     n_t : int, optional
-        AFT samples per period, >= 2H + 2.  Default ``hbm.balance.presets.samples_for(H, accuracy)``:
-        the element's floor for H, and above H = 1 at least the accuracy preset's n_t.
+        AFT samples per period, >= 2H + 2.  Default ``hbm.balance.presets.samples_for(H)``.
+    model : {"given", "peak", "auto"}, optional
+        Where the solve uses each element's refined model (``ContactElement.refined_model``: the
+        all-mode bar for a single-mode microslip bar): "given" (default) nowhere; "peak" at the peak
+        only, where the model source there exceeds half the tolerance (a blade with a single-mode
+        bar: :func:`hbm.allmode_peak`; ``peak()`` then answers with it); "auto" in every window of the
+        curve where the model source exceeds half the tolerance (``point_models`` names the model of
+        every point).
+    steps : Steps, optional
+        The continuation's step controls (:class:`hbm.Steps`).  Default ``Steps()``.
+    callback : callable, optional
+        ``callback(point)`` with each accepted point (a :class:`hbm.Point`), in continuation order:
+        as it is accepted, or where the balance may solve a window again (``tol`` without
+        ``harmonics``, ``model="auto"``) once the run ends, the final points in order (their
+        harmonics zero-padded to the largest H).
     response_dof : int, optional
         The DOF whose response is reported.  Default the forced DOF.
     stability : bool, optional
         Whether Hill's stability is available (computed on first use of ``stable``).  Default True.
-    tol : float, optional
-        The target relative error of the response amplitude against the true periodic response
-        of the physical system (all harmonics, the physical contact).  Given (and ``harmonics``
-        not), a structure's H is chosen along the curve (``hbm.adapt``): the whole range at 3 (a
-        blade at 1), then each window where the harmonics' estimate exceeds half of it traced again
-        at 2H + 1 (7, 15, 31), in turn (``point_harmonics``, ``segments``).  Where the estimate (``error_estimate``) exceeds it, one ``AccuracyWarning`` names
-        the worst point, its largest source and the fix.  The elements' own ``AccuracyWarning`` warnings
-        during the solve (an element may warn at every evaluation) are merged into that one warning
-        (their count and the worst), so a call warns at most once (``accuracy_warning``).  Default: with a
-        named ``accuracy`` its tolerance (``hbm.balance.presets.TOLERANCE``: 1e-2, 1e-3, 1e-5), else
-        ``DEFAULT_TOL`` (1e-3); for the estimate's target and the warning only.  With it, an element
-        that chooses its discretisation at every call and offers ``start_rung`` (``AllModeMicroslip``
-        with cells and harmonics None) is traced on that fixed start rung, and each window where the
-        model source exceeds half the tolerance on the rung its estimate predicts (``hbm.adapt``;
-        ``point_models`` names the rungs; ``RUNGS_ALONG_CURVE``).
-    estimate_error : bool, optional
-        Estimate the error of every point (``error_estimate``, ``error_sources``;
-        ``hbm.balance.errors``).  Default True; False skips it (and the warning).
-    model : {"given", "auto"}, optional
-        "given" (default): the elements as given.  "auto": the windows of the curve where the
-        estimate's model source exceeds half the tolerance are traced again with each element's
-        refined model (``ContactElement.refined_model``: the all-mode bar for a single-mode
-        microslip bar, on its fixed rungs; ``point_models``).
-    on_harmonics : callable, optional
-        ``on_harmonics(omega, X)`` with each accepted point, right after ``on_point``: ``X`` the
-        response DOF's harmonics in m, ``(X0, Xc1, Xs1, ..., XcH, XsH)`` (``c_h = Xc_h - i Xs_h`` of
-        ``FrequencyResponse.coefficients``), as it is accepted (a scene streams them to its CSV).  Where the balance may solve again
-        (``model="auto"``, or ``tol`` without ``harmonics``), both callbacks get the final, spliced
-        points once it ends, in order (``X`` zero-padded to the largest H).
+    **deprecated
+        The keywords of earlier releases (``DEPRECATED``: ``rtol``, ``accuracy``, ``estimate_error``,
+        ``max_step``, ``min_step``, ``max_steps``, ``curve_tol``, ``locate_folds``, ``on_point``,
+        ``on_harmonics``), still read for one release, each with a ``DeprecationWarning`` naming
+        what replaces it.
 
     Returns
     -------
     FrequencyResponse
         The branch, with ``success`` and ``message``; a run that stops early keeps the points it
         computed.  A window whose refined trace fails keeps its coarse points; ``message`` and the
-        warning say so.
+        warning say so.  The peak is located (``peak()``).
 
     Raises
     ------
@@ -192,14 +208,16 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     True
     >>> round(pk.amplitude / (1.0 / (2.0 * math.sqrt(1.0e4 - 1.0))), 6)  # F/(c sqrt(k/m - c^2/(4 m^2)))
     1.0
+    >>> pk.interior, pk.converged
+    (True, True)
 
-    With the two-region microslip damper (the default case of ``python -m hbm``):
+    With the two-region microslip damper (the single-mode bar of ``python -m hbm``):
 
     >>> from contact_models import Bar, UniformLoad, TwoRegionMicroslip
     >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
     >>> two = TwoRegionMicroslip(bar, UniformLoad(N=100.0))
     >>> blade = Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0)
-    >>> frf = frequency_response(blade, two, omega_range=(3.2e4, 4.4e4))
+    >>> frf = frequency_response(blade, two, omega_range=(3.2e4, 4.4e4), tol=None)
     >>> frf.success, round(frf.peak().amplitude, 9)    # m
     (True, 1.512e-06)
 
@@ -213,84 +231,81 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     >>> frf.success, frf.harmonics, frf.coefficients(0).shape[1]
     (True, 3, 4)
     """
-    # ---- validate
+    # ---- validate (the keywords of earlier releases first: they may set tol and the steps)
+    explicit = tol != "default"  # a tol the caller gave (an earlier release's rtol keeps its value otherwise)
+    tol, steps, callback, rtol, fixed = _deprecated(deprecated, tol, steps, callback)
     structure = as_structure(system)
     w0, w1 = omega_range_pair(omega_range)
-    preset = accuracy if accuracy is not None else "default"
-    H_preset = harmonic_knobs(preset)[0]
-    if accuracy is not None:
-        rtol, max_step, min_step, max_steps, curve_tol = apply(accuracy, rtol=rtol, max_step=max_step,
-                                                               min_step=min_step, max_steps=max_steps,
-                                                               curve_tol=curve_tol)
+    tolerance = tolerance_of(tol)
+    if model not in MODELS:
+        raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
+    if model != "given" and tolerance is None:
+        raise ValueError(f"model={model!r} chooses the model by the error estimate: it needs a tol, got tol=None")
+    derived = DEFAULT_RTOL if tolerance is None else min(DEFAULT_RTOL, RTOL_SHARE * tolerance)
+    if rtol is None:
+        rtol = derived
+    elif tolerance is not None and explicit:  # an earlier release's rtol, tightened by an explicit tol
+        rtol = min(positive("rtol", rtol), RTOL_SHARE * tolerance)
     rtol = positive("rtol", rtol)
     if rtol >= 0.1:
         raise ValueError(f"rtol must be < 0.1, got rtol={rtol!r}")
-    tolerance = _tolerance(tol, estimate_error, accuracy)
-    if model not in MODELS:
-        raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
-    if model == "auto" and tolerance is None:
-        raise ValueError("model='auto' chooses the model by its error estimate: it needs estimate_error=True")
-    if tol is not None:  # the elements and the Newton points well inside the tolerance asked for
-        rtol = min(rtol, RTOL_SHARE * tolerance)
-    steps = dict(max_step=positive("max_step", max_step), min_step=positive("min_step", min_step),
-                 max_steps=count("max_steps", max_steps), locate_folds=locate_folds,
-                 curve_tol=None if curve_tol is None else positive("curve_tol", curve_tol))
-    if steps["curve_tol"] is not None and steps["curve_tol"] >= 1.0:
-        raise ValueError(f"curve_tol must be < 1 (a relative error), got curve_tol={curve_tol!r}")
+    if steps is None:
+        steps = Steps()
+    if not isinstance(steps, Steps):
+        raise ValueError(f"steps must be an hbm.Steps, got steps={steps!r}")
+    step_controls = steps.checked()
+    if callback is not None and not callable(callback):
+        raise ValueError(f"callback must be callable, got callback={callback!r}")
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
-    adapt = harmonics is None and tol is not None
+    adapt = harmonics is None and tolerance is not None
     if harmonics is None:
-        harmonics = structure.default_harmonics if structure.default_harmonics is not None else H_preset
-        if adapt and structure.default_harmonics is None:
-            harmonics = ADAPT_START
+        harmonics = structure.default_harmonics if structure.default_harmonics is not None else (
+            ADAPT_START if adapt else fixed[0])
+        if n_t is None and not adapt and structure.default_harmonics is None:
+            n_t = fixed[1]
     n_t_given = n_t
     rungs = False
     if tolerance is not None and RUNGS_ALONG_CURVE:
         contacts, rungs = _start_rungs(contacts, structure, (w0, w1))
     again = adapt or model == "auto" or rungs  # the balance may solve again: stream the final points at the end
-    knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, steps, stability, tolerance,
-                        lambda H: n_t_given if n_t_given is not None else _samples(H, preset), response_dof)
-    live = None if again or (on_point is None and on_harmonics is None) else (
-        lambda problem: _reporter(on_point, on_harmonics, problem))
-    frf = along.solve(knobs, contacts, harmonics, live)
+    knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, step_controls, stability, tolerance,
+                        lambda H: n_t_given if n_t_given is not None else _samples(H), response_dof)
+    live = None if again or callback is None else (lambda problem: _reporter(callback, problem))
     notes: list[str] = []
-    if again:  # the model and H chosen along the curve (hbm.adapt)
-        plan = along.Plan(MODEL_SHARE if model == "auto" or rungs else None, HARMONICS_SHARE if adapt else None,
-                          MAX_HARMONICS, rungs_only=model != "auto")
-        frf, notes = along.along(knobs, frf, plan)
-        if on_point is not None or on_harmonics is not None:
-            _stream(frf, on_point, on_harmonics)
+    with errors.collected() as at_peak:  # one block: every other warning is said once, as Python says it
+        frf = along.solve(knobs, contacts, harmonics, live)
+        if again:  # the model and H chosen along the curve (hbm.adapt)
+            plan = along.Plan(MODEL_SHARE if model == "auto" or rungs else None, HARMONICS_SHARE if adapt else None,
+                              MAX_HARMONICS, rungs_only=model != "auto")
+            frf, notes = along.along(knobs, frf, plan)
+            if callback is not None:
+                _stream(frf, callback)
+        if len(frf):  # the peak located between points (the elements' warnings while locating join the call's)
+            along.locate_peak(frf, (w0, w1))
+            if model == "peak":
+                refine_peak(frf)
     heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in knobs.heard.get(id(f), [])]
-    if tolerance is not None and len(frf) and float(np.max(frf.error_sources["peak"])) > tolerance:
-        # the sampled maximum may fall short of the peak by more than tol: the peak located, its
-        # source is then its own error (``FrequencyResponse.peak``)
-        with errors.collected() as at_peak:
-            frf.peak()
-        heard += at_peak
-    frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes)
+    heard += at_peak
+    frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes, (w0, w1))
     return frf
 
 
-def _start_rungs(contacts: Any, structure: Any, omega_range: tuple[float, float]) -> tuple[Any, bool]:
-    """``(contacts, replaced)``: each element that offers a ``start_rung(omega_range)`` (a choosing
-    ``AllModeMicroslip``) replaced by it; the contacts as given where none does."""
-    listed = as_contacts(contacts, structure.n)
-    out = []
-    for c in listed:
-        start = getattr(c.element, "start_rung", None)
-        rung = start(omega_range) if callable(start) else None
-        out.append(c if rung is None else c.with_element(rung))
-    replaced = any(a is not b for a, b in zip(out, listed))
-    return (out if replaced else contacts), replaced
+def tolerance_of(tol: Any) -> float | None:
+    """The target relative error ``tol`` stands for: a number in (0, 1), a name of ``PRESETS``, or None.
 
-
-def _tolerance(tol: Any, estimate_error: bool, accuracy: Any = None) -> float | None:
-    """The target relative error: ``tol``, else the named preset's (``presets.TOLERANCE``), else
-    ``DEFAULT_TOL``; None without an estimate."""
+    Examples
+    --------
+    >>> tolerance_of("precise"), tolerance_of(1e-4), tolerance_of(None)
+    (1e-05, 0.0001, None)
+    """
     if tol is None:
-        preset = TOLERANCE.get(accuracy, DEFAULT_TOL) if isinstance(accuracy, str) else DEFAULT_TOL
-        return preset if estimate_error else None
-    if isinstance(tol, (str, bytes, bool)):
+        return None
+    if isinstance(tol, str):
+        if tol not in PRESETS:
+            raise ValueError(f"tol must be a number in (0, 1) or one of {', '.join(map(repr, PRESETS))}, "
+                             f"got tol={tol!r}")
+        return PRESETS[tol]
+    if isinstance(tol, (bytes, bool)):
         raise ValueError(f"tol must be a number in (0, 1), got tol={tol!r}")
     tol = positive("tol", tol)
     if tol >= 1.0:
@@ -298,10 +313,93 @@ def _tolerance(tol: Any, estimate_error: bool, accuracy: Any = None) -> float | 
     return tol
 
 
-def _samples(H: Any, preset: Any) -> Any:
-    """``samples_for(H, preset)`` for a valid H; an invalid H goes on to the balance's own check."""
+def _deprecated(given: dict, tol: Any, steps: Any, callback: Any) -> tuple[Any, Any, Any, float | None, tuple]:
+    """``(tol, steps, callback, rtol, fixed)`` with the keywords of earlier releases read into them, each
+    with a ``DeprecationWarning`` naming what replaces it (``DEPRECATED``); ``fixed``: a structure's H and
+    n_t where nothing is chosen (``FIXED_HARMONICS``, or an earlier release's preset's).  An unknown
+    keyword raises ``TypeError`` as Python would."""
+    unknown = [k for k in given if k not in DEPRECATED]
+    if unknown:
+        raise TypeError(f"frequency_response() got an unexpected keyword argument {unknown[0]!r}")
+    for k in given:
+        warnings.warn(f"frequency_response({k}=...) is deprecated: use {DEPRECATED[k]}", DeprecationWarning,
+                      stacklevel=3)
+    rtol = given.get("rtol")
+    fields = {k: given[k] for k in ("max_step", "min_step", "max_steps", "curve_tol", "locate_folds") if k in given}
+    accuracy = given.get("accuracy")
+    fixed: tuple = (FIXED_HARMONICS, None)
+    if accuracy is not None:  # an earlier release's preset: its rtol, steps, H and n_t as they were, its tolerance
+        base = Steps()
+        knobs = apply(accuracy, rtol=DEFAULT_RTOL if rtol is None else rtol,
+                      **{k: fields.get(k, getattr(base, k)) for k in ("max_step", "min_step", "max_steps", "curve_tol")})
+        rtol = knobs[0]
+        fields.update(zip(("max_step", "min_step", "max_steps", "curve_tol"), knobs[1:]))
+        if isinstance(accuracy, str) and tol == "default":  # a tol given beside it wins, as it did
+            tol = accuracy
+        fixed = harmonic_knobs(accuracy)
+    if given.get("estimate_error") is False:
+        tol = None
+    if fields:
+        steps = dataclasses.replace(steps if isinstance(steps, Steps) else Steps(), **fields)
+    on_point, on_harmonics = given.get("on_point"), given.get("on_harmonics")
+    if on_point is not None or on_harmonics is not None:
+        for name, f in (("on_point", on_point), ("on_harmonics", on_harmonics)):
+            if f is not None and not callable(f):
+                raise ValueError(f"{name} must be callable, got {name}={f!r}")
+        first = callback
+
+        def callback(p: Point) -> None:
+            if first is not None:
+                first(p)
+            if on_point is not None:
+                on_point(p.omega, p.x_c, p.x_s, p.residual)
+            if on_harmonics is not None:
+                on_harmonics(p.omega, p.harmonics)
+    return tol, steps, callback, rtol, fixed
+
+
+def refine_peak(frf: FrequencyResponse, share: float = MODEL_SHARE) -> Any:
+    """The peak of ``frf`` solved again with the refined model where the estimate's model source at the
+    peak exceeds ``share * frf.tol``: what ``frequency_response(..., model="peak")`` does after tracing
+    the curve with the elements as given.
+
+    For a blade with a single-mode microslip bar the refined peak is the all-mode bar's
+    (:func:`hbm.allmode_peak`, its cells and harmonics refined at the peak, the curve's other sources
+    added to its estimate); it becomes ``frf.peak()`` (with its own estimate) and is kept as
+    ``frf.refined_peak`` (an :class:`hbm.AllModePeak`, with its rungs and parts).  Returns it, or None
+    where the peak stands as it is (no refined model, the model source within its share, or the
+    refined solve failed, which it says).
+    """
+    best = physical_peak(frf, share)
+    frf.refined_peak = best
+    if best is None:
+        return None
+    old = frf.peak()
+    reasons = [r for r in old.message.split("; ") if r and "estimated error" not in r]
+    if best.error > frf.tol:
+        reasons.append(f"its estimated error {best.error:.2g} exceeds tol {frf.tol:g}")
+    frf._peak = Peak(best.omega, best.amplitude, interior=old.interior, converged=not reasons, estimate=best.error,
+                     message="; ".join(reasons))
+    return best
+
+
+def _start_rungs(contacts: Any, structure: Any, omega_range: tuple[float, float]) -> tuple[Any, bool]:
+    """``(contacts, replaced)``: each element that has a start rung for ``omega_range``
+    (``ContactElement.start_rung``: a choosing ``AllModeMicroslip``) replaced by it; the contacts as
+    given where none has."""
+    listed = as_contacts(contacts, structure.n)
+    out = []
+    for c in listed:
+        rung = c.element.start_rung(omega_range)
+        out.append(c if rung is None else c.with_element(rung))
+    replaced = any(a is not b for a, b in zip(out, listed))
+    return (out if replaced else contacts), replaced
+
+
+def _samples(H: Any) -> Any:
+    """``samples_for(H)`` for a valid H; an invalid H goes on to the balance's own check."""
     if isinstance(H, (int, np.integer)) and not isinstance(H, bool) and H >= 1:
-        return samples_for(int(H), preset)
+        return samples_for(int(H))
     return None
 
 
@@ -309,9 +407,10 @@ def _samples(H: Any, preset: Any) -> Any:
 REMEDY = {
     "harmonics": "more harmonics (give tol= and no harmonics= to let the balance choose, or raise harmonics=)",
     "sampling": "more AFT samples (raise n_t=)",
-    "element": "a tighter element tolerance (lower rtol=)",
-    "model": "contact_models.AllModeMicroslip (the bar with every mode) for this damper",
-    "peak": "a tighter rtol=",
+    "element": "a smaller tol= (the elements are evaluated to tol/100)",
+    "model": "model='auto' (each element's refined model where the estimate asks for it: for a single-mode "
+             "microslip bar, the bar with every mode, contact_models.AllModeMicroslip)",
+    "peak": "a smaller tol=",
 }
 #: The model source's advice where every element already is the complete model (no refined model).
 REFINED_REMEDY = ("a finer discretisation of the element (AllModeMicroslip: cells and harmonics left to be chosen, "
@@ -328,21 +427,34 @@ def _remedy(frf: FrequencyResponse, source: str, i: int) -> str:
     if source != "model":
         return REMEDY[source]
     site, _ = frf._site(i)
-    top = [c.element for c in site.contacts if getattr(c.element, "refined_no_further", False)]
+    top = [c.element for c in site.contacts if c.element.refined_no_further]
     if top:
-        return TOP_RUNG_REMEDY.format(rung=f"{top[0].cells} cells, H = {top[0].harmonics}")
-    if all(c.element.refined_model() is None or callable(getattr(c.element, "refined_rung", None))
-           for c in frf.contacts):
+        return TOP_RUNG_REMEDY.format(rung=top[0].model_name)
+    if all(c.element.discretised or c.element.refined_model() is None for c in frf.contacts):
         return REFINED_REMEDY
     return REMEDY[source]
 
 
-def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str], notes: list[str] = ()) -> str | None:
-    """One ``AccuracyWarning`` per call: where the estimate exceeds the tolerance, the worst point,
-    its largest source and what would fix it; with it, the number of warnings the elements gave
-    during the solve (each evaluation may warn) and the worst of them.  Returns its message (None:
-    no warning)."""
+def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str], notes: list[str],
+               omega_range: tuple[float, float]) -> str | None:
+    """One ``AccuracyWarning`` per call, saying what the caller must know before using the answer: a
+    branch that stopped before the end of ``omega_range`` (where and why); a peak that is not an
+    interior, converged maximum (``Peak.message``); the worst point whose estimate exceeds the
+    tolerance, its largest source and what would fix it; the elements' own warnings during the
+    solve (their count and the worst); windows whose refined trace failed.  Returns its message
+    (None: no warning)."""
     parts = []
+    if len(frf) == 0:
+        parts.append(f"no point was computed: {frf.message}")
+    elif not frf.success:
+        w0, w1 = omega_range
+        parts.append(f"the branch stopped at omega = {float(frf.omega[-1]):.6g} rad/s, before the end of omega_range "
+                     f"({w0:.6g}, {w1:.6g}) ({frf._work[0]._run.message}); the points before are kept")
+    pk = frf._peak
+    why = [] if pk is None else [r for r in pk.message.split("; ") if r and "estimated error" not in r]
+    if why:  # (an estimate above tol at the peak is said with the curve's below)
+        parts.append(f"the peak at omega = {pk.omega:.6g} rad/s, amplitude {pk.amplitude:.4g} m is not a converged "
+                     f"interior maximum: {'; '.join(why)}")
     if tolerance is not None and len(frf) and np.any(frf.error_estimate > tolerance):
         i = int(np.nanargmax(frf.error_estimate))
         source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
@@ -443,37 +555,31 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
                     phase=math.atan2(-z.imag, z.real))
 
 
-def _stream(frf: FrequencyResponse, on_point: Callable | None, on_harmonics: Callable | None) -> None:
-    """The final points to the callbacks, in order (``_reporter``'s arguments; the harmonics padded
-    with zeros to the result's largest H)."""
+def _stream(frf: FrequencyResponse, callback: Callable[[Point], None]) -> None:
+    """The final points to ``callback``, in order (their harmonics padded with zeros to the result's
+    largest H)."""
     if frf._pieces is None:
-        report = _reporter(on_point, on_harmonics, frf._problem)
+        report = _reporter(callback, frf._problem)
         for u, rnorm in zip(frf._run.y, frf.residual_norm):
             report(u, rnorm)
         return
     for i, w in enumerate(frf.omega):
-        if on_point is not None:
-            on_point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]))
-        if on_harmonics is not None:
-            on_harmonics(float(w), frf._X[i, frf._r].copy())
+        callback(Point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]),
+                       frf._X[i, frf._r].copy()))
 
 
-def _reporter(on_point: Callable | None, on_harmonics: Callable | None, problem: HarmonicBalance) -> Callable:
-    """``on_point(omega, x_c, x_s, residual)`` and ``on_harmonics(omega, X)`` for the continuation's
-    ``on_point(u, rnorm)`` in scaled unknowns."""
+def _reporter(callback: Callable[[Point], None], problem: HarmonicBalance) -> Callable:
+    """``callback(Point)`` for the continuation's ``on_point(u, rnorm)`` in scaled unknowns."""
     c, s = problem.response_components()
     x_ref, w_ref = problem.x_ref, problem.omega_ref
     r = problem.dofs.index(problem.response_dof)
 
     def report(u, rnorm):
-        if on_point is not None:
-            on_point(float(u[-1] * w_ref), float(u[c] * x_ref), float(u[s] * x_ref), float(rnorm))
-        if on_harmonics is not None:
-            X, w = problem.to_physical(u)
-            on_harmonics(float(w), X[r].copy())
+        X, w = problem.to_physical(u)
+        callback(Point(float(u[-1] * w_ref), float(u[c] * x_ref), float(u[s] * x_ref), float(rnorm), X[r].copy()))
 
     return report
 
 
-__all__ = ["frequency_response", "response_at", "FrequencyResponse", "Peak", "Response", "NEWTON_TOL_FACTOR",
-           "PEAK_XTOL_FACTOR", "DEFAULT_RTOL", "DEFAULT_MAX_STEP", "DEFAULT_MIN_STEP", "DEFAULT_MAX_STEPS"]
+__all__ = ["frequency_response", "refine_peak", "response_at", "tolerance_of", "FrequencyResponse", "Peak", "Point", "Response",
+           "Steps", "NEWTON_TOL_FACTOR", "PEAK_XTOL_FACTOR", "DEFAULT_RTOL", "DEFAULT_TOL", "MODELS", "PRESETS"]

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, CubicSpring, Macroslip
-from hbm import Contact, Structure, continuation as cont, frequency_response
+from hbm import Contact, Steps, Structure, continuation as cont, frequency_response
 from hbm.adapt import lift, windows
 from hbm.balance import errors
 from hbm.balance.residual import HarmonicBalance
@@ -45,9 +45,9 @@ def quiet(*args, **kw):
 
 @pytest.fixture(scope="module")
 def precise():
-    """The chain at tol = 1e-5 with the "precise" steps: H along the curve."""
+    """The chain at tol = 1e-5 with steps by accuracy (curve_tol 1e-5): H along the curve."""
     s, cs = chain()
-    return quiet(s, cs, omega_range=(0.3, 1.6), accuracy="precise", tol=1e-5, stability=False)
+    return quiet(s, cs, omega_range=(0.3, 1.6), tol=1e-5, steps=Steps(max_step=0.1, curve_tol=1e-5), stability=False)
 
 
 @pytest.fixture(scope="module")
@@ -64,7 +64,7 @@ def at_omega(frf, w):
     for j in np.flatnonzero((frf.omega[:-1] - w) * (frf.omega[1:] - w) <= 0.0):
         f, k = frf._interval(int(j))
         pr = f._problem
-        loc = cont.locate(pr, f._run.y[k], f._run.y[k + 1], lambda y, t: y[-1] * pr.omega_ref - w, tol=f.tol,
+        loc = cont.locate(pr, f._run.y[k], f._run.y[k + 1], lambda y, t: y[-1] * pr.omega_ref - w, tol=f.newton_tol,
                           scale=f._scale, xtol=1e-13)
         X = pr.to_physical(loc.y)[0]
         out.append(float(np.hypot(*X[pr.dofs.index(pr.response_dof), 1:3])))

@@ -36,7 +36,7 @@ def at_omega(frf, w):
     out = []
     for j in np.flatnonzero((frf.omega[:-1] - w) * (frf.omega[1:] - w) <= 0.0):
         loc = cont.locate(pr, frf._run.y[j], frf._run.y[j + 1], lambda y, t: y[-1] * pr.omega_ref - w,
-                          tol=frf.tol, scale=frf._scale, xtol=1e-13)
+                          tol=frf.newton_tol, scale=frf._scale, xtol=1e-13)
         out.append(pr.to_physical(loc.y)[0])
     return out
 

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from contact_models import Macroslip
-from hbm import AccuracyWarning, Blade, Contact, Structure, frequency_response
+from hbm import Steps, AccuracyWarning, Blade, Contact, Structure, frequency_response
 from hbm import frf as frf_module
 from hbm.balance import errors, presets
 from hbm.cli.cases import default_case
@@ -46,34 +46,39 @@ def test_a_maximum_at_an_end_is_the_peak_as_sampled():
     assert np.all(out == 1e-9)
 
 
-@pytest.mark.parametrize("accuracy", ["fast", "default"])
-def test_the_bare_blade_s_sampled_maximum_is_bounded_by_the_peak_source(accuracy):
+@pytest.mark.parametrize("max_step", [0.095, 0.03])
+def test_the_bare_blade_s_sampled_maximum_is_bounded_by_the_peak_source(max_step):
     """Against the closed form: the sampled maximum falls short of the resonance by at most the
-    peak source there, and by at least half of it (the parabola is exact to leading order: measured
-    1.06e-4 against 1.10e-4 at "fast", 3.650e-5 against 3.648e-5 at "default", times PEAK_SAFETY)."""
-    frf = frequency_response(BARE, omega_range=(90.0, 110.0), accuracy=accuracy)
+    peak source of the samples there, and by at least half of it (the parabola is exact to leading
+    order: measured 1.06e-4 against 1.10e-4 at max_step 0.095, 3.650e-5 against 3.648e-5 at 0.03,
+    times PEAK_SAFETY); the located peak then carries the Newton tolerance alone."""
+    frf = frequency_response(BARE, omega_range=(90.0, 110.0), steps=Steps(max_step=max_step))
     i = int(np.argmax(frf.amplitude))
     short = (BARE_PEAK - frf.amplitude[i]) / BARE_PEAK
-    source = frf.error_sources["peak"][i]
+    sampled = errors.peak_location(frf.amplitude, frf.omega, errors.NEWTON_SHARE * frf.rtol)
+    source = sampled[i]
     assert short > 0.0
     assert short <= source <= 1.2 * errors.PEAK_SAFETY * short
-    assert frf.error_sources["peak"][i - 1] == frf.error_sources["peak"][i + 1] == source
+    assert sampled[i - 1] == sampled[i + 1] == source
     far = np.delete(np.arange(len(frf)), [i - 1, i, i + 1])
-    assert np.all(frf.error_sources["peak"][far] == errors.NEWTON_SHARE * frf.rtol)
-    assert abs(frf.peak().amplitude / BARE_PEAK - 1.0) <= source
+    assert np.all(frf.error_sources["peak"] == errors.NEWTON_SHARE * frf.rtol)
+    assert abs(frf.peak().amplitude / BARE_PEAK - 1.0) <= 1e-8
+    assert np.all(sampled[far] == errors.NEWTON_SHARE * frf.rtol)
 
 
 def test_the_default_case_s_peak_source_bounds_its_sampled_maximum():
-    """The default case at "fast" (rtol 1e-3): the sampled maximum is 1.45e-4 below the peak at
-    rtol 1e-10; the peak source there is 2.3e-4, far below the 1e-2 of the flat 10 rtol it replaces."""
+    """The default case with steps of 0.095: the sampled maximum is 1.45e-4 below the peak at rtol
+    1e-10; the samples' peak source there is 2.3e-4, and the located peak is within it."""
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AccuracyWarning)  # the single-mode damper's model source
         case = default_case()
-        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, accuracy="fast")
+        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=1e-2,
+                                 steps=Steps(max_step=0.095))
     i = int(np.argmax(frf.amplitude))
     short = (DEFAULT_REFERENCE - frf.amplitude[i]) / DEFAULT_REFERENCE
-    assert 1e-4 < short <= frf.error_sources["peak"][i] <= 5e-4
-    assert abs(frf.peak().amplitude / DEFAULT_REFERENCE - 1.0) <= frf.error_sources["peak"][i]
+    sampled = errors.peak_location(frf.amplitude, frf.omega, errors.NEWTON_SHARE * frf.rtol)
+    assert 1e-4 < short <= sampled[i] <= 5e-4
+    assert abs(frf.peak().amplitude / DEFAULT_REFERENCE - 1.0) <= sampled[i]
 
 
 def test_the_presets_are_tolerances():
@@ -89,12 +94,18 @@ def test_a_named_preset_without_tol_sets_the_tolerance(accuracy, tolerance):
     assert frequency_response(BARE, omega_range=(90.0, 110.0), accuracy=accuracy, tol=0.02).tolerance == 0.02
 
 
-def test_a_preset_s_tolerance_does_not_adapt_the_harmonics():
-    """A named preset keeps choosing H (and rtol) as before: only an explicit tol adapts them."""
+@pytest.mark.parametrize("name", ["fast", "precise"])
+def test_a_named_tolerance_adapts_as_its_number(name):
+    """A name is its tolerance: the same harmonics, points and estimate as the number it stands for."""
     s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
-    frf = frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), accuracy="fast")
-    assert frf.harmonics == presets.HARMONICS["fast"][0] and frf.tolerance == 1e-2
-    assert frf.rtol == presets.NAMED["fast"]
+    c = [Contact(Macroslip(1.0, 0.02), dof=0)]
+    named = frequency_response(s, c, omega_range=(0.6, 1.8), tol=name)
+    number = frequency_response(s, c, omega_range=(0.6, 1.8), tol=presets.TOLERANCE[name])
+    assert named.tol == number.tol == presets.TOLERANCE[name]
+    assert named.rtol == number.rtol == min(presets.DEFAULT_RTOL, 1e-2 * presets.TOLERANCE[name])
+    assert list(named.point_harmonics) == list(number.point_harmonics)
+    assert np.array_equal(named.amplitude, number.amplitude)
+    assert np.array_equal(named.error_estimate, number.error_estimate)
 
 
 def test_fast_on_the_default_blade_no_longer_warns_because_of_the_peak():

@@ -12,6 +12,7 @@ import math
 import numpy as np
 import pytest
 
+import hbm
 from hbm import Blade, frequency_response
 from hbm.balance import presets
 from hbm import frf as frf_module
@@ -61,10 +62,10 @@ def test_each_preset_within_its_documented_bound(runs, reference, name):
 
 
 def test_default_preset_is_frequency_responses_default(case, runs):
-    defaults = inspect.signature(frequency_response).parameters
-    assert presets.resolve("default").options() == {k: defaults[k].default
-                                                   for k in ("rtol", "max_step", "min_step", "max_steps")}
-    assert presets.resolve("default").curve_tol is defaults["curve_tol"].default is None
+    steps = hbm.Steps()
+    assert presets.resolve("default").options() == {"rtol": presets.DEFAULT_RTOL, "max_step": steps.max_step,
+                                                   "min_step": steps.min_step, "max_steps": steps.max_steps}
+    assert presets.resolve("default").curve_tol is steps.curve_tol is None
     plain = frequency_response(case.blade, case.element, omega_range=case.omega_range)
     np.testing.assert_array_equal(plain.omega, runs["default"].omega)
     np.testing.assert_array_equal(plain.amplitude, runs["default"].amplitude)
@@ -84,7 +85,7 @@ def test_one_rtol_sets_every_knob_consistently():
             assert fine.curve_tol < coarse.curve_tol and fine.max_step == presets.MAX_PRESET_STEP
     assert presets.resolve("precise").curve_tol == pytest.approx(1e-5)
     for s in levels:  # the step budget covers the same arclength as the default's
-        assert s.max_steps * s.max_step >= frf_module.DEFAULT_MAX_STEPS * frf_module.DEFAULT_MAX_STEP * (1 - 1e-9)
+        assert s.max_steps * s.max_step >= presets.DEFAULT_MAX_STEPS * presets.DEFAULT_MAX_STEP * (1 - 1e-9)
         assert presets.MIN_PRESET_STEP <= s.max_step <= presets.MAX_PRESET_STEP
 
 
@@ -95,7 +96,7 @@ def test_float_accuracy_reaches_frequency_response():
     frf = frequency_response(blade, Macroslip(stiffness=1.0, slip_force=1.0), omega_range=(0.5, 2.0), accuracy=1e-4)
     assert frf.success
     assert frf.rtol == 1e-4
-    assert frf.tol == pytest.approx(frf_module.NEWTON_TOL_FACTOR * 1e-4)
+    assert frf.newton_tol == pytest.approx(frf_module.NEWTON_TOL_FACTOR * 1e-4)
 
 
 @pytest.mark.parametrize("bad", ["medium", "", "FAST", "1e-6", 0, 0.0, -1e-6, 0.1, 1.0, math.nan, math.inf,

@@ -25,7 +25,8 @@ PROBLEMS = {"P1": (0.004, 0.02), "P2": (0.004, 0.005), "P3": (0.0002, 0.02)}
 
 def mid_errors(frf):
     pr = frf._problem
-    err = curve.midpoint_errors(pr, frf._run.y, frf._scale, (*pr.response_components(), -1), frf.tol, frf.corners)
+    err = curve.midpoint_errors(pr, frf._run.y, frf._scale, (*pr.response_components(), -1), frf.newton_tol,
+                                frf.corners)
     listed = np.zeros(len(err), dtype=bool)
     listed[frf.coarse - 1] = True
     return err, listed

@@ -193,3 +193,52 @@ def samples_for(harmonics: int, accuracy: str | float = "default") -> int:
     floor = default_samples(harmonics)
     return floor if harmonics == 1 else max(floor, harmonic_knobs(accuracy)[1])
 
+
+
+@dataclass(frozen=True)
+class Steps:
+    """The continuation's step controls (``frequency_response(..., steps=Steps(...))``).
+
+    They set how densely the branch is sampled and how long the run may go on, not its accuracy,
+    which ``tol`` sets: every point is a converged solve and the peak is located between points.
+
+    Attributes
+    ----------
+    max_step : float
+        Largest step in scaled arclength (omega by the range width, the coefficients by the current
+        amplitude).  Default 0.03 (about ``max_step**2`` of chord error in the drawn curve).
+    min_step : float
+        Smallest step; a run whose corrector keeps failing below it stops.  Default 1e-9.
+    max_steps : int
+        The step budget.  Default 5000.
+    curve_tol : float or None
+        Step control by accuracy: steps sized so that the curve between points is within
+        ``curve_tol`` of the branch (``hbm.curve``), ``max_step`` a safeguard.  Default None.
+    locate_folds : bool
+        Locate the branch's turning points.  Default True.
+
+    Examples
+    --------
+    >>> Steps().max_step, Steps(max_step=0.01).max_steps
+    (0.03, 5000)
+    """
+
+    max_step: float = DEFAULT_MAX_STEP
+    min_step: float = DEFAULT_MIN_STEP
+    max_steps: int = DEFAULT_MAX_STEPS
+    curve_tol: float | None = None
+    locate_folds: bool = True
+
+    def checked(self) -> dict:
+        """The controls as the continuation's keyword arguments, each validated (``ValueError`` naming it)."""
+        for name in ("max_step", "min_step"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, numbers.Real) or not 0.0 < float(v) < math.inf:
+                raise ValueError(f"steps.{name} must be a positive number, got {name}={v!r}")
+        if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, numbers.Integral) or self.max_steps < 1:
+            raise ValueError(f"steps.max_steps must be an integer >= 1, got max_steps={self.max_steps!r}")
+        c = self.curve_tol
+        if c is not None and (isinstance(c, bool) or not isinstance(c, numbers.Real) or not 0.0 < float(c) < 1.0):
+            raise ValueError(f"steps.curve_tol must be None or in (0, 1) (a relative error), got curve_tol={c!r}")
+        return dict(max_step=float(self.max_step), min_step=float(self.min_step), max_steps=int(self.max_steps),
+                    locate_folds=bool(self.locate_folds), curve_tol=None if c is None else float(c))

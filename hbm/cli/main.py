@@ -26,16 +26,17 @@ import numpy as np
 from contact_models import __version__
 from contact_models.accuracy import AccuracyWarning
 
-from ..frf import DEFAULT_TOL, MODEL_SHARE, frequency_response
-from ..balance.presets import DEFAULT_RTOL
+from ..frf import DEFAULT_TOL, MODELS, frequency_response, refine_peak
 from .cases import default_case
 from .figure import JobFigure
-from ..allmode_peak import AllModePeak, physical_peak
+from ..allmode_peak import AllModePeak
 
 __all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
            "DESCRIPTION", "EXAMPLES",
            "Terminated"]
 
+#: The default job's ``--model``: the single-mode curve with the peak of the bar with every mode.
+DEFAULT_MODEL = "peak"
 #: The first line of ``--help``.
 DESCRIPTION = "Forced response of a blade with a friction damper (harmonic balance, continuation)."
 #: Examples shown at the end of ``--help``.
@@ -55,22 +56,23 @@ EXAMPLES = """examples:
 def _default(args: argparse.Namespace) -> int:
     case = default_case()
     t0 = time.perf_counter()
-    rtol = args.rtol if args.rtol is not None else DEFAULT_RTOL
-    model = getattr(args, "model", None) or "auto"
+    model = getattr(args, "model", None) or DEFAULT_MODEL
     out = Path(args.out if args.out is not None else ".")
-    with warnings.catch_warnings(record=True) as caught:  # auto: the single-mode curve's warning is superseded
+    legacy = {} if args.rtol is None else {"rtol": args.rtol}  # --rtol: an earlier release's option, still read
+    with warnings.catch_warnings(record=True) as caught:  # "peak": the single-mode curve's warning is superseded
         warnings.simplefilter("always", AccuracyWarning)
-        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=rtol,
-                                 tol=_tol(args), model="auto" if model == "allmode" else "given")
-    pk = frf.peak()
-    best = None
+        warnings.filterwarnings("ignore", category=DeprecationWarning)
+        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=_tol(args),
+                                 model="given" if model == "peak" else model, **legacy)
     out.mkdir(parents=True, exist_ok=True)
-    # the figure is drawn in a forked process while the peak is solved (hbm.cli.figure)
-    figure = JobFigure(frf, case, out / "frf.png", fork=model == "auto")
+    # the figure is drawn in a forked process while the peak is solved with the refined model (hbm.cli.figure)
+    figure = JobFigure(frf, case, out / "frf.png", fork=model == "peak")
+    best = None
+    pk = frf.peak()  # the curve's own peak (the refined one, where it answers, is ``best``)
     try:
-        if model == "auto":  # its own trouble, and an estimate above tol, it says itself
-            best = physical_peak(frf, MODEL_SHARE)
-        for w in caught:
+        if model == "peak":  # the peak solved again with the refined model: its own trouble it says itself
+            best = refine_peak(frf)
+        for w in caught:  # the single-mode curve's AccuracyWarning is superseded where the refined peak answers
             if best is None or not issubclass(w.category, AccuracyWarning):
                 warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
         elapsed = time.perf_counter() - t0
@@ -86,7 +88,7 @@ def _default(args: argparse.Namespace) -> int:
     print(f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m{in_a_min}")
     print(f"wrote {csv_path.resolve()}")
     print(f"wrote {png_path.resolve()}")
-    print(accuracy_line(frf, pk, case.element) if best is None else allmode_line(best, pk, case.element, frf.tolerance))
+    print(accuracy_line(frf, pk, case.element) if best is None else allmode_line(best, pk, case.element, frf.tol))
     return 0 if frf.success else 1
 
 
@@ -95,12 +97,12 @@ def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
     err = float(frf.error_estimate[int(np.argmax(frf.amplitude))])
     if frf.element is not given:
         model = (f"{type(frf.element).__name__}, the bar with every mode: the single-mode "
-                 f"{type(given).__name__} is further than tol = {frf.tolerance:g} from it here")
-    elif err > frf.tolerance:
-        model = (f"{type(given).__name__}, further than tol = {frf.tolerance:g}; the default --model auto gives the "
+                 f"{type(given).__name__} is further than tol = {frf.tol:g} from it here")
+    elif err > frf.tol:
+        model = (f"{type(given).__name__}, further than tol = {frf.tol:g}; the default --model peak gives the "
                  "peak of the bar with every mode where it is")
     else:
-        model = f"{type(given).__name__}, within tol = {frf.tolerance:g}"
+        model = f"{type(given).__name__}, within tol = {frf.tol:g}"
     return (f"peak {pk.omega:.6g} rad/s, {pk.amplitude:.4g} m, estimated error {100.0 * err:.2g} % "
             f"(model: {model})")
 
@@ -254,9 +256,10 @@ def _default_arguments(parser):
     _model_argument(parser)
 
 
-def _tol(args: argparse.Namespace) -> float | None:
-    """``--tol`` of the default job (None: ``frequency_response``'s default, ``hbm.frf.DEFAULT_TOL``)."""
-    return getattr(args, "tol", None)
+def _tol(args: argparse.Namespace) -> float:
+    """``--tol`` of the default job (``frequency_response``'s default, ``hbm.frf.DEFAULT_TOL``, where not given)."""
+    tol = getattr(args, "tol", None)
+    return DEFAULT_TOL if tol is None else tol
 
 
 def _model_argument(parser, suppress=True):
@@ -264,12 +267,12 @@ def _model_argument(parser, suppress=True):
     parser.add_argument("--tol", type=float, default=argparse.SUPPRESS if suppress else None,
                         help=f"the default job's target relative error of the peak (default {DEFAULT_TOL:g}): "
                              "frequency_response's tol, and so the all-mode peak's")
-    parser.add_argument("--model", choices=("auto", "given", "allmode"),
-                        default=argparse.SUPPRESS if suppress else None,
-                        help="the default job's damper: 'auto' (default: the single-mode curve, and the peak of the "
-                             "bar with every mode where the single-mode one is further than the tolerance from it), "
-                             "'given' (the single-mode bar only) or 'allmode' (the whole curve with the bar with "
-                             "every mode where needed, on cells and harmonics chosen along the curve; about 12 s)")
+    parser.add_argument("--model", choices=MODELS, default=argparse.SUPPRESS if suppress else None,
+                        help="where the default job uses the damper's refined model, the bar with every mode "
+                             "(frequency_response's model=): 'peak' (default: the single-mode curve, and its peak "
+                             "solved again with the bar with every mode where the single-mode one is further than "
+                             "the tolerance from it), 'given' (the single-mode bar only) or 'auto' (every window of "
+                             "the curve where the single-mode bar is too far off; a few seconds)")
 
 
 def _run_arguments(parser):
@@ -349,7 +352,8 @@ def _common(parser, suppress=False):
     parser.add_argument("--out", default=default(None),
                         help="output folder (default: the current folder; for run, the scene's output.folder)")
     parser.add_argument("--rtol", type=float, default=default(None),
-                        help=f"relative accuracy (default {DEFAULT_RTOL:g}; for run, overrides sweep.tolerance)")
+                        help="deprecated: the elements' relative accuracy, which --tol now sets (tol/100, at most "
+                             "1e-6); for run, overrides sweep.tolerance")
 
 
 def program_name(argv0: str | None = None) -> str:

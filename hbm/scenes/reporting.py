@@ -32,13 +32,13 @@ def run_summary(res: Any, *, hz: bool = False) -> dict:
     if res.frf is not None:
         frf = res.frf
         out["counters"] = {"nsteps": frf.nsteps, "nit": frf.nit, "nfev": frf.nfev, "nstuck": frf.nstuck}
-        if frf.tolerance is not None and len(frf):
+        if frf.tol is not None and len(frf):
             out["error"] = error_summary(frf)
         if res.peak is not None:
             a_min = p.a_min
             out["peak"] = {"omega_rad_s": res.peak.omega, "amplitude_m": res.peak.amplitude,
                            "amplitude_over_a_min": res.peak.amplitude / a_min if a_min else None}
-            if frf.tolerance is not None and len(frf):
+            if frf.tol is not None and len(frf):
                 out["peak"].update(peak_estimate(frf, getattr(res, "allmode", None)))
             if hz:
                 out["peak"] = {"frequency_Hz": res.peak.omega / (2.0 * math.pi), **out["peak"]}
@@ -65,10 +65,10 @@ def error_summary(frf: Any) -> dict:
     largest estimate and where, the estimate at the sampled peak and its sources there, and
     whether it exceeds the tolerance, and the one ``AccuracyWarning`` the run printed (None if none)."""
     i, j = int(np.nanargmax(frf.error_estimate)), int(np.argmax(frf.amplitude))
-    return {"tolerance": frf.tolerance, "largest": float(frf.error_estimate[i]),
+    return {"tolerance": frf.tol, "largest": float(frf.error_estimate[i]),
             "largest_at_omega_rad_s": float(frf.omega[i]), "at_peak": float(frf.error_estimate[j]),
             "sources_at_peak": {k: float(v[j]) for k, v in frf.error_sources.items()},
-            "above_tolerance": bool(frf.error_estimate[i] > frf.tolerance),
+            "above_tolerance": bool(frf.error_estimate[i] > frf.tol),
             "warning": frf.accuracy_warning}
 
 
@@ -79,11 +79,11 @@ def peak_estimate(frf: Any, allmode: Any = None) -> dict:
     from ``frf.error_estimate`` at the sampled maximum and its sources there."""
     if allmode is not None:
         parts = {k: float(v) for k, v in allmode.parts.items()}
-        return {"error_rel": float(allmode.error), "largest_source": max(parts, key=parts.get), "tol": frf.tolerance,
+        return {"error_rel": float(allmode.error), "largest_source": max(parts, key=parts.get), "tol": frf.tol,
                 "model": "AllModeMicroslip", "cells": allmode.cells, "harmonics": allmode.harmonics}
     j = int(np.argmax(frf.amplitude))
     source = max(frf.error_sources, key=lambda k: frf.error_sources[k][j])
-    return {"error_rel": float(frf.error_estimate[j]), "largest_source": source, "tol": frf.tolerance,
+    return {"error_rel": float(frf.error_estimate[j]), "largest_source": source, "tol": frf.tol,
             "model": type(frf.element).__name__ if frf.element is not None else "none"}
 
 

@@ -17,9 +17,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from ..allmode_peak import physical_peak
-from ..frf import MODEL_SHARE, frequency_response
-from ..result import Peak
+from ..balance.presets import DEFAULT_RTOL, Steps
+from ..frf import MODEL_SHARE, frequency_response, refine_peak
 from ..output import (ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
                       frf_columns, frf_row, harmonic_values, stable_value, with_hz)
 from .contacts import damper_contact
@@ -32,6 +31,8 @@ from .validation import Scene
 PHASE_EFFECT = "phase differences along the bar"
 #: The accuracy keyword arguments of ``frequency_response`` in ``sweep["options"]`` (``hbm.presets``).
 ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps", "curve_tol", "tol")
+#: The step settings of ``sweep["options"]`` (``hbm.Steps``).
+STEP_OPTIONS = ("max_step", "min_step", "max_steps", "curve_tol")
 
 
 @dataclass
@@ -115,7 +116,7 @@ class RunResult:
     response_dof : int or None, optional
         The DOF whose response a mode's CSV reports.
     allmode : AllModePeak or None, optional
-        For ``damper.model = "auto"``: the all-mode peak (``hbm.allmode_peak.physical_peak``) where the
+        For ``damper.model = "auto"``: the all-mode peak (``hbm.refine_peak``) where the
         single-mode damper's model error at the peak exceeds half the tolerance; ``peak`` is then its
         (omega, amplitude).  None where the curve's own peak stands.
     """
@@ -367,67 +368,70 @@ def _run_frequency(scene, plan, res, emit):
     p = res.plan
     w0, w1 = p.omega
     H, hz = scene_harmonics(scene), in_hz(scene)
-    first = []  # above one harmonic, a point's first-harmonic columns wait for its harmonics
 
-    def on_point(omega, xc, xs, residual):
-        row = frf_row(omega, xc, xs, residual)
+    def on_point(point):  # above one harmonic, stability is known once the run ends (_fill_stability)
+        omega = point.omega
+        row = frf_row(omega, point.x_c, point.x_s, point.residual)
         row = with_hz(row, omega) if hz else row
-        if H == 1:
-            emit(row, omega, (omega - w0) / (w1 - w0))
-        else:
-            first.append(row)
-
-    def on_harmonics(omega, X):  # stability is known once the run ends (_fill_stability)
-        emit(first.pop() + harmonic_values(X, H) + [stable_value(None)], omega, (omega - w0) / (w1 - w0))
+        if H > 1:
+            row = row + harmonic_values(point.harmonics, H) + [stable_value(None)]
+        emit(row, omega, (omega - w0) / (w1 - w0))
 
     damper, response_dof = p.element, None
     if scene.structure is not None:  # a structure from matrices: the damper at structure.contact_dofs, its contacts
         damper = [damper_contact(scene, p.element, p.model), *plan.contacts]
         response_dof = scene.structure.get("response_dof")
     frf = frequency_response(plan.blade, damper, (w0, w1), harmonics=p.harmonics, n_t=p.n_t,
-                             response_dof=response_dof, on_point=on_point,
-                             on_harmonics=on_harmonics if H > 1 else None, **accuracy_options(scene))
+                             response_dof=response_dof, callback=on_point, **accuracy_options(scene))
     res.frf = frf
     res.success = frf.success
     res.message = frf.message
     if len(frf):
         res.peak = frf.peak()
         if p.name == "auto" and scene.effects["phase_differences"] == "auto":  # the model chosen by the estimate at
-            # tol: the all-mode peak where the single-mode damper is off there (physical_peak: None for any other FRF)
-            res.allmode = physical_peak(frf, MODEL_SHARE)  # says its own trouble
-            if scene.structure is None and p.harmonics in (None, 1):  # a blade at H = 1: physical_peak's case
+            # tol: the all-mode peak where the single-mode damper is off there (None for any other FRF)
+            res.allmode = refine_peak(frf)  # says its own trouble
+            if scene.structure is None and p.harmonics in (None, 1):  # a blade at H = 1: the refined peak's case
                 _said(p, frf, res.allmode)
-            if res.allmode is not None:
-                res.peak = Peak(res.allmode.omega, res.allmode.amplitude)
+            res.peak = frf.peak()
 
 
 def accuracy_options(scene: Scene) -> dict:
-    """``frequency_response``'s accuracy keywords of a scene: ``accuracy=<name>`` for ``sweep.accuracy``
-    (its rtol, steps and tolerance, ``hbm.balance.presets``), else the knobs of ``sweep["options"]``;
-    ``tol`` where ``sweep.tol`` is given (else ``frequency_response``'s default, or the preset's)."""
+    """``frequency_response``'s accuracy keywords of a scene: ``tol`` from ``sweep.tol``; ``steps`` from
+    the step keys that differ from ``hbm.Steps()``; and the keys of an earlier release, read as the API
+    reads them: ``sweep.accuracy`` as ``accuracy=<name>`` (a named tolerance with its old rtol, steps and
+    H), ``sweep.tolerance`` as ``rtol``."""
     opts = scene.sweep["options"]
-    out = {"accuracy": scene.sweep["accuracy"]} if scene.sweep.get("accuracy") else {
-        k: v for k, v in opts.items() if k in ACCURACY_OPTIONS}
+    out: dict = {}
     if "tol" in opts:
         out["tol"] = opts["tol"]
+    if scene.sweep.get("accuracy"):
+        out["accuracy"] = scene.sweep["accuracy"]
+        return out
+    base = Steps()
+    steps = {k: opts[k] for k in STEP_OPTIONS if k in opts and opts[k] != getattr(base, k)}
+    if steps:
+        out["steps"] = Steps(**steps)
+    if opts.get("rtol", DEFAULT_RTOL) != DEFAULT_RTOL:
+        out["rtol"] = opts["rtol"]
     return out
 
 
 def _said(p: RunPlan, frf: Any, best: Any) -> None:
     """Add to the run's "phase differences" effect what the peak's check found (``damper.model = "auto"``)."""
     effect = next((e for e in p.effects if e.name == PHASE_EFFECT and not e.simulated), None)
-    if effect is None or frf.tolerance is None or "computed:" in effect.reason:
+    if effect is None or frf.tol is None or "computed:" in effect.reason:
         return
     i = int(np.argmax(frf.amplitude))
     model = float(frf.error_sources["model"][i])
     if best is None:
         effect.reason += (f"; computed: the model part of the estimate at the peak is {model:.2g}, "
-                          f"{'not above' if model <= MODEL_SHARE * frf.tolerance else 'above'} tol/2 = "
-                          f"{MODEL_SHARE * frf.tolerance:g}: the single-mode peak stands")
+                          f"{'not above' if model <= MODEL_SHARE * frf.tol else 'above'} tol/2 = "
+                          f"{MODEL_SHARE * frf.tol:g}: the single-mode peak stands")
         return
     off = frf.peak().amplitude / best.amplitude - 1.0
     effect.reason += (f"; computed: the model part of the estimate at the peak is {model:.2g} > tol/2 = "
-                      f"{MODEL_SHARE * frf.tolerance:g}: the peak is the all-mode bar's ({best.cells} cells, "
+                      f"{MODEL_SHARE * frf.tol:g}: the peak is the all-mode bar's ({best.cells} cells, "
                       f"H = {best.harmonics}, estimated error {best.error:.2g}); the single-mode peak is "
                       f"{100.0 * off:+.2g} % off it")
 
