@@ -81,8 +81,8 @@ _FIXED: dict[str, dict[str, Key]] = {
         "unit": Key(choice(*OMEGA_UNITS), "rad/s",
                     '"rad/s", "Hz", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
         "tolerance": Key(number(gt=0, lt=presets.MAX_RTOL), OPTIONAL,
-                         f"the elements' relative accuracy (rtol, and the Newton tolerance's scale); default "
-                         f"{presets.DEFAULT_RTOL:g}; not sweep.tol"),
+                         f"kept from an earlier release: the elements' relative accuracy (rtol), which sweep.tol "
+                         f"now sets (tol/100, at most {presets.DEFAULT_RTOL:g})"),
         "tol": Key(number(gt=0, lt=1), OPTIONAL,
                    "target relative error of the response amplitude against the physical system "
                    "(frequency_response's tol): the error estimate's target and the warning's threshold, the "
@@ -91,7 +91,8 @@ _FIXED: dict[str, dict[str, Key]] = {
                    ", ".join(f'"{n}" {t:g}' for n, t in presets.TOLERANCE.items()) +
                    "); not sweep.tolerance, the elements' rtol"),
         "accuracy": Key(choice(*presets.NAMED), OPTIONAL,
-                        "a preset of hbm.presets instead of tolerance and the step settings: " +
+                        "kept from an earlier release, instead of tolerance and the step settings (sweep.tol "
+                        "now sets the accuracy): " +
                         ", ".join(f'"{n}" ({r:g})' for n, r in presets.NAMED.items())),
         "max_step": Key(positive, OPTIONAL,
                         f"largest continuation step (scaled arclength); default {presets.DEFAULT_MAX_STEP:g}"),
