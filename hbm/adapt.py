@@ -66,7 +66,6 @@ class Knobs:
     tolerance: float | None
     samples: Callable[[int], Any]  #: n_t for an H
     response_dof: Any
-    heard: dict = dataclasses.field(default_factory=dict)  #: id(result) -> the elements' warnings in its solve
 
     def balance(self, contacts: Any, H: int) -> HarmonicBalance:
         """The balance of ``contacts`` at ``H`` harmonics that every trace of this call solves."""
@@ -81,7 +80,7 @@ def solve(knobs: Knobs, contacts: Any, H: int, reporter: Callable | None = None)
     problem.keep_jacobians = knobs.stability  # for Hill's method at the points (FrequencyResponse.stable)
     with errors.collected() as now:
         out = trace(problem, knobs, reporter=reporter)
-    knobs.heard[id(out)] = list(now)
+    out._heard = list(now)
     return out
 
 
@@ -218,7 +217,7 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
             X1 = staged(knobs, contacts, X0, w_start, frf.harmonics, H)
             if X1 is not None:
                 out = traced_from(X1)
-    knobs.heard[id(out)] = list(now)
+    out._heard = list(now)
     if not out.success:
         return out, out._run.message
     if not last and not crossed:

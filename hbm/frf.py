@@ -284,7 +284,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
             along.locate_peak(frf, (w0, w1))
             if model == "peak":
                 refine_peak(frf)
-    heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in knobs.heard.get(id(f), [])]
+    heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in f._heard]
     heard += at_peak
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes, (w0, w1))
     return frf
