@@ -9,8 +9,8 @@ import pytest
 
 from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, Macroslip, NumericalMicroslip,
                             QuadraticLoad, SampledLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
-from contact_models._allmode_solve import FixedBar
-from contact_models._hbal import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
+from contact_models.allmode.solve import FixedBar
+from contact_models.allmode.balance import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
                                   jenkins_state, rows_product)
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
@@ -610,9 +610,9 @@ def test_blade_with_the_all_mode_damper_at_three_harmonics():
 def test_docstring_examples():
     import doctest
 
-    import contact_models.allmode
+    import contact_models.allmode.element
     import contact_models.loads
     import contact_models.model_range
 
-    for mod in (contact_models.allmode, contact_models.loads, contact_models.model_range):
+    for mod in (contact_models.allmode.element, contact_models.loads, contact_models.model_range):
         assert doctest.testmod(mod).failed == 0, mod.__name__

@@ -1,4 +1,4 @@
-"""The all-mode bar's linear part per harmonic (``contact_models._bar_segments``): the exact segments' functions
+"""The all-mode bar's linear part per harmonic (``contact_models.allmode.segments``): the exact segments' functions
 against their closed forms and finite differences, the lumped bar's coefficients, the refused meshes."""
 
 from __future__ import annotations
@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from contact_models import Bar, UniformLoad
-from contact_models._bar_segments import (MAX_SEGMENT_PHASE, SERIES_Z, UnresolvedWave, cells_for_phase, linear_part,
+from contact_models.allmode.segments import (MAX_SEGMENT_PHASE, SERIES_Z, UnresolvedWave, cells_for_phase, linear_part,
                                           segment_functions, stuck_end)
 from contact_models.numerics.fe_bar import _Discretisation
 

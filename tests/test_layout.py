@@ -212,3 +212,10 @@ def test_hbm_imports_no_private_module_of_contact_models():
     private = {(a, b) for a, targets in graph.items() if a.startswith("hbm")
                for b in targets if b.startswith("contact_models") and any(p.startswith("_") for p in b.split(".")[1:])}
     assert not private, f"hbm imports private modules of contact_models: {sorted(private)}"
+
+
+def test_the_allmode_modules_are_imported_only_through_their_package():
+    graph = import_graph()
+    inside = {(a, b) for a, targets in graph.items() for b in targets for pkg in ig.THROUGH_PACKAGE
+              if b.startswith(pkg + ".") and not (a == pkg or a.startswith(pkg + "."))}
+    assert not inside, f"modules of {ig.THROUGH_PACKAGE} imported from outside their package: {sorted(inside)}"
