@@ -586,7 +586,7 @@ def test_periodic_force_is_the_synthesis_of_the_harmonic_force():
 
 
 def test_blade_with_the_all_mode_damper_at_three_harmonics():
-    """The default blade (hbm.cases) as a one-DOF structure with the all-mode bar at H = 3 near its
+    """The default blade (hbm.cli.cases) as a one-DOF structure with the all-mode bar at H = 3 near its
     peak: the multi-harmonic solver couples the bar as a substructure; its first-harmonic peak
     agrees with the single-harmonic all-mode FRF (the blade's motion is nearly harmonic: 3rd
     harmonic 0.15 % of the first, docs/validation.md)."""

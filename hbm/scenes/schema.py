@@ -91,7 +91,7 @@ _FIXED: dict[str, dict[str, Key]] = {
                    ", ".join(f'"{n}" {t:g}' for n, t in presets.TOLERANCE.items()) +
                    "); not sweep.tolerance, the elements' rtol"),
         "accuracy": Key(choice(*presets.NAMED), OPTIONAL,
-                        "a preset of hbm.presets instead of tolerance and the step settings: " +
+                        "a preset of hbm.balance.presets instead of tolerance and the step settings: " +
                         ", ".join(f'"{n}" ({r:g})' for n, r in presets.NAMED.items())),
         "max_step": Key(positive, OPTIONAL,
                         f"largest continuation step (scaled arclength); default {presets.DEFAULT_MAX_STEP:g}"),
