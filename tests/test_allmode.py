@@ -10,8 +10,8 @@ import pytest
 from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, Macroslip, NumericalMicroslip,
                             QuadraticLoad, SampledLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models.allmode.solve import FixedBar
-from contact_models.allmode.balance import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
-                                  jenkins_state, rows_product)
+from contact_models.allmode.balance import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian,
+                                            jenkins_periodic, jenkins_state, rows_product)
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 UNIFORM = UniformLoad(N=100.0)

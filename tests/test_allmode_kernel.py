@@ -14,7 +14,7 @@ import pytest
 from contact_models.allmode import compiled
 from contact_models.allmode.solve import FixedBar, transferred
 from contact_models.allmode.balance import (BandedBlockTridiagonal, BlockTridiagonal, aft_matrices, jacobian_prefix,
-                                  jenkins_jacobian, jenkins_periodic, jenkins_state)
+                                            jenkins_jacobian, jenkins_periodic, jenkins_state)
 from contact_models.allmode import AllModeMicroslip
 from hbm.cli.cases import default_case
 

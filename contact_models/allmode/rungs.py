@@ -2,9 +2,10 @@
 
 A choosing ``AllModeMicroslip`` (cells and harmonics None) climbs its ladder of rungs at every
 call.  Along a frequency response the same choice is made once per stretch of the curve instead
-(``hbm.adapt``, the model pass): the whole range is traced on a cheap fixed rung (:func:`start`),
-and the windows where the rung's own estimate (Richardson on its lower rungs, through the balance)
-exceeds its share of the tolerance are traced again on the rung :func:`next_rung` predicts, in turn.
+(``hbm.adapt``, the model pass): the whole range is traced on a cheap fixed rung
+(:meth:`contact_models.AllModeMicroslip.start_rung`), and the windows where the rung's own estimate
+(Richardson on its lower rungs, through the balance) exceeds its share of the tolerance are traced
+again on the rung :func:`next_rung` predicts, in turn.
 
 **The next rung.**  The estimate of a rung (n cells, H harmonics) has two parts, ``rel_c`` (cells)
 and ``rel_h`` (harmonics), relative errors of (f_s, f_c) as the element's ``tol``.  The window's
