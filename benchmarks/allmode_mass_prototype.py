@@ -1,6 +1,6 @@
 """A prototype, not library code: the all-mode bar with the averaged mass matrix, against the lumped one.
 
-The library's all-mode bar with ``linear="lumped"`` (``contact_models._allmode_solve.FixedBar``) has the
+The library's all-mode bar with ``linear="lumped"`` (``contact_models.allmode.solve.FixedBar``) has the
 lumped mass of linear elements, whose mode frequencies are low by (k h)^2 / 24 to leading order; the
 consistent mass's are high by as much, so their average, M = (M_lumped + M_consistent) / 2 (diagonal
 5 rho A h / 6, 5 rho A h / 12 at the ends; off-diagonal rho A h / 12), places the modes to fourth order.
@@ -22,8 +22,8 @@ from __future__ import annotations
 import numpy as np
 
 from contact_models import AllModeMicroslip
-from contact_models._allmode_solve import FixedBar
-from contact_models._bar_segments import LinearPart
+from contact_models.allmode.solve import FixedBar
+from contact_models.allmode.segments import LinearPart
 
 #: (omega rad/s, a m, what) of the default all-mode FRF at 100 N (rounded).
 POINTS = ((38827.4, 1.538e-6, "the peak"), (38752.0, 1.538e-6, "the notch"), (38446.6, 1.393e-6, "below the peak"))

@@ -67,8 +67,8 @@ def solve_rows(repeats: int = 3) -> None:
     from hbm import continuation as cont
     from hbm.balance import errors
 
-    from contact_models import _allmode_coupled as C
-    from contact_models import _allmode_solve as S
+    from contact_models.allmode import coupled as C
+    from contact_models.allmode import solve as S
 
     saved = (S.FixedBar.solve, C.factorise, S.FixedBar.evaluate, S.jenkins_jacobian, S.FixedBar.compiled_newton,
              cont.continuation, errors.estimate)

@@ -23,7 +23,7 @@ from hbm import frequency_response
 try:
     from hbm.cli.cases import default_case
 except ImportError:  # a tree from before the command line had its own package
-    from hbm.cases import default_case
+    from hbm.cli.cases import default_case
 
 REPEATS = 15
 

@@ -8,7 +8,7 @@ Cases:
 
 Knobs, each swept with the others at their defaults: ``rtol`` (the element's tolerance and
 the Newton tolerance of every point), ``max_step``, ``min_step``, ``max_steps``; then the
-presets of ``hbm.presets`` (``accuracy="fast"/"default"/"precise"`` and two rtol values).
+presets of ``hbm.balance.presets`` (``accuracy="fast"/"default"/"precise"`` and two rtol values).
 
 Per setting: ``frequency_response(...)`` + ``.peak()``, CPU and wall time (median of
 ``REPEATS``, all settings of a case round-robin, so ratios are from the same run), points,
@@ -33,7 +33,7 @@ import numpy as np
 
 from hbm import Blade, frequency_response
 from hbm import frf as frf_module
-from hbm import presets
+from hbm.balance import presets
 from hbm.cli.cases import default_case
 
 from bench_frf import jenkins_peak, macroslip

@@ -5,8 +5,7 @@ See ``contact_models.base.ContactElement`` for the interface.
 
 from ._version import __version__
 from .accuracy import AccuracyWarning
-from .allmode import AllModeMicroslip
-from .allmode2d import AllModeMicroslip2D
+from .allmode import AllModeMicroslip, AllModeMicroslip2D
 from .bar import Bar
 from .base import ContactElement
 from .contact2d import Contact2D

@@ -59,9 +59,9 @@ Quasi-static runs of several amplitudes step in lockstep, their tridiagonal syst
 into one banded solve; dynamic runs go one (a, omega) pair at a time.
 
 Code: the nodal data in ``numerics.fe_bar``, the integrator's coefficients in ``numerics.genalpha`` (shared
-with ``hbm.transient``), the step (return mapping, Newton, lockstep batch and its tangent) in
+with ``hbm.reference.transient``), the step (return mapping, Newton, lockstep batch and its tangent) in
 ``_stepping``; here the element, its runs to the steady state (with the shooting) and the
-result.  The names ``hbm.transient`` uses are re-exported here.
+result.  The names ``hbm.reference.transient`` uses are re-exported here.
 """
 
 from __future__ import annotations
@@ -347,7 +347,7 @@ class NumericalMicroslip(ContactElement):
 
     def nodal_data(self) -> NodalData:
         """Copies of the discretisation's nodal arrays, for integrators that couple the bar to
-        other degrees of freedom (``hbm.transient``)."""
+        other degrees of freedom (``hbm.reference.transient``)."""
         d = self._disc
         return NodalData(x=d.x.copy(), mass=d.m.copy(), stiffness_diag=d.kdiag.copy(),
                          stiffness_off=float(d.off), shear_stiffness=d.kc.copy(), slip_force=d.p.copy())

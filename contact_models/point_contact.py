@@ -17,7 +17,7 @@ Jenkins element of stiffness ``K1 - K2`` and slip force ``F0 = slip_force k_s/(k
 so the loop is the bilinear Masing loop and f_s, f_c are ``K2 a`` plus the Jenkins
 describing function (``contact_models.macroslip.jenkins_fourier``).  Frequency independent.
 Its time law for multi-harmonic balance is Masing's with memory on that bilinear curve
-(``periodic_force``, ``harmonic_force``; centre force ``K2 x_c``, ``contact_models._masing``).
+(``periodic_force``, ``harmonic_force``; centre force ``K2 x_c``, ``contact_models.numerics.masing``).
 
 ``PointContact.fit(element)`` matches conditions (1)-(3) of Section 3.4 (equal stuck
 stiffness, fully-slipping stiffness and gross-slip amplitude).  These fix K1, K2, a_y and

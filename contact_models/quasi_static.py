@@ -16,7 +16,7 @@ sweep never reaches the slip amplitude (``docs/scenes.md``).
 ``QuasiStatic`` has a time law when the wrapped element has a loading curve (the microslip bars,
 Jenkins, the point contact): the quasi-static bar obeys Masing's rules with memory, so its
 force for any periodic displacement with several reversals follows from the loading curve at
-omega = 0 (``periodic_force``, ``harmonic_force``; ``contact_models._masing``), checked
+omega = 0 (``periodic_force``, ``harmonic_force``; ``contact_models.numerics.masing``), checked
 against the discretised quasi-static bar with return mapping (``tests/test_time_laws.py``).
 The slope of the loading curve is the wrapped element's ``_loading_slope`` where it has one,
 else a central difference of relative step ``SLOPE_FD_STEP`` (the microslip curves are smooth

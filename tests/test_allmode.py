@@ -9,9 +9,9 @@ import pytest
 
 from contact_models import (AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, Macroslip, NumericalMicroslip,
                             QuadraticLoad, SampledLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
-from contact_models._allmode_solve import FixedBar
-from contact_models._hbal import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian, jenkins_periodic,
-                                  jenkins_state, rows_product)
+from contact_models.allmode.solve import FixedBar
+from contact_models.allmode.balance import (BlockTridiagonal, aft_matrices, jenkins_harmonic, jenkins_jacobian,
+                                            jenkins_periodic, jenkins_state, rows_product)
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 UNIFORM = UniformLoad(N=100.0)
@@ -586,7 +586,7 @@ def test_periodic_force_is_the_synthesis_of_the_harmonic_force():
 
 
 def test_blade_with_the_all_mode_damper_at_three_harmonics():
-    """The default blade (hbm.cases) as a one-DOF structure with the all-mode bar at H = 3 near its
+    """The default blade (hbm.cli.cases) as a one-DOF structure with the all-mode bar at H = 3 near its
     peak: the multi-harmonic solver couples the bar as a substructure; its first-harmonic peak
     agrees with the single-harmonic all-mode FRF (the blade's motion is nearly harmonic: 3rd
     harmonic 0.15 % of the first, docs/validation.md)."""
@@ -610,9 +610,9 @@ def test_blade_with_the_all_mode_damper_at_three_harmonics():
 def test_docstring_examples():
     import doctest
 
-    import contact_models.allmode
+    import contact_models.allmode.element
     import contact_models.loads
     import contact_models.model_range
 
-    for mod in (contact_models.allmode, contact_models.loads, contact_models.model_range):
+    for mod in (contact_models.allmode.element, contact_models.loads, contact_models.model_range):
         assert doctest.testmod(mod).failed == 0, mod.__name__

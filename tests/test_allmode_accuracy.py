@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, Bar, FunctionLoad, UniformLoad
-from contact_models._allmode_accuracy import cells_error, harmonics_error, observed_order, relative, richardson
+from contact_models.allmode.accuracy import cells_error, harmonics_error, observed_order, relative, richardson
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 KS = BAR.k_star
@@ -290,7 +290,7 @@ def test_a_rung_of_7_harmonics_sees_the_13th_meet_a_mode_of_the_bar(monkeypatch)
     """Near the default case's peak the 13th harmonic meets the bar's second tip-fixed mode (the notch at
     38751 rad/s).  On 32 cells and H = 7, f_c is 4.4e-2 off the converged bar there (512 cells, H = 31); read
     against H = 15 the estimate covers it (0.10), read from H = 1, 3, 7 it was 7.8e-3."""
-    import contact_models._allmode_accuracy as acc
+    import contact_models.allmode.accuracy as acc
     from hbm.cli.cases import default_case
 
     damper = default_case().element

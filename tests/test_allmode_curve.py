@@ -11,8 +11,8 @@ import numpy as np
 import pytest
 
 from contact_models import AccuracyWarning, AllModeMicroslip, TwoRegionMicroslip
-from contact_models._allmode_accuracy import start_cells
-from contact_models._allmode_rungs import (CURVE_MAX_CELLS, PROBES, START_CELLS, START_HARMONICS, next_rung,
+from contact_models.allmode.accuracy import start_cells
+from contact_models.allmode.rungs import (CURVE_MAX_CELLS, PROBES, START_CELLS, START_HARMONICS, next_rung,
                                           probed_rung)
 from hbm import frequency_response
 from hbm.allmode_peak import amplitude_at

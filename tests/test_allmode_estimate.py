@@ -1,5 +1,5 @@
 """``AllModeMicroslip.model_error`` at many points in two halves, on two threads where they pay
-(``contact_models._allmode_estimate``): the answer of the halves in turn bit for bit, independent of the threads'
+(``contact_models.allmode.estimate``): the answer of the halves in turn bit for bit, independent of the threads'
 timing, the one-piece answer to the nested Newton's tolerance, the same records kept, errors raised on the caller's
 thread, and one thread on rungs whose Newton loop is not compiled, on the numpy path and in a study's worker
 processes."""
@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from contact_models import AllModeMicroslip
-from contact_models import _allmode_estimate as est
+from contact_models.allmode import estimate as est
 from hbm.cli.cases import default_case
 
 #: Twelve points along the default case's resonance where the bar slips, and two below slip.

@@ -11,10 +11,10 @@ the numpy path and on the compiled kernels (where numba is installed)."""
 import numpy as np
 import pytest
 
-from contact_models import _hbal_compiled
-from contact_models._allmode_solve import FixedBar, transferred
-from contact_models._hbal import (BandedBlockTridiagonal, BlockTridiagonal, aft_matrices, jacobian_prefix,
-                                  jenkins_jacobian, jenkins_periodic, jenkins_state)
+from contact_models.allmode import compiled
+from contact_models.allmode.solve import FixedBar, transferred
+from contact_models.allmode.balance import (BandedBlockTridiagonal, BlockTridiagonal, aft_matrices, jacobian_prefix,
+                                            jenkins_jacobian, jenkins_periodic, jenkins_state)
 from contact_models.allmode import AllModeMicroslip
 from hbm.cli.cases import default_case
 
@@ -73,9 +73,9 @@ def dense_matrix(fb, U, X, omega, b):
 def path(request):
     """Every check on the numpy path and, where numba is installed, on the compiled kernels."""
     if request.param == "numpy":
-        with _hbal_compiled.numpy_only():
+        with compiled.numpy_only():
             yield
-    elif _hbal_compiled.kernels(load=True) is None:
+    elif compiled.kernels(load=True) is None:
         pytest.skip("the compiled kernels are off: numba not installed (the fast extra) or FRICTIONDAMP_COMPILED=0")
     else:
         yield

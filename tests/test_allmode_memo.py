@@ -1,13 +1,13 @@
 """A fixed rung of the all-mode bar keeps its harmonic forces by their exact end motion and frequency
-(``contact_models._allmode_memo.ForceMemo``): a balance's error estimate asks again at the points it
+(``contact_models.allmode.memo.ForceMemo``): a balance's error estimate asks again at the points it
 converged to, and at those points padded with zeros to 2H + 1 harmonics."""
 
 import numpy as np
 import pytest
 
 from contact_models import AllModeMicroslip, Bar, QuadraticLoad
-from contact_models._allmode_memo import ForceMemo
-from contact_models._allmode_solve import FixedBar
+from contact_models.allmode.memo import ForceMemo
+from contact_models.allmode.solve import FixedBar
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 LOAD = QuadraticLoad.from_ratio(N=100.0, ratio=12.0)

@@ -12,7 +12,7 @@ import pytest
 
 import hbm
 from contact_models import AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, UniformLoad
-from contact_models._allmode_solve import FixedBar
+from contact_models.allmode.solve import FixedBar
 
 sys.path.insert(0, str(Path(__file__).parent))
 from _normal_bar_march import Marcher  # noqa: E402

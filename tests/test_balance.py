@@ -3,13 +3,11 @@
 A blade is its one-DOF structure; the balance evaluates a one-DOF system at H = 1 in floats and
 every other problem in the condensed form.  These tests check that both evaluations solve the
 same equation (a physical identity that sends the same blade through each), that the choice is
-made by the problem and not by the system's type, and that the old module paths still import.
+made by the problem and not by the system's type, and that every public name imports from its package.
 """
 
 from __future__ import annotations
 
-import importlib
-import sys
 import warnings
 
 import numpy as np
@@ -75,30 +73,6 @@ def test_a_bare_element_needs_a_one_dof_system():
         frequency_response("blade", None, omega_range=(0.5, 1.5))
     with pytest.raises(ValueError, match="contacts must hold hbm.Contact objects, got 3"):
         frequency_response(two_dof, [3], omega_range=(0.5, 1.5))
-
-
-OLD_PATHS = {  # old module path -> (a name it held, the new module, the name there)
-    "hbm.residual": ("HarmonicBalance", "hbm.balance.residual", "HarmonicBalance"),
-    "hbm.stability": ("hill_exponents", "hbm.balance.stability", "hill_exponents"),
-    "hbm.presets": ("harmonic_knobs", "hbm.balance.presets", "harmonic_knobs"),
-    "hbm.multiharmonic": ("Condensed", "hbm.balance.condensation", "Condensed"),
-    "hbm.mhresult": ("MultiHarmonicResponse", "hbm.result", "FrequencyResponse"),
-    "hbm.mhdispatch": ("structure_response", "hbm.frf", "frequency_response"),
-    "contact_models._roots": ("brentq", "contact_models.numerics.roots", "brentq"),
-    "contact_models._validation": ("positive", "contact_models.numerics.checks", "positive"),
-    "contact_models._masing": ("to_time", "contact_models.numerics.masing", "to_time"),
-    "contact_models._stepping": ("return_map", "contact_models.numerics.stepping", "return_map"),
-    "contact_models._genalpha": ("GeneralizedAlpha", "contact_models.numerics.genalpha", "GeneralizedAlpha"),
-}
-
-
-@pytest.mark.parametrize("old", sorted(OLD_PATHS))
-def test_old_module_paths_import_with_a_deprecation_warning(old):
-    held, new, name = OLD_PATHS[old]
-    sys.modules.pop(old, None)
-    with pytest.warns(DeprecationWarning, match=f"{old} moved to"):
-        mod = importlib.import_module(old)
-    assert getattr(mod, held) is getattr(importlib.import_module(new), name)
 
 
 @pytest.mark.parametrize("package", [hbm, contact_models])

@@ -1,4 +1,4 @@
-"""The all-mode bar's linear part per harmonic (``contact_models._bar_segments``): the exact segments' functions
+"""The all-mode bar's linear part per harmonic (``contact_models.allmode.segments``): the exact segments' functions
 against their closed forms and finite differences, the lumped bar's coefficients, the refused meshes."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 from contact_models import Bar, UniformLoad
-from contact_models._bar_segments import (MAX_SEGMENT_PHASE, SERIES_Z, UnresolvedWave, cells_for_phase, linear_part,
-                                          segment_functions, stuck_end)
+from contact_models.allmode.segments import (MAX_SEGMENT_PHASE, SERIES_Z, UnresolvedWave, cells_for_phase,
+                                             linear_part, segment_functions, stuck_end)
 from contact_models.numerics.fe_bar import _Discretisation
 
 BAR = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)

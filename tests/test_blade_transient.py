@@ -1,4 +1,4 @@
-"""Time integration of the blade with the discretised bar (hbm.transient) against the harmonic
+"""Time integration of the blade with the discretised bar (hbm.reference.transient) against the harmonic
 balance, and the one-frequency balance ``response_at``.
 
 CI runs a coarse discretisation (20 cells, 128 steps per cycle); the converged study is

@@ -92,8 +92,7 @@ def test_api_pages_name_every_public_name(tmp_path):
 
 def _public_modules():
     """Every public module of both packages, listed from the code: no part of its dotted name starts
-    with ``_``, and it is not a deprecated old-path shim (whose source calls ``moved_module(__name__``
-    or ``warn_moved(__name__``)."""
+    with ``_``."""
     import pkgutil
 
     found = []
@@ -101,11 +100,8 @@ def _public_modules():
         package = importlib.import_module(root)
         files = [(root, package.__file__)] + [(m.name, m.module_finder.find_spec(m.name).origin)
                                               for m in pkgutil.walk_packages(package.__path__, root + ".")]
-        for name, origin in files:  # the file on disk: an imported shim's sys.modules entry is its target
-            if any(part.startswith("_") for part in name.split(".")):
-                continue
-            source = Path(origin).read_text()
-            if "moved_module(__name__" not in source and "warn_moved(__name__" not in source:
+        for name, origin in files:
+            if not any(part.startswith("_") for part in name.split(".")):
                 found.append(name)
     return found
 

@@ -1,4 +1,4 @@
-"""The generalized-alpha scheme shared by NumericalMicroslip and hbm.transient, against its
+"""The generalized-alpha scheme shared by NumericalMicroslip and hbm.reference.transient, against its
 closed-form properties (Chung & Hulbert 1993): Newmark's average acceleration at rho_inf = 1,
 spectral radius rho_inf at infinite frequency, second-order accuracy."""
 

@@ -14,10 +14,10 @@ if os.environ.get("FRICTIONDAMP_COMPILED", "1") == "0":
     pytest.skip("FRICTIONDAMP_COMPILED=0 turns the compiled kernels off", allow_module_level=True)
 
 from contact_models import AllModeMicroslip  # noqa: E402
-from contact_models import _hbal_compiled as compiled  # noqa: E402
-from contact_models._allmode_solve import FixedBar  # noqa: E402
-from contact_models._hbal import (BlockTridiagonal, aft_matrices, jenkins_jacobian, jenkins_periodic,  # noqa: E402
-                                  jenkins_state, scalar_tridiagonal)
+from contact_models.allmode import compiled  # noqa: E402
+from contact_models.allmode.solve import FixedBar  # noqa: E402
+from contact_models.allmode.balance import (BlockTridiagonal, aft_matrices, jenkins_jacobian,  # noqa: E402
+                                            jenkins_periodic, jenkins_state, scalar_tridiagonal)
 from hbm import frequency_response  # noqa: E402
 from hbm.cli.cases import default_case  # noqa: E402
 

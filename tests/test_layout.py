@@ -1,5 +1,5 @@
-"""The layout of both packages: no import circles, every module importable alone, modules and
-functions of a readable size, and the old paths of moved modules still answering (with a warning).
+"""The layout of both packages: no import circles, every module importable alone, the all-mode
+bar's modules imported only through their package, and functions of a readable size.
 
 The import graph is read from the source with ``ast`` by ``docs/_ext/import_graph.py`` (every
 ``import`` and ``from ... import``, at module level, under ``if TYPE_CHECKING:`` and inside
@@ -17,30 +17,15 @@ import re
 import subprocess
 import sys
 import tokenize
-import warnings
 from pathlib import Path
-
-import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "docs" / "_ext"))
 import import_graph as ig  # noqa: E402  (the graph the architecture page is written from)
 
 PACKAGES = ig.PACKAGES
-#: No library module above this many lines.
-MAX_MODULE_LINES = 600
 #: No function above this many lines of code (docstrings, comments and blank lines not counted).
 MAX_FUNCTION_CODE = 80
-#: Old module paths kept as shims: old -> new.
-MOVED = {
-    "hbm.shooting": "hbm.reference.shooting",
-    "hbm.transient": "hbm.reference.transient",
-    "hbm._piecewise": "hbm.reference.piecewise",
-    "hbm._newmark": "hbm.reference.newmark",
-    "hbm.progress": "hbm.cli.progress",
-    "hbm.cases": "hbm.cli.cases",
-    "hbm.scenes.study": "hbm.scenes.sampling",
-}
 
 
 # ------------------------------------------------------------------------------ the import graph
@@ -152,34 +137,10 @@ def test_the_size_counts_leave_out_docstrings_and_comments():
         path.unlink()
 
 
-def test_no_module_over_600_lines():
-    big = {name: n for name, path in module_files().items()
-           if (n := len(path.read_text().splitlines())) > MAX_MODULE_LINES}
-    assert not big, f"modules over {MAX_MODULE_LINES} lines: {big}"
-
-
 def test_no_function_over_80_lines_of_code():
     big = {f"{name}.{fn}": n for name, path in module_files().items() for fn, n in function_sizes(path)
            if n > MAX_FUNCTION_CODE}
     assert not big, f"functions over {MAX_FUNCTION_CODE} lines of code: {big}"
-
-
-# ------------------------------------------------------------------------------------ old paths
-@pytest.mark.parametrize("old, new", sorted(MOVED.items()))
-def test_an_old_path_warns_and_gives_the_new_module(old, new):
-    module = importlib.import_module(new)
-    sys.modules.pop(old, None)
-    with pytest.warns(DeprecationWarning, match=f"{old} moved to {new}"):
-        shim = importlib.import_module(old)
-    assert shim is module
-    names = getattr(module, "__all__", None) or [n for n in vars(module) if not n.startswith("_")]
-    assert names
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        for name in names:
-            assert getattr(shim, name) is getattr(module, name), name
-        exec(f"from {old} import {names[0]} as got", scope := {})
-    assert scope["got"] is getattr(module, names[0])
 
 
 # ----------------------------------------------------------------------------- the architecture page
@@ -190,20 +151,18 @@ def test_every_name_on_the_architecture_page_exists():
     names |= {f"contact_models.ContactElement.{n}" for n in re.findall(r"`ContactElement\.(\w+)", text)}
     assert len(names) > 25
     missing = []
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)  # the old paths are named too
-        for name in sorted(names):
-            parts = name.split(".")
-            for k in range(len(parts), 0, -1):
-                try:
-                    obj = importlib.import_module(".".join(parts[:k]))
-                except ImportError:
-                    continue
-                for attr in parts[k:]:
-                    obj = getattr(obj, attr, None)
-                if obj is None:
-                    missing.append(name)
-                break
+    for name in sorted(names):
+        parts = name.split(".")
+        for k in range(len(parts), 0, -1):
+            try:
+                obj = importlib.import_module(".".join(parts[:k]))
+            except ImportError:
+                continue
+            for attr in parts[k:]:
+                obj = getattr(obj, attr, None)
+            if obj is None:
+                missing.append(name)
+            break
     assert not missing, f"names on docs/architecture.md that do not exist: {missing}"
 
 
@@ -212,3 +171,10 @@ def test_hbm_imports_no_private_module_of_contact_models():
     private = {(a, b) for a, targets in graph.items() if a.startswith("hbm")
                for b in targets if b.startswith("contact_models") and any(p.startswith("_") for p in b.split(".")[1:])}
     assert not private, f"hbm imports private modules of contact_models: {sorted(private)}"
+
+
+def test_the_allmode_modules_are_imported_only_through_their_package():
+    graph = import_graph()
+    inside = {(a, b) for a, targets in graph.items() for b in targets for pkg in ig.THROUGH_PACKAGE
+              if b.startswith(pkg + ".") and not (a == pkg or a.startswith(pkg + "."))}
+    assert not inside, f"modules of {ig.THROUGH_PACKAGE} imported from outside their package: {sorted(inside)}"

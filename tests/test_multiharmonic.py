@@ -1,6 +1,6 @@
 """Multi-harmonic balance of structures with contacts (docs/multiharmonic.md): closed forms first (H = 1
 against today's single-harmonic FRF, linear structures at any H), then the true periodic
-reference of ``tests/data/periodic_reference.json`` (``hbm.shooting``: P1-P3 peaks, the 3-DOF
+reference of ``tests/data/periodic_reference.json`` (``hbm.reference.shooting``: P1-P3 peaks, the 3-DOF
 chain, the Duffing oscillator's three branches and Floquet multipliers)."""
 
 from __future__ import annotations

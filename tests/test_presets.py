@@ -1,7 +1,7 @@
-"""Accuracy presets: ``frequency_response(..., accuracy=...)`` and ``hbm.presets``.
+"""Accuracy presets: ``frequency_response(..., accuracy=...)`` and ``hbm.balance.presets``.
 
 On the default case the presets are ordered (precise < default < fast in the peak's error
-against a tight reference), each within the bound documented in ``hbm.presets`` and
+against a tight reference), each within the bound documented in ``hbm.balance.presets`` and
 docs/performance.md; one rtol sets all knobs consistently; bad values raise ValueError naming
 ``accuracy``.  About 5 s.
 """

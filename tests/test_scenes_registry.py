@@ -13,7 +13,8 @@ import numpy as np
 import pytest
 
 from contact_models import ContactElement
-from hbm import Blade, frequency_response, presets
+from hbm import Blade, frequency_response
+from hbm.balance import presets
 from hbm.scenes import (EFFECTS, Effect, Key, MODELS, SceneError, number, plan_scene, register_effect,
                         register_model, run_scene, scene_from_dict, unregister_effect, unregister_model)
 

@@ -1,4 +1,4 @@
-"""The periodic reference (``hbm.shooting``): against closed forms, between its two integrators,
+"""The periodic reference (``hbm.reference.shooting``): against closed forms, between its two integrators,
 energy per cycle, Floquet multipliers, the stored reference data, bad input."""
 
 from __future__ import annotations

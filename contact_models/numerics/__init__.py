@@ -10,6 +10,4 @@
   closed form (no samples).
 - :mod:`~contact_models.numerics.genalpha` and :mod:`~contact_models.numerics.stepping`: the
   generalized-alpha integrator and the discretised bar's return map, for time-domain references.
-- :mod:`~contact_models.numerics.compat`: old module paths kept importable with a
-  ``DeprecationWarning``.
 """

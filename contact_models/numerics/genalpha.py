@@ -15,7 +15,7 @@ frequency rho_inf in [0, 1]:
 ``rho_inf = 1`` is Newmark's average acceleration written with equilibrium at t_{n+1}
 (alpha_m = alpha_f = 0), so that its spurious root is 0 rather than -1 (the alpha = 1/2 form
 carries an undamped equilibrium error).  Used by ``NumericalMicroslip`` (the bar alone) and
-``hbm.transient`` (the blade with the bar).
+``hbm.reference.transient`` (the blade with the bar).
 
 Predictor-corrector form of one step of length dt:
 

@@ -2,7 +2,7 @@
 
 Each step's system is piecewise linear: the exact return mapping of every nodal Jenkins element
 (``return_map``; backward Euler is exact for it) inside a semismooth Newton iteration on the
-tridiagonal system (``solve_step``, shared with ``hbm.transient``).  ``_Batch`` integrates the
+tridiagonal system (``solve_step``, shared with ``hbm.reference.transient``).  ``_Batch`` integrates the
 bar driven at its tip, with the generalized-alpha scheme of ``_genalpha`` (dynamic) or without
 mass (quasi-static), and carries the exact derivative of a step for the shooting of
 ``NumericalMicroslip``.

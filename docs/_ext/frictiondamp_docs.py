@@ -34,9 +34,6 @@ PACKAGES = ("contact_models", "hbm", "hbm.scenes", "hbm.study")
 #: The top-level packages: every public module under them has a page (:func:`public_modules`).
 ROOTS = ("contact_models", "hbm")
 
-#: The source of a deprecated old-path module (a shim kept for old imports) calls one of these.
-SHIM_MARKERS = ("moved_module(__name__", "warn_moved(__name__")
-
 #: Members of these base classes are left out of a class page (a NamedTuple's ``count``, an
 #: exception's ``args``): they are Python's, not the library's.
 FOREIGN_BASES = "object, tuple, dict, list, int, Enum, IntEnum, Exception, BaseException, ValueError, ABC, Sequence"
@@ -217,24 +214,14 @@ def _package_page(package: str, names: list[tuple[str, str]], pages: list[str], 
 
 # ------------------------------------------------------------------------------ public modules
 def public_modules(roots=ROOTS) -> list[str]:
-    """Every public module of ``roots``, sorted: no part of its dotted name starts with ``_``, and it
-    is not a deprecated old-path shim (its source calls one of :data:`SHIM_MARKERS`; read as text,
-    so the shim's deprecation warning is not raised).  The source is found on disk, not through
-    ``sys.modules``, where an imported shim stands for the module it moved to."""
+    """Every public module of ``roots``, sorted: no part of its dotted name starts with ``_``."""
     import pkgutil
 
     out = []
     for root in roots:
         package = importlib.import_module(root)
-        found = [(root, package.__file__)]
-        for info in pkgutil.walk_packages(package.__path__, root + "."):
-            found.append((info.name, info.module_finder.find_spec(info.name).origin))
-        for name, origin in found:
-            if any(part.startswith("_") for part in name.split(".")):
-                continue
-            source = Path(origin).read_text() if origin and origin.endswith(".py") else ""
-            if not any(marker in source for marker in SHIM_MARKERS):
-                out.append(name)
+        names = [root] + [info.name for info in pkgutil.walk_packages(package.__path__, root + ".")]
+        out += [name for name in names if not any(part.startswith("_") for part in name.split("."))]
     return sorted(out)
 
 

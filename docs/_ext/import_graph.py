@@ -23,6 +23,8 @@ PACKAGES = ("contact_models", "hbm")
 PARTS = {
     "numerics": (("contact_models.numerics",),
                  "numerics both packages use: Brent, input checks, Masing/AFT, time stepping"),
+    "allmode": (("contact_models.allmode",),
+                "the all-mode bar (Eq. 30 with every mode): the element, its balance, Newton, error estimate"),
     "elements": (("contact_models",), "contact elements: f_s, f_c of a force law, its time law, loads, the bar"),
     "continuation": (("hbm.continuation",), "pseudo-arclength continuation of any R(y) = 0; knows nothing of friction"),
     "systems": (("hbm.structure", "hbm.blade", "hbm._validation"),
@@ -36,20 +38,28 @@ PARTS = {
     "front": (("hbm",), "frequency_response (validate, pick, run, wrap), its result, CSV and plots"),
 }
 
-#: What each part may import (besides itself).  ``tests/test_layout.py`` holds the code to it.
+#: What each part may import (besides itself).  ``tests/test_layout.py`` holds the code to it, and
+#: to :data:`THROUGH_PACKAGE`.
 MAY_IMPORT = {
     "numerics": set(),
-    "elements": {"numerics"},
+    "allmode": {"elements", "numerics"},
+    "elements": {"numerics", "allmode"},
     "continuation": {"numerics"},
     "systems": {"elements", "numerics"},
     "balance": {"elements", "numerics", "continuation", "systems"},
-    "front": {"elements", "numerics", "continuation", "systems", "balance", "reference"},
+    "front": {"elements", "allmode", "numerics", "continuation", "systems", "balance", "reference"},
     "reference": {"elements", "numerics", "continuation", "systems", "balance"},
     "designs": set(),
-    "scenes": {"elements", "numerics", "systems", "balance", "front", "reference", "designs"},
+    "scenes": {"elements", "allmode", "numerics", "systems", "balance", "front", "reference", "designs"},
     "study": {"elements", "numerics", "systems", "balance", "front", "scenes", "designs"},
     "cli": {"elements", "numerics", "systems", "balance", "front", "reference", "scenes", "study", "designs"},
 }
+
+
+#: Subpackages whose modules are imported from outside only through the package (its
+#: ``__init__``): the all-mode bar's modules are its own; the elements package, ``hbm.allmode_peak``
+#: and the scenes import ``contact_models.allmode``.
+THROUGH_PACKAGE = ("contact_models.allmode",)
 
 
 @dataclass

@@ -69,7 +69,7 @@ NAMED = {"fast": 1e-3, "default": DEFAULT_RTOL, "precise": 1e-9}
 TOLERANCE = {"fast": 1e-2, "default": 1e-3, "precise": 1e-5}
 
 #: Documented bound of the peak's relative error (max of amplitude and frequency) on
-#: ``hbm.cases.default_case()`` against a tight reference (rtol 1e-11): measured 1.9e-6, 6.0e-8
+#: ``hbm.cli.cases.default_case()`` against a tight reference (rtol 1e-11): measured 1.9e-6, 6.0e-8
 #: and 1.7e-9 (docs/performance.md, which the benchmark regenerates; tests/test_presets.py).
 PEAK_ERROR_BOUND = {"fast": 1e-5, "default": 3e-7, "precise": 1e-8}
 

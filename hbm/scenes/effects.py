@@ -388,7 +388,7 @@ def harmonics_key(v: Any) -> int:
 
 def harmonics(run: Any) -> Effect:
     """Higher harmonics of the balance: H = 1 the single-harmonic balance; H > 1 the multi-harmonic
-    balance with AFT (``hbm.multiharmonic``) for a frequency sweep, where the element (after the
+    balance with AFT (``hbm.balance``) for a frequency sweep, where the element (after the
     inertia decider: ``QuasiStatic`` without damper inertia) must own a time-domain law."""
     H = run.scene.effects["harmonics"]
     samples = run.scene.effects.get("samples")

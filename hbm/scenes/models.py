@@ -60,8 +60,7 @@ from typing import Any, Callable, Mapping, NamedTuple
 
 from contact_models import (AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, CubicSpring, Gap, Iwan, Macroslip,
                             PointContact, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
-from contact_models.allmode import CELLS
-from contact_models.allmode2d import CELLS_2D, HARMONICS_2D, SAMPLES_PER_HARMONIC_2D
+from contact_models.allmode import CELLS, CELLS_2D, HARMONICS_2D, SAMPLES_PER_HARMONIC_2D
 
 from .checks import OPTIONAL, Invalid, Key, SceneError, choice, integer, number, number_list, show
 

@@ -29,7 +29,7 @@ from .validation import Scene
 
 #: The effect whose line says what the peak's check found (``hbm.scenes.effects.phase_differences``).
 PHASE_EFFECT = "phase differences along the bar"
-#: The accuracy keyword arguments of ``frequency_response`` in ``sweep["options"]`` (``hbm.presets``).
+#: The accuracy keyword arguments of ``frequency_response`` in ``sweep["options"]`` (``hbm.balance.presets``).
 ACCURACY_OPTIONS = ("rtol", "max_step", "min_step", "max_steps", "curve_tol", "tol")
 #: The step settings of ``sweep["options"]`` (``hbm.Steps``).
 STEP_OPTIONS = ("max_step", "min_step", "max_steps", "curve_tol")

@@ -11,7 +11,7 @@ from __future__ import annotations
 from .checks import OPTIONAL, REQUIRED, show
 from .schema import schema
 
-#: The values the template sets: the default case of ``python -m hbm`` (hbm/cases.py).
+#: The values the template sets: the default case of ``python -m hbm`` (hbm/cli/cases.py).
 VALUES = {
     "": {"title": "Blade with a two-region microslip damper (template: edit me)"},
     "blade": {"mass": 0.08771473371579717, "stiffness": 1.0e8, "damping_ratio": 2.0e-3, "force": 8.0},

@@ -2,9 +2,10 @@
 
 A choosing ``AllModeMicroslip`` (cells and harmonics None) climbs its ladder of rungs at every
 call.  Along a frequency response the same choice is made once per stretch of the curve instead
-(``hbm.adapt``, the model pass): the whole range is traced on a cheap fixed rung (:func:`start`),
-and the windows where the rung's own estimate (Richardson on its lower rungs, through the balance)
-exceeds its share of the tolerance are traced again on the rung :func:`next_rung` predicts, in turn.
+(``hbm.adapt``, the model pass): the whole range is traced on a cheap fixed rung
+(:meth:`contact_models.AllModeMicroslip.start_rung`), and the windows where the rung's own estimate
+(Richardson on its lower rungs, through the balance) exceeds its share of the tolerance are traced
+again on the rung :func:`next_rung` predicts, in turn.
 
 **The next rung.**  The estimate of a rung (n cells, H harmonics) has two parts, ``rel_c`` (cells)
 and ``rel_h`` (harmonics), relative errors of (f_s, f_c) as the element's ``tol``.  The window's
@@ -32,15 +33,15 @@ import math
 from typing import Callable
 
 #: The start rung's harmonics and its least cells (more where the wavelength of its highest harmonic
-#: at the top of the range asks for more: ``_allmode_accuracy.start_cells``).  32 cells: on 16 the exact
+#: at the top of the range asks for more: ``accuracy.start_cells``).  32 cells: on 16 the exact
 #: segments' estimate (read from 8, 16, 32 cells, pre-asymptotic where the bar slips) predicted 128 cells
 #: for the default case's peak window, where 32 meet tol = 1e-3 (the FRF 1.72 s against 1.30 s).  7
-#: harmonics: its harmonics part is read against 15 (``_allmode_accuracy.harmonics_error``), which holds the
+#: harmonics: its harmonics part is read against 15 (``accuracy.harmonics_error``), which holds the
 #: 13th harmonic that meets the bar's second mode near the default case's peak; read from 1, 3, 7 it could
 #: not see it, and the start rung had 15 harmonics for that (a nested solve 0.46 ms against 0.28 ms on 7).
 START_HARMONICS = 7
 START_CELLS = 32
-#: The most cells a rung along a curve gets (the element alone: ``allmode.MAX_CELLS``): where a
+#: The most cells a rung along a curve gets (the element alone: ``element.MAX_CELLS``): where a
 #: harmonic of the drive meets a mode of the bar the estimate stops falling with the cells (the default
 #: case near its peak: 8.8e-3 of the response on 128 and on 640 cells at H = 31, while 256 and 512 cells
 #: differ by 6e-5 there), and each point of a window on 640 cells costs 2.5 times one on 256.

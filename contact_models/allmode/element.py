@@ -5,7 +5,7 @@ k c_i and slip force mu q(x_i) c_i at node i, the beta spring at node 0, node n 
 steady periodic state directly, by multi-harmonic balance with alternating frequency-time (AFT) at the
 nodes.  It resolves the phase differences along the bar that the single-mode elements neglect, works for
 any normal load (any number of stick and slip regions) and any frequency, including above the cut-off
-sqrt(k/(rho A)).  Between the nodes the bar is exact (``linear="exact"``, ``_bar_segments``: each cell the
+sqrt(k/(rho A)).  Between the nodes the bar is exact (``linear="exact"``, ``segments``: each cell the
 continuous bar with its shear layer stuck, at every harmonic), or the finite-element bar of
 ``NumericalMicroslip`` with lumped masses (``linear="lumped"``).
 
@@ -14,9 +14,9 @@ H harmonics), driven node U_n = X (the end displacement, ``a sin(theta)`` for ``
 
     R_i = D_i U_i + c (U_{i-1} + U_{i+1}) + T_i(U_i) = 0,
 
-with D_i and c diagonal in the harmonics (the linear part, ``_bar_segments.linear_part``; lumped:
+with D_i and c diagonal in the harmonics (the linear part, ``segments.linear_part``; lumped:
 D_i = K_ii - (h omega)^2 m_i, c = K_off) and T_i = P tau_i(E U_i) the harmonic coefficients of node i's
-periodic Jenkins force (exact return map, ``_hbal.jenkins_periodic``).  The end force ``EA u_x(L)`` is
+periodic Jenkins force (exact return map, ``balance.jenkins_periodic``).  The end force ``EA u_x(L)`` is
 the driven node's reaction, F = D_n X + c U_{n-1} + T_n(X).
 
 Solution.  Newton's method on R (piecewise linear in U for a fixed stick/slip pattern, so it ends exactly
@@ -26,24 +26,24 @@ the implicit function theorem: only node n-1 couples to X, so ``dF/dX = D_n + dT
 (C_{n-1} the last pivot block) and ``dF/domega = D_n' X + c' U_{n-1} + c dU_{n-1}/domega`` with ``J
 dU/domega = -dR/domega`` (' the derivative in omega).  The last solution warm-starts the next call; a
 failed Newton run falls back to continuation in the amplitude from the exactly linear (stuck) state.  One
-discretisation is a ``contact_models._allmode_solve.FixedBar``.
+discretisation is a ``contact_models.allmode.solve.FixedBar``.
 
 Accuracy.  With ``cells`` and ``harmonics`` left None the element chooses them per call (amplitude,
 frequency) so that its estimate of the relative error of (f_s, f_c), component by component relative to
 max(|f|, 0.01 k* a) as in the validity map, is below ``tol``: cells double from a start tied to the
-wavelength of the highest harmonic and to the shear layer's decay length (``_allmode_accuracy.start_cells``),
+wavelength of the highest harmonic and to the shear layer's decay length (``accuracy.start_cells``),
 and harmonics climb the ladder 7, 15, 31, whichever part of the estimate is larger.  The estimate is
 Richardson extrapolation with the observed order on three rungs (cells n/2, n, 2n below 128 cells, with the
 difference to 2n added, else n/4, n/2, n; harmonics H/2, H, 2H+1 below 15 with the difference to 2H+1 added,
 else about H/4, H/2, H), guarded where the order is not
-asymptotic (``contact_models._allmode_accuracy``); its two parts add.  The ladder starts where the previous
+asymptotic (``contact_models.allmode.accuracy``); its two parts add.  The ladder starts where the previous
 call ended and the estimate of a call within ``REUSE_AMPLITUDE`` and ``REUSE_FREQUENCY`` of the last
 estimated point, whose estimate was below half the tolerance, is reused.  Where the largest rungs
 (``MAX_CELLS``, ``MAX_HARMONICS``) cannot meet ``tol`` the call warns (``AccuracyWarning``) once, naming the
 worst point.  While the bar is stuck (a <= ``slip_amplitude``) the answer is linear (exact segments: the
 continuous bar's).  ``model_error(a, omega)`` returns the relative estimate.  Along a frequency response the
 choice is made once per stretch instead, on fixed rungs (``start_rung``, ``refined_rung``:
-``contact_models._allmode_rungs``).
+``contact_models.allmode.rungs``).
 """
 from __future__ import annotations
 
@@ -54,24 +54,24 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import (FLOOR, cells_error, harmonics_error, relative, richardson, shortfall_message,
-                                start_cells, stuck_data)
-from ._allmode_estimate import model_errors
-from ._allmode_rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
-from ._bar_segments import KINDS as LINEAR_KINDS, UnresolvedWave
-from ._allmode_memo import ForceMemo, truncated
-from ._allmode_solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_samples,
-                             end_vector, is_odd, pad_harmonics, scaled_samples, transferred)
-from ._hbal import aft_matrices
-from ._hbal_compiled import kernels
-from .accuracy import AccuracyWarning
-from .bar import Bar
-from .base import DEFAULT_RTOL, ContactElement
-from .numerics.checks import count, nonnegative, positive
-from .numerics.fe_bar import _Discretisation
+from ..accuracy import AccuracyWarning
+from ..bar import Bar
+from ..base import DEFAULT_RTOL, ContactElement
+from ..numerics.checks import count, nonnegative, positive
+from ..numerics.fe_bar import _Discretisation
+from .accuracy import (FLOOR, cells_error, harmonics_error, relative, richardson, shortfall_message, start_cells,
+                       stuck_data)
+from .balance import aft_matrices
+from .compiled import kernels
+from .estimate import model_errors
+from .memo import ForceMemo, truncated
+from .rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
+from .segments import KINDS as LINEAR_KINDS, UnresolvedWave
+from .solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_samples, end_vector,
+                    is_odd, pad_harmonics, scaled_samples, transferred)
 
 if TYPE_CHECKING:
-    from .loads import QuadraticLoad, UniformLoad
+    from ..loads import QuadraticLoad, UniformLoad
 
 __all__ = ["AllModeMicroslip", "AllModeSolution", "CELLS", "HARMONICS", "SAMPLES_PER_HARMONIC", "NEWTON_TOL",
            "NEWTON_MAX_ITER", "TOL", "HARMONIC_LADDER", "MAX_CELLS", "MAX_HARMONICS", "richardson", "cells_error"]
@@ -248,8 +248,8 @@ class AllModeMicroslip(ContactElement):
         """The next fixed rung for the points this fixed rung was estimated at (``model_error``): at
         the worst of them (within ``omega = (lo, hi)`` rad/s if given and any is), the rung predicted
         to bring its estimate down by the factor ``excess`` (default: its estimate over ``tol``;
-        ``_allmode_rungs.next_rung``), tried at that point first and predicted again from there while
-        short (``_allmode_rungs.probed_rung``).  None where cells or harmonics are chosen per call,
+        ``rungs.next_rung``), tried at that point first and predicted again from there while
+        short (``rungs.probed_rung``).  None where cells or harmonics are chosen per call,
         where nothing was estimated yet, or at the top (``CURVE_MAX_CELLS``, ``MAX_HARMONICS``).
 
         Raises
@@ -526,7 +526,7 @@ class AllModeMicroslip(ContactElement):
 
     def _stuck_data(self, omega: float):
         """``(cells, K, a_min, relative estimate of K)`` of the stuck bar at omega
-        (``_allmode_accuracy.stuck_data``)."""
+        (``accuracy.stuck_data``)."""
         if omega not in self._stuck:
             if len(self._stuck) > 512:
                 self._stuck.clear()
@@ -546,7 +546,7 @@ class AllModeMicroslip(ContactElement):
         f_c, each relative to max(|f|, 0.01 k* a) of its own component: of the stuck stiffness below
         slip (f_c = 0 exactly there), else of the solution this element gives (the rungs it chooses,
         or the fixed ones with their estimate).  A fixed rung records each estimate's parts
-        (``refined_rung``).  Many points: on two threads where they pay (``_allmode_estimate``)."""
+        (``refined_rung``).  Many points: on two threads where they pay (``estimate``)."""
         return model_errors(self, a, omega)
 
     def _fourier_derivatives(self, a, omega, rtol):

@@ -11,7 +11,7 @@ samples (``contact_models.contact2d.slip_origins``: stick while |T| < mu N_k, el
 sign, separation T = 0 while N = 0, the spring unloaded on re-contact) gives the force and, in
 closed form, its derivatives in the node's displacement and in its limit samples.  The balance,
 its Newton solve and the derivatives by the implicit function theorem are those of
-``contact_models._allmode_solve.FixedBar``, in the full basis (a varying normal load breaks the
+``contact_models.allmode.solve.FixedBar``, in the full basis (a varying normal load breaks the
 half-wave symmetry).  Derivation: ``docs/contacts_normal.md``, "The all-mode bar with normal motion".
 """
 
@@ -23,12 +23,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import NDArray
 
-from ._allmode_solve import AllModeSolution, FixedBar, _Basis, _Eval
-from .contact2d import slip_origins, stuck_midpoint
+from ..contact2d import slip_origins, stuck_midpoint
+from .solve import AllModeSolution, FixedBar, _Basis, _Eval
 
 if TYPE_CHECKING:
-    from .bar import Bar
-    from .loads import QuadraticLoad, UniformLoad
+    from ..bar import Bar
+    from ..loads import QuadraticLoad, UniformLoad
 
 Array = NDArray[np.float64]
 

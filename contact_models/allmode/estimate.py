@@ -26,9 +26,9 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from ._allmode_accuracy import relative
-from ._hbal import BANDED_MAX_BLOCK
-from ._hbal_compiled import kernels
+from .accuracy import relative
+from .balance import BANDED_MAX_BLOCK
+from .compiled import kernels
 
 AllModeMicroslip = Any  # the element (``contact_models.allmode``, which imports this module)
 

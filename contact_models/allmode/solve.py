@@ -4,7 +4,7 @@
 harmonics and ``n_t`` AFT samples: the balance, its Newton solve with warm starts, the continuation
 fallback and the derivatives by the implicit function theorem (the model and the solution are in
 ``contact_models.allmode``'s docstring).  ``AllModeMicroslip`` holds one ``FixedBar`` per level of
-its ladder of cells and harmonics and chooses among them (``contact_models._allmode_accuracy``).
+its ladder of cells and harmonics and chooses among them (``contact_models.allmode.accuracy``).
 """
 
 from __future__ import annotations
@@ -17,17 +17,17 @@ from typing import TYPE_CHECKING, Callable, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._bar_segments import Segments
-from ._allmode_coupled import Coupled, residual_rate, stuck_prefix, with_diagonal
-from ._hbal import (BANDED_MAX_BLOCK, aft_matrices, half_products, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
-                    jenkins_periodic, jenkins_state, kernel_constants, same_jacobian, scalar_tridiagonal)
-from ._hbal_compiled import kernels, numpy_clock, numpy_spent
-from .numerics.checks import nonnegative
-from .numerics.fe_bar import _Discretisation
+from ..numerics.checks import nonnegative
+from ..numerics.fe_bar import _Discretisation
+from .balance import (BANDED_MAX_BLOCK, aft_matrices, half_products, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
+                      jenkins_periodic, jenkins_state, kernel_constants, same_jacobian, scalar_tridiagonal)
+from .compiled import kernels, numpy_clock, numpy_spent
+from .coupled import Coupled, residual_rate, stuck_prefix, with_diagonal
+from .segments import Segments
 
 if TYPE_CHECKING:
-    from .bar import Bar
-    from .loads import QuadraticLoad, UniformLoad
+    from ..bar import Bar
+    from ..loads import QuadraticLoad, UniformLoad
 
 Array = NDArray[np.float64]
 
@@ -62,7 +62,7 @@ class AllModeSolution:
     error of (F_s, F_c) in N (the larger component of the sum of its parts), ``relative_error``:
     the same relative to max(|F|, 0.01 k* a) component by component (as ``tol``), and
     ``error_parts``: ``"cells"`` (Richardson in cells with the observed order; below 128 cells
-    against the rung above, ``_allmode_accuracy.cells_error``) and
+    against the rung above, ``accuracy.cells_error``) and
     ``"harmonics"`` (the same in H), in N; None and empty when not estimated.  ``error_components``:
     the sum of the parts on (F_c, F_s) in N (the components of ``error``).
     """
@@ -146,7 +146,7 @@ def shared_basis(H: int, n_t: int, odd: bool) -> _Basis:
 
 def aft_products(b: _Basis) -> tuple[Array, Array]:
     """The synthesis and analysis the compiled residual takes for the basis ``b``: on half the samples in the odd
-    basis (``_hbal.half_products``), else E^T and P^T."""
+    basis (``balance.half_products``), else E^T and P^T."""
     return half_products(b.E, b.P) if b.odd else (b.E.T, b.P.T)
 
 
@@ -241,7 +241,7 @@ class FixedBar:
         self.bar, self.linear_kind = bar, linear
         self.disc = _Discretisation(bar, load, cells)
         self._linear: dict = {}  # (omega, basis key) -> LinearPart, the last few
-        self._segments: dict = {}  # basis key -> _bar_segments.Segments
+        self._segments: dict = {}  # basis key -> segments.Segments
         d = self.disc
         self._scale = (abs(d.off) + float(np.max(d.kc)), float(np.max(d.p)))
         self._aft: dict = {}
@@ -258,7 +258,7 @@ class FixedBar:
         return self._aft[odd]
 
     def linear(self, omega: float, order: Array, key: object) -> tuple:
-        """The bar's linear part (``_bar_segments.LinearPart``: lin, c, dlin, dc) at omega on the orders
+        """The bar's linear part (``segments.LinearPart``: lin, c, dlin, dc) at omega on the orders
         ``order`` (one basis, named by ``key``), kept for the last few frequencies."""
         k = (float(omega), key)
         part = self._linear.get(k)
@@ -392,7 +392,7 @@ class FixedBar:
 
     def compiled_newton(self, fused: object, ev: _Eval, X: Array, omega: float, b: _Basis, max_iter: int,
                         derivatives: bool, scale: float) -> tuple:
-        """``newton`` in one compiled call (``_hbal_compiled.newton``: the same steps and numbers) where the blocks
+        """``newton`` in one compiled call (``compiled.newton``: the same steps and numbers) where the blocks
         are eliminated one by one and the start's Jacobian is known."""
         d = self.disc
         c = self.linear(omega, b.order, b.odd)[1]

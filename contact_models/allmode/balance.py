@@ -13,8 +13,8 @@ import functools
 import numpy as np
 from numpy.typing import NDArray
 
-from . import _hbal_compiled
-from ._hbal_compiled import GEMM_SERIAL, rows_product  # noqa: F401  (this module's names too)
+from . import compiled
+from .compiled import GEMM_SERIAL, rows_product  # noqa: F401  (this module's names too)
 
 
 def aft_matrices(H: int, n_t: int) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
@@ -55,7 +55,7 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     ``df_k = kc (du_k - du_anchor)`` on stuck samples, 0 on slipping ones, and for never-slipping
     rows ``f = kc (u - (u_max + u_min)/2)``.
     """
-    kernels = _hbal_compiled.kernels()
+    kernels = compiled.kernels()
     if kernels is not None:
         return kernels.march(np.ascontiguousarray(u, dtype=float), np.ascontiguousarray(kc, dtype=float),
                              np.ascontiguousarray(p, dtype=float), bool(half))
@@ -244,7 +244,7 @@ def same_pattern(p: tuple, q: tuple) -> bool:
 def same_jacobian(a: tuple, b: tuple) -> bool:
     """True when the return map's states ``a`` and ``b`` (:func:`jenkins_state`) have equal patterns
     (:func:`same_pattern` of their :func:`jacobian_pattern`): then their Jacobians are equal, bit for bit."""
-    kernels = _hbal_compiled.kernels()
+    kernels = compiled.kernels()
     if kernels is not None:
         return bool(kernels.same_pattern(*a, *b))
     return same_pattern(jacobian_pattern(a), jacobian_pattern(b))
@@ -272,7 +272,7 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
     """The Jacobians dT/dU (m, s, s) on the basis (E, P) from the ``state`` of :func:`jenkins_state`
     (the derivation in :func:`jenkins_harmonic`)."""
     u, stuck, anchor, never = state
-    kernels = _hbal_compiled.kernels()
+    kernels = compiled.kernels()
     if kernels is not None:
         S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
         E, P1, mean = kernel_constants(E, P)
@@ -341,7 +341,7 @@ def _slip_jacobians(st: NDArray[np.bool_], anchor: NDArray[np.intp], E: NDArray[
 def scalar_tridiagonal(diag: NDArray[np.float64], off: float, last: NDArray[np.float64]) -> NDArray[np.float64]:
     """Solve the tridiagonal systems with diagonal ``diag[:, j]`` (n, s), every off-diagonal ``off``
     and right-hand side zero but ``last`` (s) in the last row, for every column j at once (Thomas)."""
-    kernels = _hbal_compiled.kernels()
+    kernels = compiled.kernels()
     if kernels is not None:
         return kernels.thomas(np.ascontiguousarray(diag, dtype=float), float(off), np.asarray(last, dtype=float))
     n = diag.shape[0]
@@ -387,7 +387,7 @@ class BlockTridiagonal:
         n, s, _ = B.shape
         self.c, self.row0 = c, bool(row0)
         self.k = k = min(int(diagonal), n)
-        kernels = _hbal_compiled.kernels()
+        kernels = compiled.kernels()
         if kernels is not None:
             self.inv_d, self.inv_v, self.inv, bad = kernels.block_factor(np.ascontiguousarray(B, dtype=float),
                                                                          float(c), k, self.row0)
@@ -430,7 +430,7 @@ class BlockTridiagonal:
     @classmethod
     def from_factors(cls, inv_d: NDArray[np.float64], inv_v: NDArray[np.float64], inv: NDArray[np.float64], c: float,
                      row0: bool) -> BlockTridiagonal:
-        """The factorisation from the arrays ``block_factor`` returns (``_hbal_compiled.coupled_factor``)."""
+        """The factorisation from the arrays ``block_factor`` returns (``compiled.coupled_factor``)."""
         out = cls.__new__(cls)
         out.c, out.row0, out.k = c, bool(row0), inv_d.shape[0]
         out.inv_d, out.inv_v, out.inv = inv_d, inv_v, inv
@@ -454,7 +454,7 @@ class BlockTridiagonal:
     def solve(self, r: NDArray[np.float64]) -> NDArray[np.float64]:
         """Solve for ``r`` of shape (n, s) or (n, s, q) (q right-hand sides)."""
         c, k, inv = self.c, self.k, self.inv
-        kernels = _hbal_compiled.kernels()
+        kernels = compiled.kernels()
         if kernels is not None:
             return kernels.block_solve(self.inv_d, self.inv_v, inv, float(c), np.array(r, dtype=float), self.row0)
         n = k + inv.shape[0]

@@ -6,13 +6,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ._allmode_solve import even_part, pad_harmonics
+from .solve import even_part, pad_harmonics
 
 
 def truncated(force: tuple, X: NDArray[np.float64], odd: bool) -> tuple:
     """``(F, dF/dX, dF/domega)`` of a solution (``force``, that triple, at least as long as X) on the
     harmonics of ``X`` (copies).  ``odd``: it was solved in the odd basis, its even block filled,
-    for an ``X`` whose even coefficients are at most rounding (``_allmode_solve.EVEN_ROUNDING``); the
+    for an ``X`` whose even coefficients are at most rounding (``solve.EVEN_ROUNDING``); the
     force is then the odd solution's plus its first-order even part ``dF/dX X_even`` (dF/dX is block
     diagonal in odd and even coefficients at an odd solution).  The remainder is of second order, or,
     where the even part moves a sample across a stick/slip change, at most about ``EVEN_ROUNDING`` of

@@ -1,4 +1,4 @@
-"""Compiled kernels of the all-mode bar's nested solve (``contact_models._hbal``), used where numba
+"""Compiled kernels of the all-mode bar's nested solve (``contact_models.allmode.balance``), used where numba
 is installed (the optional ``fast`` extra: ``pip install -e ".[fast]"``).
 
 The numpy path stays the library's definition: every kernel here does the same floating-point
@@ -114,7 +114,7 @@ def numpy_only() -> Iterator[None]:
 # The kernels, plain Python here (``kernels`` compiles them): each mirrors the numpy function named.
 
 def march(u: Array, kc: Array, p: Array, half: bool) -> tuple[Array, Array, Array, Array]:
-    """``_hbal.jenkins_periodic(u, kc, p, half)``: one row at a time, the same operations."""
+    """``balance.jenkins_periodic(u, kc, p, half)``: one row at a time, the same operations."""
     m, n_t = u.shape
     f = np.empty((m, n_t))
     stuck = np.empty((m, n_t), np.bool_)
@@ -166,9 +166,9 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
              half: bool) -> tuple:
     """``FixedBar.evaluate`` without the Jacobian: ``(R, max|R|, T, u, stuck, anchor, never)`` for the free nodes'
     coefficients U (n, s) and the end's X (s,), the linear part's diagonal ``lin`` (n + 1, s) and coupling ``c``
-    (s,), with ``ET``, ``PT`` the basis's E^T and P^T (``half``: its ``_hbal.half_products``): the samples
-    u = [U; X] E^T and the forces T = f P^T in blocks of rows as ``_hbal.rows_product`` (``half``: on the first
-    half of the samples, as ``_hbal.jenkins_state``), the return map ``march`` and R = lin U + T + c (neighbours),
+    (s,), with ``ET``, ``PT`` the basis's E^T and P^T (``half``: its ``balance.half_products``): the samples
+    u = [U; X] E^T and the forces T = f P^T in blocks of rows as ``balance.rows_product`` (``half``: on the first
+    half of the samples, as ``balance.jenkins_state``), the return map ``march`` and R = lin U + T + c (neighbours),
     the same operations in the same order."""
     n, s = U.shape
     full = np.empty((n + 1, s))
@@ -230,7 +230,7 @@ def rows_product(A: Array, B: Array) -> Array:
 
 
 def same_pattern(ua: Array, sa: Array, aa: Array, na: Array, ub: Array, sb: Array, ab: Array, nb: Array) -> bool:
-    """``_hbal.same_jacobian`` of the states ``(ua, sa, aa, na)`` and ``(ub, sb, ab, nb)``: the rows that never
+    """``balance.same_jacobian`` of the states ``(ua, sa, aa, na)`` and ``(ub, sb, ab, nb)``: the rows that never
     slip equal, the stuck masks and anchors of the others equal, and for the rows that never slip the samples
     of the maximum and the minimum (``np.argmax``, ``np.argmin``) and whether the row moves."""
     if ua.shape != ub.shape or sa.shape != sb.shape or aa.shape != ab.shape or na.shape != nb.shape:
@@ -254,7 +254,7 @@ def same_pattern(ua: Array, sa: Array, aa: Array, na: Array, ub: Array, sb: Arra
 
 def jacobians(u: Array, st: Array, anchor: Array, never: Array, kc: Array, E: Array, P1: Array, Emean: Array,
               S: Array, CP: Array, I1: Array, I2: Array, coefs: Array) -> Array:
-    """``_hbal.jenkins_jacobian`` of the state ``(u, st, anchor, never)``: the nodes that slip from
+    """``balance.jenkins_jacobian`` of the state ``(u, st, anchor, never)``: the nodes that slip from
     their stick runs (``_slip_jacobians``), the others ``kc (I - P1 dc)``; ``P1`` the rounded
     coefficients of a constant, ``Emean`` the mean row of E."""
     m, n_t = st.shape
@@ -317,7 +317,7 @@ def jacobians(u: Array, st: Array, anchor: Array, never: Array, kc: Array, E: Ar
 
 
 def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, Array, int]:
-    """``_hbal.BlockTridiagonal(B, c, k, row0)``: ``(inv_d, inv_v, inv, bad)``, the diagonals and
+    """``balance.BlockTridiagonal(B, c, k, row0)``: ``(inv_d, inv_v, inv, bad)``, the diagonals and
     first rows of the first k pivots' inverses, the others' inverses, and the first singular block
     (-1 if none)."""
     n, s, _ = B.shape
@@ -356,7 +356,7 @@ def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, 
 
 
 def coupled_factor(J: Array, lin: Array, c: Array, k: int, row0: bool, scaled: bool) -> tuple:
-    """``_allmode_coupled.Coupled``'s block elimination of the Jacobian blocks ``J[:-1]`` with the linear part
+    """``coupled.Coupled``'s block elimination of the Jacobian blocks ``J[:-1]`` with the linear part
     ``lin[:-1]`` on their diagonals (``with_diagonal``), each row divided by its coupling ``c`` where ``scaled``:
     ``block_factor`` of those blocks with the coupling 1 (else ``c[0]``), the same operations."""
     n, s = J.shape[0] - 1, J.shape[1]
@@ -375,7 +375,7 @@ def newton(U: Array, R: Array, res: float, T: Array, u: Array, st: Array, an: Ar
            lin: Array, c: Array, kc: Array, p: Array, ET: Array, PT: Array, half: bool, E: Array, P1: Array,
            mean: Array, S: Array, CP: Array, I1: Array, I2: Array, coefs: Array, tol: float, exact: float,
            max_iter: int, row0: bool, derivatives: bool) -> tuple:
-    """``_allmode_solve.FixedBar.newton`` from the evaluation ``(U, R, res, T, (u, st, an, nv), J)`` (its Jacobian
+    """``solve.FixedBar.newton`` from the evaluation ``(U, R, res, T, (u, st, an, nv), J)`` (its Jacobian
     given) where the blocks are eliminated one by one: the same steps, tests and operations (``residual``,
     ``jacobians``, ``same_pattern``, ``coupled_factor``, ``block_solve``).  Returns the last evaluation, whether its
     Jacobian is known (``has_J``) and the last factorisation (``has_fac``; ``bad`` its first singular block or -1),
@@ -430,7 +430,7 @@ def newton(U: Array, R: Array, res: float, T: Array, u: Array, st: Array, an: Ar
 
 
 def block_solve(inv_d: Array, inv_v: Array, inv: Array, c: float, r: Array, row0: bool) -> Array:
-    """``_hbal.BlockTridiagonal.solve`` for r of shape (n, s) or (n, s, q)."""
+    """``balance.BlockTridiagonal.solve`` for r of shape (n, s) or (n, s, q)."""
     k = inv_d.shape[0]
     n = k + inv.shape[0]
     s = inv_d.shape[1]
@@ -459,7 +459,7 @@ def block_solve(inv_d: Array, inv_v: Array, inv: Array, c: float, r: Array, row0
 
 
 def thomas(diag: Array, off: float, last: Array) -> Array:
-    """``_hbal.scalar_tridiagonal``: column by column, the same operations."""
+    """``balance.scalar_tridiagonal``: column by column, the same operations."""
     n, s = diag.shape
     U = np.empty((n, s))
     cp = np.empty(n)

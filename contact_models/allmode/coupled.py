@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from ._hbal import BANDED_MAX_BLOCK, BlockTridiagonal, factorise
-from ._hbal_compiled import kernels
+from .balance import BANDED_MAX_BLOCK, BlockTridiagonal, factorise
+from .compiled import kernels
 
 Array = NDArray[np.float64]
 
@@ -25,7 +25,7 @@ def with_diagonal(J: NDArray[np.float64], diag: NDArray[np.float64]) -> NDArray[
 class Coupled:
     """A factorisation of the bar's block-tridiagonal Jacobian A (diagonal blocks, coupling diag(c) of
     neighbouring nodes): held as the factorisation ``fac`` of A itself where c is one number (the lumped
-    bar), else of diag(c)^-1 A, whose coupling is the identity that ``_hbal.factorise`` takes (each block
+    bar), else of diag(c)^-1 A, whose coupling is the identity that ``balance.factorise`` takes (each block
     row divided by c: diagonal blocks stay diagonal, so the nodes that never slip stay cheap)."""
 
     def __init__(self, blocks: Array, c: Array, diagonal: int, row0: bool) -> None:
@@ -49,7 +49,7 @@ class Coupled:
 
     @classmethod
     def from_factors(cls, inv_d: Array, inv_v: Array, inv: Array, bad: int, c: Array, row0: bool) -> Coupled:
-        """The factorisation from the compiled block elimination's arrays (``_hbal_compiled.coupled_factor``);
+        """The factorisation from the compiled block elimination's arrays (``compiled.coupled_factor``);
         ``LinAlgError`` where it met a singular block (``bad`` >= 0)."""
         if bad >= 0:
             raise np.linalg.LinAlgError(f"singular block {bad} in the block elimination")
@@ -73,7 +73,7 @@ class Coupled:
 
 def residual_rate(dlin: Array, dc: Array, U: Array, X: Array) -> Array:
     """dR/domega (n, s) of the free nodes at the state U (n, s) for the end motion X: the linear part's
-    derivatives ``dlin`` (n + 1, s) and ``dc`` (s,) of ``_bar_segments.LinearPart`` (the forces do not
+    derivatives ``dlin`` (n + 1, s) and ``dc`` (s,) of ``segments.LinearPart`` (the forces do not
     depend on omega)."""
     rate = dlin[:-1] * U
     if np.any(dc):

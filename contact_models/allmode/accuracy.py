@@ -28,17 +28,17 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from ._allmode_rungs import lower_rung
+from .rungs import lower_rung
 
 if TYPE_CHECKING:
-    from .bar import Bar
+    from ..bar import Bar
 
 #: Observed orders below this are not trusted: the estimate is the last difference.
 MIN_ORDER = 1.0
 #: Observed orders above this are capped (see the module docstring).
 MAX_ORDER = 3.0
 #: A rung of fewer cells than this is checked against the rung above it (``cells_error``); the finest
-#: rung along a curve (``_allmode_rungs.CURVE_MAX_CELLS``) and finer ones by the two rungs below them.
+#: rung along a curve (``rungs.CURVE_MAX_CELLS``) and finer ones by the two rungs below them.
 CHECK_ABOVE_CELLS = 128
 #: A rung of fewer harmonics than this is checked against the rung above it, 2H + 1 (``harmonics_error``): from
 #: below (H/4, H/2, H) a rung of H = 7 cannot see a harmonic above it meet a mode of the bar (near the default
@@ -222,10 +222,10 @@ def shortfall_message(shortfalls: list, tol: float, cells: str, harmonics: str) 
 def stuck_data(bar: Bar, disc_of: Callable, omega: float, n: int, fixed: bool, tol: float, linear: str,
                max_cells: int) -> tuple[int, float, float, float]:
     """``(cells, K, a_min, relative estimate of K)`` of the bar stuck everywhere at omega, from n cells on:
-    exact segments, ``_bar_segments.exact_stuck`` (the continuous bar's K on any mesh); lumped, n cells if
+    exact segments, ``segments.exact_stuck`` (the continuous bar's K on any mesh); lumped, n cells if
     ``fixed``, else cells doubling from n until the Richardson estimates of the stuck stiffness (relative to
     max(|K|, 0.01 k*)) and of the slip onset a_min are below tol / 4 (at most ``max_cells``)."""
-    from ._bar_segments import exact_stuck, stuck_end
+    from .segments import exact_stuck, stuck_end
 
     if linear == "exact":
         return exact_stuck(bar, disc_of, omega, n, max_cells)

@@ -12,7 +12,7 @@ with kn the normal contact stiffness per unit length (N/m^2) and v > 0 pressing.
 (1, 1) is a uniform normal motion; another shape is a rocking damper whose two ends move by
 v_0 = s_0 v and v_L = s_L v.  Each node is exactly a ``Contact2D`` point contact (stick, slip,
 separation with the spring unloaded on re-contact); the bar is solved by harmonic balance with
-AFT at the nodes and Newton, as ``AllModeMicroslip`` (``contact_models._allmode_normal``).
+AFT at the nodes and Newton, as ``AllModeMicroslip`` (``contact_models.allmode.normal``).
 
 Two components (``components = 2``, like ``Contact2D``): the input is the tangential end
 displacement and the normal displacement v, the output the tangential end force EA u_x(L) and the
@@ -31,16 +31,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._allmode_accuracy import FLOOR, ladder, relative
-from ._allmode_normal import NormalBar, NormalSolution
-from ._hbal import aft_matrices
-from .allmode import AllModeMicroslip
-from .bar import Bar
-from .base import ContactElement
-from .numerics.checks import count, finite, nonnegative
+from ..bar import Bar
+from ..base import ContactElement
+from ..numerics.checks import count, finite, nonnegative
+from .accuracy import FLOOR, ladder, relative
+from .balance import aft_matrices
+from .element import AllModeMicroslip
+from .normal import NormalBar, NormalSolution
 
 if TYPE_CHECKING:
-    from .loads import QuadraticLoad, UniformLoad
+    from ..loads import QuadraticLoad, UniformLoad
 
 __all__ = ["AllModeMicroslip2D", "NormalSolution", "CELLS_2D", "HARMONICS_2D", "SAMPLES_PER_HARMONIC_2D"]
 

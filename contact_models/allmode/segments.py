@@ -35,8 +35,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 if TYPE_CHECKING:
-    from .bar import Bar
-    from .numerics.fe_bar import _Discretisation
+    from ..bar import Bar
+    from ..numerics.fe_bar import _Discretisation
 
 Array = NDArray[np.float64]
 
@@ -52,7 +52,7 @@ FLOOR_SHARE = 0.01
 
 class UnresolvedWave(ValueError):
     """Exact cells longer than ``MAX_SEGMENT_PHASE`` / pi of the highest harmonic's half wavelength (a rung of
-    the element's estimate that is so is left out, ``_allmode_accuracy.cells_error``)."""
+    the element's estimate that is so is left out, ``accuracy.cells_error``)."""
 
 
 class LinearPart(NamedTuple):
@@ -157,7 +157,7 @@ def stuck_end(bar: Bar, disc: _Discretisation, omega: float, kind: str) -> tuple
     K a for the motion a sin) and the least end amplitude a_min at which a node's spring force k c_i |u_i|
     reaches its slip force mu q(x_i) c_i (inf where none can).  Exact (the continuous bar's, at the nodes)
     for ``kind="exact"``; the finite-element bar's for "lumped"."""
-    from ._hbal import scalar_tridiagonal  # the Thomas solve of the whole package
+    from .balance import scalar_tridiagonal  # the Thomas solve of the whole package
 
     if kind == "lumped":  # the finite-element bar's own (``NumericalMicroslip`` gives the same numbers)
         return disc.stuck_solution(omega)[1], disc.slip_amplitude(omega)

@@ -1,5 +1,0 @@
-"""Deprecated path of :mod:`contact_models.numerics.masing`."""
-
-from .numerics.compat import moved_module
-
-moved_module(__name__, "contact_models.numerics.masing")

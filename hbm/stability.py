@@ -1,5 +1,0 @@
-"""Deprecated path of :mod:`hbm.balance.stability`."""
-
-from contact_models.numerics.compat import moved_module
-
-moved_module(__name__, "hbm.balance.stability")
