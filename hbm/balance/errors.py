@@ -139,9 +139,8 @@ def onsets(problem: HarmonicBalance, X: NDArray, omega: NDArray, idx: NDArray) -
     crosses its element's ``linear_amplitude`` (taken at the nodes ``idx``, linear in between), for the
     elements with a model error (those exact for what they model have none to interpolate).  The
     model source has a kink there (the stuck stiffness's error, growing towards a resonance, gives way
-    to the slipping bar's), which interpolation between nodes on either side can miss: the default
-    all-mode case at 38021 rad/s, 16 cells, was 1.2e-3 off (the stuck stiffness's 3.6e-4 through the
-    balance) with 5.9e-4 interpolated."""
+    to the slipping bar's), which interpolation between nodes on either side can miss by a factor of 2
+    (``docs/validation.md``, "Error estimates")."""
     out: list[int] = []
     n = len(omega)
     if n < 2 or len(idx) < 1:

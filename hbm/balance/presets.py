@@ -1,39 +1,18 @@
-"""Defaults and accuracy presets of :func:`hbm.frequency_response`: the one source of both.
+"""Defaults of :func:`hbm.frequency_response`: the step controls (:class:`Steps`), the named
+tolerances, the AFT samples per H, and the presets of an earlier release.
 
-``hbm.frf`` and the scenes read their defaults here; this module imports neither.
-One name, or one ``rtol``, sets every knob:
+``tol`` is the one accuracy knob of a solve: the names "fast", "default" and "precise" stand for
+the tolerances of ``TOLERANCE`` (1e-2, 1e-3, 1e-5) and adapt exactly as those numbers.  The step
+controls set how densely a branch is sampled, not its accuracy (every point is a converged solve,
+the peak is located between points): ``max_step`` bounds the chord error of the drawn curve
+(about ``max_step**2``), ``curve_tol`` sizes the steps by the error of the curve between points
+(``hbm.curve``) with ``max_step`` a safeguard, ``max_steps`` is a budget.
 
-``frequency_response(blade, element, omega_range, accuracy="fast" | "default" | "precise")``
-or ``accuracy=1e-5`` (a relative tolerance).  Chosen from the measurements of
-``benchmarks/bench_frf_accuracy.py`` (``docs/performance.md``, "What accuracy costs"), which
-say of the knobs (default case, 2026-11-21):
-
-- ``rtol`` (the element's ``fourier`` tolerance, and the Newton tolerance
-  ``NEWTON_TOL_FACTOR * rtol`` of every point) sets the accuracy of the points and of the peak:
-  the peak frequency's error falls like ``sqrt(rtol)`` (6e-6 at 1e-2, 6e-8 at 1e-6, 4e-10 at
-  1e-10; the peak is located to ``PEAK_XTOL_FACTOR * sqrt(rtol)`` of its bracket), the peak
-  amplitude's stays far below rtol.  It costs little time: 1.3 to 1.4 times the default's at
-  1e-8 to 1e-10, and the point count does not change.
-- ``max_step`` sets the number of points, hence the time (about proportional above ~65 points,
-  where the curvature control takes over) and the drawn curve's error (chord error, about
-  ``max_step**2``: 4e-4 at 0.1, 5e-5 at 0.03, 5e-6 at 0.01), but not the peak, which is
-  refined between points.
-- ``min_step`` never binds on a branch that converges; ``max_steps`` is a budget (too small
-  a budget stops the branch early and the peak may be missed).
-- The microslip elements reach about 1e-14 (three-region: 1e-9, set by its table, not by
-  rtol) at any ``rtol``, so handing them the preset's ``rtol`` costs nothing in accuracy.
-
-Finer than the default (``rtol < DEFAULT_RTOL``, e.g. "precise") the step is chosen by accuracy
-instead: ``curve_tol = CURVE_FACTOR * rtol ** (1/3)`` (1e-5 at "precise") bounds the error of the
-curve between points (``hbm.curve``; the continuation's error per step, ``hbm.continuation``), and
-``max_step`` is ``MAX_PRESET_STEP``, a safeguard, not what gives accuracy (docs/performance.md,
-"Step control by accuracy").  At the default and coarser:
-a preset is one ``rtol``, and ``max_step`` follows it along the measured error/time front,
-``max_step = DEFAULT_MAX_STEP * (rtol / DEFAULT_RTOL) ** STEP_EXPONENT`` (clipped to
-``[MIN_PRESET_STEP, MAX_PRESET_STEP]``): per 1000 times in rtol, about 30 times in the peak
-frequency's error, 10 times in the curve's and 2 to 4 times in time.  The step budget is scaled so
-that the same arclength fits; ``min_step`` stays at its default.  "default" is exactly
-``frequency_response``'s defaults.
+The presets of an earlier release (``frequency_response(..., accuracy=...)``, still read with a
+``DeprecationWarning``) bundled an rtol with steps along a measured error/time front
+(``benchmarks/bench_frf_accuracy.py``, ``docs/performance.md``): ``max_step = DEFAULT_MAX_STEP
+(rtol / DEFAULT_RTOL) ** STEP_EXPONENT`` at the default and coarser, and ``curve_tol = CURVE_FACTOR
+rtol ** (1/3)`` finer; ``resolve`` and ``apply`` give them as they were.
 """
 
 from __future__ import annotations
