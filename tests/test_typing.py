@@ -77,7 +77,7 @@ CALLABLES = _public_callables()
 def test_the_walk_finds_the_public_api():
     names = {n.rsplit(".", 2)[-2] + "." + n.rsplit(".", 1)[-1] for n, _ in CALLABLES}
     for expected in ("NumericalMicroslip.__init__", "NumericalMicroslip.simulate", "Bar.omega_c",
-                     "_stepping.solve_step", "continuation.continuation", "Blade.from_modal",
+                     "numerical.solve_step", "continuation.continuation", "Blade.from_modal",
                      "GeneralizedAlpha.from_rho_inf", "hbm.simulate_blade"):
         assert expected in names, expected
     assert len(CALLABLES) > 80
