@@ -415,12 +415,16 @@ def _sampling_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rt
         xl = same.cond.at(w)[2]
         lin = np.zeros((problem.na, L))
         lin[:, 1], lin[:, 2] = xl.real, -xl.imag
-        worst = abs(_amplitude_step(Jx, Ru - R0, x, r, L))
+        dR = [Ru - R0]
         for k in range(1, SAMPLING_SHIFTS):
             phi = 2.0 * math.pi * k / (SAMPLING_SHIFTS * problem.n_t)
             Rk = _turned(same._condensed(_turned(x, h * phi), w)[0].reshape(problem.na, L) + lin, -h * phi) - lin
-            worst = max(worst, abs(_amplitude_step(Jx, Ru - Rk.ravel(), x, r, L)))
-        out[j] = worst / a
+            dR.append(Ru - Rk.ravel())
+        try:  # the Newton steps Jx dX = -dR of every shift, one factorisation
+            dX = np.linalg.solve(Jx, -np.column_stack(dR))
+        except np.linalg.LinAlgError:
+            dX = np.linalg.lstsq(Jx, -np.column_stack(dR), rcond=None)[0]
+        out[j] = float(np.max(np.abs(x[r, 1] * dX[r * L + 1] + x[r, 2] * dX[r * L + 2]))) / (a * a)
     _count(problem, same, union)
     return out
 
