@@ -378,7 +378,9 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
         return None if better is None else (balanced(better, f.harmonics), f.harmonics)
 
     def harmonics_step(f, excess, span, points):
-        if f._problem.one_dof or f.harmonics >= plan.max_harmonics:
+        # H > 1 needs every element's time law (a first-harmonic element stays at H = 1, the warning says
+        # why); a one-DOF system goes to the condensed form at H > 1 as any other
+        if f.harmonics >= plan.max_harmonics or not all(c.element.has_time_law for c in f.contacts):
             return None
         contacts, H = f.contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
         if plan.rungs_only and plan.model_share is not None:  # rungs chosen along the curve (not an element given)

@@ -406,6 +406,8 @@ def _samples(H: Any) -> Any:
 #: What brings each source of error down (the warning's advice).
 REMEDY = {
     "harmonics": "more harmonics (give tol= and no harmonics= to let the balance choose, or raise harmonics=)",
+    "first-harmonic": ("an element with a time-domain force law ({names} is a first-harmonic element: it has none, so "
+                       "the balance keeps H = 1 with it; contact_models.AllModeMicroslip is the microslip bar with one)"),
     "sampling": "more AFT samples (raise n_t=)",
     "element": "a smaller tol= (the elements are evaluated to tol/100)",
     "model": "model='auto' (each element's refined model where the estimate asks for it: for a single-mode "
@@ -423,7 +425,14 @@ TOP_RUNG_REMEDY = ("the element alone at that point (AllModeMicroslip with tol=,
 
 def _remedy(frf: FrequencyResponse, source: str, i: int) -> str:
     """What brings ``source`` down at point ``i``; for the model source, the refined model only where
-    one exists, and the element alone where a curve refines the point's all-mode rung no further."""
+    one exists, and the element alone where a curve refines the point's all-mode rung no further; for the
+    harmonics source, a time law where an element has none (the balance cannot raise H with it)."""
+    if source == "harmonics":
+        site, _ = frf._site(i)
+        first = [type(c.element).__name__ for c in site.contacts if not c.element.has_time_law]
+        if first:  # no H above 1 for such an element: more harmonics is no advice
+            return REMEDY["first-harmonic"].format(names=", ".join(dict.fromkeys(first)))
+        return REMEDY[source]
     if source != "model":
         return REMEDY[source]
     site, _ = frf._site(i)
