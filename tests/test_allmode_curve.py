@@ -142,7 +142,7 @@ def test_the_curve_is_traced_on_rungs_named_per_point(curve, tmp_path):
         # tol= or cells left to be chosen (they are)
         model = str(frf.point_models[int(np.argmax(frf.error_estimate))])
         n = int(re.search(r"cells=(\d+), H=31\)", model).group(1))
-        assert source == "model" and f"last rung it is refined to there ({n} cells, H = 31)" in frf.accuracy_warning
+        assert n > 0 and source == "model" and f"last rung it is refined to there ({model})" in frf.accuracy_warning
         assert "left to be chosen" not in frf.accuracy_warning
     rows = list(csv.DictReader(open(write_frf_csv(tmp_path / "frf.csv", frf))))
     assert [r["model"] for r in rows] == frf.point_models.tolist()

@@ -9,14 +9,15 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from contact_models import Macroslip  # noqa: E402
-from hbm import Blade, frequency_response  # noqa: E402
+from hbm import Blade, Steps, frequency_response  # noqa: E402
 from hbm.output import FRF_COLUMNS, LEGEND_LIMIT, plot_frfs  # noqa: E402
 
 BLADE = Blade(mass=1.0, stiffness=1.0, damping=0.01, force=0.01)
 
 
 def frfs(loads):
-    return [frequency_response(BLADE, Macroslip(stiffness=1.0, slip_force=s), omega_range=(0.6, 1.8), max_step=0.2)
+    return [frequency_response(BLADE, Macroslip(stiffness=1.0, slip_force=s), omega_range=(0.6, 1.8), harmonics=1,
+                               steps=Steps(max_step=0.2))
             for s in loads]
 
 

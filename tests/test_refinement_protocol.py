@@ -107,7 +107,7 @@ def test_a_users_element_is_asked_the_same_questions():
 
     blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
     mine = frequency_response(blade, FirstHarmonicJenkins(), omega_range=(0.8, 1.4))
-    lib = frequency_response(blade, Macroslip(stiffness=1.0, slip_force=0.02), omega_range=(0.8, 1.4))
+    lib = frequency_response(blade, Macroslip(stiffness=1.0, slip_force=0.02), omega_range=(0.8, 1.4), harmonics=1)
     np.testing.assert_allclose(mine.amplitude, lib.amplitude, rtol=1e-9)
     np.testing.assert_allclose(mine.error_sources["harmonics"], lib.error_sources["harmonics"], rtol=1e-6, atol=1e-12)
     assert float(np.max(mine.error_sources["harmonics"])) > 1e-4  # a real source, not zeros on both sides

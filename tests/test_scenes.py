@@ -19,7 +19,7 @@ import pytest
 from contact_models import (Bar, ContactElement, QuasiStatic, ThreeRegionMicroslip, TwoRegionMicroslip,
                             UniformLoad)
 from contact_models.quasi_static import StuckContact
-from hbm import Blade, frequency_response
+from hbm import Blade, Steps, frequency_response
 from hbm.cli.main import main
 from hbm.cli.progress import ProgressLine
 from hbm.balance.residual import HarmonicBalance, linear_response
@@ -89,7 +89,7 @@ def test_inertia_off_scene_gives_the_api_frf_and_never_evaluates_the_dynamic_pat
     assert set(run.element.element._paths) == {0.0}  # one loading path, at omega = 0
     # the same FRF as the Python API with the quasi-static element
     api = frequency_response(plan.blade, QuasiStatic(TwoRegionMicroslip(Bar(**BAR), UniformLoad(N=100.0))),
-                             omega_range=run.omega, max_step=0.1)
+                             omega_range=run.omega, harmonics=1, steps=Steps(max_step=0.1))
     frf = result.runs[0].frf
     assert np.array_equal(frf.omega, api.omega) and np.array_equal(frf.amplitude, api.amplitude)
     assert result.summary["runs"][0]["quasi_static_calls"] == run.element.calls > 0
@@ -195,7 +195,7 @@ def test_a_damper_that_never_reaches_its_slip_amplitude_is_a_linear_spring(tmp_p
     assert result.success and frf.nfev == 0 and len(micro._paths) == paths_before  # no loading path built
     # the same points as with the microslip element itself, and the linear closed form
     ref = frequency_response(plan.blade, TwoRegionMicroslip(Bar(**BAR), UniformLoad(N=3000.0)),
-                             omega_range=run.omega, max_step=0.1)
+                             omega_range=run.omega, harmonics=1, steps=Steps(max_step=0.1))
     assert np.array_equal(frf.amplitude, ref.amplitude)
     exact = np.abs(linear_response(plan.blade, frf.omega, lambda w: Bar(**BAR).stuck_stiffness(w)))
     assert np.max(np.abs(frf.amplitude / exact - 1)) < 1e-8

@@ -186,7 +186,7 @@ def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         out[s] = np.interp(np.arange(n), idx, v) if len(idx) > 1 else np.full(n, v[0])
     if every:  # at few harmonics, where the windows are decided: at every point, not interpolated
         out["harmonics"] = _harmonics_condensed(problem, X, omega, rtol)
-    if not problem.one_dof and not all(getattr(el, "exact_harmonics", False) for el, _ in problem._attach):
+    if not problem.one_dof and not all(el.exact_harmonics for el, _ in problem._attach):
         out["sampling"] = _sampling_condensed(problem, X, omega, rtol)  # at every point, not interpolated
     return out
 

@@ -401,7 +401,8 @@ def harmonics(run: Any) -> Effect:
         raise SceneError([f"{run.where('effects.samples')} = {samples}: must be at least 2 H + 1 = {2 * H + 1} "
                           f"samples per period for effects.harmonics = {H}"])
     if H == 1:  # a structure's balance is the multi-harmonic one at H = 1; a blade's the single-harmonic one
-        decided = {"harmonics": 1, **({"n_t": samples} if samples else {})} if run.scene.structure is not None else {}
+        # the scene asks for H = 1: the balance keeps it (frequency_response would otherwise choose H to tol)
+        decided = {"harmonics": 1, **({"n_t": samples} if samples and run.scene.structure is not None else {})}
         return Effect("higher harmonics", False,
                       "effects.harmonics = 1: single-harmonic balance (first-harmonic f_s, f_c" +
                       (f"; AFT with n_t = {samples} samples where an element needs its time law)" if samples else ")"),
