@@ -48,7 +48,7 @@ def test_deciders_change_nothing_and_the_plan_carries_the_balance(monkeypatch):
 
     monkeypatch.setattr("hbm.scenes.planning.EFFECTS", [watched(s) for s in EFFECTS])
     single = plan_scene(load_scene(SCENE)).runs[0]
-    assert (single.harmonics, single.n_t) == (None, None)  # the single-harmonic balance of a blade
+    assert (single.harmonics, single.n_t) == (1, None)  # the single-harmonic balance of a blade, as the scene asks
     scene = load_scene(SCENE, overrides={"effects.harmonics": 2, "effects.inertia": "off"})
     options = dict(scene.sweep["options"])
     multi = plan_scene(scene).runs[0]
