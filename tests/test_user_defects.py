@@ -352,3 +352,54 @@ def test_main_job_figure_draws_the_same_references(tmp_path, drawn, monkeypatch)
     assert "damper stuck (linear)" in labels and "$a_{min}$ (slip begins)" in labels
     a_min = next(line for line in fig.axes[0].lines if line.get_label() == "$a_{min}$ (slip begins)")
     assert a_min.get_ydata()[0] == pytest.approx(7.5e-7, rel=1e-12)
+
+
+# ----------------------------------------------------------------------------- frictionless single-mode bars
+def _frictionless(mu, N, three):
+    from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
+
+    bar = Bar(2e11, 7850.0, 1e-5, 0.05, 8e8, 4e7, mu)
+    if three:
+        return ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=N, ratio=12.0))
+    return TwoRegionMicroslip(bar, UniformLoad(N))
+
+
+@pytest.mark.parametrize("mu, N", [(0.0, 100.0), (0.3, 0.0)])
+@pytest.mark.parametrize("three", [False, True])
+def test_frictionless_single_mode_bar_is_the_linear_slipping_bar_at_any_frequency(mu, N, three):
+    from contact_models import AllModeMicroslip
+    from contact_models.model_range import single_mode_error, single_mode_frequency_limit
+
+    el = _frictionless(mu, N, three)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no range warning: the linear bar is exact
+        fs, fc = el.fourier(np.array([1e-6, 2e-6]), 4e4)
+        assert float(np.max(single_mode_error(el, [1e-6, 1e-5], 4e4))) == 0.0
+    K = el.slip_stiffness(4e4)
+    assert np.allclose(fs, K * np.array([1e-6, 2e-6]), rtol=1e-12) and np.all(fc == 0.0)
+    assert single_mode_frequency_limit(el) == np.inf
+    ref_s, ref_c = AllModeMicroslip(el.bar, el.load).fourier(1e-6, 4e4)
+    assert fs[0] == pytest.approx(float(ref_s), rel=2e-3) and abs(float(ref_c)) < 1e-6 * fs[0]
+
+
+def test_frictionless_bar_frequency_response_is_the_linear_response():
+    from hbm.cli.cases import default_case
+
+    case = default_case()
+    el = _frictionless(0.0, 100.0, False)
+    frf = frequency_response(case.blade, el, omega_range=case.omega_range)
+    assert frf.success
+    b = case.blade
+    w = frf.omega
+    linear = np.abs(b.force / (b.stiffness + np.array([el.slip_stiffness(x) for x in w]) - b.mass * w ** 2
+                               + 1j * b.damping * w))
+    assert np.allclose(frf.amplitude, linear, rtol=1e-6)
+
+
+@pytest.mark.parametrize("key", ["damper.mu=0.0", "damper.load.N=0.0"])
+def test_frictionless_scene_checks_and_runs(tmp_path, capsys, key):
+    scene = os.path.join(os.path.dirname(__file__), "..", "examples", "scenes", "default_microslip_frf.toml")
+    assert main(["run", scene, "--check", "--set", key]) == 0
+    assert "no friction (mu N = 0)" in capsys.readouterr().out
+    assert main(["run", scene, "--quiet", "--set", key, "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "frf.csv").exists()

@@ -64,7 +64,7 @@ _FIXED: dict[str, dict[str, Key]] = {
     "damper.load": {
         "kind": Key(choice("uniform", "quadratic"), "uniform",
                     '"uniform" (q = N/L) or "quadratic" (Eq. 29: q0 + q2 4x(x - L)/L^2)'),
-        "N": Key(one_or_list(number(gt=0, unit="N"), "a number > 0 (N)"), OPTIONAL,
+        "N": Key(one_or_list(number(ge=0, unit="N"), "a number >= 0 (N)"), OPTIONAL,
                  "total normal load (N), or a list of loads (one run each: a design chart)"),
         "ratio": Key(number(gt=0, allow_inf=True), OPTIONAL,
                      "quadratic only: q0/(q0 - q2); > 1 concave (three regions), < 1 convex"),
