@@ -5,6 +5,15 @@ from contact_models.numerics.checks import count, finite, nonnegative, positive
 
 number = finite
 
+#: The smallest relative tolerance (``tol``, ``rtol``) the command line and scenes take: below it
+#: double precision cannot meet the balance's Newton tolerance and no point converges.
+MIN_RELATIVE_TOL = 1e-10
+
+
+class InputError(ValueError):
+    """Bad input, refused before anything is computed (the command line's exit code 2); a
+    ``ValueError``.  ``hbm.scenes.SceneError`` is one."""
+
 
 def omega_range_pair(omega_range: object) -> tuple[float, float]:
     """``(w0, w1)`` from ``omega_range``: a pair of finite numbers >= 0 with w0 != w1."""
@@ -20,4 +29,5 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     return w0, w1
 
-__all__ = ["count", "finite", "nonnegative", "number", "positive", "omega_range_pair"]
+__all__ = ["count", "finite", "nonnegative", "number", "positive", "omega_range_pair", "InputError",
+           "MIN_RELATIVE_TOL"]

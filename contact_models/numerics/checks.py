@@ -61,7 +61,7 @@ def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
 
 
 def _scalar(name: str, value: object) -> float:
-    if isinstance(value, bool):
+    if isinstance(value, (bool, str, bytes)):  # float("2e11") would read a string: a number only, as count
         raise ValueError(f"{name} must be a number, got {name}={value!r}")
     try:
         v = float(value)

@@ -13,7 +13,10 @@ import json
 import math
 from typing import Any, Callable, Iterable, NamedTuple
 
-class SceneError(ValueError):
+from .._validation import InputError
+
+
+class SceneError(InputError):
     """An invalid scene: ``problems`` lists every message (file, table.key, value, what is allowed).
 
     A ``ValueError``: its text is the problems, one a line.

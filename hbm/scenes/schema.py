@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from typing import Iterator
 
+from .._validation import MIN_RELATIVE_TOL
 from ..balance import presets
 from ..frf import DEFAULT_TOL
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
@@ -80,10 +81,10 @@ _FIXED: dict[str, dict[str, Key]] = {
                      "frequencies of the table"),
         "unit": Key(choice(*OMEGA_UNITS), "rad/s",
                     '"rad/s", "Hz", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
-        "tolerance": Key(number(gt=0, lt=presets.MAX_RTOL), OPTIONAL,
+        "tolerance": Key(number(ge=MIN_RELATIVE_TOL, lt=presets.MAX_RTOL), OPTIONAL,
                          f"the elements' relative accuracy (rtol, and the Newton tolerance's scale); default "
                          f"{presets.DEFAULT_RTOL:g}; not sweep.tol"),
-        "tol": Key(number(gt=0, lt=1), OPTIONAL,
+        "tol": Key(number(ge=MIN_RELATIVE_TOL, lt=1), OPTIONAL,
                    "target relative error of the response amplitude against the physical system "
                    "(frequency_response's tol): the error estimate's target and the warning's threshold, the "
                    'all-mode peak\'s, and what damper.model = "auto" holds the single-mode bar to; default '
