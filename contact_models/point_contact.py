@@ -167,6 +167,12 @@ class PointContact(ContactElement):
         (40000000, 46.3525)
         """
         omega = nonnegative("omega", omega)
+        missing = [m for m in ("stuck_stiffness", "slip_stiffness", "gross_slip_amplitude")
+                   if not callable(getattr(element, m, None))]
+        if missing:
+            raise ValueError(f"element must have stuck_stiffness, slip_stiffness and gross_slip_amplitude (a "
+                             f"microslip element: TwoRegionMicroslip, ThreeRegionMicroslip), got element={element!r} "
+                             f"without {', '.join(missing)}")
         K1 = float(element.stuck_stiffness(omega))
         K2 = float(element.slip_stiffness(omega))
         a_g = float(element.gross_slip_amplitude(omega))

@@ -403,3 +403,122 @@ def test_frictionless_scene_checks_and_runs(tmp_path, capsys, key):
     assert "no friction (mu N = 0)" in capsys.readouterr().out
     assert main(["run", scene, "--quiet", "--set", key, "--out", str(tmp_path)]) == 0
     assert (tmp_path / "frf.csv").exists()
+
+
+# ----------------------------------------------------------------------------- a user's element that breaks its contract
+class _Law:
+    """A Jenkins element written by a user, spoilt in one way (``mode``)."""
+
+    @staticmethod
+    def make(mode, time_law=True):
+        from contact_models.base import ContactElement
+
+        class Law(ContactElement):
+            has_time_law = time_law
+            frequency_dependent = False
+
+            def __init__(self):
+                self.jen = Macroslip(1.0, 0.02)
+
+            def __repr__(self):
+                return f"Law({mode!r})"
+
+            def _fourier_derivatives(self, a, w, rtol):
+                out = self.jen.fourier_derivatives_unchecked(a, w, rtol)
+                if mode == "complex":
+                    return tuple(v + 1j for v in out)
+                if mode == "long":
+                    return tuple(np.concatenate([v, v]) for v in out)
+                if mode == "none":
+                    return None
+                return out
+
+            def _periodic_force(self, x, w):
+                f, J = self.jen.periodic_force(x, w)
+                if mode == "list":
+                    return list(f), J
+                if mode == "none":
+                    return None
+                if mode == "nan jacobian":
+                    J = J.copy()
+                    J[0, 0] = np.nan
+                if mode == "jacobian shape":
+                    J = J[:, :-1]
+                return f, J
+
+            def _stuck_stiffness(self, w):
+                return 1.0
+
+            def _slip_amplitude(self, w):
+                return 0.02
+
+            def _hysteresis(self, a, w, n):
+                return self.jen.hysteresis(a, w, n=n)
+
+        return Law()
+
+
+def _chain_response(element, H):
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    return frequency_response(s, [Contact(element, dof=0)], (0.3, 0.8), harmonics=H)
+
+
+def test_time_law_returning_none_or_a_wrong_shaped_jacobian_is_named_at_once():
+    import time
+
+    with pytest.raises(ValueError, match=r"^element=Law\('none'\): Law._periodic_force\(x, omega\) must return a "
+                                         r"pair \(f, df_dx\), got NoneType None"):
+        _chain_response(_Law.make("none"), 3)
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=r"^element=Law\('jacobian shape'\): Law._periodic_force\(x, omega\) must "
+                                         r"return df_dx of shape \(\d+, \d+\) for x of shape \(\d+,\), got df_dx of "
+                                         r"shape \(\d+, \d+\)"):
+        _chain_response(_Law.make("jacobian shape"), 3)
+    assert time.perf_counter() - t0 < 5.0
+
+
+def test_time_law_returning_a_list_is_read_as_its_array():
+    frf = _chain_response(_Law.make("list"), 3)
+    assert frf.success
+
+
+def test_a_nan_jacobian_is_named_as_not_finite_and_the_curve_fails_without_an_exception():
+    frf = _chain_response(_Law.make("nan jacobian"), 3)
+    assert not frf.success
+    assert "element=Law('nan jacobian'): Law._periodic_force(x, omega) returned df_dx = " in frf.message
+    assert "(not finite) at omega=0.3" in frf.message
+    from contact_models.base import ElementOutputError
+
+    with pytest.raises(ElementOutputError, match="not finite"):
+        _Law.make("nan jacobian").periodic_force(np.cos(np.linspace(0.0, 2 * np.pi, 16, endpoint=False)), 0.3)
+
+
+@pytest.mark.parametrize("mode, message", [
+    ("complex", r"f_s must be real, got a complex array \(max\|Im\| = 1\)"),
+    ("long", r"must return f_s with one value per amplitude \(2\), got f_s of shape \(4,\)"),
+    ("none", r"must return 2 arrays \(f_s, f_c\), got NoneType None")])
+def test_fourier_outputs_that_are_complex_too_long_or_none_are_refused_naming_the_element(mode, message):
+    el = _Law.make(mode, time_law=False)
+    with pytest.raises(ValueError, match=rf"^element=Law\('{mode}'\): Law._fourier_derivatives\(a, omega, rtol\)"
+                                         rf".*{message}"):
+        el.fourier(np.array([0.1, 0.2]), 0.5)
+    with pytest.raises(ValueError, match=rf"^element=Law\('{mode}'\): Law._fourier_derivatives"):
+        _chain_response(el, 1)
+
+
+def test_point_contact_fit_of_an_element_without_a_bar_and_forced_response_of_a_string_are_named():
+    from hbm import forced_response
+    from contact_models import PointContact
+
+    with pytest.raises(ValueError, match=r"^element must have stuck_stiffness, slip_stiffness and "
+                                         r"gross_slip_amplitude .* without slip_stiffness, gross_slip_amplitude"):
+        PointContact.fit(Macroslip(1.0, 1.0))
+    with pytest.raises(ValueError, match=r"^modes must be the result of hbm.nonlinear_modes .* got modes='x'"):
+        forced_response("x")
+
+
+def test_strings_are_refused_as_numbers_like_counts():
+    from contact_models import Bar
+
+    with pytest.raises(ValueError, match=r"^E must be a number, got E='2e11'"):
+        Bar(E="2e11", rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
