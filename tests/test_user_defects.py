@@ -522,3 +522,55 @@ def test_strings_are_refused_as_numbers_like_counts():
 
     with pytest.raises(ValueError, match=r"^E must be a number, got E='2e11'"):
         Bar(E="2e11", rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+
+
+# ----------------------------------------------------------------------------- files that would crash or exhaust the reader
+def test_truncated_npz_is_a_scene_error_naming_the_key(tmp_path):
+    data = chain(tmp_path)
+    np.savez(tmp_path / "Kz.npz", K=K)
+    raw = (tmp_path / "Kz.npz").read_bytes()
+    (tmp_path / "Kz.npz").write_bytes(raw[:len(raw) // 2])
+    data["structure"]["stiffness"] = "Kz.npz"
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a .npz file (a zip archive)" in message and "truncated" in message
+
+
+def test_a_matrix_path_too_long_for_the_system_is_a_scene_error(tmp_path):
+    data = chain(tmp_path)
+    data["structure"]["stiffness"] = "x" * 5000 + ".npy"
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a matrix file that can be opened" in message
+    assert "characters" in message
+
+
+@pytest.mark.parametrize("header", ["%%MatrixMarket matrix array real general\n200000 200000\n1.0\n",
+                                    "%%MatrixMarket matrix coordinate real general\n200000 200000 4000000000\n1 1 1\n"])
+def test_a_matrix_file_declaring_more_than_the_bound_is_refused_before_reading(tmp_path, header):
+    from hbm.scenes.matrices import MAX_MATRIX_BYTES
+
+    data = chain(tmp_path)
+    (tmp_path / "K.mtx").write_text(header)
+    data["structure"]["stiffness"] = "K.mtx"
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness: the file declares a matrix of" in message
+    assert f"MAX_MATRIX_BYTES = {MAX_MATRIX_BYTES / 2 ** 30:g} GiB" in message and "load_matrix" in message
+
+
+def test_a_truncated_npy_is_named_before_it_is_read(tmp_path):
+    data = chain(tmp_path)
+    with open(tmp_path / "K.npy", "wb") as fh:
+        np.lib.format.write_array_header_1_0(fh, {"descr": "<f8", "fortran_order": False, "shape": (3000, 3000)})
+        fh.write(b"\0" * 16)
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a complete .npy file" in message and "truncated" in message
+
+
+@pytest.mark.parametrize("text", ["v = " + "[" * 5000 + "]" * 5000, "[" + ".".join(["a"] * 5000) + "]\nx = 1\n",
+                                  "a = " + "[" * 20 + "]" * 20])
+def test_deeply_nested_toml_is_a_scene_error_not_a_recursion_error(tmp_path, capsys, text):
+    path = tmp_path / "deep.toml"
+    path.write_text(text)
+    with pytest.raises(SceneError, match="nest"):
+        load_scene(path)
+    assert main(["run", str(path), "--check"]) == 2
+    assert "a scene nests at most 16 levels" in capsys.readouterr().err

@@ -135,7 +135,10 @@ def read_toml(path: str | Path) -> dict:
     path = Path(path)
     try:
         with path.open("rb") as fh:
-            return tomllib.load(fh)
+            data = tomllib.load(fh)
+    except RecursionError:
+        raise SceneError([f"{path}: not valid as a scene: its arrays or tables nest too deeply for the TOML "
+                          f"reader; a scene nests at most {MAX_NESTING} levels"]) from None
     except FileNotFoundError:
         raise SceneError([f"{path}: no such file"]) from None
     except tomllib.TOMLDecodeError as exc:
@@ -145,6 +148,29 @@ def read_toml(path: str | Path) -> dict:
                           f"at offset {exc.start}); a scene is a UTF-8 text file"]) from None
     except OSError as exc:
         raise SceneError([f"{path}: cannot be read: {exc.strerror or exc}"]) from None
+    deepest = nesting(data)
+    if deepest > MAX_NESTING:
+        raise SceneError([f"{path}: not valid as a scene: its arrays or tables nest {deepest} levels deep; a scene "
+                          f"nests at most {MAX_NESTING} levels"])
+    return data
+
+
+#: The deepest nesting of tables and arrays a scene may have (its own deepest is 4, [damper.load] in a list).
+MAX_NESTING = 16
+
+
+def nesting(value: Any) -> int:
+    """The depth of nested dicts and lists in ``value`` (0 for a scalar), counted without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        v, depth = stack.pop()
+        if isinstance(v, dict):
+            v = list(v.values())
+        if isinstance(v, list):
+            depth += 1
+            deepest = max(deepest, depth)
+            stack.extend((item, depth) for item in v if isinstance(item, (dict, list)))
+    return deepest
 
 
 def parse_override(text: str) -> tuple[str, Any]:
@@ -181,6 +207,10 @@ def parse_override(text: str) -> tuple[str, Any]:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw.strip()
+    except RecursionError:
+        value = None
+    if value is None or nesting(value) > MAX_NESTING:
+        raise SceneError([f"--set {name}: the value nests too deeply; a scene nests at most {MAX_NESTING} levels"])
     return name, value
 
 
