@@ -561,7 +561,12 @@ class ContactElement(ABC):
         if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES
                 and type(rtol) in _FLOAT_TYPES
                 and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
-            return tuple(map(np.float64, one(float(a), float(omega), float(rtol))))
+            out = one(float(a), float(omega), float(rtol))
+            if not math.isfinite(sum(out)):  # named as the array path names it
+                arr = np.array([a], dtype=float)
+                self._returned("_derivatives_one", tuple(np.array([v], dtype=float) for v in out), 4, 1, arr,
+                               np.array([omega], dtype=float))
+            return tuple(map(np.float64, out))
         return None
 
     #: Optional hook ``_derivatives_one(a, omega, rtol)``: ``(f_s, f_c, df_s/da, df_c/da)`` in Python
@@ -708,7 +713,7 @@ def _finite(arrays, names, name: str, where: str | None, where_at=None) -> None:
         if np.any(bad):
             i = int(np.flatnonzero(bad.ravel())[0])
             at = where if where_at is None else where_at(i % max(1, v.size if v.ndim <= 1 else v.shape[0]))
-            raise ElementOutputError(f"{name} returned {what} = {v.ravel()[i]!r} (not finite) at {at}")
+            raise ElementOutputError(f"{name} returned {what} = {float(v.ravel()[i])!r} (not finite) at {at}")
 
 
 def _shaped(v, shape):

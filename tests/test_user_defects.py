@@ -6,6 +6,7 @@ of its files or keys spoilt.
 """
 
 import os
+import re
 import warnings
 
 import numpy as np
@@ -574,3 +575,25 @@ def test_deeply_nested_toml_is_a_scene_error_not_a_recursion_error(tmp_path, cap
         load_scene(path)
     assert main(["run", str(path), "--check"]) == 2
     assert "a scene nests at most 16 levels" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------- values near the float limits
+@pytest.mark.parametrize("make, names", [
+    (lambda: __import__("contact_models").Iwan(1e-300, 1e300, -0.5, 0.1), "slip_force=1e-300, stiffness=1e+300"),
+    (lambda: __import__("contact_models").Iwan(1e300, 1.0, -0.5, 0.1), "slip_force=1e+300, stiffness=1.0"),
+    (lambda: __import__("contact_models").PointContact(k_s=1e-300, beta_p=1.0, k_p=1.0, slip_force=1.0),
+     "k_s=1e-300, beta_p=1.0")])
+def test_element_parameters_too_far_apart_for_double_precision_are_refused_naming_them(make, names):
+    with pytest.raises(ValueError, match=re.escape(f"({names}") + ".*keep their ratios within about 1e150"):
+        make()
+
+
+def test_an_amplitude_whose_force_overflows_is_named_not_returned_as_nan():
+    from contact_models import Bar, TwoRegionMicroslip, UniformLoad
+    from contact_models.base import ElementOutputError
+
+    two = TwoRegionMicroslip(Bar(2e11, 7850.0, 1e-5, 0.05, 8e8, 4e7, 0.3), UniformLoad(100.0))
+    for a in (1e300, np.array([1e-6, 1e300])):
+        with pytest.raises(ElementOutputError, match=r"^element=TwoRegionMicroslip\(.*returned f_s = nan \(not "
+                                                     r"finite\) at a=1e\+300 m, omega=1000 rad/s"):
+            two.fourier(a, 1e3)

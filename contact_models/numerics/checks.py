@@ -45,6 +45,25 @@ def count(name: str, value: object, minimum: int = 1) -> int:
     return int(value)
 
 
+def derived(owner: str, params: dict, compute, *, positive_names: tuple = ()) -> dict:
+    """``compute()``: the quantities an element derives from its parameters (a dict), each finite
+    (and > 0 for ``positive_names``); else a ValueError naming the parameters, the quantity and its
+    value (parameters near the float limits, e.g. a stiffness of 1e-300 beside one of 1e300)."""
+    shown = ", ".join(f"{k}={v!r}" for k, v in params.items())
+    try:
+        with np.errstate(all="raise"):
+            out = compute()
+    except (ZeroDivisionError, OverflowError, FloatingPointError) as exc:
+        raise ValueError(f"{owner}({shown}): the parameters are too far apart for double precision (deriving the "
+                         f"element's constants: {exc}); keep their ratios within about 1e150") from None
+    for name, v in out.items():
+        v = float(v)
+        if not math.isfinite(v) or (name in positive_names and not v > 0.0):
+            raise ValueError(f"{owner}({shown}): the parameters give {name} = {v!r}, which must be finite"
+                             f"{' and > 0' if name in positive_names else ''}; keep their ratios within about 1e150")
+    return out
+
+
 def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     """Return ``value`` as a float array whose entries are finite and >= 0."""
     if type(value) is float and 0.0 <= value < math.inf:  # the common scalar, without numpy's checks
