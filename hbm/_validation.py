@@ -15,6 +15,14 @@ class InputError(ValueError):
     ``ValueError``.  ``hbm.scenes.SceneError`` is one."""
 
 
+def relative_tolerance(name: str, value: object, upper: float) -> float:
+    """``value`` as a float in (0, ``upper``): a relative tolerance, named in the ValueError."""
+    v = positive(name, value)
+    if v >= upper:
+        raise ValueError(f"{name} must be < {upper:g}, got {name}={value!r}")
+    return v
+
+
 def omega_range_pair(omega_range: object) -> tuple[float, float]:
     """``(w0, w1)`` from ``omega_range``: a pair of finite numbers >= 0 with w0 != w1."""
     if omega_range is None:
@@ -30,4 +38,4 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
     return w0, w1
 
 __all__ = ["count", "finite", "nonnegative", "number", "positive", "omega_range_pair", "InputError",
-           "MIN_RELATIVE_TOL"]
+           "relative_tolerance", "MIN_RELATIVE_TOL"]

@@ -597,3 +597,83 @@ def test_an_amplitude_whose_force_overflows_is_named_not_returned_as_nan():
         with pytest.raises(ElementOutputError, match=r"^element=TwoRegionMicroslip\(.*returned f_s = nan \(not "
                                                      r"finite\) at a=1e\+300 m, omega=1000 rad/s"):
             two.fourier(a, 1e3)
+
+
+# ----------------------------------------------------------------------------- bounds on the work a request starts
+def test_numerical_bar_cells_are_bounded_with_the_bound_named():
+    from contact_models import Bar, NumericalMicroslip, UniformLoad
+    from contact_models.numerical import MAX_CELLS
+
+    bar = Bar(2e11, 7850.0, 1e-5, 0.05, 8e8, 4e7, 0.3)
+    with pytest.raises(ValueError, match=rf"^cells must be an integer in 2..{MAX_CELLS}, got cells=1000000000 "
+                                         r"\(the bound is contact_models.numerical.MAX_CELLS"):
+        NumericalMicroslip(bar, UniformLoad(100.0), cells=10**9)
+    with pytest.raises(ValueError, match="got cells='3'"):
+        NumericalMicroslip(bar, UniformLoad(100.0), cells="3")
+
+
+def test_balance_harmonics_are_bounded_with_the_bound_named():
+    import time
+
+    from hbm.balance.residual import MAX_BALANCE_HARMONICS
+
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=rf"^harmonics must be an integer in 1..{MAX_BALANCE_HARMONICS}, got "
+                                         r"harmonics=1000 \(the bound is hbm.balance.residual.MAX_BALANCE_HARMONICS"):
+        frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), harmonics=1000)
+    assert time.perf_counter() - t0 < 2.0
+
+
+def test_nonlinear_modes_refuse_the_rtol_frequency_response_refuses():
+    from hbm import nonlinear_modes
+
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    for rtol in (1, 0.1):
+        with pytest.raises(ValueError, match=rf"^rtol must be < 0.1, got rtol={rtol}"):
+            nonlinear_modes(s, [Contact(Macroslip(1.0, 0.02), dof=0)], amplitudes=[0.01, 1.0], rtol=rtol)
+        with pytest.raises(ValueError, match=rf"^rtol must be < 0.1, got rtol={rtol}"):
+            frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), rtol=rtol)
+
+
+def test_a_full_disk_leaves_no_tmp_file(tmp_path):
+    import errno
+
+    from hbm.scenes.running import replace_atomically
+
+    (tmp_path / "frf.partial.csv").write_text("kept\n")
+
+    def full(fh):
+        fh.write("half")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    with pytest.raises(OSError):
+        replace_atomically(tmp_path / "frf.partial.csv", full)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frf.partial.csv"]
+    assert (tmp_path / "frf.partial.csv").read_text() == "kept\n"
+
+
+def test_a_scene_on_a_full_disk_exits_1_and_leaves_no_tmp_file(tmp_path, capsys, monkeypatch):
+    import errno
+
+    import hbm.scenes.running as running
+
+    class Full:
+        def __init__(self, fh):
+            pass
+
+        def writerows(self, rows):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+    import csv
+    import types
+
+    # the partial table's last rewrite (its error column) meets the full disk
+    monkeypatch.setattr(running, "csv", types.SimpleNamespace(reader=csv.reader, writer=Full))
+    scene = os.path.join(os.path.dirname(__file__), "..", "examples", "scenes", "default_microslip_frf.toml")
+    out = tmp_path / "out"
+    assert main(["run", scene, "--quiet", "--out", str(out), "--set", "sweep.tolerance=1e-3",
+                 "--set", "effects.phase_differences=\"off\""]) == 1
+    err = capsys.readouterr().err
+    assert "error: cannot write the outputs: [Errno 28] No space left on device" in err
+    assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]

@@ -60,10 +60,11 @@ from contact_models.base import DEFAULT_RTOL, default_samples
 from contact_models.numerics.describing import stiffness_terms as describing_terms
 from contact_models.numerics.masing import to_time
 
-from .._validation import count
+from .._validation import count, relative_tolerance
 from ..structure import Contact, Structure
 from .condensation import Condensed, stuck_matrix
 from .layout import from_complex, to_complex
+from .presets import MAX_RTOL
 
 #: omega-derivative of the stuck stiffness: central difference of this relative step.
 STUCK_FD_STEP = 1e-5
@@ -72,6 +73,9 @@ OMEGA_REFRESH = 3e-3
 AMP_REFRESH = 3e-2
 #: Bytes of the elements' Jacobians of the balance's evaluations kept for Hill's method (oldest dropped).
 JACOBIAN_KEEP_BYTES = 4 * 2**20
+#: The most harmonics a balance takes: its unknowns grow as 2H + 1 per contact DOF and a Newton step's
+#: cost as their cube (a one-DOF blade at H = 1000 took 81 s); raise it here to go further.
+MAX_BALANCE_HARMONICS = 256
 
 
 def as_structure(system: Any) -> Structure:
@@ -118,6 +122,9 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
             if d >= structure.n:
                 raise ValueError(f"dof must be a DOF index in 0..{structure.n - 1}, got dof={d!r} in {c!r}")
     H = count("harmonics", harmonics, 1)
+    if H > MAX_BALANCE_HARMONICS:
+        raise ValueError(f"harmonics must be an integer in 1..{MAX_BALANCE_HARMONICS}, got harmonics={harmonics!r} "
+                         f"(the bound is hbm.balance.residual.MAX_BALANCE_HARMONICS: raise it to go further)")
     if n_t is None:
         n_t = default_samples(H)
     if isinstance(n_t, bool) or not isinstance(n_t, (int, np.integer)) or n_t < 2 * H + 2:
@@ -202,7 +209,7 @@ class HarmonicBalance:
         self.L = 2 * self.H + 1
         self.dofs = sorted({d for c in self.contacts for d in c.all_dofs} | {self.response_dof})
         self.na = len(self.dofs)
-        self.rtol = float(rtol)
+        self.rtol = relative_tolerance("rtol", rtol, MAX_RTOL)
         self.x_ref = float(x_ref)
         self.omega_ref = float(omega_ref)
         pos = {d: i for i, d in enumerate(self.dofs)}

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..output import CsvStream
 from ..scenes.reporting import jsonable
-from ..scenes.running import duration
+from ..scenes.running import duration, replace_atomically
 from .execute import signals_held
 from .figures import figure
 from .lock import LOCK, hold
@@ -287,10 +287,7 @@ class StudyResult:
 
 def _write_json(path: Path, data: Any) -> Path:
 
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(jsonable(data), indent=2) + "\n")
-    tmp.replace(path)
-    return path
+    return replace_atomically(path, lambda fh: fh.write(json.dumps(jsonable(data), indent=2) + "\n"))
 
 
 def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_failed: bool,
@@ -338,9 +335,8 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
         started.append(True)
         for key in ("csv", "partial", "json", "png"):  # outputs of an earlier run of this folder
             (folder / FILES[key]).unlink(missing_ok=True)
-        tmp = log_path.with_name(log_path.name + ".tmp")  # keep only this study's records, atomically
-        tmp.write_text("".join(json.dumps(r) + "\n" for r in records if r is not None))
-        tmp.replace(log_path)
+        replace_atomically(log_path, lambda fh: fh.write(  # keep only this study's records, atomically
+            "".join(json.dumps(r) + "\n" for r in records if r is not None)))
         out["stream"] = stream = CsvStream(folder / FILES["partial"], columns(params)) if "csv" in formats else None
         out["log"] = log_path.open("a")
         if stream is not None:
@@ -378,10 +374,15 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     if stream is not None:
         result.files["csv"] = folder / FILES["partial"]
         if result.complete:
-            with CsvStream(folder / (FILES["csv"] + ".tmp"), columns(params)) as csv_out:
-                for r in records:
-                    csv_out.write(csv_row(r, params))
-            result.files["csv"] = (folder / (FILES["csv"] + ".tmp")).replace(folder / FILES["csv"])
+            tmp = folder / (FILES["csv"] + ".tmp")
+            try:
+                with CsvStream(tmp, columns(params)) as csv_out:
+                    for r in records:
+                        csv_out.write(csv_row(r, params))
+                result.files["csv"] = tmp.replace(folder / FILES["csv"])
+            except BaseException:  # a full disk: no half table left behind
+                tmp.unlink(missing_ok=True)
+                raise
             (folder / FILES["partial"]).unlink()
     result.files["records"] = log_path
     if "png" in formats and any(r is not None and r["success"] for r in records):
