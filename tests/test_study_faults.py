@@ -430,3 +430,52 @@ def test_two_ctrl_c_10_ms_apart_print_no_traceback_and_say_kept_once(tmp_path, t
         while any(running(w) for w in workers) and time.monotonic() - t0 < 5.0:
             time.sleep(0.02)
         assert not [w for w in workers if running(w)]
+
+
+# 7. records of the right JSON with the wrong content ------------------------------------------
+
+@pytest.mark.parametrize("spoil", [
+    lambda r: {**r, "success": "yes"},
+    lambda r: {k: v for k, v in r.items() if k != "peak_amplitude_m"},
+    lambda r: {**r, "peak_amplitude_m": "2e-6"},
+    lambda r: {**r, "peak_amplitude_m": float("nan")},
+    lambda r: {**r, "nfev": True},
+    lambda r: {**r, "curve": {"omega_rad_s": "x"}},
+    lambda r: {**r, "params": {"damper.mu": 0.9}}])
+def test_a_record_of_valid_json_with_wrong_content_is_recomputed_not_reused(tmp_path, spoil):
+    path = scene(tmp_path, 4)
+    out = tmp_path / "out"
+    assert run_study(Study.from_scene(path), out, executor="serial", formats=("csv",)).success
+    lines = (out / "runs.jsonl").read_text().splitlines()
+    good = json.loads(lines[1])
+    lines[1] = json.dumps(spoil(good))
+    (out / "runs.jsonl").write_text("\n".join(lines) + "\n")
+    again = run_study(Study.from_scene(path), out, executor="serial", formats=("csv", "json"))
+    assert again.success and again.computed == 1 and again.reused == 3
+    assert json.loads((out / "study.json").read_text())["damaged_lines"] == 1
+    assert (out / "study.csv").exists()
+    assert read_records(out / "runs.jsonl")[good["id"]]["peak_amplitude_m"] == good["peak_amplitude_m"]
+
+
+def test_a_record_nested_100000_deep_is_a_damaged_line(tmp_path):
+    path = scene(tmp_path, 3)
+    out = tmp_path / "out"
+    assert run_study(Study.from_scene(path), out, executor="serial", formats=("csv",)).success
+    with open(out / "runs.jsonl", "a") as fh:
+        fh.write("[" * 100_000 + "]" * 100_000 + "\n")
+    again = run_study(Study.from_scene(path), out, executor="serial", formats=("csv", "json"))
+    assert again.success and again.reused == 3
+    assert json.loads((out / "study.json").read_text())["damaged_lines"] == 1
+
+
+def test_a_duplicated_id_with_different_results_is_recomputed(tmp_path):
+    path = scene(tmp_path, 3)
+    out = tmp_path / "out"
+    assert run_study(Study.from_scene(path), out, executor="serial", formats=("csv",)).success
+    lines = (out / "runs.jsonl").read_text().splitlines()
+    twin = json.loads(lines[0])
+    twin["peak_amplitude_m"] *= 2.0
+    (out / "runs.jsonl").write_text("\n".join(lines + [json.dumps(twin)]) + "\n")
+    again = run_study(Study.from_scene(path), out, executor="serial", formats=("csv",))
+    assert again.success and again.computed == 1 and again.reused == 2
+    assert read_records(out / "runs.jsonl")[twin["id"]]["peak_amplitude_m"] == json.loads(lines[0])["peak_amplitude_m"]

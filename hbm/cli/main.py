@@ -182,7 +182,7 @@ def _run(args) -> int:
             raise SceneError([f"{scene.path}: --workers, --scheduler and --executor need a [study] table "
                               "(docs/studies.md)"])
         plan = plan_scene(scene)
-    except SceneError as exc:
+    except ValueError as exc:  # SceneError, or a check of the library on the scene's values: before computing
         print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
         return 2
     folder = Path(args.out if args.out is not None else scene.output["folder"])
@@ -271,14 +271,12 @@ def _run_study(args, overrides) -> int:
     from ..study import FILES, Study, check_scene, read_records, run_study  # lazily: as in _run
     from .progress import ProgressLine  # lazily: as in _run
 
-    from ..scenes import SceneError  # lazily: as in _run
-
     try:
         if args.check:  # makes no run's point but the first: the same time for any number of runs
             print("\n".join(check_scene(args.scene, overrides=overrides)))
             return 0
         study = Study.from_scene(args.scene, overrides=overrides)
-    except SceneError as exc:
+    except ValueError as exc:  # SceneError, or a check of the library on the scene's values: before computing
         print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
         return 2
     folder = Path(args.out if args.out is not None else study.settings["folder"])

@@ -20,6 +20,7 @@ import threading
 import time
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
+from .._validation import InputError
 from .runs import execute
 from .lock import alive
 
@@ -206,10 +207,10 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
         try:
             client, cluster = Client(scheduler), None
         except OSError as exc:  # refused, unreachable, timed out
-            raise ValueError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
+            raise InputError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
         except Exception as exc:  # noqa: BLE001 - something answered that does not speak Dask's protocol
             what = f"{type(exc).__name__}: {exc}"
-            raise ValueError(f"cannot use the Dask scheduler at scheduler={scheduler!r}: what answers there is "
+            raise InputError(f"cannot use the Dask scheduler at scheduler={scheduler!r}: what answers there is "
                              f"not a Dask scheduler (reading its answer failed with {what[:200]})") from None
     else:
         cluster = LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,

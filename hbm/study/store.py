@@ -126,19 +126,55 @@ def scan_records(path: str | Path) -> tuple[dict, int]:
         data = Path(path).read_bytes()
     except FileNotFoundError:
         return out, damaged
+    conflicts: set = set()
     for line in data.split(b"\n"):
         if not line.strip():
             continue
         try:
             rec = json.loads(line.decode("utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError):
+        except (UnicodeDecodeError, json.JSONDecodeError, RecursionError):  # RecursionError: nested past any record
             damaged += 1
             continue
         if isinstance(rec, dict) and isinstance(rec.get("id"), str):
+            before = out.get(rec["id"])
+            if before is not None and before.get("success") is True and _result(before) != _result(rec):
+                conflicts.add(rec["id"])  # two different results of one run: neither is trusted
             out[rec["id"]] = rec
         else:
             damaged += 1
+    for rid in conflicts:
+        del out[rid]
+        damaged += 1
     return out, damaged
+
+
+def _result(rec: dict) -> dict:
+    """A record's result fields (what a rerun of the same point gives again; not its time)."""
+    return {k: v for k, v in rec.items() if k not in ("time_s", "run")}
+
+
+def _number(v: Any, *, optional: bool = True) -> bool:
+    return (v is None and optional) or (not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v))
+
+
+def usable(rec: dict, point: dict) -> bool:
+    """Whether ``rec`` (a line of ``runs.jsonl``) is a record of ``point`` that a resume may reuse:
+    every field of :data:`hbm.study.RESULT_COLUMNS` present with its type (``success`` a bool, the
+    peaks None or finite numbers, ``nfev`` None or an integer, ``time_s`` a finite number), ``curve`` a
+    table of lists of numbers, and ``params`` the point.  Anything else is a damaged line: recomputed."""
+    try:
+        curve = rec.get("curve", {})
+        return (rec.get("params") == json.loads(json.dumps(jsonable(point))) and isinstance(rec.get("success"), bool)
+                and isinstance(rec.get("message"), str)
+                and all(_number(rec.get(k, 0.0)) and k in rec for k in ("peak_omega_rad_s", "peak_amplitude_m",
+                                                                          "peak_error_rel"))
+                and (rec.get("peak_model") is None or isinstance(rec["peak_model"], str)) and "peak_model" in rec
+                and (rec.get("nfev") is None or (isinstance(rec["nfev"], int) and not isinstance(rec["nfev"], bool)))
+                and "nfev" in rec and _number(rec.get("time_s"), optional=False)
+                and isinstance(curve, dict) and all(isinstance(k, str) and isinstance(v, list) and all(
+                    not isinstance(x, bool) and isinstance(x, (int, float)) for x in v) for k, v in curve.items()))
+    except (TypeError, ValueError, RecursionError):
+        return False
 
 
 @dataclass
@@ -323,7 +359,11 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     records: list = [None] * len(ids)
     for i, rid in enumerate(ids):
         rec = old.get(rid)
-        if rec is not None and (rec.get("success") or not retry_failed):
+        if rec is not None and not usable(rec, study.points[i]):
+            damaged += 1  # wrong types, a non-finite peak, another point's record: computed again
+            del old[rid]
+            rec = None
+        if rec is not None and (rec["success"] or not retry_failed):
             records[i] = {**rec, "run": i + 1, "params": study.points[i]}
     reused = sum(r is not None for r in records)
     counts = {"points": reused, "failed": sum(not r["success"] for r in records if r is not None)}
