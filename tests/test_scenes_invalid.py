@@ -142,3 +142,20 @@ def test_docs_list_every_key():
     assert not missing, missing
     assert set(schema()) == {"", "blade", "structure", "damper", "damper.load", "effects", "sweep", "modes", "optimum", "output",
                             "study"}
+
+
+@pytest.mark.parametrize("values", ["[10.0, 10.0]", "[10, 10.0]", "[10.0, 20.0, 10]"])
+def test_a_study_grid_repeating_a_value_is_refused_like_a_repeated_model(tmp_path, capsys, values):
+    path = tmp_path / "grid.toml"
+    path.write_text(DEFAULT + f'\n[study.grid]\n"damper.load.N" = {values}\n')
+    assert main(["run", str(path), "--check"]) == 2
+    err = capsys.readouterr().err
+    assert f'"damper.load.N" = {values}: must not repeat a value (one run per value;' in err and "study.grid" in err
+    assert not (tmp_path / "grid").exists()
+
+
+def test_the_grid_function_refuses_a_repeated_value():
+    from hbm.study import grid
+
+    with pytest.raises(ValueError, match=r"^grid: parameter 'x' must not repeat a value .* 10 and 10.0 are the same"):
+        grid({"x": [10, 10.0]})

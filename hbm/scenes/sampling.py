@@ -14,7 +14,7 @@ from __future__ import annotations
 
 from typing import Any, Collection
 
-from ..designs import DISTRIBUTIONS, combine, grid, samples
+from ..designs import DISTRIBUTIONS, combine, grid, repeated, samples
 from .checks import OPTIONAL, Invalid, Key, choice, integer, show, text
 
 #: Executors of a study (``hbm.study.EXECUTORS``).
@@ -38,6 +38,10 @@ def _grid(v: Any, known: Collection[str]) -> dict:
         _scene_key(name, known)
         if not isinstance(values, list) or not values:
             raise Invalid(f"{show(name)} = {show(values)}: must be a non-empty list of values")
+        twice = repeated(values)
+        if twice is not None:
+            raise Invalid(f"{show(name)} = {show(values)}: must not repeat a value (one run per value; "
+                          f"{show(twice[0])} and {show(twice[1])} are the same value)")
         out[name] = values
     return out
 
