@@ -159,3 +159,28 @@ def test_the_grid_function_refuses_a_repeated_value():
 
     with pytest.raises(ValueError, match=r"^grid: parameter 'x' must not repeat a value .* 10 and 10.0 are the same"):
         grid({"x": [10, 10.0]})
+
+
+@pytest.mark.parametrize("folder", ["/tmp/elsewhere", "../outside", "a/../../b", ""])
+def test_output_folder_outside_the_scene_folder_is_refused(tmp_path, capsys, folder):
+    path = tmp_path / "scenes" / "s.toml"
+    path.parent.mkdir()
+    path.write_text(DEFAULT + f'folder = "{folder}"\n')
+    assert main(["run", str(path), "--check"]) == 2
+    err = capsys.readouterr().err
+    assert "output.folder" in err and ("inside the scene's folder" in err or "folder name" in err)
+
+
+def test_output_folder_is_resolved_beside_the_scene_file_and_out_writes_anywhere(tmp_path, monkeypatch):
+    path = tmp_path / "scenes" / "s.toml"
+    path.parent.mkdir()
+    path.write_text(DEFAULT.replace("tolerance = 1e-6", "tolerance = 1e-3") + 'folder = "results"\n')
+    elsewhere = tmp_path / "cwd"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    assert load_scene(path).output["folder"] == str(path.parent / "results")
+    assert main(["run", str(path), "--quiet", "--set", 'effects.phase_differences="off"']) == 0
+    assert (path.parent / "results" / "frf.csv").exists() and not list(elsewhere.iterdir())
+    assert main(["run", str(path), "--quiet", "--set", 'effects.phase_differences="off"',
+                 "--out", str(tmp_path / "free")]) == 0
+    assert (tmp_path / "free" / "frf.csv").exists()

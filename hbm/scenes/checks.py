@@ -203,6 +203,28 @@ def boolean(v: Any) -> bool:
     return v
 
 
+def inner_folder(v: Any) -> str:
+    """Check of an output folder: a relative path inside the scene's folder (no absolute path, no
+    ``..``, not empty), or :class:`Invalid`; the command line's ``--out`` writes anywhere.
+
+    Examples
+    --------
+    >>> from hbm.scenes.checks import inner_folder
+    >>> inner_folder("results/run1")
+    'results/run1'
+    """
+    import pathlib
+
+    if not isinstance(v, str) or not v.strip():
+        raise Invalid("must be a folder name (a string)")
+    parts = pathlib.PurePath(v).parts
+    if pathlib.PurePosixPath(v).is_absolute() or pathlib.PureWindowsPath(v).is_absolute() or ".." in parts \
+            or pathlib.PureWindowsPath(v).drive or "\0" in v:
+        raise Invalid("must be a folder inside the scene's folder (a relative path without ..): a scene writes "
+                      "only beside itself; give --out DIR on the command line to write elsewhere")
+    return v
+
+
 def text(v: Any) -> str:
     """Check of a string: returns ``v``, or raises :class:`Invalid` for anything else.
 

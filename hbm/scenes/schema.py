@@ -15,7 +15,7 @@ from .._validation import MIN_RELATIVE_TOL
 from ..balance import presets
 from ..frf import DEFAULT_TOL
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
-                     one_or_list, positive, text, choice)
+                     one_or_list, positive, text, choice, inner_folder)
 from .contacts import contact_tables, dof_list
 from .effects import EFFECTS
 from .models import BASE_DAMPER_KEYS, MODELS
@@ -123,7 +123,8 @@ _FIXED: dict[str, dict[str, Key]] = {
                       "(modes.amplitude must hold the peak at p0)"),
     },
     "output": {
-        "folder": Key(text, OPTIONAL, "output folder; default the scene file's name without .toml"),
+        "folder": Key(inner_folder, OPTIONAL, "output folder, relative to the scene file's folder and inside it "
+                      "(--out writes elsewhere); default the scene file's name without .toml"),
         "formats": Key(formats, ("csv", "png", "json"), 'which outputs: any of "csv", "png", "json"'),
     },
 }

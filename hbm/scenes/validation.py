@@ -123,8 +123,8 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
     ...     _ = path.write_text('[damper]\\nmodel = "macroslip"\\nstiffness = 1e6\\nslip_force = 1.0\\n'
     ...                         '[sweep]\\nkind = "amplitude"\\nomega = [0.0]\\namplitude = [0.1, 10.0]\\n')
     ...     scene = load_scene(path, overrides={"sweep.points": 5})
-    >>> scene.name, scene.sweep["points"], scene.output["folder"]
-    ('jenkins', 5, 'jenkins')
+    >>> scene.name, scene.sweep["points"], scene.output["folder"] == str(path.parent / "jenkins")
+    ('jenkins', 5, True)
     """
     return scene_from_dict(read_toml(path), path, overrides=overrides)
 
@@ -407,8 +407,8 @@ class _Rules:
         bar_complete = all(self.has("damper", k) for k in BAR_KEYS)
         if sweep["unit"] == "omega_c" and not bar_complete and "bar" not in needs:
             self.forbid("sweep", "unit", "without a bar in [damper] (omega_c is the bar's: give E, rho, A, L, k, mu)")
-        if output.get("folder") is None:
-            output["folder"] = self.path.stem
+        # beside the scene file, as its matrix files are read (the command line's --out writes elsewhere)
+        output["folder"] = str(self.path.parent / (output.get("folder") or self.path.stem))
         study = study_table(self) if "study" in self.tables else None
         if study is not None and modes is not None:
             self.problems.append(f"{self.path}: [study] with [{'optimum' if optimum else 'modes'}]: a study runs "
