@@ -479,3 +479,44 @@ def test_a_duplicated_id_with_different_results_is_recomputed(tmp_path):
     again = run_study(Study.from_scene(path), out, executor="serial", formats=("csv",))
     assert again.success and again.computed == 1 and again.reused == 2
     assert read_records(out / "runs.jsonl")[twin["id"]]["peak_amplitude_m"] == json.loads(lines[0])["peak_amplitude_m"]
+
+
+# 8. hangs: a scheduler that never answers, a run that never ends ----------------------------------
+
+@pytest.fixture
+def silent():
+    """``tcp://127.0.0.1:PORT`` of a local server that accepts every connection and never answers."""
+    server = socket.create_server(("127.0.0.1", 0))
+    server.settimeout(0.1)
+    stop, held = threading.Event(), []
+
+    def serve():
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+            except (socket.timeout, OSError):
+                continue
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    stop.set()
+    thread.join(timeout=5)
+    for conn in held:
+        conn.close()
+    server.close()
+
+
+def test_a_scheduler_that_accepts_and_never_answers_is_an_error_within_the_connect_timeout(tmp_path, silent,
+                                                                                           monkeypatch, capsys):
+    pytest.importorskip("distributed")
+    from hbm.cli.main import main
+
+    monkeypatch.setattr(sys.modules["hbm.study.execute"], "DASK_CONNECT_TIMEOUT", 1.0)
+    t0 = time.monotonic()
+    out = tmp_path / "out"
+    assert main(["run", str(scene(tmp_path, 2)), "--out", str(out), "--quiet", "--scheduler", silent]) == 2
+    assert time.monotonic() - t0 < 10.0
+    err = capsys.readouterr().err
+    assert f"the Dask scheduler at scheduler='{silent}' did not answer within 1 s" in err
+    assert "DASK_CONNECT_TIMEOUT" in err and not out.exists()

@@ -176,15 +176,16 @@ def _run(args) -> int:
         if args.rtol is not None:
             overrides["sweep.tolerance"] = args.rtol
         scene = load_scene(args.scene, overrides=overrides)
-        if scene.study is not None:
-            return _run_study(args, overrides)
-        if args.workers is not None or args.scheduler is not None or args.executor is not None:
+        options = (args.workers, args.scheduler, args.executor)
+        if scene.study is None and any(o is not None for o in options):
             raise SceneError([f"{scene.path}: --workers, --scheduler and --executor need a [study] table "
                               "(docs/studies.md)"])
-        plan = plan_scene(scene)
+        plan = plan_scene(scene) if scene.study is None else None
     except ValueError as exc:  # SceneError, or a check of the library on the scene's values: before computing
         print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
         return 2
+    if scene.study is not None:
+        return _run_study(args, overrides)
     folder = Path(args.out if args.out is not None else scene.output["folder"])
     if not args.check:
         _check_folder(folder, output_names(scene).values(), "--out" if args.out is not None else "output.folder")

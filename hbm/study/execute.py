@@ -205,7 +205,9 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
         raise ImportError(DASK_MISSING) from None
     if scheduler is not None:
         try:
-            client, cluster = Client(scheduler), None
+            client, cluster = _connect(Client, scheduler, DASK_CONNECT_TIMEOUT), None
+        except InputError:
+            raise
         except OSError as exc:  # refused, unreachable, timed out
             raise InputError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
         except Exception as exc:  # noqa: BLE001 - something answered that does not speak Dask's protocol
@@ -223,6 +225,33 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
             cluster.close()
 
     return client.get_executor(pure=False), close
+
+
+#: Seconds a study waits for a Dask scheduler to answer (an address that accepts the connection and
+#: never answers made Dask's own client wait past 120 s, its timeout notwithstanding).
+DASK_CONNECT_TIMEOUT = 30.0
+
+
+def _connect(Client: Any, scheduler: str, timeout: float) -> Any:
+    """``Client(scheduler)``, in a thread given ``timeout`` seconds; ``InputError`` when no answer came."""
+    box: dict = {}
+
+    def connect() -> None:
+        try:
+            box["client"] = Client(scheduler, timeout=timeout)
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="hbm-dask-connect", daemon=True)
+    thread.start()
+    thread.join(timeout)
+    if thread.is_alive():
+        raise InputError(f"the Dask scheduler at scheduler={scheduler!r} did not answer within {timeout:g} s "
+                         "(hbm.study.execute.DASK_CONNECT_TIMEOUT): something accepts connections there but does "
+                         "not answer as a Dask scheduler; check the address")
+    if "error" in box:
+        raise box["error"]
+    return box["client"]
 
 
 def _stop(pool: cf.Executor) -> None:
@@ -342,4 +371,4 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     return sorted(lost)
 
 
-__all__ = ["EXECUTORS", "DASK_MISSING", "PARENT_CHECK_S", "BLAS_THREAD_VARIABLES", "single_threaded_blas", "cores", "signals_held", "check_executor", "dask_executor", "run_tasks"]
+__all__ = ["EXECUTORS", "DASK_MISSING", "DASK_CONNECT_TIMEOUT", "PARENT_CHECK_S", "BLAS_THREAD_VARIABLES", "single_threaded_blas", "cores", "signals_held", "check_executor", "dask_executor", "run_tasks"]
