@@ -520,3 +520,52 @@ def test_a_scheduler_that_accepts_and_never_answers_is_an_error_within_the_conne
     err = capsys.readouterr().err
     assert f"the Dask scheduler at scheduler='{silent}' did not answer within 1 s" in err
     assert "DASK_CONNECT_TIMEOUT" in err and not out.exists()
+
+
+def _stops_itself_at_two(point):
+    """A run that a SIGSTOP freezes (x = 2) or that sleeps past any limit (x = 3)."""
+    if point["x"] == 2:
+        os.kill(os.getpid(), signal.SIGSTOP)
+    if point["x"] == 3:
+        time.sleep(30.0)
+    return {"peak_amplitude_m": float(point["x"])}
+
+
+@needs_proc
+def test_a_worker_stopped_by_sigstop_fails_its_run_at_the_time_limit_and_the_study_ends(tmp_path, monkeypatch):
+    execute = sys.modules["hbm.study.execute"]
+    monkeypatch.setattr(execute, "KILL_GRACE_S", 0.3)
+    study = Study(_stops_itself_at_two, [{"x": i} for i in range(6)])
+    t0 = time.monotonic()
+    result = run_study(study, tmp_path / "out", executor="processes", workers=2, time_limit=1.0, formats=("csv",))
+    assert time.monotonic() - t0 < 20.0
+    assert not result.lost
+    by_x = {r["params"]["x"]: r for r in result.records}
+    for x in (2, 3):
+        assert not by_x[x]["success"]
+        assert by_x[x]["message"].startswith("RunTimeLimit: the run took longer than its time limit of 1 s")
+    assert all(by_x[x]["success"] and by_x[x]["peak_amplitude_m"] == x for x in (0, 1, 4, 5))
+    assert (tmp_path / "out" / "study.csv").exists()
+
+
+def test_a_serial_run_past_the_time_limit_is_a_failed_run_naming_the_limit(tmp_path):
+    study = Study(_stops_itself_at_two, [{"x": 1}, {"x": 3}])
+    t0 = time.monotonic()
+    result = run_study(study, tmp_path / "out", executor="serial", time_limit=0.5, formats=("csv",))
+    assert time.monotonic() - t0 < 5.0
+    assert [r["success"] for r in result.records] == [True, False]
+    assert "time limit of 0.5 s" in result.records[1]["message"]
+
+
+def test_time_limit_is_a_scene_key_and_an_option_and_a_bad_one_exits_2(tmp_path, capsys):
+    from hbm.cli.main import main
+
+    path = scene(tmp_path, 2)
+    path.write_text(path.read_text().replace("seed = 1\n", "seed = 1\ntime_limit = 60.0\n"))
+    assert Study.from_scene(path).settings["time_limit"] == 60.0
+    with pytest.raises(SystemExit) as stop:
+        main(["run", str(path), "--time-limit", "0"])
+    assert stop.value.code == 2
+    assert "--time-limit: must be a number of seconds > 0" in capsys.readouterr().err
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet", "--executor", "serial",
+                 "--time-limit", "30"]) == 0

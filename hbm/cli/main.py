@@ -176,10 +176,10 @@ def _run(args) -> int:
         if args.rtol is not None:
             overrides["sweep.tolerance"] = args.rtol
         scene = load_scene(args.scene, overrides=overrides)
-        options = (args.workers, args.scheduler, args.executor)
+        options = (args.workers, args.scheduler, args.executor, args.time_limit)
         if scene.study is None and any(o is not None for o in options):
-            raise SceneError([f"{scene.path}: --workers, --scheduler and --executor need a [study] table "
-                              "(docs/studies.md)"])
+            raise SceneError([f"{scene.path}: --workers, --scheduler, --executor and --time-limit need a [study] "
+                              "table (docs/studies.md)"])
         plan = plan_scene(scene) if scene.study is None else None
     except ValueError as exc:  # SceneError, or a check of the library on the scene's values: before computing
         print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
@@ -292,7 +292,8 @@ def _run_study(args, overrides) -> int:
                 "missing runs")
 
     return _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
-                                            scheduler=args.scheduler, progress=line), kept, study_lines)
+                                            scheduler=args.scheduler, progress=line, time_limit=args.time_limit),
+                    kept, study_lines)
 
 
 def study_lines(result: Any) -> list:
@@ -323,6 +324,17 @@ def _default_arguments(parser):
 def _tol(args: argparse.Namespace) -> float | None:
     """``--tol`` of the default job (None: ``frequency_response``'s default, ``hbm.frf.DEFAULT_TOL``)."""
     return getattr(args, "tol", None)
+
+
+def _seconds(text: str) -> float:
+    """argparse's type of ``--time-limit``: a number of seconds > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds > 0, got --time-limit {text}")
+    return value
 
 
 def _relative(option: str, upper: float) -> Callable[[str], float]:
@@ -367,6 +379,9 @@ def _run_arguments(parser):
                         help="a study: run on the Dask scheduler at ADDRESS (tcp://host:8786)")
     parser.add_argument("--executor", default=None, choices=("processes", "serial", "dask"),
                         help="a study: where the runs go (default study.executor, else processes)")
+    parser.add_argument("--time-limit", type=_seconds, default=None, metavar="S",
+                        help="a study: seconds each run may take; a run over it fails naming the limit (default "
+                             "study.time_limit, else none)")
 
 
 def _new(args) -> int:
@@ -423,8 +438,8 @@ COMMANDS = {"default": ("run the built-in default case (the same as no subcomman
                         "[--model M] [--tol X]",
                         _default, _default_arguments),
             "run": ("run a scene file: run SCENE.toml [--out DIR] [--set TABLE.KEY=VALUE] [--rtol X] [--quiet] "
-                    "[--check] [--workers N] [--scheduler ADDRESS] [--executor NAME] (the last three for a "
-                    "scene with [study])", _run, _run_arguments),
+                    "[--check] [--workers N] [--scheduler ADDRESS] [--executor NAME] [--time-limit S] (the last "
+                    "four for a scene with [study])", _run, _run_arguments),
             "new": ("write an annotated template scene that runs as written: new SCENE.toml [--force]", _new,
                     _new_arguments),
             "models": ("list the damper models a scene can name", _models),
