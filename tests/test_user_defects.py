@@ -677,3 +677,45 @@ def test_a_scene_on_a_full_disk_exits_1_and_leaves_no_tmp_file(tmp_path, capsys,
     err = capsys.readouterr().err
     assert "error: cannot write the outputs: [Errno 28] No space left on device" in err
     assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+def _nan_above(w_bad):
+    """A Jenkins element written by a user that turns non-finite above ``w_bad`` (rad/s)."""
+    from contact_models.base import ContactElement
+
+    class Fragile(ContactElement):
+        has_time_law = True
+
+        def __init__(self):
+            self.jen = Macroslip(1.0, 0.02)
+
+        def __repr__(self):
+            return f"Fragile(w_bad={w_bad})"
+
+        def _fourier_derivatives(self, a, w, rtol):
+            out = self.jen.fourier_derivatives_unchecked(a, w, rtol)
+            return tuple(np.where(w > w_bad, np.nan, v) for v in out)
+
+        def _periodic_force(self, x, w):
+            f, J = self.jen.periodic_force(x, w)
+            return (f * np.nan if w > w_bad else f), J
+
+        def _stuck_stiffness(self, w):
+            return 1.0
+
+        def _slip_amplitude(self, w):
+            return 0.02
+
+        def _hysteresis(self, a, w, n):
+            return self.jen.hysteresis(a, w, n=n)
+
+    return Fragile()
+
+
+@pytest.mark.parametrize("options", [{"harmonics": 1}, {"tol": 1e-3}])
+def test_an_element_non_finite_mid_curve_ends_the_branch_keeping_the_points_before(options):
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    frf = frequency_response(s, [Contact(_nan_above(1.0), dof=0)], omega_range=(0.6, 1.8), **options)
+    assert not frf.success and len(frf) > 10
+    assert frf.omega.max() <= 1.0 and np.all(np.isfinite(frf.amplitude))
+    assert "element=Fragile(w_bad=1.0): Fragile._periodic_force(x, omega) returned f = nan (not finite)" in frf.message
