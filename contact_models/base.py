@@ -282,7 +282,13 @@ class ContactElement(ABC):
         omega = nonnegative("omega", omega)
         if int(n) != n or n < 5:
             raise ValueError(f"n must be an integer >= 5, got n={n!r}")
-        return self._hysteresis(a, omega, int(n))
+        out = self._hysteresis(a, omega, int(n))
+        name = f"element={self!r}: {type(self).__name__}._hysteresis(a, omega, n)"
+        if not isinstance(out, (tuple, list)) or len(out) != 2:
+            raise ValueError(f"{name} must return a pair (x, f), got {_kind(out)}")
+        x, f = (_real_array(v, f"{name}: {w}") for v, w in zip(out, ("x", "f")))
+        _finite([x, f], ("x", "f"), name, f"a={a!r} m, omega={omega!r} rad/s")
+        return x, f
 
     # ------------------------------------------------------------ time domain
     def periodic_force(self, x: ArrayLike, omega: float = 0.0) -> tuple[NDArray, NDArray]:

@@ -111,7 +111,8 @@ class PointContact(ContactElement):
 
         params = {"k_s": k_s, "beta_p": beta_p, "k_p": k_p, "slip_force": slip_force}
         k = derived("PointContact", params, constants, positive_names=("K1", "D", "F0", "a_y"))
-        self._cs, self._K1, self._K2, self._D, self._F0, self._a_y = (k[n] for n in ("1/k_s", "K1", "K2", "D", "F0", "a_y"))
+        self._cs, self._K1, self._K2 = k["1/k_s"], k["K1"], k["K2"]
+        self._D, self._F0, self._a_y = k["D"], k["F0"], k["a_y"]
 
     def __repr__(self) -> str:
         return (f"PointContact(k_s={self.k_s!r}, beta_p={self.beta_p!r}, k_p={self.k_p!r}, "

@@ -406,7 +406,7 @@ def test_frictionless_scene_checks_and_runs(tmp_path, capsys, key):
     assert (tmp_path / "frf.csv").exists()
 
 
-# ----------------------------------------------------------------------------- a user's element that breaks its contract
+# ------------------------------------------------------------------------- a user's element that breaks its contract
 class _Law:
     """A Jenkins element written by a user, spoilt in one way (``mode``)."""
 
@@ -525,7 +525,7 @@ def test_strings_are_refused_as_numbers_like_counts():
         Bar(E="2e11", rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
 
 
-# ----------------------------------------------------------------------------- files that would crash or exhaust the reader
+# ------------------------------------------------------------------------- files that would crash or exhaust the reader
 def test_truncated_npz_is_a_scene_error_naming_the_key(tmp_path):
     data = chain(tmp_path)
     np.savez(tmp_path / "Kz.npz", K=K)
@@ -719,3 +719,22 @@ def test_an_element_non_finite_mid_curve_ends_the_branch_keeping_the_points_befo
     assert not frf.success and len(frf) > 10
     assert frf.omega.max() <= 1.0 and np.all(np.isfinite(frf.amplitude))
     assert "element=Fragile(w_bad=1.0): Fragile._periodic_force(x, omega) returned f = nan (not finite)" in frf.message
+
+
+def test_a_bar_whose_slip_forces_leave_double_precision_is_refused_when_built():
+    from contact_models import Bar, TwoRegionMicroslip, UniformLoad
+
+    with pytest.raises(ValueError, match=r"^bar, load: the slip amplitudes and forces leave double precision "
+                                         r"\(a_min = 6e\+302 m"):
+        TwoRegionMicroslip(Bar(2e11, 7850.0, 1e-5, 0.05, 1e-300, 4e7, 0.3), UniformLoad(100.0))
+
+
+def test_a_non_finite_hysteresis_loop_is_named():
+    from contact_models.base import ElementOutputError
+
+    class Loop(type(_Law.make("plain", time_law=False))):
+        def _hysteresis(self, a, w, n):
+            return np.zeros(n), np.full(n, np.nan)
+
+    with pytest.raises(ElementOutputError, match=r"_hysteresis\(a, omega, n\) returned f = nan \(not finite\)"):
+        Loop().hysteresis(0.1)
