@@ -32,7 +32,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
-from .numerics.checks import count, nonnegative, nonnegative_array, positive
+from .numerics.checks import (ElementOutputError, count, fourier_checked, harmonics_checked, loop_checked,  # noqa: F401
+                              nonnegative, nonnegative_array, positive, scalar_checked, time_law_checked)
 from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
                               dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
                               to_harmonics, to_time, true_extremes)
@@ -149,8 +150,7 @@ class ContactElement(ABC):
         if one is None:
             a_b, w_b, shape = self._prepare(a, omega)
             rtol = positive("rtol", rtol)
-            hook = "_fourier" if type(self)._fourier is not ContactElement._fourier else "_fourier_derivatives"
-            fs, fc = self._returned(hook, self._fourier(a_b, w_b, rtol), 2, a_b.size, a_b, w_b)
+            fs, fc = fourier_checked(self, a_b, w_b, rtol, values=True)
             out = _shaped(fs, shape), _shaped(fc, shape)
         else:
             out = one[:2]
@@ -170,8 +170,7 @@ class ContactElement(ABC):
         if one is None:
             a_b, w_b, shape = self._prepare(a, omega)
             rtol = positive("rtol", rtol)
-            out = tuple(_shaped(v, shape) for v in self._returned(
-                "_fourier_derivatives", self._fourier_derivatives(a_b, w_b, rtol), 4, a_b.size, a_b, w_b))
+            out = tuple(_shaped(v, shape) for v in fourier_checked(self, a_b, w_b, rtol))
         else:
             out = one
         self._check_range(a, omega)
@@ -211,9 +210,8 @@ class ContactElement(ABC):
 
     def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)``, four flat arrays, on flat float64 arrays ``a``, ``omega`` of one
-        size: the solver's fast path (no validation of the input, no broadcasting: finite a, omega >= 0,
-        rtol > 0); what the element returns is checked (``ElementOutputError``, ``ValueError``)."""
-        return self._returned("_fourier_derivatives", self._fourier_derivatives(a, omega, rtol), 4, a.size, a, omega)
+        size: the solver's fast path (finite a, omega >= 0, rtol > 0; the element's outputs checked, not the input)."""
+        return fourier_checked(self, a, omega, rtol)
 
     def linear_amplitude(self, omega: float = 0.0) -> float:
         """Amplitude (m) up to which ``f_s + i f_c = (k_s + i k_c) a`` (see ``linear_coefficients``).
@@ -282,13 +280,7 @@ class ContactElement(ABC):
         omega = nonnegative("omega", omega)
         if int(n) != n or n < 5:
             raise ValueError(f"n must be an integer >= 5, got n={n!r}")
-        out = self._hysteresis(a, omega, int(n))
-        name = f"element={self!r}: {type(self).__name__}._hysteresis(a, omega, n)"
-        if not isinstance(out, (tuple, list)) or len(out) != 2:
-            raise ValueError(f"{name} must return a pair (x, f), got {_kind(out)}")
-        x, f = (_real_array(v, f"{name}: {w}") for v, w in zip(out, ("x", "f")))
-        _finite([x, f], ("x", "f"), name, f"a={a!r} m, omega={omega!r} rad/s")
-        return x, f
+        return loop_checked(self, self._hysteresis(a, omega, int(n)), a, omega)
 
     # ------------------------------------------------------------ time domain
     def periodic_force(self, x: ArrayLike, omega: float = 0.0) -> tuple[NDArray, NDArray]:
@@ -332,9 +324,7 @@ class ContactElement(ABC):
             raise ValueError(f"x must be a finite array of shape {rows + ('n_t',)} with n_t >= 2 samples, "
                              f"got x with shape {x.shape}")
         omega = nonnegative("omega", omega)
-        if self._is_masing():
-            return self._periodic_force(x, omega)
-        return self._time_law(x, omega)
+        return self._periodic_force(x, omega) if self._is_masing() else time_law_checked(self, x, omega)
 
     def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None,
                        rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:
@@ -395,7 +385,7 @@ class ContactElement(ABC):
         if n_t is None:
             n_t = default_samples(H)
         n_t = count("n_t", n_t, 2 * H + 2)
-        return self._harmonics_returned(self._harmonic_force(X, omega, n_t, rtol), X, omega)
+        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol), X, omega)
 
     def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL,
                                  even_block: bool = True) -> tuple[NDArray, NDArray, NDArray]:
@@ -404,32 +394,7 @@ class ContactElement(ABC):
         no even harmonics beyond rounding, an element with :attr:`even_block_optional` may leave the even-even block
         of dF/dX 0 (a balance in receptance form does not use it there: docs/multiharmonic.md, "Half-wave symmetry")."""
         kw = {} if even_block or not self.even_block_optional else {"even_block": False}  # only elements that take it
-        return self._harmonics_returned(self._harmonic_force(X, omega, n_t, rtol, **kw), X, omega)
-
-    def _harmonics_returned(self, out, X: NDArray, omega: float) -> tuple[NDArray, NDArray, NDArray]:
-        """``(F, dF/dX, dF/domega)`` of ``_harmonic_force`` checked: real arrays of X's size, X's size
-        squared and X's size, finite; else ``ValueError`` or ``ElementOutputError`` naming the element."""
-        n = X.size
-        if type(out) is tuple and len(out) == 3:
-            F, J, Fw = out
-            if (type(F) is np.ndarray and type(J) is np.ndarray and type(Fw) is np.ndarray
-                    and F.dtype == J.dtype == Fw.dtype == np.float64 and F.size == n == Fw.size and J.size == n * n
-                    and math.isfinite(float(np.sum(F)) + float(np.sum(J)) + float(np.sum(Fw)))):
-                return out
-        name = f"element={self!r}: {type(self).__name__}._harmonic_force(X, omega, n_t, rtol)"
-        names = ("F", "dF_dX", "dF_domega")
-        if not isinstance(out, (tuple, list)) or len(out) != 3:
-            raise ValueError(f"{name} must return (F, dF_dX, dF_domega), got {_kind(out)}")
-        checked = []
-        for what, v, size in zip(names, out, (n, n * n, n)):
-            v = _real_array(v, f"{name}: {what}")
-            if v.size != size:
-                want = f"({n}, {n})" if what == "dF_dX" else f"({n},)"
-                raise ValueError(f"{name} must return {what} of shape {want} for X of shape {X.shape}, got {what} "
-                                 f"of shape {v.shape}")
-            checked.append(v)
-        _finite(checked, names, name, f"omega={omega!r}, |X| = {float(np.linalg.norm(X)):.6g} m")
-        return tuple(checked)
+        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol, **kw), X, omega)
 
     # ------------------------------------------------------------------ hooks
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
@@ -475,53 +440,8 @@ class ContactElement(ABC):
         """``(f, d, idx, C)``: force samples and ``J = diag(d)`` plus the columns ``C`` at ``idx``."""
         if self._is_masing():
             return self._masing_tangent(x, omega, None)
-        f, J = self._time_law(x, omega)
+        f, J = time_law_checked(self, x, omega)
         return f, np.zeros_like(f), np.arange(f.size), J
-
-    def _time_law(self, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
-        """``_periodic_force(x, omega)`` checked: a pair ``(f, df/dx)`` of real arrays of shapes
-        (n_t,) and (n_t, n_t) (for ``components`` rows: (c, n_t) and (c n_t, c n_t)), finite."""
-        out = self._periodic_force(x, omega)
-        n = x.size
-        shapes = (x.shape, (n, n))
-        name = f"element={self!r}: {type(self).__name__}._periodic_force(x, omega)"
-        if not isinstance(out, (tuple, list)) or len(out) != 2:
-            raise ValueError(f"{name} must return a pair (f, df_dx), got {_kind(out)}")
-        checked = []
-        for what, v, shape in zip(("f", "df_dx"), out, shapes):
-            v = _real_array(v, f"{name}: {what}")
-            if v.shape != shape:
-                raise ValueError(f"{name} must return {what} of shape {shape} for x of shape {x.shape}, got "
-                                 f"{what} of shape {v.shape}")
-            checked.append(v)
-        _finite(checked, ("f", "df_dx"), name, f"omega={omega!r}, x of shape {x.shape} in "
-                f"[{float(np.min(x)):.6g}, {float(np.max(x)):.6g}]")
-        return checked[0], checked[1]
-
-    def _returned(self, hook: str, out, count: int, n: int, a: NDArray, omega: NDArray) -> list:
-        """The ``count`` outputs of ``hook`` checked: real arrays of ``n`` values (or scalars when
-        ``n == 1``), finite; else ``ValueError`` (type, shape) or ``ElementOutputError`` (a non-finite
-        value), naming the element, the hook, the output and where."""
-        if type(out) is tuple and len(out) == count:  # the common case, at the solver's rate
-            if all(type(v) is np.ndarray and v.dtype == np.float64 and v.size == n for v in out):
-                if math.isfinite(sum(float(np.sum(v)) for v in out)) or n == 0:
-                    return list(out)
-            elif n == 1 and all(type(v) in _FLOAT_TYPES for v in out) and math.isfinite(sum(out)):
-                return [np.array([v]) for v in out]
-        name = f"element={self!r}: {type(self).__name__}.{hook}(a, omega, rtol)"
-        names = ("f_s", "f_c", "df_s/da", "df_c/da")[:count]
-        if not isinstance(out, (tuple, list)) or len(out) != count:
-            raise ValueError(f"{name} must return {count} arrays ({', '.join(names)}), got {_kind(out)}")
-        checked = []
-        for what, v in zip(names, out):
-            v = _real_array(v, f"{name}: {what}")
-            if v.size != n or (v.ndim > 1 and v.shape != a.shape):
-                raise ValueError(f"{name} must return {what} with one value per amplitude ({n}), got {what} of "
-                                 f"shape {v.shape}")
-            checked.append(v.reshape(n))
-        finite_at = lambda i: f"a={float(a.flat[i]):.6g} m, omega={float(omega.flat[i]):.6g} rad/s"  # noqa: E731
-        _finite(checked, names, name, None, finite_at)
-        return checked
 
     def _masing_tangent(self, x: NDArray, omega: float, extremes):
         loading = self.loading_curve
@@ -564,15 +484,9 @@ class ContactElement(ABC):
         checks of ``_prepare`` and ``positive`` (for floats: finite and >= 0; rtol > 0).  None for an
         element without that path and for anything else: the general path validates and raises."""
         one = self._derivatives_one
-        if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES
-                and type(rtol) in _FLOAT_TYPES
+        if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES and type(rtol) in _FLOAT_TYPES
                 and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
-            out = one(float(a), float(omega), float(rtol))
-            if not math.isfinite(sum(out)):  # named as the array path names it
-                arr = np.array([a], dtype=float)
-                self._returned("_derivatives_one", tuple(np.array([v], dtype=float) for v in out), 4, 1, arr,
-                               np.array([omega], dtype=float))
-            return tuple(map(np.float64, out))
+            return tuple(map(np.float64, scalar_checked(self, one(float(a), float(omega), float(rtol)), a, omega)))
         return None
 
     #: Optional hook ``_derivatives_one(a, omega, rtol)``: ``(f_s, f_c, df_s/da, df_c/da)`` in Python
@@ -609,8 +523,7 @@ class ContactElement(ABC):
         Elements with analytic derivatives implement only ``_fourier_derivatives``; the values
         are its first two outputs.  Elements without implement this instead.
         """
-        out = self._fourier_derivatives(a, omega, rtol)
-        return out[:2] if isinstance(out, (tuple, list)) else out  # anything else: refused by name (fourier)
+        return self._fourier_derivatives(a, omega, rtol)[:2]
 
     @abstractmethod
     def _stuck_stiffness(self, omega: float) -> float: ...
@@ -680,46 +593,6 @@ def _missing_time_law(cls: type) -> list[str]:
     if cls._loading_slope is ContactElement._loading_slope:
         missing.append("_loading_slope")
     return missing
-
-
-class ElementOutputError(FloatingPointError):
-    """A contact element returned a non-finite value (NaN or inf); the message names the element,
-    the hook, the output and where.  A ``FloatingPointError``: the continuation takes it as a failed
-    step, keeping the branch computed before it."""
-
-
-def _kind(v) -> str:
-    """What ``v`` is, for a message: its type, and its length or shape."""
-    if isinstance(v, np.ndarray):
-        return f"an array of shape {v.shape}"
-    if isinstance(v, (tuple, list)):
-        return f"a {type(v).__name__} of {len(v)}"
-    return f"{type(v).__name__} {v!r}"[:200]
-
-
-def _real_array(v, name: str) -> np.ndarray:
-    """``v`` as a float64 array; ``ValueError`` naming it for a complex, a non-numeric or a ragged value."""
-    if v is None or isinstance(v, (str, bytes)):
-        raise ValueError(f"{name} must be a real array, got {_kind(v)}")
-    try:
-        arr = np.asarray(v)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real array, got {_kind(v)}") from None
-    if np.iscomplexobj(arr):
-        raise ValueError(f"{name} must be real, got a complex array (max|Im| = {float(np.max(np.abs(arr.imag))):.3g})")
-    if arr.dtype.kind not in "fiu":
-        raise ValueError(f"{name} must be a real array, got {_kind(v)} of dtype {arr.dtype}")
-    return arr.astype(float, copy=False)
-
-
-def _finite(arrays, names, name: str, where: str | None, where_at=None) -> None:
-    """Raise ``ElementOutputError`` at the first non-finite value of ``arrays``."""
-    for what, v in zip(names, arrays):
-        bad = ~np.isfinite(v)
-        if np.any(bad):
-            i = int(np.flatnonzero(bad.ravel())[0])
-            at = where if where_at is None else where_at(i % max(1, v.size if v.ndim <= 1 else v.shape[0]))
-            raise ElementOutputError(f"{name} returned {what} = {float(v.ravel()[i])!r} (not finite) at {at}")
 
 
 def _shaped(v, shape):

@@ -497,7 +497,7 @@ def test_a_nan_jacobian_is_named_as_not_finite_and_the_curve_fails_without_an_ex
 @pytest.mark.parametrize("mode, message", [
     ("complex", r"f_s must be real, got a complex array \(max\|Im\| = 1\)"),
     ("long", r"must return f_s with one value per amplitude \(2\), got f_s of shape \(4,\)"),
-    ("none", r"must return 2 arrays \(f_s, f_c\), got NoneType None")])
+    ("none", r"must return 4 arrays \(f_s, f_c, df_s/da, df_c/da\), got NoneType None")])
 def test_fourier_outputs_that_are_complex_too_long_or_none_are_refused_naming_the_element(mode, message):
     el = _Law.make(mode, time_law=False)
     with pytest.raises(ValueError, match=rf"^element=Law\('{mode}'\): Law._fourier_derivatives\(a, omega, rtol\)"

@@ -203,6 +203,34 @@ def boolean(v: Any) -> bool:
     return v
 
 
+#: The deepest nesting of tables and arrays a scene may have (its own deepest is 4, [damper.load] in a list).
+MAX_NESTING = 16
+#: What a scene nested past the TOML reader's recursion is told.
+TOO_DEEP = f"its arrays or tables nest too deeply for the TOML reader; a scene nests at most {MAX_NESTING} levels"
+
+
+def nesting(value: Any) -> int:
+    """The depth of nested dicts and lists in ``value`` (0 for a scalar), counted without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        v, depth = stack.pop()
+        if isinstance(v, dict):
+            v = list(v.values())
+        if isinstance(v, list):
+            depth += 1
+            deepest = max(deepest, depth)
+            stack.extend((item, depth) for item in v if isinstance(item, (dict, list)))
+    return deepest
+
+
+def refuse_nesting(value: Any, where: str) -> None:
+    """:class:`SceneError` (``where``: the file or option) when ``value`` nests past ``MAX_NESTING``."""
+    deepest = nesting(value)
+    if deepest > MAX_NESTING:
+        raise SceneError([f"{where}: its arrays or tables nest {deepest} levels deep; a scene nests at most "
+                          f"{MAX_NESTING} levels"])
+
+
 def inner_folder(v: Any) -> str:
     """Check of an output folder: a relative path inside the scene's folder (no absolute path, no
     ``..``, not empty), or :class:`Invalid`; the command line's ``--out`` writes anywhere.

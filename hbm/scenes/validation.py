@@ -17,7 +17,7 @@ from typing import Any, Mapping
 
 from ..balance import presets
 from ..frf import DEFAULT_TOL
-from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
+from .checks import TOO_DEEP, Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, refuse_nesting, show
 from .contacts import check_entries
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
@@ -137,8 +137,7 @@ def read_toml(path: str | Path) -> dict:
         with path.open("rb") as fh:
             data = tomllib.load(fh)
     except RecursionError:
-        raise SceneError([f"{path}: not valid as a scene: its arrays or tables nest too deeply for the TOML "
-                          f"reader; a scene nests at most {MAX_NESTING} levels"]) from None
+        raise SceneError([f"{path}: not valid as a scene: {TOO_DEEP}"]) from None
     except FileNotFoundError:
         raise SceneError([f"{path}: no such file"]) from None
     except tomllib.TOMLDecodeError as exc:
@@ -148,29 +147,8 @@ def read_toml(path: str | Path) -> dict:
                           f"at offset {exc.start}); a scene is a UTF-8 text file"]) from None
     except OSError as exc:
         raise SceneError([f"{path}: cannot be read: {exc.strerror or exc}"]) from None
-    deepest = nesting(data)
-    if deepest > MAX_NESTING:
-        raise SceneError([f"{path}: not valid as a scene: its arrays or tables nest {deepest} levels deep; a scene "
-                          f"nests at most {MAX_NESTING} levels"])
+    refuse_nesting(data, f"{path}: not valid as a scene")
     return data
-
-
-#: The deepest nesting of tables and arrays a scene may have (its own deepest is 4, [damper.load] in a list).
-MAX_NESTING = 16
-
-
-def nesting(value: Any) -> int:
-    """The depth of nested dicts and lists in ``value`` (0 for a scalar), counted without recursion."""
-    deepest, stack = 0, [(value, 0)]
-    while stack:
-        v, depth = stack.pop()
-        if isinstance(v, dict):
-            v = list(v.values())
-        if isinstance(v, list):
-            depth += 1
-            deepest = max(deepest, depth)
-            stack.extend((item, depth) for item in v if isinstance(item, (dict, list)))
-    return deepest
 
 
 def parse_override(text: str) -> tuple[str, Any]:
@@ -208,9 +186,8 @@ def parse_override(text: str) -> tuple[str, Any]:
     except tomllib.TOMLDecodeError:
         value = raw.strip()
     except RecursionError:
-        value = None
-    if value is None or nesting(value) > MAX_NESTING:
-        raise SceneError([f"--set {name}: the value nests too deeply; a scene nests at most {MAX_NESTING} levels"])
+        raise SceneError([f"--set {name}: {TOO_DEEP}"]) from None
+    refuse_nesting(value, f"--set {name}")
     return name, value
 
 

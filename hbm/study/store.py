@@ -349,6 +349,35 @@ def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_f
                 folder.rmdir()  # only if empty
 
 
+def _reusable(study: Any, ids: list, old: dict, retry_failed: bool) -> tuple[list, int]:
+    """``(records, unusable)``: the record of each run found in ``old`` that may be reused (None
+    elsewhere), and how many found were unusable (:func:`usable`: computed again, counted as damaged)."""
+    records: list = [None] * len(ids)
+    unusable = 0
+    for i, rid in enumerate(ids):
+        rec = old.get(rid)
+        if rec is not None and not usable(rec, study.points[i]):
+            unusable += 1  # wrong types, a non-finite peak, another point's record
+            rec = None
+        if rec is not None and (rec["success"] or not retry_failed):
+            records[i] = {**rec, "run": i + 1, "params": study.points[i]}
+    return records, unusable
+
+
+def _write_table(path: Path, records: list, params: tuple) -> Path:
+    """The whole table at ``path``, written beside it and renamed onto it; on a failure (a full
+    disk) no half table is left behind."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with CsvStream(tmp, columns(params)) as csv_out:
+            for r in records:
+                csv_out.write(csv_row(r, params))
+        return tmp.replace(path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
 def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_failed: bool,
                 progress: Callable[[StudyProgress], None] | None, describe: dict, started: list) -> StudyResult:
     t_start = time.perf_counter()
@@ -356,15 +385,8 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     params = study.parameters
     log_path = folder / FILES["records"]
     old, damaged = scan_records(log_path)
-    records: list = [None] * len(ids)
-    for i, rid in enumerate(ids):
-        rec = old.get(rid)
-        if rec is not None and not usable(rec, study.points[i]):
-            damaged += 1  # wrong types, a non-finite peak, another point's record: computed again
-            del old[rid]
-            rec = None
-        if rec is not None and (rec["success"] or not retry_failed):
-            records[i] = {**rec, "run": i + 1, "params": study.points[i]}
+    records, unusable = _reusable(study, ids, old, retry_failed)
+    damaged += unusable
     reused = sum(r is not None for r in records)
     counts = {"points": reused, "failed": sum(not r["success"] for r in records if r is not None)}
     out: dict = {}  # "log", "stream": open once the executor is up
@@ -414,15 +436,7 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     if stream is not None:
         result.files["csv"] = folder / FILES["partial"]
         if result.complete:
-            tmp = folder / (FILES["csv"] + ".tmp")
-            try:
-                with CsvStream(tmp, columns(params)) as csv_out:
-                    for r in records:
-                        csv_out.write(csv_row(r, params))
-                result.files["csv"] = tmp.replace(folder / FILES["csv"])
-            except BaseException:  # a full disk: no half table left behind
-                tmp.unlink(missing_ok=True)
-                raise
+            result.files["csv"] = _write_table(folder / FILES["csv"], records, params)
             (folder / FILES["partial"]).unlink()
     result.files["records"] = log_path
     if "png" in formats and any(r is not None and r["success"] for r in records):
