@@ -32,7 +32,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
-from .numerics.checks import count, nonnegative, nonnegative_array, positive
+from .numerics.checks import (ElementOutputError, count, fourier_checked, harmonics_checked, loop_checked,  # noqa: F401
+                              nonnegative, nonnegative_array, positive, scalar_checked, time_law_checked)
 from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
                               dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
                               to_harmonics, to_time, true_extremes)
@@ -152,7 +153,7 @@ class ContactElement(ABC):
         if one is None:
             a_b, w_b, shape = self._prepare(a, omega)
             rtol = positive("rtol", rtol)
-            fs, fc = self._fourier(a_b, w_b, rtol)
+            fs, fc = fourier_checked(self, a_b, w_b, rtol, values=True)
             out = _shaped(fs, shape), _shaped(fc, shape)
         else:
             out = one[:2]
@@ -172,7 +173,7 @@ class ContactElement(ABC):
         if one is None:
             a_b, w_b, shape = self._prepare(a, omega)
             rtol = positive("rtol", rtol)
-            out = tuple(_shaped(v, shape) for v in self._fourier_derivatives(a_b, w_b, rtol))
+            out = tuple(_shaped(v, shape) for v in fourier_checked(self, a_b, w_b, rtol))
         else:
             out = one
         self._check_range(a, omega)
@@ -212,8 +213,8 @@ class ContactElement(ABC):
 
     def fourier_derivatives_unchecked(self, a: NDArray, omega: NDArray, rtol: float) -> tuple[NDArray, ...]:
         """``(f_s, f_c, df_s/da, df_c/da)``, four flat arrays, on flat float64 arrays ``a``, ``omega`` of one
-        size: the solver's fast path (no validation, no broadcasting: finite a, omega >= 0, rtol > 0)."""
-        return self._fourier_derivatives(a, omega, rtol)
+        size: the solver's fast path (finite a, omega >= 0, rtol > 0; the element's outputs checked, not the input)."""
+        return fourier_checked(self, a, omega, rtol)
 
     def linear_amplitude(self, omega: float = 0.0) -> float:
         """Amplitude (m) up to which ``f_s + i f_c = (k_s + i k_c) a`` (see ``linear_coefficients``).
@@ -282,7 +283,7 @@ class ContactElement(ABC):
         omega = nonnegative("omega", omega)
         if int(n) != n or n < 5:
             raise ValueError(f"n must be an integer >= 5, got n={n!r}")
-        return self._hysteresis(a, omega, int(n))
+        return loop_checked(self, self._hysteresis(a, omega, int(n)), a, omega)
 
     # ------------------------------------------------------------ time domain
     def periodic_force(self, x: ArrayLike, omega: float = 0.0) -> tuple[NDArray, NDArray]:
@@ -326,7 +327,7 @@ class ContactElement(ABC):
             raise ValueError(f"x must be a finite array of shape {rows + ('n_t',)} with n_t >= 2 samples, "
                              f"got x with shape {x.shape}")
         omega = nonnegative("omega", omega)
-        return self._periodic_force(x, omega)
+        return self._periodic_force(x, omega) if self._is_masing() else time_law_checked(self, x, omega)
 
     def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None,
                        rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:
@@ -387,7 +388,7 @@ class ContactElement(ABC):
         if n_t is None:
             n_t = default_samples(H)
         n_t = count("n_t", n_t, 2 * H + 2)
-        return self._harmonic_force(X, omega, n_t, rtol)
+        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol), X, omega)
 
     def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL,
                                  even_block: bool = True) -> tuple[NDArray, NDArray, NDArray]:
@@ -396,7 +397,7 @@ class ContactElement(ABC):
         no even harmonics beyond rounding, an element with :attr:`even_block_optional` may leave the even-even block
         of dF/dX 0 (a balance in receptance form does not use it there: docs/multiharmonic.md, "Half-wave symmetry")."""
         kw = {} if even_block or not self.even_block_optional else {"even_block": False}  # only elements that take it
-        return self._harmonic_force(X, omega, n_t, rtol, **kw)
+        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol, **kw), X, omega)
 
     # ------------------------------------------------------------------ hooks
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
@@ -442,7 +443,7 @@ class ContactElement(ABC):
         """``(f, d, idx, C)``: force samples and ``J = diag(d)`` plus the columns ``C`` at ``idx``."""
         if self._is_masing():
             return self._masing_tangent(x, omega, None)
-        f, J = self._periodic_force(x, omega)
+        f, J = time_law_checked(self, x, omega)
         return f, np.zeros_like(f), np.arange(f.size), J
 
     def _masing_tangent(self, x: NDArray, omega: float, extremes):
@@ -486,10 +487,9 @@ class ContactElement(ABC):
         checks of ``_prepare`` and ``positive`` (for floats: finite and >= 0; rtol > 0).  None for an
         element without that path and for anything else: the general path validates and raises."""
         one = self._derivatives_one
-        if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES
-                and type(rtol) in _FLOAT_TYPES
+        if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES and type(rtol) in _FLOAT_TYPES
                 and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
-            return tuple(map(np.float64, one(float(a), float(omega), float(rtol))))
+            return tuple(map(np.float64, scalar_checked(self, one(float(a), float(omega), float(rtol)), a, omega)))
         return None
 
     #: Optional hook ``_derivatives_one(a, omega, rtol)``: ``(f_s, f_c, df_s/da, df_c/da)`` in Python

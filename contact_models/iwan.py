@@ -61,7 +61,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.checks import finite, nonnegative, positive
+from .numerics.checks import derived, finite, nonnegative, positive
 from .base import ContactElement, masing_loop
 
 
@@ -135,9 +135,16 @@ class Iwan(ContactElement):
         if not math.isfinite(self.beta):
             raise ValueError(f"beta must be finite, got beta={beta!r}")
         c = (chi + 1.0) / (chi + 2.0)
-        self.phi_max = self.slip_force * (1.0 + self.beta) / (self.stiffness * (self.beta + c))
-        self.R = self.slip_force * (chi + 1.0) / (self.phi_max ** (chi + 2.0) * (self.beta + c))
-        self.S = self.slip_force * self.beta / (self.phi_max * (self.beta + c))
+
+        def constants():
+            phi_max = self.slip_force * (1.0 + self.beta) / (self.stiffness * (self.beta + c))
+            R = self.slip_force * (chi + 1.0) / (phi_max ** (chi + 2.0) * (self.beta + c))
+            return {"phi_max": phi_max, "R": R, "S": self.slip_force * self.beta / (phi_max * (self.beta + c)),
+                    "R phi_max**(chi+1)": R * phi_max ** (chi + 1.0)}
+
+        params = {"slip_force": slip_force, "stiffness": stiffness, "chi": chi, "beta": beta}
+        k = derived("Iwan", params, constants, positive_names=("phi_max", "R", "R phi_max**(chi+1)"))
+        self.phi_max, self.R, self.S = k["phi_max"], k["R"], k["S"]
 
     def __repr__(self) -> str:
         return (f"Iwan(slip_force={self.slip_force!r}, stiffness={self.stiffness!r}, chi={self.chi!r}, "

@@ -63,10 +63,16 @@ class _MicroslipBar(ContactElement):
         self._onsets: dict = {}
         self._check_topology()
         try:  # the static path (cached for later): a bar and load it cannot follow are refused here
-            self._path(0.0)
+            a_min, _, a_g, F_g, K_slip, K = self._path(0.0)
         except FloatingPointError as exc:
             raise ValueError(f"bar, load: {exc} (bar={bar!r}, lambda L={bar.lam * bar.L:.4g}, "
                              f"load={self.load!r})") from None
+        with np.errstate(over="ignore", invalid="ignore"):
+            span = (a_min, a_g, F_g, K * a_g, K_slip * a_g)
+        if not all(math.isfinite(v) for v in span):  # k of 1e-300, a load of 1e300: past double precision
+            raise ValueError(f"bar, load: the slip amplitudes and forces leave double precision (a_min = "
+                             f"{a_min:.4g} m, gross slip at {a_g:.4g} m, k* a_gross = {K * a_g:.4g} N); mu q/k and "
+                             f"k* mu q/k must stay well below 1e308 (bar={bar!r}, load={self.load!r})")
 
     def _check_topology(self) -> None:
         """Refuse a load whose stick-slip topology the element does not describe (default: none)."""

@@ -170,7 +170,9 @@ class _Slice:
         self.rows = table.tolist()  # [w][ratio] of log10 e, NaN where refused
         self.omega_c = bar.omega_c
         self.a_static = element.slip_amplitude(0.0)
-        self.omega_1 = self.omega_c * self._first_crossing(math.log10(TOLERANCE))
+        # no friction (mu N = 0): a linear spring the single-mode solution gives exactly, at any omega
+        self.omega_1 = (math.inf if self.a_static == 0.0 else
+                        self.omega_c * self._first_crossing(math.log10(TOLERANCE)))
 
     def error(self, w: float, r: float, r_onset: float) -> float:
         """The map's error at omega/omega_c = w > 0 and a/a_min(0) = r > r_onset, the slip onset's
@@ -251,6 +253,8 @@ def single_mode_error(element: Any, a: ArrayLike, omega: ArrayLike, component: s
     a_b, w_b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(omega, dtype=float))
     out = np.zeros(a_b.shape)
     s = _slice(element, component)
+    if s.a_static == 0.0:  # no friction (mu N = 0): the bar slides freely, a linear spring; exact
+        return out
     for w in np.unique(w_b):
         a_lin = element.linear_amplitude(float(w))
         sel = (w_b == w) & (a_b > a_lin)
@@ -308,6 +312,8 @@ def check_single_mode(element: Any, a: ArrayLike, omega: ArrayLike, *, stackleve
     the slip onset comes from the element's cache, the snap from its cached loading path).
     """
     s = _slice(element)
+    if s.a_static == 0.0:  # no friction (mu N = 0): the bar slides freely, a linear spring; exact
+        return
     if np.ndim(a) == 0 and np.ndim(omega) == 0:  # the common scalar call: no arrays
         items = [(float(omega), float(a), None)]
     else:

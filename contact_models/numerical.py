@@ -102,6 +102,9 @@ MAX_CYCLES_DYNAMIC = 30
 RHO_INF = 0.9
 #: Default cycles over which a dynamic run raises the amplitude from 0 to a.
 RAMP_CYCLES = 2
+#: The most cells the bar takes: a cycle's cost grows with cells times steps and its memory with
+#: cells (10**9 cells grew by 400 MB/s until killed); raise it here to go further.
+MAX_CELLS = 10_000
 #: Shooting skips its Newton step when the one-cycle map moves the state by less than this
 #: fraction of steady_tol (scaled, see ``_run_dynamic``).
 SHOOT_SKIP = 1e-2
@@ -298,8 +301,10 @@ class NumericalMicroslip(ContactElement):
                  ramp_cycles: float = RAMP_CYCLES, shooting: bool = True, rho_inf: float = RHO_INF) -> None:
         if not isinstance(bar, Bar):
             raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
-        if isinstance(cells, bool) or int(cells) != cells or cells < 2:
-            raise ValueError(f"cells must be an integer >= 2, got cells={cells!r}")
+        if (isinstance(cells, (bool, str, bytes)) or not isinstance(cells, (int, float, np.integer, np.floating))
+                or not math.isfinite(cells) or int(cells) != cells or not 2 <= cells <= MAX_CELLS):
+            raise ValueError(f"cells must be an integer in 2..{MAX_CELLS}, got cells={cells!r} (the bound is "
+                             "contact_models.numerical.MAX_CELLS: raise it to go further)")
         if steps_per_cycle is not None and (isinstance(steps_per_cycle, bool) or int(steps_per_cycle) != steps_per_cycle
                                             or steps_per_cycle < 8 or steps_per_cycle % 4):
             raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")

@@ -34,7 +34,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.checks import finite, nonnegative, positive
+from .numerics.checks import derived, finite, nonnegative, positive
 from .base import ContactElement, masing_loop
 from .macroslip import _history, _is_inf, jenkins_fourier
 
@@ -98,16 +98,21 @@ class PointContact(ContactElement):
         self.beta_p = nonnegative("beta_p", beta_p)
         self.k_p = positive("k_p", k_p)
         self.slip_force = positive("slip_force", slip_force)
-        cs = 1.0 / self.k_s  # compliance of k_s (0 when rigid)
         bp, kp = self.beta_p, self.k_p
-        self._cs = cs
-        self._K1 = (bp + kp) / (1.0 + cs * (bp + kp))
-        self._K2 = bp / (1.0 + cs * bp)
-        # K1 - K2 = k_s^2 k_p / ((k_s + beta_p + k_p)(k_s + beta_p)), without cancellation
-        self._D = kp / ((1.0 + cs * (bp + kp)) * (1.0 + cs * bp))
-        # slider force seen at the input: F0 = slip_force k_s/(k_s + beta_p)
-        self._F0 = self.slip_force / (1.0 + cs * bp)
-        self._a_y = self._F0 / self._D
+
+        def constants():
+            cs = 1.0 / self.k_s  # compliance of k_s (0 when rigid)
+            # K1 - K2 = k_s^2 k_p / ((k_s + beta_p + k_p)(k_s + beta_p)), without cancellation
+            D = kp / ((1.0 + cs * (bp + kp)) * (1.0 + cs * bp))
+            # slider force seen at the input: F0 = slip_force k_s/(k_s + beta_p)
+            F0 = self.slip_force / (1.0 + cs * bp)
+            return {"1/k_s": cs, "K1": (bp + kp) / (1.0 + cs * (bp + kp)), "K2": bp / (1.0 + cs * bp), "D": D,
+                    "F0": F0, "a_y": F0 / D}
+
+        params = {"k_s": k_s, "beta_p": beta_p, "k_p": k_p, "slip_force": slip_force}
+        k = derived("PointContact", params, constants, positive_names=("K1", "D", "F0", "a_y"))
+        self._cs, self._K1, self._K2 = k["1/k_s"], k["K1"], k["K2"]
+        self._D, self._F0, self._a_y = k["D"], k["F0"], k["a_y"]
 
     def __repr__(self) -> str:
         return (f"PointContact(k_s={self.k_s!r}, beta_p={self.beta_p!r}, k_p={self.k_p!r}, "
@@ -167,6 +172,12 @@ class PointContact(ContactElement):
         (40000000, 46.3525)
         """
         omega = nonnegative("omega", omega)
+        missing = [m for m in ("stuck_stiffness", "slip_stiffness", "gross_slip_amplitude")
+                   if not callable(getattr(element, m, None))]
+        if missing:
+            raise ValueError(f"element must have stuck_stiffness, slip_stiffness and gross_slip_amplitude (a "
+                             f"microslip element: TwoRegionMicroslip, ThreeRegionMicroslip), got element={element!r} "
+                             f"without {', '.join(missing)}")
         K1 = float(element.stuck_stiffness(omega))
         K2 = float(element.slip_stiffness(omega))
         a_g = float(element.gross_slip_amplitude(omega))

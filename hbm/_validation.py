@@ -1,9 +1,36 @@
 """Input checks shared by ``hbm``: the library's one set (each failure a ValueError naming the
 parameter and its value), re-exported so ``hbm`` modules import them from one place."""
 
-from contact_models.numerics.checks import count, finite, nonnegative, positive
+from contact_models.numerics.checks import count as _count, finite, nonnegative, positive
 
 number = finite
+
+#: The smallest relative tolerance (``tol``, ``rtol``) the command line and scenes take: below it
+#: double precision cannot meet the balance's Newton tolerance and no point converges.
+MIN_RELATIVE_TOL = 1e-10
+
+
+class InputError(ValueError):
+    """Bad input, refused before anything is computed (the command line's exit code 2); a
+    ``ValueError``.  ``hbm.scenes.SceneError`` is one."""
+
+
+def count(name: str, value: object, minimum: int = 1, maximum: int | None = None, bound: str = "") -> int:
+    """``value`` as an int >= ``minimum`` (``contact_models.numerics.checks.count``) and, with ``maximum``,
+    <= it: the error then says the range and the constant ``bound`` that sets it, to raise it."""
+    v = _count(name, value, minimum)
+    if maximum is not None and v > maximum:
+        raise ValueError(f"{name} must be an integer in {minimum}..{maximum}, got {name}={value!r} (the bound is "
+                         f"{bound}: raise it to go further)")
+    return v
+
+
+def relative_tolerance(name: str, value: object, upper: float) -> float:
+    """``value`` as a float in (0, ``upper``): a relative tolerance, named in the ValueError."""
+    v = positive(name, value)
+    if v >= upper:
+        raise ValueError(f"{name} must be < {upper:g}, got {name}={value!r}")
+    return v
 
 
 def omega_range_pair(omega_range: object) -> tuple[float, float]:
@@ -20,4 +47,5 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     return w0, w1
 
-__all__ = ["count", "finite", "nonnegative", "number", "positive", "omega_range_pair"]
+__all__ = ["count", "finite", "nonnegative", "number", "positive", "omega_range_pair", "InputError",
+           "relative_tolerance", "MIN_RELATIVE_TOL"]

@@ -306,11 +306,35 @@ def grid(axes: Mapping[str, Sequence[Any]]) -> list[dict]:
         vals = list(vals) if isinstance(vals, (list, tuple, np.ndarray)) else [vals]
         if not vals:
             raise ValueError(f"grid: parameter {name!r} has no values, got {name}={vals!r}")
-        values.append([v.item() if isinstance(v, np.generic) else v for v in vals])
+        vals = [v.item() if isinstance(v, np.generic) else v for v in vals]
+        twice = repeated(vals)
+        if twice is not None:
+            raise ValueError(f"grid: parameter {name!r} must not repeat a value (one run per value), got "
+                             f"{name}={vals!r}: {twice[0]!r} and {twice[1]!r} are the same value")
+        values.append(vals)
     count = math.prod(len(v) for v in values)
     _too_many(count, "grid: " + " x ".join(f"{name} ({len(v)} values)" for name, v in zip(axes, values)),
               "study.grid")
     return Points(count, _Grid(list(axes), values))
+
+
+def repeated(values: Sequence[Any]) -> tuple | None:
+    """The first two of ``values`` that are equal (``10`` and ``10.0`` are; ``1`` and ``True`` are not),
+    or None: a grid computing one point twice, under one id or two."""
+    seen: dict = {}
+    unhashable: list = []
+    for v in values:
+        key = (type(v) is bool, v)
+        try:
+            if key in seen:
+                return seen[key], v
+            seen[key] = v
+        except TypeError:  # a list or a table: compared one by one
+            for u in unhashable:
+                if u == v:
+                    return u, v
+            unhashable.append(v)
+    return None
 
 
 def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> list[dict]:

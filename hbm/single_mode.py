@@ -108,6 +108,8 @@ def forced_response(modes: NonlinearModes, *, force: Sequence[float] | None = No
     ValueError
         The mode does not reach the peak's amplitude (the forcing needs a larger amplitude_range).
     """
+    if not isinstance(modes, NonlinearModes):
+        raise ValueError(f"modes must be the result of hbm.nonlinear_modes (a NonlinearModes), got modes={modes!r}")
     bal = modes.balance
     f, dof = forcing(bal, force, response_dof)
     N = bal.n * bal.L

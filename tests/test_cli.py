@@ -66,3 +66,81 @@ def test_hz_sweep_unit_is_two_pi_rad_per_second():
     plan = plan_scene(scene_from_dict(data, "hz.toml"))
     assert plan.runs[0].omega == pytest.approx((2 * 3.141592653589793 * 5000.0, 2 * 3.141592653589793 * 6500.0),
                                                rel=1e-15)
+
+
+# ----------------------------------------------------------------------------- exit codes, no tracebacks
+def test_unreachable_tol_is_bad_input_exit_2_naming_the_option_and_its_range(capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(["default", "--tol", "1e-300"])
+    assert stop.value.code == 2
+    assert "argument --tol: must be a number in [1e-10, 1)" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as stop:
+        main(["--rtol", "0.5"])
+    assert stop.value.code == 2
+
+
+def test_a_failure_inside_the_computation_exits_1_not_2(tmp_path, capsys, monkeypatch):
+    import hbm.cli.main as cli
+
+    def broken(*args, **kwargs):
+        raise ValueError("the frequency response has no points")
+
+    monkeypatch.setattr(cli, "frequency_response", broken)
+    assert main(["--out", str(tmp_path)]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("error: the computation failed: the frequency response has no points")
+    assert len(err.strip().splitlines()) == 1 and "Traceback" not in err
+
+
+@pytest.mark.parametrize("signal_, code, word", [("KeyboardInterrupt", 130, "interrupted"),
+                                                 ("Terminated", 143, "terminated (SIGTERM)")])
+def test_a_signal_during_the_default_job_exits_130_or_143_with_one_kept_line(tmp_path, capsys, monkeypatch,
+                                                                             signal_, code, word):
+    import hbm.cli.main as cli
+
+    stop = KeyboardInterrupt if signal_ == "KeyboardInterrupt" else cli.Terminated
+
+    def interrupted(*args, **kwargs):
+        raise stop()
+
+    monkeypatch.setattr(cli, "refine_peak", interrupted)  # the curve is computed and written: it is kept
+    assert main(["--out", str(tmp_path)]) == code
+    err = capsys.readouterr().err.strip()
+    assert err == f"{word}: kept files: {(tmp_path / 'frf.csv').resolve()}"
+    assert (tmp_path / "frf.csv").exists()
+
+
+def test_default_job_output_places_that_cannot_take_the_files_exit_2_before_computing(tmp_path, capsys):
+    (tmp_path / "file").write_text("x")
+    assert main(["--out", str(tmp_path / "file")]) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err
+    (tmp_path / "out" / "frf.csv").mkdir(parents=True)
+    assert main(["--out", str(tmp_path / "out")]) == 2
+    assert "frf.csv is a folder where the output file frf.csv goes" in capsys.readouterr().err
+    assert not (tmp_path / "out" / "frf.png").exists()
+
+
+def test_run_refuses_an_output_folder_that_is_a_file(tmp_path, capsys):
+    (tmp_path / "file").write_text("x")
+    assert main(["run", str(DEFAULT), "--out", str(tmp_path / "file")]) == 2
+    assert "is a file, not a folder" in capsys.readouterr().err
+
+
+def test_new_into_a_missing_folder_or_onto_a_folder_exits_2_with_one_line(tmp_path, capsys):
+    assert main(["new", str(tmp_path / "missing" / "s.toml")]) == 2
+    err = capsys.readouterr().err
+    assert "does not exist; create it first" in err and len(err.strip().splitlines()) == 1
+    assert main(["new", str(tmp_path)]) == 2
+    assert "is a folder; new writes a scene file" in capsys.readouterr().err
+
+
+def test_listing_into_a_closed_pipe_or_a_full_device_prints_no_traceback():
+    proc = subprocess.run(f"{sys.executable} -m hbm keys | head -1", shell=True, capture_output=True, text=True,
+                          timeout=60, cwd=ROOT)
+    assert proc.stdout.strip() == "(top level)" and proc.stderr == ""
+    if Path("/dev/full").exists():
+        with open("/dev/full", "w") as full:
+            proc = subprocess.run([sys.executable, "-m", "hbm", "keys"], stdout=full, stderr=subprocess.PIPE,
+                                  text=True, timeout=60, cwd=ROOT)
+        assert proc.returncode == 1
+        assert proc.stderr.strip() == "error: cannot write: [Errno 28] No space left on device"

@@ -47,7 +47,7 @@ CASES = [
     ("quadratic without ratio", UNIFORM, 'kind = "quadratic"\nN = 100.0', ["damper.load.ratio is missing"]),
     # values out of range, or conflicting
     ("negative mass", "mass = 0.0877", "mass = -0.0877", ["blade.mass = -0.0877", "> 0"]),
-    ("zero load", "N = 100.0", "N = 0.0", ["damper.load.N = 0.0", "> 0"]),
+    ("negative load", "N = 100.0", "N = -1.0", ["damper.load.N = -1.0", ">= 0"]),
     ("tolerance too large", "tolerance = 1e-6", "tolerance = 0.5", ["sweep.tolerance = 0.5", "< 0.1"]),
     ("empty range", "omega = [0.24, 0.33]", "omega = [0.3, 0.3]", ["sweep.omega = [0.3, 0.3]", "different"]),
     ("two ways to give stiffness", "stiffness = 1.0e8", "stiffness = 1.0e8\nfrequency = 3.0e4",
@@ -142,3 +142,45 @@ def test_docs_list_every_key():
     assert not missing, missing
     assert set(schema()) == {"", "blade", "structure", "damper", "damper.load", "effects", "sweep", "modes", "optimum", "output",
                             "study"}
+
+
+@pytest.mark.parametrize("values", ["[10.0, 10.0]", "[10, 10.0]", "[10.0, 20.0, 10]"])
+def test_a_study_grid_repeating_a_value_is_refused_like_a_repeated_model(tmp_path, capsys, values):
+    path = tmp_path / "grid.toml"
+    path.write_text(DEFAULT + f'\n[study.grid]\n"damper.load.N" = {values}\n')
+    assert main(["run", str(path), "--check"]) == 2
+    err = capsys.readouterr().err
+    assert f'"damper.load.N" = {values}: must not repeat a value (one run per value;' in err and "study.grid" in err
+    assert not (tmp_path / "grid").exists()
+
+
+def test_the_grid_function_refuses_a_repeated_value():
+    from hbm.study import grid
+
+    with pytest.raises(ValueError, match=r"^grid: parameter 'x' must not repeat a value .* 10 and 10.0 are the same"):
+        grid({"x": [10, 10.0]})
+
+
+@pytest.mark.parametrize("folder", ["/tmp/elsewhere", "../outside", "a/../../b", ""])
+def test_output_folder_outside_the_scene_folder_is_refused(tmp_path, capsys, folder):
+    path = tmp_path / "scenes" / "s.toml"
+    path.parent.mkdir()
+    path.write_text(DEFAULT + f'folder = "{folder}"\n')
+    assert main(["run", str(path), "--check"]) == 2
+    err = capsys.readouterr().err
+    assert "output.folder" in err and ("inside the scene's folder" in err or "folder name" in err)
+
+
+def test_output_folder_is_resolved_beside_the_scene_file_and_out_writes_anywhere(tmp_path, monkeypatch):
+    path = tmp_path / "scenes" / "s.toml"
+    path.parent.mkdir()
+    path.write_text(DEFAULT.replace("tolerance = 1e-6", "tolerance = 1e-3") + 'folder = "results"\n')
+    elsewhere = tmp_path / "cwd"
+    elsewhere.mkdir()
+    monkeypatch.chdir(elsewhere)
+    assert load_scene(path).output["folder"] == str(path.parent / "results")
+    assert main(["run", str(path), "--quiet", "--set", 'effects.phase_differences="off"']) == 0
+    assert (path.parent / "results" / "frf.csv").exists() and not list(elsewhere.iterdir())
+    assert main(["run", str(path), "--quiet", "--set", 'effects.phase_differences="off"',
+                 "--out", str(tmp_path / "free")]) == 0
+    assert (tmp_path / "free" / "frf.csv").exists()

@@ -430,3 +430,142 @@ def test_two_ctrl_c_10_ms_apart_print_no_traceback_and_say_kept_once(tmp_path, t
         while any(running(w) for w in workers) and time.monotonic() - t0 < 5.0:
             time.sleep(0.02)
         assert not [w for w in workers if running(w)]
+
+
+# 7. records of the right JSON with the wrong content ------------------------------------------
+
+@pytest.mark.parametrize("spoil", [
+    lambda r: {**r, "success": "yes"},
+    lambda r: {k: v for k, v in r.items() if k != "peak_amplitude_m"},
+    lambda r: {**r, "peak_amplitude_m": "2e-6"},
+    lambda r: {**r, "peak_amplitude_m": float("nan")},
+    lambda r: {**r, "nfev": True},
+    lambda r: {**r, "curve": {"omega_rad_s": "x"}},
+    lambda r: {**r, "params": {"damper.mu": 0.9}}])
+def test_a_record_of_valid_json_with_wrong_content_is_recomputed_not_reused(tmp_path, spoil):
+    path = scene(tmp_path, 4)
+    out = tmp_path / "out"
+    assert run_study(Study.from_scene(path), out, executor="serial", formats=("csv",)).success
+    lines = (out / "runs.jsonl").read_text().splitlines()
+    good = json.loads(lines[1])
+    lines[1] = json.dumps(spoil(good))
+    (out / "runs.jsonl").write_text("\n".join(lines) + "\n")
+    again = run_study(Study.from_scene(path), out, executor="serial", formats=("csv", "json"))
+    assert again.success and again.computed == 1 and again.reused == 3
+    assert json.loads((out / "study.json").read_text())["damaged_lines"] == 1
+    assert (out / "study.csv").exists()
+    assert read_records(out / "runs.jsonl")[good["id"]]["peak_amplitude_m"] == good["peak_amplitude_m"]
+
+
+def test_a_record_nested_100000_deep_is_a_damaged_line(tmp_path):
+    path = scene(tmp_path, 3)
+    out = tmp_path / "out"
+    assert run_study(Study.from_scene(path), out, executor="serial", formats=("csv",)).success
+    with open(out / "runs.jsonl", "a") as fh:
+        fh.write("[" * 100_000 + "]" * 100_000 + "\n")
+    again = run_study(Study.from_scene(path), out, executor="serial", formats=("csv", "json"))
+    assert again.success and again.reused == 3
+    assert json.loads((out / "study.json").read_text())["damaged_lines"] == 1
+
+
+def test_a_duplicated_id_with_different_results_is_recomputed(tmp_path):
+    path = scene(tmp_path, 3)
+    out = tmp_path / "out"
+    assert run_study(Study.from_scene(path), out, executor="serial", formats=("csv",)).success
+    lines = (out / "runs.jsonl").read_text().splitlines()
+    twin = json.loads(lines[0])
+    twin["peak_amplitude_m"] *= 2.0
+    (out / "runs.jsonl").write_text("\n".join(lines + [json.dumps(twin)]) + "\n")
+    again = run_study(Study.from_scene(path), out, executor="serial", formats=("csv",))
+    assert again.success and again.computed == 1 and again.reused == 2
+    assert read_records(out / "runs.jsonl")[twin["id"]]["peak_amplitude_m"] == json.loads(lines[0])["peak_amplitude_m"]
+
+
+# 8. hangs: a scheduler that never answers, a run that never ends ----------------------------------
+
+@pytest.fixture
+def silent():
+    """``tcp://127.0.0.1:PORT`` of a local server that accepts every connection and never answers."""
+    server = socket.create_server(("127.0.0.1", 0))
+    server.settimeout(0.1)
+    stop, held = threading.Event(), []
+
+    def serve():
+        while not stop.is_set():
+            try:
+                held.append(server.accept()[0])
+            except (socket.timeout, OSError):
+                continue
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    yield f"tcp://127.0.0.1:{server.getsockname()[1]}"
+    stop.set()
+    thread.join(timeout=5)
+    for conn in held:
+        conn.close()
+    server.close()
+
+
+def test_a_scheduler_that_accepts_and_never_answers_is_an_error_within_the_connect_timeout(tmp_path, silent,
+                                                                                           monkeypatch, capsys):
+    pytest.importorskip("distributed")
+    from hbm.cli.main import main
+
+    monkeypatch.setattr(sys.modules["hbm.study.execute"], "DASK_CONNECT_TIMEOUT", 1.0)
+    t0 = time.monotonic()
+    out = tmp_path / "out"
+    assert main(["run", str(scene(tmp_path, 2)), "--out", str(out), "--quiet", "--scheduler", silent]) == 2
+    assert time.monotonic() - t0 < 10.0
+    err = capsys.readouterr().err
+    assert f"the Dask scheduler at scheduler='{silent}' did not answer within 1 s" in err
+    assert "DASK_CONNECT_TIMEOUT" in err and not out.exists()
+
+
+def _stops_itself_at_two(point):
+    """A run that a SIGSTOP freezes (x = 2) or that sleeps past any limit (x = 3)."""
+    if point["x"] == 2:
+        os.kill(os.getpid(), signal.SIGSTOP)
+    if point["x"] == 3:
+        time.sleep(30.0)
+    return {"peak_amplitude_m": float(point["x"])}
+
+
+@needs_proc
+def test_a_worker_stopped_by_sigstop_fails_its_run_at_the_time_limit_and_the_study_ends(tmp_path, monkeypatch):
+    execute = sys.modules["hbm.study.execute"]
+    monkeypatch.setattr(execute, "KILL_GRACE_S", 0.3)
+    study = Study(_stops_itself_at_two, [{"x": i} for i in range(6)])
+    t0 = time.monotonic()
+    result = run_study(study, tmp_path / "out", executor="processes", workers=2, time_limit=1.0, formats=("csv",))
+    assert time.monotonic() - t0 < 20.0
+    assert not result.lost
+    by_x = {r["params"]["x"]: r for r in result.records}
+    for x in (2, 3):
+        assert not by_x[x]["success"]
+        assert by_x[x]["message"].startswith("RunTimeLimit: the run took longer than its time limit of 1 s")
+    assert all(by_x[x]["success"] and by_x[x]["peak_amplitude_m"] == x for x in (0, 1, 4, 5))
+    assert (tmp_path / "out" / "study.csv").exists()
+
+
+def test_a_serial_run_past_the_time_limit_is_a_failed_run_naming_the_limit(tmp_path):
+    study = Study(_stops_itself_at_two, [{"x": 1}, {"x": 3}])
+    t0 = time.monotonic()
+    result = run_study(study, tmp_path / "out", executor="serial", time_limit=0.5, formats=("csv",))
+    assert time.monotonic() - t0 < 5.0
+    assert [r["success"] for r in result.records] == [True, False]
+    assert "time limit of 0.5 s" in result.records[1]["message"]
+
+
+def test_time_limit_is_a_scene_key_and_an_option_and_a_bad_one_exits_2(tmp_path, capsys):
+    from hbm.cli.main import main
+
+    path = scene(tmp_path, 2)
+    path.write_text(path.read_text().replace("seed = 1\n", "seed = 1\ntime_limit = 60.0\n"))
+    assert Study.from_scene(path).settings["time_limit"] == 60.0
+    with pytest.raises(SystemExit) as stop:
+        main(["run", str(path), "--time-limit", "0"])
+    assert stop.value.code == 2
+    assert "--time-limit: must be a number of seconds > 0" in capsys.readouterr().err
+    assert main(["run", str(path), "--out", str(tmp_path / "o"), "--quiet", "--executor", "serial",
+                 "--time-limit", "30"]) == 0

@@ -6,6 +6,7 @@ of its files or keys spoilt.
 """
 
 import os
+import re
 import warnings
 
 import numpy as np
@@ -352,3 +353,388 @@ def test_main_job_figure_draws_the_same_references(tmp_path, drawn, monkeypatch)
     assert "damper stuck (linear)" in labels and "$a_{min}$ (slip begins)" in labels
     a_min = next(line for line in fig.axes[0].lines if line.get_label() == "$a_{min}$ (slip begins)")
     assert a_min.get_ydata()[0] == pytest.approx(7.5e-7, rel=1e-12)
+
+
+# ----------------------------------------------------------------------------- frictionless single-mode bars
+def _frictionless(mu, N, three):
+    from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
+
+    bar = Bar(2e11, 7850.0, 1e-5, 0.05, 8e8, 4e7, mu)
+    if three:
+        return ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=N, ratio=12.0))
+    return TwoRegionMicroslip(bar, UniformLoad(N))
+
+
+@pytest.mark.parametrize("mu, N", [(0.0, 100.0), (0.3, 0.0)])
+@pytest.mark.parametrize("three", [False, True])
+def test_frictionless_single_mode_bar_is_the_linear_slipping_bar_at_any_frequency(mu, N, three):
+    from contact_models import AllModeMicroslip
+    from contact_models.model_range import single_mode_error, single_mode_frequency_limit
+
+    el = _frictionless(mu, N, three)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no range warning: the linear bar is exact
+        fs, fc = el.fourier(np.array([1e-6, 2e-6]), 4e4)
+        assert float(np.max(single_mode_error(el, [1e-6, 1e-5], 4e4))) == 0.0
+    K = el.slip_stiffness(4e4)
+    assert np.allclose(fs, K * np.array([1e-6, 2e-6]), rtol=1e-12) and np.all(fc == 0.0)
+    assert single_mode_frequency_limit(el) == np.inf
+    ref_s, ref_c = AllModeMicroslip(el.bar, el.load).fourier(1e-6, 4e4)
+    assert fs[0] == pytest.approx(float(ref_s), rel=2e-3) and abs(float(ref_c)) < 1e-6 * fs[0]
+
+
+def test_frictionless_bar_frequency_response_is_the_linear_response():
+    from hbm.cli.cases import default_case
+
+    case = default_case()
+    el = _frictionless(0.0, 100.0, False)
+    frf = frequency_response(case.blade, el, omega_range=case.omega_range)
+    assert frf.success
+    b = case.blade
+    w = frf.omega
+    linear = np.abs(b.force / (b.stiffness + np.array([el.slip_stiffness(x) for x in w]) - b.mass * w ** 2
+                               + 1j * b.damping * w))
+    assert np.allclose(frf.amplitude, linear, rtol=1e-6)
+
+
+@pytest.mark.parametrize("key", ["damper.mu=0.0", "damper.load.N=0.0"])
+def test_frictionless_scene_checks_and_runs(tmp_path, capsys, key):
+    scene = os.path.join(os.path.dirname(__file__), "..", "examples", "scenes", "default_microslip_frf.toml")
+    assert main(["run", scene, "--check", "--set", key]) == 0
+    assert "no friction (mu N = 0)" in capsys.readouterr().out
+    assert main(["run", scene, "--quiet", "--set", key, "--out", str(tmp_path)]) == 0
+    assert (tmp_path / "frf.csv").exists()
+
+
+# ------------------------------------------------------------------------- a user's element that breaks its contract
+class _Law:
+    """A Jenkins element written by a user, spoilt in one way (``mode``)."""
+
+    @staticmethod
+    def make(mode, time_law=True):
+        from contact_models.base import ContactElement
+
+        class Law(ContactElement):
+            has_time_law = time_law
+            frequency_dependent = False
+
+            def __init__(self):
+                self.jen = Macroslip(1.0, 0.02)
+
+            def __repr__(self):
+                return f"Law({mode!r})"
+
+            def _fourier_derivatives(self, a, w, rtol):
+                out = self.jen.fourier_derivatives_unchecked(a, w, rtol)
+                if mode == "complex":
+                    return tuple(v + 1j for v in out)
+                if mode == "long":
+                    return tuple(np.concatenate([v, v]) for v in out)
+                if mode == "none":
+                    return None
+                return out
+
+            def _periodic_force(self, x, w):
+                f, J = self.jen.periodic_force(x, w)
+                if mode == "list":
+                    return list(f), J
+                if mode == "none":
+                    return None
+                if mode == "nan jacobian":
+                    J = J.copy()
+                    J[0, 0] = np.nan
+                if mode == "jacobian shape":
+                    J = J[:, :-1]
+                return f, J
+
+            def _stuck_stiffness(self, w):
+                return 1.0
+
+            def _slip_amplitude(self, w):
+                return 0.02
+
+            def _hysteresis(self, a, w, n):
+                return self.jen.hysteresis(a, w, n=n)
+
+        return Law()
+
+
+def _chain_response(element, H):
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    return frequency_response(s, [Contact(element, dof=0)], (0.3, 0.8), harmonics=H)
+
+
+def test_time_law_returning_none_or_a_wrong_shaped_jacobian_is_named_at_once():
+    import time
+
+    with pytest.raises(ValueError, match=r"^element=Law\('none'\): Law._periodic_force\(x, omega\) must return a "
+                                         r"pair \(f, df_dx\), got NoneType None"):
+        _chain_response(_Law.make("none"), 3)
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=r"^element=Law\('jacobian shape'\): Law._periodic_force\(x, omega\) must "
+                                         r"return df_dx of shape \(\d+, \d+\) for x of shape \(\d+,\), got df_dx of "
+                                         r"shape \(\d+, \d+\)"):
+        _chain_response(_Law.make("jacobian shape"), 3)
+    assert time.perf_counter() - t0 < 5.0
+
+
+def test_time_law_returning_a_list_is_read_as_its_array():
+    frf = _chain_response(_Law.make("list"), 3)
+    assert frf.success
+
+
+def test_a_nan_jacobian_is_named_as_not_finite_and_the_curve_fails_without_an_exception():
+    frf = _chain_response(_Law.make("nan jacobian"), 3)
+    assert not frf.success
+    assert "element=Law('nan jacobian'): Law._periodic_force(x, omega) returned df_dx = " in frf.message
+    assert "(not finite) at omega=0.3" in frf.message
+    from contact_models.base import ElementOutputError
+
+    with pytest.raises(ElementOutputError, match="not finite"):
+        _Law.make("nan jacobian").periodic_force(np.cos(np.linspace(0.0, 2 * np.pi, 16, endpoint=False)), 0.3)
+
+
+@pytest.mark.parametrize("mode, message", [
+    ("complex", r"f_s must be real, got a complex array \(max\|Im\| = 1\)"),
+    ("long", r"must return f_s with one value per amplitude \(2\), got f_s of shape \(4,\)"),
+    ("none", r"must return 4 arrays \(f_s, f_c, df_s/da, df_c/da\), got NoneType None")])
+def test_fourier_outputs_that_are_complex_too_long_or_none_are_refused_naming_the_element(mode, message):
+    el = _Law.make(mode, time_law=False)
+    with pytest.raises(ValueError, match=rf"^element=Law\('{mode}'\): Law._fourier_derivatives\(a, omega, rtol\)"
+                                         rf".*{message}"):
+        el.fourier(np.array([0.1, 0.2]), 0.5)
+    with pytest.raises(ValueError, match=rf"^element=Law\('{mode}'\): Law._fourier_derivatives"):
+        _chain_response(el, 1)
+
+
+def test_point_contact_fit_of_an_element_without_a_bar_and_forced_response_of_a_string_are_named():
+    from hbm import forced_response
+    from contact_models import PointContact
+
+    with pytest.raises(ValueError, match=r"^element must have stuck_stiffness, slip_stiffness and "
+                                         r"gross_slip_amplitude .* without slip_stiffness, gross_slip_amplitude"):
+        PointContact.fit(Macroslip(1.0, 1.0))
+    with pytest.raises(ValueError, match=r"^modes must be the result of hbm.nonlinear_modes .* got modes='x'"):
+        forced_response("x")
+
+
+def test_strings_are_refused_as_numbers_like_counts():
+    from contact_models import Bar
+
+    with pytest.raises(ValueError, match=r"^E must be a number, got E='2e11'"):
+        Bar(E="2e11", rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+
+
+# ------------------------------------------------------------------------- files that would crash or exhaust the reader
+def test_truncated_npz_is_a_scene_error_naming_the_key(tmp_path):
+    data = chain(tmp_path)
+    np.savez(tmp_path / "Kz.npz", K=K)
+    raw = (tmp_path / "Kz.npz").read_bytes()
+    (tmp_path / "Kz.npz").write_bytes(raw[:len(raw) // 2])
+    data["structure"]["stiffness"] = "Kz.npz"
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a .npz file (a zip archive)" in message and "truncated" in message
+
+
+def test_a_matrix_path_too_long_for_the_system_is_a_scene_error(tmp_path):
+    data = chain(tmp_path)
+    data["structure"]["stiffness"] = "x" * 5000 + ".npy"
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a matrix file that can be opened" in message
+    assert "characters" in message
+
+
+@pytest.mark.parametrize("header", ["%%MatrixMarket matrix array real general\n200000 200000\n1.0\n",
+                                    "%%MatrixMarket matrix coordinate real general\n200000 200000 4000000000\n1 1 1\n"])
+def test_a_matrix_file_declaring_more_than_the_bound_is_refused_before_reading(tmp_path, header):
+    from hbm.scenes.matrices import MAX_MATRIX_BYTES
+
+    data = chain(tmp_path)
+    (tmp_path / "K.mtx").write_text(header)
+    data["structure"]["stiffness"] = "K.mtx"
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness: the file declares a matrix of" in message
+    assert f"MAX_MATRIX_BYTES = {MAX_MATRIX_BYTES / 2 ** 30:g} GiB" in message and "load_matrix" in message
+
+
+def test_a_truncated_npy_is_named_before_it_is_read(tmp_path):
+    data = chain(tmp_path)
+    with open(tmp_path / "K.npy", "wb") as fh:
+        np.lib.format.write_array_header_1_0(fh, {"descr": "<f8", "fortran_order": False, "shape": (3000, 3000)})
+        fh.write(b"\0" * 16)
+    (message,) = problems(data, tmp_path)
+    assert "structure.stiffness must name a complete .npy file" in message and "truncated" in message
+
+
+@pytest.mark.parametrize("text", ["v = " + "[" * 5000 + "]" * 5000, "[" + ".".join(["a"] * 5000) + "]\nx = 1\n",
+                                  "a = " + "[" * 20 + "]" * 20])
+def test_deeply_nested_toml_is_a_scene_error_not_a_recursion_error(tmp_path, capsys, text):
+    path = tmp_path / "deep.toml"
+    path.write_text(text)
+    with pytest.raises(SceneError, match="nest"):
+        load_scene(path)
+    assert main(["run", str(path), "--check"]) == 2
+    assert "a scene nests at most 16 levels" in capsys.readouterr().err
+
+
+# ----------------------------------------------------------------------------- values near the float limits
+@pytest.mark.parametrize("make, names", [
+    (lambda: __import__("contact_models").Iwan(1e-300, 1e300, -0.5, 0.1), "slip_force=1e-300, stiffness=1e+300"),
+    (lambda: __import__("contact_models").Iwan(1e300, 1.0, -0.5, 0.1), "slip_force=1e+300, stiffness=1.0"),
+    (lambda: __import__("contact_models").PointContact(k_s=1e-300, beta_p=1.0, k_p=1.0, slip_force=1.0),
+     "k_s=1e-300, beta_p=1.0")])
+def test_element_parameters_too_far_apart_for_double_precision_are_refused_naming_them(make, names):
+    with pytest.raises(ValueError, match=re.escape(f"({names}") + ".*keep their ratios within about 1e150"):
+        make()
+
+
+def test_an_amplitude_whose_force_overflows_is_named_not_returned_as_nan():
+    from contact_models import Bar, TwoRegionMicroslip, UniformLoad
+    from contact_models.base import ElementOutputError
+
+    two = TwoRegionMicroslip(Bar(2e11, 7850.0, 1e-5, 0.05, 8e8, 4e7, 0.3), UniformLoad(100.0))
+    for a in (1e300, np.array([1e-6, 1e300])):
+        with pytest.raises(ElementOutputError, match=r"^element=TwoRegionMicroslip\(.*returned f_s = nan \(not "
+                                                     r"finite\) at a=1e\+300 m, omega=1000 rad/s"):
+            two.fourier(a, 1e3)
+
+
+# ----------------------------------------------------------------------------- bounds on the work a request starts
+def test_numerical_bar_cells_are_bounded_with_the_bound_named():
+    from contact_models import Bar, NumericalMicroslip, UniformLoad
+    from contact_models.numerical import MAX_CELLS
+
+    bar = Bar(2e11, 7850.0, 1e-5, 0.05, 8e8, 4e7, 0.3)
+    with pytest.raises(ValueError, match=rf"^cells must be an integer in 2..{MAX_CELLS}, got cells=1000000000 "
+                                         r"\(the bound is contact_models.numerical.MAX_CELLS"):
+        NumericalMicroslip(bar, UniformLoad(100.0), cells=10**9)
+    with pytest.raises(ValueError, match="got cells='3'"):
+        NumericalMicroslip(bar, UniformLoad(100.0), cells="3")
+
+
+def test_balance_harmonics_are_bounded_with_the_bound_named():
+    import time
+
+    from hbm.balance.residual import MAX_BALANCE_HARMONICS
+
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=rf"^harmonics must be an integer in 1..{MAX_BALANCE_HARMONICS}, got "
+                                         r"harmonics=1000 \(the bound is hbm.balance.residual.MAX_BALANCE_HARMONICS"):
+        frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), harmonics=1000)
+    assert time.perf_counter() - t0 < 2.0
+
+
+def test_nonlinear_modes_refuse_the_rtol_frequency_response_refuses():
+    from hbm import nonlinear_modes
+
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    for rtol in (1, 0.1):
+        with pytest.raises(ValueError, match=rf"^rtol must be < 0.1, got rtol={rtol}"):
+            nonlinear_modes(s, [Contact(Macroslip(1.0, 0.02), dof=0)], amplitudes=[0.01, 1.0], rtol=rtol)
+        with pytest.raises(ValueError, match=rf"^rtol must be < 0.1, got rtol={rtol}"):
+            frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), rtol=rtol)
+
+
+def test_a_full_disk_leaves_no_tmp_file(tmp_path):
+    import errno
+
+    from hbm.scenes.running import replace_atomically
+
+    (tmp_path / "frf.partial.csv").write_text("kept\n")
+
+    def full(fh):
+        fh.write("half")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    with pytest.raises(OSError):
+        replace_atomically(tmp_path / "frf.partial.csv", full)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frf.partial.csv"]
+    assert (tmp_path / "frf.partial.csv").read_text() == "kept\n"
+
+
+def test_a_scene_on_a_full_disk_exits_1_and_leaves_no_tmp_file(tmp_path, capsys, monkeypatch):
+    import errno
+
+    import hbm.scenes.running as running
+
+    class Full:
+        def __init__(self, fh):
+            pass
+
+        def writerows(self, rows):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+    import csv
+    import types
+
+    # the partial table's last rewrite (its error column) meets the full disk
+    monkeypatch.setattr(running, "csv", types.SimpleNamespace(reader=csv.reader, writer=Full))
+    scene = os.path.join(os.path.dirname(__file__), "..", "examples", "scenes", "default_microslip_frf.toml")
+    out = tmp_path / "out"
+    assert main(["run", scene, "--quiet", "--out", str(out), "--set", "sweep.tolerance=1e-3",
+                 "--set", "effects.phase_differences=\"off\""]) == 1
+    err = capsys.readouterr().err
+    assert "error: cannot write the outputs: [Errno 28] No space left on device" in err
+    assert not [p for p in out.iterdir() if p.name.endswith(".tmp")]
+
+
+def _nan_above(w_bad):
+    """A Jenkins element written by a user that turns non-finite above ``w_bad`` (rad/s)."""
+    from contact_models.base import ContactElement
+
+    class Fragile(ContactElement):
+        has_time_law = True
+
+        def __init__(self):
+            self.jen = Macroslip(1.0, 0.02)
+
+        def __repr__(self):
+            return f"Fragile(w_bad={w_bad})"
+
+        def _fourier_derivatives(self, a, w, rtol):
+            out = self.jen.fourier_derivatives_unchecked(a, w, rtol)
+            return tuple(np.where(w > w_bad, np.nan, v) for v in out)
+
+        def _periodic_force(self, x, w):
+            f, J = self.jen.periodic_force(x, w)
+            return (f * np.nan if w > w_bad else f), J
+
+        def _stuck_stiffness(self, w):
+            return 1.0
+
+        def _slip_amplitude(self, w):
+            return 0.02
+
+        def _hysteresis(self, a, w, n):
+            return self.jen.hysteresis(a, w, n=n)
+
+    return Fragile()
+
+
+@pytest.mark.parametrize("options", [{"harmonics": 1}, {"tol": 1e-3}])
+def test_an_element_non_finite_mid_curve_ends_the_branch_keeping_the_points_before(options):
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    frf = frequency_response(s, [Contact(_nan_above(1.0), dof=0)], omega_range=(0.6, 1.8), **options)
+    assert not frf.success and len(frf) > 10
+    assert frf.omega.max() <= 1.0 and np.all(np.isfinite(frf.amplitude))
+    assert "element=Fragile(w_bad=1.0): Fragile._periodic_force(x, omega) returned f = nan (not finite)" in frf.message
+
+
+def test_a_bar_whose_slip_forces_leave_double_precision_is_refused_when_built():
+    from contact_models import Bar, TwoRegionMicroslip, UniformLoad
+
+    with pytest.raises(ValueError, match=r"^bar, load: the slip amplitudes and forces leave double precision "
+                                         r"\(a_min = 6e\+302 m"):
+        TwoRegionMicroslip(Bar(2e11, 7850.0, 1e-5, 0.05, 1e-300, 4e7, 0.3), UniformLoad(100.0))
+
+
+def test_a_non_finite_hysteresis_loop_is_named():
+    from contact_models.base import ElementOutputError
+
+    class Loop(type(_Law.make("plain", time_law=False))):
+        def _hysteresis(self, a, w, n):
+            return np.zeros(n), np.full(n, np.nan)
+
+    with pytest.raises(ElementOutputError, match=r"_hysteresis\(a, omega, n\) returned f = nan \(not finite\)"):
+        Loop().hysteresis(0.1)

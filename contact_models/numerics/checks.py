@@ -45,6 +45,25 @@ def count(name: str, value: object, minimum: int = 1) -> int:
     return int(value)
 
 
+def derived(owner: str, params: dict, compute, *, positive_names: tuple = ()) -> dict:
+    """``compute()``: the quantities an element derives from its parameters (a dict), each finite
+    (and > 0 for ``positive_names``); else a ValueError naming the parameters, the quantity and its
+    value (parameters near the float limits, e.g. a stiffness of 1e-300 beside one of 1e300)."""
+    shown = ", ".join(f"{k}={v!r}" for k, v in params.items())
+    try:
+        with np.errstate(all="raise"):
+            out = compute()
+    except (ZeroDivisionError, OverflowError, FloatingPointError) as exc:
+        raise ValueError(f"{owner}({shown}): the parameters are too far apart for double precision (deriving the "
+                         f"element's constants: {exc}); keep their ratios within about 1e150") from None
+    for name, v in out.items():
+        v = float(v)
+        if not math.isfinite(v) or (name in positive_names and not v > 0.0):
+            raise ValueError(f"{owner}({shown}): the parameters give {name} = {v!r}, which must be finite"
+                             f"{' and > 0' if name in positive_names else ''}; keep their ratios within about 1e150")
+    return out
+
+
 def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     """Return ``value`` as a float array whose entries are finite and >= 0."""
     if type(value) is float and 0.0 <= value < math.inf:  # the common scalar, without numpy's checks
@@ -61,7 +80,7 @@ def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
 
 
 def _scalar(name: str, value: object) -> float:
-    if isinstance(value, bool):
+    if isinstance(value, (bool, str, bytes)):  # float("2e11") would read a string: a number only, as count
         raise ValueError(f"{name} must be a number, got {name}={value!r}")
     try:
         v = float(value)
@@ -70,3 +89,148 @@ def _scalar(name: str, value: object) -> float:
     if not math.isfinite(v):
         raise ValueError(f"{name} must be finite, got {name}={value!r}")
     return v
+
+
+# ---------------------------------------------------------------- what an element returns (the contract)
+class ElementOutputError(FloatingPointError):
+    """A contact element returned a non-finite value (NaN or inf); the message names the element,
+    the hook, the output and where.  A ``FloatingPointError``: the continuation takes it as a failed
+    step, keeping the branch computed before it."""
+
+
+def _own(element: object, hook: str) -> bool:
+    """Whether ``element``'s class (not the contract's base) implements ``hook``."""
+    owner = next((c for c in type(element).__mro__ if hook in c.__dict__), None)
+    return owner is not None and not (owner.__name__ == "ContactElement" and owner.__module__ == "contact_models.base")
+
+
+def fourier_checked(element, a: NDArray, omega: NDArray, rtol: float, *, values: bool = False) -> list:
+    """The element's ``(f_s, f_c, df_s/da, df_c/da)`` (``values``: ``(f_s, f_c)``, from ``_fourier`` where
+    it implements it) for flat ``a``, ``omega``, checked: real arrays of one value per amplitude, finite;
+    else ``ValueError`` (type, shape) or ``ElementOutputError`` naming the element, the hook and where."""
+    if values and _own(element, "_fourier"):
+        return _returned(element, "_fourier", element._fourier(a, omega, rtol), 2, a, omega)
+    out = _returned(element, "_fourier_derivatives", element._fourier_derivatives(a, omega, rtol), 4, a, omega)
+    return out[:2] if values else out
+
+
+def scalar_checked(element, out: tuple, a: float, omega: float) -> tuple:
+    """``out`` of the float path ``_derivatives_one`` at ``(a, omega)``, checked as :func:`fourier_checked`."""
+    if isinstance(out, tuple) and len(out) == 4 and all(type(v) in (float, np.float64) for v in out) \
+            and math.isfinite(sum(out)):
+        return out
+    arrays = tuple(np.array([v], dtype=float) for v in out) if isinstance(out, tuple) else out
+    return tuple(float(v[0]) for v in _returned(element, "_derivatives_one", arrays, 4, np.array([a], dtype=float),
+                                               np.array([omega], dtype=float)))
+
+
+def _returned(element, hook: str, out, count: int, a: NDArray, omega: NDArray) -> list:
+    n = a.size
+    if type(out) is tuple and len(out) == count:  # the common case, at the solver's rate
+        if all(type(v) is np.ndarray and v.dtype == np.float64 and v.size == n for v in out):
+            if n == 0 or math.isfinite(sum(float(np.sum(v)) for v in out)):
+                return list(out)
+    name = f"element={element!r}: {type(element).__name__}.{hook}(a, omega, rtol)"
+    names = ("f_s", "f_c", "df_s/da", "df_c/da")[:count]
+    if not isinstance(out, (tuple, list)) or len(out) != count:
+        raise ValueError(f"{name} must return {count} arrays ({', '.join(names)}), got {_kind(out)}")
+    checked = []
+    for what, v in zip(names, out):
+        v = _real_array(v, f"{name}: {what}")
+        if v.size != n or (v.ndim > 1 and v.shape != a.shape):
+            raise ValueError(f"{name} must return {what} with one value per amplitude ({n}), got {what} of "
+                             f"shape {v.shape}")
+        checked.append(v.reshape(n))
+    _finite(checked, names, name, lambda i: f"a={float(a.flat[i]):.6g} m, omega={float(omega.flat[i]):.6g} rad/s")
+    return checked
+
+
+def time_law_checked(element, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
+    """``element._periodic_force(x, omega)`` checked: a pair ``(f, df/dx)`` of real arrays of shapes
+    x's and (x.size, x.size), finite; else ``ValueError`` or ``ElementOutputError`` naming the element."""
+    out = element._periodic_force(x, omega)
+    n = x.size
+    name = f"element={element!r}: {type(element).__name__}._periodic_force(x, omega)"
+    if not isinstance(out, (tuple, list)) or len(out) != 2:
+        raise ValueError(f"{name} must return a pair (f, df_dx), got {_kind(out)}")
+    checked = []
+    for what, v, shape in zip(("f", "df_dx"), out, (x.shape, (n, n))):
+        v = _real_array(v, f"{name}: {what}")
+        if v.shape != shape:
+            raise ValueError(f"{name} must return {what} of shape {shape} for x of shape {x.shape}, got "
+                             f"{what} of shape {v.shape}")
+        checked.append(v)
+    where = f"omega={omega!r}, x of shape {x.shape} in [{float(np.min(x)):.6g}, {float(np.max(x)):.6g}]"
+    _finite(checked, ("f", "df_dx"), name, lambda i: where)
+    return checked[0], checked[1]
+
+
+def harmonics_checked(element, out, X: NDArray, omega: float) -> tuple[NDArray, NDArray, NDArray]:
+    """``(F, dF/dX, dF/domega)`` of ``_harmonic_force`` checked: real arrays of X's size, its square
+    and X's size, finite; else ``ValueError`` or ``ElementOutputError`` naming the element."""
+    n = X.size
+    if type(out) is tuple and len(out) == 3:
+        F, J, Fw = out
+        if (type(F) is np.ndarray and type(J) is np.ndarray and type(Fw) is np.ndarray
+                and F.dtype == J.dtype == Fw.dtype == np.float64 and F.size == n == Fw.size and J.size == n * n
+                and math.isfinite(float(np.sum(F)) + float(np.sum(J)) + float(np.sum(Fw)))):
+            return out
+    name = f"element={element!r}: {type(element).__name__}._harmonic_force(X, omega, n_t, rtol)"
+    names = ("F", "dF_dX", "dF_domega")
+    if not isinstance(out, (tuple, list)) or len(out) != 3:
+        raise ValueError(f"{name} must return (F, dF_dX, dF_domega), got {_kind(out)}")
+    checked = []
+    for what, v, size in zip(names, out, (n, n * n, n)):
+        v = _real_array(v, f"{name}: {what}")
+        if v.size != size:
+            want = f"({n}, {n})" if what == "dF_dX" else f"({n},)"
+            raise ValueError(f"{name} must return {what} of shape {want} for X of shape {X.shape}, got {what} "
+                             f"of shape {v.shape}")
+        checked.append(v)
+    where = f"omega={omega!r}, |X| = {float(np.linalg.norm(X)):.6g} m"
+    _finite(checked, names, name, lambda i: where)
+    return tuple(checked)
+
+
+def loop_checked(element, out, a: float, omega: float) -> tuple[NDArray, NDArray]:
+    """``_hysteresis``'s ``(x, f)`` checked: a pair of real arrays, finite."""
+    name = f"element={element!r}: {type(element).__name__}._hysteresis(a, omega, n)"
+    if not isinstance(out, (tuple, list)) or len(out) != 2:
+        raise ValueError(f"{name} must return a pair (x, f), got {_kind(out)}")
+    x, f = (_real_array(v, f"{name}: {w}") for v, w in zip(out, ("x", "f")))
+    _finite([x, f], ("x", "f"), name, lambda i: f"a={a!r} m, omega={omega!r} rad/s")
+    return x, f
+
+
+def _kind(v: object) -> str:
+    """What ``v`` is, for a message: its type, and its length or shape."""
+    if isinstance(v, np.ndarray):
+        return f"an array of shape {v.shape}"
+    if isinstance(v, (tuple, list)):
+        return f"a {type(v).__name__} of {len(v)}"
+    return f"{type(v).__name__} {v!r}"[:200]
+
+
+def _real_array(v: object, name: str) -> np.ndarray:
+    """``v`` as a float64 array; ``ValueError`` naming it for a complex, a non-numeric or a ragged value."""
+    if v is None or isinstance(v, (str, bytes)):
+        raise ValueError(f"{name} must be a real array, got {_kind(v)}")
+    try:
+        arr = np.asarray(v)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real array, got {_kind(v)}") from None
+    if np.iscomplexobj(arr):
+        raise ValueError(f"{name} must be real, got a complex array (max|Im| = {float(np.max(np.abs(arr.imag))):.3g})")
+    if arr.dtype.kind not in "fiu":
+        raise ValueError(f"{name} must be a real array, got {_kind(v)} of dtype {arr.dtype}")
+    return arr.astype(float, copy=False)
+
+
+def _finite(arrays: list, names: tuple, name: str, where) -> None:
+    """Raise ``ElementOutputError`` at the first non-finite value of ``arrays`` (``where(i)`` says where)."""
+    for what, v in zip(names, arrays):
+        bad = ~np.isfinite(v)
+        if np.any(bad):
+            i = int(np.flatnonzero(bad.ravel())[0])
+            raise ElementOutputError(f"{name} returned {what} = {float(v.ravel()[i])!r} (not finite) at "
+                                     f"{where(i % max(1, v.size if v.ndim <= 1 else v.shape[0]))}")

@@ -42,9 +42,8 @@ Two evaluations of this one balance, chosen by the problem's size:
 In the one-DOF form the element's omega-derivative (a frequency-dependent element gives none) is a forward difference
 of relative step ``sqrt(rtol)``, taken at most once per ``OMEGA_REFRESH`` relative change of omega or ``AMP_REFRESH``
 of a and reused in between; it enters only the Newton matrix and the tangent, never the residual, so it does not move
-the converged points.  ``fresh_omega_derivative = True`` takes it anew at every call (peaks, folds).  Up to the
-element's ``linear_amplitude(omega)`` the element is linear and its ``linear_coefficients(omega)`` are used without
-calling its Fourier routine.
+the converged points.  ``fresh_omega_derivative = True`` takes it anew at every call (peaks, folds).  Up to its
+``linear_amplitude(omega)`` an element is linear: its ``linear_coefficients(omega)`` are used, not its Fourier routine.
 """
 
 from __future__ import annotations
@@ -60,10 +59,11 @@ from contact_models.base import DEFAULT_RTOL, default_samples
 from contact_models.numerics.describing import stiffness_terms as describing_terms
 from contact_models.numerics.masing import to_time
 
-from .._validation import count
+from .._validation import count, relative_tolerance
 from ..structure import Contact, Structure
 from .condensation import Condensed, stuck_matrix
 from .layout import from_complex, to_complex
+from .presets import MAX_RTOL
 
 #: omega-derivative of the stuck stiffness: central difference of this relative step.
 STUCK_FD_STEP = 1e-5
@@ -72,6 +72,8 @@ OMEGA_REFRESH = 3e-3
 AMP_REFRESH = 3e-2
 #: Bytes of the elements' Jacobians of the balance's evaluations kept for Hill's method (oldest dropped).
 JACOBIAN_KEEP_BYTES = 4 * 2**20
+#: The most harmonics a balance takes (its unknowns grow as 2H + 1 per contact DOF, a step's cost as their cube).
+MAX_BALANCE_HARMONICS = 256
 
 
 def as_structure(system: Any) -> Structure:
@@ -86,8 +88,7 @@ def as_structure(system: Any) -> Structure:
 
 
 def as_contacts(contacts: Any, n: int) -> list[Contact]:
-    """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or (one-DOF
-    system) a bare element attached at DOF 0."""
+    """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or a bare element at DOF 0."""
     if contacts is None:
         return []
     if isinstance(contacts, Contact):
@@ -117,7 +118,7 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
         for d in c.all_dofs:
             if d >= structure.n:
                 raise ValueError(f"dof must be a DOF index in 0..{structure.n - 1}, got dof={d!r} in {c!r}")
-    H = count("harmonics", harmonics, 1)
+    H = count("harmonics", harmonics, 1, MAX_BALANCE_HARMONICS, "hbm.balance.residual.MAX_BALANCE_HARMONICS")
     if n_t is None:
         n_t = default_samples(H)
     if isinstance(n_t, bool) or not isinstance(n_t, (int, np.integer)) or n_t < 2 * H + 2:
@@ -202,7 +203,7 @@ class HarmonicBalance:
         self.L = 2 * self.H + 1
         self.dofs = sorted({d for c in self.contacts for d in c.all_dofs} | {self.response_dof})
         self.na = len(self.dofs)
-        self.rtol = float(rtol)
+        self.rtol = relative_tolerance("rtol", rtol, MAX_RTOL)
         self.x_ref = float(x_ref)
         self.omega_ref = float(omega_ref)
         pos = {d: i for i, d in enumerate(self.dofs)}
@@ -451,8 +452,7 @@ class HarmonicBalance:
         return float(k_s), float(k_c)
 
     def _linear_dw(self, omega: float) -> tuple[float, float]:
-        """d(k_s, k_c)/domega of the linear range: central difference, retaken after a relative
-        change OMEGA_REFRESH of omega."""
+        """d(k_s, k_c)/domega of the linear range: central difference, retaken after OMEGA_REFRESH of omega."""
         if not self._freq_dep:
             return 0.0, 0.0
         c = self._stuck_dw_cache

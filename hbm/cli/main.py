@@ -13,6 +13,7 @@ from the registries and the schema).
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import signal
 import sys
@@ -26,7 +27,9 @@ import numpy as np
 from contact_models import __version__
 from contact_models.accuracy import AccuracyWarning
 
+from .._validation import MIN_RELATIVE_TOL, InputError
 from ..frf import DEFAULT_TOL, MODELS, frequency_response, refine_peak
+from ..balance.presets import MAX_RTOL
 from .cases import default_case
 from .figure import JobFigure
 from ..allmode_peak import AllModePeak
@@ -54,42 +57,90 @@ EXAMPLES = """examples:
 
 
 def _default(args: argparse.Namespace) -> int:
+    out = Path(args.out if args.out is not None else ".")
+    names = ("frf.csv", "frf.png")
+    _check_folder(out, names, "--out" if args.out is not None else "the current folder")
+    written: list[Path] = []
+
+    def kept():  # the files this job wrote (the curve is written before the all-mode peak is solved)
+        return f"kept files: {', '.join(str(p.resolve()) for p in written) or 'none'}"
+
+    line = _Silent()
+    return _compute(line, lambda: _default_job(args, out, written), kept, lambda job: job[1], code=lambda job: job[0])
+
+
+def _default_job(args: argparse.Namespace, out: Path, written: list) -> tuple[int, list]:
+    """The default job: ``(exit code, lines to print)``; ``written`` collects the files as they are written."""
     case = default_case()
     t0 = time.perf_counter()
     model = getattr(args, "model", None) or DEFAULT_MODEL
-    out = Path(args.out if args.out is not None else ".")
     legacy = {} if args.rtol is None else {"rtol": args.rtol}  # --rtol: an earlier release's option, still read
     with warnings.catch_warnings(record=True) as caught:  # "peak": the single-mode curve's warning is superseded
         warnings.simplefilter("always", AccuracyWarning)
         warnings.filterwarnings("ignore", category=DeprecationWarning)
         frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=_tol(args),
                                  model="given" if model == "peak" else model, **legacy)
+    if len(frf) == 0:
+        raise ComputationFailed(f"no point of the frequency response converged: {frf.message}")
+    pk = frf.peak()  # the curve's own peak (the refined one, where it answers, is ``best``)
+    best = None
     out.mkdir(parents=True, exist_ok=True)
+    elapsed = time.perf_counter() - t0
+    csv_path = frf.to_csv(out / "frf.csv")  # first: a signal during the peak keeps the curve
+    written.append(csv_path)
     # the figure is drawn in a forked process while the peak is solved with the refined model (hbm.cli.figure)
     figure = JobFigure(frf, case, out / "frf.png", fork=model == "peak")
-    best = None
-    pk = frf.peak()  # the curve's own peak (the refined one, where it answers, is ``best``)
     try:
         if model == "peak":  # the peak solved again with the refined model: its own trouble it says itself
             best = refine_peak(frf)
         for w in caught:  # the single-mode curve's AccuracyWarning is superseded where the refined peak answers
             if best is None or not issubclass(w.category, AccuracyWarning):
                 warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        elapsed = time.perf_counter() - t0
-        csv_path = frf.to_csv(out / "frf.csv")
         png_path = figure.finish(best)
+        written.append(png_path)
     finally:
         figure.cancel()
     a_min = case.element.slip_amplitude(pk.omega)
-    print(f"case: {case.description}")
-    print(f"{len(frf)} points in {elapsed:.2f} s ({frf.nsteps} steps, {frf.nit} Newton iterations, "
-          f"{frf.nfev} element evaluations): {frf.message}")
     in_a_min = f" (= {pk.amplitude / a_min:.4g} a_min)" if a_min > 0.0 else ""
-    print(f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m{in_a_min}")
-    print(f"wrote {csv_path.resolve()}")
-    print(f"wrote {png_path.resolve()}")
-    print(accuracy_line(frf, pk, case.element) if best is None else allmode_line(best, pk, case.element, frf.tol))
-    return 0 if frf.success else 1
+    lines = [f"case: {case.description}",
+             f"{len(frf)} points in {elapsed:.2f} s ({frf.nsteps} steps, {frf.nit} Newton iterations, "
+             f"{frf.nfev} element evaluations): {frf.message}",
+             f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m{in_a_min}",
+             f"wrote {csv_path.resolve()}",
+             f"wrote {png_path.resolve()}",
+             accuracy_line(frf, pk, case.element) if best is None else
+             allmode_line(best, pk, case.element, frf.tol)]
+    return (0 if frf.success else 1), lines
+
+
+class UsageError(InputError):
+    """A bad command line or output place (exit code 2, nothing computed)."""
+
+
+class ComputationFailed(RuntimeError):
+    """The computation failed (exit code 1): its message says where and why."""
+
+
+class _Silent:
+    """The progress line of a job that shows none."""
+
+    def __call__(self, progress: Any) -> None:
+        pass
+
+    def clear(self) -> None:
+        pass
+
+
+def _check_folder(folder: Path, names: Any, what: str) -> None:
+    """Refuse, before anything is computed, an output ``folder`` that is a file or holds a folder
+    where one of the output files ``names`` goes (``UsageError``)."""
+    if folder.exists() and not folder.is_dir():
+        raise UsageError(f"{what} = {folder}: is a file, not a folder; give a folder for the outputs "
+                         "(nothing computed, nothing written)")
+    for name in names:
+        if (folder / name).is_dir():
+            raise UsageError(f"{folder / name} is a folder where the output file {name} goes; move it or give "
+                             "--out another folder (nothing computed, nothing written)")
 
 
 def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
@@ -128,21 +179,24 @@ def _run(args) -> int:
         if args.rtol is not None:
             overrides["sweep.tolerance"] = args.rtol
         scene = load_scene(args.scene, overrides=overrides)
-        if scene.study is not None:
-            return _run_study(args, overrides)
-        if args.workers is not None or args.scheduler is not None or args.executor is not None:
-            raise SceneError([f"{scene.path}: --workers, --scheduler and --executor need a [study] table "
-                              "(docs/studies.md)"])
-        plan = plan_scene(scene)
-    except SceneError as exc:
+        options = (args.workers, args.scheduler, args.executor, args.time_limit)
+        if scene.study is None and any(o is not None for o in options):
+            raise SceneError([f"{scene.path}: --workers, --scheduler, --executor and --time-limit need a [study] "
+                              "table (docs/studies.md)"])
+        plan = plan_scene(scene) if scene.study is None else None
+    except ValueError as exc:  # SceneError, or a check of the library on the scene's values: before computing
         print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
         return 2
+    if scene.study is not None:
+        return _run_study(args, overrides)
+    folder = Path(args.out if args.out is not None else scene.output["folder"])
+    if not args.check:
+        _check_folder(folder, output_names(scene).values(), "--out" if args.out is not None else "output.folder")
     if args.check:
         print(f"scene {scene.path} is valid: {len(plan.runs)} run(s)")
         print("\n".join(effect_lines(plan)))
         return 0
     line = ProgressLine(sys.stderr, enabled=not args.quiet, plain=not sys.stderr.isatty())
-    folder = Path(args.out if args.out is not None else scene.output["folder"])
 
     def kept():  # counted on disk: the signal may come between a row's write and its progress call
         files = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
@@ -162,9 +216,9 @@ def _run(args) -> int:
     return code
 
 
-def _compute(line, compute, kept, report) -> int:
+def _compute(line, compute, kept, report, code=lambda result: result.exit_code) -> int:
     """Run ``compute()`` behind the progress ``line``; print ``report(result)``, or after Ctrl-C or
-    SIGTERM ``kept()`` (what is on disk).  Returns the exit code."""
+    SIGTERM ``kept()`` (what is on disk).  Returns the exit code (``code(result)``)."""
     def interrupt_once(signum, frame):  # a second Ctrl-C must not cut the shutdown and its message short
         signal.signal(signal.SIGINT, signal.SIG_IGN)
         raise KeyboardInterrupt
@@ -183,14 +237,21 @@ def _compute(line, compute, kept, report) -> int:
         return 2
     except OSError as exc:
         line.clear()
-        print(f"error: cannot write the outputs: {exc}", file=sys.stderr)
+        print(f"error: cannot write the outputs: {exc}; {kept()}", file=sys.stderr)
+        return 1
+    except InputError:  # bad input found on the way (main says it, exit code 2)
+        line.clear()
+        raise
+    except (ComputationFailed, ValueError, ArithmeticError, np.linalg.LinAlgError) as exc:
+        line.clear()  # a failure inside the computation, not a bad input: said in one line, exit code 1
+        print(f"error: the computation failed: {exc}; {kept()}", file=sys.stderr)
         return 1
     finally:
         if signal.getsignal(signal.SIGINT) is interrupt_once:
             signal.signal(signal.SIGINT, previous)
     line.clear()
     print("\n".join(report(result)))
-    return result.exit_code
+    return code(result)
 
 
 class Terminated(KeyboardInterrupt):
@@ -214,11 +275,17 @@ def _run_study(args, overrides) -> int:
     from ..study import FILES, Study, check_scene, read_records, run_study  # lazily: as in _run
     from .progress import ProgressLine  # lazily: as in _run
 
-    if args.check:  # makes no run's point but the first: the same time for any number of runs
-        print("\n".join(check_scene(args.scene, overrides=overrides)))
-        return 0
-    study = Study.from_scene(args.scene, overrides=overrides)
+    try:
+        if args.check:  # makes no run's point but the first: the same time for any number of runs
+            print("\n".join(check_scene(args.scene, overrides=overrides)))
+            return 0
+        study = Study.from_scene(args.scene, overrides=overrides)
+    except ValueError as exc:  # SceneError, or a check of the library on the scene's values: before computing
+        print(f"error: invalid scene (nothing computed, nothing written):\n{exc}", file=sys.stderr)
+        return 2
     folder = Path(args.out if args.out is not None else study.settings["folder"])
+    _check_folder(folder, [n for k, n in FILES.items() if k != "lock"], "--out" if args.out is not None
+                  else "output.folder")
     line = ProgressLine(sys.stderr, enabled=not args.quiet, plain=not sys.stderr.isatty())
 
     def kept():
@@ -228,7 +295,8 @@ def _run_study(args, overrides) -> int:
                 "missing runs")
 
     return _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
-                                            scheduler=args.scheduler, progress=line), kept, study_lines)
+                                            scheduler=args.scheduler, progress=line, time_limit=args.time_limit),
+                    kept, study_lines)
 
 
 def study_lines(result: Any) -> list:
@@ -262,9 +330,36 @@ def _tol(args: argparse.Namespace) -> float:
     return DEFAULT_TOL if tol is None else tol
 
 
+def _seconds(text: str) -> float:
+    """argparse's type of ``--time-limit``: a number of seconds > 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 < value < math.inf:
+        raise argparse.ArgumentTypeError(f"must be a number of seconds > 0, got --time-limit {text}")
+    return value
+
+
+def _relative(option: str, upper: float) -> Callable[[str], float]:
+    """argparse's type of a relative tolerance ``option``: a number in [MIN_RELATIVE_TOL, upper)."""
+    def parse(text: str) -> float:
+        try:
+            value = float(text)
+        except ValueError:
+            value = math.nan
+        if not MIN_RELATIVE_TOL <= value < upper:
+            raise argparse.ArgumentTypeError(
+                f"must be a number in [{MIN_RELATIVE_TOL:g}, {upper:g}) (a relative error; below {MIN_RELATIVE_TOL:g} "
+                f"double precision cannot meet it), got {option} {text}")
+        return value
+
+    return parse
+
+
 def _model_argument(parser, suppress=True):
     """``--model`` and ``--tol``: the default job's damper model and target relative error."""
-    parser.add_argument("--tol", type=float, default=argparse.SUPPRESS if suppress else None,
+    parser.add_argument("--tol", type=_relative("--tol", 1.0), default=argparse.SUPPRESS if suppress else None,
                         help=f"the default job's target relative error of the peak (default {DEFAULT_TOL:g}): "
                              "frequency_response's tol, and so the all-mode peak's")
     parser.add_argument("--model", choices=MODELS, default=argparse.SUPPRESS if suppress else None,
@@ -288,16 +383,26 @@ def _run_arguments(parser):
                         help="a study: run on the Dask scheduler at ADDRESS (tcp://host:8786)")
     parser.add_argument("--executor", default=None, choices=("processes", "serial", "dask"),
                         help="a study: where the runs go (default study.executor, else processes)")
+    parser.add_argument("--time-limit", type=_seconds, default=None, metavar="S",
+                        help="a study: seconds each run may take; a run over it fails naming the limit (default "
+                             "study.time_limit, else none)")
 
 
 def _new(args) -> int:
     path = Path(args.scene)
+    if path.is_dir():
+        raise UsageError(f"{path} is a folder; new writes a scene file: give its name (new {path / 'scene.toml'})")
     if path.exists() and not args.force:
         print(f"error: {path} exists (pass --force to overwrite it)", file=sys.stderr)
         return 2
+    if not path.parent.is_dir():
+        raise UsageError(f"the folder {path.parent} of {path} does not exist; create it first (mkdir -p {path.parent})")
     from ..scenes.template import template  # lazily: as in _run
 
-    path.write_text(template(path.stem))
+    try:
+        path.write_text(template(path.stem))
+    except OSError as exc:
+        raise UsageError(f"cannot write {path}: {exc.strerror or exc}") from None
     print(f"wrote {path.resolve()}: run it with: {args.prog} run {path}")
     return 0
 
@@ -337,8 +442,8 @@ COMMANDS = {"default": ("run the built-in default case (the same as no subcomman
                         "[--model M] [--tol X]",
                         _default, _default_arguments),
             "run": ("run a scene file: run SCENE.toml [--out DIR] [--set TABLE.KEY=VALUE] [--rtol X] [--quiet] "
-                    "[--check] [--workers N] [--scheduler ADDRESS] [--executor NAME] (the last three for a "
-                    "scene with [study])", _run, _run_arguments),
+                    "[--check] [--workers N] [--scheduler ADDRESS] [--executor NAME] [--time-limit S] (the last "
+                    "four for a scene with [study])", _run, _run_arguments),
             "new": ("write an annotated template scene that runs as written: new SCENE.toml [--force]", _new,
                     _new_arguments),
             "models": ("list the damper models a scene can name", _models),
@@ -351,7 +456,7 @@ def _common(parser, suppress=False):
     default = (lambda v: argparse.SUPPRESS) if suppress else (lambda v: v)
     parser.add_argument("--out", default=default(None),
                         help="output folder (default: the current folder; for run, the scene's output.folder)")
-    parser.add_argument("--rtol", type=float, default=default(None),
+    parser.add_argument("--rtol", type=_relative("--rtol", MAX_RTOL), default=default(None),
                         help="deprecated: the elements' relative accuracy, which --tol now sets (tol/100, at most "
                              "1e-6); for run, overrides sweep.tolerance")
 
@@ -397,9 +502,34 @@ def main(argv: list[str] | None = None) -> int:
     args = _parse(build_parser(), argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
     try:
-        return args.handler(args)
-    except ValueError as exc:
+        code = args.handler(args)
+        sys.stdout.flush()  # a full device or a closed pipe shows here, not at the interpreter's exit
+        return code
+    except InputError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt as exc:  # between the jobs' own handling (a listing, a template)
+        print(_stopped(exc), file=sys.stderr)
+        return _interrupted_code(exc)
+    except BrokenPipeError:  # the reader went away (keys | head -1): stop quietly, as SIGPIPE would
+        _stdout_to_devnull()
+        return 141
+    except (ComputationFailed, ValueError) as exc:  # not found in the input: a failure of the computation
+        print(f"error: the computation failed: {exc}", file=sys.stderr)
+        return 1
+    except OSError as exc:  # stdout on a full device, a file that cannot be written
+        _stdout_to_devnull()
+        print(f"error: cannot write: {exc}", file=sys.stderr)
+        return 1
     finally:
         signal.signal(signal.SIGTERM, previous)
+
+
+def _stdout_to_devnull() -> None:
+    """Point stdout at the null device, so that the interpreter's last flush raises nothing."""
+    try:
+        fd = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(fd, sys.stdout.fileno())
+        os.close(fd)
+    except (OSError, ValueError):
+        pass

@@ -13,7 +13,10 @@ import json
 import math
 from typing import Any, Callable, Iterable, NamedTuple
 
-class SceneError(ValueError):
+from .._validation import InputError
+
+
+class SceneError(InputError):
     """An invalid scene: ``problems`` lists every message (file, table.key, value, what is allowed).
 
     A ``ValueError``: its text is the problems, one a line.
@@ -197,6 +200,56 @@ def boolean(v: Any) -> bool:
     """
     if not isinstance(v, bool):
         raise Invalid("must be true or false")
+    return v
+
+
+#: The deepest nesting of tables and arrays a scene may have (its own deepest is 4, [damper.load] in a list).
+MAX_NESTING = 16
+#: What a scene nested past the TOML reader's recursion is told.
+TOO_DEEP = f"its arrays or tables nest too deeply for the TOML reader; a scene nests at most {MAX_NESTING} levels"
+
+
+def nesting(value: Any) -> int:
+    """The depth of nested dicts and lists in ``value`` (0 for a scalar), counted without recursion."""
+    deepest, stack = 0, [(value, 0)]
+    while stack:
+        v, depth = stack.pop()
+        if isinstance(v, dict):
+            v = list(v.values())
+        if isinstance(v, list):
+            depth += 1
+            deepest = max(deepest, depth)
+            stack.extend((item, depth) for item in v if isinstance(item, (dict, list)))
+    return deepest
+
+
+def refuse_nesting(value: Any, where: str) -> None:
+    """:class:`SceneError` (``where``: the file or option) when ``value`` nests past ``MAX_NESTING``."""
+    deepest = nesting(value)
+    if deepest > MAX_NESTING:
+        raise SceneError([f"{where}: its arrays or tables nest {deepest} levels deep; a scene nests at most "
+                          f"{MAX_NESTING} levels"])
+
+
+def inner_folder(v: Any) -> str:
+    """Check of an output folder: a relative path inside the scene's folder (no absolute path, no
+    ``..``, not empty), or :class:`Invalid`; the command line's ``--out`` writes anywhere.
+
+    Examples
+    --------
+    >>> from hbm.scenes.checks import inner_folder
+    >>> inner_folder("results/run1")
+    'results/run1'
+    """
+    import pathlib
+
+    if not isinstance(v, str) or not v.strip():
+        raise Invalid("must be a folder name (a string)")
+    parts = pathlib.PurePath(v).parts
+    if pathlib.PurePosixPath(v).is_absolute() or pathlib.PureWindowsPath(v).is_absolute() or ".." in parts \
+            or pathlib.PureWindowsPath(v).drive or "\0" in v:
+        raise Invalid("must be a folder inside the scene's folder (a relative path without ..): a scene writes "
+                      "only beside itself; give --out DIR on the command line to write elsewhere")
     return v
 
 

@@ -19,10 +19,11 @@ from contact_models.quasi_static import StuckContact
 
 from ..blade import Blade
 from ..balance.residual import solved_as_one_dof, static_deflection
-from ..structure import Structure, load_matrix
+from ..structure import Structure
 from .checks import SceneError, show
 from .contacts import damper_contact, dof_problems, structure_contacts
 from .effects import EFFECTS, ONSET_AT_END, Effect, linear_amplitude
+from .matrices import read_matrix
 from .models import BAR_KEYS, Built, MODELS, ModelSpec
 from .validation import Scene
 
@@ -485,7 +486,7 @@ def _structure(scene):
     for key in ("mass", "stiffness", "damping"):
         if st.get(key) is not None:
             try:
-                matrices[key] = load_matrix(st[key], name=f"structure.{key}")
+                matrices[key] = read_matrix(st[key], f"structure.{key}")
             except ValueError as exc:
                 problems.append(scene.where(f"[structure]: {exc}"))
     if problems:

@@ -358,9 +358,7 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     if "json" in formats:
         files["json"] = folder / names["json"]
         summary["outputs"]["json"] = str(files["json"])
-        tmp = folder / (names["json"] + ".tmp")
-        tmp.write_text(json.dumps(jsonable(summary), indent=2) + "\n")
-        tmp.replace(files["json"])
+        replace_atomically(files["json"], lambda fh: fh.write(json.dumps(jsonable(summary), indent=2) + "\n"))
     return SceneResult(plan, results, success, message, files, summary, written)
 
 
@@ -454,10 +452,20 @@ def _fill_after_run(path, results):
             row[error] = error_value(res.frf.error_estimate[k])
             if stable:
                 row[-1] = stable_value(res.frf.stable[k])
+    replace_atomically(path, lambda fh: csv.writer(fh).writerows(rows))
+
+
+def replace_atomically(path: Path, write: Callable[[Any], Any]) -> Path:
+    """Write ``path`` whole or not at all: ``write(fh)`` into ``path.tmp``, then rename it onto ``path``;
+    on any failure (a full disk) the ``.tmp`` file is removed and the error raised."""
     tmp = path.with_name(path.name + ".tmp")
-    with tmp.open("w", newline="") as fh:
-        csv.writer(fh).writerows(rows)
-    tmp.replace(path)
+    try:
+        with tmp.open("w", newline="") as fh:
+            write(fh)
+        return tmp.replace(path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def _run_amplitude(scene, plan, res, emit):

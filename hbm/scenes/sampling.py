@@ -14,8 +14,8 @@ from __future__ import annotations
 
 from typing import Any, Collection
 
-from ..designs import DISTRIBUTIONS, combine, grid, samples
-from .checks import OPTIONAL, Invalid, Key, choice, integer, show, text
+from ..designs import DISTRIBUTIONS, combine, grid, repeated, samples
+from .checks import OPTIONAL, Invalid, Key, choice, integer, number, show, text
 
 #: Executors of a study (``hbm.study.EXECUTORS``).
 STUDY_EXECUTORS = ("processes", "serial", "dask")
@@ -38,6 +38,10 @@ def _grid(v: Any, known: Collection[str]) -> dict:
         _scene_key(name, known)
         if not isinstance(values, list) or not values:
             raise Invalid(f"{show(name)} = {show(values)}: must be a non-empty list of values")
+        twice = repeated(values)
+        if twice is not None:
+            raise Invalid(f"{show(name)} = {show(values)}: must not repeat a value (one run per value; "
+                          f"{show(twice[0])} and {show(twice[1])} are the same value)")
         out[name] = values
     return out
 
@@ -78,6 +82,9 @@ def study_keys(known: Collection[str]) -> dict[str, Key]:
         "workers": Key(integer(1), OPTIONAL, "processes or LocalCluster workers; default every core"),
         "scheduler": Key(text, OPTIONAL, 'address of a running Dask scheduler, e.g. "tcp://10.0.0.5:8786" '
                                          '(implies executor = "dask"); default a LocalCluster'),
+        "time_limit": Key(number(gt=0, unit="s"), OPTIONAL,
+                          "seconds each run may take (a run over it fails, naming the limit; a worker that does "
+                          "not stop is killed); default no limit; --time-limit overrides it"),
     }
 
 

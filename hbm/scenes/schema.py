@@ -11,10 +11,11 @@ from __future__ import annotations
 
 from typing import Iterator
 
+from .._validation import MIN_RELATIVE_TOL
 from ..balance import presets
 from ..frf import DEFAULT_TOL
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
-                     one_or_list, positive, text, choice)
+                     one_or_list, positive, text, choice, inner_folder)
 from .contacts import contact_tables, dof_list
 from .effects import EFFECTS
 from .models import BASE_DAMPER_KEYS, MODELS
@@ -64,7 +65,7 @@ _FIXED: dict[str, dict[str, Key]] = {
     "damper.load": {
         "kind": Key(choice("uniform", "quadratic"), "uniform",
                     '"uniform" (q = N/L) or "quadratic" (Eq. 29: q0 + q2 4x(x - L)/L^2)'),
-        "N": Key(one_or_list(number(gt=0, unit="N"), "a number > 0 (N)"), OPTIONAL,
+        "N": Key(one_or_list(number(ge=0, unit="N"), "a number >= 0 (N)"), OPTIONAL,
                  "total normal load (N), or a list of loads (one run each: a design chart)"),
         "ratio": Key(number(gt=0, allow_inf=True), OPTIONAL,
                      "quadratic only: q0/(q0 - q2); > 1 concave (three regions), < 1 convex"),
@@ -80,10 +81,10 @@ _FIXED: dict[str, dict[str, Key]] = {
                      "frequencies of the table"),
         "unit": Key(choice(*OMEGA_UNITS), "rad/s",
                     '"rad/s", "Hz", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
-        "tolerance": Key(number(gt=0, lt=presets.MAX_RTOL), OPTIONAL,
+        "tolerance": Key(number(ge=MIN_RELATIVE_TOL, lt=presets.MAX_RTOL), OPTIONAL,
                          f"kept from an earlier release: the elements' relative accuracy (rtol), which sweep.tol "
                          f"now sets (tol/100, at most {presets.DEFAULT_RTOL:g})"),
-        "tol": Key(number(gt=0, lt=1), OPTIONAL,
+        "tol": Key(number(ge=MIN_RELATIVE_TOL, lt=1), OPTIONAL,
                    "target relative error of the response amplitude against the physical system "
                    "(frequency_response's tol): the error estimate's target and the warning's threshold, the "
                    'all-mode peak\'s, and what damper.model = "auto" holds the single-mode bar to; default '
@@ -123,7 +124,8 @@ _FIXED: dict[str, dict[str, Key]] = {
                       "(modes.amplitude must hold the peak at p0)"),
     },
     "output": {
-        "folder": Key(text, OPTIONAL, "output folder; default the scene file's name without .toml"),
+        "folder": Key(inner_folder, OPTIONAL, "output folder, relative to the scene file's folder and inside it "
+                      "(--out writes elsewhere); default the scene file's name without .toml"),
         "formats": Key(formats, ("csv", "png", "json"), 'which outputs: any of "csv", "png", "json"'),
     },
 }

@@ -17,7 +17,7 @@ from typing import Any, Mapping
 
 from ..balance import presets
 from ..frf import DEFAULT_TOL
-from .checks import Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, show
+from .checks import TOO_DEEP, Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, refuse_nesting, show
 from .contacts import check_entries
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
@@ -123,8 +123,8 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
     ...     _ = path.write_text('[damper]\\nmodel = "macroslip"\\nstiffness = 1e6\\nslip_force = 1.0\\n'
     ...                         '[sweep]\\nkind = "amplitude"\\nomega = [0.0]\\namplitude = [0.1, 10.0]\\n')
     ...     scene = load_scene(path, overrides={"sweep.points": 5})
-    >>> scene.name, scene.sweep["points"], scene.output["folder"]
-    ('jenkins', 5, 'jenkins')
+    >>> scene.name, scene.sweep["points"], scene.output["folder"] == str(path.parent / "jenkins")
+    ('jenkins', 5, True)
     """
     return scene_from_dict(read_toml(path), path, overrides=overrides)
 
@@ -135,7 +135,9 @@ def read_toml(path: str | Path) -> dict:
     path = Path(path)
     try:
         with path.open("rb") as fh:
-            return tomllib.load(fh)
+            data = tomllib.load(fh)
+    except RecursionError:
+        raise SceneError([f"{path}: not valid as a scene: {TOO_DEEP}"]) from None
     except FileNotFoundError:
         raise SceneError([f"{path}: no such file"]) from None
     except tomllib.TOMLDecodeError as exc:
@@ -145,6 +147,8 @@ def read_toml(path: str | Path) -> dict:
                           f"at offset {exc.start}); a scene is a UTF-8 text file"]) from None
     except OSError as exc:
         raise SceneError([f"{path}: cannot be read: {exc.strerror or exc}"]) from None
+    refuse_nesting(data, f"{path}: not valid as a scene")
+    return data
 
 
 def parse_override(text: str) -> tuple[str, Any]:
@@ -181,6 +185,9 @@ def parse_override(text: str) -> tuple[str, Any]:
         value = tomllib.loads(f"v = {raw.strip()}")["v"]
     except tomllib.TOMLDecodeError:
         value = raw.strip()
+    except RecursionError:
+        raise SceneError([f"--set {name}: {TOO_DEEP}"]) from None
+    refuse_nesting(value, f"--set {name}")
     return name, value
 
 
@@ -377,8 +384,8 @@ class _Rules:
         bar_complete = all(self.has("damper", k) for k in BAR_KEYS)
         if sweep["unit"] == "omega_c" and not bar_complete and "bar" not in needs:
             self.forbid("sweep", "unit", "without a bar in [damper] (omega_c is the bar's: give E, rho, A, L, k, mu)")
-        if output.get("folder") is None:
-            output["folder"] = self.path.stem
+        # beside the scene file, as its matrix files are read (the command line's --out writes elsewhere)
+        output["folder"] = str(self.path.parent / (output.get("folder") or self.path.stem))
         study = study_table(self) if "study" in self.tables else None
         if study is not None and modes is not None:
             self.problems.append(f"{self.path}: [study] with [{'optimum' if optimum else 'modes'}]: a study runs "

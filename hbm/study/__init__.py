@@ -121,7 +121,7 @@ class Study:
             problems += _problems(runner, i, point)
         _refuse(problems)
         st = scene.study
-        settings = {k: st.get(k) for k in ("executor", "workers", "scheduler")}
+        settings = {k: st.get(k) for k in ("executor", "workers", "scheduler", "time_limit")}
         settings.update(folder=scene.output["folder"], formats=scene.output["formats"])
         design = {"grid": st.get("grid"), "n": st.get("n"), "seed": st.get("seed"),
                   "samples": {k: d.as_dict() for k, d in (st.get("samples") or {}).items()} or None}
@@ -196,7 +196,8 @@ def check_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None)
 
 def run_study(study: Study, out: str | Path | None = None, *, executor: Any = None, workers: int | None = None,
               scheduler: str | None = None, progress: Callable[[StudyProgress], None] | None = None,
-              retry_failed: bool = True, formats: Sequence[str] | None = None) -> StudyResult:
+              retry_failed: bool = True, formats: Sequence[str] | None = None,
+              time_limit: float | None = None) -> StudyResult:
     """Run every run of ``study`` not already in the folder ``out``; see ``hbm.study.store``.
 
     Parameters
@@ -218,6 +219,9 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
         Recompute runs recorded as failed in the folder (successful runs are never recomputed).
     formats : sequence of {"csv", "json", "png"}, optional
         Default ``study.settings["formats"]``, else all three.  ``runs.jsonl`` is always written.
+    time_limit : float, optional
+        Seconds each run may take; default ``study.settings["time_limit"]``, else no limit.  A run over
+        it is a failed run whose message names the limit (``hbm.study.execute.run_tasks``).
 
     Returns
     -------
@@ -255,6 +259,7 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
     elif executor == "dask" and scheduler is None:
         scheduler = s.get("scheduler")
     workers = workers if workers is not None else s.get("workers")
+    time_limit = time_limit if time_limit is not None else s.get("time_limit")
     check_executor(executor, workers, scheduler)
     formats = tuple(formats if formats is not None else s.get("formats") or ("csv", "json", "png"))
     unknown = set(formats) - {"csv", "json", "png"}
@@ -267,10 +272,11 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
                 "scheduler": scheduler}
     local = executor in ("processes", "dask") and scheduler is None
     describe["workers"] = 1 if executor == "serial" else workers or (cores() if local else None)
+    describe["time_limit_s"] = time_limit
 
     def run(tasks, on_done, on_start):
         return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler,
-                         on_start=on_start)
+                         on_start=on_start, time_limit=time_limit)
 
     return run_into(study, folder, run=run, formats=formats, retry_failed=retry_failed, progress=progress,
                     describe=describe)

@@ -20,6 +20,7 @@ import threading
 import time
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
+from .._validation import InputError
 from .runs import execute
 from .lock import alive
 
@@ -100,10 +101,16 @@ def single_threaded_blas() -> list[str]:
     return done
 
 
-def _worker_init() -> None:
+#: In a worker of a study with a time limit: the queue on which each run says it started.
+_STARTS: Any = None
+
+
+def _worker_init(starts: Any = None) -> None:
     """A worker process computes on one thread (:func:`single_threaded_blas`), leaves Ctrl-C to
     its parent (which stops it), dies on SIGTERM, and ends on its own when its parent is gone
-    (:func:`_watch_parent`)."""
+    (:func:`_watch_parent`).  ``starts``: the queue of a time-limited study (:func:`_started`)."""
+    global _STARTS
+    _STARTS = starts
     single_threaded_blas()
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
@@ -204,12 +211,14 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
         raise ImportError(DASK_MISSING) from None
     if scheduler is not None:
         try:
-            client, cluster = Client(scheduler), None
+            client, cluster = _connect(Client, scheduler, DASK_CONNECT_TIMEOUT), None
+        except InputError:
+            raise
         except OSError as exc:  # refused, unreachable, timed out
-            raise ValueError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
+            raise InputError(f"cannot reach the Dask scheduler at scheduler={scheduler!r}: {exc}") from None
         except Exception as exc:  # noqa: BLE001 - something answered that does not speak Dask's protocol
             what = f"{type(exc).__name__}: {exc}"
-            raise ValueError(f"cannot use the Dask scheduler at scheduler={scheduler!r}: what answers there is "
+            raise InputError(f"cannot use the Dask scheduler at scheduler={scheduler!r}: what answers there is "
                              f"not a Dask scheduler (reading its answer failed with {what[:200]})") from None
     else:
         cluster = LocalCluster(n_workers=workers or cores(), threads_per_worker=1, processes=True,
@@ -222,6 +231,162 @@ def dask_executor(workers: int | None, scheduler: str | None) -> tuple[cf.Execut
             cluster.close()
 
     return client.get_executor(pure=False), close
+
+
+#: Seconds a study waits for a Dask scheduler to answer (an address that accepts the connection and
+#: never answers made Dask's own client wait past 120 s, its timeout notwithstanding).
+DASK_CONNECT_TIMEOUT = 30.0
+
+
+def _connect(Client: Any, scheduler: str, timeout: float) -> Any:
+    """``Client(scheduler)``, in a thread given ``timeout`` seconds; ``InputError`` when no answer came."""
+    box: dict = {}
+
+    def connect() -> None:
+        try:
+            box["client"] = Client(scheduler, timeout=timeout)
+        except BaseException as exc:  # noqa: BLE001 - handed to the caller
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="hbm-dask-connect", daemon=True)
+    thread.start()
+    thread.join(timeout)
+    if thread.is_alive():
+        raise InputError(f"the Dask scheduler at scheduler={scheduler!r} did not answer within {timeout:g} s "
+                         "(hbm.study.execute.DASK_CONNECT_TIMEOUT): something accepts connections there but does "
+                         "not answer as a Dask scheduler; check the address")
+    if "error" in box:
+        raise box["error"]
+    return box["client"]
+
+
+class RunTimeLimit(Exception):
+    """A run of a study took longer than its time limit (``study.time_limit``, ``--time-limit``)."""
+
+
+def time_limit_message(limit: float) -> str:
+    """The message of a run stopped at its time limit."""
+    return (f"RunTimeLimit: the run took longer than its time limit of {limit:g} s and was stopped "
+            "(study.time_limit, --time-limit)")
+
+
+def _failed(message: str, elapsed: float) -> dict:
+    return {"success": False, "message": message, "peak_omega_rad_s": None, "peak_amplitude_m": None,
+            "peak_error_rel": None, "peak_model": None, "nfev": None, "curve": {}, "time_s": elapsed}
+
+
+def limited(runner: Callable[[Mapping[str, Any]], Any], limit: float | None, point: Mapping[str, Any]) -> dict:
+    """``execute(runner, point)`` stopped after ``limit`` seconds (SIGALRM, in the main thread where the
+    platform has it): a failed record naming the limit.  ``limit`` None: no limit."""
+    if limit is None or not hasattr(signal, "setitimer") or threading.current_thread() is not threading.main_thread():
+        return execute(runner, point)
+
+    def alarm(signum: int, frame: Any) -> None:
+        raise RunTimeLimit(f"the run took longer than its time limit of {limit:g} s")
+
+    t0 = time.perf_counter()
+    previous = signal.signal(signal.SIGALRM, alarm)
+    signal.setitimer(signal.ITIMER_REAL, limit)
+    try:
+        rec = execute(runner, point)  # the alarm inside the runner: a failed record of it
+    except RunTimeLimit:  # the alarm between the runner's end and execute's own
+        rec = None
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0.0)
+        signal.signal(signal.SIGALRM, previous)
+    if rec is None or rec["message"].startswith("RunTimeLimit:"):
+        rec = _failed(time_limit_message(limit), time.perf_counter() - t0)
+    return rec
+
+
+def _started(runner: Callable[[Mapping[str, Any]], Any], limit: float, task: tuple) -> dict:
+    """In a worker: say on the start queue that run ``task[0]`` starts here, then :func:`limited`."""
+    index, point = task
+    _STARTS.put((index, os.getpid(), time.time()))
+    return limited(runner, limit, point)
+
+
+#: Seconds past its limit the parent gives a run before it kills the worker (a worker that cannot
+#: stop itself: stopped by SIGSTOP, or inside a long call of compiled code).
+KILL_GRACE_S = 2.0
+#: Seconds between two looks of the parent at its runs' time (a study with a time limit).
+WATCH_PERIOD_S = 0.1
+
+
+def _run_processes_limited(runner: Callable, tasks: Sequence[tuple[int, Mapping[str, Any]]],
+                           on_done: Callable[[int, dict], None], workers: int | None, limit: float,
+                           start: Callable[[], None]) -> list[tuple[int, str]]:
+    """``run_tasks`` on worker processes with a time limit per run: each run stops itself at
+    ``limit`` (:func:`limited`); a worker still on it ``KILL_GRACE_S`` later is killed (SIGKILL: a
+    stopped process too), its run recorded as failed at its limit, and the runs the broken pool lost
+    computed again on a new one."""
+    import multiprocessing
+
+    todo = dict(tasks)
+    lost: list = []
+    started = False
+    while todo:
+        starts = multiprocessing.get_context().SimpleQueue()
+        n = workers or min(cores(), len(todo))
+        with _sigint_blocked():
+            pool = cf.ProcessPoolExecutor(max_workers=n, initializer=_worker_init, initargs=(starts,))
+            futures = {pool.submit(_started, runner, limit, (i, p)): i for i, p in list(todo.items())[:n]}
+        if not started:
+            start()
+            started = True
+        for i, p in list(todo.items())[n:]:
+            futures[pool.submit(_started, runner, limit, (i, p))] = i
+        running: dict = {}  # index -> (pid, start time)
+        killed: set = set()
+        broken = False
+        try:
+            pending = set(futures)
+            while pending:
+                done, pending = cf.wait(pending, timeout=WATCH_PERIOD_S, return_when=cf.FIRST_COMPLETED)
+                for fut in done:
+                    i = futures[fut]
+                    exc = fut.exception()
+                    if exc is None:
+                        todo.pop(i, None)
+                        running.pop(i, None)
+                        on_done(i, fut.result())
+                    elif isinstance(exc, cf.process.BrokenProcessPool) and (killed or broken):
+                        broken = True  # lost with the killed worker's pool: computed again
+                    else:
+                        todo.pop(i, None)
+                        lost.append((i, f"{type(exc).__name__}: {exc}".rstrip(": ")))
+                while not starts.empty():
+                    i, pid, t = starts.get()
+                    running[i] = (pid, t)
+                now = time.time()
+                for i, (pid, t) in list(running.items()):
+                    if i in todo and i not in killed and now - t > limit + KILL_GRACE_S:
+                        with contextlib.suppress(OSError):
+                            os.kill(pid, signal.SIGKILL)
+                        killed.add(i)
+                        todo.pop(i)
+                        on_done(i, _failed(time_limit_message(limit), now - t))
+                if killed:
+                    broken = True
+                    break
+        except BaseException:
+            with _sigint_deferred():
+                _stop(pool)
+            raise
+        _end(pool)
+    return sorted(lost)
+
+
+def _end(pool: cf.ProcessPoolExecutor) -> None:
+    """Shut ``pool`` down without waiting on a worker that cannot end (stopped by SIGSTOP): each gets
+    ``KILL_GRACE_S`` to exit, then SIGKILL."""
+    procs = list((getattr(pool, "_processes", None) or {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for proc in procs:
+        proc.join(KILL_GRACE_S)
+        if proc.is_alive():
+            proc.kill()
+            proc.join(KILL_GRACE_S)
 
 
 def _stop(pool: cf.Executor) -> None:
@@ -238,7 +403,8 @@ def _stop(pool: cf.Executor) -> None:
 
 def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[int, Mapping[str, Any]]],
               on_done: Callable[[int, dict], None], *, executor: Any = "processes", workers: int | None = None,
-              scheduler: str | None = None, on_start: Callable[[], None] | None = None) -> list[tuple[int, str]]:
+              scheduler: str | None = None, on_start: Callable[[], None] | None = None,
+              time_limit: float | None = None) -> list[tuple[int, str]]:
     """Run ``execute(runner, point)`` for each ``(index, point)`` of ``tasks``; ``on_done(index,
     record)`` in this process as each finishes.  Returns the runs lost (not computed) as
     ``[(index, reason)]``: a worker process that died, a cluster that failed.
@@ -267,6 +433,11 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     on_start : callable, optional
         Called once with no argument when the executor is up, before the first run (also when
         ``tasks`` is empty); not called if the executor cannot start.
+    time_limit : float, optional
+        Seconds a run may take (default None: no limit).  A run over it becomes a failed record naming
+        the limit; on worker processes one that does not stop (a worker stopped by SIGSTOP) is killed
+        ``KILL_GRACE_S`` later and the runs that shared its pool are computed again.  Serial and worker
+        runs stop themselves by SIGALRM; a Dask cluster's runs are not limited.
 
     Returns
     -------
@@ -292,7 +463,10 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     {0: 1.0, 1: 2.0}
     """
     check_executor(executor, workers, scheduler)
-    fn = functools.partial(execute, runner)
+    if time_limit is not None and (isinstance(time_limit, bool) or not isinstance(time_limit, (int, float))
+                                   or not 0.0 < time_limit < float("inf")):
+        raise InputError(f"time_limit must be a number of seconds > 0 or None, got time_limit={time_limit!r}")
+    fn = functools.partial(execute, runner) if time_limit is None else functools.partial(limited, runner, time_limit)
     start = on_start if on_start is not None else (lambda: None)
     if executor == "serial" or (executor == "processes" and workers == 1):
         start()
@@ -302,6 +476,8 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     if not tasks:
         start()
         return []
+    if executor == "processes" and time_limit is not None:
+        return _run_processes_limited(runner, tasks, on_done, workers, float(time_limit), start)
     close = None
     first = 0  # tasks submitted with Ctrl-C held back: those that start the worker processes
     if executor == "processes":
@@ -341,4 +517,4 @@ def run_tasks(runner: Callable[[Mapping[str, Any]], Any], tasks: Sequence[tuple[
     return sorted(lost)
 
 
-__all__ = ["EXECUTORS", "DASK_MISSING", "PARENT_CHECK_S", "BLAS_THREAD_VARIABLES", "single_threaded_blas", "cores", "signals_held", "check_executor", "dask_executor", "run_tasks"]
+__all__ = ["EXECUTORS", "DASK_MISSING", "DASK_CONNECT_TIMEOUT", "RunTimeLimit", "KILL_GRACE_S", "limited", "PARENT_CHECK_S", "BLAS_THREAD_VARIABLES", "single_threaded_blas", "cores", "signals_held", "check_executor", "dask_executor", "run_tasks"]

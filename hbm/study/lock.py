@@ -20,11 +20,13 @@ import time
 from pathlib import Path
 from typing import Iterator
 
+from .._validation import InputError
+
 #: The lock file's name in a study's folder.
 LOCK = "study.lock"
 
 
-class FolderInUse(ValueError):
+class FolderInUse(InputError):
     """Another live process is writing a study into the folder.
 
     Attributes

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..output import CsvStream
 from ..scenes.reporting import jsonable
-from ..scenes.running import duration
+from ..scenes.running import duration, replace_atomically
 from .execute import signals_held
 from .figures import figure
 from .lock import LOCK, hold
@@ -126,19 +126,55 @@ def scan_records(path: str | Path) -> tuple[dict, int]:
         data = Path(path).read_bytes()
     except FileNotFoundError:
         return out, damaged
+    conflicts: set = set()
     for line in data.split(b"\n"):
         if not line.strip():
             continue
         try:
             rec = json.loads(line.decode("utf-8"))
-        except (UnicodeDecodeError, json.JSONDecodeError):
+        except (UnicodeDecodeError, json.JSONDecodeError, RecursionError):  # RecursionError: nested past any record
             damaged += 1
             continue
         if isinstance(rec, dict) and isinstance(rec.get("id"), str):
+            before = out.get(rec["id"])
+            if before is not None and before.get("success") is True and _result(before) != _result(rec):
+                conflicts.add(rec["id"])  # two different results of one run: neither is trusted
             out[rec["id"]] = rec
         else:
             damaged += 1
+    for rid in conflicts:
+        del out[rid]
+        damaged += 1
     return out, damaged
+
+
+def _result(rec: dict) -> dict:
+    """A record's result fields (what a rerun of the same point gives again; not its time)."""
+    return {k: v for k, v in rec.items() if k not in ("time_s", "run")}
+
+
+def _number(v: Any, *, optional: bool = True) -> bool:
+    return (v is None and optional) or (not isinstance(v, bool) and isinstance(v, (int, float)) and math.isfinite(v))
+
+
+def usable(rec: dict, point: dict) -> bool:
+    """Whether ``rec`` (a line of ``runs.jsonl``) is a record of ``point`` that a resume may reuse:
+    every field of :data:`hbm.study.RESULT_COLUMNS` present with its type (``success`` a bool, the
+    peaks None or finite numbers, ``nfev`` None or an integer, ``time_s`` a finite number), ``curve`` a
+    table of lists of numbers, and ``params`` the point.  Anything else is a damaged line: recomputed."""
+    try:
+        curve = rec.get("curve", {})
+        return (rec.get("params") == json.loads(json.dumps(jsonable(point))) and isinstance(rec.get("success"), bool)
+                and isinstance(rec.get("message"), str)
+                and all(_number(rec.get(k, 0.0)) and k in rec for k in ("peak_omega_rad_s", "peak_amplitude_m",
+                                                                          "peak_error_rel"))
+                and (rec.get("peak_model") is None or isinstance(rec["peak_model"], str)) and "peak_model" in rec
+                and (rec.get("nfev") is None or (isinstance(rec["nfev"], int) and not isinstance(rec["nfev"], bool)))
+                and "nfev" in rec and _number(rec.get("time_s"), optional=False)
+                and isinstance(curve, dict) and all(isinstance(k, str) and isinstance(v, list) and all(
+                    not isinstance(x, bool) and isinstance(x, (int, float)) for x in v) for k, v in curve.items()))
+    except (TypeError, ValueError, RecursionError):
+        return False
 
 
 @dataclass
@@ -287,10 +323,7 @@ class StudyResult:
 
 def _write_json(path: Path, data: Any) -> Path:
 
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text(json.dumps(jsonable(data), indent=2) + "\n")
-    tmp.replace(path)
-    return path
+    return replace_atomically(path, lambda fh: fh.write(json.dumps(jsonable(data), indent=2) + "\n"))
 
 
 def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_failed: bool,
@@ -316,6 +349,35 @@ def run_into(study: Any, folder: Path, *, run: Callable, formats: tuple, retry_f
                 folder.rmdir()  # only if empty
 
 
+def _reusable(study: Any, ids: list, old: dict, retry_failed: bool) -> tuple[list, int]:
+    """``(records, unusable)``: the record of each run found in ``old`` that may be reused (None
+    elsewhere), and how many found were unusable (:func:`usable`: computed again, counted as damaged)."""
+    records: list = [None] * len(ids)
+    unusable = 0
+    for i, rid in enumerate(ids):
+        rec = old.get(rid)
+        if rec is not None and not usable(rec, study.points[i]):
+            unusable += 1  # wrong types, a non-finite peak, another point's record
+            rec = None
+        if rec is not None and (rec["success"] or not retry_failed):
+            records[i] = {**rec, "run": i + 1, "params": study.points[i]}
+    return records, unusable
+
+
+def _write_table(path: Path, records: list, params: tuple) -> Path:
+    """The whole table at ``path``, written beside it and renamed onto it; on a failure (a full
+    disk) no half table is left behind."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with CsvStream(tmp, columns(params)) as csv_out:
+            for r in records:
+                csv_out.write(csv_row(r, params))
+        return tmp.replace(path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+
+
 def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_failed: bool,
                 progress: Callable[[StudyProgress], None] | None, describe: dict, started: list) -> StudyResult:
     t_start = time.perf_counter()
@@ -323,11 +385,8 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     params = study.parameters
     log_path = folder / FILES["records"]
     old, damaged = scan_records(log_path)
-    records: list = [None] * len(ids)
-    for i, rid in enumerate(ids):
-        rec = old.get(rid)
-        if rec is not None and (rec.get("success") or not retry_failed):
-            records[i] = {**rec, "run": i + 1, "params": study.points[i]}
+    records, unusable = _reusable(study, ids, old, retry_failed)
+    damaged += unusable
     reused = sum(r is not None for r in records)
     counts = {"points": reused, "failed": sum(not r["success"] for r in records if r is not None)}
     out: dict = {}  # "log", "stream": open once the executor is up
@@ -338,9 +397,8 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
         started.append(True)
         for key in ("csv", "partial", "json", "png"):  # outputs of an earlier run of this folder
             (folder / FILES[key]).unlink(missing_ok=True)
-        tmp = log_path.with_name(log_path.name + ".tmp")  # keep only this study's records, atomically
-        tmp.write_text("".join(json.dumps(r) + "\n" for r in records if r is not None))
-        tmp.replace(log_path)
+        replace_atomically(log_path, lambda fh: fh.write(  # keep only this study's records, atomically
+            "".join(json.dumps(r) + "\n" for r in records if r is not None)))
         out["stream"] = stream = CsvStream(folder / FILES["partial"], columns(params)) if "csv" in formats else None
         out["log"] = log_path.open("a")
         if stream is not None:
@@ -378,10 +436,7 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     if stream is not None:
         result.files["csv"] = folder / FILES["partial"]
         if result.complete:
-            with CsvStream(folder / (FILES["csv"] + ".tmp"), columns(params)) as csv_out:
-                for r in records:
-                    csv_out.write(csv_row(r, params))
-            result.files["csv"] = (folder / (FILES["csv"] + ".tmp")).replace(folder / FILES["csv"])
+            result.files["csv"] = _write_table(folder / FILES["csv"], records, params)
             (folder / FILES["partial"]).unlink()
     result.files["records"] = log_path
     if "png" in formats and any(r is not None and r["success"] for r in records):
