@@ -1,8 +1,10 @@
-"""Shared input checks: every failure is a ValueError naming the parameter and its value."""
+"""Shared checks: of the input (every failure a ValueError naming the parameter and its value), and of
+what a contact element returns (the contract: type, shape, finiteness, naming the element)."""
 
 from __future__ import annotations
 
 import math
+from typing import Any, Callable
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,7 +47,7 @@ def count(name: str, value: object, minimum: int = 1) -> int:
     return int(value)
 
 
-def derived(owner: str, params: dict, compute, *, positive_names: tuple = ()) -> dict:
+def derived(owner: str, params: dict, compute: Callable[[], dict], *, positive_names: tuple = ()) -> dict:
     """``compute()``: the quantities an element derives from its parameters (a dict), each finite
     (and > 0 for ``positive_names``); else a ValueError naming the parameters, the quantity and its
     value (parameters near the float limits, e.g. a stiffness of 1e-300 beside one of 1e300)."""
@@ -104,7 +106,7 @@ def _own(element: object, hook: str) -> bool:
     return owner is not None and not (owner.__name__ == "ContactElement" and owner.__module__ == "contact_models.base")
 
 
-def fourier_checked(element, a: NDArray, omega: NDArray, rtol: float, *, values: bool = False) -> list:
+def fourier_checked(element: Any, a: NDArray, omega: NDArray, rtol: float, *, values: bool = False) -> list:
     """The element's ``(f_s, f_c, df_s/da, df_c/da)`` (``values``: ``(f_s, f_c)``, from ``_fourier`` where
     it implements it) for flat ``a``, ``omega``, checked: real arrays of one value per amplitude, finite;
     else ``ValueError`` (type, shape) or ``ElementOutputError`` naming the element, the hook and where."""
@@ -114,7 +116,7 @@ def fourier_checked(element, a: NDArray, omega: NDArray, rtol: float, *, values:
     return out[:2] if values else out
 
 
-def scalar_checked(element, out: tuple, a: float, omega: float) -> tuple:
+def scalar_checked(element: Any, out: tuple, a: float, omega: float) -> tuple:
     """``out`` of the float path ``_derivatives_one`` at ``(a, omega)``, checked as :func:`fourier_checked`."""
     if isinstance(out, tuple) and len(out) == 4 and all(type(v) in (float, np.float64) for v in out) \
             and math.isfinite(sum(out)):
@@ -124,7 +126,7 @@ def scalar_checked(element, out: tuple, a: float, omega: float) -> tuple:
                                                np.array([omega], dtype=float)))
 
 
-def _returned(element, hook: str, out, count: int, a: NDArray, omega: NDArray) -> list:
+def _returned(element: Any, hook: str, out: Any, count: int, a: NDArray, omega: NDArray) -> list:
     n = a.size
     if type(out) is tuple and len(out) == count:  # the common case, at the solver's rate
         if all(type(v) is np.ndarray and v.dtype == np.float64 and v.size == n for v in out):
@@ -145,7 +147,7 @@ def _returned(element, hook: str, out, count: int, a: NDArray, omega: NDArray) -
     return checked
 
 
-def time_law_checked(element, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
+def time_law_checked(element: Any, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
     """``element._periodic_force(x, omega)`` checked: a pair ``(f, df/dx)`` of real arrays of shapes
     x's and (x.size, x.size), finite; else ``ValueError`` or ``ElementOutputError`` naming the element."""
     out = element._periodic_force(x, omega)
@@ -165,7 +167,7 @@ def time_law_checked(element, x: NDArray, omega: float) -> tuple[NDArray, NDArra
     return checked[0], checked[1]
 
 
-def harmonics_checked(element, out, X: NDArray, omega: float) -> tuple[NDArray, NDArray, NDArray]:
+def harmonics_checked(element: Any, out: Any, X: NDArray, omega: float) -> tuple[NDArray, NDArray, NDArray]:
     """``(F, dF/dX, dF/domega)`` of ``_harmonic_force`` checked: real arrays of X's size, its square
     and X's size, finite; else ``ValueError`` or ``ElementOutputError`` naming the element."""
     n = X.size
@@ -192,7 +194,7 @@ def harmonics_checked(element, out, X: NDArray, omega: float) -> tuple[NDArray, 
     return tuple(checked)
 
 
-def loop_checked(element, out, a: float, omega: float) -> tuple[NDArray, NDArray]:
+def loop_checked(element: Any, out: Any, a: float, omega: float) -> tuple[NDArray, NDArray]:
     """``_hysteresis``'s ``(x, f)`` checked: a pair of real arrays, finite."""
     name = f"element={element!r}: {type(element).__name__}._hysteresis(a, omega, n)"
     if not isinstance(out, (tuple, list)) or len(out) != 2:
@@ -226,7 +228,7 @@ def _real_array(v: object, name: str) -> np.ndarray:
     return arr.astype(float, copy=False)
 
 
-def _finite(arrays: list, names: tuple, name: str, where) -> None:
+def _finite(arrays: list, names: tuple, name: str, where: Callable[[int], str]) -> None:
     """Raise ``ElementOutputError`` at the first non-finite value of ``arrays`` (``where(i)`` says where)."""
     for what, v in zip(names, arrays):
         bad = ~np.isfinite(v)
