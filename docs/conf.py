@@ -89,7 +89,7 @@ nitpick_ignore_regex = [
     ("py:.*", r"(scipy|matplotlib)\..*"),  # type hints: matplotlib.axes.Axes
     ("py:.*", r"(pathlib|os|collections\.abc|typing|types|dataclasses|enum|abc|argparse|concurrent)\..*"),  # stdlib, no inventory
     # Private helper types in signatures (a counter passed between the continuation's own calls).
-    ("py:class", r"(contact_models|hbm)(\.\w+)*\._\w+"),
+    ("py:class", r"(contact_models|hbm)(\.\w+)*\._\w+(\.\w+)*"),  # and names in a private module (a base class)
     ("py:class", r"_\w+"),  # the same written bare in a module's own hints (the all-mode bar's ``_Basis``)
     # A module's own alias of numpy's array types in its hints (``Array = NDArray[np.float64]``).
     ("py:class", r"Array(Like)?"),

@@ -285,7 +285,7 @@ class FrequencyResponse:
 
     @property
     def tolerance(self) -> float | None:
-        """The target relative error asked for: the same as :attr:`tol` (an older name)."""
+        """The target relative error asked for: the same as ``tol`` (an older name)."""
         return self.tol
 
     @classmethod
