@@ -21,8 +21,13 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
    turn above ``REJECT_TURN`` (a likely
    jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
    the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
-   tangent at a failed predictor has turned that much, the retry's corrector works on the
-   hyperplane normal to the bisector of the two tangents (it crosses both pieces);
+   tangent at a failed predictor has turned that much, the corrector first tries again from the
+   same predictor on the hyperplane normal to the bisector of the old tangent and the new piece's
+   (it crosses both pieces), the new piece's tangent oriented by the sign of ``det [J; t]``, which
+   a branch keeps across the kinks of a continuous piecewise-smooth residual (Allgower & Georg
+   ch. 12): so a corner fold, where the branch turns back by more than 90 degrees and no
+   hyperplane normal to the old tangent ahead of the corner meets it, is passed too; a retry at
+   a shorter step keeps that bisector's hyperplane;
 5. folds (turning points in the parameter): the parameter component of ``t`` changes sign;
    each is then located by :func:`locate` on the stretch between the two points.
 
@@ -60,6 +65,8 @@ REJECT_TURN = 0.5
 #: A large turn that shrinks by less than this factor when the step is halved is a corner of a
 #: piecewise-smooth branch (e.g. the onset of slip), not a jump: the step is then accepted.
 CORNER_RATIO = 0.8
+#: Two candidate tangents of a corner with ``|t1 . t2|`` above this are the same direction.
+CORNER_SAME = 0.999
 #: Bounds of the step-size factor after an accepted step.
 MIN_FACTOR = 0.3
 MAX_FACTOR = 2.0
@@ -236,7 +243,7 @@ class _Trace:
                            f"{MESSAGES[Status.START_FAILED]} ({exc})", 0, 0, count, 0.0)
         if t[p] * direction < 0.0:
             t = -t
-        self.y, self.s, self.t = y, s, t
+        self.y, self.s, self.t, self.J = y, s, t, start.J
         self.ys, self.ts, self.rn, self.its = [y], [t], [start.rnorm], [start.iterations]
         self.report(y, start.rnorm)
         self.fold_after = []
@@ -261,6 +268,8 @@ class _Trace:
         new = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
         ok, reason, t_new, turn = self._judge(new)
         if not ok:
+            if not new.converged and self._round_corner(new, y_pred):
+                return
             self._reject(new, reason)
             return
         f_curve = self._curve_factor(new.y, y_pred, s, turn)
@@ -312,6 +321,60 @@ class _Trace:
                     self.rejected = (turn, self.h)
         return ok, reason, t_new, turn
 
+    def _round_corner(self, new, y_pred) -> bool:
+        """Step around a corner the failed corrector has shown; True if a point beyond it was accepted.
+
+        The Jacobian at the failed predictor (or at the corrector's last iterate) may belong to the
+        next smooth piece of a piecewise-smooth residual.  Its null vector ``t0`` is oriented like the
+        branch: ``det [J; t]`` keeps its sign along a branch, across the kinks of a continuous
+        piecewise-smooth residual too (the orientation of piecewise-linear continuation, Allgower &
+        Georg ch. 12), so ``t0`` points along the new piece even at a corner fold, where the branch
+        turns back by more than 90 degrees and the hyperplane normal to ``t`` ahead of the corner
+        misses it.  If ``t0`` turned by more than ``REJECT_TURN`` from ``t``, the corrector works from
+        the same predictor on the hyperplane normal to the bisector ``b`` of ``t`` and ``t0``, which
+        crosses both pieces at the same arclength from the corner.  The point is taken if it lies
+        ahead of ``y`` along ``b`` and its own tangent is ``t0``'s (the piece the Jacobian showed,
+        not another branch).
+        """
+        y, s, t = self.y, self.s, self.t
+        if self.J is None:
+            return False
+        sign = _orientation(self.J, s, t)
+        seen = []
+        for J in (new.J0, new.J):
+            if J is None or sign == 0.0:
+                continue
+            try:
+                t0 = _tangent(J, s, t)
+            except np.linalg.LinAlgError:
+                continue
+            o = _orientation(J, s, t0)
+            if o == 0.0:
+                continue
+            t0 = t0 * (o * sign)
+            if float(t0 @ t) >= math.cos(REJECT_TURN) or any(float(t0 @ q) > CORNER_SAME for q in seen):
+                continue
+            seen.append(t0)
+        for d in seen:
+            b = t + d
+            b /= math.sqrt(float(b @ b))
+            w = b / s
+            trial = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
+            if not trial.converged or float(b @ ((trial.y - y) / s)) <= 0.0:
+                continue
+            try:
+                t_c = _tangent(trial.J, s, d)
+            except np.linalg.LinAlgError:
+                continue
+            if float(t_c @ d) < math.cos(REJECT_TURN) or _orientation(trial.J, s, t_c) != sign:
+                continue
+            self.corners.append(len(self.ys))
+            self.rejected = None
+            self.nrejected += 1  # the failed attempt that showed the corner
+            self._accept(trial, t_c, math.acos(max(-1.0, min(1.0, float(t_c @ t)))))
+            return True
+        return False
+
     def _reject(self, new, reason) -> None:
         self.normal = _corner_normal(new.J0, self.s, self.t)
         self.nrejected += 1
@@ -330,7 +393,7 @@ class _Trace:
         y, s_old = new.y, self.s
         s = _scale(self.scale, y)
         t = _rescale(t_new, s_old, s)
-        self.y, self.s, self.t = y, s, t
+        self.y, self.s, self.t, self.J = y, s, t, new.J
         if ts[-1][p] * t[p] < 0.0:  # the parameter turned back: a fold
             self.fold_after.append(len(ys) - 1)
         if not self.lo <= y[p] <= self.hi:
@@ -489,6 +552,13 @@ def _corner_normal(J0, s, t):
         return t
     b = t + t0
     return b / math.sqrt(float(b @ b))
+
+
+def _orientation(J, s, t) -> float:
+    """The sign of ``det [J diag(s); t]`` (0.0 if singular): the orientation of the tangent ``t``
+    (scaled coordinates) that continuation keeps along a branch (Allgower & Georg, ch. 2)."""
+    sign, _ = np.linalg.slogdet(np.concatenate((J * s, t[None])))
+    return float(sign)
 
 
 def _hermite(y_prev, t_prev, y, t, s):
