@@ -1,4 +1,4 @@
-"""Branches that turn hard at a stick/slip topology change, a corner fold or a contact closing,
+"""Branches that turn hard at a stick/slip topology change or a corner fold,
 traced by the front door with default steps, against independent periodic responses.
 
 References: ``tests/data/hard_transitions.json``, written by
