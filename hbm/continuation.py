@@ -21,7 +21,8 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
    turn above ``REJECT_TURN`` (a likely
    jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
    the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
-   tangent at a failed predictor has turned that much, the corrector first tries again from the
+   tangent at a failed predictor has turned that much (after ``CORNER_AFTER`` failures in a row),
+   the corrector tries again from the
    same predictor on the hyperplane normal to the bisector of the old tangent and the new piece's
    (it crosses both pieces), the new piece's tangent oriented by the sign of ``det [J; t]``, which
    a branch keeps across the kinks of a continuous piecewise-smooth residual (Allgower & Georg
@@ -65,6 +66,9 @@ REJECT_TURN = 0.5
 #: A large turn that shrinks by less than this factor when the step is halved is a corner of a
 #: piecewise-smooth branch (e.g. the onset of slip), not a jump: the step is then accepted.
 CORNER_RATIO = 0.8
+#: Failed correctors in a row at one point before a corner is rounded (a shorter step resolves
+#: most failures; those that persist are the corners a shorter step only creeps towards).
+CORNER_AFTER = 3
 #: Two candidate tangents of a corner with ``|t1 . t2|`` above this are the same direction.
 CORNER_SAME = 0.999
 #: Bounds of the step-size factor after an accepted step.
@@ -254,6 +258,7 @@ class _Trace:
         self.nsteps = self.nrejected = 0
         self.corners = []
         self.rejected = None  # (turn, step) of the last step rejected for turning
+        self.failures = 0  # failed correctors in a row at this point
         return None
 
     def advance(self, max_steps: int) -> None:
@@ -268,8 +273,10 @@ class _Trace:
         new = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
         ok, reason, t_new, turn = self._judge(new)
         if not ok:
-            if not new.converged and self._round_corner(new, y_pred):
+            if not new.converged and self.failures >= CORNER_AFTER and self._round_corner(new, y_pred):
+                self.failures = 0
                 return
+            self.failures += 1
             self._reject(new, reason)
             return
         f_curve = self._curve_factor(new.y, y_pred, s, turn)
@@ -387,6 +394,7 @@ class _Trace:
     def _accept(self, new, t_new, turn, f_curve=None) -> None:
         p, ys, ts = self.p, self.ys, self.ts
         self.nsteps += 1
+        self.failures = 0
         if self.rejected is not None and self.h >= self.rejected[1]:
             self.rejected = None  # back at the step that turned too much: not approaching a corner
         y_prev = self.y
