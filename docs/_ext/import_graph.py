@@ -24,7 +24,7 @@ PARTS = {
     "numerics": (("contact_models.numerics",),
                  "numerics both packages use: Brent, input checks, Masing/AFT, time stepping"),
     "elements": (("contact_models",), "contact elements: f_s, f_c of a force law, its time law, loads, the bar"),
-    "continuation": (("hbm.continuation",), "pseudo-arclength continuation of any R(y) = 0; knows nothing of friction"),
+    "continuation": (("hbm.continuation", "hbm._steps"), "pseudo-arclength continuation of any R(y) = 0; knows nothing of friction"),
     "systems": (("hbm.structure", "hbm.blade", "hbm._validation"),
                 "the linear systems: Structure, Contact, Blade (a one-DOF structure); input checks"),
     "balance": (("hbm.balance",), "the one harmonic balance: residual, condensation, layout, start, stability, presets"),
