@@ -21,8 +21,14 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
    turn above ``REJECT_TURN`` (a likely
    jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
    the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
-   tangent at a failed predictor has turned that much, the retry's corrector works on the
-   hyperplane normal to the bisector of the two tangents (it crosses both pieces);
+   tangent at a failed predictor has turned that much (after ``CORNER_AFTER`` failures in a row),
+   the corrector tries again from the
+   same predictor on the hyperplane normal to the bisector of the old tangent and the new piece's
+   (it crosses both pieces), the new piece's tangent oriented by the sign of ``det [J; t]``, which
+   a branch keeps across the kinks of a continuous piecewise-smooth residual (Allgower & Georg
+   ch. 12): so a corner fold, where the branch turns back by more than 90 degrees and no
+   hyperplane normal to the old tangent ahead of the corner meets it, is passed too; a retry at
+   a shorter step keeps that bisector's hyperplane;
 5. folds (turning points in the parameter): the parameter component of ``t`` changes sign;
    each is then located by :func:`locate` on the stretch between the two points.
 
@@ -45,30 +51,30 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
-from contact_models.numerics.small import lagrange, solve_small as _solve
+from contact_models.numerics.small import lagrange
+
+from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, _corner_normal, _Count, _counted,  # noqa: F401
+                     _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
 #: Corrector iterations the step-size control aims at.
 NEWTON_TARGET = 3.0
-#: Largest accepted ratio ``|R_{k+1}| / |R_k|`` from the second Newton update on (``|.|`` Euclidean).
-MAX_CONTRACTION = 0.5
 #: Target angle (rad) between successive tangents (curvature control).
 MAX_TURN = 0.12
-#: A step whose tangent turns by more than this (rad) is rejected and retried shorter.
-REJECT_TURN = 0.5
 #: A large turn that shrinks by less than this factor when the step is halved is a corner of a
 #: piecewise-smooth branch (e.g. the onset of slip), not a jump: the step is then accepted.
 CORNER_RATIO = 0.8
+#: Failed correctors in a row at one point before a corner is rounded (a shorter step resolves
+#: most failures; those that persist are the corners a shorter step only creeps towards).
+CORNER_AFTER = 3
+#: Two candidate tangents of a corner with ``|t1 . t2|`` above this are the same direction.
+CORNER_SAME = 0.999
 #: Bounds of the step-size factor after an accepted step.
 MIN_FACTOR = 0.3
 MAX_FACTOR = 2.0
 #: Step-size factor after a rejected step.
 FAIL_FACTOR = 0.5
-#: Largest curvature correction of the predictor, relative to the step (at one chord ahead).
-MAX_BEND = 0.25
-#: Exceptions of the residual that count as a failed corrector instead of ending the run.
-RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError)
 #: Default first step as a fraction of ``max_step``.
 FIRST_STEP = 0.25
 #: Error per step (``curve_tol``): target predictor error over curve_tol, the safety factor, the
@@ -124,24 +130,6 @@ class ContinuationResult:
     @property
     def success(self) -> bool:
         return self.status == Status.REACHED_END
-
-
-@dataclass
-class _Count:
-    nfev: int = 0
-    nit: int = 0
-
-
-@dataclass
-class _Newton:
-    y: np.ndarray
-    R: np.ndarray
-    J: np.ndarray
-    rnorm: float
-    iterations: int
-    converged: bool
-    reason: str = ""
-    J0: np.ndarray | None = None  # Jacobian at the first point (the predictor)
 
 
 def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
@@ -236,7 +224,7 @@ class _Trace:
                            f"{MESSAGES[Status.START_FAILED]} ({exc})", 0, 0, count, 0.0)
         if t[p] * direction < 0.0:
             t = -t
-        self.y, self.s, self.t = y, s, t
+        self.y, self.s, self.t, self.J = y, s, t, start.J
         self.ys, self.ts, self.rn, self.its = [y], [t], [start.rnorm], [start.iterations]
         self.report(y, start.rnorm)
         self.fold_after = []
@@ -247,6 +235,7 @@ class _Trace:
         self.nsteps = self.nrejected = 0
         self.corners = []
         self.rejected = None  # (turn, step) of the last step rejected for turning
+        self.failures = 0  # failed correctors in a row at this point
         return None
 
     def advance(self, max_steps: int) -> None:
@@ -261,6 +250,10 @@ class _Trace:
         new = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
         ok, reason, t_new, turn = self._judge(new)
         if not ok:
+            if not new.converged and self.failures >= CORNER_AFTER and self._round_corner(new, y_pred):
+                self.failures = 0
+                return
+            self.failures += 1
             self._reject(new, reason)
             return
         f_curve = self._curve_factor(new.y, y_pred, s, turn)
@@ -312,6 +305,60 @@ class _Trace:
                     self.rejected = (turn, self.h)
         return ok, reason, t_new, turn
 
+    def _round_corner(self, new, y_pred) -> bool:
+        """Step around a corner the failed corrector has shown; True if a point beyond it was accepted.
+
+        The Jacobian at the failed predictor (or at the corrector's last iterate) may belong to the
+        next smooth piece of a piecewise-smooth residual.  Its null vector ``t0`` is oriented like the
+        branch: ``det [J; t]`` keeps its sign along a branch, across the kinks of a continuous
+        piecewise-smooth residual too (the orientation of piecewise-linear continuation, Allgower &
+        Georg ch. 12), so ``t0`` points along the new piece even at a corner fold, where the branch
+        turns back by more than 90 degrees and the hyperplane normal to ``t`` ahead of the corner
+        misses it.  If ``t0`` turned by more than ``REJECT_TURN`` from ``t``, the corrector works from
+        the same predictor on the hyperplane normal to the bisector ``b`` of ``t`` and ``t0``, which
+        crosses both pieces at the same arclength from the corner.  The point is taken if it lies
+        ahead of ``y`` along ``b`` and its own tangent is ``t0``'s (the piece the Jacobian showed,
+        not another branch).
+        """
+        y, s, t = self.y, self.s, self.t
+        if self.J is None:
+            return False
+        sign = _orientation(self.J, s, t)
+        seen = []
+        for J in (new.J0, new.J):
+            if J is None or sign == 0.0:
+                continue
+            try:
+                t0 = _tangent(J, s, t)
+            except np.linalg.LinAlgError:
+                continue
+            o = _orientation(J, s, t0)
+            if o == 0.0:
+                continue
+            t0 = t0 * (o * sign)
+            if float(t0 @ t) >= math.cos(REJECT_TURN) or any(float(t0 @ q) > CORNER_SAME for q in seen):
+                continue
+            seen.append(t0)
+        for d in seen:
+            b = t + d
+            b /= math.sqrt(float(b @ b))
+            w = b / s
+            trial = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
+            if not trial.converged or float(b @ ((trial.y - y) / s)) <= 0.0:
+                continue
+            try:
+                t_c = _tangent(trial.J, s, d)
+            except np.linalg.LinAlgError:
+                continue
+            if float(t_c @ d) < math.cos(REJECT_TURN) or _orientation(trial.J, s, t_c) != sign:
+                continue
+            self.corners.append(len(self.ys))
+            self.rejected = None
+            self.nrejected += 1  # the failed attempt that showed the corner
+            self._accept(trial, t_c, math.acos(max(-1.0, min(1.0, float(t_c @ t)))))
+            return True
+        return False
+
     def _reject(self, new, reason) -> None:
         self.normal = _corner_normal(new.J0, self.s, self.t)
         self.nrejected += 1
@@ -324,13 +371,14 @@ class _Trace:
     def _accept(self, new, t_new, turn, f_curve=None) -> None:
         p, ys, ts = self.p, self.ys, self.ts
         self.nsteps += 1
+        self.failures = 0
         if self.rejected is not None and self.h >= self.rejected[1]:
             self.rejected = None  # back at the step that turned too much: not approaching a corner
         y_prev = self.y
         y, s_old = new.y, self.s
         s = _scale(self.scale, y)
         t = _rescale(t_new, s_old, s)
-        self.y, self.s, self.t = y, s, t
+        self.y, self.s, self.t, self.J = y, s, t, new.J
         if ts[-1][p] * t[p] < 0.0:  # the parameter turned back: a fold
             self.fold_after.append(len(ys) - 1)
         if not self.lo <= y[p] <= self.hi:
@@ -451,134 +499,6 @@ def locate(residual: Residual, ya: ArrayLike, yb: ArrayLike,
 
 class _LocateFailed(Exception):
     pass
-
-
-# ---------------------------------------------------------------------- helpers
-def _counted(residual, count):
-    def fun(y):
-        count.nfev += 1
-        return residual(y)
-
-    return fun
-
-
-def _scale(scale, y):
-    s = np.asarray(scale(y), dtype=float)
-    if s.shape != y.shape or not (s.size == 0 or 0.0 < float(s.min()) and float(s.max()) < math.inf):  # nan: False
-        raise ValueError(f"scale(y) must return finite positive weights of shape {y.shape}, got {s!r}")
-    return s
-
-
-def _rescale(t, s_old, s_new):
-    """The same direction as ``t`` (scaled by ``s_old``) in coordinates scaled by ``s_new``."""
-    v = t * (s_old / s_new)
-    return v / math.sqrt(float(v @ v))
-
-
-def _corner_normal(J0, s, t):
-    """Corrector normal for a retry: ``t``, or, when the tangent at the failed predictor turned
-    by more than ``REJECT_TURN`` (a corner ahead), the bisector of the two tangents, which
-    crosses both smooth pieces (the hyperplane normal to ``t`` may be parallel to the next one)."""
-    if J0 is None:
-        return t
-    try:
-        t0 = _tangent(J0, s, t)
-    except np.linalg.LinAlgError:
-        return t
-    if math.acos(min(1.0, abs(float(t0 @ t)))) <= REJECT_TURN:
-        return t
-    b = t + t0
-    return b / math.sqrt(float(b @ b))
-
-
-def _hermite(y_prev, t_prev, y, t, s):
-    """``(c2, c3)`` of the cubic ``u(h) = u + h t + h^2 c2 + h^3 c3`` (u = y/s) that also passes
-    through ``u_prev`` with slope ``t_prev`` at ``h = -|u - u_prev|`` (Hermite, chord length as
-    arclength); the cubic terms are scaled down so that one chord ahead they bend the
-    predictor by at most ``MAX_BEND`` of the step."""
-    d = (y_prev - y) / s
-    ell2 = float(d @ d)
-    if not ell2 > 0.0:
-        return np.zeros_like(t), np.zeros_like(t)
-    ell = math.sqrt(ell2)
-    g = d + ell * t
-    c3 = (t_prev - t + 2.0 * g / ell) / ell2
-    c2 = g / ell2 + ell * c3
-    bend_vec = ell * (c2 + ell * c3)  # (h^2 c2 + h^3 c3) / h at h = ell
-    bend = math.sqrt(float(bend_vec @ bend_vec))
-    if bend > MAX_BEND:
-        c2, c3 = c2 * (MAX_BEND / bend), c3 * (MAX_BEND / bend)
-    return c2, c3
-
-
-def _tangent(J, s, prev):
-    """Unit null vector of ``J diag(s)`` (the tangent in scaled coordinates), along ``prev``."""
-    Js = J * s
-    if Js.shape == (2, 3):  # fast path: the cross product of the two rows
-        (a0, a1, a2), (b0, b1, b2) = Js.tolist()
-        t = np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
-    else:
-        n = Js.shape[1]
-        rhs = np.zeros(n)
-        rhs[-1] = 1.0
-        try:
-            if prev is None:
-                raise np.linalg.LinAlgError
-            t = np.linalg.solve(np.concatenate((Js, prev[None])), rhs)
-        except np.linalg.LinAlgError:  # no reference, or the null space is orthogonal to it: the last
-            t = np.linalg.svd(Js)[2][-1]  # right-singular vector, not orthogonal to the null space
-    nrm = math.sqrt(float(t @ t))
-    if not nrm > 0.0 or not math.isfinite(nrm):
-        raise np.linalg.LinAlgError("the Jacobian has no one-dimensional null space here")
-    t = t / nrm
-    if prev is not None and float(t @ prev) < 0.0:
-        t = -t
-    return t
-
-
-def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
-    """Newton on ``[R(y); w . y - c] = 0`` from ``y`` until ``|R| <= tol``.
-
-    An arithmetic error raised by the residual counts as a failed corrector (its message is
-    kept as the reason), so that the branch computed so far survives it.
-    """
-    y = np.array(y, dtype=float)
-    try:
-        R, J = fun(y)
-    except RESIDUAL_ERRORS as exc:
-        return _Newton(y, None, None, math.inf, 0, False, f"the residual failed: {exc}")
-    rnorm = _norm(R)
-    J0 = J
-    for k in range(max_iter + 1):
-        if not math.isfinite(rnorm):
-            return _Newton(y, R, J, rnorm, k, False, "non-finite residual", J0)
-        if rnorm <= tol:
-            return _Newton(y, R, J, rnorm, k, True)
-        if k == max_iter:
-            break
-        A = np.concatenate((J, w[None]))  # [J; w], [R; w . y - c]
-        b = np.concatenate((R, [float(w @ y) - c]))
-        try:
-            dy = _solve(A, -b)
-        except np.linalg.LinAlgError:
-            return _Newton(y, R, J, rnorm, k, False, "singular corrector matrix", J0)
-        y = y + dy
-        count.nit += 1
-        try:
-            R, J = fun(y)
-        except RESIDUAL_ERRORS as exc:
-            return _Newton(y, R, J, math.inf, k + 1, False, f"the residual failed: {exc}", J0)
-        r_new = _norm(R)
-        if k >= 1 and r_new > MAX_CONTRACTION * rnorm:
-            return _Newton(y, R, J, r_new, k + 1, False,
-                           f"Newton stopped contracting (|R| {rnorm:.3e} -> {r_new:.3e})", J0)
-        rnorm = r_new
-    return _Newton(y, R, J, rnorm, max_iter, False, f"no convergence in {max_iter} Newton iterations", J0)
-
-
-def _norm(R) -> float:
-    """Euclidean norm of a short residual vector."""
-    return math.sqrt(sum(v * v for v in R.tolist()))
 
 
 def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nrejected, count, h, corners=(),

@@ -112,6 +112,23 @@ def test_corner_of_a_piecewise_smooth_curve_is_passed():
     assert r.y[-1, 1] == 1.0
 
 
+@pytest.mark.parametrize("a", [1.5, 3.0, 10.0])
+def test_corner_fold_is_passed(a):
+    """lam = -a |u| - 0.1 u^2: the branch turns back at u = 0 by 2 atan(a) (112 to 169 degrees), so
+    no hyperplane normal to the incoming tangent ahead of the corner meets the outgoing piece.  The
+    run passes the corner once, marks it a fold, and comes back down to the lower bound."""
+    def fold(y):
+        u, lam = y
+        s = 1.0 if u >= 0 else -1.0
+        return np.array([lam + a * abs(u) + 0.1 * u**2]), np.array([[a * s + 0.2 * u, 1.0]])
+
+    r = continuation(fold, [-1.0 / a, -1.0], parameter=1, bounds=(-1.0, 1.0), max_step=0.05, tol=TOL)
+    assert r.success and r.y[-1, 1] == -1.0 and r.y[-1, 0] > 0.0
+    assert len(r.corners) == 1 and len(r.fold_after) == 1
+    assert np.all(np.diff(r.y[:, 0]) > 0.0)  # never back along the incoming piece
+    assert np.all(np.abs(r.y[:, 1] + a * np.abs(r.y[:, 0]) + 0.1 * r.y[:, 0] ** 2) <= TOL)
+
+
 def test_failure_keeps_points_and_says_why():
     def breaks(y):
         if y[1] > 0.5:

@@ -26,7 +26,7 @@ PARTS = {
     "allmode": (("contact_models.allmode",),
                 "the all-mode bar (Eq. 30 with every mode): the element, its balance, Newton, error estimate"),
     "elements": (("contact_models",), "contact elements: f_s, f_c of a force law, its time law, loads, the bar"),
-    "continuation": (("hbm.continuation",), "pseudo-arclength continuation of any R(y) = 0; knows nothing of friction"),
+    "continuation": (("hbm.continuation", "hbm._steps"), "pseudo-arclength continuation of any R(y) = 0; knows nothing of friction"),
     "systems": (("hbm.structure", "hbm.blade", "hbm._validation"),
                 "the linear systems: Structure, Contact, Blade (a one-DOF structure); input checks"),
     "balance": (("hbm.balance",), "the one harmonic balance: residual, condensation, layout, start, stability, presets"),
