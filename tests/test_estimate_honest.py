@@ -43,7 +43,7 @@ def amplitude_at(frf, j, w):
             if 0 <= a < len(f) - 1 and (f.omega[a] - w) * (f.omega[a + 1] - w) <= 0.0:
                 pr = f._problem
                 loc = continuation.locate(pr, f._run.y[a], f._run.y[a + 1], lambda y, t: y[-1] * pr.omega_ref - w,
-                                          tol=f.tol, scale=f._scale, xtol=1e-13)
+                                          tol=f.newton_tol, scale=f._scale, xtol=1e-13)
                 X, _ = pr.to_physical(loc.y)
                 r = pr.dofs.index(pr.response_dof)
                 return float(np.hypot(X[r, 1], X[r, 2]))
