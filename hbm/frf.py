@@ -241,9 +241,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
     if model != "given" and tolerance is None:
         raise ValueError(f"model={model!r} chooses the model by the error estimate: it needs a tol, got tol=None")
-    derived = DEFAULT_RTOL if tolerance is None else min(DEFAULT_RTOL, RTOL_SHARE * tolerance)
-    if rtol is None:
-        rtol = derived
+    if rtol is None:  # the elements' tolerance follows tol
+        rtol = DEFAULT_RTOL if tolerance is None else min(DEFAULT_RTOL, RTOL_SHARE * tolerance)
     elif tolerance is not None and explicit:  # an earlier release's rtol, tightened by an explicit tol
         rtol = min(positive("rtol", rtol), RTOL_SHARE * tolerance)
     rtol = positive("rtol", rtol)
@@ -272,7 +271,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                         lambda H: n_t_given if n_t_given is not None else _samples(H), response_dof)
     live = None if again or callback is None else (lambda problem: _reporter(callback, problem))
     notes: list[str] = []
-    with errors.collected() as at_peak:  # one block: every other warning is said once, as Python says it
+    with errors.collected() as said:  # one block: every other warning is said once, as Python says it
         frf = along.solve(knobs, contacts, harmonics, live)
         if again:  # the model and H chosen along the curve (hbm.adapt)
             plan = along.Plan(MODEL_SHARE if model == "auto" or rungs else None, HARMONICS_SHARE if adapt else None,
@@ -285,7 +284,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
             if model == "peak":
                 refine_peak(frf)
     heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in f._heard]
-    heard += at_peak
+    heard += said  # the elements' warnings outside a trace (while locating and refining the peak)
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes, (w0, w1))
     return frf
 
