@@ -1,7 +1,7 @@
 """Harmonics and model chosen along the curve: windows of a branch traced again, spliced into one result.
 
 ``hbm.frequency_response`` with ``tol`` traces the whole range once at a start setting (H and the
-elements as given), then finds the **windows**: the contiguous stretches of the branch (by point
+elements as given), then finds the **windows**: the contiguous runs of points of the branch (by point
 index, so folds are fine) where one source of its error estimate exceeds a share of ``tol`` (the
 harmonics source, or the model source for ``model="auto"``), widened to the nearest estimate nodes
 (``hbm.balance.errors.nodes``) below the share on each side.  Each window is traced again with
@@ -13,7 +13,7 @@ the branch passes the window's last point: at the first accepted point beyond th
 through the coarse end point normal to the coarse tangent, moved onto that hyperplane
 (``hbm.continuation.locate``).  The refined window is searched again with its own estimate, up to
 ``MAX_HARMONICS``.  A window whose refined trace fails keeps the coarse points, and says so.  The
-stretches are spliced into one :class:`hbm.FrequencyResponse` (``FrequencyResponse.spliced``);
+segments are spliced into one :class:`hbm.FrequencyResponse` (``FrequencyResponse.spliced``);
 ``docs/multiharmonic.md`` ("Harmonics along the curve") gives the rules.
 """
 
@@ -121,7 +121,7 @@ def trace(problem: HarmonicBalance, knobs: Knobs, *, reporter: Callable | None =
 
 # ------------------------------------------------------------------ windows
 def windows(source: np.ndarray, nodes: np.ndarray, threshold: float, lo: int, hi: int) -> list[tuple[int, int]]:
-    """``[(i0, i1), ...]``: the stretches of ``lo <= i < hi`` where ``source`` exceeds ``threshold``,
+    """``[(i0, i1), ...]``: the runs of ``lo <= i < hi`` where ``source`` exceeds ``threshold``,
     each widened to the nearest estimate ``nodes`` on each side (else ``lo``, ``hi - 1``), merged
     where they meet; ``i0``, ``i1`` inclusive.
 
@@ -364,13 +364,13 @@ class Plan:
 
 def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyResponse, list[str]]:
     """``frf`` (the whole range at the start setting) with its windows traced again: the model
-    pass, then the harmonics pass on every stretch (the other way round with ``plan.rungs_only``: the
-    structure's harmonics do not depend on the rung, so a stretch is traced at its H on the cheap rung
+    pass, then the harmonics pass on every segment (the other way round with ``plan.rungs_only``: the
+    structure's harmonics do not depend on the rung, so a segment is traced at its H on the cheap rung
     first, and the expensive rungs once, at that H, or at once where the model pass would trace most of
     the harmonics window again: ``rungs_too``); one result and the notes of the windows that failed
     (their coarse points kept)."""
     work, notes, full = [frf], [], {id(frf)}
-    pieces = [(frf, 0, len(frf))]
+    segments_of = [(frf, 0, len(frf))]
     tol = knobs.tolerance
 
     def model_step(f, excess, span, points):
@@ -390,27 +390,27 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
     passes = [("model", plan.model_share, model_step), ("harmonics", plan.harmonics_share, harmonics_step)]
     for source, share, step in (passes[::-1] if plan.rungs_only else passes):
         if share is not None:
-            pieces = [p for f, lo, hi in pieces for p in _split(knobs, f, lo, hi, source, share * tol, step, work,
+            segments_of = [p for f, lo, hi in segments_of for p in _split(knobs, f, lo, hi, source, share * tol, step, work,
                                                                 notes, full)]
     note = "".join(f"; {n}" for n in notes)
-    if len(pieces) == 1 and pieces[0][1] == 0 and pieces[0][2] == len(pieces[0][0]) and not notes:
-        return pieces[0][0], notes  # one setting everywhere: that solve's own result, as it was
-    return FrequencyResponse.spliced(pieces, work, note), notes
+    if len(segments_of) == 1 and segments_of[0][1] == 0 and segments_of[0][2] == len(segments_of[0][0]) and not notes:
+        return segments_of[0][0], notes  # one setting everywhere: that solve's own result, as it was
+    return FrequencyResponse.spliced(segments_of, work, note), notes
 
 
 def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, threshold: float, step: Callable,
            work: list, notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
-    """Points ``lo <= i < hi`` of ``f`` as stretches ``(result, lo, hi)``: its windows of ``source``
+    """Points ``lo <= i < hi`` of ``f`` as segments ``(result, lo, hi)``: its windows of ``source``
     above ``threshold`` traced again at ``step(f, excess, span, points)`` (new contacts and H, None:
     nothing to refine there, the window kept) and split the same way in turn; a whole-range window is
     solved again from the stuck start, as a solve without windows.  Each window is asked with its own
-    excess: a rung asked for a factor of 1, as a question for the whole stretch once was, refines
+    excess: a rung asked for a factor of 1, as a question for the whole segment once was, refines
     nothing where its parts are each within half of its estimate, and its rung probes cost solves."""
     if not len(f) or source not in f.error_sources:
         return [(f, lo, hi)]
     out, at = [], lo
     for i0, i1 in windows(f.error_sources[source], f._nodes, threshold, lo, hi):
-        if i1 <= i0:  # a stretch of one point (between two others' windows) is not traced alone
+        if i1 <= i0:  # a run of one point (between two others' windows) is not traced alone
             continue
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
         nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / threshold,
@@ -457,7 +457,7 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float]) -> Pea
     w, a = float(frf.omega[i]), float(frf.amplitude[i])
     reasons = []
     located = False
-    site, j = frf._site(i)  # located with the balance of the stretch holding the maximum
+    site, j = frf._site(i)  # located with the balance of the segment holding the maximum
     if 0 < j < len(site) - 1:
         loc, nit = _locate_on(site, j)
         frf._peak_nit += nit

@@ -283,7 +283,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
             along.locate_peak(frf, (w0, w1))
             if model == "peak":
                 refine_peak(frf)
-    heard = [m for f in dict.fromkeys(p[0] for p in (frf._pieces or [(frf,)])) for m in f._heard]
+    heard = [m for f in dict.fromkeys(p[0] for p in (frf._segments_of or [(frf,)])) for m in f._heard]
     heard += said  # the elements' warnings outside a trace (while locating and refining the peak)
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes, (w0, w1))
     return frf
@@ -566,7 +566,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
 def _stream(frf: FrequencyResponse, callback: Callable[[Point], None]) -> None:
     """The final points to ``callback``, in order (their harmonics padded with zeros to the result's
     largest H)."""
-    if frf._pieces is None:
+    if frf._segments_of is None:
         report = _reporter(callback, frf._problem)
         for u, rnorm in zip(frf._run.y, frf.residual_norm):
             report(u, rnorm)

@@ -108,12 +108,12 @@ class Response(NamedTuple):
 
 
 class Segment(NamedTuple):
-    """A stretch of a :class:`FrequencyResponse` solved with one balance.
+    """A segment of a :class:`FrequencyResponse`: the points solved with one balance.
 
     Attributes
     ----------
     start, stop : int
-        The stretch's points are ``start <= i < stop`` (indices into the result's arrays).
+        The segment's points are ``start <= i < stop`` (indices into the result's arrays).
     harmonics, n_t : int
         The number of harmonics H and the AFT samples per period of its balance.
     model : str
@@ -157,7 +157,7 @@ class FrequencyResponse:
     point_models : ndarray of str
         The model of each point: its contacts' element names (``model_name``, else the class name), ``"+"``-joined.
     segments : list of Segment
-        The stretches solved with one balance each, in order (one for a curve at one H and model).
+        The segments, each solved with one balance, in order (one for a curve at one H and model).
     dofs : list of int
         The condensation DOFs (the contacts' DOFs and the response DOF).
     response_dof : int
@@ -274,7 +274,7 @@ class FrequencyResponse:
         label = model_label(self.contacts)
         self.point_harmonics, self.point_models = np.full(len(w), self.harmonics), np.full(len(w), label)
         self.segments = [Segment(0, len(w), self.harmonics, self.n_t, label)]
-        self._pieces: list | None = None  # a spliced result: its (result, lo, hi) stretches (``spliced``)
+        self._segments_of: list | None = None  # a spliced result: its (result, lo, hi) segments (``spliced``)
         self._work = [self]  # every solve the result's work counters sum
 
     def _estimated(self, sources: dict, nodes: NDArray) -> None:
@@ -289,30 +289,30 @@ class FrequencyResponse:
         return self.tol
 
     @classmethod
-    def spliced(cls, pieces: list, work: list, note: str = "") -> "FrequencyResponse":
-        """One result of the stretches ``pieces`` ``[(frf, lo, hi), ...]`` (points ``lo <= i < hi`` of
+    def spliced(cls, segments_of: list, work: list, note: str = "") -> "FrequencyResponse":
+        """One result of the segments ``segments_of`` ``[(frf, lo, hi), ...]`` (points ``lo <= i < hi`` of
         each single-balance result ``frf``, in order along the branch); ``work``: every result solved
         for it, the whole range's trace first (its status and message, with ``note`` added; their
-        counters are summed).  The problem, contacts and element are those of the stretch holding
+        counters are summed).  The problem, contacts and element are those of the segment holding
         the sampled maximum."""
         out = object.__new__(cls)
-        out.__dict__.update(pieces[0][0].__dict__)
-        out._pieces, out._work = list(pieces), list(work)
-        cat = lambda name: np.concatenate([getattr(f, name)[lo:hi] for f, lo, hi in pieces])  # noqa: E731
+        out.__dict__.update(segments_of[0][0].__dict__)
+        out._segments_of, out._work = list(segments_of), list(work)
+        cat = lambda name: np.concatenate([getattr(f, name)[lo:hi] for f, lo, hi in segments_of])  # noqa: E731
         for name in ("omega", "x_c", "x_s", "amplitude", "phase", "residual_norm", "error_estimate",
                      "point_harmonics", "point_models"):
             setattr(out, name, cat(name))
-        out.error_sources = {k: np.concatenate([f.error_sources[k][lo:hi] for f, lo, hi in pieces])
-                             for k in pieces[0][0].error_sources}
-        if "peak" in out.error_sources:  # the peak's location is a property of the whole curve, not of each stretch's
+        out.error_sources = {k: np.concatenate([f.error_sources[k][lo:hi] for f, lo, hi in segments_of])
+                             for k in segments_of[0][0].error_sources}
+        if "peak" in out.error_sources:  # the peak's location is a property of the whole curve, not of each segment's
             out.error_sources["peak"] = errors.peak_location(out.amplitude, out.omega, errors.NEWTON_SHARE * out.rtol)
             out.error_estimate = errors.total(out.error_sources)
-        out.harmonics, out.n_t = max(f.harmonics for f, _, _ in pieces), max(f.n_t for f, _, _ in pieces)
+        out.harmonics, out.n_t = max(f.harmonics for f, _, _ in segments_of), max(f.n_t for f, _, _ in segments_of)
         L = 2 * out.harmonics + 1
-        out._X = np.concatenate([np.pad(f._X[lo:hi], ((0, 0), (0, 0), (0, L - f._X.shape[2]))) for f, lo, hi in pieces])
+        out._X = np.concatenate([np.pad(f._X[lo:hi], ((0, 0), (0, 0), (0, L - f._X.shape[2]))) for f, lo, hi in segments_of])
         out.segments, out.fold_after, fw, fa, out.coarse, out.corners, at = [], [], [], [], [], [], 0
         out._nodes = []
-        for f, lo, hi in pieces:
+        for f, lo, hi in segments_of:
             out.segments.append(Segment(at, at + hi - lo, f.harmonics, f.n_t, str(f.point_models[0])))
             for k, i in enumerate(f.fold_after):
                 if lo <= i < hi - 1:
@@ -327,7 +327,7 @@ class FrequencyResponse:
         out.fold_after, out.coarse, out.corners, out._nodes = (np.array(v, dtype=int) for v in (
             out.fold_after, out.coarse, out.corners, out._nodes))
         out.folds_omega, out.folds_amplitude = np.array(fw, dtype=float), np.array(fa, dtype=float)
-        top = out._site(int(np.argmax(out.amplitude)))[0] if len(out.omega) else pieces[0][0]
+        top = out._site(int(np.argmax(out.amplitude)))[0] if len(out.omega) else segments_of[0][0]
         out._problem, out._run, out._scale = top._problem, top._run, top._scale
         out.contacts, out.element = top.contacts, top.element
         out.nsteps = sum(f.nsteps for f in work)
@@ -338,9 +338,9 @@ class FrequencyResponse:
 
     def _site(self, i: int) -> tuple["FrequencyResponse", int]:
         """The single-balance result holding point ``i`` and its index there."""
-        if self._pieces is None:
+        if self._segments_of is None:
             return self, i
-        for f, lo, hi in self._pieces:
+        for f, lo, hi in self._segments_of:
             if i < hi - lo:
                 return f, lo + i
             i -= hi - lo
@@ -362,7 +362,7 @@ class FrequencyResponse:
 
     @property
     def nit(self) -> int:
-        if self._pieces is not None:
+        if self._segments_of is not None:
             return sum(f.nit for f in self._work) + self._peak_nit
         return self._nit0 + self._peak_nit
 
@@ -388,9 +388,9 @@ class FrequencyResponse:
         ``c_0 = X0``, ``c_h = Xc_h - i Xs_h``.  DOFs outside the condensation set are recovered
         exactly from the contact forces (``Z_h^-1 (f - P F_h)``)."""
         dof = self.structure._dof("dof", dof)
-        if self._pieces is not None and dof not in self.dofs:
+        if self._segments_of is not None and dof not in self.dofs:
             return np.concatenate([np.pad(f.coefficients(dof)[lo:hi], ((0, 0), (0, self.harmonics - f.harmonics)))
-                                   for f, lo, hi in self._pieces])
+                                   for f, lo, hi in self._segments_of])
         if dof in self.dofs:
             return to_complex(self._X[:, self.dofs.index(dof)])
         pr = self._problem
@@ -404,7 +404,7 @@ class FrequencyResponse:
     @property
     def stable(self) -> NDArray[np.bool_]:
         """Stability of every point (bool), by Hill's method, computed on first use (all True when
-        the solve was asked for ``stability=False``); unstable stretches are drawn dashed by :meth:`plot`."""
+        the solve was asked for ``stability=False``); unstable parts are drawn dashed by :meth:`plot`."""
         if self._stable is None:
             self._stability()
         return self._stable
@@ -429,10 +429,10 @@ class FrequencyResponse:
         self._exponents = np.empty((n, 0), dtype=complex)
         if not (self._with_stability and n):
             return
-        if self._pieces is not None:  # each stretch by its own balance (2 n_s exponents at any H)
-            self._exponents = np.concatenate([f.exponents[lo:hi] for f, lo, hi in self._pieces])
-            self._stable = np.concatenate([f.stable[lo:hi] for f, lo, hi in self._pieces])
-            self.stability_dofs = self._pieces[0][0].stability_dofs
+        if self._segments_of is not None:  # each segment by its own balance (2 n_s exponents at any H)
+            self._exponents = np.concatenate([f.exponents[lo:hi] for f, lo, hi in self._segments_of])
+            self._stable = np.concatenate([f.stable[lo:hi] for f, lo, hi in self._segments_of])
+            self.stability_dofs = self._segments_of[0][0].stability_dofs
             self._changes = stability_changes(self.omega, self.amplitude, self._exponents, self._stable,
                                               self.fold_after, list(zip(self.folds_omega, self.folds_amplitude)))
             return
@@ -551,7 +551,7 @@ class FrequencyResponse:
 
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, omega_unit: str = "rad/s",
              amplitude_unit: str = "m", **kwargs: Any) -> Any:
-        """Amplitude against omega on ``ax`` (a new figure if None): stable stretches solid, unstable
+        """Amplitude against omega on ``ax`` (a new figure if None): stable parts solid, unstable
         dashed (:attr:`stable`); marks the peak. Returns ax.
 
         Parameters

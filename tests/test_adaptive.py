@@ -160,7 +160,7 @@ def p1():
 def test_one_dof_peak_stability_and_counters(p1):
     assert len(p1.segments) > 1 and abs(p1.peak().amplitude / P1 - 1.0) < 1e-4
     assert p1.exponents.shape == (len(p1), 2) and p1.stable.all()  # 2 n_s exponents at any H
-    assert p1.nfev > sum(f._problem.nfev for f, _, _ in p1._pieces[1:2]) > 0
+    assert p1.nfev > sum(f._problem.nfev for f, _, _ in p1._segments_of[1:2]) > 0
     assert p1.nsteps >= len(p1) - 1 and p1.error_estimate.shape == (len(p1),)
     assert set(p1.error_sources) == {"harmonics", "sampling", "element", "model", "peak"}
 
@@ -175,7 +175,7 @@ def test_csv_has_H_column_where_it_varies(p1, tmp_path):
     assert all(float(v) == 0.0 for v in first[head.index("Xc4_m"):head.index("stable")])
     one = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8),
                              harmonics=3, tol=0.5, stability=False)
-    assert len(one.segments) == 1 and one._pieces is None
+    assert len(one.segments) == 1 and one._segments_of is None
     assert "H" not in next(csv.reader(one.to_csv(tmp_path / "b.csv").open()))
 
 
@@ -184,7 +184,7 @@ def test_one_segment_is_the_plain_solve():
                            stability=False)
     b = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), harmonics=3,
                            tol=0.05, stability=False)
-    assert a._pieces is None and a.harmonics == 3
+    assert a._segments_of is None and a.harmonics == 3
     np.testing.assert_array_equal(a.amplitude, b.amplitude)
     assert a.peak() == b.peak() and a.nfev == b.nfev
 
