@@ -5,8 +5,9 @@ nothing else chosen (H, steps, model: the defaults), and compared at the referen
 with the periodic response found without the harmonic balance (shooting on time integration with
 exact stick/slip events, or on event-located integration for the gap):
 
-- ``ir31``, ``ir31_light``, ``stiff``: two-DOF chains with a Jenkins contact to ground, stuck modes
-  at 1 and 3 (0.5 % and 0.05 % modal damping), and a slider 100 times stiffer than the structure
+- ``ir31``, ``ir31_light``, ``stiff``, ``ir21_gap``: two-DOF chains with a Jenkins contact to ground,
+  stuck modes at 1 and 3 (0.5 % and 0.05 % modal damping), a slider 100 times stiffer than the
+  structure, and a gap closing near the first of modes at 1 and 2 (a 2:1 internal resonance)
   (``tests/data/hard_transitions.json``, ``benchmarks/hard_transitions_reference.py``);
 - ``gap``, ``iwan``: one-DOF blades with a unilateral spring that closes and a four-parameter Iwan
   element (``tests/data/estimate_references.json``, ``benchmarks/estimate_references.py``);
