@@ -332,10 +332,10 @@ class TwoRegionMicroslip(_MicroslipBar):
 
     Range (validity map, docs/validation.md, over lambda L, beta L/EA, omega and a): exact while
     stuck and at omega -> 0; otherwise its F_s, F_c error against the all-mode bar is within 1 %
-    at every amplitude up to omega_1 (``model_range.single_mode_frequency_limit``: 0.124 omega_c
-    for the reference bar of ``docs/theory.md``, 0.1 to 0.22 omega_c for lambda L <= 1, 0.02 to 0.08 omega_c for
-    lambda L = 3) and grows roughly like (omega/omega_c)^2 beyond (at the worst amplitude 2.7 % at
-    0.2 and 21 % at 0.5 omega_c for the reference bar).  ``fourier`` and ``fourier_derivatives``
+    at every amplitude up to omega_1 (``model_range.single_mode_frequency_limit``; lower for stiffer
+    shear layers, larger lambda L) and grows roughly like (omega/omega_c)^2 beyond, the single-mode
+    solution being exact at omega = 0 (the values per bar: ``docs/validation.md``, "Where the
+    single-mode model holds (the validity map)").  ``fourier`` and ``fourier_derivatives``
     warn (``ModelRangeWarning``) at the points where the map's error exceeds 1 % and at an early
     gross-slip snap; ``AllModeMicroslip`` holds everywhere.
 
@@ -403,10 +403,10 @@ class ThreeRegionMicroslip(_MicroslipBar):
     Appendix A), the right stuck region vanishes first, and the interface then continues as two
     regions to gross slip.  ``docs/theory.md``, section 4, has every coefficient.
 
-    Range (validity map, docs/validation.md): as ``TwoRegionMicroslip``, measured with the ratio-12
-    concave load: within 1 % at every amplitude up to 0.078 omega_c for the reference bar (6.4 % at
-    0.2 omega_c at the worst amplitude); warns (``ModelRangeWarning``) where the map's error
-    exceeds 1 %.
+    Range (validity map, docs/validation.md, "Where the single-mode model holds (the validity
+    map)"): as ``TwoRegionMicroslip``, mapped with the ratio-12 concave load: within 1 % at every
+    amplitude up to omega_1 (``model_range.single_mode_frequency_limit``); warns
+    (``ModelRangeWarning``) where the map's error exceeds 1 %.
 
     References
     ----------

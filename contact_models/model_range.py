@@ -5,7 +5,7 @@ phase differences along the bar.  Their error against the all-mode bar (``AllMod
 
     e = max(|dF_s| / max(|F_s|, 0.01), |dF_c| / max(F_c, 0.01))      (F in units of k* a),
 
-was measured once over a grid (the validity map, ``examples/validity_map.py``, stored in
+is tabulated over a grid (the validity map, ``examples/validity_map.py``, stored in
 ``MAP_FILE`` and shown in ``docs/validation.md``): lambda L in {0.3, 1, 3, 10} times beta L/EA in
 {0.1, 1, 10}, the uniform load (two regions) and the concave load of ratio 12 (three regions),
 omega/omega_c from 0.01 to 0.95 (14 values) and a/a_min(0) from 0.5 to 100 (10 values), with a
@@ -26,8 +26,9 @@ neighbouring points say.  Three rules complete it:
 - below omega/omega_c = 0.01 the error falls like (omega/omega_c)^2 (the single-mode solution is
   exact at omega = 0); above 0.95 and beyond a/a_min of 0.5 to 100 the map's edge is used.
 
-Where the bar is stuck (a <= a_min(omega)) the elements are exact: e = 0.  Scored against 240
-random points off the grid (``docs/data/validity_check.csv``, ``docs/validation.md``).
+Where the bar is stuck (a <= a_min(omega)) the elements are exact: e = 0.  The interpolation is
+checked against random points off the grid (``docs/data/validity_check.csv``, ``docs/validation.md``,
+"Where the single-mode model holds (the validity map)").
 
 Separately, an element whose loading curve folds before gross slip snaps onto the sliding line
 early (stiff shear layers, lambda L of 3 and more, with inertia); that snap is flagged when it

@@ -1,7 +1,8 @@
 """The all-mode peak of a blade with a microslip damper: the physical answer at its resonance, with its error.
 
-The single-mode damper of the default case is about 1.6 % off the bar with every mode at the
-peak (``docs/validation.md``); an all-mode FRF to a tolerance costs hundreds of times the
+The single-mode damper neglects the phase differences along the bar, which at a blade's peak can
+put it off the bar with every mode by more than a response tolerance (``docs/validation.md``, "The
+default job's all-mode peak"); an all-mode FRF to a tolerance costs hundreds of times the
 single-mode one, because the element must meet the tolerance at every evaluation, also where a
 harmonic of the drive meets a mode of the bar.  The answer the job reports is the peak, so this
 module computes the all-mode peak directly and estimates the error of that number itself.
@@ -18,36 +19,38 @@ derivatives exact (the nested balance's Jacobian, ``AllModeMicroslip.solve``), s
 ``MAX_STEP`` of a, to ``AMPLITUDE_RTOL``.  The bar is solved on one rung (cells n, harmonics H) per call.
 The sampled bar's f(a) is piecewise smooth, with a kink wherever one more sample of a node starts
 to slip; on fine rungs (128 cells, H = 31) the kinks are so dense that the local derivative is
-not the slope of g over a Newton step (2.3 times it at the default case's peak: Newton then
-converges linearly, by 0.57 a step).  So from the second iterate on, where the secant through
-the last two iterates differs from the local dg/da by more than 25 % (and has its sign), the
-secant's slope is taken.  Below about 1e-7 of a the kinks make g non-monotone, so a bracketed
-root is closed by bisection to ``AMPLITUDE_RTOL`` (1e-8; the rungs' peaks differ by 1e-4).
+not the slope of g over a Newton step, and Newton with it converges only linearly.  So from the
+second iterate on, where the secant through the last two iterates differs from the local dg/da by
+more than 25 % (and has its sign), the secant's slope is taken.  Below about 1e-7 of a the kinks make g non-monotone, so a bracketed
+root is closed by bisection to ``AMPLITUDE_RTOL`` (1e-8, far below the differences between rungs' peaks,
+so the peaks compared in the estimate are the rungs' and not the root finder's).
 
 **The peak.**  a(omega) is scanned on the cheap rung ``SCAN`` around the single-mode peak (``SPAN``,
 step ``SCAN_STEP``); on each rung the largest scanned point is refined by a parabola through three
 frequencies h = ``REFINE_STEP`` omega apart (re-centred while the vertex leaves the middle
 interval), starting from the peak of the nearest rung already refined; the peak is the vertex.
-The scan runs on the first rung's cells (16) and the middle harmonics (15; 13 is where the notch
-comes from, below): its largest point is where the first refinement, 16 cells at H = 31, starts,
-and on 16 cells H = 15 and H = 31 agree to 5e-4 of a over the scan, with their largest point at
-the same frequency on a 0.05 % grid.  The notch of the 13th harmonic (near 38750 rad/s at the default
-case, the peak at 38821) leaves a lower local maximum on its left: with the bar's exact segments 0.09 %
-below the peak on the scan's 16 cells (38691 against 38807 rad/s; with lumped masses the notch moved with
-the mesh and that maximum was 2 % below on 16 cells).  The largest scanned point is on the peak's hill,
-and each finer rung starts from the previous rung's peak, right of its notch.
+The scan runs on the first rung's cells (16) and the middle harmonics (15, which hold the 13th, where
+the notch below comes from): its largest point is where the first refinement, 16 cells at H = 31, starts,
+and on those cells 15 and 31 harmonics put their largest scanned point at the same frequency
+(``docs/validation.md``, "The default job's all-mode peak"), so the cheaper 15 suffice for the scan.
+Where the 13th harmonic meets a mode of the bar the response has a notch, which leaves a lower local
+maximum on its left; the bar's exact segments keep that maximum below the peak on the scan's cells, so
+the largest scanned point is on the peak's hill, and each finer rung starts from the previous rung's
+peak, right of its notch (``docs/validation.md``, "The all-mode bar's exact segments against lumped
+masses").
 
 **The estimate.**  The cells part is the element's (``contact_models.allmode.cells_error``) on the peak
 amplitudes at H = 31, read against the rung above on every rung: the change to 2n plus the Richardson error
 of 2n from n/2, n, 2n (the element reads a rung of 128 cells or more from n/4, n/2, n instead, to save a
-solve at every estimated point of a curve; here it is a few amplitude solves, and from 64, 128, 256 cells
-that read 1.8e-6 against a true 4.8e-6 at the default case's peak).  The harmonics part: H = 7, 15, 31 (at min(n,
+solve at every estimated point of a curve; here the rung above costs a few amplitude solves only, and from
+the rungs below the peak's cells part reads short: ``docs/validation.md``, "The all-mode bar's exact
+segments against lumped masses").  The harmonics part: H = 7, 15, 31 (at min(n,
 ``HARMONICS_CELLS``) cells) through ``richardson`` (observed order, guarded;
 ``contact_models.allmode.richardson``), never below what order 1 predicts (``_harmonics_part``).  The two
 parts add, relative to the peak amplitude.  Cells double (to ``MAX_CELLS``) while the sum is above the
 tolerance.  The sources this search does not resolve
 (the blade's own higher harmonics, AFT sampling, the element evaluation, the peak's location) come
-from the single-mode curve's estimate at its peak (``other``) and are added.  Measured against a converged reference in
+from the single-mode curve's estimate at its peak (``other``) and are added.  Checked against a converged reference in
 ``docs/validation.md`` ("The default blade with the all-mode damper").
 """
 
@@ -77,8 +80,9 @@ REFINE_STEP = 2.5e-4
 #: The finest rung to start from (cells, harmonics = the top of the harmonic ladder 7, 15, 31).
 CELLS = 64
 HARMONICS = 31
-#: The harmonics part of the estimate is taken on at most this many cells (it hardly depends on them:
-#: at the default case's peak 6.3e-5 on 64 cells, 7.0e-5 on 128).
+#: The harmonics part of the estimate is taken on at most this many cells: it hardly depends on them,
+#: so finer cells would only make the three harmonics rungs dearer (``docs/validation.md``, "The
+#: default job's all-mode peak").
 HARMONICS_CELLS = 64
 #: Cells double up to this while the estimate is above the tolerance.
 MAX_CELLS = 256
@@ -185,8 +189,7 @@ def _refine(blade, element, w0: float, a0: float, h: float, shape: Any = None) -
     frequencies h apart, re-centred on the largest while the vertex leaves the middle interval.
     Returns the vertex and the last parabola (a function of omega).  ``shape`` (a previous rung's
     parabola) predicts how a changes between frequencies: each amplitude's Newton starts from the
-    nearest one found plus that change (the rungs' curves differ by 1e-3 in a, their shapes far
-    less)."""
+    nearest one found plus that change (the rungs' curves differ in level far more than in shape)."""
     cache: dict = {}
 
     def amp(w):
@@ -235,7 +238,7 @@ def _harmonics_part(ladder: list) -> float:
     """The relative harmonics part from the peak on H = 7, 15, 31: Richardson with the observed order,
     never below what order 1 predicts, |d_2| / (31/15 - 1).  The harmonics converge irregularly at this
     peak: each higher rung brings a harmonic to another mode of the bar (13 meets the second, about 39
-    the fifth), so the order observed on 7, 15, 31 (2.8) says little about 31 -> 47 -> 63."""
+    the fifth), so the order observed on 7, 15, 31 says little about 31 -> 47 -> 63."""
     e = float(richardson((7, 15, HARMONICS), np.array(ladder)[:, None])[0][0])
     return max(e, abs(ladder[2] - ladder[1]) / (HARMONICS / 15 - 1.0)) / ladder[-1]
 

@@ -41,9 +41,9 @@ MAX_ORDER = 3.0
 #: rung along a curve (``rungs.CURVE_MAX_CELLS``) and finer ones by the two rungs below them.
 CHECK_ABOVE_CELLS = 128
 #: A rung of fewer harmonics than this is checked against the rung above it, 2H + 1 (``harmonics_error``): from
-#: below (H/4, H/2, H) a rung of H = 7 cannot see a harmonic above it meet a mode of the bar (near the default
-#: case's peak the 13th harmonic meets the second tip-fixed mode: 16 cells, H = 7 at 38021 rad/s read 0.9 times
-#: its error); the rungs of 15 and 31 harmonics, the ones a curve refines to, by the two rungs below them.
+#: below (H/4, H/2, H) a rung of H = 7 cannot see a harmonic above it meet a mode of the bar, and reads its
+#: error short there (docs/validation.md, "Accuracy to a tolerance: the estimate against converged
+#: references"); the rungs of 15 and 31 harmonics, the ones a curve refines to, by the two rungs below them.
 CHECK_ABOVE_HARMONICS = 15
 #: The validity map's floor: errors relative to max(|F|, FLOOR k* a), component by component.
 FLOOR = 0.01
@@ -132,10 +132,10 @@ def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.f
 
     Below ``CHECK_ABOVE_CELLS`` cells, against the rung above: |F_2n - F_n| plus the error of F_2n,
     Richardson from n/2, n, 2n (``ladder``); for a force e(n) = C n^-p exactly that error, C n^-p.
-    A coarse rung's own rungs below it, n/4 and n/2, are far from asymptotic where the bar slips:
-    along the default all-mode FRF at tol = 1e-2, 16 cells read from 4, 8, 16 gave up to 3.3 times
-    less than their error against 512 cells; read against 32 cells, at most 1.4 times less
-    (``docs/validation.md``, "The element's estimate along the default FRF").  From
+    A coarse rung's own rungs below it, n/4 and n/2, are far from asymptotic where the bar slips, so
+    Richardson from them reads a coarse rung's error short; the rung above is close enough to
+    asymptotic that the difference to it bounds the error (``docs/validation.md``, "The element's
+    estimate along the default FRF").  From
     ``CHECK_ABOVE_CELLS`` cells on (``check_above``), Richardson from n/4, n/2, n: the rung above would cost
     twice the rung itself at every estimated point.  inf wherever a solve failed.
 

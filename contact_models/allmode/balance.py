@@ -515,8 +515,8 @@ class BandedBlockTridiagonal:
         return self._last
 
 
-#: Up to this block size the banded LU is the faster factorisation (measured: 9x at 40 nodes and
-#: blocks of 16, slower at blocks of 32, where LAPACK's band kernels lose to n small inversions).
+#: Up to this block size the banded LU is the faster factorisation; above it LAPACK's band kernels lose
+#: to n small block inversions (docs/performance.md, "The all-mode FRF", "Banded LU").
 BANDED_MAX_BLOCK = 20
 
 

@@ -4,18 +4,18 @@ is installed (the optional ``fast`` extra: ``pip install -e ".[fast]"``).
 The numpy path stays the library's definition: every kernel here does the same floating-point
 operations in the same order (the return map, the stick-run sums of the Jacobian, LAPACK's
 ``dgetrf`` and ``dgetri`` on each pivot block and BLAS for the products), so the answers are those of the numpy
-path; ``tests/test_hbal_compiled.py`` holds them to it (measured here: equal bit for bit).  What
+path; ``tests/test_hbal_compiled.py`` holds them to it.  What
 the kernels remove is Python's cost per sample, per node and per block: the return map is a loop
 over n_t samples in numpy, each step three array calls.
 
-Loading them costs a process about 0.4 s (numba's import, its typing registries at the first cached
-kernel, the kernels themselves): what they save on about 0.8 s of nested solves on the numpy path,
-which they roughly halve.  So they are loaded when they pay: once the nested solves have spent
-``LOAD_AFTER`` seconds on the numpy path (the rent-or-buy rule: a process whose bar work is shorter,
-such as the main job's all-mode peak, is faster without them, and a longer one is late by at most
-those seconds of numpy work), or at once where a whole curve is about to be traced on the bar
+Loading them costs a process a fixed time (numba's import, its typing registries at the first cached
+kernel, the kernels themselves), which the nested solves, roughly halved, repay only after a while.  So
+they are loaded when they pay: once the nested solves have spent ``LOAD_AFTER`` seconds on the numpy path
+(the rent-or-buy rule: a process whose bar work is shorter is faster without them, and a longer one is late
+by at most those seconds of numpy work), or at once where a whole curve is about to be traced on the bar
 (``AllModeMicroslip.start_rung``, which a frequency response asks first, calls ``kernels(load=True)``).
-The answers do not depend on when: both paths give the same numbers.
+The answers do not depend on when: both paths give the same numbers.  What loading costs and saves is
+measured in ``docs/performance.md``, "Compiled kernels (the optional `fast` extra)".
 
 The environment variable ``FRICTIONDAMP_COMPILED`` overrides the rule: ``0`` keeps the numpy path with
 numba installed, ``1`` loads the kernels at the first nested solve.  The first use in a fresh
@@ -43,7 +43,9 @@ _TRIED = False
 #: False while :func:`numpy_only` is in force.
 _ENABLED = True
 #: Seconds of nested solves on the numpy path after which the kernels are loaded (module docstring):
-#: above the 0.3 s of the main job's all-mode peak, and about the 0.4 s that loading them costs.
+#: about what loading them costs, the rent-or-buy break-even, and above the bar work of a short job
+#: such as the all-mode peak, which then runs without them (docs/performance.md, "Compiled kernels
+#: (the optional `fast` extra)").
 LOAD_AFTER = 0.5
 _NUMPY_SECONDS = 0.0  # the nested solves' time on the numpy path while the kernels were not loaded
 
@@ -208,9 +210,9 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
 
 
 #: Products are done in blocks of rows of at most this many multiply-adds: OpenBLAS runs a GEMM of more
-#: than 4 * 65536 of them on every thread it has, and for these small products on a shared 2-core machine
-#: waking and waiting for the threads costs more than the product (measured: the 128-cell, H = 31 rung of
-#: the main job's peak 2 to 8 times slower with threads than with one).
+#: than 4 * 65536 of them on every thread it has, and for products this small waking and waiting for the
+#: threads costs more than the product (docs/performance.md, "The main job under 1.5 s: the figure beside
+#: the peak").
 GEMM_SERIAL = 1 << 18
 
 

@@ -8,10 +8,9 @@ last states, as if it had estimated all the points in turn.  The halves are fixe
 does not depend on whether they run one after the other or at once, nor on the threads' timing.  With the compiled
 kernels (the return map, the Jacobians, the block elimination), which release the interpreter's lock, the second half
 runs on a second thread on the rungs whose Newton loop is compiled (31 harmonics): there the two overlap, those
-kernels being most of the work (along the default all-mode FRF the estimate of its peak window takes 0.09 s instead
-of 0.17 s on the 2-core machine).  On smaller rungs and on the numpy path the lock is held most of the time (that FRF
-took 1.99 and 2.02 s with two threads on the numpy path, 1.89 and 1.93 s with one), and a study's worker processes
-each have a core: there the halves run in turn.
+kernels being most of the work.  On smaller rungs and on the numpy path the lock is held most of the time, so a
+second thread only adds its switching, and a study's worker processes each have a core: there the halves run in
+turn (docs/performance.md, "The all-mode FRF: less Python per nested solve, the estimate on two threads").
 """
 
 from __future__ import annotations
@@ -42,8 +41,8 @@ def threads(el: AllModeMicroslip) -> int:
     """The threads an estimate of ``el`` uses here: ``ESTIMATE_THREADS`` where the compiled kernels are loaded, for a
     fixed rung whose nested Newton loop is compiled (more than ``BANDED_MAX_BLOCK`` coefficients a node in the odd
     basis: H = 31), in a main process, on a machine of at least as many cores; else 1 (module docstring).  A
-    smaller rung's solves are mostly Python, which holds the lock: along the default all-mode FRF its start rung's
-    estimate on two threads made the FRF take 0.630 and 0.643 s against 0.600 and 0.612 s on one."""
+    smaller rung's solves are mostly Python, which holds the lock, so two threads there cannot overlap and only
+    add their switching."""
     if ESTIMATE_THREADS < 2 or kernels() is None or multiprocessing.parent_process() is not None:
         return 1
     if not (el._fixed and el.harmonics + 1 > BANDED_MAX_BLOCK):

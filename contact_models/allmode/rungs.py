@@ -24,7 +24,7 @@ estimate asks again.  None where both are at their top.
 the whole window's points; so the predicted rung is first solved, with its estimate, at the window's
 worst point alone, and while its estimate there still misses the target the rung after it is
 predicted from that estimate, at most ``PROBES`` times.  The window is then traced on the last rung
-tried; its own estimate along the window decides, as before, whether it is refined again.
+tried; its own estimate along the window decides, as for any traced window, whether it is refined again.
 """
 
 from __future__ import annotations
@@ -33,18 +33,20 @@ import math
 from typing import Callable
 
 #: The start rung's harmonics and its least cells (more where the wavelength of its highest harmonic
-#: at the top of the range asks for more: ``accuracy.start_cells``).  32 cells: on 16 the exact
-#: segments' estimate (read from 8, 16, 32 cells, pre-asymptotic where the bar slips) predicted 128 cells
-#: for the default case's peak window, where 32 meet tol = 1e-3 (the FRF 1.72 s against 1.30 s).  7
-#: harmonics: its harmonics part is read against 15 (``accuracy.harmonics_error``), which holds the
-#: 13th harmonic that meets the bar's second mode near the default case's peak; read from 1, 3, 7 it could
-#: not see it, and the start rung had 15 harmonics for that (a nested solve 0.46 ms against 0.28 ms on 7).
+#: at the top of the range asks for more: ``accuracy.start_cells``).  32 cells: below that the exact
+#: segments' estimate is read from rungs that are pre-asymptotic where the bar slips, and over-predicts
+#: the cells a window needs (docs/performance.md, "The all-mode FRF: the bar's exact segments").
+#: 7 harmonics: its harmonics part is read against 15 (``accuracy.harmonics_error``), so it sees a
+#: harmonic up to 15 meet a mode of the bar, which a reading from 1, 3, 7 cannot, at the cost of a
+#: 7-harmonic nested solve (docs/performance.md, "The all-mode FRF: one trace per harmonics window, a
+#: start rung of 7 harmonics").
 START_HARMONICS = 7
 START_CELLS = 32
 #: The most cells a rung along a curve gets (the element alone: ``element.MAX_CELLS``): where a
-#: harmonic of the drive meets a mode of the bar the estimate stops falling with the cells (the default
-#: case near its peak: 8.8e-3 of the response on 128 and on 640 cells at H = 31, while 256 and 512 cells
-#: differ by 6e-5 there), and each point of a window on 640 cells costs 2.5 times one on 256.
+#: harmonic of the drive meets a mode of the bar the estimate stops falling with the cells, so finer
+#: rungs there cost every point of the window without bringing the estimate down (docs/theory.md,
+#: "The all-mode bar along a curve"; docs/validation.md, "The all-mode FRF on rungs along the curve,
+#: against a converged reference").
 CURVE_MAX_CELLS = 128
 #: The orders the parts of the estimate are predicted to fall with (module docstring).
 CELLS_ORDER = 2.0

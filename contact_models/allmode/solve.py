@@ -37,9 +37,11 @@ NEWTON_TOL = 1e-11
 NEWTON_MAX_ITER = 40
 #: A cached solution moved along its tangent to the new end motion and frequency
 #: (``FixedBar.tangent_guess``) whose residual is below this fraction of the force scale starts
-#: Newton without the linear state being evaluated too (at the default job's all-mode peak its
-#: residual is 2e-12 of the scale in the median, the linear state's never below 3e-5; along the
-#: default case's all-mode FRF at tol = 1e-3, 3e-8 in the median and below this in 69 % of calls).
+#: Newton without the linear state being evaluated too: where the bar slips the linear state is
+#: far from the solution, so a tangent start this close is the better start and evaluating the
+#: linear state as well would only cost a residual (docs/theory.md, "The all-mode bar in the
+#: frequency domain", "Error estimate"; measured in docs/performance.md, "The main job under 1.5 s:
+#: the figure beside the peak").
 START_CLOSE = 1e-6
 #: A start whose residual is below this fraction of the force scale is the solution to rounding and
 #: is kept without a Newton step (the tangent start where no sample changes between stick and slip,
@@ -207,7 +209,7 @@ def transferred(U: NDArray[np.float64], cells: int, H: int) -> NDArray[np.float6
 
 #: Even coefficients of an end motion at most this fraction of its largest coefficient are rounding:
 #: a balance that carries harmonics 0..H (H > 1) of a half-wave symmetric response returns its even
-#: coefficients at 1e-16 to 4e-15 of the first harmonic (its linear solves mix them), never exactly 0.
+#: coefficients at rounding of the first harmonic (its linear solves mix them), never exactly 0.
 #: Solved in the full basis, such a motion costs the bar about twice the AFT and eight times the
 #: block elimination of the odd basis (63 against 32 coefficients a node at H = 31).
 EVEN_ROUNDING = 1e-12
