@@ -404,7 +404,7 @@ def _samples(H: Any) -> Any:
 
 #: What brings each source of error down (the warning's advice).
 REMEDY = {
-    "harmonics": "more harmonics (give tol= and no harmonics= to let the balance choose, or raise harmonics=)",
+    "harmonics": "more harmonics (leave harmonics= out to let the balance choose them to tol, or raise harmonics=)",
     "first-harmonic": ("an element with a time-domain force law ({names} is a first-harmonic element: it has none, so "
                        "the balance keeps H = 1 with it; contact_models.AllModeMicroslip is the microslip bar with one)"),
     "sampling": "more AFT samples (raise n_t=)",
