@@ -86,7 +86,8 @@ class ContactElement(ABC):
     :meth:`stuck_stiffness`, :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
     :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force`, :meth:`harmonic_force_unchecked`,
     :attr:`even_block_optional` and :meth:`model_error`, and the refinement questions declared with their defaults
-    (:attr:`exact_harmonics`, :attr:`discretised`, :attr:`model_name`, :meth:`harmonics_law`, :meth:`refined_model`, :meth:`start_rung`,
+    (:attr:`exact_harmonics`, :attr:`discretised`, :attr:`model_name`, :meth:`harmonics_law`, :meth:`refined_model`,
+    :meth:`start_rung`,
     :meth:`refined_rung`, :attr:`at_top_rung`, :attr:`refined_no_further`, :meth:`harmonics_of`, :meth:`for_balance`);
     docs/extending.md, section 1, states each hook and default.
 

@@ -390,8 +390,8 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
     passes = [("model", plan.model_share, model_step), ("harmonics", plan.harmonics_share, harmonics_step)]
     for source, share, step in (passes[::-1] if plan.rungs_only else passes):
         if share is not None:
-            segments_of = [p for f, lo, hi in segments_of for p in _split(knobs, f, lo, hi, source, share * tol, step, work,
-                                                                notes, full)]
+            segments_of = [p for f, lo, hi in segments_of
+                           for p in _split(knobs, f, lo, hi, source, share * tol, step, work, notes, full)]
     note = "".join(f"; {n}" for n in notes)
     if len(segments_of) == 1 and segments_of[0][1] == 0 and segments_of[0][2] == len(segments_of[0][0]) and not notes:
         return segments_of[0][0], notes  # one setting everywhere: that solve's own result, as it was

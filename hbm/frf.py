@@ -589,5 +589,5 @@ def _reporter(callback: Callable[[Point], None], problem: HarmonicBalance) -> Ca
     return report
 
 
-__all__ = ["frequency_response", "refine_peak", "response_at", "tolerance_of", "FrequencyResponse", "Peak", "Point", "Response",
-           "Steps", "NEWTON_TOL_FACTOR", "PEAK_XTOL_FACTOR", "DEFAULT_RTOL", "DEFAULT_TOL", "MODELS", "PRESETS"]
+__all__ = ["frequency_response", "refine_peak", "response_at", "tolerance_of", "FrequencyResponse", "Peak", "Point",
+           "Response", "Steps", "NEWTON_TOL_FACTOR", "PEAK_XTOL_FACTOR", "DEFAULT_RTOL", "DEFAULT_TOL", "MODELS", "PRESETS"]

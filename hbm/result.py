@@ -60,7 +60,8 @@ class Peak(tuple):
     def __new__(cls, omega: float, amplitude: float, *, interior: bool = True, converged: bool = True,
                 estimate: float = math.nan, message: str = "") -> "Peak":
         out = super().__new__(cls, (float(omega), float(amplitude)))
-        out.interior, out.converged, out.estimate, out.message = bool(interior), bool(converged), float(estimate), message
+        out.interior, out.converged = bool(interior), bool(converged)
+        out.estimate, out.message = float(estimate), message
         return out
 
     @property
