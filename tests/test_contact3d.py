@@ -55,7 +55,7 @@ def test_elliptic_paths_are_the_marched_return_map(v_of, b):
     assert (np.min(N) == 0.0) == (np.max(v) > 0.0 and np.min(v) < -0.2)  # the case is the one named
     ref = marched(u, v)
     sticks = (np.hypot(ref[0], ref[1]) < MU * N - 1e-12) & (N > 0.0)
-    assert sticks.any() and not sticks.all()  # stick and slip in the period
+    assert sticks.any() == (b < 0.1 or np.min(N) == 0.0) and not sticks.all()  # the round closed one slips always
     X = np.stack([np.fft.rfft(r)[:2] for r in (u[0], u[1], v)]) / n
     X = np.column_stack([X[:, 0].real, 2.0 * X[:, 1].real, -2.0 * X[:, 1].imag])
     F = Contact3D(KT, KN, MU, N0).harmonic_force(X, 1.0, n_t=n)[0]
