@@ -442,14 +442,14 @@ class Contact:
         self.element = element
         self.dofs = _attachment("dof", dof, "dofs", dofs)
         c = getattr(element, "components", 1)
-        if c < 2 and (normal_dof is not None or normal_dofs is not None):
-            raise ValueError(f"normal_dof and normal_dofs attach the normal of a two- or three-component element "
-                             f"(Contact2D, Contact3D); {type(element).__name__} has one component, got "
-                             f"normal_dof={normal_dof!r}, normal_dofs={normal_dofs!r}")
         if c != 3 and (second_dof is not None or second_dofs is not None):
             raise ValueError(f"second_dof and second_dofs attach the second tangential direction of a three-component "
                              f"element (Contact3D); {type(element).__name__} has {c} component(s), got "
                              f"second_dof={second_dof!r}, second_dofs={second_dofs!r}")
+        if c < 2 and (normal_dof is not None or normal_dofs is not None):
+            raise ValueError(f"normal_dof and normal_dofs attach the normal of a two- or three-component element "
+                             f"(Contact2D, Contact3D); {type(element).__name__} has one component, got "
+                             f"normal_dof={normal_dof!r}, normal_dofs={normal_dofs!r}")
         self.second_dofs = _attachment("second_dof", second_dof, "second_dofs", second_dofs) if c == 3 else ()
         self.normal_dofs = _attachment("normal_dof", normal_dof, "normal_dofs", normal_dofs) if c >= 2 else ()
         if set(self.dofs + self.second_dofs) & set(self.normal_dofs):
