@@ -246,3 +246,52 @@ def test_contact_validates_the_three_attachments():
 def test_bad_parameters_are_named(kw, name):
     with pytest.raises(ValueError, match=f"{name}="):
         Contact3D(**kw)
+
+
+# ---------------------------------------------------------------------------------------- scenes
+def scene_tables(folder, damper=None, **structure):
+    K = np.array([[1.0, 0.0, 0.3], [0.0, 1.2, 0.2], [0.3, 0.2, 1.5]])
+    np.save(folder / "M.npy", np.eye(3))
+    np.save(folder / "K.npy", K)
+    table = {"mass": "M.npy", "stiffness": "K.npy", "rayleigh": [0.0, 0.01], "force": [0.015, 0.01, 0.0],
+             "contact_dofs": [0], "second_dofs": [1], "normal_dofs": [2], "response_dof": 0, **structure}
+    damper = damper or {"model": "contact3d", "kt": 1.0, "kn": 1.0, "friction": 0.3, "n0": 0.1}
+    return {"structure": table, "damper": damper, "effects": {"harmonics": 3, "samples": 128},
+            "sweep": {"omega": [1.0, 1.2]}, "output": {"formats": ["csv"]}}, K
+
+
+def test_a_scene_attaches_the_second_direction_and_is_the_api_computation(tmp_path):
+    from hbm.scenes import run_scene, scene_from_dict
+
+    data, K = scene_tables(tmp_path)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        result = run_scene(scene_from_dict(data, tmp_path / "s.toml"), tmp_path / "out", progress=None)
+        api = hbm.frequency_response(structure(K, [0.015, 0.01, 0.0]),
+                                     [hbm.Contact(Contact3D(**POINT), dof=0, second_dof=1, normal_dof=2)], (1.0, 1.2),
+                                     harmonics=3, n_t=128, response_dof=0)
+    assert result.success, result.message
+    frf = result.runs[0].frf
+    assert len(frf) == len(api) > 5
+    np.testing.assert_allclose(frf.amplitude, api.amplitude, rtol=1e-12)
+
+
+def test_a_scene_names_a_wrong_second_attachment(tmp_path):
+    from conftest import scene_problems as problems
+
+    data, _ = scene_tables(tmp_path)
+    del data["structure"]["second_dofs"]
+    assert "structure.second_dofs is missing: the contact3d element acts on two tangential displacements" in problems(
+        data, tmp_path / "a.toml", plan=True)
+    data, _ = scene_tables(tmp_path, second_dofs=[0])
+    assert "structure.second_dofs = [0]: second_dof(s) must differ from the first tangential dof(s)" in problems(
+        data, tmp_path / "a.toml", plan=True)
+    data, _ = scene_tables(tmp_path, {"model": "contact2d", "kt": 1.0, "kn": 1.0, "friction": 0.3, "n0": 0.1})
+    assert "structure.second_dofs = [1]: not allowed: the contact2d element has one tangential direction" in problems(
+        data, tmp_path / "a.toml", plan=True)
+    data, _ = scene_tables(tmp_path, second_dofs=[7])
+    assert "structure.second_dofs = [7]: DOF 7 is out of range for the structure's 3 DOFs" in problems(
+        data, tmp_path / "a.toml", plan=True)
+    data, _ = scene_tables(tmp_path, contacts=[{"model": "contact3d", "dofs": [0, 1], "normal_dofs": [2], "kt": 1.0,
+                                                "kn": 1.0, "friction": 0.3, "n0": 0.1}])
+    assert "structure.contacts[0].second_dofs is missing" in problems(data, tmp_path / "a.toml", plan=True)
