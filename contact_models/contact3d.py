@@ -235,8 +235,7 @@ def slip_tangent(R: NDArray, n: int, kt: float, dlim: NDArray, slips: list) -> N
     before = np.searchsorted(ks, np.arange(n), side="left")  # slips before sample k
     z = Z[before] + np.einsum("kij,jm->kim", Phi[before], z0)  # (n, 2, m)
     dT = kt * (Ru - z)
-    Qs = np.einsum("qij,qjm->qim", Q, dT[ks])
-    dT[ks] = Qs + c[:, :, None] * dL[ks][:, None, :]
+    dT[ks] = np.einsum("qij,qjm->qim", Q, dT[ks]) + c[:, :, None] * dL[ks][:, None, :]
     return np.concatenate([dT[:, 0], dT[:, 1]])
 
 
@@ -308,14 +307,14 @@ class Contact3D(ContactElement):
         """AFT with the tangent propagated along the inverse-FFT columns: ``dF/dX = E (J E^-1)``
         blockwise, ``J E^-1`` from :func:`slip_tangent` (or the stuck centre) with ``R = E^-1``."""
         L = X.shape[1]
-        E, Einv = aft_matrices((L - 1) // 2, n_t)
+        Einv = aft_matrices((L - 1) // 2, n_t)[1]
         x = np.stack([to_time(row, n_t) for row in X])
         f, tangent = self._periodic_state(x)
         R = np.zeros((3 * n_t, 3 * L))
         for a in range(3):
             R[a * n_t:(a + 1) * n_t, a * L:(a + 1) * L] = Einv
-        JR = tangent(R)
-        J = np.concatenate([E @ JR[a * n_t:(a + 1) * n_t] for a in range(3)])
+        JR = tangent(R).reshape(3, n_t, 3 * L)
+        J = to_harmonics(JR.transpose(0, 2, 1), (L - 1) // 2).transpose(0, 2, 1).reshape(3 * L, 3 * L)  # E JR (FFT)
         return to_harmonics(f, (L - 1) // 2), J, np.zeros_like(X)
 
     def _periodic_state(self, x):
