@@ -157,7 +157,8 @@ def centre_tangent(u: NDArray, r: NDArray, w: NDArray, basis: tuple[int, ...]) -
 
 
 # ---------------------------------------------------------------------- the slipping period: the period map
-def period_pass(u0: list, u1: list, lim: list, kt: float, w: tuple[float, float]):
+def period_pass(u0: list, u1: list, lim: list, kt: float,
+                w: tuple[float, float]) -> tuple[list, list, tuple[float, float], NDArray, list]:
     """One period of the radial return map from the slider at ``w``: ``(T0, T1, w_end, A, slips)``.
 
     ``A = dw_end/dw`` (2 x 2) is the product of the slip samples' ``s (I - c c^T)`` (``c`` the slip
@@ -184,7 +185,7 @@ def period_pass(u0: list, u1: list, lim: list, kt: float, w: tuple[float, float]
     return T0, T1, (w0, w1), np.array([[a00, a01], [a10, a11]]), slips
 
 
-def periodic_slip(u: NDArray, lim: NDArray, kt: float, start: NDArray):
+def periodic_slip(u: NDArray, lim: NDArray, kt: float, start: NDArray) -> tuple[NDArray, list]:
     """The periodic state of a period that slips: ``(T (2, n), slips)`` of the pass from the fixed
     point of ``P`` (Newton on ``w = P(w)`` with ``A = dP/dw``; a plain period where Newton does
     not reduce ``|P(w) - w|``, which a plain period never increases: ``P`` is nonexpansive)."""

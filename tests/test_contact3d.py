@@ -116,7 +116,8 @@ def fd_jacobian(el, x, h=1e-7):
 
 def cases3d(n):
     th = 2.0 * np.pi * np.arange(n) / n
-    return {"slip": np.vstack([0.3 * np.cos(th) + 0.05, 0.15 * np.sin(th) + 0.02 * np.cos(2 * th), 0.1 * np.sin(th + 0.3)]),
+    return {"slip": np.vstack([0.3 * np.cos(th) + 0.05, 0.15 * np.sin(th) + 0.02 * np.cos(2 * th),
+                               0.1 * np.sin(th + 0.3)]),
             "stuck": np.vstack([0.04 * np.cos(th) + 0.01, 0.03 * np.sin(th), 0.05 * np.cos(th + 0.3)]),
             "stuck-circle": np.vstack([0.05 * np.cos(th), 0.03 * np.sin(th) + 0.01 * np.sin(2 * th), 0.0 * th]),
             "barely-slipping": np.vstack([0.11 * np.cos(th), 0.09 * np.sin(th), 0.0 * th]),

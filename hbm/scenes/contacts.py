@@ -3,7 +3,8 @@
 A ``[structure]`` attaches the run's damper (``[damper]``) at ``structure.contact_dofs`` and, for
 an element of two components (tangential and normal, ``components = 2``: ``"contact2d"``, ``"allmode2d"``), its
 normal at ``structure.normal_dofs``; for one of three (two tangential directions and the normal,
-``components = 3``: ``"contact3d"``) also its second tangential direction at ``structure.second_dofs``.  It may hold further elements of the model registry
+``components = 3``: ``"contact3d"``) also its second tangential direction at
+``structure.second_dofs``.  It may hold further elements of the model registry
 (``hbm.scenes.MODELS``), the same in every run, as an array of tables::
 
     [[structure.contacts]]
@@ -145,8 +146,8 @@ def attach(scene: Any, element: Any, dofs: tuple, normal_dofs: tuple | None, key
     if c >= 2 and normal_dofs is None:
         raise SceneError([f"{scene.where(keys[1])} is missing: the {label} element acts on "
                           f"{'a tangential' if c == 2 else 'two tangential displacements'} and a normal displacement; "
-                          f"{keys[0]} gives the {'' if c == 2 else 'first '}tangential one, {keys[1]} = [k] (to ground) or [k, l] "
-                          "(x_k - x_l) the normal one"])
+                          f"{keys[0]} gives the {'' if c == 2 else 'first '}tangential one, {keys[1]} = [k] "
+                          "(to ground) or [k, l] (x_k - x_l) the normal one"])
     if c == 1 and normal_dofs is not None:
         raise SceneError([f"{scene.where(keys[1])} = {show(list(normal_dofs))}: not allowed: the {label} element "
                           "acts on one displacement (normal DOFs attach a two- or three-component element: contact2d, "

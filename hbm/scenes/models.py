@@ -41,9 +41,9 @@ its tolerances in units of the stuck stiffness (``k* a``), and an amplitude swee
   first harmonic with the normal DOF at rest, which is ``AllModeMicroslip`` on the same cells and
   harmonics (its normal motion is checked in ``tests/test_allmode_normal.py``).
 
-``Gap``, ``Contact2D`` and ``Contact3D`` declare ``linear_amplitude = 0`` (a mean displacement, or normal motion, changes their contact
-state at any amplitude) although their first harmonic about a zero mean is exactly k* a below |g|
-or mu n0/kt; the suite accepts that exactly linear start.
+``Gap``, ``Contact2D`` and ``Contact3D`` declare ``linear_amplitude = 0`` (a mean displacement, or
+normal motion, changes their contact state at any amplitude) although their first harmonic about a
+zero mean is exactly k* a below |g| or mu n0/kt; the suite accepts that exactly linear start.
 
 An amplitude sweep refuses an element whose k* is 0 (naming ``sweep.kind``); in a frequency sweep
 and as a contact of a ``[structure]`` (``structure.contacts``, ``hbm.scenes.contacts``) every

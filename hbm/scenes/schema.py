@@ -58,8 +58,8 @@ _FIXED: dict[str, dict[str, Key]] = {
                            "three-component damper (contact3d) only, required for it: its second tangential "
                            "displacement, [k] (DOF k to ground) or [k, l] (x_k - x_l)"),
         "normal_dofs": Key(dof_list, OPTIONAL,
-                           "two- or three-component damper (contact2d, allmode2d, contact3d) only, required for it: its "
-                           "normal displacement, [k] (DOF k to ground) or [k, l] (x_k - x_l, v > 0 pressing)"),
+                           "two- or three-component damper (contact2d, allmode2d, contact3d) only, required for it: "
+                           "its normal displacement, [k] (DOF k to ground) or [k, l] (x_k - x_l, v > 0 pressing)"),
         "contacts": Key(contact_tables, OPTIONAL,
                         "further elements of the structure, the same in every run: [[structure.contacts]] tables, "
                         "each with model (a registered model complete in its own keys), dofs ([i] or [i, j]), "
