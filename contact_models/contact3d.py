@@ -25,12 +25,12 @@ the mismatch, until the slider repeats to ``STATE_RTOL`` of the contact's size.
 
 **Jacobian.** The exact derivative of the sampled periodic map: the tangent of the return map is
 propagated through one period and the periodic state's own dependence is the fixed point's,
-``(I - dP/dw) dw_0 = (dP/dx) dx``.  :meth:`Contact3D.harmonic_force` propagates the inverse-FFT
+``(I - dP/dw) dw_0 = (dP/dx) dx``.  ``Contact3D.harmonic_force`` propagates the inverse-FFT
 columns instead of unit vectors, so the harmonic Jacobian costs O(n_t H), never a dense (3 n_t)^2.
 
 **Reductions.** With one tangential row zero it is ``Contact2D`` (the same return map, centring and
 slip origins); with the normal row at rest on a straight path, the Jenkins element
-``Macroslip(kt, mu n0)``.  :meth:`Contact3D.fourier` is that Jenkins element (H = 1, normal at rest,
+``Macroslip(kt, mu n0)``.  ``Contact3D.fourier`` is that Jenkins element (H = 1, normal at rest,
 one direction); with normal motion or a turning path the balance answers through AFT.
 """
 
