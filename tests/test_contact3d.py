@@ -166,6 +166,31 @@ def test_the_stuck_centre_is_the_clearance_centre():
         assert np.max(moved) > F
 
 
+def test_the_periodic_state_is_continuous_across_the_onset_of_slip():
+    """Scale a turning path through the amplitude where the discs stop meeting (found by bisection on
+    the clearance centre's F): the mean tangential force, the one the stuck convention decides,
+    changes by O(step) across it, stuck on one side and slipping on the other."""
+    n = 256
+    th = 2.0 * np.pi * np.arange(n) / n
+    el = Contact3D(KT, 0.0, MU, N0)
+
+    def path(s):
+        return np.vstack([0.03 + s * (0.1 * np.cos(th) + 0.02 * np.cos(2 * th)),
+                          0.01 + s * (0.07 * np.sin(th) + 0.01 * np.sin(3 * th)), np.zeros(n)])
+
+    lo, hi = 0.1, 2.0
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if clearance_centre(path(mid)[:2], np.full(n, MU * N0 / KT))[2] <= 0.0 else (lo, mid)
+    means = []
+    for d in (-1e-6, 1e-6):
+        f = el.periodic_force(path(lo * (1.0 + d)))[0]
+        means.append(np.mean(f[:2], axis=1))
+        slipping = np.max(np.hypot(f[0], f[1])) >= MU * N0 * (1.0 - 1e-12)
+        assert slipping == (d > 0.0)
+    assert np.max(np.abs(means[1] - means[0])) < 1e-5 * MU * N0
+
+
 def structure(K, force):
     return hbm.Structure(np.eye(3), 0.01 * K, K, force=force)
 
