@@ -188,6 +188,7 @@ def test_the_periodic_state_is_continuous_across_the_onset_of_slip():
         means.append(np.mean(f[:2], axis=1))
         slipping = np.max(np.hypot(f[0], f[1])) >= MU * N0 * (1.0 - 1e-12)
         assert slipping == (d > 0.0)
+    print(f"mean force change across the onset: {np.max(np.abs(means[1] - means[0])) / (MU * N0):.1e} mu n0")
     assert np.max(np.abs(means[1] - means[0])) < 1e-5 * MU * N0
 
 
