@@ -17,6 +17,8 @@ docs/figures/allmode_frf.png and prints the comparison table.
    :alt: All-mode damper: FRF of the default blade
 """
 
+# sphinx_gallery_thumbnail_path = "figures/allmode_frf.png"
+
 from __future__ import annotations
 
 import time

@@ -20,6 +20,8 @@ Run ``python examples/design_chart_from_modes.py``; writes
    :alt: Resonant amplitude against normal load from the nonlinear mode, with FRF peaks
 """
 
+# sphinx_gallery_thumbnail_path = "figures/design_chart_from_modes.png"
+
 from __future__ import annotations
 
 import time

@@ -20,6 +20,8 @@ Run ``python examples/monte_carlo.py``; writes ``docs/figures/monte_carlo.png``.
    :alt: Monte Carlo of the resonant amplitude
 """
 
+# sphinx_gallery_thumbnail_path = "figures/monte_carlo.png"
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -320,3 +320,113 @@ def test_quasi_static_validation_draws_a_figure_and_prints_an_aligned_table(tmp_
     assert "|" not in text and set(lines[1]) <= {"-", " "}
     assert len({len(line) for line in lines[:2]}) == 1  # the rule is as wide as the header
     assert vqs.table(rows).startswith("| load |")  # the Markdown of docs/validation.md, on request
+
+
+# ------------------------------------------------------------------------------ what a user reads
+#: History that belongs in a version-control log, not on a page a user reads: a commit hash (7 to
+#: 40 hex digits with at least one digit and one letter, in backticks or after "commit"), the
+#: narration of a measurement against an earlier state of the code, a machine's load, a timestamp.
+_HASH = r"(?=[0-9a-f]*[0-9])(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}"
+FORBIDDEN = re.compile(
+    rf"`{_HASH}`|\bcommits?\s+(?:at\s+|of\s+)?`?{_HASH}\b|\bthe (?:tree|code) before\b"
+    r"|\b(?:this|the same) session\b|\bload averages?\b|\b20\d\d-[01]\d-[0-3]\d(?:T|\b)|\bUTC\b",
+    re.IGNORECASE)
+#: The same hash as the built HTML shows a literal: ``<code ...><span class="pre">9425403</span></code>``.
+_HTML_HASH = re.compile(rf'<span class="pre">{_HASH}</span>')
+
+
+def _forbidden_in(text: str) -> list[str]:
+    return [m.group(0) for m in FORBIDDEN.finditer(text)]
+
+
+def test_forbidden_patterns_catch_history_and_leave_facts_alone():
+    """The check itself: what it must find, and legitimate content it must not."""
+    caught = ["against 47.1 s for `9425403`, the same session", "at commit 22cf664", "commit `d131efd`",
+              "the tree before", "The code before spent", "in this session", "load average 0.6",
+              "2026-11-28T04:29", "measured 2026-11-27", "13:45 UTC"]
+    for text in caught:
+        assert _forbidden_in(text), text
+    kept = ["version 0.1.0", "`1e-3`", "tol = 1e-3 (`tol=1e-3`)", "sha256 9255729d2645ef9d of the points",
+            "`docs/data/allmode_reference.csv`", "`abcdefgh`", "`1234567`", "a commit message", "the load, 100 N",
+            "`deadbeef` is a word", "Commit to a model", "`frf.to_csv()`",
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"]
+    assert [t for t in kept if _forbidden_in(t)] == []  # a hex word without a digit or a letter is no hash
+
+
+def test_pages_and_readme_tell_no_history():
+    found = []
+    for path in [*sorted(DOCS.glob("*.md")), ROOT / "README.md"]:
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            for match in _forbidden_in(line):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {match!r}")
+    assert not found, "history on a page a user reads:\n" + "\n".join(found)
+
+
+def _built_site() -> Path | None:
+    """The built site: ``FRICTIONDAMP_DOCS_HTML`` (``.ci/run`` sets it), else ``docs/_build/html``
+    where the documented build command leaves it; None when neither exists."""
+    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
+    path = Path(html) if html else DOCS / "_build" / "html"
+    path = path if path.is_absolute() else ROOT / path
+    return path if (path / "index.html").is_file() else None
+
+
+def test_built_pages_tell_no_history():
+    site = _built_site()
+    if site is None:
+        pytest.skip("no built site (docs/_build/html or FRICTIONDAMP_DOCS_HTML)")
+    found = []
+    for page in sorted(site.rglob("*.html")):
+        html = page.read_text(errors="replace")
+        text = re.sub(r"<[^>]+>", "", html)
+        hits = _forbidden_in(text) + _HTML_HASH.findall(html)
+        found += [f"{page.relative_to(site).as_posix()}: {hit!r}" for hit in hits]
+    assert not found, "history on the built site:\n" + "\n".join(found[:50])
+
+
+def _pixels(path: Path):
+    from PIL import Image
+
+    with Image.open(path) as image:
+        return image.convert("RGBA").size, image.convert("RGBA").tobytes()
+
+
+def _stock_thumbnails(tmp_path: Path) -> list:
+    """sphinx-gallery's stand-ins for a missing figure (``no_image.png``; ``broken_example.png`` for
+    a failing script), scaled as it scales a thumbnail (``scale_image`` to ``thumbnail_size``)."""
+    from sphinx_gallery.gen_gallery import DEFAULT_GALLERY_CONF
+    from sphinx_gallery.gen_rst import scale_image
+    from sphinx_gallery import glr_path_static
+
+    size = DEFAULT_GALLERY_CONF["thumbnail_size"]  # docs/conf.py keeps the default
+
+    out = []
+    for name in ("no_image.png", "broken_example.png"):
+        target = tmp_path / name
+        scale_image(str(Path(glr_path_static()) / name), str(target), *size)
+        out.append(_pixels(target))
+    return out
+
+
+def test_built_gallery_has_no_placeholder_thumbnails(tmp_path):
+    site = _built_site()
+    if site is None:
+        pytest.skip("no built site (docs/_build/html or FRICTIONDAMP_DOCS_HTML)")
+    pytest.importorskip("sphinx_gallery", reason="the docs extra (pip install -e '.[docs]')")
+    thumbs = sorted((site / "_images").glob("sphx_glr_*_thumb.png"))
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    assert len(thumbs) >= len(executed) + len(shown)
+    stock = _stock_thumbnails(tmp_path)
+    placeholders = [t.name for t in thumbs if _pixels(t) in stock]
+    assert not placeholders, f"gallery thumbnails that are sphinx-gallery's stand-in image: {placeholders}"
+
+
+def test_gallery_pages_shown_without_running_name_a_committed_thumbnail():
+    """A page whose script is not run at build time would get sphinx-gallery's placeholder
+    thumbnail: its script names the committed figure its header shows (``sphinx_gallery_thumbnail_path``)."""
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    for name in shown:
+        source = (ROOT / "examples" / name).read_text()
+        match = re.search(r"^# sphinx_gallery_thumbnail_path = [\"'](\S+)[\"']", source, re.MULTILINE)
+        assert match, f"{name}: no sphinx_gallery_thumbnail_path"
+        assert (DOCS / match.group(1)).is_file(), f"{name}: {match.group(1)} is not committed"
