@@ -515,8 +515,8 @@ def write_scene_keys(path: Path) -> int:
 
 # ---------------------------------------------------------------------------------- guides toctree
 #: Reading order of the Markdown pages of ``docs/``; a page not named here comes after them.
-GUIDE_ORDER = ("theory", "hbm", "point_contact", "figures", "validation", "performance", "scenes",
-               "generated/scene_keys", "extending")
+GUIDE_ORDER = ("theory", "hbm", "point_contact", "figures", "validation", "error_estimates", "performance",
+               "scenes", "generated/scene_keys", "extending")
 #: Pages with their own place in the home page's toctrees.
 OWN_PLACE = ("index", "getting_started", "changelog")
 
