@@ -430,3 +430,107 @@ def test_gallery_pages_shown_without_running_name_a_committed_thumbnail():
         match = re.search(r"^# sphinx_gallery_thumbnail_path = [\"'](\S+)[\"']", source, re.MULTILINE)
         assert match, f"{name}: no sphinx_gallery_thumbnail_path"
         assert (DOCS / match.group(1)).is_file(), f"{name}: {match.group(1)} is not committed"
+
+
+# ------------------------------------------------------------------------- the front door's scripts
+def _block_after(text: str, heading: str) -> str:
+    """The first ```python block after ``heading`` in a Markdown text."""
+    return re.search(rf"^## {re.escape(heading)}\n.*?```python\n(.*?)```", text, re.S | re.M).group(1)
+
+
+def _jenkins_first_harmonic(kt, fs, a):
+    """The Jenkins element's first-harmonic stiffness p + i q at amplitude a, in closed form
+    (Caughey's describing function): stuck below a_s = fs/kt; above it cos(beta) = 1 - 2 a_s/a,
+    p = (kt/pi)(beta - sin(2 beta)/2), q = W/(pi a^2) with the loop's area W = 4 fs (a - a_s)."""
+    import math
+
+    a_s = fs / kt
+    if a <= a_s:
+        return kt, 0.0
+    beta = math.acos(1.0 - 2.0 * a_s / a)
+    return kt / math.pi * (beta - 0.5 * math.sin(2.0 * beta)), 4.0 * fs * (a - a_s) / (math.pi * a * a)
+
+
+def _sdof_peak(m, k, c, force, stiffness_at, w_lo, w_hi):
+    """The single-harmonic peak of ``m x'' + c x' + k x + f(x) = F cos(w t)`` for an element whose
+    first-harmonic stiffness p + i q depends on the amplitude only: the largest a at which
+    ((k + p) - m w^2)^2 + (c w + q)^2 = (F/a)^2 has a real w, by bisection on a (an independent
+    solve of the balance, not the library's continuation)."""
+    from scipy.optimize import minimize_scalar
+
+    def lowest(a):
+        p, q = stiffness_at(a)
+        res = minimize_scalar(lambda w: ((k + p) - m * w * w) ** 2 + (c * w + q) ** 2, bounds=(w_lo, w_hi),
+                              method="bounded", options={"xatol": 1e-10 * w_hi})
+        return res.fun - (force / a) ** 2, res.x
+
+    lo, hi = 1e-9, 1e-3
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if lowest(mid)[0] <= 0.0 else (lo, mid)
+        if hi - lo < 1e-13 * hi:
+            break
+    return lowest(lo)[1], lo
+
+
+def test_readme_and_home_page_open_with_the_same_ten_line_script_and_it_is_right(capsys):
+    readme, home = (ROOT / "README.md").read_text(), (DOCS / "index.md").read_text()
+    script = _block_after(readme, "A first script")
+    assert script == _block_after(home, "A first script")
+    assert len(script.strip().splitlines()) <= 10
+    for command in ('python3 -m pip install -e ".[test]" && python3 -m hbm',
+                    'python3 -m pip install -e ".[test,fast]" && python3 -m pytest -q'):
+        assert command in readme and command in home  # CI runs the second
+    assert "frictiondamp" in readme.split("## A first script")[0]  # the installed command is named
+    namespace = {}
+    exec(compile(script, "README.md", "exec"), namespace)
+    out = capsys.readouterr().out
+    peaks = {name: (float(w), float(a)) for name, w, a in
+             re.findall(r"^(\w+) Peak\(omega=([\d.e+-]+), amplitude=([\d.e+-]+)", out, re.M)}
+    blade, micro, macro = namespace["blade"], namespace["micro"], namespace["macro"]
+    m, k, c, force = blade.mass, blade.stiffness, blade.damping, blade.force
+    # the macroslip match: k* and mu N, its peak against the closed-form describing function
+    assert macro.stiffness == pytest.approx(micro.stuck_stiffness(0.0)) and macro.slip_force == pytest.approx(30.0)
+    for a in (5e-7, 1.5e-6):
+        f_s, f_c = macro.fourier(a, 0.0)
+        p, q = _jenkins_first_harmonic(macro.stiffness, macro.slip_force, a)
+        assert (f_s, f_c) == pytest.approx((p * a, q * a), rel=1e-9)
+    w_ref, a_ref = _sdof_peak(m, k, c, force, lambda a: _jenkins_first_harmonic(macro.stiffness, macro.slip_force, a),
+                              3.2e4, 4.4e4)
+    w_jen, a_jen = peaks["Macroslip"]
+    assert a_jen == pytest.approx(a_ref, rel=1e-5) and w_jen == pytest.approx(w_ref, rel=1e-4)
+    # the microslip peak is on the balance and no amplitude above it is reachable either side
+    w_mic, a_mic = peaks["TwoRegionMicroslip"]
+
+    def excess(a, w):  # |Z a + f|^2 - F^2 of the single-harmonic balance with the element's f_s, f_c
+        f_s, f_c = micro.fourier(a, w)
+        return (((k - m * w * w) * a + f_s) ** 2 + (c * w * a + f_c) ** 2) / force**2 - 1.0
+
+    assert abs(excess(a_mic, w_mic)) < 1e-5
+    assert excess(a_mic * (1 + 1e-4), w_mic) > 0
+    for w in (w_mic * (1 - 5e-4), w_mic * (1 + 5e-4)):
+        assert excess(a_mic, w) > 0
+    assert a_mic > 1.5 * a_jen  # the bar dissipates less than its macroslip match here
+
+
+def test_guides_page_runs_as_written(tmp_path, monkeypatch, capsys):
+    """docs/guides.md: its blocks run in order in one namespace, and say what they print."""
+    monkeypatch.chdir(tmp_path)  # the first block writes frf.csv
+    blocks = re.findall(r"^```python\n(.*?)^```", (DOCS / "guides.md").read_text(), re.S | re.M)
+    assert len(blocks) == 4
+    ns = {}
+    for i, block in enumerate(blocks):
+        exec(compile(block, f"guides.md[block {i + 1}]", "exec"), ns)
+    assert (tmp_path / "frf.csv").is_file()
+    peak, best = ns["peak"], ns["best"]
+    assert (peak.omega, peak.amplitude) == pytest.approx((38773.6, 1.512e-6), rel=1e-3)
+    # the bar with every mode peaks 1.5 % above the single-mode bar, within its own estimate of tol
+    assert best.amplitude / peak.amplitude - 1 == pytest.approx(0.015, abs=0.002) and best.error < 1e-3
+    # the Jenkins blade at two tolerances agrees within the coarser one
+    out = capsys.readouterr().out
+    rows = {float(t): float(a) for t, a in re.findall(r"^(0\.01|1e-05) ([\d.e+-]+) ", out, re.M)}
+    assert rows[1e-2] == pytest.approx(rows[1e-5], rel=1e-2)
+    assert "largest source: model" in out
+    # the 2-DOF chain: its contact slides, so it peaks at the free chain's first mode
+    frf = ns["frf"]
+    assert frf.peak().omega == pytest.approx(((3 - 5**0.5) / 2) ** 0.5, rel=2e-2) and frf.stable.all()

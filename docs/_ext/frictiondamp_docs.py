@@ -518,7 +518,7 @@ def write_scene_keys(path: Path) -> int:
 GUIDE_ORDER = ("theory", "hbm", "point_contact", "figures", "validation", "error_estimates", "performance",
                "scenes", "generated/scene_keys", "extending")
 #: Pages with their own place in the home page's toctrees.
-OWN_PLACE = ("index", "getting_started", "changelog")
+OWN_PLACE = ("index", "getting_started", "guides", "changelog")
 
 
 def write_guides_toctree(docs: Path, path: Path) -> list[str]:
