@@ -35,7 +35,7 @@ import numpy as np  # noqa: E402
 
 from contact_models import TwoRegionMicroslip, UniformLoad  # noqa: E402
 from hbm import Contact, damper_optimum, frequency_response  # noqa: E402
-from hbm.cli.cases import default_case  # noqa: E402
+from paper_figures import default_case  # noqa: E402
 
 DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
 #: FRF checks (N): a few loads across the chart.
