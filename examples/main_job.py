@@ -26,8 +26,7 @@ from pathlib import Path
 
 from contact_models import Bar, Macroslip, TwoRegionMicroslip, UniformLoad
 from hbm import Blade, allmode_peak, frequency_response
-
-FIGURES = Path(__file__).resolve().parent.parent / "docs" / "figures"
+from paper_figures import DEFAULT_OUTDIR as FIGURES  # docs/figures (no __file__ here: the gallery runs this)
 
 #: The tolerance of the traced curves (the single-mode bar's model error is within it) and of the
 #: all-mode peak.
