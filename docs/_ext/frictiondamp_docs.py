@@ -527,7 +527,7 @@ def write_guides_toctree(docs: Path, path: Path) -> list[str]:
     present |= {"generated/scene_keys"}
     pages = [p for p in GUIDE_ORDER if p in present]
     pages += sorted(p for p in present if p not in pages and p not in OWN_PLACE)
-    text = "```{toctree}\n:maxdepth: 1\n:caption: Topics: theory, solvers, validation\n\n" + "".join(f"/{p}\n" for p in pages) + "```\n"
+    text = "```{toctree}\n:maxdepth: 1\n:caption: Topics: theory, solvers, validation\n:hidden:\n\n" + "".join(f"/{p}\n" for p in pages) + "```\n"
     _write(path, text)
     return pages
 
