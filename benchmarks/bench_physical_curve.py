@@ -13,7 +13,9 @@ true error at the 16 frequencies of ``tests/data/physical_curve_reference.json``
 by the cubic through its four nearest points), and whether an ``AccuracyWarning`` was emitted.
 Prints the table of ``docs/performance.md``, "The physical curve".
 
-Run: ``PYTHONPATH=. python3 benchmarks/bench_physical_curve.py [--repeats N]``.
+Run: ``PYTHONPATH=. python3 benchmarks/bench_physical_curve.py [--repeats N]``; with ``--points``, the
+physical curve at each reference frequency instead (``docs/validation.md``, "The main job against the
+converged bar").
 """
 
 from __future__ import annotations
@@ -46,13 +48,44 @@ def true_error(frf, points) -> float:
     return worst
 
 
+def at(frf, values, omega: float) -> float:
+    """``values`` of ``frf`` at ``omega`` by the cubic through its four points nearest it."""
+    w = frf.omega
+    j = int(np.searchsorted(w, omega))
+    idx = np.arange(max(0, j - 2), min(len(w), j + 2))
+    return float(np.polyfit(w[idx] - omega, values[idx], len(idx) - 1)[-1])
+
+
+def point_table(points, blade, el, rng) -> None:
+    """The physical curve (``model="auto"``) at each reference frequency: the table of
+    ``docs/validation.md``, "The main job against the converged bar"."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        frf = hbm.frequency_response(blade, el, rng, tol=1e-3, model="auto")
+        single = hbm.frequency_response(blade, el, rng, tol=1e-3)
+    print("| omega (rad/s) | reference (m) | its own error | true error | estimate | model, H | single-mode bar's error |")
+    print("|---|---|---|---|---|---|---|")
+    for p in points:
+        w = p["omega"]
+        true = abs(at(frf, frf.amplitude, w) / p["amplitude"] - 1.0)
+        est = at(frf, frf.error_estimate, w)
+        i = int(np.argmin(np.abs(frf.omega - w)))
+        off = abs(at(single, single.amplitude, w) / p["amplitude"] - 1.0)
+        print(f"| {w:.1f} | {p['amplitude']:.6e} | {p['spread']:.1e} | {true:.1e} | {est:.1e} | "
+              f"{frf.point_models[i]}, {frf.point_harmonics[i]} | {off:.1e} |")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--points", action="store_true", help="the per-frequency table of docs/validation.md")
     args = parser.parse_args()
     points = json.loads(REFERENCE.read_text())["points"]
     case = default_case()
     blade, el, rng = case.blade, case.element, case.omega_range
+    if args.points:
+        point_table(points, blade, el, rng)
+        return
 
     def peak_job():
         frf = hbm.frequency_response(blade, el, rng, tol=1e-3)
