@@ -9,16 +9,19 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from contact_models import AccuracyWarning
 from hbm.cli.main import main
 from hbm.scenes import SceneError
 from hbm.study import (DASK_MISSING, Study, grid, lognormal, normal, read_records, run_study, samples, uniform)
 
 from conftest import MACROSLIP_BLADE  # the blade and Jenkins damper these studies share
+from test_cli import single_mode_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 ENV = "FRICTIONDAMP_STUDY_TEST"  # the folder where flaky() logs its calls and finds its faults
@@ -71,6 +74,13 @@ def openblas_threads(point):
                 break
     return {"peak_amplitude_m": float(max(counts)) if counts else None,
             "peak_omega_rad_s": float(os.environ.get("OPENBLAS_NUM_THREADS", "nan"))}
+
+
+def loose(point):
+    """A run that warns as a solve over its tolerance does: its estimate is x / 100."""
+    if point["x"] > 1.0:
+        warnings.warn(f"estimated error {point['x'] / 100.0:g} > tol 0.001", AccuracyWarning)
+    return {"peak_amplitude_m": point["x"], "peak_error_rel": point["x"] / 100.0}
 
 
 def calls(folder):
@@ -369,3 +379,37 @@ def test_docs_list_the_study_keys_as_the_schema_has_them():
         row = f"| `study.{key}` | {default} | {spec.doc} |"
         for doc in ("studies.md", "scenes.md"):
             assert row in (ROOT / "docs" / doc).read_text(), (doc, row)
+
+
+def test_runs_warnings_are_recorded_and_said_once_naming_the_worst(tmp_path, capfd):
+    study = Study(loose, grid({"x": [0.5, 2.0, 3.0, 1.5]}))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = run_study(study, tmp_path, executor="processes", workers=2, formats=("csv", "json"))
+    said = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+    assert len(said) == 1  # one for the study, not one per run
+    assert said[0].startswith("run_study: 3 of 4 runs warned")
+    assert "the worst, run 3 (x = 3.0), peak_error_rel 0.03: estimated error 0.03 > tol 0.001" in said[0]
+    assert "AccuracyWarning" not in capfd.readouterr().err  # the workers showed nothing
+    assert [r["warning"] for r in result.records] == [None, "estimated error 0.02 > tol 0.001",
+                                                      "estimated error 0.03 > tol 0.001",
+                                                      "estimated error 0.015 > tol 0.001"]
+    assert result.records[2]["message"] == "estimated error 0.03 > tol 0.001"  # the table says it too
+    summary = json.loads((tmp_path / "study.json").read_text())
+    assert summary["warned"] == 3 and summary["worst_warning"]["run"] == 3
+    with warnings.catch_warnings(record=True) as caught:  # a resume reuses the records and says the same
+        warnings.simplefilter("always")
+        again = run_study(study, tmp_path, executor="serial", formats=("csv",))
+    assert again.reused == 4 and [str(w.message) for w in caught] == said
+
+
+def test_cli_study_prints_one_warning_line_after_its_summary(tmp_path, capsys):
+    path = single_mode_scene(tmp_path)  # tol 1e-2: the single-mode bar's model error (0.1) is over it
+    path.write_text(path.read_text() + '[study]\nexecutor = "serial"\n[study.grid]\n"damper.load.N" = [60.0, 120.0]\n')
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+    out, err = capsys.readouterr()
+    lines = out.strip().splitlines()
+    warned = [line for line in lines if line.startswith("warning:")]
+    assert len(warned) == 1 and warned[0] == lines[-1]
+    assert warned[0].startswith("warning: run_study: 2 of 2 runs warned") and warned[0].endswith("(AccuracyWarning)")
+    assert "Warning:" not in err and ".py:" not in err

@@ -34,7 +34,8 @@ from .cases import default_case
 from .figure import JobFigure
 from ..allmode_peak import AllModePeak
 
-__all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
+__all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "warning_line",
+           "COMMANDS",
            "DESCRIPTION", "EXAMPLES",
            "Terminated"]
 
@@ -207,13 +208,32 @@ def _run(args) -> int:
     with warnings.catch_warnings(record=True) as caught:  # the runs' accuracy warnings, said once after the summary
         warnings.simplefilter("always", AccuracyWarning)
         code = _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
-    for message in dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)):
-        if not args.quiet:  # with the summary, on stdout (stderr carries progress); summary.json records them too
-            print(f"warning: {message}")
-    for w in caught:  # any other warning as Python would have shown it
+    _say_after(caught, args.quiet)
+    return code
+
+
+def warning_line(message: Any, category: type) -> str:
+    """A warning as the command line prints it: ``warning: <message> (<category>)``, one line, no
+    file path or source line (Python's own format names the library's line that warned)."""
+    text = " ".join(str(message).split())
+    return f"warning: {text} ({category.__name__})"
+
+
+def _one_line(message, category, filename, lineno, line=None) -> str:
+    """``warnings.formatwarning`` while the command line runs: :func:`warning_line`."""
+    return warning_line(message, category) + "\n"
+
+
+def _say_after(caught: list, quiet: bool) -> None:
+    """The accuracy warnings ``caught`` during a scene or study, each said once after its summary
+    (on stdout with it: stderr carries the progress line; ``summary.json`` records them too);
+    any other warning shown as it would have been (one line on stderr)."""
+    for w in {str(w.message): w for w in caught if issubclass(w.category, AccuracyWarning)}.values():
+        if not quiet:
+            print(warning_line(w.message, w.category))
+    for w in caught:
         if not issubclass(w.category, AccuracyWarning):
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)
-    return code
 
 
 def _compute(line, compute, kept, report, code=lambda result: result.exit_code) -> int:
@@ -294,9 +314,13 @@ def _run_study(args, overrides) -> int:
                 f"{', '.join(str(p) for p in files) or 'none'}; run the same command again to compute only the "
                 "missing runs")
 
-    return _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
-                                            scheduler=args.scheduler, progress=line, time_limit=args.time_limit),
-                    kept, study_lines)
+    with warnings.catch_warnings(record=True) as caught:  # the study's summary of its runs' warnings, after its own
+        warnings.simplefilter("always", AccuracyWarning)
+        code = _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
+                                                scheduler=args.scheduler, progress=line, time_limit=args.time_limit),
+                        kept, study_lines)
+    _say_after(caught, args.quiet)
+    return code
 
 
 def study_lines(result: Any) -> list:
@@ -501,6 +525,8 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
     args = _parse(build_parser(), argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
+    shown = warnings.formatwarning
+    warnings.formatwarning = _one_line  # every warning shown as one line (a recording caller still records it)
     try:
         code = args.handler(args)
         sys.stdout.flush()  # a full device or a closed pipe shows here, not at the interpreter's exit
@@ -523,6 +549,7 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     finally:
         signal.signal(signal.SIGTERM, previous)
+        warnings.formatwarning = shown
 
 
 def _stdout_to_devnull() -> None:

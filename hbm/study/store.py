@@ -302,6 +302,47 @@ class StudyResult:
         return "; ".join(parts) if parts else "every run succeeded"
 
     @property
+    def warned(self) -> list[dict]:
+        """The recorded runs whose computation emitted an ``AccuracyWarning`` (their record's
+        ``warning``, :func:`hbm.study.runs.execute`), in run order."""
+        return [r for r in self.records if r is not None and r.get("warning")]
+
+    @property
+    def worst(self) -> dict | None:
+        """The run of :attr:`warned` with the largest ``peak_error_rel`` (a run without one counts
+        as below every other; the first such run where none has one); None if no run warned."""
+        warned = self.warned
+        if not warned:
+            return None
+        return max(warned, key=lambda r: -math.inf if r.get("peak_error_rel") is None else r["peak_error_rel"])
+
+    @property
+    def warning(self) -> str | None:
+        """The study's runs' warnings in one line: how many runs warned, the worst (:attr:`worst`)
+        and its warning; None if no run warned.  :func:`hbm.study.run_study` emits it once as an
+        ``AccuracyWarning``; every run's own warning stays in its record.
+
+        Examples
+        --------
+        >>> recs = [{"run": 1, "params": {"N": 10.0}, "warning": "estimated error 0.02 > tol 0.001",
+        ...          "peak_error_rel": 0.02},
+        ...         {"run": 2, "params": {"N": 20.0}, "warning": None, "peak_error_rel": 1e-4},
+        ...         {"run": 3, "params": {"N": 30.0}, "warning": "estimated error 0.05 > tol 0.001",
+        ...          "peak_error_rel": 0.05}]
+        >>> r = StudyResult(("N",), recs, {}, 3, 0, [], 1.0)
+        >>> print(r.warning)
+        2 of 3 runs warned (each run's warning is in its record: runs.jsonl "warning", the table's "message"); the worst, run 3 (N = 30.0), peak_error_rel 0.05: estimated error 0.05 > tol 0.001
+        """
+        worst = self.worst
+        if worst is None:
+            return None
+        where = ", ".join(f"{p} = {worst['params'].get(p)}" for p in self.parameters)
+        err = worst.get("peak_error_rel")
+        return (f"{len(self.warned)} of {len(self.records)} runs warned (each run's warning is in its record: "
+                f"runs.jsonl \"warning\", the table's \"message\"); the worst, run {worst['run']} ({where})"
+                + ("" if err is None else f", peak_error_rel {err:.2g}") + f": {worst['warning']}")
+
+    @property
     def columns(self) -> tuple:
         return columns(self.parameters)
 
@@ -448,7 +489,10 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
                       "runs": len(records), "succeeded": ok, "failed": counts["failed"],
                       "not_computed": sum(r is None for r in records), "computed": result.computed,
                       "reused": reused, "lost": [list(x) for x in result.lost], "damaged_lines": damaged,
-                      "elapsed_s": result.elapsed, "columns": list(result.columns),
+                      "elapsed_s": result.elapsed, "warned": len(result.warned),
+                      "worst_warning": None if result.worst is None else {
+                          "run": result.worst["run"], "warning": result.worst["warning"]},
+                      "columns": list(result.columns),
                       "outputs": {k: str(v) for k, v in result.files.items()}, "table": result.rows}
     if "json" in formats:
         result.files["json"] = folder / FILES["json"]
