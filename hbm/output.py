@@ -45,8 +45,43 @@ TABLE_COLUMNS = ("omega_rad_s", "a_m", "a_over_unit", "f_s_N", "f_c_N", "F_s", "
 OMEGA_UNITS = {"rad/s": (1.0, r"$\omega$ (rad/s)"), "Hz": (1.0 / (2.0 * math.pi), "frequency (Hz)")}
 #: Amplitude units of a figure's axis: name -> (factor from m, axis label).
 AMPLITUDE_UNITS = {"m": (1.0, "amplitude (m)"), "um": (1.0e6, "amplitude (\u00b5m)")}
-#: A figure draws amplitudes in micrometres when every one is below this (m).
-MICROMETRE_BELOW = 1.0e-3
+#: Axis names of the scene keys a scene or study varies: key -> (name, unit); SI units, "" for a
+#: number without one.  A key not here is named by itself (:func:`key_label`).
+KEY_LABELS = {
+    "damper.load.N": ("normal load N", "N"),
+    "damper.load.ratio": ("load ratio q0/(q0 - q2)", ""),
+    "damper.mu": ("friction coefficient mu", ""),
+    "damper.k": ("shear-layer stiffness k", "N/m^2"),
+    "damper.beta": ("strain-hardening stiffness beta", "N/m"),
+    "damper.E": ("Young's modulus E", "Pa"),
+    "damper.rho": ("density rho", "kg/m^3"),
+    "damper.A": ("cross-section A", "m^2"),
+    "damper.L": ("bar length L", "m"),
+    "damper.stiffness": ("damper stiffness", "N/m"),
+    "damper.slip_force": ("slip force", "N"),
+    "blade.mass": ("modal mass m", "kg"),
+    "blade.stiffness": ("blade stiffness k", "N/m"),
+    "blade.damping": ("viscous damping c", "N s/m"),
+    "blade.damping_ratio": ("damping ratio zeta", ""),
+    "blade.force": ("force amplitude F", "N"),
+    "sweep.tol": ("target relative error tol", ""),
+}
+
+
+def key_label(key: str) -> str:
+    """The axis label of a scene key: its name and SI unit from :data:`KEY_LABELS`, else the key.
+
+    Examples
+    --------
+    >>> key_label("damper.load.N"), key_label("damper.mu"), key_label("effects.inertia")
+    ('normal load N (N)', 'friction coefficient mu', 'effects.inertia')
+    """
+    if key not in KEY_LABELS:
+        return key
+    name, unit = KEY_LABELS[key]
+    return f"{name} ({unit})" if unit else name
+
+
 #: At most this many curves get a legend; beyond, colour follows the swept parameter.
 LEGEND_LIMIT = 8
 #: Line styles by model, in order of first appearance.
@@ -181,18 +216,6 @@ def write_frf_csv(path: str | Path, frf: Any) -> Path:
     return Path(path)
 
 
-def amplitude_unit_for(amplitudes: Iterable[float]) -> str:
-    """``"um"`` when every amplitude (m) is below :data:`MICROMETRE_BELOW`, else ``"m"``.
-
-    Examples
-    --------
-    >>> amplitude_unit_for([1.5e-6, 2e-6]), amplitude_unit_for([0.002])
-    ('um', 'm')
-    """
-    values = [float(a) for a in amplitudes if math.isfinite(float(a))]
-    return "um" if values and max(abs(v) for v in values) < MICROMETRE_BELOW else "m"
-
-
 def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]], ax: Any = None, *,
               parameter: str | None = None, log: bool = True, omega_unit: str = "rad/s",
               amplitude_unit: str = "m") -> Any:
@@ -201,8 +224,10 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     ``curves`` is a sequence of ``(frf, label, model, value)``: ``model`` sets the line style,
     ``value`` (a number or None) the colour when there are more than :data:`LEGEND_LIMIT` curves,
     with a colour bar titled ``parameter``.  Each curve is drawn by ``FrequencyResponse.plot``,
-    which marks its peak; ``omega_unit`` (:data:`OMEGA_UNITS`) and ``amplitude_unit``
-    (:data:`AMPLITUDE_UNITS`) set the axes' units.
+    which marks its peak and shades its estimated error (up to :data:`LEGEND_LIMIT` curves; more
+    would hide each other under their bands); ``omega_unit`` (:data:`OMEGA_UNITS`) and
+    ``amplitude_unit`` (:data:`AMPLITUDE_UNITS`) set the axes' units.  ``parameter`` is the colour
+    bar's title (:func:`key_label` of a scene key).
     """
     if ax is None:
         import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
@@ -225,7 +250,7 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
         style = STYLES[models.index(model) % len(STYLES)]
         color = cmap(norm(value)) if by_value else f"C{i % 10}"
         frf.plot(ax, label=None if by_value else label, peak=bool(frf.success), ls=style, color=color,
-                 lw=0.9 if by_value else 1.2, **units)
+                 lw=0.9 if by_value else 1.2, **units, **({"error_band": False} if by_value else {}))
     if log:
         ax.set_yscale("log")
     if by_value:
@@ -266,6 +291,38 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     if a_min is not None and math.isfinite(a_min) and a_min > 0.0:
         ax.axhline(a_min * a_scale, color=a_min_color, lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)" if label else None)
     return ax
+
+
+#: The most of the band's relative half-width drawn below the curve: its lower edge stays above zero
+#: (a logarithmic axis draws it).
+BAND_FLOOR = 0.99
+
+
+def plot_error_band(ax: Any, omega: Any, amplitude: Any, error: Any, *, color: Any = None, omega_unit: str = "rad/s",
+                    amplitude_unit: str = "m", alpha: float = 0.2) -> Any:
+    """Shade ``amplitude * (1 +- error)`` along a branch on ``ax`` (``error`` relative, per point; NaN
+    is no width), as a ribbon: the upper edge in continuation order, the lower edge back, so the band
+    follows a folded branch.  The lower edge's relative distance is capped at :data:`BAND_FLOOR`.
+    Returns the patch (no legend entry).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> _, ax = plt.subplots()
+    >>> band = plot_error_band(ax, [1.0, 2.0, 3.0], [1.0, 2.0, 1.0], [0.1, 0.5, float("nan")])
+    >>> band.get_xy()[:6, 1].round(6).tolist()          # up: 1.1, 3.0, 1.0; back: 1.0, 1.0, 0.9
+    [1.1, 3.0, 1.0, 1.0, 1.0, 0.9]
+    """
+    w_scale, a_scale = OMEGA_UNITS[omega_unit][0], AMPLITUDE_UNITS[amplitude_unit][0]
+    w = np.asarray(omega, dtype=float) * w_scale
+    a = np.asarray(amplitude, dtype=float) * a_scale
+    e = np.nan_to_num(np.asarray(error, dtype=float), nan=0.0, posinf=0.0)
+    upper, lower = a * (1.0 + e), a * (1.0 - np.minimum(e, BAND_FLOOR))
+    band, = ax.fill(np.concatenate([w, w[::-1]]), np.concatenate([upper, lower[::-1]]), color=color, alpha=alpha,
+                    lw=0, label="_nolegend_")
+    return band
 
 
 def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, label: str | None = None,

@@ -20,7 +20,7 @@ from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
 from .balance.stability import STABILITY_TOL, HillProblem, band_modes, stability_changes
-from .output import AMPLITUDE_UNITS, OMEGA_UNITS, plot_branch, write_frf_csv
+from .output import AMPLITUDE_UNITS, OMEGA_UNITS, plot_branch, plot_error_band, write_frf_csv
 
 #: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
 #: amplitude error is quadratic in that distance.
@@ -551,9 +551,15 @@ class FrequencyResponse:
         return write_frf_csv(path, self)
 
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, omega_unit: str = "rad/s",
-             amplitude_unit: str = "m", **kwargs: Any) -> Any:
+             amplitude_unit: str = "m", error_band: bool = True, **kwargs: Any) -> Any:
         """Amplitude against omega on ``ax`` (a new figure if None): stable parts solid, unstable
-        dashed (:attr:`stable`); marks the peak. Returns ax.
+        dashed (:attr:`stable`), the estimated error as a shaded band; marks the peak. Returns ax.
+
+        The band is ``amplitude * (1 +- error_estimate)``: :attr:`error_estimate` is the relative
+        error of the amplitude against the physical system, so the band is where the true
+        response lies by the estimate (``docs/validation.md``, "Error estimates").  A ribbon along
+        the branch (the upper edge out, the lower edge back), so it follows folds; a point
+        without an estimate (NaN) has no width.
 
         Parameters
         ----------
@@ -567,6 +573,9 @@ class FrequencyResponse:
             Unit of the frequency axis.  Default "rad/s".
         amplitude_unit : {"m", "um"}, optional
             Unit of the amplitude axis.  Default "m".
+        error_band : bool, optional
+            Draw the estimated error as a band in the curve's colour, where the result has an
+            estimate (``tol`` not None).  Default True.
         **kwargs
             Passed to ``ax.plot`` (colour, line style).
 
@@ -583,14 +592,19 @@ class FrequencyResponse:
         >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
         ...                          omega_range=(90.0, 110.0))
         >>> ax = frf.plot(label="bare blade")
-        >>> ax.get_ylabel(), len(ax.lines)                 # the curve and its peak
-        ('amplitude (m)', 2)
+        >>> ax.get_ylabel(), len(ax.lines), len(ax.patches)   # the curve, its peak and the error band
+        ('amplitude (m)', 2, 1)
+        >>> len(frf.plot(error_band=False).patches)
+        0
         """
         # a single DOF at H = 1 with a passive element loses stability only at folds (the sum of
         # its two exponents is minus its damping): its stability is computed only on a folded branch
         known = (self._stable is not None or not self._problem.one_dof or len(self.fold_after) > 0)
         ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable if known else None, label=label,
                                 omega_unit=omega_unit, amplitude_unit=amplitude_unit, **kwargs)
+        if error_band and len(self) and np.any(np.isfinite(self.error_estimate)):
+            plot_error_band(ax, self.omega, self.amplitude, self.error_estimate, color=color, omega_unit=omega_unit,
+                            amplitude_unit=amplitude_unit)
         if peak and len(self):
             pk = self.peak()
             ax.plot([pk.omega * OMEGA_UNITS[omega_unit][0]], [pk.amplitude * AMPLITUDE_UNITS[amplitude_unit][0]], "o",

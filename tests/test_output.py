@@ -46,3 +46,47 @@ def test_few_curves_get_a_legend_of_their_labels():
     plot_frfs([(f, f"run {i}", "macroslip", None) for i, f in enumerate(frfs([0.01, 0.02]))], ax)
     assert len(fig.axes) == 1 and [t.get_text() for t in ax.get_legend().get_texts()] == ["run 0", "run 1"]
     plt.close(fig)
+
+
+def test_plot_draws_the_estimated_error_as_a_band_around_the_curve():
+    frf = frequency_response(BLADE, Macroslip(stiffness=1.0, slip_force=0.003), omega_range=(0.6, 1.8), tol=1e-2)
+    assert np.all(np.isfinite(frf.error_estimate)) and frf.error_estimate.max() > 0.0
+    ax = frf.plot(omega_unit="Hz", amplitude_unit="um")
+    (band,) = ax.patches
+    xy = band.get_xy()
+    n = len(frf)
+    # the ribbon: amplitude (1 + e) out along the branch, amplitude (1 - e) back, in the axis' units
+    assert np.allclose(xy[:n, 0], frf.omega / (2.0 * np.pi), rtol=1e-15, atol=0.0)
+    assert np.allclose(xy[:n, 1], 1e6 * frf.amplitude * (1.0 + frf.error_estimate), rtol=1e-14, atol=0.0)
+    assert np.allclose(xy[n:2 * n, 1], (1e6 * frf.amplitude * (1.0 - frf.error_estimate))[::-1], rtol=1e-14, atol=0.0)
+    assert band.get_facecolor()[:3] == matplotlib.colors.to_rgb(ax.lines[0].get_color())
+    assert not frf.plot(error_band=False).patches
+    untold = frequency_response(BLADE, Macroslip(stiffness=1.0, slip_force=0.003), omega_range=(0.6, 1.8), tol=None)
+    assert not untold.plot().patches  # no estimate, no band
+    plt.close("all")
+
+
+def test_study_figure_draws_each_peaks_error_bar_and_names_the_key_with_its_unit(tmp_path):
+    from hbm.study.figures import figure
+    from hbm.study.store import StudyResult
+
+    loads = [10.0, 30.0, 100.0]
+    peaks, errors = [2.0e-6, 1.0e-6, 1.5e-6], [0.02, 0.001, None]
+    recs = [{"run": i + 1, "id": str(i), "params": {"damper.load.N": N}, "success": True, "message": "",
+             "peak_omega_rad_s": 3.8e4, "peak_amplitude_m": a, "peak_error_rel": e, "peak_model": "m", "nfev": 1,
+             "curve": {"omega_rad_s": [3.7e4, 3.8e4, 3.9e4], "amplitude_m": [a / 2, a, a / 2]}, "time_s": 0.1}
+            for i, (N, a, e) in enumerate(zip(loads, peaks, errors))]
+    result = StudyResult(("damper.load.N",), recs, {}, 3, 0, [], 1.0)
+    shown = []
+    save = matplotlib.figure.Figure.savefig
+    matplotlib.figure.Figure.savefig = lambda self, *a, **k: (shown.append(self), save(self, *a, **k))
+    try:
+        figure(result, tmp_path / "study.png")
+    finally:
+        matplotlib.figure.Figure.savefig = save
+    bx = shown[0].axes[1]
+    assert bx.get_xlabel() == "normal load N (N)"
+    (bars,) = bx.containers
+    segments = bars.lines[2][0].get_segments()
+    half = [(seg[1][1] - seg[0][1]) / 2.0 for seg in segments]  # symmetric: peak * peak_error_rel either way
+    assert np.allclose(half, [2.0e-6 * 0.02, 1.0e-6 * 0.001, 0.0], rtol=1e-12, atol=1e-30)
