@@ -1,16 +1,18 @@
 """The one CSV layout and the one FRF figure (hbm.output)."""
 
 import csv
+import sys
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+import pytest  # noqa: E402
 
 from contact_models import Macroslip  # noqa: E402
 from hbm import Blade, Steps, frequency_response  # noqa: E402
-from hbm.output import FRF_COLUMNS, LEGEND_LIMIT, plot_frfs  # noqa: E402
+from hbm.output import csv_lines, FRF_COLUMNS, LEGEND_LIMIT, plot_frfs  # noqa: E402
 
 BLADE = Blade(mass=1.0, stiffness=1.0, damping=0.01, force=0.01)
 
@@ -23,7 +25,7 @@ def frfs(loads):
 
 def test_to_csv_has_the_library_columns_with_units_and_the_residual(tmp_path):
     frf = frfs([0.02])[0]
-    rows = list(csv.reader(frf.to_csv(tmp_path / "f.csv").open()))
+    rows = list(csv.reader(csv_lines(frf.to_csv(tmp_path / "f.csv").open())))
     assert tuple(rows[0]) == FRF_COLUMNS and all(c.endswith(("_rad_s", "_m", "_rad", "_rel")) for c in rows[0])
     data = np.array(rows[1:], dtype=float)
     assert np.array_equal(data[:, 5], frf.residual_norm) and np.all(data[:, 5] < 1e-6)
@@ -90,3 +92,39 @@ def test_study_figure_draws_each_peaks_error_bar_and_names_the_key_with_its_unit
     segments = bars.lines[2][0].get_segments()
     half = [(seg[1][1] - seg[0][1]) / 2.0 for seg in segments]  # symmetric: peak * peak_error_rel either way
     assert np.allclose(half, [2.0e-6 * 0.02, 1.0e-6 * 0.001, 0.0], rtol=1e-12, atol=1e-30)
+
+
+def test_to_dataframe_holds_the_csv_table_with_its_header(tmp_path):
+    pd = pytest.importorskip("pandas")
+    frf = frequency_response(BLADE, Macroslip(stiffness=1.0, slip_force=0.003), omega_range=(0.6, 1.8), harmonics=3)
+    frame = frf.to_dataframe(case="a blade with a Jenkins damper")
+    back = pd.read_csv(frf.to_csv(tmp_path / "f.csv", case="a blade with a Jenkins damper"), comment="#")
+    assert list(frame.columns) == list(back.columns) and len(frame) == len(back) == len(frf)
+    for name in frame.columns:  # the same numbers by two paths: arrays, and repr text read back
+        assert np.array_equal(frame[name].to_numpy(float), back[name].to_numpy(float), equal_nan=True), name
+    assert np.array_equal(frame["amplitude_m"], np.hypot(frame["x_c_m"], frame["x_s_m"]))
+    assert frame.attrs["case"] == "a blade with a Jenkins damper" and frame.attrs["harmonics"] == 3
+    assert frame.attrs["model"] == "Macroslip" and frame.attrs["tol"].startswith("0.001 ")
+    assert np.loadtxt(tmp_path / "f.csv", delimiter=",", skiprows=1).shape == frame.shape  # numpy skips it too
+
+
+def test_to_dataframe_without_pandas_names_the_extra(monkeypatch):
+    from hbm.study.store import StudyResult
+
+    frf = frequency_response(BLADE, Macroslip(stiffness=1.0, slip_force=0.003), omega_range=(0.6, 1.8), harmonics=1)
+    monkeypatch.setitem(sys.modules, "pandas", None)  # import pandas raises ImportError
+    with pytest.raises(ImportError, match=r'pip install "frictiondamp\[pandas\]"'):
+        frf.to_dataframe()
+    with pytest.raises(ImportError, match=r"frictiondamp\[pandas\]"):
+        StudyResult(("x",), [], {}, 0, 0, [], 0.0).to_dataframe()
+
+
+def test_study_to_dataframe_is_its_table():
+    pytest.importorskip("pandas")
+    from hbm.study.store import StudyResult
+
+    recs = [{"run": i + 1, "id": str(i), "params": {"x": x}, "success": True, "message": "", "peak_omega_rad_s": x,
+             "peak_amplitude_m": x * x, "peak_error_rel": None, "peak_model": "m", "nfev": 3, "time_s": 0.5,
+             "curve": {}} for i, x in enumerate([1.0, 2.0])]
+    frame = StudyResult(("x",), recs, {}, 2, 0, [], 1.0).to_dataframe()
+    assert list(frame.columns)[:3] == ["run", "id", "x"] and frame["peak_amplitude_m"].tolist() == [1.0, 4.0]

@@ -30,6 +30,7 @@ from contact_models.accuracy import AccuracyWarning
 from .._validation import MIN_RELATIVE_TOL, InputError
 from ..frf import DEFAULT_TOL, MODELS, frequency_response, refine_peak
 from ..balance.presets import MAX_RTOL
+from ..output import COMMENT
 from .cases import default_case
 from .figure import JobFigure
 from ..allmode_peak import AllModePeak
@@ -87,7 +88,7 @@ def _default_job(args: argparse.Namespace, out: Path, written: list) -> tuple[in
     best = None
     out.mkdir(parents=True, exist_ok=True)
     elapsed = time.perf_counter() - t0
-    csv_path = frf.to_csv(out / "frf.csv")  # first: a signal during the peak keeps the curve
+    csv_path = frf.to_csv(out / "frf.csv", case=case.description)  # first: a signal during the peak keeps the curve
     written.append(csv_path)
     # the figure is drawn in a forked process while the peak is solved with the refined model (hbm.cli.figure)
     figure = JobFigure(frf, case, out / "frf.png", fork=model == "peak")
@@ -202,7 +203,8 @@ def _run(args) -> int:
     def kept():  # counted on disk: the signal may come between a row's write and its progress call
         files = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
         partial = folder / output_names(scene)["partial"]
-        points = len(partial.read_text().splitlines()) - 1 if partial.exists() else line.points
+        points = (sum(not t.startswith(COMMENT) for t in partial.read_text().splitlines()) - 1 if partial.exists()
+                  else line.points)  # the rows: not the column names nor the "#" lines
         return f"kept {points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
 
     with warnings.catch_warnings(record=True) as caught:  # the runs' accuracy warnings, said once after the summary

@@ -352,6 +352,14 @@ class StudyResult:
         return [{"run": r["run"], "id": r["id"], **{p: r["params"].get(p) for p in self.parameters},
                  **{c: r.get(c) for c in RESULT_COLUMNS}} for r in self.records if r is not None]
 
+    def to_dataframe(self) -> Any:
+        """The table (:attr:`rows`, the columns of ``study.csv``) as a ``pandas.DataFrame``, one row
+        per recorded run in run order; needs pandas (``pip install "frictiondamp[pandas]"``),
+        ``ImportError`` naming the extra without it."""
+        from ..output import pandas_module  # lazily, as pandas itself
+
+        return pandas_module().DataFrame(self.rows, columns=list(self.columns))
+
     def column(self, name: str) -> np.ndarray:
         """One column over the recorded runs as an array (numbers as float, None as NaN)."""
         if name not in self.columns:
