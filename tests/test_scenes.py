@@ -317,7 +317,7 @@ def test_killed_run_leaves_a_parseable_csv_of_finished_points(tmp_path):
 
 def test_failed_run_exits_1_and_keeps_what_was_computed(tmp_path, capsys):
     scene = tmp_path / "short.toml"
-    scene.write_text(DEFAULT.read_text().replace("tolerance = 1e-6", "tolerance = 1e-6\nmax_steps = 5"))
+    scene.write_text(DEFAULT.read_text().replace("tol = 0.15 ", "max_steps = 5\ntol = 0.15 "))
     assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--quiet"]) == 1
     out = capsys.readouterr().out
     assert "FAILED" in out and "kept: 6 finished points" in out and "frf.partial.csv" in out
