@@ -106,3 +106,16 @@ def test_the_studies_guide_runner_states_its_error():
         frf, said = accuracy_warnings(lambda: space["run"](point))
         assert said == [] and 0.1 < frf.error_estimate.max() < frf.tol == 0.5
     assert "37 %" in block  # the largest, at N = 40 N (0.37)
+
+
+def test_the_progress_example_of_the_guide_prints_its_lines(capsys, monkeypatch):
+    block = next(b for b in python_blocks(ROOT / "docs" / "hbm.md") if "def progress(point)" in b)
+    ticks = iter(range(0, 10000, 1))  # a clock that advances a second at each look: a line per point
+    monkeypatch.setattr("time.monotonic", lambda: float(next(ticks)))
+    space = {}
+    _, said = accuracy_warnings(lambda: exec(block, space))
+    assert said == []
+    lines = capsys.readouterr().err.splitlines()
+    frf = space["frf"]
+    assert len(lines) == space["count"] == len(frf) > 100  # called once per accepted point, in order
+    assert lines[-1].startswith(f"{len(frf)} points, omega = {frf.omega[-1]:.6g} rad/s")

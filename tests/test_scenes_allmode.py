@@ -18,6 +18,7 @@ def scene(**changes):
     import tomllib
 
     data = tomllib.loads((SCENES / "default_microslip_frf.toml").read_text())
+    data["sweep"]["tol"] = 1e-3  # the target these tests hold the single-mode bar to (the scene states 0.15)
     for dotted, value in changes.items():
         *tables, key = dotted.split(".")
         node = data
@@ -113,6 +114,7 @@ def test_the_default_scene_with_model_auto_gives_the_main_job_s_peak(tmp_path):
 
     data = tomllib.loads((SCENES / "default_microslip_frf.toml").read_text())
     data["damper"]["model"] = "auto"
+    data["sweep"]["tol"] = 1e-3  # the scene states 0.15, the single-mode bar's error
     data["output"]["formats"] = ["csv", "json"]
     result = run_scene(scene_from_dict(data, "s.toml"), tmp_path)
     run = result.runs[0]

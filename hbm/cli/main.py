@@ -67,21 +67,31 @@ def _default(args: argparse.Namespace) -> int:
     def kept():  # the files this job wrote (the curve is written before the all-mode peak is solved)
         return f"kept files: {', '.join(str(p.resolve()) for p in written) or 'none'}"
 
-    line = _Silent()
-    return _compute(line, lambda: _default_job(args, out, written), kept, lambda job: job[1], code=lambda job: job[0])
+    from .progress import ProgressLine, ticking  # lazily, as in _run
+
+    line = ProgressLine(sys.stderr, enabled=True, plain=not sys.stderr.isatty())
+    what = f"the default job (--model {getattr(args, 'model', None) or DEFAULT_MODEL})"
+    return _compute(line, lambda: ticking(line, what, lambda state: _default_job(args, out, written, state)), kept,
+                    lambda job: job[1], code=lambda job: job[0])
 
 
-def _default_job(args: argparse.Namespace, out: Path, written: list) -> tuple[int, list]:
-    """The default job: ``(exit code, lines to print)``; ``written`` collects the files as they are written."""
+def _default_job(args: argparse.Namespace, out: Path, written: list, state: Any = None) -> tuple[int, list]:
+    """The default job: ``(exit code, lines to print)``; ``written`` collects the files as they are written,
+    ``state`` (``hbm.cli.progress.Elapsed``) the points as the solve accepts them."""
     case = default_case()
     t0 = time.perf_counter()
     model = getattr(args, "model", None) or DEFAULT_MODEL
     legacy = {} if args.rtol is None else {"rtol": args.rtol}  # --rtol: an earlier release's option, still read
+
+    def accepted(point):  # the progress line's count (with model="auto" the points come at the end)
+        if state is not None:
+            state.points, state.omega = state.points + 1, point.omega
+
     with warnings.catch_warnings(record=True) as caught:  # "peak": the single-mode curve's warning is superseded
         warnings.simplefilter("always", AccuracyWarning)
         warnings.filterwarnings("ignore", category=DeprecationWarning)
         frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=_tol(args),
-                                 model="given" if model == "peak" else model, **legacy)
+                                 model="given" if model == "peak" else model, callback=accepted, **legacy)
     if len(frf) == 0:
         raise ComputationFailed(f"no point of the frequency response converged: {frf.message}")
     pk = frf.peak()  # the curve's own peak (the refined one, where it answers, is ``best``)
@@ -121,16 +131,6 @@ class UsageError(InputError):
 
 class ComputationFailed(RuntimeError):
     """The computation failed (exit code 1): its message says where and why."""
-
-
-class _Silent:
-    """The progress line of a job that shows none."""
-
-    def __call__(self, progress: Any) -> None:
-        pass
-
-    def clear(self) -> None:
-        pass
 
 
 def _check_folder(folder: Path, names: Any, what: str) -> None:
