@@ -17,6 +17,7 @@ import pytest
 
 from contact_models import AccuracyWarning
 from hbm.cli.main import main
+from hbm.output import csv_lines
 from hbm.scenes import SceneError
 from hbm.study import (DASK_MISSING, Study, grid, lognormal, normal, read_records, run_study, samples, uniform)
 
@@ -130,7 +131,7 @@ def test_same_table_serially_in_processes_and_on_dask(tmp_path):
         assert without_time(results[ex]) == ref, ex
         assert results[ex].records[0]["curve"] == results["serial"].records[0]["curve"]
     # the CSV holds the same numbers exactly (repr round-trips)
-    rows = list(csv.DictReader((tmp_path / "dask" / "study.csv").read_text().splitlines()))
+    rows = list(csv.DictReader(csv_lines((tmp_path / "dask" / "study.csv").read_text().splitlines())))
     assert [float(r["peak_amplitude_m"]) for r in rows] == peaks
     assert [r["damper.model"] for r in rows] == ["macroslip"] * 3 + ["point-contact"] * 3
     # the points are those the samples draw (seed 11), joined to each model
@@ -176,7 +177,7 @@ def test_failed_and_killed_runs_then_resume(tmp_path, monkeypatch):
     assert not (out / "study.csv").exists() and (out / "study.partial.csv").exists()
     kept = read_records(out / "runs.jsonl")
     assert all(r["success"] for r in kept.values())
-    partial = list(csv.DictReader((out / "study.partial.csv").read_text().splitlines()))
+    partial = list(csv.DictReader(csv_lines((out / "study.partial.csv").read_text().splitlines())))
     assert sorted(int(r["run"]) for r in partial) == sorted(r["run"] for r in kept.values())
     assert not {0.0, 1.0, 3.0, 4.0} & set(calls(tmp_path)) and 2.0 in calls(tmp_path)  # 3 retried, no other
     # resume: only the runs without a record are computed
@@ -262,13 +263,13 @@ def test_cli_study_signal_keeps_finished_runs_and_resumes(tmp_path, sig, executo
     assert proc.returncode == code, err
     kept = read_records(log)
     assert 2 <= len(kept) < 6 and f"{said}: kept {len(kept)} finished runs" in err
-    assert len(list(csv.reader((out / "study.partial.csv").read_text().splitlines()))) == len(kept) + 1
+    assert len(list(csv.reader(csv_lines((out / "study.partial.csv").read_text().splitlines())))) == len(kept) + 1
     if sig == signal.SIGINT:
         return
     done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120)
     assert done.returncode == 0, done.stderr
     assert f"{6 - len(kept)} computed now, {len(kept)} found in the folder" in done.stdout
-    assert len(list(csv.reader((out / "study.csv").read_text().splitlines()))) == 7
+    assert len(list(csv.reader(csv_lines((out / "study.csv").read_text().splitlines())))) == 7
 
 
 def test_cli_scene_sigterm_says_what_was_kept(tmp_path):
@@ -291,7 +292,7 @@ def test_cli_scene_sigterm_says_what_was_kept(tmp_path):
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 143
-    rows = partial.read_text().count("\n") - 1
+    rows = len(list(csv_lines(partial.read_text().splitlines()))) - 1  # not the names nor the "#" lines
     assert f"terminated (SIGTERM): kept {rows} finished points; files: {partial}" in err
 
 

@@ -413,12 +413,20 @@ def _reusable(study: Any, ids: list, old: dict, retry_failed: bool) -> tuple[lis
     return records, unusable
 
 
-def _write_table(path: Path, records: list, params: tuple) -> Path:
+def table_comments(describe: dict) -> dict:
+    """The ``#`` lines of a study's table (``hbm.output.CsvStream``): the library version, the
+    study's title and what it varies, and what ``peak_error_rel`` is."""
+    return {"frictiondamp": describe.get("version"), "case": describe.get("title") or None,
+            "parameters": ", ".join(describe.get("parameters") or ()),
+            "peak_error_rel": "each run's estimated relative error of its peak amplitude (empty: not estimated)"}
+
+
+def _write_table(path: Path, records: list, params: tuple, comments: dict | None = None) -> Path:
     """The whole table at ``path``, written beside it and renamed onto it; on a failure (a full
     disk) no half table is left behind."""
     tmp = path.with_name(path.name + ".tmp")
     try:
-        with CsvStream(tmp, columns(params)) as csv_out:
+        with CsvStream(tmp, columns(params), comments=comments) as csv_out:
             for r in records:
                 csv_out.write(csv_row(r, params))
         return tmp.replace(path)
@@ -448,7 +456,8 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
             (folder / FILES[key]).unlink(missing_ok=True)
         replace_atomically(log_path, lambda fh: fh.write(  # keep only this study's records, atomically
             "".join(json.dumps(r) + "\n" for r in records if r is not None)))
-        out["stream"] = stream = CsvStream(folder / FILES["partial"], columns(params)) if "csv" in formats else None
+        out["stream"] = stream = (CsvStream(folder / FILES["partial"], columns(params), comments=table_comments(describe))
+                                  if "csv" in formats else None)
         out["log"] = log_path.open("a")
         if stream is not None:
             for r in records:
@@ -485,7 +494,7 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     if stream is not None:
         result.files["csv"] = folder / FILES["partial"]
         if result.complete:
-            result.files["csv"] = _write_table(folder / FILES["csv"], records, params)
+            result.files["csv"] = _write_table(folder / FILES["csv"], records, params, table_comments(describe))
             (folder / FILES["partial"]).unlink()
     result.files["records"] = log_path
     if "png" in formats and any(r is not None and r["success"] for r in records):
