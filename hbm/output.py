@@ -367,11 +367,15 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
         norm = (colors.LogNorm if min(values) > 0 and max(values) / min(values) > 20 else colors.Normalize)(
             min(values), max(values))
         cmap = colormaps["viridis"]
+    before = len(ax.patches)
     for i, (frf, label, model, value) in enumerate(curves):
         style = STYLES[models.index(model) % len(STYLES)]
         color = cmap(norm(value)) if by_value else f"C{i % 10}"
         frf.plot(ax, label=None if by_value else label, peak=bool(frf.success), ls=style, color=color,
                  lw=0.9 if by_value else 1.2, **units, **({"error_band": False} if by_value else {}))
+    bands = ax.patches[before:]
+    if bands:  # one legend entry says what the shading is
+        bands[0].set_label(BAND_LABEL)
     if log:
         ax.set_yscale("log")
     if by_value:
@@ -414,6 +418,8 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     return ax
 
 
+#: The legend entry of the estimated error's shading (once per figure, :func:`plot_frfs`).
+BAND_LABEL = "estimated error (shaded)"
 #: The most of the band's relative half-width drawn below the curve: its lower edge stays above zero
 #: (a logarithmic axis draws it).
 BAND_FLOOR = 0.99

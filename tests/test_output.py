@@ -46,7 +46,8 @@ def test_many_curves_are_coloured_by_the_parameter_with_a_colour_bar():
 def test_few_curves_get_a_legend_of_their_labels():
     fig, ax = plt.subplots()
     plot_frfs([(f, f"run {i}", "macroslip", None) for i, f in enumerate(frfs([0.01, 0.02]))], ax)
-    assert len(fig.axes) == 1 and [t.get_text() for t in ax.get_legend().get_texts()] == ["run 0", "run 1"]
+    assert len(fig.axes) == 1
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["run 0", "run 1", "estimated error (shaded)"]
     plt.close(fig)
 
 
