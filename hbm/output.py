@@ -295,7 +295,7 @@ def frf_table(frf: Any) -> dict:
 
 def frf_comments(frf: Any, case: str | None = None) -> dict:
     """The header of an FRF's CSV: the library and its version, the ``case`` (if given), the model
-    (the points' models, :attr:`hbm.FrequencyResponse.point_models`), the tolerance (``tol``: the
+    (the points' models, ``FrequencyResponse.point_models``), the tolerance (``tol``: the
     target of ``error_rel``; none without an estimate) and the harmonics."""
     from contact_models import __version__  # lazily: this module stays free of the packages' imports at load
 

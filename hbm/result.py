@@ -594,7 +594,7 @@ class FrequencyResponse:
         """Amplitude against omega on ``ax`` (a new figure if None): stable parts solid, unstable
         dashed (:attr:`stable`), the estimated error as a shaded band; marks the peak. Returns ax.
 
-        The band is ``amplitude * (1 +- error_estimate)``: :attr:`error_estimate` is the relative
+        The band is ``amplitude * (1 +- error_estimate)``: ``error_estimate`` is the relative
         error of the amplitude against the physical system, so the band is where the true
         response lies by the estimate (``docs/validation.md``, "Error estimates").  A ribbon along
         the branch (the upper edge out, the lower edge back), so it follows folds; a point
