@@ -2,9 +2,9 @@
 
     python3 benchmarks/bench_stated_times.py [--rounds 3]
 
-Each variant (``--model peak``, the default; ``given``; ``auto``) runs as a new process with this
+Each variant (``--model auto``, the default; ``peak``; ``given``) runs as a new process with this
 tree first on ``PYTHONPATH``, in its own output folder, ``--rounds`` times interleaved (peak,
-given, auto, peak, ...); printed per variant, as one Markdown row: the median wall-clock time
+peak, given, auto, ...); printed per variant, as one Markdown row: the median wall-clock time
 (``time.perf_counter`` around the child), the median CPU time of the child (user + system,
 ``resource.getrusage(RUSAGE_CHILDREN)``: the forked figure process counts), and the job's last
 line (its peak).  The machine's load average before and after is printed too: on a loaded
@@ -25,7 +25,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 #: The variants timed: --model values (the default first).
-MODELS = ("peak", "given", "auto")
+MODELS = ("auto", "peak", "given")
 
 
 def run(model: str, out: Path) -> tuple[float, float, str]:

@@ -406,7 +406,7 @@ def _model_argument(parser, suppress=True):
                         help="where the default job uses the damper's refined model, the bar with every mode "
                              "(frequency_response's model=): 'auto' (default: every window of the curve where the "
                              "single-mode bar is further than its share of tol from it, the physical curve; about "
-                             "7 s), 'peak' (the single-mode curve, its peak solved again with the bar with every "
+                             "8 s), 'peak' (the single-mode curve, its peak solved again with the bar with every "
                              "mode; about 2 s) or 'given' (the single-mode bar only; about 1 s). Times: CPU seconds "
                              "of the whole job, benchmarks/bench_stated_times.py")
 
