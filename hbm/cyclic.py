@@ -122,7 +122,6 @@ class CyclicStructure(Structure):
         self.C_next = _coupling("C_next", C_next, n)
         self.K_next = _coupling("K_next", K_next, n)
         self.sector_angle = 2.0 * math.pi * self.engine_order / self.sectors
-        self._nd_cache: dict[int, tuple] = {}
         #: The contacts of the last ``hbm.frequency_response`` of this sector (what :meth:`full` repeats by default).
         self.solved_contacts: list[Contact] = []
         for k in range(self.sectors):  # the disk's M is positive definite iff every nodal diameter's is
@@ -146,13 +145,9 @@ class CyclicStructure(Structure):
         """``(M_k, C_k, K_k)``, complex Hermitian n x n: ``A + A_next exp(-i 2 pi k / N) + A_next^T exp(+i 2 pi k / N)``,
         the sector's matrices for a motion whose next sector is its own times ``exp(-i 2 pi k / N)``
         (nodal diameter k, 0..N-1)."""
-        k = int(k) % self.sectors
-        if k not in self._nd_cache:
-            e = np.exp(-2j * math.pi * k / self.sectors)
-            self._nd_cache[k] = tuple(_dense(A) + A1 * e + A1.T * np.conj(e)
-                                      for A, A1 in ((self.M, self.M_next), (self.C, self.C_next),
-                                                    (self.K, self.K_next)))
-        return self._nd_cache[k]
+        e = np.exp(-2j * math.pi * (int(k) % self.sectors) / self.sectors)
+        return tuple(_dense(A) + A1 * e + A1.T * np.conj(e)
+                     for A, A1 in ((self.M, self.M_next), (self.C, self.C_next), (self.K, self.K_next)))
 
     def harmonic_matrices(self, h: int) -> tuple[NDArray, NDArray, NDArray]:
         """``(M_h, C_h, K_h)`` of harmonic ``h``: :meth:`nodal_matrices` of its nodal diameter

@@ -148,6 +148,26 @@ class Condensed:
         return Xall
 
 
+#: The state-space modes of each nodal diameter of each cyclic sector solved so far, with the fingerprint
+#: of its matrices (the couplings included).
+_ND_MODES: "weakref.WeakKeyDictionary[Structure, tuple[bytes, dict]]" = weakref.WeakKeyDictionary()
+
+
+def nodal_modes(structure: Structure, k: int) -> tuple[NDArray, NDArray, NDArray]:
+    """:func:`hbm.structure.modal_compliance` of a cyclic sector's nodal diameter ``k``
+    (``structure.nodal_matrices(k)``), computed once while its matrices stay the same."""
+    digest = hashlib.blake2b(_fingerprint(structure), digest_size=20)
+    for A in (structure.M_next, structure.C_next, structure.K_next):
+        digest.update(np.ascontiguousarray(A).data)
+    fp = digest.digest()
+    known = _ND_MODES.get(structure)
+    if known is None or known[0] != fp:
+        known = _ND_MODES[structure] = (fp, {})
+    if k not in known[1]:
+        known[1][k] = modal_compliance(*structure.nodal_matrices(k))
+    return known[1][k]
+
+
 class CyclicCondensed(Condensed):
     """:class:`Condensed` of one sector of a cyclic structure (``structure.sector_angle`` set): harmonic
     h's compliance ``G_h = [Z_h^-1]_aa`` from the state-space modes of its nodal diameter's complex
@@ -170,8 +190,9 @@ class CyclicCondensed(Condensed):
         self.h = np.arange(harmonics + 1)
         self._ih = (1j * self.h[:, None], -1j * self.h[:, None])
         nd = [structure.nodal_diameter(h) for h in range(max(harmonics, 1) + 1)]
-        # one modal decomposition per nodal diameter, and the harmonics that meet it
-        modes = {k: modal_compliance(*structure.nodal_matrices(k)) for k in dict.fromkeys(nd)}
+        # one modal decomposition per nodal diameter (kept for the structure's other balances), and the
+        # harmonics that meet it
+        modes = {k: nodal_modes(structure, k) for k in dict.fromkeys(nd)}
         self._groups = []
         for k, (lam, V, B) in modes.items():
             hs = np.flatnonzero(np.asarray(nd[:self.h.size]) == k)
@@ -248,4 +269,4 @@ def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float,
     return Kc
 
 
-__all__ = ["Condensed", "CyclicCondensed", "condensed", "stuck_matrix", "structure_modes"]
+__all__ = ["Condensed", "CyclicCondensed", "condensed", "nodal_modes", "stuck_matrix", "structure_modes"]
