@@ -83,3 +83,55 @@ def test_bad_input():
         RotatingPreload(3.0, CentrifugalLoad(0.01, 0.3, 2))
     with pytest.raises(ValueError, match="load"):
         RotatingPreload(lambda N: Macroslip(1.0, N), 5.0)
+
+
+def _centrifugal_scene():
+    import tomllib
+    from pathlib import Path
+
+    from hbm.scenes import scene_from_dict
+
+    path = Path(__file__).resolve().parent.parent / "examples" / "scenes" / "default_microslip_frf.toml"
+    data = tomllib.loads(path.read_text())
+    data["damper"]["load"] = {"kind": "centrifugal", "mass": 4e-4, "radius": 0.28, "engine_order": 40}
+    data["output"] = {"formats": ["csv"]}
+    return data, path, scene_from_dict(data, path)
+
+
+def test_scene_centrifugal_load_is_planned_per_omega():
+    """``[damper.load] kind = "centrifugal"``: the run's element is the run planned at N0(omega) at each omega."""
+    from hbm.scenes import plan_scene, scene_from_dict
+    from hbm.scenes.checks import SceneError
+
+    data, path, scene = _centrifugal_scene()
+    (run,) = plan_scene(scene).runs
+    load = CentrifugalLoad(mass=4e-4, radius=0.28, engine_order=40)
+    assert isinstance(run.element, RotatingPreload) and "centrifugal" in run.label
+    for w in (3.6e4, 3.8e4):
+        assert run.element.at(w).load.N == pytest.approx(load(w), rel=1e-15)
+    bad = dict(data, damper=dict(data["damper"], load={"kind": "centrifugal", "mass": 4e-4, "N": 100.0}))
+    with pytest.raises(SceneError, match="radius"):
+        scene_from_dict(bad, path)
+    with pytest.raises(SceneError, match="mass"):
+        scene_from_dict(dict(data, damper=dict(data["damper"], load={"kind": "uniform", "N": 1.0, "mass": 1.0})), path)
+
+
+@pytest.mark.slow
+def test_scene_centrifugal_load_runs(tmp_path):
+    """The scene's FRF (each frequency's run planned again: about a minute) is the front door's with the
+    element built by hand."""
+    from contact_models import Bar, TwoRegionMicroslip, UniformLoad
+    from hbm.scenes import plan_scene, run_scene
+
+    data, path, scene = _centrifugal_scene()
+    plan = plan_scene(scene)
+    (run,) = plan.runs
+    load = CentrifugalLoad(mass=4e-4, radius=0.28, engine_order=40)
+    result = run_scene(scene, tmp_path, plan=plan)
+    assert result.success
+    d = data["damper"]
+    bar = Bar(E=d["E"], rho=d["rho"], A=d["A"], L=d["L"], k=d["k"], beta=d["beta"], mu=d["mu"])
+    el = RotatingPreload(lambda N: TwoRegionMicroslip(bar, UniformLoad(N=N)), load)
+    frf = hbm.frequency_response(plan.blade, el, omega_range=tuple(run.omega), tol=None)
+    got = result.runs[0].frf.peak()
+    assert got.amplitude == pytest.approx(frf.peak().amplitude, rel=1e-6)
