@@ -302,3 +302,51 @@ def test_bladed_disk_example(tmp_path):
     assert chart[1] < min(chart[0], chart[-1]) < out["free_peak"]
     assert out["mistuned_max"] > t.amplitude
     assert all(Path(p).is_file() for p in out["paths"])
+
+
+def _random_point(sb: HarmonicBalance, scale: float, seed: int = 1) -> np.ndarray:
+    X = np.random.default_rng(seed).normal(size=(sb.na, sb.L)) * scale
+    X[:, 3:] *= 0.1  # higher harmonics smaller
+    return X
+
+
+@pytest.mark.parametrize("name", ["jenkins", "contact2d", "microslip", "allmode"])
+def test_sector_residual_is_the_disks_at_any_point(name):
+    """At any coefficients (not only a solution), the whole disk's residual at the spread sector point
+    is the sector's residual spread: the reduction is exact for every element, the all-mode bar too."""
+    disk = sector(engine_order=2)
+    if name == "allmode":
+        from contact_models import AllModeMicroslip
+
+        c = hbm.Contact(AllModeMicroslip(BAR, UniformLoad(N=60.0), cells=16, harmonics=7, n_t=64 * N), dofs=(2, 2),
+                        next_sector=True)
+        H = 3
+    else:
+        c, H = contact(name, 2)
+    w = 1.1 * float(disk.natural_frequencies()[0])
+    sb = HarmonicBalance(disk, [c], harmonics=H, n_t=64 * N, response_dof=1)
+    full, fc = disk.full([c])
+    fb = HarmonicBalance(full, fc, harmonics=H, n_t=64 * N, response_dof=1)
+    X = _random_point(sb, 3e-7)
+    Rs, Js = sb.physical(np.append(X.ravel(), w))
+    Rf, Jf = fb.physical(np.append(spread(sb, X, disk, fb).ravel(), w))
+    want = spread(sb, Rs.reshape(sb.na, sb.L), disk, fb).ravel()
+    assert np.max(np.abs(Rf - want)) <= 1e-9 * np.max(np.abs(Rs))
+    # the Jacobian's omega column too (the tangent of the continuation)
+    want_w = spread(sb, Js[:, -1].reshape(sb.na, sb.L), disk, fb).ravel()
+    assert np.max(np.abs(Jf[:, -1] - want_w)) <= 1e-7 * np.max(np.abs(Js[:, -1]))
+
+
+@pytest.mark.parametrize("name", ["jenkins", "contact2d"])
+def test_sector_jacobian_against_differences(name):
+    """dR/dX of the sector's balance (the rotations on both sides) against central differences."""
+    disk = sector(engine_order=2)
+    c, H = contact(name, 2)
+    w = 1.1 * float(disk.natural_frequencies()[0])
+    sb = HarmonicBalance(disk, [c], harmonics=H, n_t=64 * N, response_dof=1)
+    X = _random_point(sb, 3e-7, seed=4).ravel()
+    _, J = sb.physical(np.append(X, w))
+    h = 1e-12
+    fd = np.column_stack([(sb.physical(np.append(X + h * e, w))[0] - sb.physical(np.append(X - h * e, w))[0]) / (2 * h)
+                          for e in np.eye(X.size)])
+    assert np.allclose(J[:, :-1], fd, rtol=1e-4, atol=1e-4 * np.max(np.abs(fd)))
