@@ -192,9 +192,9 @@ def report(m) -> str:
     c, o, mc = m["chart"], m["overhead"], m["monte_carlo"]
     loads = lambda v: f"{v[0]:.1f} / {v[1]:.1f}"  # noqa: E731
     lines = [BEGIN, "## Studies: every core and Dask", "",
-             f"Measured {machine_line(m['machine'])}; commit {m['commit']}; `python benchmarks/bench_study.py"
+             f"Measured on {machine_line(m['machine'])}; `python benchmarks/bench_study.py"
              f"{' --quick' if m['quick'] else ''}` (repeats {m['repeats']}, medians, interleaved). "
-             "Load averages (1 min) before / after each measurement are given: on a machine shared with other "
+             "The 1-minute load before / after each measurement is given: on a machine shared with other "
              "jobs a speed-up is depressed, so rerun the script on a quiet machine "
              "(`--docs` rewrites this section).", "",
              f"**The design chart** ({c['runs']} runs of `examples/scenes/design_chart_study.toml`; "

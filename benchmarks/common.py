@@ -101,8 +101,10 @@ def machine() -> dict:
 
 
 def machine_line(info: dict) -> str:
-    return (f"{info['date']}, {info['nproc']} cores ({info['cpu']}), Python {info['python']}, "
-            f"numpy {info['numpy']}, scipy {info['scipy']}; load average {info['load']:.1f} at the start")
+    """The machine and versions a table was measured with (no date or load: the page states what is
+    true of the code, and the load is reported per measurement where it matters)."""
+    return (f"{info['nproc']} cores ({info['cpu']}), Python {info['python']}, "
+            f"numpy {info['numpy']}, scipy {info['scipy']}")
 
 
 def table(header, rows) -> str:

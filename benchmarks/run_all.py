@@ -114,12 +114,11 @@ def section(el, fr, nu, info, elapsed) -> str:
 Every accuracy knob of the library against the error it buys and the time it costs, swept over
 its range with the others fixed. Regenerate everything below (the tables, the numbers in the
 text and `docs/figures/accuracy_*.png`) with `python benchmarks/run_all.py`; this run took
-{elapsed / 60:.1f} minutes. Measured {machine_line(info)}. Times are medians of {REPEATS} runs, process
-CPU time unless marked wall: the machine is shared with other jobs, so CPU time is the steady
-measure (on an idle machine wall = CPU for this single-threaded code). The settings of one
-sweep are timed round-robin, so every ratio compares times of the same run. Not covered: **the
-number of harmonics and of time samples**, which do not exist yet (the balance is
-single-harmonic, `hbm.balance.residual`); they join these tables with multi-harmonic balance.
+{elapsed / 60:.1f} minutes on {machine_line(info)}. Times are medians of {REPEATS} runs, process
+CPU time unless marked wall: CPU time is the steady measure on a shared machine (on an idle one
+wall = CPU for this single-threaded code). The settings of one sweep are timed round-robin, so
+every ratio compares times of the same run. The number of harmonics and of time samples has its
+own section ("What accuracy costs: harmonics", below).
 
 ### Presets
 
@@ -201,10 +200,8 @@ where the analytic solution is exact) converge at second order in the cells
 ({qs_cells[min(qs_cells)]['error']:.1e} at {min(qs_cells)} cells to {qs_cells[max(qs_cells)]['error']:.1e} at {max(qs_cells)}); their step count does not
 change the error (rate independence: {rng([r['error'] for r in qs_steps.values()])} for {min(qs_steps)} to {max(qs_steps)} steps at 100 cells)
 but sets the time ({qs_steps[min(qs_steps)]['cpu']:.3f} s to {qs_steps[max(qs_steps)]['cpu']:.3f} s per pair). The library's dynamic defaults
-(200 cells, 512 steps) are not in the sweep. Measured once while preparing it (2026-11-21, same machine), a pair at 0.01
-omega_c cost 36 s with 256 steps and 127 s with 512: the shooting then scaled its residual
-by omega, which at low frequency never met steady_tol. Since the scale is max(omega, omega_c),
-the same pair takes 6-7 s in 4 cycles (docs/validation.md), still beyond this runner's budget.
+(200 cells, 512 steps) are not in the sweep: a pair at 0.01 omega_c takes 6-7 s in 4 cycles
+(docs/validation.md), beyond this runner's budget.
 
 {bench_numerical.tables(nu)}
 

@@ -10,6 +10,7 @@ from .bar import Bar
 from .centrifugal import CentrifugalLoad, RotatingPreload
 from .base import ContactElement
 from .contact2d import Contact2D
+from .contact3d import Contact3D
 from .iwan import Iwan
 from .cubic import CubicSpring
 from .gap import Gap
@@ -24,4 +25,5 @@ from .quasi_static import QuasiStatic
 __all__ = ["__version__", "Bar", "CentrifugalLoad", "RotatingPreload", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
            "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning",
-           "AccuracyWarning", "Gap", "Contact2D", "AllModeMicroslip2D"]
+           "AccuracyWarning", "Gap", "Contact2D", "AllModeMicroslip2D",
+           "Contact3D"]

@@ -74,7 +74,9 @@ class ContactElement(ABC):
         contact's tangential and normal motion (``Contact2D``), whose ``periodic_force`` takes
         ``x`` of shape (2, n_t) and ``harmonic_force`` ``X`` of shape (2, 2H+1); it implements
         ``_periodic_entries(x, omega)``, the forces and the Jacobian's entries ``(rows, cols, vals)``
-        (``contact_models.numerics.masing.aft_vector``).
+        (``contact_models.numerics.masing.aft_vector``).  3 for a point contact's two tangential
+        directions and its normal (``Contact3D``: x (3, n_t), X (3, 2H+1)), whose memory spans the
+        period, so it implements ``_harmonic_force`` with its tangent along ``E^-1`` instead.
 
     Notes
     -----
@@ -103,7 +105,7 @@ class ContactElement(ABC):
     frequency_dependent: bool = True
     #: True for an element with a time-domain force law (``periodic_force``, multi-harmonic AFT).
     has_time_law: bool = False
-    #: Displacement components read (rows of x and X): 1, or 2 (tangential, normal) for Contact2D.
+    #: Displacement components read (rows of x and X): 1, 2 (tangential, normal) for Contact2D, 3 for Contact3D.
     components: int = 1
     #: True where ``_harmonic_force`` takes ``even_block=False`` (then dF/dX's even-even block may be 0: all-mode bar).
     even_block_optional: bool = False

@@ -15,6 +15,8 @@ each knob is varied with the others at a fine setting, and the error is
    :alt: All-mode bar: convergence in cells, harmonics and samples
 """
 
+# sphinx_gallery_thumbnail_path = "figures/allmode_convergence.png"
+
 from __future__ import annotations
 
 import math

@@ -4,7 +4,7 @@
 FRF of the default blade with the all-mode damper (AllModeMicroslip), against the single-mode
 FRF and the time integration of blade + bar.
 
-The default case of ``python -m hbm`` (hbm.cli.cases.default_case): blade k = 1e8 N/m, zeta = 2e-3,
+The default case of ``python -m hbm`` (``paper_figures.default_case``): blade k = 1e8 N/m, zeta = 2e-3,
 F = 8 N, uniform 100 N load on the reference bar (``paper_figures.BAR_PARAMETERS``).  The time-integration numbers are the ones
 stored in docs/validation.md ("The blade in time against the FRF": ``hbm.simulate_blade``,
 160 cells, 1024 steps per cycle, a 345 s run), not re-run here.  Writes
@@ -17,6 +17,8 @@ docs/figures/allmode_frf.png and prints the comparison table.
    :alt: All-mode damper: FRF of the default blade
 """
 
+# sphinx_gallery_thumbnail_path = "figures/allmode_frf.png"
+
 from __future__ import annotations
 
 import time
@@ -24,11 +26,11 @@ import warnings
 
 import numpy as np
 
+from paper_figures import default_case
 from validation_common import FIGURES, markdown_table
 
 from contact_models import AllModeMicroslip, ModelRangeWarning, UniformLoad
 from hbm import Contact, Structure, frequency_response, response_at
-from hbm.cli.cases import default_case
 
 #: omega (rad/s) -> (a/a_min, phase) of the time integration, docs/validation.md (stored, not re-run).
 TIME_INTEGRATION = {38400.0: (1.70788, 0.6661), 38768.3: (2.04257, 1.5568), 40000.0: (1.60920, 2.5986)}

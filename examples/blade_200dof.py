@@ -22,6 +22,8 @@ Run ``python examples/blade_200dof.py``; writes ``docs/figures/blade_200dof.png`
    :alt: A 200-DOF blade with an under-platform damper
 """
 
+# sphinx_gallery_thumbnail_path = "figures/blade_200dof.png"
+
 from __future__ import annotations
 
 import time

@@ -27,6 +27,8 @@ Run ``python examples/bladed_disk.py``; writes ``docs/figures/bladed_disk_eo.png
    :alt: A mistuned disk solved whole against the tuned sector
 """
 
+# sphinx_gallery_thumbnail_path = "figures/bladed_disk_eo.png"
+
 from __future__ import annotations
 
 import time

@@ -24,6 +24,8 @@ Run ``python examples/chain_3dof.py``; writes ``docs/figures/chain_3dof_frf.png`
    :alt: A 3-DOF chain with two friction contacts
 """
 
+# sphinx_gallery_thumbnail_path = "figures/chain_3dof_frf.png"
+
 from __future__ import annotations
 
 import time

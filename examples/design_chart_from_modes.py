@@ -20,6 +20,8 @@ Run ``python examples/design_chart_from_modes.py``; writes
    :alt: Resonant amplitude against normal load from the nonlinear mode, with FRF peaks
 """
 
+# sphinx_gallery_thumbnail_path = "figures/design_chart_from_modes.png"
+
 from __future__ import annotations
 
 import time
@@ -33,7 +35,7 @@ import numpy as np  # noqa: E402
 
 from contact_models import TwoRegionMicroslip, UniformLoad  # noqa: E402
 from hbm import Contact, damper_optimum, frequency_response  # noqa: E402
-from hbm.cli.cases import default_case  # noqa: E402
+from paper_figures import default_case  # noqa: E402
 
 DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
 #: FRF checks (N): a few loads across the chart.

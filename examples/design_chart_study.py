@@ -19,6 +19,8 @@ Run ``python examples/design_chart_study.py``; writes ``docs/figures/design_char
    :alt: The design chart as a parameter study
 """
 
+# sphinx_gallery_thumbnail_path = "figures/design_chart_study.png"
+
 from __future__ import annotations
 
 import sys

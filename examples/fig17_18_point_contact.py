@@ -17,7 +17,7 @@ import numpy as np
 
 from paper_figures import DEFAULT_OUTDIR, amplitude_grid, new_figure, save, setup, show
 
-from contact_models.point_contact import PointContact
+from contact_models import PointContact
 
 #: Multiples of the gross-slip amplitude at which the two models are compared.
 GROSS_MULTIPLES = (3.0, 10.0, 30.0)

@@ -27,7 +27,7 @@ import numpy as np
 
 import hbm
 from contact_models import CubicSpring, Gap, Macroslip
-from hbm.balance import HarmonicBalance
+from hbm import HarmonicBalance
 
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "docs" / "data"

@@ -24,6 +24,8 @@ The same kind of mode from a scene file (the chain with its ground contact only,
    :alt: Frequency and damping ratio of the chain's first nonlinear mode against its amplitude
 """
 
+# sphinx_gallery_thumbnail_path = "figures/nonlinear_modes_chain.png"
+
 from __future__ import annotations
 
 from pathlib import Path

@@ -19,6 +19,8 @@ cycle, all-mode beside time integration, to docs/figures/allmode_regions.png.
    :alt: Validation: the all-mode bar against time integration
 """
 
+# sphinx_gallery_thumbnail_path = "figures/allmode_regions.png"
+
 from __future__ import annotations
 
 import argparse

@@ -40,11 +40,11 @@ import time
 import matplotlib.pyplot as plt
 import numpy as np
 
+from paper_figures import default_case
 from validation_common import FIGURES, markdown_table
 
 from contact_models import NumericalMicroslip
 from hbm import frequency_response, response_at, simulate_blade
-from hbm.cli.cases import default_case
 
 #: The three frequencies (rad/s): on the steep rising flank, the peak (None), the falling flank.
 OMEGAS = (38400.0, None, 40000.0)

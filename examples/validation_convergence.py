@@ -30,7 +30,7 @@ import numpy as np
 
 from validation_common import BAR, FIGURES, LOADS, RATIOS, analytic, markdown_table
 
-from contact_models.numerical import NumericalMicroslip
+from contact_models import NumericalMicroslip
 
 
 def _normalised(fs, fc, a):

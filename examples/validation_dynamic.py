@@ -34,7 +34,7 @@ import numpy as np
 
 from validation_common import BAR, FIGURES, FREQUENCIES, LOADS, RATIOS, analytic, markdown_table
 
-from contact_models.numerical import NumericalMicroslip
+from contact_models import NumericalMicroslip
 
 STYLES = {0.01: ("k", "o"), 0.2: ("tab:blue", "s"), 0.3: ("tab:green", "^"), 0.5: ("tab:red", "D")}
 

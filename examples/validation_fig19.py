@@ -19,7 +19,7 @@ import numpy as np
 from validation_common import BAR, FIGURES, LOADS, analytic
 from paper_figures import show
 
-from contact_models.numerical import NumericalMicroslip
+from contact_models import NumericalMicroslip
 
 PANELS = (("uniform", 0.01, 2.0), ("concave12", 0.01, 3.0), ("uniform", 0.5, 2.0))
 

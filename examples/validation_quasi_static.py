@@ -28,7 +28,7 @@ from matplotlib.ticker import NullFormatter
 
 from validation_common import BAR, FIGURES, LOADS, RATIOS, analytic, markdown_table, text_table
 
-from contact_models.numerical import NumericalMicroslip
+from contact_models import NumericalMicroslip
 
 
 def main(cells: int = 400, ratios=RATIOS, steps_per_cycle: int = 1024, small: bool = False):

@@ -31,6 +31,8 @@ recomputes both files (about 10 minutes).
    :alt: Where the single-mode elements hold: the validity map
 """
 
+# sphinx_gallery_thumbnail_path = "figures/validity_map.png"
+
 from __future__ import annotations
 
 import csv

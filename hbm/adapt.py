@@ -46,6 +46,9 @@ CUT_XTOL = 0.02
 DECAY_ORDER = 4.0
 #: Newton updates at most at each stage of a window's start solved again after its lifted start failed (``staged``).
 STAGED_MAX_ITER = 40
+#: After the passes, a source is refined where the whole estimate is above tol down to what the other
+#: sources leave of tol, where that is at least this share of it (``_left_for``).
+LEFT_FLOOR = 0.1
 #: Along a discretised element's rungs, a harmonics window whose points the model pass would trace again
 #: (the model source's windows above its share) for at least this fraction, on the finest rung predicted,
 #: is traced once, at its new H on that rung, instead of at its new H on the cheap rung first (``rungs_too``).
@@ -392,14 +395,36 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
         if share is not None:
             segments_of = [p for f, lo, hi in segments_of
                            for p in _split(knobs, f, lo, hi, source, share * tol, step, work, notes, full)]
+    if plan.harmonics_share is not None:  # the harmonics take what the other sources leave of tol
+        segments_of = [p for f, lo, hi in segments_of
+                       for p in _split(knobs, f, lo, hi, "harmonics",
+                                       lambda g, a, b: _left_for(g, a, b, "harmonics", tol),
+                                       harmonics_step, work, notes, full)]
     note = "".join(f"; {n}" for n in notes)
     if len(segments_of) == 1 and segments_of[0][1] == 0 and segments_of[0][2] == len(segments_of[0][0]) and not notes:
         return segments_of[0][0], notes  # one setting everywhere: that solve's own result, as it was
     return FrequencyResponse.spliced(segments_of, work, note), notes
 
 
-def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, threshold: float, step: Callable,
-           work: list, notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
+def _left_for(f: FrequencyResponse, lo: int, hi: int, source: str, tol: float) -> float:
+    """The threshold of ``source`` on points ``lo..hi`` of ``f`` after the passes: where the whole estimate
+    is above ``tol``, what the other sources leave of it at the worst such point; inf (nothing to refine)
+    where no point is above tol, or where the others leave less than ``LEFT_FLOOR * tol`` (refining this
+    source cannot bring the sum within tol there: the warning says which source is left).  A source within
+    its share next to another that cannot be refined further (a rung at the top of its ladder) is so refined
+    until the sum meets tol."""
+    if not len(f) or source not in f.error_sources:
+        return math.inf
+    e, part = f.error_estimate[lo:hi], f.error_sources[source][lo:hi]
+    over = e > tol
+    if not np.any(over):
+        return math.inf
+    left = tol - float(np.max((e - part)[over]))
+    return left if left >= LEFT_FLOOR * tol else math.inf
+
+
+def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, threshold: float | Callable,
+           step: Callable, work: list, notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
     """Points ``lo <= i < hi`` of ``f`` as segments ``(result, lo, hi)``: its windows of ``source``
     above ``threshold`` traced again at ``step(f, excess, span, points)`` (new contacts and H, None:
     nothing to refine there, the window kept) and split the same way in turn; a whole-range window is
@@ -408,12 +433,13 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
     nothing where its parts are each within half of its estimate, and its rung probes cost solves."""
     if not len(f) or source not in f.error_sources:
         return [(f, lo, hi)]
+    limit = threshold(f, lo, hi) if callable(threshold) else threshold  # a callable: asked again of each window
     out, at = [], lo
-    for i0, i1 in windows(f.error_sources[source], f._nodes, threshold, lo, hi):
+    for i0, i1 in windows(f.error_sources[source], f._nodes, limit, lo, hi):
         if i1 <= i0:  # a run of one point (between two others' windows) is not traced alone
             continue
         whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
-        nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / threshold,
+        nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / limit,
                    (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))), (i0, i1))
         if nxt is None:  # nothing to refine for this window (a rung whose parts there are zero): kept
             continue

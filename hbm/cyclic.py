@@ -182,7 +182,7 @@ class CyclicStructure(Structure):
         sector's own on the diagonal blocks, ``A_next`` in block (j, j + 1 mod N) and its transpose in
         (j + 1, j).  The force of sector j is ``force exp(-i 2 pi EO j / N)`` (complex, real for EO 0).
         Every contact is repeated on every sector: one within the sector joins ``j n + p`` and
-        ``j n + q``, a ``next_sector`` one ``(j + 1 mod N) n + p`` and ``j n + q`` (its normal pair alike).
+        ``j n + q``, a ``next_sector`` one ``(j + 1 mod N) n + p`` and ``j n + q`` (its other pairs alike).
 
         Parameters
         ----------
@@ -227,9 +227,10 @@ class CyclicStructure(Structure):
         kw: dict[str, Any] = {}
         d = pair(c.dofs)
         kw["dof" if len(d) == 1 else "dofs"] = d[0] if len(d) == 1 else d
-        if c.normal_dofs:
-            nd = pair(c.normal_dofs)
-            kw["normal_dof" if len(nd) == 1 else "normal_dofs"] = nd[0] if len(nd) == 1 else nd
+        for one, two, ix in (("second_dof", "second_dofs", c.second_dofs), ("normal_dof", "normal_dofs", c.normal_dofs)):
+            if ix:
+                d = pair(ix)
+                kw[one if len(d) == 1 else two] = d[0] if len(d) == 1 else d
         return Contact(c.element, **kw)
 
 

@@ -412,41 +412,61 @@ class Contact:
         The DOF of a contact to ground.
     dofs : tuple of two ints, optional
         ``(i, j)`` for a contact between DOFs: force +f on i, -f on j. Exactly one of dof, dofs.
+    second_dof : int, optional
+        For a three-component element (``element.components == 3``, ``contact_models.Contact3D``):
+        the DOF of the second tangential displacement to ground; ``dof``/``dofs`` then give the first.
+    second_dofs : tuple of two ints, optional
+        ``(k, l)``: the second tangential displacement ``x_k - x_l`` (force +T2 on k, -T2 on l).
+        A three-component element needs exactly one of second_dof, second_dofs; any other element none.
     normal_dof : int, optional
-        For a two-component element (``element.components == 2``, ``contact_models.Contact2D``):
-        the DOF of the normal displacement to ground; ``dof``/``dofs`` then give the tangential one.
+        For a two- or three-component element (``contact_models.Contact2D``, ``Contact3D``): the DOF
+        of the normal displacement to ground.
     normal_dofs : tuple of two ints, optional
         ``(k, l)``: the normal displacement ``x_k - x_l`` (normal force +N on k, -N on l).
-        A two-component element needs exactly one of normal_dof, normal_dofs; any other element none.
+        A two- or three-component element needs exactly one of normal_dof, normal_dofs; a
+        one-component element none.
     next_sector : bool, default False
         For one sector of a cyclic structure (:class:`hbm.CyclicStructure`): the pair ``(p, q)``
         joins DOF p of the *next* sector to DOF q of this one (the relative displacement is
         ``x_p`` of the next sector minus ``x_q`` of this sector; force +f on the next sector's p,
-        -f on this q), and so does ``normal_dofs``; p may equal q (the same DOF of two
-        neighbours).  It needs ``dofs`` (and ``normal_dofs`` for a two-component element); the
-        balance of a structure that is not a sector refuses it (``docs/bladed_disks.md``).
+        -f on this q), and so do ``second_dofs`` and ``normal_dofs``; p may equal q (the same DOF
+        of two neighbours).  It needs ``dofs`` (and ``second_dofs``, ``normal_dofs`` for the other
+        components); the balance of a structure that is not a sector refuses it
+        (``docs/bladed_disks.md``).
 
     Attributes
     ----------
     element, dofs
-        As given (``dofs`` a tuple of one or two DOFs: the tangential attachment).
+        As given (``dofs`` a tuple of one or two DOFs: the (first) tangential attachment).
+    second_dofs : tuple of int
+        The second tangential attachment (one or two DOFs), empty unless the element has three components.
     normal_dofs : tuple of int
         The normal attachment (one or two DOFs), empty for a one-component element.
     components : tuple of tuple of int
-        ``(dofs,)`` or ``(dofs, normal_dofs)``: the attachment of each component, in the element's order.
+        ``(dofs,)``, ``(dofs, normal_dofs)`` or ``(dofs, second_dofs, normal_dofs)``: the attachment
+        of each component, in the element's order.
     next_sector : bool
         As given.
 
+    Raises
+    ------
+    ValueError
+        For an attachment the element's number of components does not take (or lacks), or DOFs
+        shared between the attachments, naming the keywords and their values.
+
     Examples
     --------
-    >>> from contact_models import Contact2D, Macroslip
+    >>> from contact_models import Contact2D, Contact3D, Macroslip
     >>> Contact(Macroslip(stiffness=1.0, slip_force=0.05), dofs=(0, 1)).dofs
     (0, 1)
     >>> Contact(Contact2D(kt=1.0, kn=1.0, mu=0.5, n0=1.0), dof=0, normal_dof=1).components
     ((0,), (1,))
+    >>> Contact(Contact3D(kt=1.0, kn=1.0, mu=0.5, n0=1.0), dof=0, second_dof=1, normal_dof=2).components
+    ((0,), (1,), (2,))
     """
 
     def __init__(self, element: Any, *, dof: int | None = None, dofs: tuple[int, int] | None = None,
+                 second_dof: int | None = None, second_dofs: tuple[int, int] | None = None,
                  normal_dof: int | None = None, normal_dofs: tuple[int, int] | None = None,
                  next_sector: bool = False) -> None:
         if not isinstance(element, ContactElement):
@@ -454,41 +474,54 @@ class Contact:
         if not isinstance(next_sector, (bool, np.bool_)):
             raise ValueError(f"next_sector must be True or False, got next_sector={next_sector!r}")
         self.next_sector = bool(next_sector)
-        if self.next_sector and (dofs is None or normal_dof is not None):
+        if self.next_sector and (dofs is None or normal_dof is not None or second_dof is not None):
             raise ValueError(f"next_sector=True joins a DOF of the next sector to one of this sector: it needs "
-                             f"dofs=(p, q) (and normal_dofs for the normal), got dof={dof!r}, dofs={dofs!r}, "
-                             f"normal_dof={normal_dof!r}")
+                             f"dofs=(p, q) (and second_dofs, normal_dofs for the other components), got dof={dof!r}, "
+                             f"dofs={dofs!r}, second_dof={second_dof!r}, normal_dof={normal_dof!r}")
         self.element = element
-        self.dofs = _attachment("dof", dof, "dofs", dofs, self.next_sector)
-        two = getattr(element, "components", 1) == 2
-        if not two and (normal_dof is not None or normal_dofs is not None):
-            raise ValueError(f"normal_dof and normal_dofs attach the normal of a two-component element (Contact2D); "
-                             f"{type(element).__name__} has one component, got normal_dof={normal_dof!r}, "
-                             f"normal_dofs={normal_dofs!r}")
-        self.normal_dofs = _attachment("normal_dof", normal_dof, "normal_dofs", normal_dofs,
-                                       self.next_sector) if two else ()
-        if set(self.dofs) & set(self.normal_dofs):
+        nxt = self.next_sector
+        self.dofs = _attachment("dof", dof, "dofs", dofs, nxt)
+        c = getattr(element, "components", 1)
+        if c != 3 and (second_dof is not None or second_dofs is not None):
+            raise ValueError(f"second_dof and second_dofs attach the second tangential direction of a three-component "
+                             f"element (Contact3D); {type(element).__name__} has {c} component(s), got "
+                             f"second_dof={second_dof!r}, second_dofs={second_dofs!r}")
+        if c < 2 and (normal_dof is not None or normal_dofs is not None):
+            raise ValueError(f"normal_dof and normal_dofs attach the normal of a two- or three-component element "
+                             f"(Contact2D, Contact3D); {type(element).__name__} has one component, got "
+                             f"normal_dof={normal_dof!r}, normal_dofs={normal_dofs!r}")
+        self.second_dofs = _attachment("second_dof", second_dof, "second_dofs", second_dofs, nxt) if c == 3 else ()
+        self.normal_dofs = _attachment("normal_dof", normal_dof, "normal_dofs", normal_dofs, nxt) if c >= 2 else ()
+        # across sectors a pair's first DOF is the next sector's, its second this one's: they clash side by side
+        shared = (lambda a, b: any(x == y for x, y in zip(a, b))) if nxt else (lambda a, b: bool(set(a) & set(b)))
+        if shared(self.dofs, self.normal_dofs) or shared(self.second_dofs, self.normal_dofs):
             raise ValueError(f"normal_dof(s) must differ from the tangential dof(s), got dofs={self.dofs}, "
-                             f"normal_dofs={self.normal_dofs}")
-        self.components = (self.dofs, self.normal_dofs) if two else (self.dofs,)
+                             + (f"second_dofs={self.second_dofs}, " if self.second_dofs else "")
+                             + f"normal_dofs={self.normal_dofs}")
+        if shared(self.dofs, self.second_dofs):
+            raise ValueError(f"second_dof(s) must differ from the first tangential dof(s), got dofs={self.dofs}, "
+                             f"second_dofs={self.second_dofs}")
+        self.components = tuple(d for d in (self.dofs, self.second_dofs, self.normal_dofs) if d)
 
     @property
     def all_dofs(self) -> tuple[int, ...]:
-        """Every DOF the contact touches: the tangential ones, then the normal ones."""
-        return self.dofs + self.normal_dofs
+        """Every DOF the contact touches: the tangential ones (first, second), then the normal ones."""
+        return self.dofs + self.second_dofs + self.normal_dofs
 
     def with_element(self, element: Any) -> "Contact":
         """The same attachment with another element (one with the same number of components)."""
-        pair = lambda t: {"dof": t[0]} if len(t) == 1 else {"dofs": t}  # noqa: E731
-        normal = {} if not self.normal_dofs else (
-            {"normal_dof": self.normal_dofs[0]} if len(self.normal_dofs) == 1 else {"normal_dofs": self.normal_dofs})
-        return Contact(element, **pair(self.dofs), **normal, next_sector=self.next_sector)
+        where = {}
+        for one, two, d in (("dof", "dofs", self.dofs), ("second_dof", "second_dofs", self.second_dofs),
+                            ("normal_dof", "normal_dofs", self.normal_dofs)):
+            if d:
+                where.update({one: d[0]} if len(d) == 1 else {two: d})
+        return Contact(element, **where, next_sector=self.next_sector)
 
     def __repr__(self) -> str:
         where = f"dof={self.dofs[0]}" if len(self.dofs) == 1 else f"dofs={self.dofs}"
-        if self.normal_dofs:
-            nd = self.normal_dofs
-            where += f", normal_dof={nd[0]}" if len(nd) == 1 else f", normal_dofs={nd}"
+        for one, d in (("second_dof", self.second_dofs), ("normal_dof", self.normal_dofs)):
+            if d:
+                where += f", {one}={d[0]}" if len(d) == 1 else f", {one}s={d}"
         if self.next_sector:
             where += ", next_sector=True"
         return f"Contact({self.element!r}, {where})"

@@ -8,6 +8,8 @@ runs on it with ``numpy.linalg.solve`` to the residual's rounding floor, and the
 derivatives follow from dense solves (the Schur complement of the end node).  Each check runs on
 the numpy path and on the compiled kernels (where numba is installed)."""
 
+import os
+
 import numpy as np
 import pytest
 
@@ -67,6 +69,18 @@ def dense_matrix(fb, U, X, omega, b):
     R[-1] += c * X
     A = dense_tridiagonal(J, lin, c, n, s)
     return R.ravel(), A, T, J, lin
+
+
+@pytest.fixture(scope="module", autouse=True)
+def warm_kernels():
+    """The compiled kernels in numba's cache before the first check asks for them (a clean clone has none,
+    and the library would then compile them in the background: ``contact_models.allmode.compiled``)."""
+    if os.environ.get("FRICTIONDAMP_COMPILED", "") != "0":
+        try:
+            import numba  # noqa: F401
+        except ImportError:
+            return
+        compiled.warm()
 
 
 @pytest.fixture(params=["numpy", "compiled"], autouse=True)

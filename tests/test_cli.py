@@ -104,7 +104,7 @@ def test_a_signal_during_the_default_job_exits_130_or_143_with_one_kept_line(tmp
         raise stop()
 
     monkeypatch.setattr(cli, "refine_peak", interrupted)  # the curve is computed and written: it is kept
-    assert main(["--out", str(tmp_path)]) == code
+    assert main(["--model", "peak", "--out", str(tmp_path)]) == code
     err = capsys.readouterr().err.strip()
     assert err == f"{word}: kept files: {(tmp_path / 'frf.csv').resolve()}"
     assert (tmp_path / "frf.csv").exists()

@@ -129,7 +129,7 @@ def test_cancel_ends_and_reaps_the_child_and_writes_nothing(job, tmp_path):
 
 def test_tol_sets_the_job_s_target_error_and_so_the_allmode_peak_s(tmp_path, capsys):
     # 5 %: the single-mode damper (1.5 % off the bar with every mode) is within it, no all-mode peak
-    assert main(["--tol", "0.05", "--out", str(tmp_path)]) == 0
+    assert main(["--model", "peak", "--tol", "0.05", "--out", str(tmp_path)]) == 0
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert "TwoRegionMicroslip, within tol = 0.05" in last
     # 6e-4: the all-mode peak doubles its cells to 128, where its estimate (5.9e-4 with the curve's other
@@ -137,7 +137,7 @@ def test_tol_sets_the_job_s_target_error_and_so_the_allmode_peak_s(tmp_path, cap
     # 6.8e-4 (tests/test_cli_peak.py)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        assert main(["default", "--tol", "6e-4", "--out", str(tmp_path)]) == 0
+        assert main(["default", "--model", "peak", "--tol", "6e-4", "--out", str(tmp_path)]) == 0
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert "AllModeMicroslip" in last and "128 cells, H = 31" in last and "tol = 0.0006" in last
     stated = float(last.split("estimated error ")[1].split(" %")[0]) / 100.0

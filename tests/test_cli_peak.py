@@ -81,11 +81,11 @@ def test_allmode_peak_and_its_estimate_against_the_converged_reference(case):
     assert (REFERENCE_AMPLITUDE - pk.amplitude) / REFERENCE_AMPLITUDE == pytest.approx(0.0152, abs=5e-4)
 
 
-def test_default_job_says_the_allmode_peak_on_its_last_line(tmp_path, monkeypatch, capsys):
+def test_the_peak_job_says_the_allmode_peak_on_its_last_line(tmp_path, monkeypatch, capsys):
     monkeypatch.chdir(tmp_path)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        assert main([]) == 0
+        assert main(["--model", "peak"]) == 0
     last = capsys.readouterr().out.strip().splitlines()[-1]
     assert last.startswith("peak 388") and "AllModeMicroslip" in last and "estimated error 0.0" in last
     assert sum(issubclass(w.category, AccuracyWarning) for w in caught) <= 1

@@ -125,7 +125,8 @@ def test_every_element_class_passes_the_contract(cls):
 
 def test_the_registered_classes_are_all_found():
     names = sorted(c.__name__ for c in _element_classes())
-    assert names == ["AllModeMicroslip", "AllModeMicroslip2D", "Contact2D", "CubicSpring", "Gap", "Iwan", "Macroslip", "NumericalMicroslip",
+    assert names == ["AllModeMicroslip", "AllModeMicroslip2D", "Contact2D", "Contact3D", "CubicSpring", "Gap", "Iwan",
+                     "Macroslip", "NumericalMicroslip",
                      "PointContact",
                      "QuasiStatic", "StuckContact", "ThreeRegionMicroslip", "TwoRegionMicroslip"]
 

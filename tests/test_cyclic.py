@@ -60,6 +60,12 @@ def contact(name: str, eo: int) -> tuple[hbm.Contact, int]:
     normal = (1, 1) if eo else (0, 0)
     if name == "jenkins":
         return hbm.Contact(Macroslip(stiffness=4e7, slip_force=20.0), dofs=pair, next_sector=True), 3
+    if name == "contact3d":
+        from contact_models import Contact3D
+
+        second = (0, 0) if eo else (1, 2)  # the second tangential direction: no DOF shared side by side
+        return hbm.Contact(Contact3D(kt=4e7, kn=4e7, mu=0.3, n0=60.0), dofs=pair, second_dofs=second,
+                           normal_dofs=normal, next_sector=True), 3
     if name == "contact2d":
         return hbm.Contact(Contact2D(kt=4e7, kn=4e7, mu=0.3, n0=60.0), dofs=pair, normal_dofs=normal,
                            next_sector=True), 3
@@ -92,7 +98,7 @@ def newton_full(full_balance: HarmonicBalance, X: np.ndarray, omega: float) -> n
 
 # ---------------------------------------------------------------------------- the sector against the disk
 @pytest.mark.parametrize("eo", [0, 2, N // 2])
-@pytest.mark.parametrize("name", ["jenkins", "contact2d", "microslip"])
+@pytest.mark.parametrize("name", ["jenkins", "contact2d", "contact3d", "microslip"])
 def test_sector_frf_equals_full_disk(name, eo):
     disk = sector(engine_order=eo)
     c, H = contact(name, eo)
@@ -310,7 +316,7 @@ def _random_point(sb: HarmonicBalance, scale: float, seed: int = 1) -> np.ndarra
     return X
 
 
-@pytest.mark.parametrize("name", ["jenkins", "contact2d", "microslip", "allmode"])
+@pytest.mark.parametrize("name", ["jenkins", "contact2d", "contact3d", "microslip", "allmode"])
 def test_sector_residual_is_the_disks_at_any_point(name):
     """At any coefficients (not only a solution), the whole disk's residual at the spread sector point
     is the sector's residual spread: the reduction is exact for every element, the all-mode bar too."""
@@ -337,7 +343,7 @@ def test_sector_residual_is_the_disks_at_any_point(name):
     assert np.max(np.abs(Jf[:, -1] - want_w)) <= 1e-7 * np.max(np.abs(Js[:, -1]))
 
 
-@pytest.mark.parametrize("name", ["jenkins", "contact2d"])
+@pytest.mark.parametrize("name", ["jenkins", "contact2d", "contact3d"])
 def test_sector_jacobian_against_differences(name):
     """dR/dX of the sector's balance (the rotations on both sides) against central differences."""
     disk = sector(engine_order=2)

@@ -8,6 +8,7 @@ built ``objects.inv``; without it that test is skipped (a stale local build woul
 
 import importlib
 import inspect
+import json
 import os
 import re
 import sys
@@ -320,3 +321,280 @@ def test_quasi_static_validation_draws_a_figure_and_prints_an_aligned_table(tmp_
     assert "|" not in text and set(lines[1]) <= {"-", " "}
     assert len({len(line) for line in lines[:2]}) == 1  # the rule is as wide as the header
     assert vqs.table(rows).startswith("| load |")  # the Markdown of docs/validation.md, on request
+
+
+# ------------------------------------------------------------------------------ what a user reads
+#: History that belongs in a version-control log, not on a page a user reads: a commit hash (7 to
+#: 40 hex digits with at least one digit and one letter, in backticks or after "commit"), the
+#: narration of a measurement against an earlier state of the code, a machine's load, a timestamp.
+_HASH = r"(?=[0-9a-f]*[0-9])(?=[0-9a-f]*[a-f])[0-9a-f]{7,40}"
+FORBIDDEN = re.compile(
+    rf"`{_HASH}`|\bcommits?\s+(?:at\s+|of\s+)?`?{_HASH}\b|\bthe (?:tree|code) before\b"
+    r"|\b(?:this|the same) session\b|\bload averages?\b|\b20\d\d-[01]\d-[0-3]\d(?:T|\b)|\bUTC\b",
+    re.IGNORECASE)
+#: The same hash as the built HTML shows a literal: ``<code ...><span class="pre">9425403</span></code>``.
+_HTML_HASH = re.compile(rf'<span class="pre">{_HASH}</span>')
+
+
+def _forbidden_in(text: str) -> list[str]:
+    return [m.group(0) for m in FORBIDDEN.finditer(text)]
+
+
+def test_forbidden_patterns_catch_history_and_leave_facts_alone():
+    """The check itself: what it must find, and legitimate content it must not."""
+    caught = ["against 47.1 s for `9425403`, the same session", "at commit 22cf664", "commit `d131efd`",
+              "the tree before", "The code before spent", "in this session", "load average 0.6",
+              "2026-11-28T04:29", "measured 2026-11-27", "13:45 UTC"]
+    for text in caught:
+        assert _forbidden_in(text), text
+    kept = ["version 0.1.0", "`1e-3`", "tol = 1e-3 (`tol=1e-3`)", "sha256 9255729d2645ef9d of the points",
+            "`docs/data/allmode_reference.csv`", "`abcdefgh`", "`1234567`", "a commit message", "the load, 100 N",
+            "`deadbeef` is a word", "Commit to a model", "`frf.to_csv()`",
+            "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855"]
+    assert [t for t in kept if _forbidden_in(t)] == []  # a hex word without a digit or a letter is no hash
+
+
+def test_pages_and_readme_tell_no_history():
+    found = []
+    for path in [*sorted(DOCS.glob("*.md")), ROOT / "README.md"]:
+        for number, line in enumerate(path.read_text().splitlines(), 1):
+            for match in _forbidden_in(line):
+                found.append(f"{path.relative_to(ROOT)}:{number}: {match!r}")
+    assert not found, "history on a page a user reads:\n" + "\n".join(found)
+
+
+def _built_site() -> Path | None:
+    """The built site: ``FRICTIONDAMP_DOCS_HTML`` (``.ci/run`` sets it), else ``docs/_build/html``
+    where the documented build command leaves it; None when neither exists."""
+    html = os.environ.get("FRICTIONDAMP_DOCS_HTML")
+    path = Path(html) if html else DOCS / "_build" / "html"
+    path = path if path.is_absolute() else ROOT / path
+    return path if (path / "index.html").is_file() else None
+
+
+def test_built_pages_tell_no_history():
+    site = _built_site()
+    if site is None:
+        pytest.skip("no built site (docs/_build/html or FRICTIONDAMP_DOCS_HTML)")
+    found = []
+    for page in sorted(site.rglob("*.html")):
+        html = page.read_text(errors="replace")
+        text = re.sub(r"<[^>]+>", "", html)
+        hits = _forbidden_in(text) + _HTML_HASH.findall(html)
+        found += [f"{page.relative_to(site).as_posix()}: {hit!r}" for hit in hits]
+    assert not found, "history on the built site:\n" + "\n".join(found[:50])
+
+
+def _pixels(path: Path):
+    from PIL import Image
+
+    with Image.open(path) as image:
+        return image.convert("RGBA").size, image.convert("RGBA").tobytes()
+
+
+def _stock_thumbnails(tmp_path: Path) -> list:
+    """sphinx-gallery's stand-ins for a missing figure (``no_image.png``; ``broken_example.png`` for
+    a failing script), scaled as it scales a thumbnail (``scale_image`` to ``thumbnail_size``)."""
+    from sphinx_gallery.gen_gallery import DEFAULT_GALLERY_CONF
+    from sphinx_gallery.gen_rst import scale_image
+    from sphinx_gallery import glr_path_static
+
+    size = DEFAULT_GALLERY_CONF["thumbnail_size"]  # docs/conf.py keeps the default
+
+    out = []
+    for name in ("no_image.png", "broken_example.png"):
+        target = tmp_path / name
+        scale_image(str(Path(glr_path_static()) / name), str(target), *size)
+        out.append(_pixels(target))
+    return out
+
+
+def test_built_gallery_has_no_placeholder_thumbnails(tmp_path):
+    site = _built_site()
+    if site is None:
+        pytest.skip("no built site (docs/_build/html or FRICTIONDAMP_DOCS_HTML)")
+    pytest.importorskip("sphinx_gallery", reason="the docs extra (pip install -e '.[docs]')")
+    thumbs = sorted((site / "_images").glob("sphx_glr_*_thumb.png"))
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    assert len(thumbs) >= len(executed) + len(shown)
+    stock = _stock_thumbnails(tmp_path)
+    placeholders = [t.name for t in thumbs if _pixels(t) in stock]
+    assert not placeholders, f"gallery thumbnails that are sphinx-gallery's stand-in image: {placeholders}"
+
+
+def test_gallery_pages_shown_without_running_name_a_committed_thumbnail():
+    """A page whose script is not run at build time would get sphinx-gallery's placeholder
+    thumbnail: its script names the committed figure its header shows (``sphinx_gallery_thumbnail_path``)."""
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    for name in shown:
+        source = (ROOT / "examples" / name).read_text()
+        match = re.search(r"^# sphinx_gallery_thumbnail_path = [\"'](\S+)[\"']", source, re.MULTILINE)
+        assert match, f"{name}: no sphinx_gallery_thumbnail_path"
+        assert (DOCS / match.group(1)).is_file(), f"{name}: {match.group(1)} is not committed"
+
+
+# ------------------------------------------------------------------------- the front door's scripts
+def _block_after(text: str, heading: str) -> str:
+    """The first ```python block after ``heading`` in a Markdown text."""
+    return re.search(rf"^## {re.escape(heading)}\n.*?```python\n(.*?)```", text, re.S | re.M).group(1)
+
+
+def _jenkins_first_harmonic(kt, fs, a):
+    """The Jenkins element's first-harmonic stiffness p + i q at amplitude a, in closed form
+    (Caughey's describing function): stuck below a_s = fs/kt; above it cos(beta) = 1 - 2 a_s/a,
+    p = (kt/pi)(beta - sin(2 beta)/2), q = W/(pi a^2) with the loop's area W = 4 fs (a - a_s)."""
+    import math
+
+    a_s = fs / kt
+    if a <= a_s:
+        return kt, 0.0
+    beta = math.acos(1.0 - 2.0 * a_s / a)
+    return kt / math.pi * (beta - 0.5 * math.sin(2.0 * beta)), 4.0 * fs * (a - a_s) / (math.pi * a * a)
+
+
+def _sdof_peak(m, k, c, force, stiffness_at, w_lo, w_hi):
+    """The single-harmonic peak of ``m x'' + c x' + k x + f(x) = F cos(w t)`` for an element whose
+    first-harmonic stiffness p + i q depends on the amplitude only: the largest a at which
+    ((k + p) - m w^2)^2 + (c w + q)^2 = (F/a)^2 has a real w, by bisection on a (an independent
+    solve of the balance, not the library's continuation)."""
+    from scipy.optimize import minimize_scalar
+
+    def lowest(a):
+        p, q = stiffness_at(a)
+        res = minimize_scalar(lambda w: ((k + p) - m * w * w) ** 2 + (c * w + q) ** 2, bounds=(w_lo, w_hi),
+                              method="bounded", options={"xatol": 1e-10 * w_hi})
+        return res.fun - (force / a) ** 2, res.x
+
+    lo, hi = 1e-9, 1e-3
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if lowest(mid)[0] <= 0.0 else (lo, mid)
+        if hi - lo < 1e-13 * hi:
+            break
+    return lowest(lo)[1], lo
+
+
+def test_readme_and_home_page_open_with_the_same_ten_line_script_and_it_is_right(capsys):
+    readme, home = (ROOT / "README.md").read_text(), (DOCS / "index.md").read_text()
+    script = _block_after(readme, "A first script")
+    assert script == _block_after(home, "A first script")
+    assert len(script.strip().splitlines()) <= 10
+    for command in ('python3 -m pip install -e ".[test]" && python3 -m hbm',
+                    'python3 -m pip install -e ".[test,fast]" && python3 -m pytest -q'):
+        assert command in readme and command in home  # CI runs the second
+    assert "frictiondamp" in readme.split("## A first script")[0]  # the installed command is named
+    namespace = {}
+    exec(compile(script, "README.md", "exec"), namespace)
+    out = capsys.readouterr().out
+    peaks = {name: (float(w), float(a)) for name, w, a in
+             re.findall(r"^(\w+) Peak\(omega=([\d.e+-]+), amplitude=([\d.e+-]+)", out, re.M)}
+    blade, micro, macro = namespace["blade"], namespace["micro"], namespace["macro"]
+    m, k, c, force = blade.mass, blade.stiffness, blade.damping, blade.force
+    # the macroslip match: k* and mu N, its peak against the closed-form describing function
+    assert macro.stiffness == pytest.approx(micro.stuck_stiffness(0.0)) and macro.slip_force == pytest.approx(30.0)
+    for a in (5e-7, 1.5e-6):
+        f_s, f_c = macro.fourier(a, 0.0)
+        p, q = _jenkins_first_harmonic(macro.stiffness, macro.slip_force, a)
+        assert (f_s, f_c) == pytest.approx((p * a, q * a), rel=1e-9)
+    w_ref, a_ref = _sdof_peak(m, k, c, force, lambda a: _jenkins_first_harmonic(macro.stiffness, macro.slip_force, a),
+                              3.2e4, 4.4e4)
+    w_jen, a_jen = peaks["Macroslip"]
+    assert a_jen == pytest.approx(a_ref, rel=1e-5) and w_jen == pytest.approx(w_ref, rel=1e-4)
+    # the microslip peak is on the balance and no amplitude above it is reachable either side
+    w_mic, a_mic = peaks["TwoRegionMicroslip"]
+
+    def excess(a, w):  # |Z a + f|^2 - F^2 of the single-harmonic balance with the element's f_s, f_c
+        f_s, f_c = micro.fourier(a, w)
+        return (((k - m * w * w) * a + f_s) ** 2 + (c * w * a + f_c) ** 2) / force**2 - 1.0
+
+    assert abs(excess(a_mic, w_mic)) < 1e-5
+    assert excess(a_mic * (1 + 1e-4), w_mic) > 0
+    for w in (w_mic * (1 - 5e-4), w_mic * (1 + 5e-4)):
+        assert excess(a_mic, w) > 0
+    assert a_mic > 1.5 * a_jen  # the bar dissipates less than its macroslip match here
+
+
+def test_guides_page_runs_as_written(tmp_path, monkeypatch, capsys):
+    """docs/guides.md: its blocks run in order in one namespace, and say what they print."""
+    monkeypatch.chdir(tmp_path)  # the first block writes frf.csv
+    blocks = re.findall(r"^```python\n(.*?)^```", (DOCS / "guides.md").read_text(), re.S | re.M)
+    assert len(blocks) == 4
+    ns = {}
+    for i, block in enumerate(blocks):
+        exec(compile(block, f"guides.md[block {i + 1}]", "exec"), ns)
+    assert (tmp_path / "frf.csv").is_file()
+    peak, best = ns["peak"], ns["best"]
+    assert (peak.omega, peak.amplitude) == pytest.approx((38773.6, 1.512e-6), rel=1e-3)
+    # the bar with every mode peaks 1.5 % above the single-mode bar, within its own estimate of tol
+    assert best.amplitude / peak.amplitude - 1 == pytest.approx(0.015, abs=0.002) and best.error < 1e-3
+    # the Jenkins blade at two tolerances agrees within the coarser one
+    out = capsys.readouterr().out
+    rows = {float(t): float(a) for t, a in re.findall(r"^(0\.01|1e-05) ([\d.e+-]+) ", out, re.M)}
+    assert rows[1e-2] == pytest.approx(rows[1e-5], rel=1e-2)
+    assert "largest source: model" in out
+    # the 2-DOF chain: its contact slides, so it peaks at the free chain's first mode
+    frf = ns["frf"]
+    assert frf.peak().omega == pytest.approx(((3 - 5**0.5) / 2) ** 0.5, rel=2e-2) and frf.stable.all()
+
+
+#: Modules a gallery script may not import from, although public: the command line's cases and the
+#: balance's internals (the library's front functions give what a user needs).
+NOT_FOR_EXAMPLES = ("hbm.cli", "hbm.balance")
+
+
+def test_gallery_scripts_import_the_public_api_only():
+    """Every gallery page's script imports the packages of the API reference (``contact_models``,
+    ``hbm``, ``hbm.scenes``, ``hbm.study``) or documented public modules, never the command line's
+    or the balance's modules, and no private name; the shared helpers beside them stay importable."""
+    import ast
+
+    executed, shown = fd.gallery_examples(ROOT / "examples")
+    public = set(fd.public_modules())
+    found = []
+    for name in executed + shown:
+        tree = ast.parse((ROOT / "examples" / name).read_text())
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and node.module:
+                modules, names = [node.module], [a.name for a in node.names]
+            elif isinstance(node, ast.Import):
+                modules, names = [a.name for a in node.names], []
+            else:
+                continue
+            for module in modules:
+                if module.split(".")[0] not in ("hbm", "contact_models"):
+                    continue
+                if (module not in public or module.startswith(NOT_FOR_EXAMPLES)
+                        or any(n.startswith("_") for n in names)):
+                    found.append(f"{name}:{node.lineno}: from {module} import {', '.join(names)}")
+    assert not found, "\n".join(found)
+    sys.path.insert(0, str(ROOT / "examples"))
+    try:
+        import paper_figures
+        import validation_common  # noqa: F401
+    finally:
+        sys.path.remove(str(ROOT / "examples"))
+    assert callable(paper_figures.default_case)
+
+
+def test_main_job_example_draws_the_landing_figure_with_the_command_lines_answer(tmp_path):
+    """examples/main_job.py (the public API) gives the main job's physical curve (its peak within tol of
+    the converged bar of tests/data/physical_curve_reference.json), and its macroslip match peaks where the
+    closed-form Jenkins describing function puts it."""
+    sys.path.insert(0, str(ROOT / "examples"))
+    try:
+        import main_job
+        from paper_figures import default_case
+    finally:
+        sys.path.remove(str(ROOT / "examples"))
+    out = main_job.main(outdir=tmp_path)
+    assert Path(out["path"]).stat().st_size > 20_000
+    w, a = out["physical_peak"]
+    ref = json.loads((ROOT / "tests" / "data" / "physical_curve_reference.json").read_text())["points"]
+    top = max(p["amplitude"] for p in ref)  # the converged bar's largest sampled amplitude (38812 rad/s)
+    assert top <= a * (1 + 1e-3) and abs(a / top - 1) < 2e-3 and out["physical_error"] <= 1e-3
+    assert 0.014 < a / out["peak"][1] - 1 < 0.019  # the single-mode bar's peak 1.5 to 1.9 % low
+    case = default_case()
+    b, k_star = case.blade, case.element.stuck_stiffness(0.0)
+    w_ref, a_ref = _sdof_peak(b.mass, b.stiffness, b.damping, b.force,
+                              lambda x: _jenkins_first_harmonic(k_star, 30.0, x), 3.2e4, 4.4e4)
+    assert out["macroslip_peak"] == pytest.approx((w_ref, a_ref), rel=1e-4)

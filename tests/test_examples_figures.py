@@ -138,3 +138,21 @@ def test_fig15_stiffness_curves_cross_and_merge(tmp_path, s):
     assert out["three_F_s_at_0.8"] < out["two_F_s_at_0.8"]
     assert 1.5 < out["first_crossing_a_over_a_min"] < 10.0
     assert out["three_F_s_at_100"] == pytest.approx(out["two_F_s_at_100"], rel=1e-3)
+
+
+def test_the_examples_default_case_is_the_command_lines():
+    """``paper_figures.default_case`` (the public API) builds the blade, damper and sweep of
+    ``python -m hbm`` to the last bit, and ``stuck_response`` is the blade's closed-form response."""
+    from hbm.cli.cases import default_case
+
+    mine, cli = paper_figures.default_case(), default_case()
+    for name in ("mass", "stiffness", "damping", "force"):
+        assert getattr(mine.blade, name) == getattr(cli.blade, name)
+    assert mine.omega_range == cli.omega_range
+    assert mine.element.stuck_stiffness(0.0) == cli.element.stuck_stiffness(0.0)
+    assert mine.element.slip_amplitude(0.0) == cli.element.slip_amplitude(0.0)
+    b, w, kd = mine.blade, 38000.0, 4.0e7
+    x = paper_figures.stuck_response(b, w, kd)
+    # x (k + kd - m w^2 + i c w) = F: the equation of motion of the blade with the spring
+    assert x * (b.stiffness + kd - b.mass * w * w + 1j * b.damping * w) == pytest.approx(b.force, rel=1e-12)
+    assert abs(x) == pytest.approx(b.force / math.hypot(b.stiffness + kd - b.mass * w * w, b.damping * w), rel=1e-12)

@@ -24,6 +24,45 @@ from hbm.cli.cases import default_case  # noqa: E402
 #: The agreement asked of the two paths.
 RTOL = 1e-12
 
+compiled.warm()  # the kernels in numba's cache (a clean clone has none): every test below loads them
+
+
+def test_a_cold_cache_starts_the_warm_up_in_the_background_and_the_numpy_path_answers(monkeypatch, tmp_path):
+    """No marker beside numba's cache (a first run after a clone): the rule that would load the kernels
+    starts one background warm-up instead and this process stays on the numpy path; with the marker of this
+    numba and source the kernels load."""
+    import numba
+
+    started = []
+    monkeypatch.delenv("FRICTIONDAMP_COMPILED", raising=False)
+    monkeypatch.setattr(compiled, "_cache_folder", lambda: tmp_path)
+    monkeypatch.setattr(compiled, "_start_warming", lambda: started.append(1))
+    monkeypatch.setattr(compiled, "_TRIED", False)
+    monkeypatch.setattr(compiled, "_KERNELS", None)
+    assert not compiled.cache_ready(numba)
+    assert compiled.kernels(load=True) is None and started == [1]
+    assert compiled.kernels(load=True) is None and started == [1]  # once a process
+    (tmp_path / compiled.MARKER).write_text(compiled._stamp(numba))
+    assert compiled.cache_ready(numba)
+    monkeypatch.setattr(compiled, "_TRIED", False)
+    assert compiled.kernels(load=True) is not None and started == [1]
+    (tmp_path / compiled.MARKER).write_text("numba 0.0 source 0 0\n")  # another numba or an edited source
+    assert not compiled.cache_ready(numba)
+
+
+def test_one_background_warm_up_at_a_time(monkeypatch, tmp_path):
+    """The lock file keeps a second process from starting a second warm-up; a stale lock is replaced."""
+    calls = []
+    monkeypatch.setattr(compiled, "_cache_folder", lambda: tmp_path)
+    monkeypatch.setattr(compiled.subprocess, "Popen", lambda *a, **k: calls.append(k["env"]["FRICTIONDAMP_COMPILED"]))
+    compiled._start_warming()
+    compiled._start_warming()
+    assert calls == ["1"] and (tmp_path / compiled.WARMING).exists()
+    old = compiled.time.time() - 2 * compiled.WARMING_STALE
+    os.utime(tmp_path / compiled.WARMING, (old, old))
+    compiled._start_warming()
+    assert calls == ["1", "1"]
+
 
 def both(run):
     """``(numpy path's answer, compiled path's answer)`` of ``run()``."""

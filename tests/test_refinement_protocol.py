@@ -42,6 +42,17 @@ def test_an_element_with_nothing_to_refine_keeps_the_defaults():
     assert jen.for_balance(7) is jen
 
 
+@pytest.mark.parametrize("cls", [contact_models.Contact2D, contact_models.Contact3D], ids=lambda c: c.__name__)
+def test_the_point_contacts_with_a_normal_load_keep_the_defaults(cls):
+    """A point contact's time law is complete: nothing to refine but the balance's own H and n_t."""
+    el = cls(kt=2.0, kn=1.0, mu=0.5, n0=1.0)
+    for name, value in DEFAULTS.items():
+        assert getattr(el, name) is value, name
+    assert el.model_name == cls.__name__ and el.harmonics_law() is el and el.for_balance(7) is el
+    assert el.refined_model() is None and el.start_rung((1.0, 2.0)) is None
+    assert el.refined_rung(2.0, (1.0, 2.0)) is None and el.harmonics_of(el) is None
+
+
 def test_the_single_mode_bar_answers_with_its_quasi_static_bar_and_the_all_mode_bar():
     two = TwoRegionMicroslip(BAR, UniformLoad(N=100.0))
     law = two.harmonics_law()

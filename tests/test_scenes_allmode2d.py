@@ -134,7 +134,7 @@ def test_bad_input_names_its_key(tmp_path):
                                                "bar_harmonics": 0, "kn": -1.0}), tmp_path / "a.toml")
     for expected in ("damper.normal_shape = [1.0]: must be a list of 2 numbers", "damper.cells = 1: must be an "
                      "integer >= 2", "damper.bar_harmonics = 0: must be an integer >= 1",
-                     "damper.kn = -1.0: must be a number >= 0 (N/m for contact2d, N/m^2 for allmode2d)"):
+                     "damper.kn = -1.0: must be a number >= 0 (N/m for contact2d and contact3d, N/m^2 for allmode2d)"):
         assert expected in text, (expected, text)
     text = problems(structure_scene(tmp_path, {"model": "allmode2d", **bar, "bar_samples": 30}), tmp_path / "a.toml")
     assert "damper.kn is missing: required with damper.model = \"allmode2d\"" in text

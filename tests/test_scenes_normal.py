@@ -156,7 +156,7 @@ def test_bad_damper_attachment_and_keys_are_named(tmp_path):
         structure_scene(tmp_path, {"model": "macroslip", "stiffness": 1.0, "slip_force": 0.03}), tmp_path / "a.toml",
         plan=True)
     text = problems(structure_scene(tmp_path, {"model": "contact2d", "kt": 1.0, "kn": -1.0}), tmp_path / "a.toml")
-    assert "damper.kn = -1.0: must be a number >= 0 (N/m for contact2d, N/m^2 for allmode2d)" in text
+    assert "damper.kn = -1.0: must be a number >= 0 (N/m for contact2d and contact3d, N/m^2 for allmode2d)" in text
     assert "damper.friction is missing: required with damper.model = \"contact2d\"" in text
     assert "damper.n0 is missing" in text
     blade = {"damper": damper, "blade": {"mass": 1.0, "stiffness": 1.0, "damping": 0.01, "force": 0.01},

@@ -151,7 +151,7 @@ def cells_error(n: int, F: NDArray[np.float64], at: Callable[[int], NDArray[np.f
         if fine is None:
             return np.full(F.shape, np.inf)
         rungs, vals = ([n // 2], [lower]) if lower is not None else ([], [])
-        e = np.abs(fine - F) + ladder((*rungs, n, 2 * n), vals + [F, fine], np.full(F.shape, np.inf))
+        e = above(F, fine, ladder((*rungs, n, 2 * n), vals + [F, fine], np.full(F.shape, np.inf)))
     else:
         e = ladder(tuple(c for c, _ in below) + (n,), [v for _, v in below] + [F], np.full(F.shape, np.inf))
     return np.where(np.isfinite(e), e, np.inf)
@@ -180,8 +180,39 @@ def harmonics_error(H: int, Hx: int, F: NDArray[np.float64], at: Callable[[int],
         e = np.abs(fine - F) + ladder((*rungs, H, 2 * H + 1), vals + [F, fine], np.full(F.shape, np.inf))
     else:
         hs = sorted({h for h in (max(lower_rung(lower_rung(H)), Hx), max(lower_rung(H), Hx)) if h < H})
-        e = ladder((*hs, H), [at(h) for h in hs] + [F], alone)
+        below = [at(h) for h in hs]
+        e = ladder((*hs, H), below + [F], alone)
+        if len(hs) == 2 and not asymptotic(tuple(hs) + (H,), np.array(below + [F])):
+            fine = at(2 * H + 1)  # a harmonic below H met a mode of the bar: checked against the rung above
+            if fine is not None and np.all(np.isfinite(fine)):
+                e = above(F, fine, ladder((hs[1], H, 2 * H + 1), [below[1], F, fine], np.full(F.shape, np.inf)))
     return np.where(np.isfinite(e), e, np.inf)
+
+
+def asymptotic(N: tuple[float, float, float], F: NDArray[np.float64]) -> bool:
+    """Whether the values ``F`` (3, k) on the rungs ``N`` converge at an order Richardson trusts in every
+    component: differences of one sign that shrink at an observed order in [``MIN_ORDER``, ``MAX_ORDER``]
+    (or vanish).  Where a harmonic between two rungs meets a mode of the bar, a difference is large because
+    the mode is met and the next small because it is resolved (an order above ``MAX_ORDER``), or the
+    differences grow: such a ladder says nothing of what lies above its finest rung, and the guards of
+    :func:`richardson` then read its first difference, which the finest rung has already resolved."""
+    F = np.asarray(F, dtype=float)
+    for j in range(F.shape[1]):
+        d1, d2 = F[1, j] - F[0, j], F[2, j] - F[1, j]
+        if d1 == 0.0 and d2 == 0.0:
+            continue
+        if d1 * d2 <= 0.0 or abs(d2) >= abs(d1) or not MIN_ORDER <= observed_order(N, abs(d1), abs(d2)) <= MAX_ORDER:
+            return False
+    return True
+
+
+def above(F: NDArray[np.float64], fine: NDArray[np.float64], e_fine: NDArray[np.float64]) -> NDArray[np.float64]:
+    """The error of ``F`` checked against the rung above it, ``fine``, whose own error ``e_fine`` is read from a
+    ladder: |fine - F| plus ``e_fine``, the latter at most |fine - F| (the rung above is taken to be in the
+    range where the differences at least halve from rung to rung, so its error is at most the difference to
+    it; a ladder whose lowest rung is pre-asymptotic would otherwise lend the finest rung its coarse error)."""
+    d = np.abs(fine - F)
+    return d + np.minimum(e_fine, d)
 
 
 def relative(error: NDArray[np.float64], F: NDArray[np.float64], floor: float) -> float:

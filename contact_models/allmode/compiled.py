@@ -18,17 +18,26 @@ The answers do not depend on when: both paths give the same numbers.  What loadi
 measured in ``docs/performance.md``, "Compiled kernels (the optional `fast` extra)".
 
 The environment variable ``FRICTIONDAMP_COMPILED`` overrides the rule: ``0`` keeps the numpy path with
-numba installed, ``1`` loads the kernels at the first nested solve.  The first use in a fresh
-installation compiles the kernels (some seconds); numba caches them beside this module (or in the
-user's cache folder), so later processes load them; where it finds no writable place for its cache,
-every process compiles them again.
+numba installed, ``1`` loads the kernels at the first nested solve (compiling them there if numba's cache
+holds none).
+
+**No first-use wait.**  Compiling the kernels takes a fresh installation some ten seconds, more than a
+whole job.  numba caches them in the ``__pycache__`` folder beside this module, and :func:`warm` leaves a
+marker there once every kernel is in the cache.  Where the rule would load the kernels and the marker is
+missing (a first run after an install or a clone), the process starts :func:`warm` in a background
+process of low priority and goes on on the numpy path, with the same numbers; the processes after it load
+the cached kernels.  Where that folder is not writable (or ``NUMBA_CACHE_DIR`` moves numba's cache), the
+kernels are compiled where they are first used, as numba does.
 """
 
 from __future__ import annotations
 
 import contextlib
 import os
+import subprocess
+import sys
 import time
+from pathlib import Path
 from collections.abc import Iterator
 from types import SimpleNamespace
 
@@ -66,8 +75,109 @@ def kernels(load: bool = False) -> SimpleNamespace | None:
             import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
         except ImportError:
             return None
+        if mode != "1" and not cache_ready(numba):  # compiled in the background; the numpy path here
+            _start_warming()
+            return None
         _KERNELS = _compiled(numba)
     return _KERNELS
+
+
+#: The marker :func:`warm` leaves beside numba's cache, and the lock of a warm-up under way (stale after
+#: ``WARMING_STALE`` seconds: a warm-up that died).
+MARKER = "compiled.warm"
+WARMING = "compiled.warming"
+WARMING_STALE = 600.0
+
+
+def _cache_folder() -> Path | None:
+    """The folder numba caches this module's kernels in, where it is this module's ``__pycache__`` and
+    writable; else None (the module docstring)."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return None
+    folder = Path(__file__).resolve().parent / "__pycache__"
+    try:
+        folder.mkdir(exist_ok=True)
+    except OSError:
+        return None
+    return folder if os.access(folder, os.W_OK) else None
+
+
+def _stamp(numba: object) -> str:
+    """What the cached kernels depend on: numba's version and this source file (numba's own key)."""
+    st = os.stat(__file__)
+    return f"numba {getattr(numba, '__version__', '?')} source {st.st_mtime_ns} {st.st_size}\n"
+
+
+def cache_ready(numba: object) -> bool:
+    """Whether numba's cache holds the kernels (:func:`warm`'s marker, for this numba and this source),
+    or no background warm-up can help (no writable cache folder of our own): then load now."""
+    folder = _cache_folder()
+    if folder is None:
+        return True
+    try:
+        return (folder / MARKER).read_text() == _stamp(numba)
+    except OSError:
+        return False
+
+
+def _start_warming() -> None:
+    """Start :func:`warm` in a detached process of low priority, unless one is under way."""
+    folder = _cache_folder()
+    if folder is None:
+        return
+    lock = folder / WARMING
+    try:
+        if time.time() - lock.stat().st_mtime < WARMING_STALE:
+            return
+        lock.unlink()
+    except OSError:
+        pass
+    try:
+        os.close(os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY))
+    except OSError:  # another process started one this instant
+        return
+    env = dict(os.environ, FRICTIONDAMP_COMPILED="1")
+    root = str(Path(__file__).resolve().parents[2])
+    env["PYTHONPATH"] = root + (os.pathsep + env["PYTHONPATH"] if env.get("PYTHONPATH") else "")
+    try:
+        subprocess.Popen([sys.executable, "-c", WARM_COMMAND], env=env, stdin=subprocess.DEVNULL,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    except OSError:
+        lock.unlink(missing_ok=True)
+
+
+#: The background warm-up: at low priority where the system has one, then :func:`warm`.
+WARM_COMMAND = ("import os\nif hasattr(os, 'nice'): os.nice(10)\n"
+                "from contact_models.allmode.compiled import warm\nwarm()")
+
+
+def warm() -> None:
+    """Compile every kernel into numba's cache and leave the marker (module docstring): the nested solves of
+    the all-mode bar on its rungs of 7, 15 and 31 harmonics, on a curve's first harmonic and on a blade's
+    three, at a slipping and a stuck amplitude.  Run in the background by :func:`kernels`; callable directly
+    (the tests of the kernels call it first)."""
+    global _KERNELS, _TRIED
+    import numba
+
+    from ..bar import Bar
+    from ..loads import UniformLoad
+    from .element import AllModeMicroslip
+
+    _KERNELS, _TRIED = _compiled(numba), True
+    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    load = UniformLoad(N=100.0)
+    omega = 3.9e4
+    for H in (7, 15, 31):
+        el = AllModeMicroslip(bar, load, cells=32, harmonics=H)
+        el.fourier(np.array([5.0e-7, 1.5e-6]), omega)
+        el.model_error(np.array([1.5e-6]), omega)
+        X = np.zeros(7)
+        X[1], X[2], X[5] = 1.5e-6, 2.0e-7, 3.0e-8
+        el.harmonic_force(X, omega, n_t=8 * 31 + 8)
+    folder = _cache_folder()
+    if folder is not None:
+        (folder / MARKER).write_text(_stamp(numba))
+        (folder / WARMING).unlink(missing_ok=True)
 
 
 def _compiled(numba: object) -> SimpleNamespace:

@@ -515,10 +515,10 @@ def write_scene_keys(path: Path) -> int:
 
 # ---------------------------------------------------------------------------------- guides toctree
 #: Reading order of the Markdown pages of ``docs/``; a page not named here comes after them.
-GUIDE_ORDER = ("theory", "hbm", "point_contact", "figures", "validation", "performance", "scenes",
-               "generated/scene_keys", "extending")
+GUIDE_ORDER = ("theory", "hbm", "point_contact", "figures", "validation", "error_estimates", "performance",
+               "scenes", "generated/scene_keys", "extending")
 #: Pages with their own place in the home page's toctrees.
-OWN_PLACE = ("index", "getting_started", "changelog")
+OWN_PLACE = ("index", "getting_started", "guides", "changelog")
 
 
 def write_guides_toctree(docs: Path, path: Path) -> list[str]:
@@ -527,7 +527,7 @@ def write_guides_toctree(docs: Path, path: Path) -> list[str]:
     present |= {"generated/scene_keys"}
     pages = [p for p in GUIDE_ORDER if p in present]
     pages += sorted(p for p in present if p not in pages and p not in OWN_PLACE)
-    text = "```{toctree}\n:maxdepth: 1\n:caption: Guides and theory\n\n" + "".join(f"/{p}\n" for p in pages) + "```\n"
+    text = "```{toctree}\n:maxdepth: 1\n:caption: Topics: theory, solvers, validation\n:hidden:\n\n" + "".join(f"/{p}\n" for p in pages) + "```\n"
     _write(path, text)
     return pages
 

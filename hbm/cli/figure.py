@@ -32,25 +32,27 @@ from typing import Any
 from ..allmode_peak import SCAN
 from ..output import plot_frfs, plot_linear_reference
 
-__all__ = ["JobFigure", "base_figure", "add_peak", "save_figure", "DPI", "SIZE"]
+__all__ = ["JobFigure", "base_figure", "add_peak", "draw_error_band", "save_figure", "DPI", "SIZE"]
 
 #: The figure's size (inches) and resolution (dots per inch).
 SIZE = (6.4, 4.2)
 DPI = 130
 
 
-def base_figure(frf: Any, case: Any, *, render: bool = False) -> tuple[Any, Any]:
+def base_figure(frf: Any, case: Any, *, render: bool = False, given: Any = None) -> tuple[Any, Any]:
     """The job's figure without the all-mode peak and without its legend.
 
     Parameters
     ----------
     frf : hbm.FrequencyResponse
-        The single-mode curve.
+        The job's curve: the physical one (``model="auto"``), or the single-mode one.
     case : hbm.cli.cases.Case
         The job's case: the damper stuck (linear) and a_min are drawn from its blade and element.
     render : bool, optional
         Draw it once on its Agg canvas (what the forked child does while it waits: the final
         draw then reuses the cached text and ticks).  Default False.
+    given : hbm.FrequencyResponse, optional
+        The single-mode curve, drawn beside ``frf`` for comparison where ``frf`` is the physical one.
 
     Returns
     -------
@@ -67,13 +69,48 @@ def base_figure(frf: Any, case: Any, *, render: bool = False) -> tuple[Any, Any]
     FigureCanvasAgg(fig)
     ax = fig.subplots()
     plot_linear_reference(ax, case.blade, el, case.omega_range, a_min=el.slip_amplitude(0.0))
-    plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
+    if given is None:
+        plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
+    else:
+        ax.plot(given.omega, given.amplitude, "-", color="0.45", lw=0.9,
+                label=f"single-mode bar (error to {100.0 * float(max(given.error_estimate)):.2g} %)")
+        plot_frfs([(frf, f"bar with every mode (tol {frf.tol:g})", "microslip", None)], ax)
+    draw_error_band(ax, frf)
+    if given is not None:
+        _peak_inset(ax, frf, given)
     ax.set_title("Blade with a two-region microslip damper")
     # fixed margins: tight_layout would draw the figure once more to measure it
     fig.subplots_adjust(left=0.12, right=0.97, bottom=0.12, top=0.93)
     if render:
         fig.canvas.draw()
     return fig, ax
+
+
+def _peak_inset(ax: Any, frf: Any, given: Any) -> None:
+    """An inset of the peak (where the physical curve is above 80 % of its peak), linear axes: the
+    single-mode curve's offset and the physical curve's error band, too small to see on the whole curve."""
+    A = frf.amplitude
+    near = A >= 0.8 * float(max(A))
+    w0, w1 = float(min(frf.omega[near])), float(max(frf.omega[near]))
+    inset = ax.inset_axes([0.07, 0.52, 0.36, 0.42])
+    for f, style in ((given, dict(color="0.45", lw=0.9)), (frf, dict(color="C0", lw=1.2))):
+        keep = (f.omega >= w0) & (f.omega <= w1)
+        inset.plot(f.omega[keep], f.amplitude[keep], "-", **style)
+    keep = (frf.omega >= w0) & (frf.omega <= w1)
+    e = frf.error_estimate[keep]
+    inset.fill_between(frf.omega[keep], A[keep] * (1.0 - e), A[keep] * (1.0 + e), color="C0", alpha=0.3, lw=0)
+    inset.tick_params(labelsize=6)
+    inset.set_title("near the peak", fontsize=7)
+
+
+def draw_error_band(ax: Any, frf: Any, color: str = "C0") -> None:
+    """Shade ``amplitude (1 -+ error_estimate)`` of ``frf`` on ``ax``: where the true curve lies by the
+    estimate (nothing where the curve has no estimate)."""
+    if frf.tol is None or not len(frf):
+        return
+    e = frf.error_estimate
+    ax.fill_between(frf.omega, frf.amplitude * (1.0 - e), frf.amplitude * (1.0 + e), color=color, alpha=0.25,
+                    lw=0, label="estimated error")
 
 
 def add_peak(ax: Any, best: Any) -> None:
@@ -92,7 +129,7 @@ def add_peak(ax: Any, best: Any) -> None:
         ax.plot(ws, As, "C3--", lw=1, label=f"all-mode bar near the peak ({SCAN[0]} cells, H = {SCAN[1]})")
         ax.plot([best.omega], [best.amplitude], "C3o", ms=4,
                 label=f"all-mode peak ({best.cells} cells, H = {best.harmonics})")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7, loc="upper right")
 
 
 def save_figure(fig: Any, path: Path) -> Path:
@@ -143,10 +180,12 @@ class JobFigure:
     fork : bool, optional
         Draw in a forked child (where ``os.fork`` exists).  Default True; False draws in the process
         at :meth:`finish`.
+    given : hbm.FrequencyResponse, optional
+        The single-mode curve drawn beside a physical ``frf`` (:func:`base_figure`).
     """
 
-    def __init__(self, frf: Any, case: Any, path: Path, *, fork: bool = True) -> None:
-        self.frf, self.case, self.path = frf, case, Path(path)
+    def __init__(self, frf: Any, case: Any, path: Path, *, fork: bool = True, given: Any = None) -> None:
+        self.frf, self.case, self.path, self.given = frf, case, Path(path), given
         self.pid: int | None = None
         self._to_child = self._from_child = -1
         if fork and hasattr(os, "fork"):
@@ -188,7 +227,7 @@ class JobFigure:
         try:
             signal.signal(signal.SIGINT, signal.SIG_IGN)
             signal.signal(signal.SIGTERM, signal.SIG_DFL)
-            fig, ax = base_figure(self.frf, self.case, render=True)
+            fig, ax = base_figure(self.frf, self.case, render=True, given=self.given)
             data = _read_all(r_in)
             if data:  # empty: the parent cancelled
                 add_peak(ax, pickle.loads(data))
@@ -238,7 +277,7 @@ class JobFigure:
             why = answer.decode(errors="replace").strip().splitlines()
             warnings.warn(f"the figure's process failed ({why[-1] if why else f'exit status {status}'}); "
                           "drawing it here", RuntimeWarning, stacklevel=2)
-        fig, ax = base_figure(self.frf, self.case)
+        fig, ax = base_figure(self.frf, self.case, given=self.given)
         add_peak(ax, best)
         return save_figure(fig, self.path)
 

@@ -38,8 +38,9 @@ __all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line
            "DESCRIPTION", "EXAMPLES",
            "Terminated"]
 
-#: The default job's ``--model``: the single-mode curve with the peak of the bar with every mode.
-DEFAULT_MODEL = "peak"
+#: The default job's ``--model``: the physical curve, the bar with every mode wherever the single-mode bar
+#: is further than its share of tol from it.
+DEFAULT_MODEL = "auto"
 #: The first line of ``--help``.
 DESCRIPTION = "Forced response of a blade with a friction damper (harmonic balance, continuation)."
 #: Examples shown at the end of ``--help``.
@@ -88,8 +89,13 @@ def _default_job(args: argparse.Namespace, out: Path, written: list) -> tuple[in
     elapsed = time.perf_counter() - t0
     csv_path = frf.to_csv(out / "frf.csv")  # first: a signal during the peak keeps the curve
     written.append(csv_path)
+    given = None
+    if model == "auto":  # the single-mode curve beside the physical one, for comparison (its error drawn)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AccuracyWarning)
+            given = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=_tol(args))
     # the figure is drawn in a forked process while the peak is solved with the refined model (hbm.cli.figure)
-    figure = JobFigure(frf, case, out / "frf.png", fork=model == "peak")
+    figure = JobFigure(frf, case, out / "frf.png", fork=model == "peak", given=given)
     try:
         if model == "peak":  # the peak solved again with the refined model: its own trouble it says itself
             best = refine_peak(frf)
@@ -146,6 +152,14 @@ def _check_folder(folder: Path, names: Any, what: str) -> None:
 def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
     """The main job's last line from the curve itself: the peak, its estimated error and the model."""
     err = float(frf.error_estimate[int(np.argmax(frf.amplitude))])
+    models = set(np.asarray(frf.point_models).tolist()) if frf.point_models is not None else set()
+    if len(models) > 1:  # model="auto": the curve spliced from the models that answered where they do
+        worst = float(np.max(frf.error_estimate))
+        within = "within" if worst <= frf.tol else "above"
+        return (f"peak {pk.omega:.6g} rad/s, {pk.amplitude:.4g} m, estimated error {100.0 * err:.2g} %; the whole "
+                f"curve's largest estimated error {100.0 * worst:.2g} %, {within} tol = {frf.tol:g} (model: the bar "
+                f"with every mode, AllModeMicroslip, where the single-mode {type(given).__name__} is further than "
+                f"its share of tol from it; the model and harmonics of each point are in the CSV)")
     if frf.element is not given:
         model = (f"{type(frf.element).__name__}, the bar with every mode: the single-mode "
                  f"{type(given).__name__} is further than tol = {frf.tol:g} from it here")
@@ -360,14 +374,14 @@ def _relative(option: str, upper: float) -> Callable[[str], float]:
 def _model_argument(parser, suppress=True):
     """``--model`` and ``--tol``: the default job's damper model and target relative error."""
     parser.add_argument("--tol", type=_relative("--tol", 1.0), default=argparse.SUPPRESS if suppress else None,
-                        help=f"the default job's target relative error of the peak (default {DEFAULT_TOL:g}): "
-                             "frequency_response's tol, and so the all-mode peak's")
+                        help=f"the default job's target relative error of every point (default {DEFAULT_TOL:g}): "
+                             "frequency_response's tol")
     parser.add_argument("--model", choices=MODELS, default=argparse.SUPPRESS if suppress else None,
                         help="where the default job uses the damper's refined model, the bar with every mode "
-                             "(frequency_response's model=): 'peak' (default: the single-mode curve, and its peak "
-                             "solved again with the bar with every mode where the single-mode one is further than "
-                             "the tolerance from it), 'given' (the single-mode bar only) or 'auto' (every window of "
-                             "the curve where the single-mode bar is too far off; a few seconds)")
+                             "(frequency_response's model=): 'auto' (default: every window of the curve where the "
+                             "single-mode bar is further than its share of tol from it: the physical curve), "
+                             "'peak' (the single-mode curve, its peak solved again with the bar with every mode; "
+                             "faster, only the peak physical) or 'given' (the single-mode bar only)")
 
 
 def _run_arguments(parser):

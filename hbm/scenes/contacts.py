@@ -2,7 +2,9 @@
 
 A ``[structure]`` attaches the run's damper (``[damper]``) at ``structure.contact_dofs`` and, for
 an element of two components (tangential and normal, ``components = 2``: ``"contact2d"``, ``"allmode2d"``), its
-normal at ``structure.normal_dofs``.  It may hold further elements of the model registry
+normal at ``structure.normal_dofs``; for one of three (two tangential directions and the normal,
+``components = 3``: ``"contact3d"``) also its second tangential direction at
+``structure.second_dofs``.  It may hold further elements of the model registry
 (``hbm.scenes.MODELS``), the same in every run, as an array of tables::
 
     [[structure.contacts]]
@@ -11,7 +13,8 @@ normal at ``structure.normal_dofs``.  It may hold further elements of the model 
     gap_stiffness = 1.0      # the model's own keys, as in [damper] (python -m hbm keys)
     gap = 0.25
 
-``normal_dofs`` attaches the normal of a two-component entry.  An entry is built from its model's
+``normal_dofs`` attaches the normal of a two- or three-component entry, ``second_dofs`` the second
+tangential direction of a three-component one.  An entry is built from its model's
 spec exactly as the damper is (``ModelSpec.build``), but from its own keys only: a model that
 needs the bar or the normal load of ``[damper]`` (``ModelSpec.needs``) is refused there, and no
 effect is decided for an entry (it is computed as written: no inertia decision, no stuck check).
@@ -32,7 +35,10 @@ from .models import MODELS, Built
 #: The keys of a ``[[structure.contacts]]`` entry besides its model's own.
 ENTRY_KEYS = {"model": "the element: a registered model (python -m hbm models), complete in its own keys",
               "dofs": "[i] (DOF i to ground) or [i, j] (on x_i - x_j)",
-              "normal_dofs": "two-component models (contact2d) only: the normal displacement, [k] or [k, l]"}
+              "second_dofs": "three-component models (contact3d) only, required for them: the second tangential "
+                             "displacement, [k] or [k, l]",
+              "normal_dofs": "two- and three-component models (contact2d, contact3d) only: the normal displacement, "
+                             "[k] or [k, l]"}
 
 
 def dof_list(v: Any) -> tuple:
@@ -56,7 +62,7 @@ def contact_tables(v: Any) -> tuple:
 def check_entries(entries: tuple, path: Any) -> tuple[list, list]:
     """Validate every ``[[structure.contacts]]`` entry: ``(entries, problems)``.
 
-    Each entry comes back as a dict ``model``, ``dofs``, ``normal_dofs`` (or None) and ``params``
+    Each entry comes back as a dict ``model``, ``dofs``, ``second_dofs`` and ``normal_dofs`` (or None) and ``params``
     (the model's keys, defaults filled in); each problem names ``structure.contacts[i].key``, the
     value and what is allowed.
     """
@@ -103,8 +109,8 @@ def check_entries(entries: tuple, path: Any) -> tuple[list, list]:
         for key, k in spec.keys.items():
             if key not in params and k.default is not REQUIRED and k.default is not OPTIONAL:
                 params[key] = k.default
-        out.append({"model": name, "dofs": dofs.get("dofs"), "normal_dofs": dofs.get("normal_dofs"),
-                    "params": params})
+        out.append({"model": name, "dofs": dofs.get("dofs"), "second_dofs": dofs.get("second_dofs"),
+                    "normal_dofs": dofs.get("normal_dofs"), "params": params})
     return out, problems
 
 
@@ -132,32 +138,47 @@ class EntryRun:
 
 
 def attach(scene: Any, element: Any, dofs: tuple, normal_dofs: tuple | None, keys: tuple[str, str],
-           label: str) -> Contact:
-    """``hbm.Contact`` of ``element`` at ``dofs`` (its normal at ``normal_dofs``); ``keys`` are the
+           label: str, second_dofs: tuple | None = None, second_key: str = "structure.second_dofs") -> Contact:
+    """``hbm.Contact`` of ``element`` at ``dofs`` (its normal at ``normal_dofs``, the second tangential
+    direction of a three-component element at ``second_dofs``); ``keys`` and ``second_key`` are the
     scene keys that gave them (for messages), ``label`` the element's name in them."""
-    two = getattr(element, "components", 1) == 2
-    if two and normal_dofs is None:
-        raise SceneError([f"{scene.where(keys[1])} is missing: the {label} element acts on a tangential and a "
-                          f"normal displacement; {keys[0]} gives the tangential one, {keys[1]} = [k] (to ground) or "
-                          "[k, l] (x_k - x_l) the normal one"])
-    if not two and normal_dofs is not None:
+    c = getattr(element, "components", 1)
+    if c >= 2 and normal_dofs is None:
+        raise SceneError([f"{scene.where(keys[1])} is missing: the {label} element acts on "
+                          f"{'a tangential' if c == 2 else 'two tangential displacements'} and a normal displacement; "
+                          f"{keys[0]} gives the {'' if c == 2 else 'first '}tangential one, {keys[1]} = [k] "
+                          "(to ground) or [k, l] (x_k - x_l) the normal one"])
+    if c == 1 and normal_dofs is not None:
         raise SceneError([f"{scene.where(keys[1])} = {show(list(normal_dofs))}: not allowed: the {label} element "
-                          "acts on one displacement (normal DOFs attach a two-component element: contact2d, allmode2d)"])
+                          "acts on one displacement (normal DOFs attach a two- or three-component element: contact2d, "
+                          "contact3d, allmode2d)"])
+    if c == 3 and second_dofs is None:
+        raise SceneError([f"{scene.where(second_key)} is missing: the {label} element acts on two tangential "
+                          f"displacements; {keys[0]} gives the first, {second_key} = [k] (to ground) or [k, l] "
+                          "(x_k - x_l) the second"])
+    if c != 3 and second_dofs is not None:
+        raise SceneError([f"{scene.where(second_key)} = {show(list(second_dofs))}: not allowed: the {label} element "
+                          "has one tangential direction (second tangential DOFs attach a three-component element: "
+                          "contact3d)"])
     where = {"dof": dofs[0]} if len(dofs) == 1 else {"dofs": tuple(dofs)}
-    if two:
-        where.update({"normal_dof": normal_dofs[0]} if len(normal_dofs) == 1 else {"normal_dofs": tuple(normal_dofs)})
+    for one, d in (("second_dof", second_dofs), ("normal_dof", normal_dofs)):
+        if d is not None:
+            where.update({one: d[0]} if len(d) == 1 else {one + "s": tuple(d)})
     try:
         return Contact(element, **where)
     except ValueError as exc:
-        raise SceneError([f"{scene.where(keys[1] if two else keys[0])} = "
-                          f"{show(list(normal_dofs if two else dofs))}: {exc}"]) from None
+        key, given = (keys[1], normal_dofs) if c >= 2 else (keys[0], dofs)
+        if c == 3 and "second_dof(s)" in str(exc):
+            key, given = second_key, second_dofs
+        raise SceneError([f"{scene.where(key)} = {show(list(given))}: {exc}"]) from None
 
 
 def damper_contact(scene: Any, element: Any, label: str = "damper") -> Contact:
     """The run's damper attached at ``structure.contact_dofs`` (``structure.normal_dofs``)."""
     st = scene.structure
     return attach(scene, element, tuple(st["contact_dofs"]), st.get("normal_dofs"),
-                  ("structure.contact_dofs", "structure.normal_dofs"), label)
+                  ("structure.contact_dofs", "structure.normal_dofs"), label, st.get("second_dofs"),
+                  "structure.second_dofs")
 
 
 def structure_contacts(scene: Any, blade: Any, omega: tuple, harmonics: int) -> list:
@@ -176,7 +197,7 @@ def structure_contacts(scene: Any, blade: Any, omega: tuple, harmonics: int) -> 
                                   f"{harmonics} needs an element with a time-domain law; "
                                   f"{type(element).__name__} has none"])
             out.append(attach(scene, element, e["dofs"], e["normal_dofs"], (at + ".dofs", at + ".normal_dofs"),
-                              e["model"]))
+                              e["model"], e["second_dofs"], at + ".second_dofs"))
         except ValueError as exc:  # SceneError is a ValueError: an element's constructor names its parameter
             problems.extend(exc.problems if isinstance(exc, SceneError) else [f"{scene.where(at)}: {exc}"])
     if problems:
@@ -188,11 +209,11 @@ def dof_problems(scene: Any, n: int) -> list:
     """Every DOF index of ``[structure]`` (the damper's, the contacts', the response's) beyond the
     structure's ``n`` DOFs, one message each."""
     st = scene.structure
-    named = [("structure.contact_dofs", st["contact_dofs"]), ("structure.normal_dofs", st.get("normal_dofs")),
+    named = [("structure.contact_dofs", st["contact_dofs"]), ("structure.second_dofs", st.get("second_dofs")),
+             ("structure.normal_dofs", st.get("normal_dofs")),
              ("structure.response_dof", None if st.get("response_dof") is None else (st["response_dof"],))]
     for i, e in enumerate(st.get("contacts") or ()):
-        named += [(f"structure.contacts[{i}].dofs", e["dofs"]), (f"structure.contacts[{i}].normal_dofs",
-                                                                 e["normal_dofs"])]
+        named += [(f"structure.contacts[{i}].{key}", e[key]) for key in ("dofs", "second_dofs", "normal_dofs")]
     out = []
     for key, dofs in named:
         shown = show(list(dofs)) if dofs is not None and not key.endswith("response_dof") else show(

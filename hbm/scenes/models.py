@@ -35,19 +35,23 @@ its tolerances in units of the stuck stiffness (``k* a``), and an amplitude swee
   all period below |g|, opening above).
 - ``"contact2d"`` (``Contact2D``) has its example (k* = kt for a preload n0 > 0); the suite sees
   its first harmonic with the normal DOF at rest (the Jenkins element at ``mu n0``).
+- ``"contact3d"`` (``Contact3D``) has its example, seen the same way (one tangential direction moving,
+  the normal at rest: the Jenkins element at ``mu n0``).
 - ``"allmode2d"`` (``AllModeMicroslip2D``) has its example (8 cells, H = 11); the suite sees its
   first harmonic with the normal DOF at rest, which is ``AllModeMicroslip`` on the same cells and
   harmonics (its normal motion is checked in ``tests/test_allmode_normal.py``).
 
-Both declare ``linear_amplitude = 0`` (a mean displacement, or normal motion, changes their contact
-state at any amplitude) although their first harmonic about a zero mean is exactly k* a below |g|
-or mu n0/kt; the suite accepts that exactly linear start.
+``Gap``, ``Contact2D`` and ``Contact3D`` declare ``linear_amplitude = 0`` (a mean displacement, or
+normal motion, changes their contact state at any amplitude) although their first harmonic about a
+zero mean is exactly k* a below |g| or mu n0/kt; the suite accepts that exactly linear start.
 
 An amplitude sweep refuses an element whose k* is 0 (naming ``sweep.kind``); in a frequency sweep
 and as a contact of a ``[structure]`` (``structure.contacts``, ``hbm.scenes.contacts``) every
 model is usable.  ``"contact2d"`` and ``"allmode2d"`` act on two displacements (tangential, normal:
 the element's ``components = 2``); the scene attaches the normal with ``structure.normal_dofs`` (or
-an entry's ``normal_dofs``).  ``"allmode2d"`` needs the bar and the load of ``[damper]``, so it is a
+an entry's ``normal_dofs``).  ``"contact3d"`` acts on three (two tangential, then the normal:
+``components = 3``), its second tangential displacement attached with ``structure.second_dofs`` (or an
+entry's ``second_dofs``).  ``"allmode2d"`` needs the bar and the load of ``[damper]``, so it is a
 damper only, not an entry of ``[[structure.contacts]]``.
 """
 
@@ -58,7 +62,8 @@ from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import Any, Callable, Mapping, NamedTuple
 
-from contact_models import (AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, CubicSpring, Gap, Iwan, Macroslip,
+from contact_models import (AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, Contact3D, CubicSpring, Gap, Iwan,
+                            Macroslip,
                             PointContact, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models.allmode import CELLS, CELLS_2D, HARMONICS_2D, SAMPLES_PER_HARMONIC_2D
 
@@ -411,14 +416,15 @@ GAP_STIFFNESS = Key(number(gt=0, unit="N/m"), None,
                     "gap only, required: stiffness k of the unilateral spring f = k max(0, x - gap) (N/m)")
 GAP = Key(number(unit="m"), None, "gap only, required: the gap g (m), the displacement at which the contact "
                                   "closes; < 0 a preloaded contact (force -k g at x = 0)")
-KT = Key(number(gt=0, unit="N/m"), None, "contact2d only, required: tangential contact stiffness kt (N/m)")
-KN = Key(number(ge=0, unit="N/m for contact2d, N/m^2 for allmode2d"), None,
-         "contact2d and allmode2d, required: normal contact stiffness kn, v > 0 pressing; contact2d's (N/m): the "
-         "normal load N = max(0, n0 + kn v); allmode2d's per unit length (N/m^2): the load q(x) + kn s(x) v")
-N0 = Key(number(unit="N"), None, "contact2d only, required: normal preload n0 (N) at zero normal displacement "
-                                 "(<= 0: open at rest)")
-FRICTION = Key(number(gt=0), None, "contact2d only, required: friction coefficient mu of the point contact, "
-                                   "|T| <= mu N")
+KT = Key(number(gt=0, unit="N/m"), None, "contact2d and contact3d, required: tangential contact stiffness kt (N/m)")
+KN = Key(number(ge=0, unit="N/m for contact2d and contact3d, N/m^2 for allmode2d"), None,
+         "contact2d, contact3d and allmode2d, required: normal contact stiffness kn, v > 0 pressing; contact2d's and "
+         "contact3d's (N/m): the normal load N = max(0, n0 + kn v); allmode2d's per unit length (N/m^2): the load "
+         "q(x) + kn s(x) v")
+N0 = Key(number(unit="N"), None, "contact2d and contact3d, required: normal preload n0 (N) at zero normal "
+                                 "displacement (<= 0: open at rest)")
+FRICTION = Key(number(gt=0), None, "contact2d and contact3d, required: friction coefficient mu of the point contact, "
+                                   "|T| <= mu N (contact3d: the magnitude of its two tangential components)")
 K3 = Key(_nonzero, None, "cubic only, required: coefficient k3 of f = k3 x^3 (N/m^3; < 0 softening)")
 
 
@@ -444,6 +450,12 @@ def _build_contact2d(run):
                  f"kt = {p['kt']:g} N/m, kn = {p['kn']:g} N/m, mu = {p['friction']:g}, n0 = {p['n0']:g} N")
 
 
+def _build_contact3d(run):
+    p = run.params
+    return Built(Contact3D(kt=p["kt"], kn=p["kn"], mu=p["friction"], n0=p["n0"]), "contact3d",
+                 f"kt = {p['kt']:g} N/m, kn = {p['kn']:g} N/m, mu = {p['friction']:g}, n0 = {p['n0']:g} N")
+
+
 def _build_cubic(run):
     return Built(CubicSpring(k3=run.params["k3"]), "cubic", f"k3 = {run.params['k3']:g} N/m^3")
 
@@ -454,6 +466,10 @@ def _example_gap():
 
 def _example_contact2d():
     return Contact2D(kt=1.0e6, kn=5.0e5, mu=0.3, n0=100.0)
+
+
+def _example_contact3d():
+    return Contact3D(kt=1.0e6, kn=5.0e5, mu=0.3, n0=100.0)
 
 
 # ---- the all-mode bar with normal motion (two components: tangential end, normal displacement)
@@ -504,6 +520,10 @@ def _register_contacts():
                    doc="a point contact: Jenkins friction under the normal load max(0, n0 + kn v), separation "
                        "(Contact2D; tangential and normal DOFs)", example=_example_contact2d,
                    validate=_required("contact2d", "kt", "kn", "friction", "n0"))
+    register_model("contact3d", _build_contact3d, keys={"kt": KT, "kn": KN, "friction": FRICTION, "n0": N0},
+                   doc="a point contact with two tangential directions: a circular Coulomb limit mu max(0, n0 + kn v), "
+                       "separation (Contact3D; two tangential DOFs and a normal one)", example=_example_contact3d,
+                   validate=_required("contact3d", "kt", "kn", "friction", "n0"))
     register_model("cubic", _build_cubic, keys={"k3": K3}, doc="a cubic spring f = k3 x^3 (CubicSpring)",
                    validate=_required("cubic", "k3"))
     register_model("allmode2d", _build_all_mode_2d,

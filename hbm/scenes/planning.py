@@ -360,7 +360,8 @@ def plan_scene(scene: Scene) -> Plan:
             if isinstance(blade, Blade) and getattr(runs[-1].element, "components", 1) != 1:
                 problems.append(f"{scene.where('damper.model')} = {show(model)}: the element acts on a tangential "
                                 "and a normal displacement; a [blade] has one DOF: use a [structure] with "
-                                "structure.contact_dofs and structure.normal_dofs")
+                                "structure.contact_dofs and structure.normal_dofs"
+                                + (" (and structure.second_dofs)" if runs[-1].element.components == 3 else ""))
     if scene.modes is not None and scene.modes["mode"] >= getattr(blade, "n", 1):
         n = getattr(blade, "n", 1)
         problems.append(f"{scene.where('modes.mode')} = {scene.modes['mode']}: the system has {n} DOF"

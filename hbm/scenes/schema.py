@@ -52,14 +52,19 @@ _FIXED: dict[str, dict[str, Key]] = {
                      "force amplitudes of F cos(omega t), one per DOF (N)"),
         "contact_dofs": Key(dof_list, REQUIRED,
                             "where the damper acts: [i] (DOF i to ground) or [i, j] (on x_i - x_j); the tangential "
-                            "displacement of a two-component damper (contact2d, allmode2d)"),
+                            "displacement of a two-component damper (contact2d, allmode2d), the first of a "
+                            "three-component one (contact3d)"),
+        "second_dofs": Key(dof_list, OPTIONAL,
+                           "three-component damper (contact3d) only, required for it: its second tangential "
+                           "displacement, [k] (DOF k to ground) or [k, l] (x_k - x_l)"),
         "normal_dofs": Key(dof_list, OPTIONAL,
-                           "two-component damper (contact2d, allmode2d) only, required for it: its normal displacement, [k] "
-                           "(DOF k to ground) or [k, l] (x_k - x_l, v > 0 pressing)"),
+                           "two- or three-component damper (contact2d, allmode2d, contact3d) only, required for it: "
+                           "its normal displacement, [k] (DOF k to ground) or [k, l] (x_k - x_l, v > 0 pressing)"),
         "contacts": Key(contact_tables, OPTIONAL,
                         "further elements of the structure, the same in every run: [[structure.contacts]] tables, "
                         "each with model (a registered model complete in its own keys), dofs ([i] or [i, j]), "
-                        "normal_dofs (contact2d) and the model's keys as in [damper]"),
+                        "normal_dofs (contact2d, contact3d), second_dofs (contact3d) and the model's keys as in "
+                        "[damper]"),
         "response_dof": Key(integer(0), OPTIONAL, "the DOF whose response is reported; default the forced DOF"),
     },
     "damper.load": {

@@ -1,0 +1,93 @@
+"""Regenerate ``tests/data/physical_curve_reference.json``: the default blade's true periodic response with
+the bar of every mode at 16 frequencies across its resonance, the reference the main job's curve is
+checked against.
+
+The default case (``hbm.cli.cases.default_case``: the two-region bar under 100 N on the blade of
+stiffness 1e8 N/m) with ``AllModeMicroslip(bar, load, cells, harmonics)`` as the damper, the blade
+balanced with ``Hb`` harmonics (AFT on 16 Hb samples per harmonic).  Each frequency is solved by a
+plain Newton iteration on the blade's harmonics at fixed omega (written here, not the library's
+continuation or refinement), started from the single-mode balance's solution there and carried up a
+ladder of resolutions, each rung from the last:
+
+    (64, 31, 3) -> (128, 63, 5) -> (256, 63, 7) -> (512, 127, 9)
+
+(cells, bar harmonics, blade harmonics).  The stored amplitude is the first harmonic's modulus on the
+finest rung; ``spread`` is its relative distance to the rung below (256, 63, 7), an upper bound of
+the reference's own error where the ladder converges (it is checked to be below 1e-4 of the
+amplitude: ten times below the tolerance the curve is held to).
+
+Run: ``PYTHONPATH=. python3 benchmarks/physical_curve_reference.py [--out PATH]`` (about ten minutes
+on one core).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+
+import hbm
+from contact_models import AllModeMicroslip
+from hbm.cli.cases import default_case
+
+ROOT = Path(__file__).resolve().parent.parent
+OUT = ROOT / "tests" / "data" / "physical_curve_reference.json"
+#: The ladder of (cells, bar harmonics, blade harmonics), the reference the last.
+LADDER = [(64, 31, 3), (128, 63, 5), (256, 63, 7), (512, 127, 9)]
+#: Frequencies as fractions of the stuck resonance sqrt((k + k*)/m): across the microslip band
+#: and both flanks, denser near the peak (about 0.972 of it).
+FRACTIONS = [0.90, 0.94, 0.955, 0.96, 0.963, 0.966, 0.9685, 0.9695, 0.9705, 0.9715, 0.9725, 0.974,
+             0.977, 0.982, 0.99, 1.02]
+
+
+def fixed_frequency(blade, element, Hb: int, omega: float, X0: np.ndarray) -> np.ndarray:
+    """The blade's harmonics (2 Hb + 1,) at ``omega`` by Newton's method on the balance, from ``X0``."""
+    hb = hbm.HarmonicBalance(blade, element, harmonics=Hb, n_t=16 * Hb)
+    L = 2 * Hb + 1
+    X = np.zeros(hb.na * L)
+    X[:min(X0.size, L)] = X0[:L]
+    for _ in range(60):
+        R, J = hb.physical(np.concatenate([X, [omega]]))
+        dX = np.linalg.solve(J[:, :-1], -R)
+        X += dX
+        if np.linalg.norm(dX) <= 1e-12 * np.linalg.norm(X):
+            return X
+    raise RuntimeError(f"Newton did not converge at omega = {omega!r} on {element!r}, Hb = {Hb}")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=OUT)
+    args = parser.parse_args()
+    warnings.simplefilter("ignore")
+    case = default_case()
+    blade, el = case.blade, case.element
+    w_stuck = float(np.sqrt((blade.stiffness + el.stuck_stiffness(0.0)) / blade.mass))
+    omegas = [f * w_stuck for f in FRACTIONS]
+    single = hbm.frequency_response(blade, el, case.omega_range, harmonics=1, tol=1e-4)
+    points = []
+    t0 = time.perf_counter()
+    for w in omegas:
+        i = int(np.argmin(np.abs(single.omega - w)))
+        X = np.array([0.0, single.x_c[i], single.x_s[i]])
+        amps = []
+        for n, H, Hb in LADDER:
+            X = fixed_frequency(blade, AllModeMicroslip(el.bar, el.load, cells=n, harmonics=H), Hb, w, X)
+            amps.append(float(np.hypot(X[1], X[2])))
+        spread = abs(amps[-1] - amps[-2]) / amps[-1]
+        points.append({"omega": w, "amplitude": amps[-1], "spread": spread, "ladder": amps})
+        print(f"omega {w:.2f} amplitude {amps[-1]:.8e} spread {spread:.1e} ({time.perf_counter() - t0:.0f} s)",
+              flush=True)
+    data = {"generated_by": "benchmarks/physical_curve_reference.py", "case": case.description,
+            "ladder": LADDER, "fractions_of_stuck_resonance": FRACTIONS, "points": points,
+            "seconds": round(time.perf_counter() - t0, 1)}
+    args.out.write_text(json.dumps(data, indent=1) + "\n")
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
