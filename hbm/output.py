@@ -2,7 +2,9 @@
 
 Every FRF table (``FrequencyResponse.to_csv``, ``python -m hbm``, a scene's ``frf.csv``) has the
 columns :data:`FRF_COLUMNS`, units in the names, with a scene's run columns :data:`RUN_COLUMNS`
-in front; rows are streamed and flushed as points arrive (:class:`CsvStream`).  Every FRF
+in front, the column names followed by ``# key: value`` lines (case, model, tol, version) that
+``numpy.loadtxt(..., skiprows=1)`` and ``pandas.read_csv(comment="#")`` skip (:func:`csv_lines`
+for the ``csv`` module); rows are streamed and flushed as points arrive (:class:`CsvStream`).  Every FRF
 figure is drawn by :func:`plot_frfs`, which stays readable for many curves: up to
 :data:`LEGEND_LIMIT` curves get a legend, more are coloured by a swept parameter with a colour bar
 and styled by model.  Floats are written with ``repr`` (round-trip exact).
@@ -45,8 +47,43 @@ TABLE_COLUMNS = ("omega_rad_s", "a_m", "a_over_unit", "f_s_N", "f_c_N", "F_s", "
 OMEGA_UNITS = {"rad/s": (1.0, r"$\omega$ (rad/s)"), "Hz": (1.0 / (2.0 * math.pi), "frequency (Hz)")}
 #: Amplitude units of a figure's axis: name -> (factor from m, axis label).
 AMPLITUDE_UNITS = {"m": (1.0, "amplitude (m)"), "um": (1.0e6, "amplitude (\u00b5m)")}
-#: A figure draws amplitudes in micrometres when every one is below this (m).
-MICROMETRE_BELOW = 1.0e-3
+#: Axis names of the scene keys a scene or study varies: key -> (name, unit); SI units, "" for a
+#: number without one.  A key not here is named by itself (:func:`key_label`).
+KEY_LABELS = {
+    "damper.load.N": ("normal load N", "N"),
+    "damper.load.ratio": ("load ratio q0/(q0 - q2)", ""),
+    "damper.mu": ("friction coefficient mu", ""),
+    "damper.k": ("shear-layer stiffness k", "N/m^2"),
+    "damper.beta": ("strain-hardening stiffness beta", "N/m"),
+    "damper.E": ("Young's modulus E", "Pa"),
+    "damper.rho": ("density rho", "kg/m^3"),
+    "damper.A": ("cross-section A", "m^2"),
+    "damper.L": ("bar length L", "m"),
+    "damper.stiffness": ("damper stiffness", "N/m"),
+    "damper.slip_force": ("slip force", "N"),
+    "blade.mass": ("modal mass m", "kg"),
+    "blade.stiffness": ("blade stiffness k", "N/m"),
+    "blade.damping": ("viscous damping c", "N s/m"),
+    "blade.damping_ratio": ("damping ratio zeta", ""),
+    "blade.force": ("force amplitude F", "N"),
+    "sweep.tol": ("target relative error tol", ""),
+}
+
+
+def key_label(key: str) -> str:
+    """The axis label of a scene key: its name and SI unit from :data:`KEY_LABELS`, else the key.
+
+    Examples
+    --------
+    >>> key_label("damper.load.N"), key_label("damper.mu"), key_label("effects.inertia")
+    ('normal load N (N)', 'friction coefficient mu', 'effects.inertia')
+    """
+    if key not in KEY_LABELS:
+        return key
+    name, unit = KEY_LABELS[key]
+    return f"{name} ({unit})" if unit else name
+
+
 #: At most this many curves get a legend; beyond, colour follows the swept parameter.
 LEGEND_LIMIT = 8
 #: Line styles by model, in order of first appearance.
@@ -115,26 +152,92 @@ def error_value(error: float | None) -> str:
     return repr(float(error)) if error is not None else "nan"
 
 
+#: The first character of a CSV's comment lines (what ``numpy.loadtxt``, ``numpy.genfromtxt`` and
+#: ``pandas.read_csv(..., comment="#")`` skip; :func:`csv_lines` for the ``csv`` module).
+COMMENT = "#"
+
+
+def comment_lines(fields: Any) -> list[str]:
+    """The ``# key: value`` lines of a CSV's header from ``fields`` (a mapping; None values left out,
+    line breaks in a value made spaces, so every line stays one comment line).
+
+    Examples
+    --------
+    >>> comment_lines({"case": "blade\\nand damper", "tol": 0.001, "model": None})
+    ['# case: blade and damper', '# tol: 0.001']
+    """
+    return [f"{COMMENT} {k}: {' '.join(str(v).split())}" for k, v in dict(fields).items() if v is not None]
+
+
+def csv_lines(lines: Iterable[str]) -> Iterable[str]:
+    """The lines of a CSV without its ``#`` comment lines, for ``csv.reader`` / ``csv.DictReader``
+    (an open file, or any iterable of lines).
+
+    Examples
+    --------
+    >>> import csv
+    >>> list(csv.reader(csv_lines(["# tol: 0.001", "a,b", "1,2"])))
+    [['a', 'b'], ['1', '2']]
+    """
+    return (line for line in lines if not line.startswith(COMMENT))
+
+
+def read_comments(path: str | Path) -> dict:
+    """The ``# key: value`` lines of a CSV written here (:class:`CsvStream`), as a dict of strings.
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "t.csv"
+    >>> with CsvStream(path, ("a",), comments={"tol": 0.001}) as out:
+    ...     out.write(["1.0"])
+    >>> read_comments(path)
+    {'tol': '0.001'}
+    """
+    out = {}
+    with Path(path).open(newline="") as fh:
+        next(fh, None)  # the column names
+        for line in fh:
+            if not line.startswith(COMMENT):
+                break
+            key, _, value = line[len(COMMENT):].strip().partition(": ")
+            out[key] = value
+    return out
+
+
 class CsvStream:
     """A CSV file written row by row and flushed after each, so an interrupted run keeps its rows.
+
+    ``comments`` (a mapping) is written as ``# key: value`` lines (:func:`comment_lines`) right
+    after the column names: what the table is (case, model, tol, version).  There the usual
+    readers skip them: ``numpy.loadtxt(path, delimiter=",", skiprows=1)`` (its ``skiprows`` counts
+    comment lines too, so they follow the one line it skips), ``numpy.genfromtxt(path,
+    delimiter=",", names=True)`` and ``pandas.read_csv(path, comment="#")``; for the ``csv``
+    module, :func:`csv_lines`.
 
     Examples
     --------
     >>> import tempfile, pathlib
     >>> path = pathlib.Path(tempfile.mkdtemp()) / "frf.csv"
-    >>> with CsvStream(path, FRF_COLUMNS) as out:
+    >>> with CsvStream(path, FRF_COLUMNS, comments={"tol": 0.001}) as out:
     ...     out.write(frf_row(1.0, 3.0, 4.0, 1e-9))
-    >>> path.read_text().splitlines()[1]
-    '1.0,5.0,0.9272952180016122,3.0,4.0,1e-09,nan'
+    >>> path.read_text().splitlines()[1:]
+    ['# tol: 0.001', '1.0,5.0,0.9272952180016122,3.0,4.0,1e-09,nan']
+    >>> float(np.loadtxt(path, delimiter=",", skiprows=1)[1])   # the column names skipped, the comment too
+    5.0
     """
 
-    def __init__(self, path: str | Path, columns: Sequence[str]) -> None:
+    def __init__(self, path: str | Path, columns: Sequence[str], *, comments: Any = None) -> None:
         self.path = Path(path)
         self.columns = tuple(columns)
         self._fh = self.path.open("w", newline="")
+        self.comments = comment_lines(comments or {})
         self._writer = csv.writer(self._fh)
         self.rows = 0
-        self.write(self.columns, count=False)
+        self._writer.writerow(self.columns)
+        for line in self.comments:  # after the column names: loadtxt(skiprows=1), genfromtxt(names=True) read on
+            self._fh.write(line + "\r\n")  # the csv module's line ending, as the rows
+        self._fh.flush()
 
     def write(self, row: Iterable[Any], *, count: bool = True) -> None:
         """Append one row and flush it."""
@@ -152,12 +255,65 @@ class CsvStream:
         self.close()
 
 
-def write_frf_csv(path: str | Path, frf: Any) -> Path:
+#: The message of ``to_dataframe`` without pandas.
+PANDAS_MISSING = ('to_dataframe needs pandas, which is not installed: pip install "frictiondamp[pandas]" '
+                  '(or pip install pandas); to_csv writes the same table without it')
+
+
+def pandas_module() -> Any:
+    """``pandas``, imported when a table is asked for as a DataFrame; ``ImportError`` naming the
+    ``pandas`` extra where it is not installed (the library itself needs only numpy, scipy and
+    matplotlib)."""
+    try:
+        import pandas  # lazily: an optional extra
+    except ImportError:
+        raise ImportError(PANDAS_MISSING) from None
+    return pandas
+
+
+def frf_table(frf: Any) -> dict:
+    """The columns of :func:`write_frf_csv` as arrays, ``{name: ndarray}`` in the CSV's order
+    (numbers as floats, ``stable`` as bool, ``model`` as str): what ``to_dataframe`` holds."""
+    H = int(frf.harmonics)
+    table = {"omega_rad_s": np.asarray(frf.omega, dtype=float), "amplitude_m": np.asarray(frf.amplitude, dtype=float),
+             "phase_rad": np.asarray(frf.phase, dtype=float), "x_c_m": np.asarray(frf.x_c, dtype=float),
+             "x_s_m": np.asarray(frf.x_s, dtype=float), "residual_rel": np.asarray(frf.residual_norm, dtype=float),
+             "error_rel": np.asarray(frf.error_estimate, dtype=float)}
+    if H > 1:
+        C = frf.coefficients(frf.response_dof)
+        X = np.empty((len(C), 2 * H + 1))
+        X[:, 0], X[:, 1::2], X[:, 2::2] = C[:, 0].real, C[:, 1:].real, -C[:, 1:].imag
+        table.update(zip(harmonic_columns(H), X.T))
+        table[STABLE_COLUMN] = np.asarray(frf.stable, dtype=bool)
+    Hs, models = np.asarray(frf.point_harmonics), np.asarray(frf.point_models)
+    if len(set(Hs.tolist())) > 1:
+        table[H_COLUMN] = Hs.astype(int)
+    if len(set(models.tolist())) > 1:
+        table[MODEL_COLUMN] = models.astype(str)
+    return table
+
+
+def frf_comments(frf: Any, case: str | None = None) -> dict:
+    """The header of an FRF's CSV: the library and its version, the ``case`` (if given), the model
+    (the points' models, ``FrequencyResponse.point_models``), the tolerance (``tol``: the
+    target of ``error_rel``; none without an estimate) and the harmonics."""
+    from contact_models import __version__  # lazily: this module stays free of the packages' imports at load
+
+    models = list(dict.fromkeys(str(m) for m in getattr(frf, "point_models", [])))
+    tol = getattr(frf, "tol", None)
+    return {"frictiondamp": __version__, "case": case, "model": ", ".join(models) or "none (linear)",
+            "tol": "none (no error estimate)" if tol is None else f"{tol:g} (target relative error of amplitude_m; "
+                                                                   "error_rel is each point's estimate)",
+            "harmonics": int(frf.harmonics)}
+
+
+def write_frf_csv(path: str | Path, frf: Any, *, case: str | None = None) -> Path:
     """Write a :class:`hbm.FrequencyResponse` as :func:`frf_columns` (:data:`FRF_COLUMNS` at one
     harmonic; above one, also every harmonic of the response DOF, from
     ``frf.coefficients(frf.response_dof)``, zero above a point's own H, and its stability), then
     :data:`H_COLUMN` and :data:`MODEL_COLUMN` where the point's H and model vary along the curve
-    (``frf.point_harmonics``, ``frf.point_models``); returns the path."""
+    (``frf.point_harmonics``, ``frf.point_models``), under the ``#`` header of :func:`frf_comments`
+    (``case`` a description of what was solved); returns the path."""
     H = int(frf.harmonics)
     n = len(frf.omega)
     Hs, models = (np.asarray(getattr(frf, name, np.full(n, v))) for name, v in (("point_harmonics", H),
@@ -165,7 +321,7 @@ def write_frf_csv(path: str | Path, frf: Any) -> Path:
     extra = ((H_COLUMN,) if len(set(Hs.tolist())) > 1 else ()) + ((MODEL_COLUMN,) if len(set(models.tolist())) > 1
                                                                   else ())
     tail = [[str(int(h))] * (H_COLUMN in extra) + [str(m)] * (MODEL_COLUMN in extra) for h, m in zip(Hs, models)]
-    with CsvStream(path, frf_columns(H) + extra) as out:
+    with CsvStream(path, frf_columns(H) + extra, comments=frf_comments(frf, case)) as out:
         if H == 1:
             for w, xc, xs, r, a, ph, e, t in zip(frf.omega, frf.x_c, frf.x_s, frf.residual_norm, frf.amplitude,
                                                  frf.phase, frf.error_estimate, tail):
@@ -181,18 +337,6 @@ def write_frf_csv(path: str | Path, frf: Any) -> Path:
     return Path(path)
 
 
-def amplitude_unit_for(amplitudes: Iterable[float]) -> str:
-    """``"um"`` when every amplitude (m) is below :data:`MICROMETRE_BELOW`, else ``"m"``.
-
-    Examples
-    --------
-    >>> amplitude_unit_for([1.5e-6, 2e-6]), amplitude_unit_for([0.002])
-    ('um', 'm')
-    """
-    values = [float(a) for a in amplitudes if math.isfinite(float(a))]
-    return "um" if values and max(abs(v) for v in values) < MICROMETRE_BELOW else "m"
-
-
 def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]], ax: Any = None, *,
               parameter: str | None = None, log: bool = True, omega_unit: str = "rad/s",
               amplitude_unit: str = "m") -> Any:
@@ -201,8 +345,10 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     ``curves`` is a sequence of ``(frf, label, model, value)``: ``model`` sets the line style,
     ``value`` (a number or None) the colour when there are more than :data:`LEGEND_LIMIT` curves,
     with a colour bar titled ``parameter``.  Each curve is drawn by ``FrequencyResponse.plot``,
-    which marks its peak; ``omega_unit`` (:data:`OMEGA_UNITS`) and ``amplitude_unit``
-    (:data:`AMPLITUDE_UNITS`) set the axes' units.
+    which marks its peak and shades its estimated error (up to :data:`LEGEND_LIMIT` curves; more
+    would hide each other under their bands); ``omega_unit`` (:data:`OMEGA_UNITS`) and
+    ``amplitude_unit`` (:data:`AMPLITUDE_UNITS`) set the axes' units.  ``parameter`` is the colour
+    bar's title (:func:`key_label` of a scene key).
     """
     if ax is None:
         import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
@@ -221,11 +367,15 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
         norm = (colors.LogNorm if min(values) > 0 and max(values) / min(values) > 20 else colors.Normalize)(
             min(values), max(values))
         cmap = colormaps["viridis"]
+    before = len(ax.patches)
     for i, (frf, label, model, value) in enumerate(curves):
         style = STYLES[models.index(model) % len(STYLES)]
         color = cmap(norm(value)) if by_value else f"C{i % 10}"
         frf.plot(ax, label=None if by_value else label, peak=bool(frf.success), ls=style, color=color,
-                 lw=0.9 if by_value else 1.2, **units)
+                 lw=0.9 if by_value else 1.2, **units, **({"error_band": False} if by_value else {}))
+    bands = ax.patches[before:]
+    if bands:  # one legend entry says what the shading is
+        bands[0].set_label(BAND_LABEL)
     if log:
         ax.set_yscale("log")
     if by_value:
@@ -266,6 +416,40 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     if a_min is not None and math.isfinite(a_min) and a_min > 0.0:
         ax.axhline(a_min * a_scale, color=a_min_color, lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)" if label else None)
     return ax
+
+
+#: The legend entry of the estimated error's shading (once per figure, :func:`plot_frfs`).
+BAND_LABEL = "estimated error (shaded)"
+#: The most of the band's relative half-width drawn below the curve: its lower edge stays above zero
+#: (a logarithmic axis draws it).
+BAND_FLOOR = 0.99
+
+
+def plot_error_band(ax: Any, omega: Any, amplitude: Any, error: Any, *, color: Any = None, omega_unit: str = "rad/s",
+                    amplitude_unit: str = "m", alpha: float = 0.2) -> Any:
+    """Shade ``amplitude * (1 +- error)`` along a branch on ``ax`` (``error`` relative, per point; NaN
+    is no width), as a ribbon: the upper edge in continuation order, the lower edge back, so the band
+    follows a folded branch.  The lower edge's relative distance is capped at :data:`BAND_FLOOR`.
+    Returns the patch (no legend entry).
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> _, ax = plt.subplots()
+    >>> band = plot_error_band(ax, [1.0, 2.0, 3.0], [1.0, 2.0, 1.0], [0.1, 0.5, float("nan")])
+    >>> band.get_xy()[:6, 1].round(6).tolist()          # up: 1.1, 3.0, 1.0; back: 1.0, 1.0, 0.9
+    [1.1, 3.0, 1.0, 1.0, 1.0, 0.9]
+    """
+    w_scale, a_scale = OMEGA_UNITS[omega_unit][0], AMPLITUDE_UNITS[amplitude_unit][0]
+    w = np.asarray(omega, dtype=float) * w_scale
+    a = np.asarray(amplitude, dtype=float) * a_scale
+    e = np.nan_to_num(np.asarray(error, dtype=float), nan=0.0, posinf=0.0)
+    upper, lower = a * (1.0 + e), a * (1.0 - np.minimum(e, BAND_FLOOR))
+    band, = ax.fill(np.concatenate([w, w[::-1]]), np.concatenate([upper, lower[::-1]]), color=color, alpha=alpha,
+                    lw=0, label="_nolegend_")
+    return band
 
 
 def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, label: str | None = None,

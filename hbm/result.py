@@ -20,7 +20,8 @@ from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
 from .balance.stability import STABILITY_TOL, HillProblem, band_modes, stability_changes
-from .output import AMPLITUDE_UNITS, OMEGA_UNITS, plot_branch, write_frf_csv
+from .output import (AMPLITUDE_UNITS, OMEGA_UNITS, frf_comments, frf_table, pandas_module, plot_branch,
+                     plot_error_band, write_frf_csv)
 
 #: The peak is located to this fraction of its bracket times sqrt(rtol) in arclength; the
 #: amplitude error is quadratic in that distance.
@@ -530,16 +531,21 @@ class FrequencyResponse:
         self.error_estimate = errors.total(self.error_sources)
 
     # ------------------------------------------------------------------ output
-    def to_csv(self, path: str | Path) -> Path:
+    def to_csv(self, path: str | Path, *, case: str | None = None) -> Path:
         """Write the points as ``hbm.output.FRF_COLUMNS`` (omega, amplitude, phase, x_c, x_s,
-        residual, units in the header); above one harmonic also every harmonic of the response DOF
-        (``X0_m, Xc1_m, Xs1_m, ..., XcH_m, XsH_m`` from :meth:`coefficients`) and ``stable`` (0/1,
-        :attr:`stable`).  Returns the path.
+        residual, error estimate, units in the names); above one harmonic also every harmonic of
+        the response DOF (``X0_m, Xc1_m, Xs1_m, ..., XcH_m, XsH_m`` from :meth:`coefficients`) and
+        ``stable`` (0/1, :attr:`stable`).  After the column names, ``# key: value`` lines say what
+        the table is: the library version, ``case``, the model, ``tol`` and H
+        (``hbm.output.frf_comments``); ``numpy.loadtxt(path, delimiter=",", skiprows=1)`` and
+        ``pandas.read_csv(path, comment="#")`` skip them.  Returns the path.
 
         Parameters
         ----------
         path : str or Path
             The CSV file to write.
+        case : str, optional
+            What was solved, in words (the ``# case:`` line); default none.
 
         Returns
         -------
@@ -554,17 +560,56 @@ class FrequencyResponse:
         ...                          omega_range=(90.0, 110.0))
         >>> path = frf.to_csv(pathlib.Path(tempfile.mkdtemp()) / "frf.csv")
         >>> lines = path.read_text().splitlines()
-        >>> lines[0].split(",")[:2], len(lines) == len(frf.omega) + 1
+        >>> [line for line in lines if line.startswith("#")]
+        ['# frictiondamp: ...', '# model: none (linear)', "# tol: 0.001 (target relative error of amplitude_m; error_rel is each point's estimate)", '# harmonics: 1']
+        >>> table = [line for line in lines if not line.startswith("#")]
+        >>> table[0].split(",")[:2], len(table) == len(frf.omega) + 1
         (['omega_rad_s', 'amplitude_m'], True)
-        >>> float(lines[1].split(",")[0]), float(lines[-1].split(",")[0])   # omega_range, rad/s
+        >>> import numpy as np
+        >>> data = np.loadtxt(path, delimiter=",", skiprows=1)   # the comment lines are skipped
+        >>> float(data[0, 0]), float(data[-1, 0])                # omega_range, rad/s
         (90.0, 110.0)
         """
-        return write_frf_csv(path, self)
+        return write_frf_csv(path, self, case=case)
+
+    def to_dataframe(self, *, case: str | None = None) -> Any:
+        """The points as a ``pandas.DataFrame`` with the columns of :meth:`to_csv` (units in the
+        names), one row per point in continuation order; ``attrs`` holds the CSV's header lines
+        (version, ``case``, model, ``tol``, H: ``hbm.output.frf_comments``).
+
+        Needs pandas (the optional extra: ``pip install "frictiondamp[pandas]"``).
+
+        Parameters
+        ----------
+        case : str, optional
+            What was solved, in words (``attrs["case"]``).
+
+        Returns
+        -------
+        pandas.DataFrame
+            The same numbers as :meth:`to_csv` writes (it writes them with ``repr``, so
+            ``pandas.read_csv(path, comment="#")`` reads the same frame back).
+
+        Raises
+        ------
+        ImportError
+            Without pandas, naming the extra.
+        """
+        pd = pandas_module()
+        frame = pd.DataFrame(frf_table(self))
+        frame.attrs.update({k: v for k, v in frf_comments(self, case).items() if v is not None})
+        return frame
 
     def plot(self, ax: Any = None, *, label: str | None = None, peak: bool = True, omega_unit: str = "rad/s",
-             amplitude_unit: str = "m", **kwargs: Any) -> Any:
+             amplitude_unit: str = "m", error_band: bool = True, **kwargs: Any) -> Any:
         """Amplitude against omega on ``ax`` (a new figure if None): stable parts solid, unstable
-        dashed (:attr:`stable`); marks the peak. Returns ax.
+        dashed (:attr:`stable`), the estimated error as a shaded band; marks the peak. Returns ax.
+
+        The band is ``amplitude * (1 +- error_estimate)``: ``error_estimate`` is the relative
+        error of the amplitude against the physical system, so the band is where the true
+        response lies by the estimate (``docs/validation.md``, "Error estimates").  A ribbon along
+        the branch (the upper edge out, the lower edge back), so it follows folds; a point
+        without an estimate (NaN) has no width.
 
         Parameters
         ----------
@@ -578,6 +623,9 @@ class FrequencyResponse:
             Unit of the frequency axis.  Default "rad/s".
         amplitude_unit : {"m", "um"}, optional
             Unit of the amplitude axis.  Default "m".
+        error_band : bool, optional
+            Draw the estimated error as a band in the curve's colour, where the result has an
+            estimate (``tol`` not None).  Default True.
         **kwargs
             Passed to ``ax.plot`` (colour, line style).
 
@@ -594,14 +642,19 @@ class FrequencyResponse:
         >>> frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0),
         ...                          omega_range=(90.0, 110.0))
         >>> ax = frf.plot(label="bare blade")
-        >>> ax.get_ylabel(), len(ax.lines)                 # the curve and its peak
-        ('amplitude (m)', 2)
+        >>> ax.get_ylabel(), len(ax.lines), len(ax.patches)   # the curve, its peak and the error band
+        ('amplitude (m)', 2, 1)
+        >>> len(frf.plot(error_band=False).patches)
+        0
         """
         # a single DOF at H = 1 with a passive element loses stability only at folds (the sum of
         # its two exponents is minus its damping): its stability is computed only on a folded branch
         known = (self._stable is not None or not self._problem.one_dof or len(self.fold_after) > 0)
         ax, color = plot_branch(ax, self.omega, self.amplitude, self.stable if known else None, label=label,
                                 omega_unit=omega_unit, amplitude_unit=amplitude_unit, **kwargs)
+        if error_band and len(self) and np.any(np.isfinite(self.error_estimate)):
+            plot_error_band(ax, self.omega, self.amplitude, self.error_estimate, color=color, omega_unit=omega_unit,
+                            amplitude_unit=amplitude_unit)
         if peak and len(self):
             pk = self.peak()
             ax.plot([pk.omega * OMEGA_UNITS[omega_unit][0]], [pk.amplitude * AMPLITUDE_UNITS[amplitude_unit][0]], "o",

@@ -21,6 +21,7 @@ from hbm.adapt import lift, windows
 from hbm.balance import errors
 from hbm.balance.residual import HarmonicBalance
 from hbm.frf import MAX_HARMONICS
+from hbm.output import csv_lines
 
 DATA = json.loads((Path(__file__).parent / "data" / "periodic_reference.json").read_text())
 CHAIN = DATA["chain"]["parameters"]
@@ -166,7 +167,7 @@ def test_one_dof_peak_stability_and_counters(p1):
 
 
 def test_csv_has_H_column_where_it_varies(p1, tmp_path):
-    rows = list(csv.reader(p1.to_csv(tmp_path / "a.csv").open()))
+    rows = list(csv.reader(csv_lines(p1.to_csv(tmp_path / "a.csv").open())))
     head, body = rows[0], rows[1:]
     assert head[-1] == "H" and "model" not in head and len(body) == len(p1)
     assert [int(r[-1]) for r in body] == p1.point_harmonics.tolist()
@@ -176,7 +177,7 @@ def test_csv_has_H_column_where_it_varies(p1, tmp_path):
     one = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8),
                              harmonics=3, tol=0.5, stability=False)
     assert len(one.segments) == 1 and one._segments_of is None
-    assert "H" not in next(csv.reader(one.to_csv(tmp_path / "b.csv").open()))
+    assert "H" not in next(csv.reader(csv_lines(one.to_csv(tmp_path / "b.csv").open())))
 
 
 def test_one_segment_is_the_plain_solve():

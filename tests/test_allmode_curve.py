@@ -17,7 +17,7 @@ from contact_models.allmode.rungs import (CURVE_MAX_CELLS, PROBES, START_CELLS, 
 from hbm import frequency_response
 from hbm.allmode_peak import amplitude_at
 from hbm.cli.cases import default_case
-from hbm.output import write_frf_csv
+from hbm.output import csv_lines, write_frf_csv
 
 CASE = default_case()
 BAR, LOAD = CASE.element.bar, CASE.element.load
@@ -145,7 +145,7 @@ def test_the_curve_is_traced_on_rungs_named_per_point(curve, tmp_path):
         n = int(re.search(r"cells=(\d+), H=31\)", model).group(1))
         assert n > 0 and source == "model" and f"last rung it is refined to there ({model})" in frf.accuracy_warning
         assert "left to be chosen" not in frf.accuracy_warning
-    rows = list(csv.DictReader(open(write_frf_csv(tmp_path / "frf.csv", frf))))
+    rows = list(csv.DictReader(csv_lines(open(write_frf_csv(tmp_path / "frf.csv", frf)))))
     assert [r["model"] for r in rows] == frf.point_models.tolist()
 
 

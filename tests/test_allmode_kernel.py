@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from contact_models.allmode import compiled
+from contact_models.allmode.warm import warm
 from contact_models.allmode.solve import FixedBar, transferred
 from contact_models.allmode.balance import (BandedBlockTridiagonal, BlockTridiagonal, aft_matrices, jacobian_prefix,
                                             jenkins_jacobian, jenkins_periodic, jenkins_state)
@@ -80,7 +81,7 @@ def warm_kernels():
             import numba  # noqa: F401
         except ImportError:
             return
-        compiled.warm()
+        warm()
 
 
 @pytest.fixture(params=["numpy", "compiled"], autouse=True)

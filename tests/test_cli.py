@@ -1,5 +1,7 @@
 """The command line beyond running scenes: --version, --help, new, models, keys, the Hz unit."""
 
+import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -41,9 +43,11 @@ def test_new_writes_a_template_that_runs_as_written(tmp_path, capsys):
     for key in all_keys():  # every key of the schema is in the template, set or commented
         assert f"{key.split('.')[-1]} = " in text, key
     scene = load_scene(path)
-    assert scene.sweep["options"] == {"rtol": 1e-6, "max_step": 0.03, "min_step": 1e-9, "max_steps": 5000}
+    # tol states the single-mode bar's error (tests/test_quiet_defaults.py)
+    assert scene.sweep["options"] == {"rtol": 1e-6, "max_step": 0.03, "min_step": 1e-9, "max_steps": 5000,
+                                      "tol": 0.15}
     # as written it is the default case; a coarser step only makes it quick here
-    result = run_scene(load_scene(path, overrides={"sweep.accuracy": "fast"}), tmp_path / "out")
+    result = run_scene(load_scene(path, overrides={"sweep.max_step": 0.1}), tmp_path / "out")
     assert result.success and result.runs[0].peak.amplitude == pytest.approx(1.5119614110e-06, rel=1e-4)
     assert main(["new", str(path)]) == 2  # no silent overwrite
     assert "exists" in capsys.readouterr().err
@@ -144,3 +148,31 @@ def test_listing_into_a_closed_pipe_or_a_full_device_prints_no_traceback():
                                   text=True, timeout=60, cwd=ROOT)
         assert proc.returncode == 1
         assert proc.stderr.strip() == "error: cannot write: [Errno 28] No space left on device"
+
+
+def test_a_warning_is_one_plain_line_without_a_file_path(tmp_path):
+    # a real process: Python's own display of warnings (here its format), not pytest's capture
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    proc = subprocess.run([sys.executable, "-m", "hbm", "--model", "given", "--out", str(tmp_path)], cwd=tmp_path,
+                          capture_output=True, text=True, timeout=120, env=env)
+    assert proc.returncode == 0
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1, proc.stderr  # the single-mode bar is off the physical one on the flank: said once
+    assert lines[0].startswith("warning: frequency_response: estimated error ")
+    assert lines[0].endswith(" (AccuracyWarning)") and ".py:" not in lines[0]
+
+
+def single_mode_scene(folder):
+    """The default scene with the single-mode bar at tol 1e-2: its model error on the flank (0.1) warns."""
+    text = re.sub(r'(?m)^model = .*$', 'model = "two-region"', DEFAULT.read_text())
+    path = folder / "single_mode.toml"
+    path.write_text(re.sub(r"(?m)^(tolerance|tol|accuracy) = .*$", "", text).replace("[sweep]", "[sweep]\ntol = 1e-2"))
+    return path
+
+
+def test_a_scene_says_its_warning_once_after_the_summary(tmp_path, capsys):
+    assert main(["run", str(single_mode_scene(tmp_path)), "--out", str(tmp_path / "out")]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    assert lines[-1].startswith("warning: frequency_response: estimated error ")
+    assert lines[-1].endswith(" (AccuracyWarning)")
+    assert sum(line.startswith("warning:") for line in lines) == 1

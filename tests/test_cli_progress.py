@@ -100,3 +100,32 @@ def test_cli_prints_no_progress_under_quiet_when_stderr_is_a_pipe(tmp_path):
     proc = _cli(tmp_path, "--quiet")
     assert proc.returncode == 0, proc.stderr
     assert proc.stderr == ""
+
+
+def test_ticking_draws_a_silent_computation_until_it_returns(monkeypatch):
+    import threading
+    import time
+
+    from hbm.cli.progress import Elapsed, ticking
+
+    monkeypatch.setattr(progress_module, "TICK", 0.02)
+    monkeypatch.setattr(progress_module, "PLAIN_INTERVAL", 0.05)
+    stream = io.StringIO()
+    line = ProgressLine(stream, enabled=True, plain=True)
+
+    def compute(state):
+        for i in range(1, 4):
+            state.points, state.omega = i, 100.0 * i
+            time.sleep(0.1)
+        return "answer"
+
+    assert ticking(line, "the job", compute) == "answer"
+    written = stream.getvalue()
+    lines = written.splitlines()
+    assert len(lines) >= 3 and "\r" not in written  # a plain line every PLAIN_INTERVAL s, off a terminal
+    assert all(text.startswith("the job: ") and text.endswith(" s") for text in lines)
+    assert lines[-1].startswith("the job: 3 points, omega = 300 rad/s")
+    assert not any(t.name == "progress" for t in threading.enumerate())  # the timer ended with the computation
+    time.sleep(0.1)
+    assert stream.getvalue() == written  # and draws nothing after
+    assert Elapsed("x", 0.4).line() == "x: 0 s"

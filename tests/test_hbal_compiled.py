@@ -14,7 +14,8 @@ if os.environ.get("FRICTIONDAMP_COMPILED", "1") == "0":
     pytest.skip("FRICTIONDAMP_COMPILED=0 turns the compiled kernels off", allow_module_level=True)
 
 from contact_models import AllModeMicroslip  # noqa: E402
-from contact_models.allmode import compiled  # noqa: E402
+from contact_models.allmode import compiled
+from contact_models.allmode.warm import warm  # noqa: E402
 from contact_models.allmode.solve import FixedBar  # noqa: E402
 from contact_models.allmode.balance import (BlockTridiagonal, aft_matrices, jenkins_jacobian,  # noqa: E402
                                             jenkins_periodic, jenkins_state, scalar_tridiagonal)
@@ -24,7 +25,7 @@ from hbm.cli.cases import default_case  # noqa: E402
 #: The agreement asked of the two paths.
 RTOL = 1e-12
 
-compiled.warm()  # the kernels in numba's cache (a clean clone has none): every test below loads them
+warm()  # the kernels in numba's cache (a clean clone has none): every test below loads them
 
 
 def test_a_cold_cache_starts_the_warm_up_in_the_background_and_the_numpy_path_answers(monkeypatch, tmp_path):

@@ -12,6 +12,7 @@ from hypothesis import strategies as st
 from contact_models import ContactElement
 from hbm import Blade, FrequencyResponse, HarmonicBalance, frequency_response
 from hbm.balance.residual import linear_response
+from hbm.output import csv_lines
 
 
 def macroslip(stiffness, slip_force):
@@ -208,7 +209,7 @@ def test_csv_and_plot(tmp_path):
     assert frf.nsteps == len(frf) - 1 and frf.nit > 0 and frf.nfev > 0
     path = frf.to_csv(tmp_path / "frf.csv")
     with open(path) as fh:
-        rows = list(csv.reader(fh))
+        rows = list(csv.reader(csv_lines(fh)))
     assert rows[0][:3] == ["omega_rad_s", "amplitude_m", "phase_rad"]
     data = np.array(rows[1:], dtype=float)
     assert np.array_equal(data[:, 0], frf.omega) and np.array_equal(data[:, 1], frf.amplitude)

@@ -7,6 +7,7 @@ from hbm import frequency_response
 from hbm.cli.main import main
 from hbm.cli.cases import default_case
 from hbm.balance.residual import linear_response
+from hbm.output import csv_lines
 
 
 @pytest.fixture(scope="module")
@@ -63,7 +64,7 @@ def test_main_writes_csv_and_png(tmp_path, capsys):
     assert (tmp_path / "frf.csv").stat().st_size > 10000
     assert (tmp_path / "frf.png").stat().st_size > 10000
     assert "peak: omega =" in out and str(tmp_path / "frf.csv") in out and str(tmp_path / "frf.png") in out
-    rows = (tmp_path / "frf.csv").read_text().splitlines()
+    rows = list(csv_lines((tmp_path / "frf.csv").read_text().splitlines()))
     assert len(rows) >= 201
 
 

@@ -24,6 +24,7 @@ from hbm.cli.main import main
 from hbm.cli.progress import ProgressLine
 from hbm.balance.residual import HarmonicBalance, linear_response
 from hbm.scenes import EFFECTS, Progress, columns, load_scene, plan_scene, run_scene, scene_from_dict, summary_lines
+from hbm.output import csv_lines
 
 from conftest import BAR, scene_data
 
@@ -272,13 +273,13 @@ def test_csv_is_renamed_complete_only_after_success(tmp_path):
     rows_during = []
 
     def progress(p):
-        rows_during.append(sum(1 for _ in (tmp_path / "frf.partial.csv").open()) - 1)
+        rows_during.append(sum(1 for _ in csv_lines((tmp_path / "frf.partial.csv").open())) - 1)
         assert not (tmp_path / "frf.csv").exists() and not (tmp_path / "summary.json").exists()
 
     result = run_scene(scene, tmp_path, progress=progress)
     assert rows_during == list(range(1, len(rows_during) + 1))  # every point on disk as it comes
     assert not (tmp_path / "frf.partial.csv").exists()
-    rows = list(csv.DictReader((tmp_path / "frf.csv").open()))
+    rows = list(csv.DictReader(csv_lines((tmp_path / "frf.csv").open())))
     assert len(rows) == result.points == len(result.runs[0].frf)
     assert float(rows[-1]["omega_rad_s"]) == result.runs[0].frf.omega[-1]
 
@@ -304,7 +305,7 @@ def test_killed_run_leaves_a_parseable_csv_of_finished_points(tmp_path):
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == -signal.SIGKILL
-    rows = list(csv.reader(partial.open()))
+    rows = list(csv.reader(csv_lines(partial.open())))
     assert tuple(rows[0]) == columns(load_scene(DEFAULT)) and len(rows) > 40
     data = np.array([[float(v) for v in r[3:]] for r in rows[1:]])  # every row complete and numeric
     assert all(len(r) == len(rows[0]) for r in rows)
@@ -316,11 +317,11 @@ def test_killed_run_leaves_a_parseable_csv_of_finished_points(tmp_path):
 
 def test_failed_run_exits_1_and_keeps_what_was_computed(tmp_path, capsys):
     scene = tmp_path / "short.toml"
-    scene.write_text(DEFAULT.read_text().replace("tolerance = 1e-6", "tolerance = 1e-6\nmax_steps = 5"))
+    scene.write_text(DEFAULT.read_text().replace("tol = 0.15 ", "max_steps = 5\ntol = 0.15 "))
     assert main(["run", str(scene), "--out", str(tmp_path / "out"), "--quiet"]) == 1
     out = capsys.readouterr().out
     assert "FAILED" in out and "kept: 6 finished points" in out and "frf.partial.csv" in out
-    rows = list(csv.reader((tmp_path / "out" / "frf.partial.csv").open()))
+    rows = list(csv.reader(csv_lines((tmp_path / "out" / "frf.partial.csv").open())))
     assert len(rows) == 7
     summary = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert summary["status"] == "failed" and "max_steps" in summary["message"]

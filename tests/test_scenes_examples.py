@@ -9,6 +9,7 @@ import pytest
 
 from contact_models import QuasiStatic, ThreeRegionMicroslip
 from hbm.scenes import load_scene, plan_scene, run_scene
+from hbm.output import csv_lines
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 #: Default-case peak (python -m hbm; tests/test_hbm_examples.py).
@@ -73,7 +74,7 @@ def test_design_chart(tmp_path):
 def test_paper_fs_fc_tables(tmp_path, name, model, expected):
     result = run(name, tmp_path, **{"sweep.omega": [0.3], "sweep.amplitude": [1.5, 100.0], "sweep.points": 2})
     assert result.runs[0].plan.model == model
-    rows = list(csv.DictReader((tmp_path / "coefficients.csv").open()))
+    rows = list(csv.DictReader(csv_lines((tmp_path / "coefficients.csv").open())))
     assert len(rows) == 2 and float(rows[0]["a_over_unit"]) == 1.5
     assert float(rows[0]["F_s"]) == pytest.approx(expected, rel=1e-8)  # F_s at 1.5 a_min, 0.3 omega_c
 

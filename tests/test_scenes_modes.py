@@ -21,6 +21,7 @@ from hbm import Blade, Contact, Structure, damper_optimum, nonlinear_modes
 from hbm.balance.presets import samples_for
 from hbm.cli.main import main
 from hbm.scenes import SceneError, load_scene, plan_scene, run_scene, scene_from_dict
+from hbm.output import csv_lines
 
 from conftest import scene_data  # a scene file's tables with changes
 
@@ -37,7 +38,7 @@ SPLINE_OPTIMUM_N = 52.36370
 
 def rows(path):
     with open(path, newline="") as fh:
-        return list(csv.DictReader(fh))
+        return list(csv.DictReader(csv_lines(fh)))
 
 
 def column(table, name):

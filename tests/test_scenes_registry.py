@@ -17,6 +17,7 @@ from hbm import Blade, frequency_response
 from hbm.balance import presets
 from hbm.scenes import (EFFECTS, Effect, Key, MODELS, SceneError, number, plan_scene, register_effect,
                         register_model, run_scene, scene_from_dict, unregister_effect, unregister_model)
+from hbm.output import csv_lines
 
 
 class QuadraticDamper(ContactElement):
@@ -91,7 +92,7 @@ def test_registered_element_runs_a_frequency_sweep_scene(quadratic, tmp_path):
     z = 1.0e3 + 200.0 - w * w + 1j * (0.05 * w + 3.0e4 * a)
     assert abs(z) * a == pytest.approx(0.2, rel=1e-6)
     assert result.summary["runs"][0]["peak"]["amplitude_over_a_min"] is None  # no a_min to divide by
-    rows = list(csv.DictReader((tmp_path / "frf.csv").open()))
+    rows = list(csv.DictReader(csv_lines((tmp_path / "frf.csv").open())))
     assert len(rows) == len(frf) and rows[0]["model"] == "quadratic" and "residual_rel" in rows[0]
 
 
@@ -100,7 +101,7 @@ def test_registered_element_runs_an_amplitude_sweep_scene(quadratic, tmp_path):
     del data["blade"]
     result = run_scene(scene_from_dict(data, "qa.toml"), tmp_path)
     assert result.success
-    rows = list(csv.DictReader((tmp_path / "coefficients.csv").open()))
+    rows = list(csv.DictReader(csv_lines((tmp_path / "coefficients.csv").open())))
     a = np.array([float(r["a_m"]) for r in rows])
     assert np.allclose(a, 1e-3 * np.geomspace(0.5, 8.0, 5), rtol=1e-14)  # in units of the reference amplitude
     assert np.allclose([float(r["f_c_N"]) for r in rows], 3.0e4 * a**2, rtol=1e-14)

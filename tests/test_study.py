@@ -9,16 +9,20 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
+from contact_models import AccuracyWarning
 from hbm.cli.main import main
+from hbm.output import csv_lines
 from hbm.scenes import SceneError
 from hbm.study import (DASK_MISSING, Study, grid, lognormal, normal, read_records, run_study, samples, uniform)
 
 from conftest import MACROSLIP_BLADE  # the blade and Jenkins damper these studies share
+from test_cli import single_mode_scene
 
 ROOT = Path(__file__).resolve().parent.parent
 ENV = "FRICTIONDAMP_STUDY_TEST"  # the folder where flaky() logs its calls and finds its faults
@@ -73,6 +77,13 @@ def openblas_threads(point):
             "peak_omega_rad_s": float(os.environ.get("OPENBLAS_NUM_THREADS", "nan"))}
 
 
+def loose(point):
+    """A run that warns as a solve over its tolerance does: its estimate is x / 100."""
+    if point["x"] > 1.0:
+        warnings.warn(f"estimated error {point['x'] / 100.0:g} > tol 0.001", AccuracyWarning)
+    return {"peak_amplitude_m": point["x"], "peak_error_rel": point["x"] / 100.0}
+
+
 def calls(folder):
     path = Path(folder) / "calls.log"
     return [float(v) for v in path.read_text().split()] if path.exists() else []
@@ -120,7 +131,7 @@ def test_same_table_serially_in_processes_and_on_dask(tmp_path):
         assert without_time(results[ex]) == ref, ex
         assert results[ex].records[0]["curve"] == results["serial"].records[0]["curve"]
     # the CSV holds the same numbers exactly (repr round-trips)
-    rows = list(csv.DictReader((tmp_path / "dask" / "study.csv").read_text().splitlines()))
+    rows = list(csv.DictReader(csv_lines((tmp_path / "dask" / "study.csv").read_text().splitlines())))
     assert [float(r["peak_amplitude_m"]) for r in rows] == peaks
     assert [r["damper.model"] for r in rows] == ["macroslip"] * 3 + ["point-contact"] * 3
     # the points are those the samples draw (seed 11), joined to each model
@@ -166,7 +177,7 @@ def test_failed_and_killed_runs_then_resume(tmp_path, monkeypatch):
     assert not (out / "study.csv").exists() and (out / "study.partial.csv").exists()
     kept = read_records(out / "runs.jsonl")
     assert all(r["success"] for r in kept.values())
-    partial = list(csv.DictReader((out / "study.partial.csv").read_text().splitlines()))
+    partial = list(csv.DictReader(csv_lines((out / "study.partial.csv").read_text().splitlines())))
     assert sorted(int(r["run"]) for r in partial) == sorted(r["run"] for r in kept.values())
     assert not {0.0, 1.0, 3.0, 4.0} & set(calls(tmp_path)) and 2.0 in calls(tmp_path)  # 3 retried, no other
     # resume: only the runs without a record are computed
@@ -252,13 +263,13 @@ def test_cli_study_signal_keeps_finished_runs_and_resumes(tmp_path, sig, executo
     assert proc.returncode == code, err
     kept = read_records(log)
     assert 2 <= len(kept) < 6 and f"{said}: kept {len(kept)} finished runs" in err
-    assert len(list(csv.reader((out / "study.partial.csv").read_text().splitlines()))) == len(kept) + 1
+    assert len(list(csv.reader(csv_lines((out / "study.partial.csv").read_text().splitlines())))) == len(kept) + 1
     if sig == signal.SIGINT:
         return
     done = subprocess.run(cmd, capture_output=True, text=True, env=env, timeout=120)
     assert done.returncode == 0, done.stderr
     assert f"{6 - len(kept)} computed now, {len(kept)} found in the folder" in done.stdout
-    assert len(list(csv.reader((out / "study.csv").read_text().splitlines()))) == 7
+    assert len(list(csv.reader(csv_lines((out / "study.csv").read_text().splitlines())))) == 7
 
 
 def test_cli_scene_sigterm_says_what_was_kept(tmp_path):
@@ -281,7 +292,7 @@ def test_cli_scene_sigterm_says_what_was_kept(tmp_path):
         if proc.poll() is None:
             proc.kill()
     assert proc.returncode == 143
-    rows = partial.read_text().count("\n") - 1
+    rows = len(list(csv_lines(partial.read_text().splitlines()))) - 1  # not the names nor the "#" lines
     assert f"terminated (SIGTERM): kept {rows} finished points; files: {partial}" in err
 
 
@@ -369,3 +380,37 @@ def test_docs_list_the_study_keys_as_the_schema_has_them():
         row = f"| `study.{key}` | {default} | {spec.doc} |"
         for doc in ("studies.md", "scenes.md"):
             assert row in (ROOT / "docs" / doc).read_text(), (doc, row)
+
+
+def test_runs_warnings_are_recorded_and_said_once_naming_the_worst(tmp_path, capfd):
+    study = Study(loose, grid({"x": [0.5, 2.0, 3.0, 1.5]}))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        result = run_study(study, tmp_path, executor="processes", workers=2, formats=("csv", "json"))
+    said = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+    assert len(said) == 1  # one for the study, not one per run
+    assert said[0].startswith("run_study: 3 of 4 runs warned")
+    assert "the worst, run 3 (x = 3.0), peak_error_rel 0.03: estimated error 0.03 > tol 0.001" in said[0]
+    assert "AccuracyWarning" not in capfd.readouterr().err  # the workers showed nothing
+    assert [r["warning"] for r in result.records] == [None, "estimated error 0.02 > tol 0.001",
+                                                      "estimated error 0.03 > tol 0.001",
+                                                      "estimated error 0.015 > tol 0.001"]
+    assert result.records[2]["message"] == "estimated error 0.03 > tol 0.001"  # the table says it too
+    summary = json.loads((tmp_path / "study.json").read_text())
+    assert summary["warned"] == 3 and summary["worst_warning"]["run"] == 3
+    with warnings.catch_warnings(record=True) as caught:  # a resume reuses the records and says the same
+        warnings.simplefilter("always")
+        again = run_study(study, tmp_path, executor="serial", formats=("csv",))
+    assert again.reused == 4 and [str(w.message) for w in caught] == said
+
+
+def test_cli_study_prints_one_warning_line_after_its_summary(tmp_path, capsys):
+    path = single_mode_scene(tmp_path)  # tol 1e-2: the single-mode bar's model error (0.1) is over it
+    path.write_text(path.read_text() + '[study]\nexecutor = "serial"\n[study.grid]\n"damper.load.N" = [60.0, 120.0]\n')
+    assert main(["run", str(path), "--out", str(tmp_path / "out")]) == 0
+    out, err = capsys.readouterr()
+    lines = out.strip().splitlines()
+    warned = [line for line in lines if line.startswith("warning:")]
+    assert len(warned) == 1 and warned[0] == lines[-1]
+    assert warned[0].startswith("warning: run_study: 2 of 2 runs warned") and warned[0].endswith("(AccuracyWarning)")
+    assert "Warning:" not in err and ".py:" not in err

@@ -11,6 +11,7 @@ import pytest
 
 from contact_models import AccuracyWarning
 from hbm import frequency_response
+from hbm.output import csv_lines
 from hbm.allmode_peak import physical_peak
 from hbm.cli.cases import default_case
 from hbm.scenes import SceneError, run_scene, scene_from_dict
@@ -55,7 +56,7 @@ def test_the_study_records_the_peak_s_estimate_and_model(tmp_path):
     assert 0.0184 / 2.0 < coarse["peak_error_rel"] < 0.1  # mostly the single-mode model's part (docs/validation.md)
 
     with (tmp_path / "out" / "study.csv").open() as fh:
-        rows = list(csv.DictReader(fh))
+        rows = list(csv.DictReader(csv_lines(fh)))
     assert {"peak_error_rel", "peak_model"} <= set(rows[0])
     assert {r["peak_model"] for r in rows} == {"AllModeMicroslip", "TwoRegionMicroslip"}
     assert sorted(float(r["peak_error_rel"]) for r in rows) == pytest.approx(

@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 from hbm.study import MAX_RUNS, Points, Study, grid, read_records, run_study, samples, uniform
+from hbm.output import csv_lines
 
 from conftest import MACROSLIP_BLADE  # the blade and Jenkins damper these studies share
 
@@ -164,7 +165,7 @@ def test_a_second_study_into_a_busy_folder_is_refused_at_once_naming_the_folder_
     assert first.returncode == 143, err
     kept = read_records(out / "runs.jsonl")
     assert f"kept {len(kept)} finished runs" in err
-    rows = (out / "study.partial.csv").read_text().splitlines()
+    rows = list(csv_lines((out / "study.partial.csv").read_text().splitlines()))
     assert len(rows) == len(kept) + 1 and not (out / "study.lock").exists()
 
 
@@ -248,7 +249,7 @@ def test_a_signal_between_the_log_and_the_table_is_acted_on_once_both_have_the_r
                       formats=("csv",))
         assert signal.getsignal(signal.SIGTERM) is _raise_stop
         kept = read_records(out / "runs.jsonl")
-        rows = (out / "study.partial.csv").read_text().splitlines()
+        rows = list(csv_lines((out / "study.partial.csv").read_text().splitlines()))
         assert len(kept) == 3 and len(rows) == 1 + 3 and not (out / "study.lock").exists()
         noted = []
         with pytest.raises(_Stop), signals_held():  # acted on at the end, once: the body runs whole

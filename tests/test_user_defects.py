@@ -214,7 +214,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 from matplotlib.figure import Figure  # noqa: E402
 
-from hbm.output import FRF_COLUMNS, harmonic_columns  # noqa: E402
+from hbm.output import csv_lines, FRF_COLUMNS, harmonic_columns  # noqa: E402
 from hbm.scenes import run_scene, summary_lines  # noqa: E402
 
 EXAMPLES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
@@ -223,7 +223,7 @@ DEFAULT = EXAMPLES / "default_microslip_frf.toml"
 
 def read_csv(path):
     with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
+        rows = list(csv.reader(csv_lines(fh)))
     return rows[0], rows[1:]
 
 
@@ -304,10 +304,10 @@ def test_sweep_in_hz_is_reported_in_hz(tmp_path, drawn):
     assert line.startswith(f"  peak: f = {peak['frequency_Hz']:.9g} Hz (omega = {peak['omega_rad_s']:.9g} rad/s)")
     (fig,) = drawn
     ax = fig.axes[0]
-    assert ax.get_xlabel() == "frequency (Hz)" and ax.get_ylabel() == "amplitude (\u00b5m)"
+    assert ax.get_xlabel() == "frequency (Hz)" and ax.get_ylabel() == "amplitude (m)"  # SI, as the CSV
     curve = next(line for line in ax.lines if line.get_label() == "two-region, N = 100 N")
     assert curve.get_xdata()[0] == pytest.approx(5000.0, rel=1e-15)
-    assert max(curve.get_ydata()) == pytest.approx(float(np.max(result.runs[0].frf.amplitude)) * 1e6, rel=1e-15)
+    assert max(curve.get_ydata()) == float(np.max(result.runs[0].frf.amplitude))
 
 
 def test_sweep_in_rad_per_second_keeps_its_columns(tmp_path):
@@ -334,13 +334,13 @@ def test_scene_figure_draws_the_stuck_response_and_a_min_as_the_main_job(tmp_pat
     by_label = {line.get_label(): line for line in ax.lines}
     stuck, a_min = by_label["damper stuck (linear)"], by_label["$a_{min}$ (slip begins)"]
     plan = result.runs[0].plan
-    assert a_min.get_ydata()[0] == pytest.approx(plan.a_min * 1e6, rel=1e-15)
+    assert a_min.get_ydata()[0] == pytest.approx(plan.a_min, rel=1e-15)  # metres, as the CSV
     assert plan.a_min == pytest.approx(7.5e-7, rel=1e-3)
     w = np.array(stuck.get_xdata()) * 2.0 * math.pi
     el = plan.element
     expected = np.abs(linear_response(result.plan.blade, w, lambda om: np.array([el.stuck_stiffness(x) for x in om])))
-    np.testing.assert_allclose(np.array(stuck.get_ydata()), expected * 1e6, rtol=1e-12)
-    assert max(stuck.get_ydata()) == pytest.approx(17.04, rel=1e-3)  # the stuck resonance on 600 points, um
+    np.testing.assert_allclose(np.array(stuck.get_ydata()), expected, rtol=1e-12)
+    assert max(stuck.get_ydata()) == pytest.approx(17.04e-6, rel=1e-3)  # the stuck resonance on 600 points, m
 
 
 def test_main_job_figure_draws_the_same_references(tmp_path, drawn, monkeypatch):

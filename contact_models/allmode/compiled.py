@@ -22,9 +22,9 @@ numba installed, ``1`` loads the kernels at the first nested solve (compiling th
 holds none).
 
 **No first-use wait.**  Compiling the kernels takes a fresh installation some ten seconds, more than a
-whole job.  numba caches them in the ``__pycache__`` folder beside this module, and :func:`warm` leaves a
-marker there once every kernel is in the cache.  Where the rule would load the kernels and the marker is
-missing (a first run after an install or a clone), the process starts :func:`warm` in a background
+whole job.  numba caches them in the ``__pycache__`` folder beside this module, and the warm-up
+(``contact_models.allmode.warm``) leaves a marker there once every kernel is in the cache.  Where the
+rule would load the kernels and the marker is missing (a first run after an install or a clone), the process starts that warm-up in a background
 process of low priority and goes on on the numpy path, with the same numbers; the processes after it load
 the cached kernels.  Where that folder is not writable (or ``NUMBA_CACHE_DIR`` moves numba's cache), the
 kernels are compiled where they are first used, as numba does.
@@ -82,7 +82,7 @@ def kernels(load: bool = False) -> SimpleNamespace | None:
     return _KERNELS
 
 
-#: The marker :func:`warm` leaves beside numba's cache, and the lock of a warm-up under way (stale after
+#: The marker the warm-up leaves beside numba's cache, and the lock of a warm-up under way (stale after
 #: ``WARMING_STALE`` seconds: a warm-up that died).
 MARKER = "compiled.warm"
 WARMING = "compiled.warming"
@@ -109,7 +109,7 @@ def _stamp(numba: object) -> str:
 
 
 def cache_ready(numba: object) -> bool:
-    """Whether numba's cache holds the kernels (:func:`warm`'s marker, for this numba and this source),
+    """Whether numba's cache holds the kernels (the warm-up's marker, for this numba and this source),
     or no background warm-up can help (no writable cache folder of our own): then load now."""
     folder = _cache_folder()
     if folder is None:
@@ -121,7 +121,8 @@ def cache_ready(numba: object) -> bool:
 
 
 def _start_warming() -> None:
-    """Start :func:`warm` in a detached process of low priority, unless one is under way."""
+    """Start the warm-up (``contact_models.allmode.warm``) in a detached process of low priority, unless one is
+    under way."""
     folder = _cache_folder()
     if folder is None:
         return
@@ -146,34 +147,24 @@ def _start_warming() -> None:
         lock.unlink(missing_ok=True)
 
 
-#: The background warm-up: at low priority where the system has one, then :func:`warm`.
+#: The background warm-up: at low priority where the system has one, then ``warm.warm``.
 WARM_COMMAND = ("import os\nif hasattr(os, 'nice'): os.nice(10)\n"
-                "from contact_models.allmode.compiled import warm\nwarm()")
+                "from contact_models.allmode.warm import warm\nwarm()")
 
 
-def warm() -> None:
-    """Compile every kernel into numba's cache and leave the marker (module docstring): the nested solves of
-    the all-mode bar on its rungs of 7, 15 and 31 harmonics, on a curve's first harmonic and on a blade's
-    three, at a slipping and a stuck amplitude.  Run in the background by :func:`kernels`; callable directly
-    (the tests of the kernels call it first)."""
+def _compiled_now() -> None:
+    """Load the kernels in this process now (compiling them into numba's cache): the start of
+    ``contact_models.allmode.warm.warm``."""
     global _KERNELS, _TRIED
     import numba
 
-    from ..bar import Bar
-    from ..loads import UniformLoad
-    from .element import AllModeMicroslip
-
     _KERNELS, _TRIED = _compiled(numba), True
-    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
-    load = UniformLoad(N=100.0)
-    omega = 3.9e4
-    for H in (7, 15, 31):
-        el = AllModeMicroslip(bar, load, cells=32, harmonics=H)
-        el.fourier(np.array([5.0e-7, 1.5e-6]), omega)
-        el.model_error(np.array([1.5e-6]), omega)
-        X = np.zeros(7)
-        X[1], X[2], X[5] = 1.5e-6, 2.0e-7, 3.0e-8
-        el.harmonic_force(X, omega, n_t=8 * 31 + 8)
+
+
+def mark_warm() -> None:
+    """Leave the marker that every kernel is in numba's cache, and drop the warm-up's lock."""
+    import numba
+
     folder = _cache_folder()
     if folder is not None:
         (folder / MARKER).write_text(_stamp(numba))

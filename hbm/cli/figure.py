@@ -32,7 +32,7 @@ from typing import Any
 from ..allmode_peak import SCAN
 from ..output import plot_frfs, plot_linear_reference
 
-__all__ = ["JobFigure", "base_figure", "add_peak", "draw_error_band", "save_figure", "DPI", "SIZE"]
+__all__ = ["JobFigure", "base_figure", "add_peak", "save_figure", "DPI", "SIZE"]
 
 #: The figure's size (inches) and resolution (dots per inch).
 SIZE = (6.4, 4.2)
@@ -75,7 +75,6 @@ def base_figure(frf: Any, case: Any, *, render: bool = False, given: Any = None)
         ax.plot(given.omega, given.amplitude, "-", color="0.45", lw=0.9,
                 label=f"single-mode bar (error to {100.0 * float(max(given.error_estimate)):.2g} %)")
         plot_frfs([(frf, f"bar with every mode (tol {frf.tol:g})", "microslip", None)], ax)
-    draw_error_band(ax, frf)
     if given is not None:
         _peak_inset(ax, frf, given)
     ax.set_title("Blade with a two-region microslip damper")
@@ -101,16 +100,6 @@ def _peak_inset(ax: Any, frf: Any, given: Any) -> None:
     inset.fill_between(frf.omega[keep], A[keep] * (1.0 - e), A[keep] * (1.0 + e), color="C0", alpha=0.3, lw=0)
     inset.tick_params(labelsize=6)
     inset.set_title("near the peak", fontsize=7)
-
-
-def draw_error_band(ax: Any, frf: Any, color: str = "C0") -> None:
-    """Shade ``amplitude (1 -+ error_estimate)`` of ``frf`` on ``ax``: where the true curve lies by the
-    estimate (nothing where the curve has no estimate)."""
-    if frf.tol is None or not len(frf):
-        return
-    e = frf.error_estimate
-    ax.fill_between(frf.omega, frf.amplitude * (1.0 - e), frf.amplitude * (1.0 + e), color=color, alpha=0.25,
-                    lw=0, label="estimated error")
 
 
 def add_peak(ax: Any, best: Any) -> None:

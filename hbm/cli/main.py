@@ -30,11 +30,13 @@ from contact_models.accuracy import AccuracyWarning
 from .._validation import MIN_RELATIVE_TOL, InputError
 from ..frf import DEFAULT_TOL, MODELS, frequency_response, refine_peak
 from ..balance.presets import MAX_RTOL
+from ..output import COMMENT
 from .cases import default_case
 from .figure import JobFigure
 from ..allmode_peak import AllModePeak
 
-__all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "COMMANDS",
+__all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "warning_line",
+           "COMMANDS",
            "DESCRIPTION", "EXAMPLES",
            "Terminated"]
 
@@ -66,28 +68,38 @@ def _default(args: argparse.Namespace) -> int:
     def kept():  # the files this job wrote (the curve is written before the all-mode peak is solved)
         return f"kept files: {', '.join(str(p.resolve()) for p in written) or 'none'}"
 
-    line = _Silent()
-    return _compute(line, lambda: _default_job(args, out, written), kept, lambda job: job[1], code=lambda job: job[0])
+    from .progress import ProgressLine, ticking  # lazily, as in _run
+
+    line = ProgressLine(sys.stderr, enabled=True, plain=not sys.stderr.isatty())
+    what = f"the default job (--model {getattr(args, 'model', None) or DEFAULT_MODEL})"
+    return _compute(line, lambda: ticking(line, what, lambda state: _default_job(args, out, written, state)), kept,
+                    lambda job: job[1], code=lambda job: job[0])
 
 
-def _default_job(args: argparse.Namespace, out: Path, written: list) -> tuple[int, list]:
-    """The default job: ``(exit code, lines to print)``; ``written`` collects the files as they are written."""
+def _default_job(args: argparse.Namespace, out: Path, written: list, state: Any = None) -> tuple[int, list]:
+    """The default job: ``(exit code, lines to print)``; ``written`` collects the files as they are written,
+    ``state`` (``hbm.cli.progress.Elapsed``) the points as the solve accepts them."""
     case = default_case()
     t0 = time.perf_counter()
     model = getattr(args, "model", None) or DEFAULT_MODEL
     legacy = {} if args.rtol is None else {"rtol": args.rtol}  # --rtol: an earlier release's option, still read
+
+    def accepted(point):  # the progress line's count (with model="auto" the points come at the end)
+        if state is not None:
+            state.points, state.omega = state.points + 1, point.omega
+
     with warnings.catch_warnings(record=True) as caught:  # "peak": the single-mode curve's warning is superseded
         warnings.simplefilter("always", AccuracyWarning)
         warnings.filterwarnings("ignore", category=DeprecationWarning)
         frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=_tol(args),
-                                 model="given" if model == "peak" else model, **legacy)
+                                 model="given" if model == "peak" else model, callback=accepted, **legacy)
     if len(frf) == 0:
         raise ComputationFailed(f"no point of the frequency response converged: {frf.message}")
     pk = frf.peak()  # the curve's own peak (the refined one, where it answers, is ``best``)
     best = None
     out.mkdir(parents=True, exist_ok=True)
     elapsed = time.perf_counter() - t0
-    csv_path = frf.to_csv(out / "frf.csv")  # first: a signal during the peak keeps the curve
+    csv_path = frf.to_csv(out / "frf.csv", case=case.description)  # first: a signal during the peak keeps the curve
     written.append(csv_path)
     given = None
     if model == "auto":  # the single-mode curve beside the physical one, for comparison (its error drawn)
@@ -125,16 +137,6 @@ class UsageError(InputError):
 
 class ComputationFailed(RuntimeError):
     """The computation failed (exit code 1): its message says where and why."""
-
-
-class _Silent:
-    """The progress line of a job that shows none."""
-
-    def __call__(self, progress: Any) -> None:
-        pass
-
-    def clear(self) -> None:
-        pass
 
 
 def _check_folder(folder: Path, names: Any, what: str) -> None:
@@ -215,19 +217,39 @@ def _run(args) -> int:
     def kept():  # counted on disk: the signal may come between a row's write and its progress call
         files = [folder / name for name in output_names(scene).values() if (folder / name).exists()]
         partial = folder / output_names(scene)["partial"]
-        points = len(partial.read_text().splitlines()) - 1 if partial.exists() else line.points
+        points = (sum(not t.startswith(COMMENT) for t in partial.read_text().splitlines()) - 1 if partial.exists()
+                  else line.points)  # the rows: not the column names nor the "#" lines
         return f"kept {points} finished points; files: {', '.join(str(p) for p in files) or 'none'}"
 
     with warnings.catch_warnings(record=True) as caught:  # the runs' accuracy warnings, said once after the summary
         warnings.simplefilter("always", AccuracyWarning)
         code = _compute(line, lambda: run_scene(scene, args.out, plan=plan, progress=line), kept, summary_lines)
-    for message in dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)):
-        if not args.quiet:  # with the summary, on stdout (stderr carries progress); summary.json records them too
-            print(f"warning: {message}")
-    for w in caught:  # any other warning as Python would have shown it
+    _say_after(caught, args.quiet)
+    return code
+
+
+def warning_line(message: Any, category: type) -> str:
+    """A warning as the command line prints it: ``warning: <message> (<category>)``, one line, no
+    file path or source line (Python's own format names the library's line that warned)."""
+    text = " ".join(str(message).split())
+    return f"warning: {text} ({category.__name__})"
+
+
+def _one_line(message, category, filename, lineno, line=None) -> str:
+    """``warnings.formatwarning`` while the command line runs: :func:`warning_line`."""
+    return warning_line(message, category) + "\n"
+
+
+def _say_after(caught: list, quiet: bool) -> None:
+    """The accuracy warnings ``caught`` during a scene or study, each said once after its summary
+    (on stdout with it: stderr carries the progress line; ``summary.json`` records them too);
+    any other warning shown as it would have been (one line on stderr)."""
+    for w in {str(w.message): w for w in caught if issubclass(w.category, AccuracyWarning)}.values():
+        if not quiet:
+            print(warning_line(w.message, w.category))
+    for w in caught:
         if not issubclass(w.category, AccuracyWarning):
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)
-    return code
 
 
 def _compute(line, compute, kept, report, code=lambda result: result.exit_code) -> int:
@@ -308,9 +330,13 @@ def _run_study(args, overrides) -> int:
                 f"{', '.join(str(p) for p in files) or 'none'}; run the same command again to compute only the "
                 "missing runs")
 
-    return _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
-                                            scheduler=args.scheduler, progress=line, time_limit=args.time_limit),
-                    kept, study_lines)
+    with warnings.catch_warnings(record=True) as caught:  # the study's summary of its runs' warnings, after its own
+        warnings.simplefilter("always", AccuracyWarning)
+        code = _compute(line, lambda: run_study(study, folder, executor=args.executor, workers=args.workers,
+                                                scheduler=args.scheduler, progress=line, time_limit=args.time_limit),
+                        kept, study_lines)
+    _say_after(caught, args.quiet)
+    return code
 
 
 def study_lines(result: Any) -> list:
@@ -379,9 +405,10 @@ def _model_argument(parser, suppress=True):
     parser.add_argument("--model", choices=MODELS, default=argparse.SUPPRESS if suppress else None,
                         help="where the default job uses the damper's refined model, the bar with every mode "
                              "(frequency_response's model=): 'auto' (default: every window of the curve where the "
-                             "single-mode bar is further than its share of tol from it: the physical curve), "
-                             "'peak' (the single-mode curve, its peak solved again with the bar with every mode; "
-                             "faster, only the peak physical) or 'given' (the single-mode bar only)")
+                             "single-mode bar is further than its share of tol from it, the physical curve; about "
+                             "7 s), 'peak' (the single-mode curve, its peak solved again with the bar with every "
+                             "mode; about 2 s) or 'given' (the single-mode bar only; about 1 s). Times: CPU seconds "
+                             "of the whole job, benchmarks/bench_stated_times.py")
 
 
 def _run_arguments(parser):
@@ -515,6 +542,8 @@ def main(argv: list[str] | None = None) -> int:
     """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
     args = _parse(build_parser(), argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
+    shown = warnings.formatwarning
+    warnings.formatwarning = _one_line  # every warning shown as one line (a recording caller still records it)
     try:
         code = args.handler(args)
         sys.stdout.flush()  # a full device or a closed pipe shows here, not at the interpreter's exit
@@ -537,6 +566,7 @@ def main(argv: list[str] | None = None) -> int:
         return 1
     finally:
         signal.signal(signal.SIGTERM, previous)
+        warnings.formatwarning = shown
 
 
 def _stdout_to_devnull() -> None:

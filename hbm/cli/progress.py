@@ -6,18 +6,23 @@ file or another program, ``plain=True``), a plain line ending in a newline, no c
 most every ``PLAIN_INTERVAL`` seconds and first after that long, so a log shows the run is alive
 without filling up.  Nothing at all when disabled (``--quiet``).  It is a callback for ``hbm.scenes.run_scene(progress=...)`` and
 ``hbm.study.run_study(progress=...)``: it draws ``p.line()`` (a ``hbm.scenes.Progress`` or a
-``hbm.study.StudyProgress``) and counts ``p.points``.
+``hbm.study.StudyProgress``) and counts ``p.points``.  A computation that reports no progress of
+its own for seconds (the default job's solve, ``--model auto``'s refined windows) runs under
+:func:`ticking`, which draws :class:`Elapsed` (what runs, the points so far, the time) from a
+timer thread.
 """
 
 from __future__ import annotations
 
+import threading
 import time
-from typing import Callable, TextIO
+from dataclasses import dataclass
+from typing import Any, Callable, TextIO
 
 from ..scenes.running import Progress, duration
 from ..study import StudyProgress
 
-__all__ = ["ProgressLine", "duration", "SHOW_AFTER", "INTERVAL", "PLAIN_INTERVAL"]
+__all__ = ["ProgressLine", "Elapsed", "ticking", "duration", "SHOW_AFTER", "INTERVAL", "PLAIN_INTERVAL", "TICK"]
 
 #: Seconds after which the line appears (shorter sweeps print nothing).
 SHOW_AFTER = 1.0
@@ -25,6 +30,8 @@ SHOW_AFTER = 1.0
 INTERVAL = 0.1
 #: Seconds between two plain lines off a terminal (and before the first one).
 PLAIN_INTERVAL = 5.0
+#: Seconds between two looks of :func:`ticking`'s timer at a computation that reports nothing itself.
+TICK = 0.5
 
 
 class ProgressLine:
@@ -82,3 +89,52 @@ class ProgressLine:
             self.stream.flush()
             self._width = 0
 
+
+
+@dataclass
+class Elapsed:
+    """The progress of a computation that says only what it is and how far it got: ``what``, the
+    points accepted so far (``points``, 0 while none is reported) with the last frequency
+    (``omega``, rad/s, or None), and ``elapsed`` s.
+
+    Examples
+    --------
+    >>> Elapsed("the default job (--model auto)", 7.2, points=120, omega=38000.0).line()
+    'the default job (--model auto): 120 points, omega = 38000 rad/s, 7 s'
+    >>> Elapsed("the default job (--model auto)", 2.6).line()
+    'the default job (--model auto): 3 s'
+    """
+
+    what: str
+    elapsed: float
+    points: int = 0
+    omega: float | None = None
+
+    def line(self) -> str:
+        got = f"{self.points} points, omega = {self.omega:.6g} rad/s, " if self.points and self.omega is not None else ""
+        return f"{self.what}: {got}{self.elapsed:.0f} s"
+
+
+def ticking(line: ProgressLine, what: str, compute: Callable[[Elapsed], Any],
+            clock: Callable[[], float] = time.monotonic) -> Any:
+    """``compute(state)`` with ``line`` drawing ``state`` (an :class:`Elapsed`, whose ``points``
+    and ``omega`` ``compute`` may update, e.g. from ``frequency_response``'s ``callback``) every
+    :data:`TICK` s from a timer thread, until it returns (or raises); the line then stays for the
+    caller to clear.  ``line`` keeps its own rules: nothing before ``SHOW_AFTER`` s on a terminal,
+    a plain line every ``PLAIN_INTERVAL`` s off one."""
+    t0 = clock()
+    state = Elapsed(what, 0.0)
+    done = threading.Event()
+
+    def tick() -> None:
+        while not done.wait(TICK):
+            state.elapsed = clock() - t0
+            line(state)
+
+    timer = threading.Thread(target=tick, name="progress", daemon=True)
+    timer.start()
+    try:
+        return compute(state)
+    finally:
+        done.set()
+        timer.join()

@@ -15,7 +15,7 @@ from contact_models import QuasiStatic
 from contact_models.quasi_static import StuckContact
 
 from ..blade import Blade
-from ..output import AMPLITUDE_UNITS, LEGEND_LIMIT, amplitude_unit_for, plot_frfs, plot_linear_reference
+from ..output import AMPLITUDE_UNITS, LEGEND_LIMIT, key_label, plot_frfs, plot_linear_reference
 from .effects import linear_amplitude
 from .modal import modal_lines
 from .planning import Plan
@@ -114,8 +114,8 @@ def _model_of(label: str) -> str:
 def figure(scene: Any, results: list, path: str | Path, *, blade: Any = None) -> Path:
     """The scene's figure: FRFs (and peaks against the load for several loads), or F_s, F_c tables.
 
-    Frequencies in Hz when the scene gives them in Hz, amplitudes in micrometres when every one is
-    below 1 mm (``hbm.output.amplitude_unit_for``); for a ``blade`` (``Plan.blade``) with up to
+    Frequencies in Hz when the scene gives them in Hz, else rad/s; amplitudes in metres, as the CSV
+    and ``python -m hbm``'s figure give them (one convention: SI); for a ``blade`` (``Plan.blade``) with up to
     ``hbm.output.LEGEND_LIMIT`` runs, each run's stuck (linear) response and its a_min line, as
     ``python -m hbm`` draws them.
     """
@@ -130,12 +130,11 @@ def figure(scene: Any, results: list, path: str | Path, *, blade: Any = None) ->
         loads = sorted({r.plan.N for r in results if r.plan.N is not None})
         chart = len(loads) > 1
         fig, axes = plt.subplots(1, 2 if chart else 1, figsize=(11.0 if chart else 6.4, 4.4), squeeze=False)
-        amps = [a for r in results if r.frf is not None for a in r.frf.amplitude]
-        amplitude_unit = amplitude_unit_for(amps)
+        amplitude_unit = "m"
         curves = [(r.frf, r.plan.label, _model_of(r.plan.model), r.plan.N) for r in results]
         if len(curves) <= LEGEND_LIMIT:
             _linear_references(axes[0][0], blade, results, omega_unit, amplitude_unit)
-        plot_frfs(curves, axes[0][0], parameter="normal load N (N)", omega_unit=omega_unit,
+        plot_frfs(curves, axes[0][0], parameter=key_label("damper.load.N"), omega_unit=omega_unit,
                   amplitude_unit=amplitude_unit)
         if chart:
             bx = axes[0][1]
@@ -143,7 +142,7 @@ def figure(scene: Any, results: list, path: str | Path, *, blade: Any = None) ->
             for m in dict.fromkeys(_model_of(r.plan.model) for r in results):
                 rs = [r for r in results if _model_of(r.plan.model) == m and r.plan.N is not None]
                 bx.loglog([r.plan.N for r in rs], [r.peak.amplitude * scale for r in rs], "o-", ms=3, label=m)
-            bx.set_xlabel("normal load N (N)")
+            bx.set_xlabel(key_label("damper.load.N"))
             bx.set_ylabel("resonant " + label)
             bx.legend(fontsize=8)
     else:

@@ -18,9 +18,9 @@ from typing import Any, Callable
 import numpy as np
 
 from ..balance.presets import DEFAULT_RTOL, Steps
-from ..frf import MODEL_SHARE, frequency_response, refine_peak
-from ..output import (ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
-                      frf_columns, frf_row, harmonic_values, stable_value, with_hz)
+from ..frf import DEFAULT_TOL, MODEL_SHARE, frequency_response, refine_peak
+from ..output import (COMMENT, ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
+                      csv_lines, frf_columns, frf_row, harmonic_values, stable_value, with_hz)
 from .contacts import damper_contact
 from .modal import MODE_COLUMNS, OPTIMUM_COLUMNS, modal_figure, modal_summary, run_modes, run_optimum
 from .planning import Plan, RunPlan, plan_scene
@@ -303,7 +303,7 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
     freq = kind == "frequency"
     compute = {"frequency": _run_frequency, "amplitude": _run_amplitude, "modes": run_modes,
                "optimum": run_optimum}[kind]
-    stream = CsvStream(partial, columns(scene)) if "csv" in formats else None
+    stream = CsvStream(partial, columns(scene), comments=csv_comments(scene, plan)) if "csv" in formats else None
     try:
         for res in results:
             head = [res.number, res.plan.model, "" if res.plan.N is None else repr(float(res.plan.N))]
@@ -434,13 +434,28 @@ def _said(p: RunPlan, frf: Any, best: Any) -> None:
                       f"{100.0 * off:+.2g} % off it")
 
 
+def csv_comments(scene: Scene, plan: Plan) -> dict:
+    """The ``#`` lines of a scene's CSV (``hbm.output.CsvStream``): the library version, the case
+    (the scene's title and file), the models of its runs and the tolerance the error column is
+    estimated against (``sweep.tol``, else ``frequency_response``'s default)."""
+    from contact_models import __version__  # lazily, as hbm.output.frf_comments
+
+    tol = scene.sweep.get("tol")
+    shown = f"{DEFAULT_TOL:g} (frequency_response's default)" if tol is None else f"{tol:g} (sweep.tol)"
+    return {"frictiondamp": __version__, "case": f"{scene.title or scene.name} ({scene.path})",
+            "model": ", ".join(dict.fromkeys(r.model for r in plan.runs)),
+            "tol": shown + ("; error_rel is each point's estimate" if scene.sweep["kind"] == "frequency" else "")}
+
+
 def _fill_after_run(path, results):
     """Fill what is known once a run ends into a scene's CSV: ``error_rel`` from each run's
     ``frf.error_estimate`` and, above one harmonic, the ``stable`` column (the last) from
     ``frf.stable`` (Hill's method), rewriting the file through a temporary name; a run without a
     result, or whose points differ from its rows, keeps them empty."""
     with path.open(newline="") as fh:
-        rows = list(csv.reader(fh))
+        lines = fh.readlines()
+    comments = [line for line in lines[1:] if line.startswith(COMMENT)]  # after the column names (CsvStream)
+    rows = list(csv.reader(csv_lines(lines)))
     by_number = {r.number: r for r in results}
     error = rows[0].index(ERROR_COLUMN)
     stable = rows[0][-1] == STABLE_COLUMN
@@ -452,7 +467,14 @@ def _fill_after_run(path, results):
             row[error] = error_value(res.frf.error_estimate[k])
             if stable:
                 row[-1] = stable_value(res.frf.stable[k])
-    replace_atomically(path, lambda fh: csv.writer(fh).writerows(rows))
+
+    def write(fh):
+        out = csv.writer(fh)
+        out.writerows(rows[:1])
+        fh.writelines(comments)
+        out.writerows(rows[1:])
+
+    replace_atomically(path, write)
 
 
 def replace_atomically(path: Path, write: Callable[[Any], Any]) -> Path:

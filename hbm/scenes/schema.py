@@ -92,8 +92,8 @@ _FIXED: dict[str, dict[str, Key]] = {
         "unit": Key(choice(*OMEGA_UNITS), "rad/s",
                     '"rad/s", "Hz", or "omega_c" (fractions of the bar\'s omega_c) for sweep.omega'),
         "tolerance": Key(number(ge=MIN_RELATIVE_TOL, lt=presets.MAX_RTOL), OPTIONAL,
-                         f"kept from an earlier release: the elements' relative accuracy (rtol), which sweep.tol "
-                         f"now sets (tol/100, at most {presets.DEFAULT_RTOL:g})"),
+                         f"deprecated (it warns): the elements' relative accuracy (rtol), which sweep.tol "
+                         f"now sets (tol/100, at most {presets.DEFAULT_RTOL:g}); give sweep.tol"),
         "tol": Key(number(ge=MIN_RELATIVE_TOL, lt=1), OPTIONAL,
                    "target relative error of the response amplitude against the physical system "
                    "(frequency_response's tol): the error estimate's target and the warning's threshold, the "

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import difflib
 import tomllib
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping
@@ -473,6 +474,10 @@ class _Rules:
                 self.problems.append(f"{self.where('sweep.omega')} = {show(omega)}: {exc} "
                                      f"(sweep.kind = \"{kind}\": {what}")
         knobs = ("tolerance", "max_step", "min_step", "max_steps")
+        if self.has("sweep", "tolerance"):  # read for one release: it is not the accuracy, sweep.tol is
+            warnings.warn(f"{self.where('sweep.tolerance')} is deprecated: it sets the elements' relative accuracy "
+                          "(rtol), not the target error of the response; give sweep.tol, the one accuracy key (it "
+                          "sets rtol = tol/100, at most 1e-6)", FutureWarning, stacklevel=2)
         if self.has("sweep", "accuracy"):
             for key in knobs:
                 if self.has("sweep", key):

@@ -20,6 +20,7 @@ Examples
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
@@ -27,6 +28,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 import contact_models  # its __version__ is read at each call (a new version recomputes)
+from contact_models.accuracy import AccuracyWarning
 
 from ..scenes import SceneError, effect_lines, plan_scene, scene_from_dict
 from ..scenes.validation import apply_overrides, read_toml
@@ -241,6 +243,12 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
     ImportError
         For ``executor="dask"`` without dask and distributed (the message says how to install them).
 
+    Warns
+    -----
+    AccuracyWarning
+        Once, if any run emitted one (:attr:`StudyResult.warning`: how many runs warned, the
+        worst and its warning); the runs' own warnings are recorded, not shown.
+
     Notes
     -----
     Points are drawn before any run starts and every run is the pure function
@@ -278,8 +286,11 @@ def run_study(study: Study, out: str | Path | None = None, *, executor: Any = No
         return run_tasks(study.runner, tasks, on_done, executor=executor, workers=workers, scheduler=scheduler,
                          on_start=on_start, time_limit=time_limit)
 
-    return run_into(study, folder, run=run, formats=formats, retry_failed=retry_failed, progress=progress,
-                    describe=describe)
+    result = run_into(study, folder, run=run, formats=formats, retry_failed=retry_failed, progress=progress,
+                      describe=describe)
+    if result.warning is not None:  # the runs' warnings, said once for the study (each is in its record)
+        warnings.warn(f"run_study: {result.warning}", AccuracyWarning, stacklevel=2)
+    return result
 
 
 __all__ = ["Study", "run_study", "check_scene", "MAX_RUNS", "Points", "StudyResult", "StudyProgress", "grid",

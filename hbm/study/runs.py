@@ -84,16 +84,11 @@ class SceneRun:
         plan = plan_scene(scene)
         res = RunResult(plan.runs[0])
         if scene.sweep["kind"] == "frequency":
-            with warnings.catch_warnings(record=True) as caught:  # said in the run's record, not by the worker
-                warnings.simplefilter("always", AccuracyWarning)
-                _run_frequency(scene, plan, res, lambda *a: None)
+            _run_frequency(scene, plan, res, lambda *a: None)  # its warnings: in the run's record (execute)
             rec = outcome(res.frf)
             if res.allmode is not None:  # damper.model = "auto": the all-mode peak answers (hbm.allmode_peak)
                 rec.update(peak_omega_rad_s=res.allmode.omega, peak_amplitude_m=res.allmode.amplitude,
                            peak_error_rel=float(res.allmode.error), peak_model="AllModeMicroslip")
-            said = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
-            if said:
-                rec["message"] += "; " + "; ".join(dict.fromkeys(said))
             return rec
         _run_amplitude(scene, plan, res, lambda *a: None)
         t = res.table
@@ -189,8 +184,12 @@ def execute(runner: Callable[[Mapping[str, Any]], Any], point: Mapping[str, Any]
     Returns
     -------
     dict
-        The fields of ``outcome`` and ``time_s``, the run's wall-clock time in s.  It never
-        raises for an ``Exception`` of the runner: that makes ``success`` False and ``message``
+        The fields of ``outcome``, ``time_s`` (the run's wall-clock time in s) and ``warning``:
+        the ``AccuracyWarning`` messages the run emitted, joined by ``"; "`` (None for none),
+        which are also appended to ``message``.  They are recorded, not shown, so a study of many
+        runs says them once in its summary (:attr:`hbm.study.StudyResult.warning`) instead of once
+        per run from every worker; any other warning is shown as usual.  It never raises for an
+        ``Exception`` of the runner: that makes ``success`` False and ``message``
         ``"ExceptionType: text"``.
 
     Examples
@@ -201,13 +200,29 @@ def execute(runner: Callable[[Mapping[str, Any]], Any], point: Mapping[str, Any]
     >>> rec = execute(lambda p: 1.0 / p["x"], {"x": 0.0})
     >>> rec["success"], rec["message"]
     (False, 'ZeroDivisionError: float division by zero')
+    >>> import warnings
+    >>> def loose(p):
+    ...     warnings.warn("estimated error 0.1 > tol 0.001", AccuracyWarning)
+    ...     return {"peak_error_rel": 0.1}
+    >>> rec = execute(loose, {"x": 1.0})
+    >>> rec["warning"], rec["message"]
+    ('estimated error 0.1 > tol 0.001', 'estimated error 0.1 > tol 0.001')
     """
     t0 = time.perf_counter()
-    try:
-        rec = outcome(runner(point))
-    except Exception as exc:  # any failure of one run is that run's result
-        rec = {"success": False, "message": f"{type(exc).__name__}: {exc}", "peak_omega_rad_s": None,
-               "peak_amplitude_m": None, "peak_error_rel": None, "peak_model": None, "nfev": None, "curve": {}}
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", AccuracyWarning)
+        try:
+            rec = outcome(runner(point))
+        except Exception as exc:  # any failure of one run is that run's result
+            rec = {"success": False, "message": f"{type(exc).__name__}: {exc}", "peak_omega_rad_s": None,
+                   "peak_amplitude_m": None, "peak_error_rel": None, "peak_model": None, "nfev": None, "curve": {}}
+    said = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)))
+    for w in caught:  # any other warning as it would have been shown
+        if not issubclass(w.category, AccuracyWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    rec["warning"] = "; ".join(said) if said else None
+    if said:
+        rec["message"] = "; ".join(m for m in (rec["message"], rec["warning"]) if m)
     rec["time_s"] = time.perf_counter() - t0
     return rec
 

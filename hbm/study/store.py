@@ -302,6 +302,47 @@ class StudyResult:
         return "; ".join(parts) if parts else "every run succeeded"
 
     @property
+    def warned(self) -> list[dict]:
+        """The recorded runs whose computation emitted an ``AccuracyWarning`` (their record's
+        ``warning``, :func:`hbm.study.runs.execute`), in run order."""
+        return [r for r in self.records if r is not None and r.get("warning")]
+
+    @property
+    def worst(self) -> dict | None:
+        """The run of :attr:`warned` with the largest ``peak_error_rel`` (a run without one counts
+        as below every other; the first such run where none has one); None if no run warned."""
+        warned = self.warned
+        if not warned:
+            return None
+        return max(warned, key=lambda r: -math.inf if r.get("peak_error_rel") is None else r["peak_error_rel"])
+
+    @property
+    def warning(self) -> str | None:
+        """The study's runs' warnings in one line: how many runs warned, the worst (:attr:`worst`)
+        and its warning; None if no run warned.  :func:`hbm.study.run_study` emits it once as an
+        ``AccuracyWarning``; every run's own warning stays in its record.
+
+        Examples
+        --------
+        >>> recs = [{"run": 1, "params": {"N": 10.0}, "warning": "estimated error 0.02 > tol 0.001",
+        ...          "peak_error_rel": 0.02},
+        ...         {"run": 2, "params": {"N": 20.0}, "warning": None, "peak_error_rel": 1e-4},
+        ...         {"run": 3, "params": {"N": 30.0}, "warning": "estimated error 0.05 > tol 0.001",
+        ...          "peak_error_rel": 0.05}]
+        >>> r = StudyResult(("N",), recs, {}, 3, 0, [], 1.0)
+        >>> print(r.warning)
+        2 of 3 runs warned (each run's warning is in its record: runs.jsonl "warning", the table's "message"); the worst, run 3 (N = 30.0), peak_error_rel 0.05: estimated error 0.05 > tol 0.001
+        """
+        worst = self.worst
+        if worst is None:
+            return None
+        where = ", ".join(f"{p} = {worst['params'].get(p)}" for p in self.parameters)
+        err = worst.get("peak_error_rel")
+        return (f"{len(self.warned)} of {len(self.records)} runs warned (each run's warning is in its record: "
+                f"runs.jsonl \"warning\", the table's \"message\"); the worst, run {worst['run']} ({where})"
+                + ("" if err is None else f", peak_error_rel {err:.2g}") + f": {worst['warning']}")
+
+    @property
     def columns(self) -> tuple:
         return columns(self.parameters)
 
@@ -310,6 +351,14 @@ class StudyResult:
         """The table: one dict per recorded run (:attr:`columns`, no curves), in run order."""
         return [{"run": r["run"], "id": r["id"], **{p: r["params"].get(p) for p in self.parameters},
                  **{c: r.get(c) for c in RESULT_COLUMNS}} for r in self.records if r is not None]
+
+    def to_dataframe(self) -> Any:
+        """The table (:attr:`rows`, the columns of ``study.csv``) as a ``pandas.DataFrame``, one row
+        per recorded run in run order; needs pandas (``pip install "frictiondamp[pandas]"``),
+        ``ImportError`` naming the extra without it."""
+        from ..output import pandas_module  # lazily, as pandas itself
+
+        return pandas_module().DataFrame(self.rows, columns=list(self.columns))
 
     def column(self, name: str) -> np.ndarray:
         """One column over the recorded runs as an array (numbers as float, None as NaN)."""
@@ -364,12 +413,20 @@ def _reusable(study: Any, ids: list, old: dict, retry_failed: bool) -> tuple[lis
     return records, unusable
 
 
-def _write_table(path: Path, records: list, params: tuple) -> Path:
+def table_comments(describe: dict) -> dict:
+    """The ``#`` lines of a study's table (``hbm.output.CsvStream``): the library version, the
+    study's title and what it varies, and what ``peak_error_rel`` is."""
+    return {"frictiondamp": describe.get("version"), "case": describe.get("title") or None,
+            "parameters": ", ".join(describe.get("parameters") or ()),
+            "peak_error_rel": "each run's estimated relative error of its peak amplitude (empty: not estimated)"}
+
+
+def _write_table(path: Path, records: list, params: tuple, comments: dict | None = None) -> Path:
     """The whole table at ``path``, written beside it and renamed onto it; on a failure (a full
     disk) no half table is left behind."""
     tmp = path.with_name(path.name + ".tmp")
     try:
-        with CsvStream(tmp, columns(params)) as csv_out:
+        with CsvStream(tmp, columns(params), comments=comments) as csv_out:
             for r in records:
                 csv_out.write(csv_row(r, params))
         return tmp.replace(path)
@@ -399,7 +456,8 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
             (folder / FILES[key]).unlink(missing_ok=True)
         replace_atomically(log_path, lambda fh: fh.write(  # keep only this study's records, atomically
             "".join(json.dumps(r) + "\n" for r in records if r is not None)))
-        out["stream"] = stream = CsvStream(folder / FILES["partial"], columns(params)) if "csv" in formats else None
+        out["stream"] = stream = (CsvStream(folder / FILES["partial"], columns(params), comments=table_comments(describe))
+                                  if "csv" in formats else None)
         out["log"] = log_path.open("a")
         if stream is not None:
             for r in records:
@@ -436,7 +494,7 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
     if stream is not None:
         result.files["csv"] = folder / FILES["partial"]
         if result.complete:
-            result.files["csv"] = _write_table(folder / FILES["csv"], records, params)
+            result.files["csv"] = _write_table(folder / FILES["csv"], records, params, table_comments(describe))
             (folder / FILES["partial"]).unlink()
     result.files["records"] = log_path
     if "png" in formats and any(r is not None and r["success"] for r in records):
@@ -448,7 +506,10 @@ def _run_locked(study: Any, folder: Path, run: Callable, formats: tuple, retry_f
                       "runs": len(records), "succeeded": ok, "failed": counts["failed"],
                       "not_computed": sum(r is None for r in records), "computed": result.computed,
                       "reused": reused, "lost": [list(x) for x in result.lost], "damaged_lines": damaged,
-                      "elapsed_s": result.elapsed, "columns": list(result.columns),
+                      "elapsed_s": result.elapsed, "warned": len(result.warned),
+                      "worst_warning": None if result.worst is None else {
+                          "run": result.worst["run"], "warning": result.worst["warning"]},
+                      "columns": list(result.columns),
                       "outputs": {k: str(v) for k, v in result.files.items()}, "table": result.rows}
     if "json" in formats:
         result.files["json"] = folder / FILES["json"]
