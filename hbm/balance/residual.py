@@ -353,7 +353,7 @@ class HarmonicBalance:
 
     def relative_motion(self, e: int, X: NDArray) -> NDArray:
         """Contact ``e``'s relative motion (..., components, 2H+1) at the coefficients ``X`` (..., n_a, 2H+1):
-        ``X_i - X_j``, ``X_i`` or, across sectors, ``T X_p - X_q`` (``T``: :func:`next_sector_operator`)."""
+        ``X_i - X_j``, ``X_i`` or, across sectors, ``T X_p - X_q`` (``T``: :func:`hbm.balance.layout.next_sector_operator`)."""
         comps = self._attach[e][1]
         if self._next[e]:
             return np.stack([X[..., ix[0], :] @ self._turn.T - X[..., ix[1], :] for ix in comps], axis=-2)
