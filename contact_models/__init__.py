@@ -7,6 +7,7 @@ from ._version import __version__
 from .accuracy import AccuracyWarning
 from .allmode import AllModeMicroslip, AllModeMicroslip2D
 from .bar import Bar
+from .centrifugal import CentrifugalLoad, RotatingPreload
 from .base import ContactElement
 from .contact2d import Contact2D
 from .contact3d import Contact3D
@@ -21,7 +22,7 @@ from .numerical import NumericalMicroslip
 from .point_contact import PointContact
 from .quasi_static import QuasiStatic
 
-__all__ = ["__version__", "Bar", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
+__all__ = ["__version__", "Bar", "CentrifugalLoad", "RotatingPreload", "ContactElement", "QuadraticLoad", "UniformLoad", "TwoRegionMicroslip",
            "ThreeRegionMicroslip", "Macroslip", "PointContact", "NumericalMicroslip", "QuasiStatic",
            "Iwan", "CubicSpring", "AllModeMicroslip", "FunctionLoad", "SampledLoad", "ModelRangeWarning",
            "AccuracyWarning", "Gap", "Contact2D", "AllModeMicroslip2D",

@@ -27,6 +27,7 @@ from .allmode_peak import AllModePeak, allmode_peak
 from .result import FrequencyResponse, Peak, Response, Segment
 from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 from .structure import Contact, ReducedStructure, Structure
+from .cyclic import CyclicStructure
 from .reference.transient import BladeSimulation, simulate_blade
 
 #: The result of a structure's solve is the one result type (this name is kept for old code).
@@ -35,6 +36,6 @@ MultiHarmonicResponse = FrequencyResponse
 __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "Peak", "Point", "Steps", "HarmonicBalance",
            "continuation", "response_at", "Response", "simulate_blade", "BladeSimulation"]
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
-__all__ += ["Structure", "ReducedStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]
+__all__ += ["Structure", "ReducedStructure", "CyclicStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]
 __all__ += ["nonlinear_modes", "NonlinearModes", "forced_response", "ModalFRF", "damper_optimum", "DamperOptimum"]
 __all__ += ["allmode_peak", "AllModePeak", "Segment", "refine_peak"]

@@ -235,6 +235,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     explicit = tol != "default"  # a tol the caller gave (an earlier release's rtol keeps its value otherwise)
     tol, steps, callback, rtol, fixed = _deprecated(deprecated, tol, steps, callback)
     structure = as_structure(system)
+    if structure.sector_angle is not None:  # what hbm.CyclicStructure.full() repeats on every sector by default
+        structure.solved_contacts = as_contacts(contacts, structure.n)
     w0, w1 = omega_range_pair(omega_range)
     tolerance = tolerance_of(tol)
     if model not in MODELS:

@@ -63,6 +63,9 @@ class ModeBalance:
     def __init__(self, system: Any, contacts: Any, *, harmonics: int = 1, n_t: int | None = None,
                  phase_dof: int = 0, rtol: float = DEFAULT_RTOL) -> None:
         s = self.structure = as_structure(system)
+        if s.sector_angle is not None:
+            raise ValueError(f"system must be a whole structure: the nonlinear modes of one sector of a cyclic "
+                             f"structure are not provided (solve its full() disk), got system={system!r}")
         self.contacts = as_contacts(contacts, s.n)
         if not self.contacts:
             raise ValueError("contacts must hold at least one contact (a linear structure's modes are its "

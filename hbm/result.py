@@ -440,7 +440,11 @@ class FrequencyResponse:
             return
         pr, s = self._problem, self.structure
         L = pr.L
-        if s.n <= STABILITY_FULL_DOFS:
+        coupling = None
+        if s.sector_angle is not None:  # a sector: Hill within its travelling-wave family, on the sector itself
+            model, place = s, self.dofs
+            coupling = (s.M_next, s.C_next, s.K_next)
+        elif s.n <= STABILITY_FULL_DOFS:
             model, place = s, self.dofs
         else:
             model = s.reduce(self.dofs, modes=min(STABILITY_MODES, s.n - len(self.dofs)))
@@ -453,12 +457,19 @@ class FrequencyResponse:
             f"mode {j}" for j in range(M.shape[0] - len(self.dofs))]
         idx = (np.asarray(place)[:, None] * L + np.arange(L)[None, :]).ravel()
         lams = []
-        hill = HillProblem(M, C, K, self.harmonics)
+        hill = HillProblem(M, C, K, self.harmonics, coupling, s.sector_angle or 0.0)
         dF = np.zeros((M.shape[0] * L, M.shape[0] * L))  # zero but on the contacts' rows, every point
         rows = np.ix_(idx, idx)
+        # a sector: every family of perturbations mu = 2 pi m / N (the whole tuned disk's exponents)
+        families = [0.0] if coupling is None else [2.0 * math.pi * m / s.sectors for m in range(s.sectors)]
         for X, w in zip(self._X, self.omega):
-            dF[rows] = pr.perturbation_jacobian(X, float(w))
-            lams.append(hill.exponents(float(w), dF))
+            lam = []
+            for mu in families:
+                dF = dF.astype(complex) if mu and not np.iscomplexobj(dF) else dF
+                dF[rows] = pr.perturbation_jacobian(X, float(w), mu)
+                lam.append(hill.exponents(float(w), dF if mu else dF.real, mu))
+            lam = np.concatenate(lam) if len(lam) > 1 else lam[0]
+            lams.append(lam[np.argsort(-lam.real, kind="stable")] if len(families) > 1 else lam)
         pr.forget_jacobians()  # every point's exponents are kept: the balance's Jacobians are not needed
         self._exponents = np.array(lams)
         self._stable = self._exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)

@@ -155,6 +155,9 @@ def locate_peak(bal: ModeBalance, ya: NDArray, yb: NDArray, force: NDArray, dof:
 
 def forcing(bal: ModeBalance, force, response_dof) -> tuple[NDArray, int]:
     s = bal.structure
+    if force is None and np.iscomplexobj(s.force):
+        raise ValueError("force must be real for the single-mode forced response (a phase per DOF is not "
+                         "provided here; hbm.frequency_response takes it), got a complex structure force")
     f = s.force if force is None else np.asarray(force, dtype=float).ravel()
     if f.size != s.n or not np.all(np.isfinite(f)) or not np.any(f):
         raise ValueError(f"force must be {s.n} finite numbers, not all zero, got force={force!r}")

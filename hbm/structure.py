@@ -42,6 +42,14 @@ def _dense(A: Any) -> NDArray[np.float64]:
     return np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=float)
 
 
+def _is_complex(A: Any) -> bool:
+    return np.iscomplexobj(A.data if hasattr(A, "nnz") else A)
+
+
+def _dense_complex(A: Any) -> NDArray[np.complex128]:
+    return np.asarray(A.toarray() if hasattr(A, "toarray") else A, dtype=complex)
+
+
 def _real(name: str, A: Any, what: str) -> Any:
     """``A`` itself, or the real part of a complex ``A`` whose imaginary parts are all zero; a
     ValueError naming ``name`` if one is not (casting to float would drop it with only numpy's
@@ -96,7 +104,10 @@ class Structure:
         Mass (kg), damping (N s/m) and stiffness (N/m) matrices, n x n, finite and symmetric;
         M positive definite.
     force : array_like
-        Amplitudes (N) of the harmonic excitation ``force * cos(omega t)``, length n.
+        Amplitudes (N) of the harmonic excitation ``force * cos(omega t)``, length n.  A complex
+        entry ``f_i = |f_i| exp(i psi_i)`` is an amplitude with a phase: the force on DOF i is
+        ``Re(f_i exp(i omega t)) = |f_i| cos(omega t + psi_i)`` (the library's complex convention,
+        ``hbm.balance.layout``); a force whose imaginary parts are all zero is stored real.
 
     Raises
     ------
@@ -118,6 +129,15 @@ class Structure:
     #: Harmonics of a solve that names none: None takes the accuracy preset's (``hbm.balance.presets``);
     #: a blade's structure says 1 (:meth:`hbm.Blade.as_structure`).
     default_harmonics: int | None = None
+    #: ``phi = 2 pi EO / N`` of one sector of a cyclic structure (:class:`hbm.CyclicStructure`): harmonic h
+    #: of the next sector is this one's times ``exp(-i h phi)``.  None: the structure is the whole model.
+    sector_angle: float | None = None
+
+    def harmonic_matrices(self, h: int) -> tuple[Any, Any, Any]:
+        """``(M_h, C_h, K_h)``: the matrices of the balance at harmonic ``h``, whose dynamic stiffness is
+        ``Z_h = K_h - (h omega)^2 M_h + i h omega C_h``; a structure's own M, C, K at every h (a cyclic
+        sector's depend on h: :meth:`hbm.CyclicStructure.harmonic_matrices`)."""
+        return self.M, self.C, self.K
 
     def __init__(self, M: ArrayLike, C: ArrayLike, K: ArrayLike, *, force: ArrayLike) -> None:
         self.M = _check_matrix("M", M, None)
@@ -133,9 +153,10 @@ class Structure:
             f = np.asarray(force)
         except (TypeError, ValueError):
             raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
-        f = _real("force", f, "vector")
+        if np.iscomplexobj(f) and not np.any(np.imag(f)):
+            f = f.real  # a complex force with every phase 0 is the real force, bit for bit
         try:
-            f = np.asarray(f, dtype=float).ravel()
+            f = np.asarray(f, dtype=complex if np.iscomplexobj(f) else float).ravel()
         except (TypeError, ValueError):
             raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
         if f.size != n:
@@ -404,6 +425,14 @@ class Contact:
         ``(k, l)``: the normal displacement ``x_k - x_l`` (normal force +N on k, -N on l).
         A two- or three-component element needs exactly one of normal_dof, normal_dofs; a
         one-component element none.
+    next_sector : bool, default False
+        For one sector of a cyclic structure (:class:`hbm.CyclicStructure`): the pair ``(p, q)``
+        joins DOF p of the *next* sector to DOF q of this one (the relative displacement is
+        ``x_p`` of the next sector minus ``x_q`` of this sector; force +f on the next sector's p,
+        -f on this q), and so do ``second_dofs`` and ``normal_dofs``; p may equal q (the same DOF
+        of two neighbours).  It needs ``dofs`` (and ``second_dofs``, ``normal_dofs`` for the other
+        components); the balance of a structure that is not a sector refuses it
+        (``docs/bladed_disks.md``).
 
     Attributes
     ----------
@@ -416,6 +445,8 @@ class Contact:
     components : tuple of tuple of int
         ``(dofs,)``, ``(dofs, normal_dofs)`` or ``(dofs, second_dofs, normal_dofs)``: the attachment
         of each component, in the element's order.
+    next_sector : bool
+        As given.
 
     Raises
     ------
@@ -436,11 +467,20 @@ class Contact:
 
     def __init__(self, element: Any, *, dof: int | None = None, dofs: tuple[int, int] | None = None,
                  second_dof: int | None = None, second_dofs: tuple[int, int] | None = None,
-                 normal_dof: int | None = None, normal_dofs: tuple[int, int] | None = None) -> None:
+                 normal_dof: int | None = None, normal_dofs: tuple[int, int] | None = None,
+                 next_sector: bool = False) -> None:
         if not isinstance(element, ContactElement):
             raise ValueError(f"element must be a contact_models.ContactElement, got element={element!r}")
+        if not isinstance(next_sector, (bool, np.bool_)):
+            raise ValueError(f"next_sector must be True or False, got next_sector={next_sector!r}")
+        self.next_sector = bool(next_sector)
+        if self.next_sector and (dofs is None or normal_dof is not None or second_dof is not None):
+            raise ValueError(f"next_sector=True joins a DOF of the next sector to one of this sector: it needs "
+                             f"dofs=(p, q) (and second_dofs, normal_dofs for the other components), got dof={dof!r}, "
+                             f"dofs={dofs!r}, second_dof={second_dof!r}, normal_dof={normal_dof!r}")
         self.element = element
-        self.dofs = _attachment("dof", dof, "dofs", dofs)
+        nxt = self.next_sector
+        self.dofs = _attachment("dof", dof, "dofs", dofs, nxt)
         c = getattr(element, "components", 1)
         if c != 3 and (second_dof is not None or second_dofs is not None):
             raise ValueError(f"second_dof and second_dofs attach the second tangential direction of a three-component "
@@ -450,13 +490,15 @@ class Contact:
             raise ValueError(f"normal_dof and normal_dofs attach the normal of a two- or three-component element "
                              f"(Contact2D, Contact3D); {type(element).__name__} has one component, got "
                              f"normal_dof={normal_dof!r}, normal_dofs={normal_dofs!r}")
-        self.second_dofs = _attachment("second_dof", second_dof, "second_dofs", second_dofs) if c == 3 else ()
-        self.normal_dofs = _attachment("normal_dof", normal_dof, "normal_dofs", normal_dofs) if c >= 2 else ()
-        if set(self.dofs + self.second_dofs) & set(self.normal_dofs):
+        self.second_dofs = _attachment("second_dof", second_dof, "second_dofs", second_dofs, nxt) if c == 3 else ()
+        self.normal_dofs = _attachment("normal_dof", normal_dof, "normal_dofs", normal_dofs, nxt) if c >= 2 else ()
+        # across sectors a pair's first DOF is the next sector's, its second this one's: they clash side by side
+        shared = (lambda a, b: any(x == y for x, y in zip(a, b))) if nxt else (lambda a, b: bool(set(a) & set(b)))
+        if shared(self.dofs, self.normal_dofs) or shared(self.second_dofs, self.normal_dofs):
             raise ValueError(f"normal_dof(s) must differ from the tangential dof(s), got dofs={self.dofs}, "
                              + (f"second_dofs={self.second_dofs}, " if self.second_dofs else "")
                              + f"normal_dofs={self.normal_dofs}")
-        if set(self.dofs) & set(self.second_dofs):
+        if shared(self.dofs, self.second_dofs):
             raise ValueError(f"second_dof(s) must differ from the first tangential dof(s), got dofs={self.dofs}, "
                              f"second_dofs={self.second_dofs}")
         self.components = tuple(d for d in (self.dofs, self.second_dofs, self.normal_dofs) if d)
@@ -473,18 +515,21 @@ class Contact:
                             ("normal_dof", "normal_dofs", self.normal_dofs)):
             if d:
                 where.update({one: d[0]} if len(d) == 1 else {two: d})
-        return Contact(element, **where)
+        return Contact(element, **where, next_sector=self.next_sector)
 
     def __repr__(self) -> str:
         where = f"dof={self.dofs[0]}" if len(self.dofs) == 1 else f"dofs={self.dofs}"
         for one, d in (("second_dof", self.second_dofs), ("normal_dof", self.normal_dofs)):
             if d:
                 where += f", {one}={d[0]}" if len(d) == 1 else f", {one}s={d}"
+        if self.next_sector:
+            where += ", next_sector=True"
         return f"Contact({self.element!r}, {where})"
 
 
-def _attachment(one: str, d: Any, two: str, pair: Any) -> tuple[int, ...]:
-    """``(d,)`` or the pair ``(i, j)`` of distinct DOF indices >= 0; exactly one of them given."""
+def _attachment(one: str, d: Any, two: str, pair: Any, same: bool = False) -> tuple[int, ...]:
+    """``(d,)`` or the pair ``(i, j)`` of DOF indices >= 0, distinct unless ``same`` (a pair across
+    two sectors may name one DOF of each); exactly one of them given."""
     if (d is None) == (pair is None):
         raise ValueError(f"give exactly one of {one} and {two}, got {one}={d!r}, {two}={pair!r}")
     if d is not None:
@@ -501,7 +546,7 @@ def _attachment(one: str, d: Any, two: str, pair: Any) -> tuple[int, ...]:
     for v in dd:
         if isinstance(v, bool) or not isinstance(v, (int, np.integer)) or v < 0:
             raise ValueError(f"{name} must hold DOF indices >= 0, got {name}={d if pair is None else pair!r}")
-    if len(dd) == 2 and dd[0] == dd[1]:
+    if len(dd) == 2 and dd[0] == dd[1] and not same:
         raise ValueError(f"{two} must be two different DOFs, got {two}={pair!r}")
     return tuple(int(v) for v in dd)
 
@@ -587,10 +632,12 @@ def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], ND
     From the first-order form ``z' = A z``, ``A = [[0, I], [-M^-1 K, -M^-1 C]]``,
     ``A = W diag(lam) W^-1``: ``(s I - A)^-1 = W diag(1/(s - lam)) W^-1`` and
     ``Z(s)^-1 = [I 0] (s I - A)^-1 [0; M^-1]``.  Exact for any (non-defective) damping.
-    Classical damping (``Phi^T C Phi`` diagonal for the mass-normalised undamped modes ``Phi``,
+    Classical damping (``Phi^H C Phi`` diagonal for the mass-normalised undamped modes ``Phi``,
     Rayleigh and modal damping) takes the symmetric eigensolver instead: two poles per mode.
+    Complex Hermitian M, C, K (a cyclic sector's nodal-diameter matrices,
+    :meth:`hbm.CyclicStructure.harmonic_matrices`) take the same steps with ``Phi^H`` for ``Phi^T``.
     """
-    Md, Cd, Kd = _dense(M), _dense(C), _dense(K)
+    Md, Cd, Kd = (_dense_complex(A) if _is_complex(A) else _dense(A) for A in (M, C, K))
     n = Md.shape[0]
     if n == 1:  # one DOF (a blade): its mode without scipy's eigensolvers
         w2, Phi = Kd[0] / Md[0, 0], np.array([[1.0 / math.sqrt(Md[0, 0])]])
@@ -600,8 +647,9 @@ def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], ND
         w2, Phi = eigh(Kd, Md)
     # classical damping (C diagonal in the undamped modes): two poles per mode from eigh, with
     # 1/(s^2 + c s + w^2) = (1/(s - l+) - 1/(s - l-)) / (l+ - l-)
-    c = Phi.T @ Cd @ Phi
-    cd = np.diag(c).copy()
+    PhiH = Phi.conj().T  # Phi^T of a real Phi, value for value
+    c = PhiH @ Cd @ Phi
+    cd = np.diag(c).real.copy()
     off = np.max(np.abs(c - np.diag(cd))) if n > 1 else 0.0
     disc = cd * cd - 4.0 * w2.astype(complex)
     if off <= 1e-12 * max(float(np.max(np.abs(cd))), 1e-300) and np.all(np.abs(disc) > 1e-12 * np.abs(w2) + 1e-300):
@@ -609,13 +657,13 @@ def modal_compliance(M: Any, C: Any, K: Any) -> tuple[NDArray[np.complex128], ND
         lp, lm = 0.5 * (-cd + root), 0.5 * (-cd - root)
         inv = 1.0 / (lp - lm)
         V = np.hstack([Phi, Phi]).astype(complex)
-        B = np.vstack([inv[:, None] * Phi.T, -inv[:, None] * Phi.T])
+        B = np.vstack([inv[:, None] * PhiH, -inv[:, None] * PhiH])
         return np.concatenate([lp, lm]), V, B
     from scipy.linalg import eig, lu_factor, lu_solve  # lazily: import hbm stays light
 
     MinvK = np.linalg.solve(Md, Kd)
     MinvC = np.linalg.solve(Md, Cd)
-    A = np.zeros((2 * n, 2 * n))
+    A = np.zeros((2 * n, 2 * n), dtype=np.result_type(MinvK, MinvC))
     A[:n, n:] = np.eye(n)
     A[n:, :n] = -MinvK
     A[n:, n:] = -MinvC

@@ -148,14 +148,120 @@ class Condensed:
         return Xall
 
 
-def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float) -> NDArray[np.complex128]:
-    """Complex stiffness (n_a, n_a) of the contacts held in their linear range at omega (rigid: 0)."""
+#: The state-space modes of each nodal diameter of each cyclic sector solved so far, with the fingerprint
+#: of its matrices (the couplings included).
+_ND_MODES: "weakref.WeakKeyDictionary[Structure, tuple[bytes, dict]]" = weakref.WeakKeyDictionary()
+
+
+def nodal_modes(structure: Structure, k: int) -> tuple[NDArray, NDArray, NDArray]:
+    """:func:`hbm.structure.modal_compliance` of a cyclic sector's nodal diameter ``k``
+    (``structure.nodal_matrices(k)``), computed once while its matrices stay the same."""
+    digest = hashlib.blake2b(_fingerprint(structure), digest_size=20)
+    for A in (structure.M_next, structure.C_next, structure.K_next):
+        digest.update(np.ascontiguousarray(A).data)
+    fp = digest.digest()
+    known = _ND_MODES.get(structure)
+    if known is None or known[0] != fp:
+        known = _ND_MODES[structure] = (fp, {})
+    if k not in known[1]:
+        known[1][k] = modal_compliance(*structure.nodal_matrices(k))
+    return known[1][k]
+
+
+class CyclicCondensed(Condensed):
+    """:class:`Condensed` of one sector of a cyclic structure (``structure.sector_angle`` set): harmonic
+    h's compliance ``G_h = [Z_h^-1]_aa`` from the state-space modes of its nodal diameter's complex
+    Hermitian matrices (:meth:`hbm.CyclicStructure.harmonic_matrices`), one decomposition per nodal
+    diameter; the forcing at harmonic 1 (``docs/bladed_disks.md``).  The same interface: :meth:`at`,
+    :meth:`real_at` (through :meth:`at`) and :meth:`response`.
+
+    Parameters
+    ----------
+    structure : hbm.CyclicStructure
+        The sector.
+    dofs : sequence of int
+        The condensation DOFs ``a``.
+    harmonics : int
+        The highest harmonic H.
+    """
+
+    def __init__(self, structure: Structure, dofs: Sequence[int], harmonics: int) -> None:
+        self.dofs = np.asarray(dofs, dtype=int)
+        self.h = np.arange(harmonics + 1)
+        self._ih = (1j * self.h[:, None], -1j * self.h[:, None])
+        nd = [structure.nodal_diameter(h) for h in range(max(harmonics, 1) + 1)]
+        # one modal decomposition per nodal diameter (kept for the structure's other balances), and the
+        # harmonics that meet it
+        modes = {k: nodal_modes(structure, k) for k in dict.fromkeys(nd)}
+        self._groups = []
+        for k, (lam, V, B) in modes.items():
+            hs = np.flatnonzero(np.asarray(nd[:self.h.size]) == k)
+            if hs.size:
+                self._groups.append((hs, lam, V, B, V[self.dofs], B[:, self.dofs]))
+        lam, V, B = modes[nd[1]]
+        self._forced = (lam, V, V[self.dofs], B @ structure.force)
+        self._residues = None  # real_at goes through at
+        self._cache = self._real_cache = self._layout = None
+
+    def at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+        """``(G, dG/domega, x_lin, dx_lin/domega)`` as :meth:`Condensed.at`, harmonic by harmonic."""
+        if self._cache is not None and self._cache[0] == omega:
+            return self._cache[1]
+        na, n1 = self.dofs.size, self.h.size
+        G = np.empty((n1, na, na), dtype=complex)
+        dG = np.empty((n1, na, na), dtype=complex)
+        for hs, lam, _, _, Va, Ba in self._groups:
+            ih = 1j * hs[:, None]
+            S = 1.0 / (ih * omega - lam[None, :])
+            G[hs] = np.matmul(Va[None, :, :] * S[:, None, :], Ba)
+            dG[hs] = np.matmul(Va[None, :, :] * (-ih * S * S)[:, None, :], Ba)
+        lam, _, Va, bf = self._forced
+        S1 = 1.0 / (1j * omega - lam)
+        xl, dxl = Va @ (S1 * bf), Va @ (-1j * S1 * S1 * bf)
+        G[0] = G[0].real  # nodal diameter 0: real matrices
+        out = (G, dG, xl, dxl)
+        self._cache = (omega, out)
+        return out
+
+    def response(self, omega: float, F: NDArray) -> NDArray[np.complex128]:
+        """Complex harmonics (n, H+1) of every DOF of the sector for contact-force harmonics F (n_a, 2H+1)."""
+        c = to_complex(F)  # (n_a, H+1)
+        lam, V, _, bf = self._forced
+        Xall = np.zeros((V.shape[0], self.h.size), dtype=complex)
+        for hs, lam_k, Vk, Bk, _, Ba in self._groups:
+            S = 1.0 / (1j * hs[:, None] * omega - lam_k[None, :])
+            Xall[:, hs] = -np.einsum("nj,hj,ja,ah->nh", Vk, S, Ba, c[:, hs])
+        Xall[:, 1] += V @ (bf / (1j * omega - lam))
+        Xall[:, 0] = Xall[:, 0].real
+        return Xall
+
+
+def condensed(structure: Structure, dofs: Sequence[int], harmonics: int) -> Condensed:
+    """The condensation of ``structure`` at ``dofs``: :class:`Condensed`, or :class:`CyclicCondensed` for
+    one sector of a cyclic structure (``structure.sector_angle`` set)."""
+    if structure.sector_angle is None:
+        return Condensed(structure, dofs, harmonics)
+    return CyclicCondensed(structure, dofs, harmonics)
+
+
+def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float,
+                 angle: float = 0.0) -> NDArray[np.complex128]:
+    """Complex stiffness (n_a, n_a) of the contacts held in their linear range at omega (rigid: 0), for a
+    motion whose next sector is this one's times ``exp(-i angle)`` (a ``next_sector`` contact's p; 0:
+    the static term, or a structure that is not a sector)."""
     pos = {d: i for i, d in enumerate(dofs)}
     Kc = np.zeros((len(dofs), len(dofs)), dtype=complex)
+    turn = complex(math.cos(angle), -math.sin(angle))
     for c in contacts:
         ks, kc = c.element.linear_coefficients(omega)
         k = complex(ks, kc) if math.isfinite(ks) and math.isfinite(kc) else 0.0
         ix = [pos[d] for d in c.dofs]
+        if c.next_sector:  # relative motion turn c_p - c_q; force conj(turn) f on p, -f on q
+            sg = [turn, -1.0]
+            for i, si in zip(ix, sg):
+                for j, sj in zip(ix, sg):
+                    Kc[i, j] += np.conj(si) * sj * k
+            continue
         sg = [1.0, -1.0][:len(ix)]
         for i, si in zip(ix, sg):
             for j, sj in zip(ix, sg):
@@ -163,4 +269,4 @@ def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float) -> 
     return Kc
 
 
-__all__ = ["Condensed", "stuck_matrix", "structure_modes"]
+__all__ = ["Condensed", "CyclicCondensed", "condensed", "nodal_modes", "stuck_matrix", "structure_modes"]

@@ -153,11 +153,10 @@ def onsets(problem: HarmonicBalance, X: NDArray, omega: NDArray, idx: NDArray) -
     n = len(omega)
     if n < 2 or len(idx) < 1:
         return np.empty(0, dtype=np.intp)
-    for el, comps in problem._attach:
+    for e, (el, comps) in enumerate(problem._attach):
         if len(comps) > 1 or type(el)._model_error is ContactElement._model_error:
             continue  # a contact with a normal direction (its onset is not one amplitude), or an exact element
-        ix = comps[0]
-        rel = X[:, ix[0]] - X[:, ix[1]] if len(ix) == 2 else X[:, ix[0]]
+        rel = problem.relative_motion(e, X)[:, 0]
         a = np.hypot(rel[:, 1], rel[:, 2])
         a_lin = np.interp(np.arange(n), idx, [float(el.linear_amplitude(float(omega[j]))) for j in idx])
         flips = np.flatnonzero(np.diff((a > a_lin).astype(np.int8)) != 0)
@@ -465,11 +464,6 @@ def _amplitude_step(Jx: NDArray, R: NDArray, x: NDArray, r: int, L: int) -> floa
     return float((xc * dX[r * L + 1] + xs * dX[r * L + 2]) / math.hypot(xc, xs))
 
 
-def _relative_motion(x: NDArray, ix: tuple) -> NDArray:
-    """A contact's relative motion's coefficients at the point ``x`` (n_a, 2H+1)."""
-    return x[ix[0]] - x[ix[1]] if len(ix) == 2 else x[ix[0]]
-
-
 def _model_errors(same: HarmonicBalance, X: NDArray, omega: NDArray) -> dict[int, tuple[NDArray, NDArray]]:
     """``{contact index: (e_s, e_c)}`` at every point of ``X`` (points, n_a, 2H+1), ``omega`` for the contacts with
     a model error (one direction): each element asked once for all points, which it may spread over threads
@@ -478,7 +472,7 @@ def _model_errors(same: HarmonicBalance, X: NDArray, omega: NDArray) -> dict[int
     for c, (el, comps) in enumerate(same._attach):
         if len(comps) > 1 or type(el)._model_error is ContactElement._model_error:
             continue
-        a = np.array([math.hypot(*(float(v) for v in _relative_motion(x, comps[0])[1:3])) for x in X])
+        a = np.array([math.hypot(*(float(v) for v in same.relative_motion(c, x)[0, 1:3])) for x in X])
         e_s, e_c = (np.zeros(len(a)) for _ in range(2))
         some = a > 0.0
         if np.any(some):
@@ -501,7 +495,7 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
         if len(comps) > 1:  # a contact with a normal direction is exact for what it models
             continue
         ix = comps[0]
-        Xrel = _relative_motion(x, ix)
+        Xrel = same.relative_motion(c, x)[0]
         xc, xs = float(Xrel[1]), float(Xrel[2])
         a_c = math.hypot(xc, xs)
         if known is not None and c in known:
@@ -515,7 +509,9 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
         floor = 0.01 * abs(float(el.linear_coefficients(0.0)[0]))
         for dk, direction in ((e_s * max(abs(p), floor), (xc, xs)), (e_c * max(abs(q), floor), (xs, -xc))):
             dF = np.zeros(na, dtype=complex)  # the force error's first harmonic c = Fc - i Fs on the DOFs
-            for i, sign in zip(ix, (1.0, -1.0)):
+            # on p of a contact to the next sector: the previous sector's, leading by phi
+            first = complex(math.cos(same._angle), math.sin(same._angle)) if same._next[c] else 1.0
+            for i, sign in zip(ix, (first, -1.0)):
                 dF[i] += sign * dk * complex(direction[0], -direction[1])
             dR = np.zeros((na, L))
             gdF = G1 @ dF

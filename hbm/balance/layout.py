@@ -7,6 +7,8 @@ coefficients ``c_0 = X0``, ``c_h = Xc_h - i Xs_h`` (``x = Re sum_h c_h exp(i h o
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import NDArray
 
@@ -42,4 +44,26 @@ def from_complex(c: NDArray) -> NDArray[np.float64]:
     return V
 
 
-__all__ = ["to_complex", "from_complex"]
+def next_sector_operator(harmonics: int, angle: float) -> NDArray[np.float64]:
+    """``T`` (2H+1, 2H+1): the next sector's coefficients ``T X`` in the real layout from this sector's ``X``
+    when harmonic h of the next sector is this one's times ``exp(-i h angle)``: ``c_h = Xc - i Xs`` turned,
+    ``Xc' = Xc cos(h angle) - Xs sin(h angle)``, ``Xs' = Xs cos(h angle) + Xc sin(h angle)``; the static term
+    as it is.  ``T`` is orthogonal: ``T^T`` turns by ``+h angle``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> T = next_sector_operator(1, np.pi / 2)
+    >>> (T @ [0.5, 1.0, 0.0]).round(12).tolist()   # cos(theta) becomes cos(theta - pi/2) = sin(theta)
+    [0.5, 0.0, 1.0]
+    """
+    L = 2 * harmonics + 1
+    T = np.eye(L)
+    for h in range(1, harmonics + 1):
+        co, si = math.cos(h * angle), math.sin(h * angle)
+        T[2 * h - 1, 2 * h - 1], T[2 * h - 1, 2 * h] = co, -si
+        T[2 * h, 2 * h - 1], T[2 * h, 2 * h] = si, co
+    return T
+
+
+__all__ = ["to_complex", "from_complex", "next_sector_operator"]

@@ -61,8 +61,8 @@ from contact_models.numerics.masing import to_time
 
 from .._validation import count, relative_tolerance
 from ..structure import Contact, Structure
-from .condensation import Condensed, stuck_matrix
-from .layout import from_complex, to_complex
+from .condensation import condensed, stuck_matrix
+from .layout import from_complex, next_sector_operator, to_complex
 from .presets import MAX_RTOL
 
 #: omega-derivative of the stuck stiffness: central difference of this relative step.
@@ -118,6 +118,9 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
         for d in c.all_dofs:
             if d >= structure.n:
                 raise ValueError(f"dof must be a DOF index in 0..{structure.n - 1}, got dof={d!r} in {c!r}")
+        if c.next_sector and structure.sector_angle is None:
+            raise ValueError(f"next_sector=True joins two sectors of a cyclic structure (hbm.CyclicStructure); "
+                             f"{type(structure).__name__} is the whole model, got next_sector=True in {c!r}")
     H = count("harmonics", harmonics, 1, MAX_BALANCE_HARMONICS, "hbm.balance.residual.MAX_BALANCE_HARMONICS")
     if n_t is None:
         n_t = default_samples(H)
@@ -208,6 +211,10 @@ class HarmonicBalance:
         self.omega_ref = float(omega_ref)
         pos = {d: i for i, d in enumerate(self.dofs)}
         self._attach = [(c.element, [[pos[d] for d in ix] for ix in c.components]) for c in self.contacts]
+        # a contact to the next sector sees that sector's harmonic h turned by -h phi (docs/bladed_disks.md)
+        self._angle = float(s.sector_angle or 0.0)
+        self._next = [c.next_sector for c in self.contacts]
+        self._turn = next_sector_operator(self.H, self._angle)
         self.one_dof = solved_as_one_dof(s, self.contacts, self.H)
         self.element = self.contacts[0].element if len(self.contacts) == 1 else None
         self.fresh_omega_derivative = False
@@ -219,7 +226,7 @@ class HarmonicBalance:
         if self.one_dof:
             self._init_one_dof()
         else:
-            self.cond = Condensed(s, self.dofs, self.H)
+            self.cond = condensed(s, self.dofs, self.H)
         # the fast path of the condensed form: one element between the one condensation DOF and ground
         self._grounded_one = (not self.one_dof and self.na == 1 and len(self._attach) == 1
                               and self._attach[0][1] == [[0]])
@@ -295,23 +302,25 @@ class HarmonicBalance:
         two-component element (``Contact2D``) gets the rows of its tangential and normal attachments, (2, L)."""
         return self._assemble(X, omega, perturbation, True, True)
 
-    def perturbation_jacobian(self, X: NDArray, omega: float) -> NDArray:
+    def perturbation_jacobian(self, X: NDArray, omega: float, family: float = 0.0) -> NDArray:
         """``dF/dX`` (n_a L, n_a L) of :meth:`forces` with ``perturbation=True``, without the forces:
-        an element in its linear range all period is not evaluated (its Jacobian is ``k_s I``)."""
-        return self._assemble(X, omega, True, False, True)[1]
+        an element in its linear range all period is not evaluated (its Jacobian is ``k_s I``).  For a
+        sector, ``family = mu`` (rad) takes the perturbations whose next sector is this one's turned
+        and times ``exp(-i mu)`` (complex for mu != 0; ``hbm.balance.stability.HillProblem``)."""
+        return self._assemble(X, omega, True, False, True, family)[1]
 
     def _whole_jacobian(self, el: ContactElement, asked: bool = False) -> bool:
         """dF/dX whole from ``el``: where asked, or kept for Hill where ``el`` cannot leave its even block out."""
         return asked or (self.keep_jacobians and not el.even_block_optional)
 
     def _assemble(self, X: NDArray, omega: float, perturbation: bool, force: bool,
-                  whole: bool) -> tuple[NDArray, NDArray, NDArray]:  # whole: dF/dX with its even block
+                  whole: bool, family: float = 0.0) -> tuple[NDArray, NDArray, NDArray]:  # whole: with the even block
         na, L = self.na, self.L
         F = np.zeros((na, L))
-        dF = np.zeros((na, L, na, L))
+        dF = np.zeros((na, L, na, L), dtype=complex if family else float)
         Fw = np.zeros((na, L))
         for e, (el, comps) in enumerate(self._attach):
-            Xrel = np.array([X[ix[0]] - X[ix[1]] if len(ix) == 2 else X[ix[0]] for ix in comps])
+            Xrel = self.relative_motion(e, X)
             c, linear, ask = len(comps), False, self._whole_jacobian(el, whole)
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
@@ -329,6 +338,9 @@ class HarmonicBalance:
             if linear:
                 J = float(el.linear_coefficients(omega)[0]) * np.eye(L)
             f, fw, J = f.reshape(c, L), fw.reshape(c, L), J.reshape(c, L, c, L)
+            if self._next[e]:
+                self._add_next_sector(comps, f, fw, J, F, Fw, dF, family)
+                continue
             signs = [((ix[0], 1.0), (ix[1], -1.0)) if len(ix) == 2 else ((ix[0], 1.0),) for ix in comps]
             for a in range(c):
                 for i, si in signs[a]:
@@ -338,6 +350,42 @@ class HarmonicBalance:
                         for j, sj in signs[b]:
                             dF[i, :, j, :] += (si * sj) * J[a, :, b, :]
         return F, dF.reshape(na * L, na * L), Fw
+
+    def relative_motion(self, e: int, X: NDArray) -> NDArray:
+        """Contact ``e``'s relative motion (..., components, 2H+1) at the coefficients ``X`` (..., n_a, 2H+1):
+        ``X_i - X_j``, ``X_i`` or, across sectors, ``T X_p - X_q`` (``T``: :func:`hbm.balance.layout.next_sector_operator`)."""
+        comps = self._attach[e][1]
+        if self._next[e]:
+            return np.stack([X[..., ix[0], :] @ self._turn.T - X[..., ix[1], :] for ix in comps], axis=-2)
+        return np.stack([X[..., ix[0], :] - X[..., ix[1], :] if len(ix) == 2 else X[..., ix[0], :] for ix in comps],
+                        axis=-2)
+
+    def _add_next_sector(self, comps: list, f: NDArray, fw: NDArray, J: NDArray, F: NDArray, Fw: NDArray,
+                         dF: NDArray, family: float = 0.0) -> None:
+        """A contact to the next sector into the balance: its force f acts -f on this sector's q and, by
+        the symmetry of the travelling wave, ``T^T f`` on p (the previous sector's contact, whose force
+        leads by h phi); ``dF`` gets ``T^T J T``, ``-T^T J``, ``-J T`` and ``J`` (docs/bladed_disks.md).
+        A perturbation of the family ``mu = family`` has ``exp(-i mu) T`` for ``T``."""
+        c = len(comps)
+        for a in range(c):
+            p, q = comps[a]
+            F[p] += self._turn.T @ f[a]
+            F[q] -= f[a]
+            Fw[p] += self._turn.T @ fw[a]
+            Fw[q] -= fw[a]
+        turn = np.exp(-1j * family) if family else 1.0
+        T = turn * self._turn
+        Tt = np.conj(T).T
+        for a in range(c):
+            p, q = comps[a]
+            for b in range(c):
+                pb, qb = comps[b]
+                Jab = J[a, :, b, :]
+                TJ = Tt @ Jab
+                dF[p, :, pb, :] += TJ @ T
+                dF[p, :, qb, :] -= TJ
+                dF[q, :, pb, :] -= Jab @ T
+                dF[q, :, qb, :] += Jab
 
     def forget_jacobians(self) -> None:
         """Drop the elements' Jacobians kept for :meth:`perturbation_jacobian` (Hill's method has run)."""
@@ -531,7 +579,8 @@ class HarmonicBalance:
             z = self._F / (self._k + kd - self._m * w0 * w0 + 1j * self._c * w0)
             return np.array([z.real / xr, -z.imag / xr, w0 / self.omega_ref])
         G, _, xl, _ = self.cond.at(w0)
-        c1 = np.linalg.solve(np.eye(self.na) + G[1] @ stuck_matrix(self.contacts, self.dofs, w0), xl)
+        Kc = stuck_matrix(self.contacts, self.dofs, w0, self._angle)
+        c1 = np.linalg.solve(np.eye(self.na) + G[1] @ Kc, xl)
         u0 = np.zeros(self.unknowns)
         u0[1:self.na * self.L:self.L] = c1.real / xr
         u0[2:self.na * self.L:self.L] = -c1.imag / xr
@@ -560,16 +609,19 @@ class HarmonicBalance:
 
 def solved_as_one_dof(structure: Structure, contacts: Sequence[Contact], H: int) -> bool:
     """Whether the balance of ``structure`` with ``contacts`` at ``H`` harmonics is the one-DOF single-harmonic
-    balance (which needs no static compliance; every other needs K nonsingular, :func:`static_deflection`)."""
-    return (structure.n == 1 and H == 1 and len(contacts) <= 1
-            and all(c.element.exact_describing_function for c in contacts))
+    balance (which needs no static compliance; every other needs K nonsingular, :func:`static_deflection`):
+    one real-forced DOF, not a sector of a cyclic structure."""
+    return (structure.n == 1 and H == 1 and len(contacts) <= 1 and structure.sector_angle is None
+            and not np.iscomplexobj(structure.force) and all(c.element.exact_describing_function for c in contacts))
 
 
-def static_deflection(structure: Structure) -> NDArray[np.float64]:
-    """``K^-1 force`` of ``structure``; ValueError naming K if K is singular (the condensation of a
-    structure held only by its contacts has no static compliance).  The balance calls it to set
-    its scales; a scene's planning calls it so that ``--check`` refuses what the run would."""
-    K = structure.K
+def static_deflection(structure: Structure) -> NDArray:
+    """``K_1^-1 force`` of ``structure`` (``K_1`` its stiffness at harmonic 1,
+    :meth:`hbm.Structure.harmonic_matrices`: K itself but for a cyclic sector; complex with a complex
+    force); ValueError naming K if it is singular (the condensation of a structure held only by its
+    contacts has no static compliance).  The balance calls it to set its scales; a scene's planning
+    calls it so that ``--check`` refuses what the run would."""
+    K = structure.harmonic_matrices(1)[2]
     Kd = K.toarray() if hasattr(K, "toarray") else np.asarray(K)
     try:
         x_static = np.linalg.solve(Kd, structure.force)

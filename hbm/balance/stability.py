@@ -105,13 +105,30 @@ class HillProblem:
         Dense n x n matrices of the model.
     harmonics : int
         H.
+    coupling : tuple of three ndarray, optional
+        ``(M_next, C_next, K_next)`` of one sector of a cyclic structure (:class:`hbm.CyclicStructure`),
+        with ``angle``: the perturbation is of one travelling-wave family, harmonic h of the next sector
+        that of this one turned by ``-h angle`` (``T``, :func:`hbm.balance.layout.next_sector_operator`)
+        and times ``exp(-i mu)`` (:meth:`exponents`' ``family``), so each ``kron(A, I)`` becomes
+        ``kron(A, I) + exp(-i mu) kron(A_next, T) + exp(i mu) kron(A_next^T, T^T)``
+        (``docs/bladed_disks.md``).  Default none: the model is the whole structure.
+    angle : float, optional
+        ``phi = 2 pi EO / N`` (rad), with ``coupling``.
     """
 
-    def __init__(self, M: NDArray, C: NDArray, K: NDArray, harmonics: int) -> None:
+    def __init__(self, M: NDArray, C: NDArray, K: NDArray, harmonics: int,
+                 coupling: tuple[NDArray, NDArray, NDArray] | None = None, angle: float = 0.0) -> None:
         self.M, self.C, self.K = (np.asarray(A, dtype=float) for A in (M, C, K))
         self.n, self.H, self.L = self.M.shape[0], int(harmonics), 2 * int(harmonics) + 1
         self._Minv = np.linalg.inv(self.M)
         self._eye = np.eye(self.L)
+        self._coupling = None  # a sector's: the own and the neighbours' parts of M, C, K on the real layout
+        if coupling is not None:
+            from .layout import next_sector_operator
+
+            T = next_sector_operator(self.H, angle)
+            self._coupling = tuple((np.kron(A, self._eye), np.kron(np.asarray(A1, dtype=float), T))
+                                   for A, A1 in zip((self.M, self.C, self.K), coupling))
         parity = np.r_[0, np.repeat(np.arange(1, self.H + 1), 2)] % 2
         self._parts = (np.flatnonzero(parity == 0), np.flatnonzero(parity == 1))
         # the rows of every DOF's even and odd coefficients in the DOF-major layout
@@ -122,12 +139,15 @@ class HillProblem:
         # points share one contact stiffness (an equal Kc gives the same eigenproblem, bit for bit)
         self._invariant: tuple = (None, None)
 
-    def exponents(self, omega: float, dF: NDArray) -> NDArray[np.complex128]:
-        """The ``2 n`` Floquet exponents (1/s) at ``omega`` for the contacts' Jacobian ``dF``."""
+    def exponents(self, omega: float, dF: NDArray, family: float = 0.0) -> NDArray[np.complex128]:
+        """The ``2 n`` Floquet exponents (1/s) at ``omega`` for the contacts' Jacobian ``dF``; for a sector
+        (``coupling``), those of the perturbations of the family ``mu = family`` (rad): the next sector's
+        harmonic h is this one's times ``exp(-i (h phi + mu))``, ``mu = 2 pi m / N`` (``dF`` of that family,
+        ``HarmonicBalance.perturbation_jacobian``)."""
         n, L, H = self.n, self.L, self.H
         Kc = dF[::L, ::L]
         blocks = dF.reshape(n, L, n, L)
-        if np.array_equal(blocks, Kc[:, None, :, None] * self._eye[None, :, None, :]):
+        if self._coupling is None and np.array_equal(blocks, Kc[:, None, :, None] * self._eye[None, :, None, :]):
             # time-invariant (dF = kron(Kc, I)): the k = 0 member of each family
             key = Kc.tobytes()
             if self._invariant[0] != key:
@@ -141,7 +161,7 @@ class HillProblem:
         parts = self._parts if H > 0 and cross <= PARITY_RTOL * scale else (np.arange(L),)
         lams, centres = [], []
         for part in parts:
-            lam, centre = self._eig(omega, dF, part)
+            lam, centre = self._eig(omega, dF, part, family)
             lams.append(lam)
             centres.append(centre)
         lam, centre = np.concatenate(lams), np.concatenate(centres)
@@ -150,10 +170,10 @@ class HillProblem:
         lam = lam[np.lexsort((np.abs(lam.imag), np.round(centre, 2)))[:2 * n]]
         return lam[np.argsort(-lam.real, kind="stable")]
 
-    def _operators(self, part: NDArray) -> tuple:
-        """The omega-free parts of ``-M^-1 D0`` and ``-M^-1 D1`` on the coefficients ``part``, and
-        what :meth:`_eig` needs to weigh the eigenvectors' harmonics."""
-        key = tuple(part.tolist())
+    def _operators(self, part: NDArray, family: float = 0.0) -> tuple:
+        """The omega-free parts of ``-M^-1 D0`` and ``-M^-1 D1`` on the coefficients ``part`` (of the
+        family ``family``, a sector's), and what :meth:`_eig` needs to weigh the eigenvectors' harmonics."""
+        key = (tuple(part.tolist()), family)
         if key not in self._ops:
             n, L, p = self.n, self.L, part.size
             Nop = derivative_operator(self.H)[np.ix_(part, part)]
@@ -164,19 +184,31 @@ class HillProblem:
             pos = {int(c): j for j, c in enumerate(part)}
             hs = [h for h in range(1, self.H + 1) if 2 * h - 1 in pos]
             rows = (np.array([pos[2 * h - 1] for h in hs], dtype=int), np.array([pos[2 * h] for h in hs], dtype=int))
-            self._ops[key] = (idx, Minv, Minv @ np.kron(self.K, I), Minv @ np.kron(self.C, Nop),
-                              Minv @ np.kron(self.M, Nop @ Nop), Minv @ np.kron(self.C, I),
-                              Minv @ np.kron(self.M, Nop), np.eye(idx.size), 0 in pos, rows,
-                              np.array(hs, dtype=float)[None, :, None])
+            if self._coupling is None:
+                self._ops[key] = (idx, Minv, Minv @ np.kron(self.K, I), Minv @ np.kron(self.C, Nop),
+                                  Minv @ np.kron(self.M, Nop @ Nop), Minv @ np.kron(self.C, I),
+                                  Minv @ np.kron(self.M, Nop), np.eye(idx.size), 0 in pos, rows,
+                                  np.array(hs, dtype=float)[None, :, None])
+            else:  # a sector: the operators block-diagonal in the harmonics, restricted to the part
+                turn = np.exp(-1j * family) if family else 1.0
+                Mo, Co, Ko = ((own + turn * nxt + np.conj(turn) * nxt.T)[np.ix_(idx, idx)]
+                              for own, nxt in self._coupling)
+                D = np.kron(np.eye(n), Nop)
+                Minv = np.linalg.inv(Mo)
+                self._ops[key] = (idx, Minv, Minv @ Ko, Minv @ Co @ D, Minv @ Mo @ D @ D, Minv @ Co, Minv @ Mo @ D,
+                                  np.eye(idx.size), 0 in pos, rows, np.array(hs, dtype=float)[None, :, None])
         return self._ops[key]
 
-    def _eig(self, omega: float, dF: NDArray, part: NDArray) -> tuple[NDArray[np.complex128], NDArray[np.float64]]:
+    def _eig(self, omega: float, dF: NDArray, part: NDArray,
+             family: float = 0.0) -> tuple[NDArray[np.complex128], NDArray[np.float64]]:
         """Eigenvalues of the QEP (module docstring) on the coefficients ``part`` of every DOF (the
         rest of the layout zero), and the centre of each displacement eigenvector (module docstring)."""
         from scipy.linalg.lapack import dgeev, dgeev_lwork  # lazily: import hbm stays light
 
-        idx, Minv, MK, MCN, MMN2, MC, MMN, eye, static, (rc, rs), h = self._operators(part)
+        idx, Minv, MK, MCN, MMN2, MC, MMN, eye, static, (rc, rs), h = self._operators(part, family)
         size = idx.size
+        if np.iscomplexobj(Minv) or np.iscomplexobj(dF):  # a sector's family mu != 0: a complex eigenproblem
+            return self._eig_complex(omega, dF, idx, (Minv, MK, MCN, MMN2, MC, MMN, eye), static, (rc, rs), h)
         A = np.zeros((2 * size, 2 * size), order="F")  # LAPACK's order: no copy on the call
         A[:size, size:] = eye
         A[size:, :size] = -(MK + omega * MCN + omega * omega * MMN2 + Minv @ dF[np.ix_(idx, idx)])
@@ -203,6 +235,29 @@ class HillProblem:
             total += 4.0 * np.sum(a[:, 0] ** 2 + b[:, 0] ** 2, axis=0)
         centre = 4.0 * np.abs(np.sum(h * (ac * bs - as_ * bc), axis=(0, 1))) / np.maximum(total, 1e-300)
         return wr + 1j * wi, centre
+
+
+    def _eig_complex(self, omega: float, dF: NDArray, idx: NDArray, ops: tuple, static: bool, rows: tuple,
+                     h: NDArray) -> tuple[NDArray[np.complex128], NDArray[np.float64]]:
+        """:meth:`_eig` of a complex QEP: the eigenvectors ``a + i b`` are complex, not in conjugate pairs."""
+        from scipy.linalg import eig  # lazily: import hbm stays light
+
+        Minv, MK, MCN, MMN2, MC, MMN, eye = ops
+        size = idx.size
+        A = np.zeros((2 * size, 2 * size), dtype=complex)
+        A[:size, size:] = eye
+        A[size:, :size] = -(MK + omega * MCN + omega * omega * MMN2 + Minv @ dF[np.ix_(idx, idx)])
+        A[size:, size:] = -(MC + 2.0 * omega * MMN)
+        lam, vr = eig(A, overwrite_a=True, check_finite=False)
+        v = vr[:size].reshape(self.n, -1, 2 * size)
+        a, b = v.real, v.imag
+        rc, rs = rows
+        ac, as_, bc, bs = a[:, rc], a[:, rs], b[:, rc], b[:, rs]
+        total = 2.0 * np.sum(ac * ac + as_ * as_ + bc * bc + bs * bs, axis=(0, 1))
+        if static:
+            total += 4.0 * np.sum(a[:, 0] ** 2 + b[:, 0] ** 2, axis=0)
+        centre = 4.0 * np.abs(np.sum(h * (ac * bs - as_ * bc), axis=(0, 1))) / np.maximum(total, 1e-300)
+        return lam, centre
 
 
 def band_modes(M: NDArray, K: NDArray, kept: int, band: float) -> list[int]:

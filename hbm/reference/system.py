@@ -46,6 +46,9 @@ def _system(system: Any) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     M = _matrix("M", parts[0], None)
     n = M.shape[0]
     C, K = _matrix("C", parts[1], n), _matrix("K", parts[2], n)
+    if np.iscomplexobj(parts[3]) and np.any(np.imag(parts[3])):
+        raise ValueError("force must be real for the time-domain references (a phase per DOF is not integrated), "
+                         f"got a complex force={parts[3]!r}")
     f = np.atleast_1d(np.asarray(parts[3], dtype=float)).ravel()
     if f.size != n or not np.all(np.isfinite(f)):
         raise ValueError(f"force must be a finite vector of length {n}, got force={parts[3]!r}")

@@ -13,8 +13,8 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-from contact_models import (Bar, ContactElement, QuadraticLoad, QuasiStatic, ThreeRegionMicroslip, TwoRegionMicroslip,
-                            UniformLoad)
+from contact_models import (Bar, CentrifugalLoad, ContactElement, QuadraticLoad, QuasiStatic, RotatingPreload,
+                            ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models.quasi_static import StuckContact
 
 from ..blade import Blade
@@ -129,7 +129,7 @@ class RunContext:
         """The normal load of this run (``contact_models`` load object), or None without [damper.load]."""
         if self._load is None and self.scene.load is not None:
             ld = self.scene.load
-            if ld["kind"] == "uniform":
+            if ld["kind"] in ("uniform", "centrifugal"):  # a centrifugal load: uniform, N of this run's omega
                 self._load = UniformLoad(N=self.N)
             elif ld.get("q0") is not None:
                 self._load = QuadraticLoad(q0=ld["q0"], q2=ld["q2"], L=self.scene.damper["L"])
@@ -141,7 +141,7 @@ class RunContext:
     def load_text(self) -> str:
         """The load in words, for the reasons."""
         load = self.load
-        if self.scene.load["kind"] == "uniform":
+        if self.scene.load["kind"] in ("uniform", "centrifugal"):
             return f"uniform load N = {load.N:g} N"
         r = load.ratio
         shape = "concave" if r > 1 else ("convex" if r < 1 else "uniform")
@@ -341,11 +341,19 @@ def plan_scene(scene: Scene) -> Plan:
     unit = {"rad/s": 1.0, "Hz": 2.0 * math.pi, "omega_c": bar.omega_c if bar is not None else math.nan}
     omega = tuple(unit[scene.sweep["unit"]] * w for w in scene.sweep["omega"])
     loads = (scene.load.get("N") or (None,)) if scene.load is not None else (None,)
+    centrifugal = scene.load is not None and scene.load["kind"] == "centrifugal"
+    if centrifugal:  # one run per model, planned at the load of the sweep's middle frequency, then at each omega's
+        if scene.optimum is not None:
+            problems.append(f"{scene.where('damper.load.kind')} = \"centrifugal\": not allowed with [optimum] "
+                            "(its load follows omega; vary a [damper] key with a uniform load)")
+        loads = (_centrifugal(scene)(0.5 * (min(omega) + max(omega))),)
     runs = []
     for model in d["model"]:
         for N in (loads if "load" in _needs(scene, model) else (None,)):
             try:
                 runs.append(_plan_run(scene, model, len(runs), N, bar, blade, omega))
+                if centrifugal and N is not None:
+                    runs[-1] = _following(scene, runs[-1], bar, blade, omega)
             except SceneError as exc:
                 problems.extend(exc.problems)
                 continue
@@ -370,6 +378,26 @@ def plan_scene(scene: Scene) -> Plan:
     if problems:
         raise SceneError(list(dict.fromkeys(problems)))
     return Plan(scene, blade, runs, contacts)
+
+
+def _centrifugal(scene: Scene) -> CentrifugalLoad:
+    """The ``[damper.load]`` of kind "centrifugal" as its load law."""
+    ld = scene.load
+    return CentrifugalLoad(mass=ld["mass"], radius=ld["radius"], engine_order=ld["engine_order"])
+
+
+def _following(scene: Scene, run: RunPlan, bar: Any, blade: Any, omega: tuple) -> RunPlan:
+    """``run`` (planned at one load) with the element whose load follows the drive frequency: at each
+    omega the run planned again at ``N0(omega)`` (the same deciders), ``contact_models.RotatingPreload``."""
+    load = _centrifugal(scene)
+
+    def build(N: float) -> ContactElement:
+        return _plan_run(scene, run.name, run.index, N, bar, blade, omega).element
+
+    element = RotatingPreload(build, load, omega_ref=0.5 * (min(omega) + max(omega)) or 1.0)
+    ld = scene.load
+    return replace(run, element=element, N=None,
+                   model=f"{run.model}, centrifugal load {ld['mass']:g} kg at {ld['radius']:g} m, EO {ld['engine_order']}")
 
 
 def _bar(d: dict) -> Any:

@@ -68,14 +68,19 @@ _FIXED: dict[str, dict[str, Key]] = {
         "response_dof": Key(integer(0), OPTIONAL, "the DOF whose response is reported; default the forced DOF"),
     },
     "damper.load": {
-        "kind": Key(choice("uniform", "quadratic"), "uniform",
-                    '"uniform" (q = N/L) or "quadratic" (Eq. 29: q0 + q2 4x(x - L)/L^2)'),
+        "kind": Key(choice("uniform", "quadratic", "centrifugal"), "uniform",
+                    '"uniform" (q = N/L), "quadratic" (Eq. 29: q0 + q2 4x(x - L)/L^2) or "centrifugal" (uniform, '
+                    'N = mass radius (omega/engine_order)^2 at each drive frequency)'),
         "N": Key(one_or_list(number(ge=0, unit="N"), "a number >= 0 (N)"), OPTIONAL,
                  "total normal load (N), or a list of loads (one run each: a design chart)"),
         "ratio": Key(number(gt=0, allow_inf=True), OPTIONAL,
                      "quadratic only: q0/(q0 - q2); > 1 concave (three regions), < 1 convex"),
         "q0": Key(nonnegative, OPTIONAL, "quadratic only, instead of N and ratio: q0 (N/m)"),
         "q2": Key(number(unit="N/m"), OPTIONAL, "quadratic only, instead of N and ratio: q2 (N/m)"),
+        "mass": Key(number(gt=0, unit="kg"), OPTIONAL, "centrifugal only, required: the damper's mass (kg)"),
+        "radius": Key(number(gt=0, unit="m"), OPTIONAL, "centrifugal only, required: the damper's radius (m)"),
+        "engine_order": Key(integer(1), OPTIONAL,
+                            "centrifugal only, required: EO, the drive omega = EO times the rotation speed"),
     },
     "sweep": {
         "kind": Key(choice("frequency", "amplitude"), "frequency",

@@ -580,6 +580,16 @@ class _Rules:
         if not has_load:
             return
         t = self.t["damper.load"]
+        if load["kind"] == "centrifugal":
+            for key in ("N", "ratio", "q0", "q2"):
+                if self.has("damper.load", key):
+                    self.forbid("damper.load", key, 'with damper.load.kind = "centrifugal" (its load follows omega)')
+            for key in ("mass", "radius", "engine_order"):
+                self.need("damper.load", key, 'with damper.load.kind = "centrifugal"')
+            return
+        for key in ("mass", "radius", "engine_order"):
+            if self.has("damper.load", key):
+                self.forbid("damper.load", key, 'except with damper.load.kind = "centrifugal"')
         if load["kind"] == "uniform":
             for key in ("ratio", "q0", "q2"):
                 if self.has("damper.load", key):
