@@ -27,6 +27,7 @@ from contact_models.numerics.roots import brentq  # scipy's algorithm without im
 from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
 from .allmode_peak import physical_peak
 from .balance import errors
+from ._threads import SMALL_SYSTEM, one_blas_thread
 from ._validation import nonnegative, omega_range_pair, positive
 from .balance.presets import DEFAULT_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
 from .balance.residual import HarmonicBalance, as_contacts, as_structure
@@ -273,7 +274,15 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                         lambda H: n_t_given if n_t_given is not None else _samples(H), response_dof)
     live = None if again or callback is None else (lambda problem: _reporter(callback, problem))
     notes: list[str] = []
-    with errors.collected() as said:  # one block: every other warning is said once, as Python says it
+    # the largest dense system of the call: the structure's, or the balance's at the most harmonics
+    # it may use, 2H + 1 for the harmonics' estimate (SMALL_SYSTEM: on one BLAS thread up to that)
+    h_most = MAX_HARMONICS if adapt else harmonics
+    if tolerance is not None:
+        h_most = 2 * h_most + 1
+    n_contact = len({d for c in as_contacts(contacts, structure.n) for d in c.all_dofs} | {response_dof})
+    small = max(structure.n, n_contact * (2 * h_most + 1) + 1) <= SMALL_SYSTEM
+    # one block: every other warning is said once, as Python says it
+    with one_blas_thread(small), errors.collected() as said:
         frf = along.solve(knobs, contacts, harmonics, live)
         if again:  # the model and H chosen along the curve (hbm.adapt)
             plan = along.Plan(MODEL_SHARE if model == "auto" or rungs else None, HARMONICS_SHARE if adapt else None,

@@ -20,6 +20,7 @@ import threading
 import time
 from typing import Any, Callable, Iterator, Mapping, Sequence
 
+from .._threads import openblas_setters
 from .._validation import InputError
 from .runs import execute
 from .lock import alive
@@ -82,11 +83,10 @@ def single_threaded_blas() -> list[str]:
     for name in BLAS_THREAD_VARIABLES:
         os.environ[name] = "1"
     done = []
-    try:
-        with open("/proc/self/maps") as maps:
-            paths = sorted({line.split()[-1] for line in maps if "openblas" in line.lower() and ".so" in line})
-    except OSError:  # not Linux: the environment variables only
-        return done
+    for path, setter in openblas_setters():
+        setter(ctypes.c_int(1))
+        done.append(path)
+    return done
     for path in paths:
         try:
             lib = ctypes.CDLL(path)
