@@ -277,10 +277,12 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     # the largest dense system of the call: the structure's, or the balance's at the most harmonics
     # it may use, 2H + 1 for the harmonics' estimate (SMALL_SYSTEM: on one BLAS thread up to that)
     h_most = MAX_HARMONICS if adapt else harmonics
-    if tolerance is not None:
-        h_most = 2 * h_most + 1
-    n_contact = len({d for c in as_contacts(contacts, structure.n) for d in c.all_dofs} | {response_dof})
-    small = max(structure.n, n_contact * (2 * h_most + 1) + 1) <= SMALL_SYSTEM
+    small = isinstance(h_most, (int, np.integer)) and not isinstance(h_most, bool)  # else the balance refuses it
+    if small:
+        if tolerance is not None:
+            h_most = 2 * h_most + 1
+        n_contact = len({d for c in as_contacts(contacts, structure.n) for d in c.all_dofs} | {response_dof})
+        small = max(structure.n, n_contact * (2 * h_most + 1) + 1) <= SMALL_SYSTEM
     # one block: every other warning is said once, as Python says it
     with one_blas_thread(small), errors.collected() as said:
         frf = along.solve(knobs, contacts, harmonics, live)

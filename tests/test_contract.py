@@ -128,7 +128,7 @@ def test_the_registered_classes_are_all_found():
     assert names == ["AllModeMicroslip", "AllModeMicroslip2D", "Contact2D", "Contact3D", "CubicSpring", "Gap", "Iwan",
                      "Macroslip", "NumericalMicroslip",
                      "PointContact",
-                     "QuasiStatic", "StuckContact", "ThreeRegionMicroslip", "TwoRegionMicroslip"]
+                     "QuasiStatic", "RotatingPreload", "StuckContact", "ThreeRegionMicroslip", "TwoRegionMicroslip"]
 
 
 def test_the_range_warning_comes_from_the_base_and_points_at_the_caller():

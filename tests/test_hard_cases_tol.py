@@ -274,7 +274,7 @@ def test_a_silent_solve_has_no_warning_message():
 
 
 def test_a_scene_run_records_its_one_warning(tmp_path):
-    scene = scene_from_dict(scene_dict(**{"sweep.max_step": 0.1}), tmp_path / "s.toml")
+    scene = scene_from_dict(scene_dict(**{"sweep.max_step": 0.1, "sweep.tol": 1e-3}), tmp_path / "s.toml")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         run_scene(scene, tmp_path / "out")
@@ -284,7 +284,7 @@ def test_a_scene_run_records_its_one_warning(tmp_path):
 
 
 def test_the_command_line_prints_a_runs_warning_once(tmp_path, capsys):
-    assert main(["run", str(DEFAULT), "--out", str(tmp_path), "--set", "sweep.max_step=0.1"]) == 0
+    assert main(["run", str(DEFAULT), "--out", str(tmp_path), "--set", "sweep.max_step=0.1", "--set", "sweep.tol=1e-3"]) == 0
     out = capsys.readouterr().out
     assert out.count("warning: ") == 1 and "warning: frequency_response: estimated error" in out
     error = json.loads((tmp_path / "summary.json").read_text())["runs"][0]["error"]

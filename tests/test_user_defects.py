@@ -14,7 +14,7 @@ import pytest
 import scipy.sparse
 
 from contact_models import Macroslip, SampledLoad
-from hbm import Contact, Structure, frequency_response
+from hbm import Contact, Structure, frequency_response, periodic_response
 from hbm.cli.main import main
 from hbm.scenes import SceneError, load_scene, plan_scene, scene_from_dict
 from hbm.structure import load_matrix
@@ -49,9 +49,11 @@ def test_complex_stiffness_is_refused_by_name(sparse):
             Structure(np.eye(3), 0.01 * np.eye(3), scipy.sparse.csr_matrix(Kc) if sparse else Kc, force=F)
 
 
-def test_complex_force_is_refused_by_name():
-    with pytest.raises(ValueError, match=r"^force must be real, got a complex vector \(max\|Im force\| = 2\)"):
-        Structure(np.eye(3), 0.01 * np.eye(3), K, force=[0.0, 0.0, 1.0 + 2.0j])
+def test_a_complex_force_is_a_phase_per_dof_and_the_time_references_refuse_it_by_name():
+    s = Structure(np.eye(3), 0.01 * np.eye(3), K, force=[0.0, 0.0, 1.0 + 2.0j])  # amplitude and phase of cos
+    assert s.force.dtype == np.complex128 and s.force[2] == 1.0 + 2.0j
+    with pytest.raises(ValueError, match=r"^force must be real for the time-domain references"):
+        periodic_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], omega=1.0)
 
 
 def test_complex_matrix_with_zero_imaginary_part_is_its_real_part():
