@@ -146,6 +146,14 @@ def test_cyclic_keys_errors_name_their_keys(tmp_path, structure, message):
     assert any(re.search(message, p) for p in err.value.problems), err.value.problems
 
 
+def test_nonlinear_modes_of_a_sector_are_refused(tmp_path):
+    folder = files(tmp_path)
+    data = scene()
+    data["modes"] = {"amplitude": [1e-8, 1e-6]}
+    with pytest.raises(SceneError, match=r"structure.sectors = 24: not allowed with \[modes\]"):
+        scene_from_dict(data, folder / "bad.toml")
+
+
 def test_contact_entry_next_sector_errors(tmp_path):
     folder = files(tmp_path)
     data = scene(sectors=None, engine_order=None, next_stiffness=None, next_sector=None, contact_dofs=[0])

@@ -560,13 +560,19 @@ class _Rules:
 
     def _cyclic(self, st):
         """The keys of one sector of a cyclic structure (``structure.sectors``): engine_order required
-        with it, the couplings and next_sector refused without it, modal damping refused with it
+        with it, the couplings and next_sector refused without it, [modes] and [optimum] (nonlinear
+        modes, which one sector does not provide) and modal damping refused with it
         (a disk's modes differ per nodal diameter: give structure.damping or structure.rayleigh), the
         damping coupling only beside a damping file."""
         cyclic = self.has("structure", "sectors")
         own = ("engine_order", "next_mass", "next_stiffness", "next_damping", "next_sector")
         if cyclic:
             self.need("structure", "engine_order", "with structure.sectors")
+            for table in ("modes", "optimum"):
+                if table in self.present:
+                    self.forbid("structure", "sectors", f"with [{table}]: the nonlinear modes of one sector of a "
+                                "cyclic structure are not provided (give the whole disk's matrices as a plain "
+                                "[structure], or a frequency sweep)")
             if self.has("structure", "modal_damping"):
                 self.forbid("structure", "modal_damping", "with structure.sectors (the disk's modes differ per "
                             "nodal diameter): give structure.damping and structure.next_damping, or "
