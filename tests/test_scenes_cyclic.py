@@ -136,7 +136,8 @@ def test_contact_entry_to_the_next_sector_and_a_damping_file(tmp_path):
     ({"next_sector": "yes"}, r"structure.next_sector = \"yes\": must be true or false"),
     ({"next_sector": False}, r"structure.contact_dofs = \[2, 2\]: must be two different DOFs"),
     ({"next_stiffness": 3}, r"structure.next_stiffness = 3: must be"),
-    ({"rayleigh": None, "modal_damping": 0.01}, r"structure.modal_damping = \[0.01\]: not allowed with structure.sectors"),
+    ({"rayleigh": None, "modal_damping": 0.01},
+     r"structure.modal_damping = \[0.01\]: not allowed with structure.sectors"),
     ({"next_damping": "C1.npy"}, r"structure.next_damping = \"C1.npy\": not allowed unless structure.damping"),
 ])
 def test_cyclic_keys_errors_name_their_keys(tmp_path, structure, message):

@@ -264,5 +264,6 @@ def dof_problems(scene: Any, n: int) -> list:
     return out
 
 
-__all__ = ["dof_list", "dof_pair_list", "same_dof_problem", "contact_tables", "check_entries", "attach", "damper_contact", "structure_contacts",
+__all__ = ["dof_list", "dof_pair_list", "same_dof_problem", "contact_tables", "check_entries", "attach",
+           "damper_contact", "structure_contacts",
            "dof_problems", "ENTRY_KEYS", "EntryRun"]
