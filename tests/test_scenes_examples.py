@@ -37,8 +37,9 @@ def test_every_example_scene_is_valid_and_tested():
     modal = {"nonlinear_modes_chain", "damper_optimum"}  # tests/test_scenes_modes.py runs them
     # tests/test_scenes_normal.py and tests/test_scenes_allmode2d.py run them
     normal = {"nlvib_ex07", "contact_normal", "allmode_normal"}
-    assert names == tested | studies | modal | normal
-    for name in tested | modal | normal:
+    cyclic = {"bladed_disk"}  # tests/test_scenes_cyclic.py runs it
+    assert names == tested | studies | modal | normal | cyclic
+    for name in tested | modal | normal | cyclic:
         plan_scene(load_scene(SCENES / f"{name}.toml"))
     for name in studies:
         assert load_scene(SCENES / f"{name}.toml").study["points"]

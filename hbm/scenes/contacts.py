@@ -14,7 +14,11 @@ normal at ``structure.normal_dofs``; for one of three (two tangential directions
     gap = 0.25
 
 ``normal_dofs`` attaches the normal of a two- or three-component entry, ``second_dofs`` the second
-tangential direction of a three-component one.  An entry is built from its model's
+tangential direction of a three-component one.  In one sector of a cyclic structure
+(``structure.sectors``) ``next_sector = true`` on an entry, or ``structure.next_sector = true`` for
+the damper, joins the next sector to this one (``hbm.Contact(..., next_sector=True)``): every DOF
+list is then a pair ``[p, q]``, x_p of the next sector minus x_q of this one, and may name one DOF
+twice.  An entry is built from its model's
 spec exactly as the damper is (``ModelSpec.build``), but from its own keys only: a model that
 needs the bar or the normal load of ``[damper]`` (``ModelSpec.needs``) is refused there, and no
 effect is decided for an entry (it is computed as written: no inertia decision, no stuck check).
@@ -29,7 +33,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..structure import Contact
-from .checks import Invalid, OPTIONAL, REQUIRED, SceneError, choice, show
+from .checks import Invalid, OPTIONAL, REQUIRED, SceneError, boolean, choice, show
 from .models import MODELS, Built
 
 #: The keys of a ``[[structure.contacts]]`` entry besides its model's own.
@@ -38,7 +42,9 @@ ENTRY_KEYS = {"model": "the element: a registered model (python -m hbm models), 
               "second_dofs": "three-component models (contact3d) only, required for them: the second tangential "
                              "displacement, [k] or [k, l]",
               "normal_dofs": "two- and three-component models (contact2d, contact3d) only: the normal displacement, "
-                             "[k] or [k, l]"}
+                             "[k] or [k, l]",
+              "next_sector": "with structure.sectors only: true puts the entry between the next sector and this one, "
+                             "dofs = [p, q] acting on x_p of the next sector minus x_q of this one (default false)"}
 
 
 def dof_list(v: Any) -> tuple:
@@ -48,6 +54,22 @@ def dof_list(v: Any) -> tuple:
         raise Invalid("must be a list of one DOF index (a contact to ground) or of two different ones "
                       "(a contact between them), each an integer >= 0")
     return tuple(v)
+
+
+def dof_pair_list(v: Any) -> tuple:
+    """As :func:`dof_list`, but a pair may name one DOF twice, ``[p, p]``: DOF p of the next sector and
+    DOF p of this one, allowed only with ``next_sector = true`` (:func:`same_dof_problem` says so)."""
+    if isinstance(v, list) and len(v) == 2 and v[0] == v[1]:
+        return dof_list(v[:1]) * 2
+    return dof_list(v)
+
+
+def same_dof_problem(where: str, dofs: Any, next_sector: bool, next_key: str) -> str | None:
+    """The message for a pair ``[p, p]`` without ``next_sector`` (None when there is nothing to say)."""
+    if not isinstance(dofs, tuple) or len(dofs) != 2 or dofs[0] != dofs[1] or next_sector:
+        return None
+    return (f"{where} = {show(list(dofs))}: must be two different DOFs (one DOF twice, x_p of the next sector minus "
+            f"x_p of this one, only with structure.sectors and {next_key} = true)")
 
 
 def contact_tables(v: Any) -> tuple:
@@ -90,13 +112,19 @@ def check_entries(entries: tuple, path: Any) -> tuple[list, list]:
                                 f"{show(name)}: {', '.join(allowed)}")
                 continue
             try:
-                if key in ENTRY_KEYS:
-                    dofs[key] = dof_list(value)
+                if key == "next_sector":
+                    dofs[key] = boolean(value)
+                elif key in ENTRY_KEYS:
+                    dofs[key] = dof_pair_list(value)
                 else:
                     given[key] = None  # given, even if invalid (the rules do not repeat its problem)
                     params[key] = given[key] = spec.keys[key].check(value)
             except Invalid as exc:
                 problems.append(f"{path}: {at}.{key} = {show(value)}: {exc}")
+        for key in ("dofs", "second_dofs", "normal_dofs"):
+            same = same_dof_problem(f"{at}.{key}", dofs.get(key), dofs.get("next_sector", False), f"{at}.next_sector")
+            if same is not None:
+                problems.append(f"{path}: {same}")
         if "dofs" not in entry:
             problems.append(f"{path}: {at}.dofs is missing: required, {ENTRY_KEYS['dofs']}")
         for message in (spec.validate(given) if spec.validate is not None else []):
@@ -110,7 +138,8 @@ def check_entries(entries: tuple, path: Any) -> tuple[list, list]:
             if key not in params and k.default is not REQUIRED and k.default is not OPTIONAL:
                 params[key] = k.default
         out.append({"model": name, "dofs": dofs.get("dofs"), "second_dofs": dofs.get("second_dofs"),
-                    "normal_dofs": dofs.get("normal_dofs"), "params": params})
+                    "normal_dofs": dofs.get("normal_dofs"), "next_sector": dofs.get("next_sector", False),
+                    "params": params})
     return out, problems
 
 
@@ -138,10 +167,13 @@ class EntryRun:
 
 
 def attach(scene: Any, element: Any, dofs: tuple, normal_dofs: tuple | None, keys: tuple[str, str],
-           label: str, second_dofs: tuple | None = None, second_key: str = "structure.second_dofs") -> Contact:
+           label: str, second_dofs: tuple | None = None, second_key: str = "structure.second_dofs",
+           next_sector: bool = False, next_key: str = "structure.next_sector") -> Contact:
     """``hbm.Contact`` of ``element`` at ``dofs`` (its normal at ``normal_dofs``, the second tangential
     direction of a three-component element at ``second_dofs``); ``keys`` and ``second_key`` are the
-    scene keys that gave them (for messages), ``label`` the element's name in them."""
+    scene keys that gave them (for messages), ``label`` the element's name in them; ``next_sector``
+    (given by the scene key ``next_key``) joins DOF p of the next sector of a cyclic structure to DOF q
+    of this one (``hbm.Contact(..., next_sector=True)``)."""
     c = getattr(element, "components", 1)
     if c >= 2 and normal_dofs is None:
         raise SceneError([f"{scene.where(keys[1])} is missing: the {label} element acts on "
@@ -164,6 +196,12 @@ def attach(scene: Any, element: Any, dofs: tuple, normal_dofs: tuple | None, key
     for one, d in (("second_dof", second_dofs), ("normal_dof", normal_dofs)):
         if d is not None:
             where.update({one: d[0]} if len(d) == 1 else {one + "s": tuple(d)})
+    if next_sector:
+        for key, d in ((keys[0], dofs), (second_key, second_dofs), (keys[1], normal_dofs)):
+            if d is not None and len(d) != 2:
+                raise SceneError([f"{scene.where(key)} = {show(list(d))}: with {next_key} = true it must be a pair "
+                                  "[p, q], x_p of the next sector minus x_q of this one"])
+        where["next_sector"] = True
     try:
         return Contact(element, **where)
     except ValueError as exc:
@@ -178,7 +216,7 @@ def damper_contact(scene: Any, element: Any, label: str = "damper") -> Contact:
     st = scene.structure
     return attach(scene, element, tuple(st["contact_dofs"]), st.get("normal_dofs"),
                   ("structure.contact_dofs", "structure.normal_dofs"), label, st.get("second_dofs"),
-                  "structure.second_dofs")
+                  "structure.second_dofs", bool(st.get("next_sector")), "structure.next_sector")
 
 
 def structure_contacts(scene: Any, blade: Any, omega: tuple, harmonics: int) -> list:
@@ -197,7 +235,8 @@ def structure_contacts(scene: Any, blade: Any, omega: tuple, harmonics: int) -> 
                                   f"{harmonics} needs an element with a time-domain law; "
                                   f"{type(element).__name__} has none"])
             out.append(attach(scene, element, e["dofs"], e["normal_dofs"], (at + ".dofs", at + ".normal_dofs"),
-                              e["model"], e["second_dofs"], at + ".second_dofs"))
+                              e["model"], e["second_dofs"], at + ".second_dofs", e.get("next_sector", False),
+                              at + ".next_sector"))
         except ValueError as exc:  # SceneError is a ValueError: an element's constructor names its parameter
             problems.extend(exc.problems if isinstance(exc, SceneError) else [f"{scene.where(at)}: {exc}"])
     if problems:
@@ -225,5 +264,6 @@ def dof_problems(scene: Any, n: int) -> list:
     return out
 
 
-__all__ = ["dof_list", "contact_tables", "check_entries", "attach", "damper_contact", "structure_contacts",
+__all__ = ["dof_list", "dof_pair_list", "same_dof_problem", "contact_tables", "check_entries", "attach",
+           "damper_contact", "structure_contacts",
            "dof_problems", "ENTRY_KEYS", "EntryRun"]

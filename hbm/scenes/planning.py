@@ -13,12 +13,15 @@ import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
+import numpy as np
+
 from contact_models import (Bar, CentrifugalLoad, ContactElement, QuadraticLoad, QuasiStatic, RotatingPreload,
                             ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad)
 from contact_models.quasi_static import StuckContact
 
 from ..blade import Blade
 from ..balance.residual import solved_as_one_dof, static_deflection
+from ..cyclic import CyclicStructure
 from ..structure import Structure
 from .checks import SceneError, show
 from .contacts import damper_contact, dof_problems, structure_contacts
@@ -504,7 +507,9 @@ def _blade(scene):
 
 #: The [structure] key that gives each matrix of ``hbm.Structure`` (its messages name the matrix).
 _MATRIX_KEYS = {"M": "structure.mass", "K": "structure.stiffness", "C": "structure.damping",
-                "force": "structure.force"}
+                "force": "structure.force", "M_next": "structure.next_mass", "K_next": "structure.next_stiffness",
+                "C_next": "structure.next_damping", "sectors": "structure.sectors",
+                "engine_order": "structure.engine_order", "M, M_next": "structure.next_mass"}
 
 
 def _structure(scene):
@@ -512,7 +517,7 @@ def _structure(scene):
     that cannot be read, or a matrix the structure refuses, is named by its key."""
     st = scene.structure
     matrices, problems = {}, []
-    for key in ("mass", "stiffness", "damping"):
+    for key in ("mass", "stiffness", "damping", "next_mass", "next_stiffness", "next_damping"):
         if st.get(key) is not None:
             try:
                 matrices[key] = read_matrix(st[key], f"structure.{key}")
@@ -525,6 +530,8 @@ def _structure(scene):
     try:
         s = Structure.from_matrices(matrices["mass"], matrices["stiffness"], force=list(st["force"]),
                                     **{k: v for k, v in damping.items() if v is not None})
+        if st.get("sectors") is not None:
+            s = _sector(st, s, matrices)
     except ValueError as exc:
         text = str(exc)
         key = next((k for m, k in _MATRIX_KEYS.items() if text.startswith(f"{m} ")), "[structure]")
@@ -533,6 +540,27 @@ def _structure(scene):
     if bad:
         raise SceneError(bad)
     return s
+
+
+def _sector(st: dict, s: Structure, matrices: dict) -> CyclicStructure:
+    """One sector of the cyclic structure of ``[structure]`` (``structure.sectors``): the sector's M, C, K
+    of the plain structure ``s`` built from the same keys, and the couplings to the next sector read
+    from ``structure.next_*`` (zero when not given).  With ``structure.rayleigh`` the coupling's damping
+    is ``alpha M_next + beta K_next``, the off-diagonal blocks of ``alpha M + beta K`` of the whole disk."""
+    n = s.n
+    nxt = {}
+    for key, name in (("next_mass", "M_next"), ("next_stiffness", "K_next"), ("next_damping", "C_next")):
+        A = matrices.get(key)
+        nxt[name] = None if A is None else (A.toarray() if hasattr(A, "toarray") else np.asarray(A))
+    if st.get("rayleigh") is not None:
+        alpha, beta = st["rayleigh"]
+        zero = np.zeros((n, n))
+        M1 = zero if nxt["M_next"] is None else nxt["M_next"]
+        K1 = zero if nxt["K_next"] is None else nxt["K_next"]
+        if M1.shape == K1.shape:  # (another shape is refused, naming the matrix, by CyclicStructure)
+            nxt["C_next"] = alpha * M1 + beta * K1
+    return CyclicStructure(s.M, s.C, s.K, sectors=st["sectors"], engine_order=st["engine_order"],
+                           force=list(st["force"]), **nxt)
 
 
 def _decide(ctx: RunContext, with_load: bool) -> RunPlan:

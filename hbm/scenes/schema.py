@@ -15,11 +15,18 @@ from .._validation import MIN_RELATIVE_TOL
 from ..balance import presets
 from ..frf import DEFAULT_TOL
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
-                     one_or_list, positive, text, choice, inner_folder)
-from .contacts import contact_tables, dof_list
+                     one_or_list, positive, text, choice, inner_folder, boolean)
+from .contacts import contact_tables, dof_pair_list
 from .effects import EFFECTS
 from .models import BASE_DAMPER_KEYS, MODELS
 from .sampling import study_keys
+
+def any_integer(v):
+    """An integer of any sign (booleans refused); raises :class:`Invalid`."""
+    if isinstance(v, bool) or not isinstance(v, int):
+        raise Invalid("must be an integer")
+    return int(v)
+
 
 #: Sweep units of ``sweep.omega``: name -> factor to rad/s (``omega_c`` is the bar's, set per scene).
 OMEGA_UNITS = ("rad/s", "Hz", "omega_c")
@@ -50,14 +57,14 @@ _FIXED: dict[str, dict[str, Key]] = {
                              "modal damping ratio zeta of every mode, or a list with one per mode"),
         "force": Key(number_list(number(unit="N")), REQUIRED,
                      "force amplitudes of F cos(omega t), one per DOF (N)"),
-        "contact_dofs": Key(dof_list, REQUIRED,
+        "contact_dofs": Key(dof_pair_list, REQUIRED,
                             "where the damper acts: [i] (DOF i to ground) or [i, j] (on x_i - x_j); the tangential "
                             "displacement of a two-component damper (contact2d, allmode2d), the first of a "
                             "three-component one (contact3d)"),
-        "second_dofs": Key(dof_list, OPTIONAL,
+        "second_dofs": Key(dof_pair_list, OPTIONAL,
                            "three-component damper (contact3d) only, required for it: its second tangential "
                            "displacement, [k] (DOF k to ground) or [k, l] (x_k - x_l)"),
-        "normal_dofs": Key(dof_list, OPTIONAL,
+        "normal_dofs": Key(dof_pair_list, OPTIONAL,
                            "two- or three-component damper (contact2d, allmode2d, contact3d) only, required for it: "
                            "its normal displacement, [k] (DOF k to ground) or [k, l] (x_k - x_l, v > 0 pressing)"),
         "contacts": Key(contact_tables, OPTIONAL,
@@ -66,6 +73,22 @@ _FIXED: dict[str, dict[str, Key]] = {
                         "normal_dofs (contact2d, contact3d), second_dofs (contact3d) and the model's keys as in "
                         "[damper]"),
         "response_dof": Key(integer(0), OPTIONAL, "the DOF whose response is reported; default the forced DOF"),
+        "sectors": Key(integer(2), OPTIONAL,
+                       "N: the matrices are one sector of a tuned cyclic structure (a bladed disk) of N sectors, "
+                       "solved as hbm.CyclicStructure; requires structure.engine_order"),
+        "engine_order": Key(any_integer, OPTIONAL,
+                            "with structure.sectors, required: EO, the engine order of the travelling-wave force "
+                            "(sector j's lags sector 0's by 2 pi EO j / N; reduced mod N, negative: backward)"),
+        "next_stiffness": Key(text, OPTIONAL,
+                              "with structure.sectors: the coupling K_next of this sector's DOFs (rows) to the next "
+                              "sector's (columns), a file as structure.mass; default zero"),
+        "next_mass": Key(text, OPTIONAL, "with structure.sectors: the coupling M_next, a file; default zero"),
+        "next_damping": Key(text, OPTIONAL,
+                            "with structure.sectors and structure.damping: the coupling C_next, a file; default "
+                            "zero (with structure.rayleigh C_next = alpha M_next + beta K_next)"),
+        "next_sector": Key(boolean, False,
+                           "with structure.sectors: true puts the damper between the next sector and this one, "
+                           "structure.contact_dofs = [p, q] acting on x_p of the next sector minus x_q of this one"),
     },
     "damper.load": {
         "kind": Key(choice("uniform", "quadratic", "centrifugal"), "uniform",

@@ -19,7 +19,7 @@ from typing import Any, Mapping
 from ..balance import presets
 from ..frf import DEFAULT_TOL
 from .checks import TOO_DEEP, Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, refuse_nesting, show
-from .contacts import check_entries
+from .contacts import check_entries, same_dof_problem
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
 from .sampling import study_table
@@ -543,13 +543,53 @@ class _Rules:
         if len(given) != 1:
             self.problems.append(f"{self.where('structure.damping')}: give exactly one of structure.damping, "
                                  f"structure.rayleigh, structure.modal_damping (got {', '.join(given) or 'none'})")
-        for key in ("mass", "stiffness", "damping"):
+        self._cyclic(st)
+        for key in ("mass", "stiffness", "damping", "next_mass", "next_stiffness", "next_damping"):
             if isinstance(st.get(key), str):
                 st[key] = str(self.path.parent / st[key])
         if st.get("contacts") is not None:  # [[structure.contacts]]: each entry's model and keys
             st["contacts"], problems = check_entries(st["contacts"], self.path)
             self.problems.extend(problems)
+            if not self.has("structure", "sectors"):
+                for i, e in enumerate(st["contacts"]):
+                    if e.get("next_sector"):
+                        self.problems.append(f"{self.where(f'structure.contacts[{i}].next_sector')} = true: not "
+                                             "allowed unless structure.sectors is given (a contact to the next "
+                                             "sector belongs to a cyclic structure)")
         return st
+
+    def _cyclic(self, st):
+        """The keys of one sector of a cyclic structure (``structure.sectors``): engine_order required
+        with it, the couplings and next_sector refused without it, [modes] and [optimum] (nonlinear
+        modes, which one sector does not provide) and modal damping refused with it
+        (a disk's modes differ per nodal diameter: give structure.damping or structure.rayleigh), the
+        damping coupling only beside a damping file."""
+        cyclic = self.has("structure", "sectors")
+        own = ("engine_order", "next_mass", "next_stiffness", "next_damping", "next_sector")
+        if cyclic:
+            self.need("structure", "engine_order", "with structure.sectors")
+            for table in ("modes", "optimum"):
+                if table in self.present:
+                    self.forbid("structure", "sectors", f"with [{table}]: the nonlinear modes of one sector of a "
+                                "cyclic structure are not provided (give the whole disk's matrices as a plain "
+                                "[structure], or a frequency sweep)")
+            if self.has("structure", "modal_damping"):
+                self.forbid("structure", "modal_damping", "with structure.sectors (the disk's modes differ per "
+                            "nodal diameter): give structure.damping and structure.next_damping, or "
+                            "structure.rayleigh")
+            if self.has("structure", "next_damping") and not self.has("structure", "damping"):
+                self.forbid("structure", "next_damping", "unless structure.damping is given (with structure.rayleigh "
+                            "C_next = alpha M_next + beta K_next)")
+        else:
+            for key in own:
+                if self.has("structure", key):
+                    self.forbid("structure", key, "unless structure.sectors is given (it belongs to one sector of a "
+                                "cyclic structure)")
+        for key in ("contact_dofs", "second_dofs", "normal_dofs"):
+            same = same_dof_problem(self.where(f"structure.{key}"), st.get(key), bool(st.get("next_sector")) and cyclic,
+                                    "structure.next_sector")
+            if same is not None:
+                self.problems.append(same)
 
     def _damper(self, specs, needs, effects):
         if "bar" in needs:
