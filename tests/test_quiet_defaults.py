@@ -19,7 +19,6 @@ SCENES = ROOT / "examples" / "scenes"
 #: Shipped scenes that still warn at their stated tolerance, with what the warning says (measured):
 #: strict xfails, so a scene made quiet (or honest about its error) must leave this list.
 WARN = {
-    "allmode_normal.toml": "estimated error 0.0014 > tol 0.001 (harmonics at H = 3)",
     "contact_normal.toml": "estimated error 3.9 > tol 0.001 (sampling at H = 3)",
 }
 #: Scenes about the single-mode bar where it is outside its range: each ModelRangeWarning's "off by
