@@ -86,7 +86,54 @@ def slip_origins(u: NDArray, lim: NDArray, kt: float) -> tuple[NDArray, NDArray,
     raise RuntimeError(f"no periodic state of the return map after {MAX_PERIODS} periods")
 
 
-class Contact2D(ContactElement):
+class PointContactLaw(ContactElement):
+    """What ``Contact2D`` and ``Contact3D`` share: the parameters ``(kt, kn, mu, n0)`` and their checks,
+    the unilateral normal spring ``N = max(0, n0 + kn v)``, and the first-harmonic answers with the normal
+    DOF at rest, which are the Jenkins element ``Macroslip(kt, mu n0)``'s (module docstring).  The time law,
+    the periodic state and its Jacobian are each subclass's own."""
+
+    frequency_dependent = False
+
+    def __init__(self, kt: float, kn: float, mu: float, n0: float) -> None:
+        self.kt = positive("kt", kt)
+        self.kn = nonnegative("kn", kn)
+        self.mu = positive("mu", mu)
+        self.n0 = finite("n0", n0)
+        for name in ("kt", "kn", "mu"):
+            if not math.isfinite(getattr(self, name)):
+                raise ValueError(f"{name} must be finite, got {name}={getattr(self, name)!r}")
+
+    def __repr__(self) -> str:
+        return f"{type(self).__name__}(kt={self.kt!r}, kn={self.kn!r}, mu={self.mu!r}, n0={self.n0!r})"
+
+    def normal_force(self, v: ArrayLike) -> NDArray:
+        """``N = max(0, n0 + kn v)`` (N) for normal displacements ``v`` (m)."""
+        return np.maximum(self.n0 + self.kn * np.asarray(v, dtype=float), 0.0)
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        if self.n0 <= 0.0:  # open at rest: no tangential force
+            zero = np.zeros_like(a)
+            return zero, zero.copy(), zero.copy(), zero.copy()
+        return jenkins_fourier(self.kt, self.mu * self.n0 / self.kt, a)
+
+    def _stuck_stiffness(self, omega):
+        return self.kt if self.n0 > 0.0 else 0.0
+
+    def _slip_amplitude(self, omega):
+        return self.mu * max(self.n0, 0.0) / self.kt
+
+    def _linear_amplitude(self, omega):
+        return 0.0
+
+    def _reference_amplitude(self, omega):
+        return self.mu * abs(self.n0) / self.kt if self.n0 != 0.0 else 1.0
+
+    def _hysteresis(self, a, omega, n):
+        slip = self.mu * max(self.n0, 0.0)
+        return masing_loop(lambda x: np.minimum(self.kt * x, slip), a, n)
+
+
+class Contact2D(PointContactLaw):
     """Point contact: tangential Jenkins friction with the normal load ``N = max(0, n0 + kn v)``.
 
     Parameters
@@ -123,25 +170,8 @@ class Contact2D(ContactElement):
     [0.5, 0.207, -0.5, -0.5, -0.5, -0.207, 0.5, 0.5]
     """
 
-    frequency_dependent = False
     has_time_law = True
     components = 2
-
-    def __init__(self, kt: float, kn: float, mu: float, n0: float) -> None:
-        self.kt = positive("kt", kt)
-        self.kn = nonnegative("kn", kn)
-        self.mu = positive("mu", mu)
-        self.n0 = finite("n0", n0)
-        for name in ("kt", "kn", "mu"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name} must be finite, got {name}={getattr(self, name)!r}")
-
-    def __repr__(self) -> str:
-        return f"Contact2D(kt={self.kt!r}, kn={self.kn!r}, mu={self.mu!r}, n0={self.n0!r})"
-
-    def normal_force(self, v: ArrayLike) -> NDArray:
-        """``N = max(0, n0 + kn v)`` (N) for normal displacements ``v`` (m)."""
-        return np.maximum(self.n0 + self.kn * np.asarray(v, dtype=float), 0.0)
 
     def _periodic_force(self, x, omega):
         f, rows, cols, vals = self._periodic_entries(x, omega)
@@ -175,27 +205,6 @@ class Contact2D(ContactElement):
         vals = np.concatenate([np.full(ks.size, kt), np.full(ks.size, -kt), sgn[r] * dlim[r], dN])
         return np.vstack([T, N]), rows, cols, vals
 
-    def _fourier_derivatives(self, a, omega, rtol):
-        if self.n0 <= 0.0:  # open at rest: no tangential force
-            zero = np.zeros_like(a)
-            return zero, zero.copy(), zero.copy(), zero.copy()
-        return jenkins_fourier(self.kt, self.mu * self.n0 / self.kt, a)
-
-    def _stuck_stiffness(self, omega):
-        return self.kt if self.n0 > 0.0 else 0.0
-
-    def _slip_amplitude(self, omega):
-        return self.mu * max(self.n0, 0.0) / self.kt
-
-    def _linear_amplitude(self, omega):
-        return 0.0
-
-    def _reference_amplitude(self, omega):
-        return self.mu * abs(self.n0) / self.kt if self.n0 != 0.0 else 1.0
-
-    def _hysteresis(self, a, omega, n):
-        slip = self.mu * max(self.n0, 0.0)
-        return masing_loop(lambda x: np.minimum(self.kt * x, slip), a, n)
 
 
 def stuck_midpoint(u: NDArray, lim: NDArray, kt: float) -> tuple[int, int, float]:
@@ -206,4 +215,4 @@ def stuck_midpoint(u: NDArray, lim: NDArray, kt: float) -> tuple[int, int, float
     return i, j, 0.5 * ((u[i] - lim[i] / kt) + (u[j] + lim[j] / kt))
 
 
-__all__ = ["Contact2D", "slip_origins", "stuck_midpoint"]
+__all__ = ["Contact2D", "PointContactLaw", "slip_origins", "stuck_midpoint"]

@@ -40,12 +40,10 @@ import math
 from itertools import combinations
 
 import numpy as np
-from numpy.typing import ArrayLike, NDArray
+from numpy.typing import NDArray
 
-from .base import ContactElement
-from .macroslip import jenkins_fourier
-from .numerics.checks import finite, nonnegative, positive
-from .numerics.masing import aft_matrices, masing_loop, to_harmonics, to_time
+from .contact2d import PointContactLaw
+from .numerics.masing import aft_matrices, to_harmonics, to_time
 
 #: Periods of the period map tried before giving up on a fixed point.
 MAX_PERIODS = 500
@@ -240,7 +238,7 @@ def slip_tangent(R: NDArray, n: int, kt: float, dlim: NDArray, slips: list) -> N
     return np.concatenate([dT[:, 0], dT[:, 1]])
 
 
-class Contact3D(ContactElement):
+class Contact3D(PointContactLaw):
     """Point contact: two tangential directions, a circular Coulomb limit ``mu N``, ``N = max(0, n0 + kn v)``.
 
     Parameters
@@ -280,25 +278,8 @@ class Contact3D(ContactElement):
     [0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5, 0.5]
     """
 
-    frequency_dependent = False
     has_time_law = True
     components = 3
-
-    def __init__(self, kt: float, kn: float, mu: float, n0: float) -> None:
-        self.kt = positive("kt", kt)
-        self.kn = nonnegative("kn", kn)
-        self.mu = positive("mu", mu)
-        self.n0 = finite("n0", n0)
-        for name in ("kt", "kn", "mu"):
-            if not math.isfinite(getattr(self, name)):
-                raise ValueError(f"{name} must be finite, got {name}={getattr(self, name)!r}")
-
-    def __repr__(self) -> str:
-        return f"Contact3D(kt={self.kt!r}, kn={self.kn!r}, mu={self.mu!r}, n0={self.n0!r})"
-
-    def normal_force(self, v: ArrayLike) -> NDArray:
-        """``N = max(0, n0 + kn v)`` (N) for normal displacements ``v`` (m)."""
-        return np.maximum(self.n0 + self.kn * np.asarray(v, dtype=float), 0.0)
 
     def _periodic_force(self, x, omega):
         f, tangent = self._periodic_state(x)
@@ -352,28 +333,6 @@ class Contact3D(ContactElement):
             return np.concatenate([kt * (R[:n] - dw[0]), kt * (R[n:2 * n] - dw[1]), dN[:, None] * R[2 * n:]])
 
         return tangent
-
-    def _fourier_derivatives(self, a, omega, rtol):
-        if self.n0 <= 0.0:  # open at rest: no tangential force
-            zero = np.zeros_like(a)
-            return zero, zero.copy(), zero.copy(), zero.copy()
-        return jenkins_fourier(self.kt, self.mu * self.n0 / self.kt, a)
-
-    def _stuck_stiffness(self, omega):
-        return self.kt if self.n0 > 0.0 else 0.0
-
-    def _slip_amplitude(self, omega):
-        return self.mu * max(self.n0, 0.0) / self.kt
-
-    def _linear_amplitude(self, omega):
-        return 0.0
-
-    def _reference_amplitude(self, omega):
-        return self.mu * abs(self.n0) / self.kt if self.n0 != 0.0 else 1.0
-
-    def _hysteresis(self, a, omega, n):
-        slip = self.mu * max(self.n0, 0.0)
-        return masing_loop(lambda x: np.minimum(self.kt * x, slip), a, n)
 
 
 __all__ = ["Contact3D", "clearance_centre", "centre_tangent", "period_pass", "periodic_slip", "slip_tangent"]
