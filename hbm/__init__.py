@@ -18,12 +18,11 @@ from contact_models.accuracy import AccuracyWarning  # the library's one accurac
 from . import continuation
 from .balance import HarmonicBalance
 from .blade import Blade
-from .frf import Point, frequency_response, refine_peak, response_at
+from .frf import Point, frequency_response, response_at
 from .balance.presets import Steps
 from .modes import NonlinearModes, nonlinear_modes
 from .single_mode import ModalFRF, forced_response
 from .damper_optimum import DamperOptimum, damper_optimum
-from .allmode_peak import AllModePeak, allmode_peak
 from .result import FrequencyResponse, Peak, Response, Segment
 from .reference.shooting import PeriodicPeak, PeriodicResponse, periodic_peak, periodic_response
 from .structure import Contact, ReducedStructure, Structure
@@ -38,4 +37,4 @@ __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "P
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
 __all__ += ["Structure", "ReducedStructure", "CyclicStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]
 __all__ += ["nonlinear_modes", "NonlinearModes", "forced_response", "ModalFRF", "damper_optimum", "DamperOptimum"]
-__all__ += ["allmode_peak", "AllModePeak", "Segment", "refine_peak"]
+__all__ += ["Segment"]

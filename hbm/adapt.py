@@ -53,6 +53,9 @@ LEFT_FLOOR = 0.1
 #: (the model source's windows above its share) for at least this fraction, on the finest rung predicted,
 #: is traced once, at its new H on that rung, instead of at its new H on the cheap rung first (``rungs_too``).
 COMBINE_SHARE = 0.5
+#: The peak's window (``peak_window``) takes the model source as a bound of the model's error within this
+#: factor (the estimate is held to under-read by at most 2x: ``docs/error_estimates.md``).
+ESTIMATE_SLACK = 2.0
 
 
 @dataclasses.dataclass
@@ -363,6 +366,7 @@ class Plan:
     harmonics_share: float | None
     max_harmonics: int
     rungs_only: bool = False  #: the model pass refines only the rungs of a discretisation (``refined_contacts``)
+    at_peak: bool = False  #: the model pass refines the peak's window only (``peak_window``: ``model="peak"``)
 
 
 def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyResponse, list[str]]:
@@ -392,9 +396,14 @@ def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyRe
 
     passes = [("model", plan.model_share, model_step), ("harmonics", plan.harmonics_share, harmonics_step)]
     for source, share, step in (passes[::-1] if plan.rungs_only else passes):
-        if share is not None:
+        if share is None:
+            continue
+        if source == "model" and plan.at_peak:  # the peak's window only; within it, as everywhere else
             segments_of = [p for f, lo, hi in segments_of
-                           for p in _split(knobs, f, lo, hi, source, share * tol, step, work, notes, full)]
+                           for p in _at_peak(knobs, f, lo, hi, share * tol, step, work, notes, full)]
+            continue
+        segments_of = [p for f, lo, hi in segments_of
+                       for p in _split(knobs, f, lo, hi, source, share * tol, step, work, notes, full)]
     if plan.harmonics_share is not None:  # the harmonics take what the other sources leave of tol
         segments_of = [p for f, lo, hi in segments_of
                        for p in _split(knobs, f, lo, hi, "harmonics",
@@ -427,10 +436,9 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
            step: Callable, work: list, notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
     """Points ``lo <= i < hi`` of ``f`` as segments ``(result, lo, hi)``: its windows of ``source``
     above ``threshold`` traced again at ``step(f, excess, span, points)`` (new contacts and H, None:
-    nothing to refine there, the window kept) and split the same way in turn; a whole-range window is
-    solved again from the stuck start, as a solve without windows.  Each window is asked with its own
-    excess: a rung asked for a factor of 1, as a question for the whole segment once was, refines
-    nothing where its parts are each within half of its estimate, and its rung probes cost solves."""
+    nothing to refine there, the window kept) and split the same way in turn.  Each window is asked
+    with its own excess: a rung asked for a factor of 1, as a question for the whole segment once was,
+    refines nothing where its parts are each within half of its estimate, and its rung probes cost solves."""
     if not len(f) or source not in f.error_sources:
         return [(f, lo, hi)]
     limit = threshold(f, lo, hi) if callable(threshold) else threshold  # a callable: asked again of each window
@@ -438,24 +446,9 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
     for i0, i1 in windows(f.error_sources[source], f._nodes, limit, lo, hi):
         if i1 <= i0:  # a run of one point (between two others' windows) is not traced alone
             continue
-        whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
-        nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / limit,
-                   (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))), (i0, i1))
-        if nxt is None:  # nothing to refine for this window (a rung whose parts there are zero): kept
+        g = _retrace(knobs, f, i0, i1, source, limit, step, work, notes, full)
+        if g is None:
             continue
-        if whole:
-            g = solve(knobs, *nxt)
-            why = None if len(g) else g.message
-        else:
-            g, why = window(knobs, f, i0, i1, *nxt)
-        work.append(g)  # its work is counted, kept or not
-        if why is not None:
-            notes.append(f"the window omega = {f.omega[i0]:.6g}..{f.omega[i1]:.6g} rad/s traced again with H = "
-                         f"{nxt[1]}, {model_label(nxt[0])} failed ({why}): its points "
-                         f"at H = {f.harmonics} are kept")
-            continue
-        if whole:
-            full.add(id(g))
         if at < i0:
             out.append((f, at, i0))
         out += _split(knobs, g, 0, len(g), source, threshold, step, work, notes, full)
@@ -465,8 +458,82 @@ def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, th
     return out
 
 
+def _retrace(knobs: Knobs, f: FrequencyResponse, i0: int, i1: int, source: str, limit: float, step: Callable,
+             work: list, notes: list, full: set) -> FrequencyResponse | None:
+    """The window ``i0..i1`` of ``f`` traced again at ``step``'s next setting for ``source`` (whose share
+    there is ``limit``); None where there is nothing to refine or the trace failed (the note says so,
+    and the coarse points stay).  A whole-range window is solved again from the stuck start, as a
+    solve without windows."""
+    whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
+    nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / limit,
+               (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))), (i0, i1))
+    if nxt is None:  # nothing to refine for this window (a rung whose parts there are zero): kept
+        return None
+    if whole:
+        g = solve(knobs, *nxt)
+        why = None if len(g) else g.message
+    else:
+        g, why = window(knobs, f, i0, i1, *nxt)
+    work.append(g)  # its work is counted, kept or not
+    if why is not None:
+        notes.append(f"the window omega = {f.omega[i0]:.6g}..{f.omega[i1]:.6g} rad/s traced again with H = "
+                     f"{nxt[1]}, {model_label(nxt[0])} failed ({why}): its points at H = {f.harmonics} are kept")
+        return None
+    if whole:
+        full.add(id(g))
+    return g
+
+
+def peak_window(f: FrequencyResponse, threshold: float) -> tuple[int, int] | None:
+    """The points ``(i0, i1)`` of ``f`` that hold the refined model's peak, where the model source at the
+    sampled maximum ``i`` exceeds ``threshold`` (None: the peak stands as it is).
+
+    With the model source ``e`` read as a bound of the given model's error within ``ESTIMATE_SLACK``
+    (``s``), the refined response is at least ``a_i (1 - s e_i)`` at ``omega_i`` and at most
+    ``a_j (1 + s e_j)`` at point ``j``, so its maximum lies where ``a_j (1 + s e_j) >= a_i (1 - s e_i)``:
+    the contiguous run of such points around ``i``, one more on each side so that the window brackets it.
+    """
+    if not len(f) or "model" not in f.error_sources:
+        return None
+    e, a = f.error_sources["model"], f.amplitude
+    i = int(np.argmax(a))
+    if not e[i] > threshold:
+        return None
+    inside = a * (1.0 + ESTIMATE_SLACK * e) >= a[i] * (1.0 - ESTIMATE_SLACK * e[i])
+    i0, i1 = i, i
+    while i0 > 0 and inside[i0 - 1]:
+        i0 -= 1
+    while i1 < len(f) - 1 and inside[i1 + 1]:
+        i1 += 1
+    return max(i0 - 1, 0), min(i1 + 1, len(f) - 1)
+
+
+def _at_peak(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, threshold: float, step: Callable, work: list,
+             notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
+    """Points ``lo <= i < hi`` of ``f`` as segments: of the model source's windows above ``threshold``
+    (``windows``), those that meet the peak's window (``peak_window``) traced again and split in turn
+    exactly as along a whole curve (``_split``); the rest as given."""
+    near = peak_window(f, threshold) if (lo, hi) == (0, len(f)) else None
+    if near is None:
+        return [(f, lo, hi)]
+    out, at = [], lo
+    for i0, i1 in windows(f.error_sources["model"], f._nodes, threshold, lo, hi):
+        if i1 <= i0 or i1 < near[0] or i0 > near[1]:
+            continue
+        g = _retrace(knobs, f, i0, i1, "model", threshold, step, work, notes, full)
+        if g is None:
+            continue
+        if at < i0:
+            out.append((f, at, i0))
+        out += _split(knobs, g, 0, len(g), "model", threshold, step, work, notes, full)
+        at = i1 + 1
+    if at < hi:
+        out.append((f, at, hi))
+    return out
+
+
 # ------------------------------------------------------------------ the peak
-def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float]) -> Peak:
+def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among: np.ndarray | None = None) -> Peak:
     """The peak of ``frf`` located on the branch, stored in it (``FrequencyResponse.peak`` returns it).
 
     Between the neighbours of the largest sampled point the branch is parametrised by its chord and
@@ -475,11 +542,12 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float]) -> Pea
     a converged Newton point, so the located peak carries the Newton tolerance alone as its peak
     source.  A maximum at an end of the branch is kept as sampled and is not interior: at an end of
     ``omega_range`` the resonance may lie outside the range, and where a branch stopped early the
-    response may still rise beyond.  The elements' warnings while locating join the call's."""
+    response may still rise beyond.  ``among``: the points the peak is sought among (a mask; the refined
+    model's points for ``model="peak"``), else all.  The elements' warnings while locating join the call's."""
     if len(frf) == 0:
         raise ValueError("the frequency response has no points")
     n = len(frf)
-    i = int(np.argmax(frf.amplitude))
+    i = int(np.argmax(frf.amplitude if among is None or not np.any(among) else np.where(among, frf.amplitude, -np.inf)))
     w, a = float(frf.omega[i]), float(frf.amplitude[i])
     reasons = []
     located = False

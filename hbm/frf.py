@@ -25,7 +25,6 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
-from .allmode_peak import physical_peak
 from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
 from ._validation import nonnegative, omega_range_pair, positive
@@ -51,9 +50,8 @@ MAX_HARMONICS = 31
 FIXED_HARMONICS = 7
 
 #: ``model``, where the solve uses each element's refined model (``ContactElement.refined_model``):
-#: "given" nowhere; "peak" in the peak's window only, where the estimate's model source there exceeds
-#: ``MODEL_SHARE * tol`` (a blade with a single-mode microslip bar: the all-mode peak, ``hbm.allmode_peak``);
-#: "auto" in every window of the curve where it does.
+#: "given" nowhere; "peak" in the windows of the curve that hold the peak (``hbm.adapt.peak_window``),
+#: where the estimate's model source exceeds ``MODEL_SHARE * tol``; "auto" in every window where it does.
 MODELS = ("given", "peak", "auto")
 MODEL_SHARE = 0.5
 #: With a tolerance, an element that chooses its discretisation at every call and offers a fixed
@@ -142,11 +140,11 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         AFT samples per period, >= 2H + 2.  Default ``hbm.balance.presets.samples_for(H)``.
     model : {"given", "peak", "auto"}, optional
         Where the solve uses each element's refined model (``ContactElement.refined_model``: the
-        all-mode bar for a single-mode microslip bar): "given" (default) nowhere; "peak" at the peak
-        only, where the model source there exceeds half the tolerance (a blade with a single-mode
-        bar: :func:`hbm.allmode_peak`; ``peak()`` then answers with it); "auto" in every window of the
-        curve where the model source exceeds half the tolerance (``point_models`` names the model of
-        every point).
+        all-mode bar for a single-mode microslip bar): "given" (default) nowhere; "auto" in every
+        window of the curve where the model source exceeds half the tolerance; "peak" in those of
+        the windows that hold the peak (``hbm.adapt.peak_window``), each refined as "auto" refines
+        it, and ``peak()`` is the refined model's maximum.  ``point_models`` names the model of
+        every point.
     steps : Steps, optional
         The continuation's step controls (:class:`hbm.Steps`).  Default ``Steps()``.
     callback : callable, optional
@@ -269,7 +267,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     rungs = False
     if tolerance is not None and RUNGS_ALONG_CURVE:
         contacts, rungs = _start_rungs(contacts, structure, (w0, w1))
-    again = adapt or model == "auto" or rungs  # the balance may solve again: stream the final points at the end
+    again = adapt or model != "given" or rungs  # the balance may solve again: stream the final points at the end
     knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, step_controls, stability, tolerance,
                         lambda H: n_t_given if n_t_given is not None else _samples(H), response_dof)
     live = None if again or callback is None else (lambda problem: _reporter(callback, problem))
@@ -287,15 +285,17 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     with one_blas_thread(small), errors.collected() as said:
         frf = along.solve(knobs, contacts, harmonics, live)
         if again:  # the model and H chosen along the curve (hbm.adapt)
-            plan = along.Plan(MODEL_SHARE if model == "auto" or rungs else None, HARMONICS_SHARE if adapt else None,
-                              MAX_HARMONICS, rungs_only=model != "auto")
+            at_peak = model == "peak" and not rungs  # (an element already the complete model: its rungs everywhere)
+            plan = along.Plan(MODEL_SHARE if model != "given" or rungs else None, HARMONICS_SHARE if adapt else None,
+                              MAX_HARMONICS, rungs_only=model == "given" or (model == "peak" and rungs), at_peak=at_peak)
             frf, notes = along.along(knobs, frf, plan)
             if callback is not None:
                 _stream(frf, callback)
         if len(frf):  # the peak located between points (the elements' warnings while locating join the call's)
-            along.locate_peak(frf, (w0, w1))
-            if model == "peak":
-                refine_peak(frf)
+            refined = None
+            if model == "peak" and frf._segments_of is not None:  # the refined model's peak, in the peak's window
+                refined = frf.point_models != frf._work[0].point_models[0]
+            along.locate_peak(frf, (w0, w1), refined)
     heard = [m for f in dict.fromkeys(p[0] for p in (frf._segments_of or [(frf,)])) for m in f._heard]
     heard += said  # the elements' warnings outside a trace (while locating and refining the peak)
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes, (w0, w1))
@@ -368,31 +368,6 @@ def _deprecated(given: dict, tol: Any, steps: Any, callback: Any) -> tuple[Any, 
             if on_harmonics is not None:
                 on_harmonics(p.omega, p.harmonics)
     return tol, steps, callback, rtol, fixed
-
-
-def refine_peak(frf: FrequencyResponse, share: float = MODEL_SHARE) -> Any:
-    """The peak of ``frf`` solved again with the refined model where the estimate's model source at the
-    peak exceeds ``share * frf.tol``: what ``frequency_response(..., model="peak")`` does after tracing
-    the curve with the elements as given.
-
-    For a blade with a single-mode microslip bar the refined peak is the all-mode bar's
-    (:func:`hbm.allmode_peak`, its cells and harmonics refined at the peak, the curve's other sources
-    added to its estimate); it becomes ``frf.peak()`` (with its own estimate) and is kept as
-    ``frf.refined_peak`` (an :class:`hbm.AllModePeak`, with its rungs and parts).  Returns it, or None
-    where the peak stands as it is (no refined model, the model source within its share, or the
-    refined solve failed, which it says).
-    """
-    best = physical_peak(frf, share)
-    frf.refined_peak = best
-    if best is None:
-        return None
-    old = frf.peak()
-    reasons = [r for r in old.message.split("; ") if r and "estimated error" not in r]
-    if best.error > frf.tol:
-        reasons.append(f"its estimated error {best.error:.2g} exceeds tol {frf.tol:g}")
-    frf._peak = Peak(best.omega, best.amplitude, interior=old.interior, converged=not reasons, estimate=best.error,
-                     message="; ".join(reasons))
-    return best
 
 
 def _start_rungs(contacts: Any, structure: Any, omega_range: tuple[float, float]) -> tuple[Any, bool]:
@@ -602,5 +577,5 @@ def _reporter(callback: Callable[[Point], None], problem: HarmonicBalance) -> Ca
     return report
 
 
-__all__ = ["frequency_response", "refine_peak", "response_at", "tolerance_of", "FrequencyResponse", "Peak", "Point",
+__all__ = ["frequency_response", "response_at", "tolerance_of", "FrequencyResponse", "Peak", "Point",
            "Response", "Steps", "NEWTON_TOL_FACTOR", "PEAK_XTOL_FACTOR", "DEFAULT_RTOL", "DEFAULT_TOL", "MODELS", "PRESETS"]

@@ -268,7 +268,6 @@ class FrequencyResponse:
         self._changes: list = []
         self.stability_dofs: list = []
         self.accuracy_warning: str | None = None  #: set by frequency_response
-        self.refined_peak: Any = None  #: the peak solved again with the refined model (``hbm.refine_peak``)
         self._heard: list[str] = []  # the elements' AccuracyWarning messages during this result's solve
         self._nodes = np.empty(0, dtype=np.intp)
         self.error_sources: dict = {}
