@@ -1,20 +1,24 @@
-"""Harmonics and model chosen along the curve: windows of a branch traced again, spliced into one result.
+"""The one refinement driver: windows of a branch traced again at the next setting of every knob that asks.
 
 ``hbm.frequency_response`` with ``tol`` traces the whole range once at a start setting (H and the
-elements as given), then finds the **windows**: the contiguous runs of points of the branch (by point
-index, so folds are fine) where one source of its error estimate exceeds a share of ``tol`` (the
-harmonics source, or the model source for ``model="auto"``), widened to the nearest estimate nodes
-(``hbm.balance.errors.nodes``) below the share on each side.  Each window is traced again with
-``H -> 2H + 1`` (or each element's refined model: for a fixed rung of a discretised element such as
-``AllModeMicroslip``, the next rung its estimate predicts for the window, ``refined_contacts``),
-starting from the window's first point lifted to the new setting (zero-padded harmonics, corrected
-by Newton at its frequency) and ending where
-the branch passes the window's last point: at the first accepted point beyond the hyperplane
-through the coarse end point normal to the coarse tangent, moved onto that hyperplane
-(``hbm.continuation.locate``).  The refined window is searched again with its own estimate, up to
-``MAX_HARMONICS``.  A window whose refined trace fails keeps the coarse points, and says so.  The
-segments are spliced into one :class:`hbm.FrequencyResponse` (``FrequencyResponse.spliced``);
-``docs/multiharmonic.md`` ("Harmonics along the curve") gives the rules.
+elements as given, or an element's start rung), then refines it (``refine``).  Each source of the
+estimate has a knob (``Knob``): the harmonics source the balance's H (``next_harmonics``: H -> 2H + 1,
+or further where the estimate's decay asks), the model source each element's own refinement, asked
+through the element contract (``refined_contacts``: a rung's next rung, ``refined_rung``, or the
+refined model on its start rung).  A knob asks at a point where its source exceeds its share of
+``tol`` or, where the whole estimate exceeds ``tol``, what the other sources leave of it (``asks``).
+The **windows** are the runs of points where any knob asks, widened to the nearest estimate nodes
+(``hbm.balance.errors.nodes``) outside them (``windows``; by point index, so folds are fine).  Each
+window is traced again once, at the next setting of every knob that asks there, from its first point
+lifted to the new setting (zero-padded harmonics, corrected by Newton at its frequency) to where the
+branch passes the window's last point: the first accepted point beyond the hyperplane through the
+coarse end point normal to the coarse tangent, moved onto that hyperplane (``window``,
+``hbm.continuation.locate``).  The refined window is refined the same way in turn, until no knob
+asks or every ladder that asks has ended.  A window whose refined trace fails keeps the coarse
+points, and says so.  ``model="peak"`` turns the model knob only in the windows that hold the peak
+(``peak_window``).  The segments are spliced into one :class:`hbm.FrequencyResponse`
+(``FrequencyResponse.spliced``); ``locate_peak`` locates its peak.  ``docs/multiharmonic.md``
+("Harmonics along the curve") gives the rules.
 """
 
 from __future__ import annotations
@@ -46,13 +50,9 @@ CUT_XTOL = 0.02
 DECAY_ORDER = 4.0
 #: Newton updates at most at each stage of a window's start solved again after its lifted start failed (``staged``).
 STAGED_MAX_ITER = 40
-#: After the passes, a source is refined where the whole estimate is above tol down to what the other
-#: sources leave of tol, where that is at least this share of it (``_left_for``).
+#: Where the whole estimate is above tol, a knob also asks where its source exceeds what the other sources
+#: leave of tol, where that is at least this share of it (``asks``).
 LEFT_FLOOR = 0.1
-#: Along a discretised element's rungs, a harmonics window whose points the model pass would trace again
-#: (the model source's windows above its share) for at least this fraction, on the finest rung predicted,
-#: is traced once, at its new H on that rung, instead of at its new H on the cheap rung first (``rungs_too``).
-COMBINE_SHARE = 0.5
 #: The peak's window (``peak_window``) takes the model source as a bound of the model's error within this
 #: factor (the estimate is held to under-read by at most 2x: ``docs/error_estimates.md``).
 ESTIMATE_SLACK = 2.0
@@ -317,167 +317,143 @@ def refined_contacts(contacts: list, excess: float = 1.0, span: tuple[float, flo
     return out if changed else None
 
 
-def balanced(contacts: list, H: int) -> list:
+def balanced(contacts: list, H: int, keep: frozenset = frozenset()) -> list:
     """The contacts for a balance of H harmonics: each element replaced by ``for_balance(H)`` (a rung of a
-    nested balance, e.g. a fixed ``AllModeMicroslip``, keeps two rungs of its own harmonics above the
-    balance's).  A rung's estimate is made for the drive ``a sin`` (``model_error``) and cannot see the
-    harmonics the balance adds to the drive; its own harmonics well above them keep it valid
-    (``docs/validation.md``).  At H = 1 the drive is ``a sin``: the contacts as they are."""
+    nested balance, e.g. a fixed ``AllModeMicroslip``, takes the top of its own harmonic ladder).  A rung's
+    estimate is made for the drive ``a sin`` (``model_error``) and sees neither the harmonics the balance
+    adds to the drive nor its phase; its own harmonics well above them keep it valid (``docs/theory.md``,
+    "Rungs in a balance of more harmonics").  At H = 1 the drive is ``a sin``: the contacts as they are.  The elements
+    ``keep`` names (by ``id``: the caller's own) are not the curve's choice and keep their harmonics."""
     if H <= 1:
         return contacts
-    return [c.with_element(c.element.for_balance(H)) for c in contacts]
+    return [c if id(c.element) in keep else c.with_element(c.element.for_balance(H)) for c in contacts]
 
 
-def rungs_too(f: FrequencyResponse, i0: int, i1: int, threshold: float, span: tuple[float, float],
-              knobs: Knobs) -> list | None:
-    """The contacts to trace a harmonics window ``i0..i1`` of ``f`` on at its new H, if the model pass would
-    trace most of that window again anyway (the model source's windows above ``threshold`` cover at least
-    ``COMBINE_SHARE`` of its points); else None (the contacts as they are).  Where the rungs predicted are
-    the finest ones along a curve (``at_top_rung``), those rungs: the window is traced once.  Where they
-    have the top harmonics but not the finest cells, the present rungs' cells at those harmonics
-    (``harmonics_of``): the window is traced once at its new H with the bar's harmonics it needs, and the
-    model pass refines only the cells, where the window's own estimate asks.  A coarser rung predicted
-    from the start rung's estimates at the old H is not taken whole: estimated at the old H, it can be
-    short of the harmonics the new H needs.  At the top harmonics no prediction can ask for more of
-    them."""
-    if "model" not in f.error_sources:
-        return None
-    source = f.error_sources["model"]
-    covered = sum(b - a + 1 for a, b in windows(source, f._nodes, threshold, i0, i1 + 1))
-    if covered < COMBINE_SHARE * (i1 - i0 + 1):
-        return None
-    excess = float(np.max(source[i0:i1 + 1])) / threshold
-    better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), True)
-    if better is None:
-        return None
-    if all(c.element.at_top_rung for c in better):
-        return better
-    raised = [c.element.harmonics_of(b.element) for c, b in zip(f.contacts, better)]
-    return None if None in raised else [c.with_element(el) for c, el in zip(f.contacts, raised)]
-
-
-# ------------------------------------------------------------------ the passes and the splice
+# ------------------------------------------------------------------ the driver
 @dataclasses.dataclass
 class Plan:
-    """What is chosen along the curve: the shares of ``tol`` above which a window is traced again
-    with the refined model (None: the elements as given) and with ``2H + 1`` harmonics (None: H fixed)."""
+    """What is chosen along the curve: the share of ``tol`` each knob's source may take before a window is
+    traced again at the knob's next setting (None: the knob stays as given)."""
 
     model_share: float | None
     harmonics_share: float | None
     max_harmonics: int
-    rungs_only: bool = False  #: the model pass refines only the rungs of a discretisation (``refined_contacts``)
-    at_peak: bool = False  #: the model pass refines the peak's window only (``peak_window``: ``model="peak"``)
+    rungs_only: bool = False  #: the model knob refines only the rungs of a discretisation (``refined_contacts``)
+    at_peak: bool = False  #: the model knob turns in the windows that hold the peak only (``peak_window``)
+    chosen: bool = False  #: the first trace's elements are the curve's choice (start rungs), not the caller's
+
+
+@dataclasses.dataclass(frozen=True)
+class Knob:
+    """One accuracy knob: the estimate's ``source`` it brings down, the ``share`` of tol that source may take,
+    and ``next(f, excess, span)``, its next setting for a window of ``f`` (rad/s ``span``) whose source must
+    fall by the factor ``excess``: ``{"contacts": ...}`` or ``{"H": ...}``, None where its ladder ends."""
+
+    source: str
+    share: float
+    next: Callable[[FrequencyResponse, float, tuple[float, float]], dict | None]
+
+
+def knobs_of(plan: Plan, knobs: Knobs) -> list[Knob]:
+    """The knobs ``plan`` turns: the model (each element's next rung or refined model, ``refined_contacts``)
+    and the balance's harmonics (``next_harmonics``; only where every contact has a time law: a
+    first-harmonic element keeps H = 1, and the warning says why)."""
+    out = []
+    if plan.model_share is not None:
+        def next_model(f, excess, span):
+            better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), plan.rungs_only)
+            return None if better is None else {"contacts": better}
+        out.append(Knob("model", plan.model_share, next_model))
+    if plan.harmonics_share is not None:
+        def next_h(f, excess, span):
+            if f.harmonics >= plan.max_harmonics or not all(c.element.has_time_law for c in f.contacts):
+                return None
+            return {"H": next_harmonics(f.harmonics, excess, plan.max_harmonics)}
+        out.append(Knob("harmonics", plan.harmonics_share, next_h))
+    return out
+
+
+def asks(f: FrequencyResponse, knob: Knob, tol: float) -> np.ndarray:
+    """Per point of ``f``, ``knob``'s source over its threshold (above 1: the knob asks to turn there).  The
+    threshold is the knob's share of ``tol``; where the whole estimate exceeds ``tol``, it is what the other
+    sources leave of ``tol`` if that is smaller, and at least ``LEFT_FLOOR * tol`` (below that, turning this
+    knob alone cannot bring the sum within tol: the warning names the source that is left)."""
+    if knob.source not in f.error_sources:
+        return np.zeros(len(f))
+    part, total = f.error_sources[knob.source], f.error_estimate
+    limit = np.full(len(f), knob.share * tol)
+    left = tol - (total - part)
+    closing = (total > tol) & (left >= LEFT_FLOOR * tol) & (left < limit)
+    limit[closing] = left[closing]
+    return part / limit
 
 
 def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyResponse, list[str]]:
-    """``frf`` (the whole range at the start setting) with its windows traced again: the model
-    pass, then the harmonics pass on every segment (the other way round with ``plan.rungs_only``: the
-    structure's harmonics do not depend on the rung, so a segment is traced at its H on the cheap rung
-    first, and the expensive rungs once, at that H, or at once where the model pass would trace most of
-    the harmonics window again: ``rungs_too``); one result and the notes of the windows that failed
-    (their coarse points kept)."""
+    """``frf`` (the whole range at the start setting) refined by the one driver (``refine``): one result
+    and the notes of the windows whose refined trace failed (their coarse points kept)."""
     work, notes, full = [frf], [], {id(frf)}
-    segments_of = [(frf, 0, len(frf))]
-    tol = knobs.tolerance
-
-    def model_step(f, excess, span, points):
-        better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), plan.rungs_only)
-        return None if better is None else (balanced(better, f.harmonics), f.harmonics)
-
-    def harmonics_step(f, excess, span, points):
-        # H > 1 needs every element's time law (a first-harmonic element stays at H = 1, the warning says
-        # why); a one-DOF system goes to the condensed form at H > 1 as any other
-        if f.harmonics >= plan.max_harmonics or not all(c.element.has_time_law for c in f.contacts):
-            return None
-        contacts, H = f.contacts, next_harmonics(f.harmonics, excess, plan.max_harmonics)
-        if plan.rungs_only and plan.model_share is not None:  # rungs chosen along the curve (not an element given)
-            contacts = balanced(rungs_too(f, *points, plan.model_share * tol, span, knobs) or contacts, H)
-        return contacts, H
-
-    passes = [("model", plan.model_share, model_step), ("harmonics", plan.harmonics_share, harmonics_step)]
-    for source, share, step in (passes[::-1] if plan.rungs_only else passes):
-        if share is None:
-            continue
-        if source == "model" and plan.at_peak:  # the peak's window only; within it, as everywhere else
-            segments_of = [p for f, lo, hi in segments_of
-                           for p in _at_peak(knobs, f, lo, hi, share * tol, step, work, notes, full)]
-            continue
-        segments_of = [p for f, lo, hi in segments_of
-                       for p in _split(knobs, f, lo, hi, source, share * tol, step, work, notes, full)]
-    if plan.harmonics_share is not None:  # the harmonics take what the other sources leave of tol
-        segments_of = [p for f, lo, hi in segments_of
-                       for p in _split(knobs, f, lo, hi, "harmonics",
-                                       lambda g, a, b: _left_for(g, a, b, "harmonics", tol),
-                                       harmonics_step, work, notes, full)]
+    keep = frozenset() if plan.chosen else frozenset(id(c.element) for c in frf.contacts)
+    segments_of = refine(knobs, knobs_of(plan, knobs), frf, plan.at_peak, keep, work, notes, full)
     note = "".join(f"; {n}" for n in notes)
     if len(segments_of) == 1 and segments_of[0][1] == 0 and segments_of[0][2] == len(segments_of[0][0]) and not notes:
         return segments_of[0][0], notes  # one setting everywhere: that solve's own result, as it was
     return FrequencyResponse.spliced(segments_of, work, note), notes
 
 
-def _left_for(f: FrequencyResponse, lo: int, hi: int, source: str, tol: float) -> float:
-    """The threshold of ``source`` on points ``lo..hi`` of ``f`` after the passes: where the whole estimate
-    is above ``tol``, what the other sources leave of it at the worst such point; inf (nothing to refine)
-    where no point is above tol, or where the others leave less than ``LEFT_FLOOR * tol`` (refining this
-    source cannot bring the sum within tol there: the warning says which source is left).  A source within
-    its share next to another that cannot be refined further (a rung at the top of its ladder) is so refined
-    until the sum meets tol."""
-    if not len(f) or source not in f.error_sources:
-        return math.inf
-    e, part = f.error_estimate[lo:hi], f.error_sources[source][lo:hi]
-    over = e > tol
-    if not np.any(over):
-        return math.inf
-    left = tol - float(np.max((e - part)[over]))
-    return left if left >= LEFT_FLOOR * tol else math.inf
-
-
-def _split(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, source: str, threshold: float | Callable,
-           step: Callable, work: list, notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
-    """Points ``lo <= i < hi`` of ``f`` as segments ``(result, lo, hi)``: its windows of ``source``
-    above ``threshold`` traced again at ``step(f, excess, span, points)`` (new contacts and H, None:
-    nothing to refine there, the window kept) and split the same way in turn.  Each window is asked
-    with its own excess: a rung asked for a factor of 1, as a question for the whole segment once was,
-    refines nothing where its parts are each within half of its estimate, and its rung probes cost solves."""
-    if not len(f) or source not in f.error_sources:
-        return [(f, lo, hi)]
-    limit = threshold(f, lo, hi) if callable(threshold) else threshold  # a callable: asked again of each window
-    out, at = [], lo
-    for i0, i1 in windows(f.error_sources[source], f._nodes, limit, lo, hi):
+def refine(knobs: Knobs, turn: list[Knob], f: FrequencyResponse, at_peak: bool, keep: frozenset, work: list,
+           notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
+    """``f`` as segments ``(result, lo, hi)``: the windows where any knob asks (``asks``: its source above
+    its share of tol, or above what the others leave of it where the sum exceeds tol; ``windows``) traced
+    again once, at the next setting of every knob that asks there (each asked with its own excess over the
+    window), and refined the same way in turn, until no knob asks or every ladder that asks has ended.
+    ``at_peak``: the model knob asks only in its windows that meet the peak's window (``peak_window``).
+    ``keep``: the caller's own elements, which keep their harmonics at any H (``balanced``)."""
+    tol = knobs.tolerance
+    if not len(f) or not turn:
+        return [(f, 0, len(f))]
+    ratio = {k.source: asks(f, k, tol) for k in turn}
+    if at_peak and "model" in ratio:
+        ratio["model"] = _near_peak(f, ratio["model"])
+    out, at = [], 0
+    for i0, i1 in windows(np.max(np.array(list(ratio.values())), axis=0), f._nodes, 1.0, 0, len(f)):
         if i1 <= i0:  # a run of one point (between two others' windows) is not traced alone
             continue
-        g = _retrace(knobs, f, i0, i1, source, limit, step, work, notes, full)
+        span = (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1])))
+        setting: dict = {}
+        for k in turn:
+            excess = float(np.max(ratio[k.source][i0:i1 + 1]))
+            if excess > 1.0:
+                setting.update(k.next(f, excess, span) or {})
+        if not setting:  # every ladder that asks here has ended: the window is kept
+            continue
+        H = setting.get("H", f.harmonics)
+        g = _retrace(knobs, f, i0, i1, balanced(setting.get("contacts", f.contacts), H, keep), H, work, notes, full)
         if g is None:
             continue
         if at < i0:
             out.append((f, at, i0))
-        out += _split(knobs, g, 0, len(g), source, threshold, step, work, notes, full)
+        out += refine(knobs, turn, g, False, keep, work, notes, full)
         at = i1 + 1
-    if at < hi:
-        out.append((f, at, hi))
+    if at < len(f):
+        out.append((f, at, len(f)))
     return out
 
 
-def _retrace(knobs: Knobs, f: FrequencyResponse, i0: int, i1: int, source: str, limit: float, step: Callable,
-             work: list, notes: list, full: set) -> FrequencyResponse | None:
-    """The window ``i0..i1`` of ``f`` traced again at ``step``'s next setting for ``source`` (whose share
-    there is ``limit``); None where there is nothing to refine or the trace failed (the note says so,
-    and the coarse points stay).  A whole-range window is solved again from the stuck start, as a
-    solve without windows."""
+def _retrace(knobs: Knobs, f: FrequencyResponse, i0: int, i1: int, contacts: list, H: int, work: list,
+             notes: list, full: set) -> FrequencyResponse | None:
+    """The window ``i0..i1`` of ``f`` traced again with ``contacts`` at ``H``; None where the trace failed (the
+    note says so, and the coarse points stay).  A whole-range window is solved again from the stuck start,
+    as a solve without windows."""
     whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
-    nxt = step(f, float(np.max(f.error_sources[source][i0:i1 + 1])) / limit,
-               (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1]))), (i0, i1))
-    if nxt is None:  # nothing to refine for this window (a rung whose parts there are zero): kept
-        return None
     if whole:
-        g = solve(knobs, *nxt)
+        g = solve(knobs, contacts, H)
         why = None if len(g) else g.message
     else:
-        g, why = window(knobs, f, i0, i1, *nxt)
+        g, why = window(knobs, f, i0, i1, contacts, H)
     work.append(g)  # its work is counted, kept or not
     if why is not None:
         notes.append(f"the window omega = {f.omega[i0]:.6g}..{f.omega[i1]:.6g} rad/s traced again with H = "
-                     f"{nxt[1]}, {model_label(nxt[0])} failed ({why}): its points at H = {f.harmonics} are kept")
+                     f"{H}, {model_label(contacts)} failed ({why}): its points at H = {f.harmonics} are kept")
         return None
     if whole:
         full.add(id(g))
@@ -508,27 +484,16 @@ def peak_window(f: FrequencyResponse, threshold: float) -> tuple[int, int] | Non
     return max(i0 - 1, 0), min(i1 + 1, len(f) - 1)
 
 
-def _at_peak(knobs: Knobs, f: FrequencyResponse, lo: int, hi: int, threshold: float, step: Callable, work: list,
-             notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
-    """Points ``lo <= i < hi`` of ``f`` as segments: of the model source's windows above ``threshold``
-    (``windows``), those that meet the peak's window (``peak_window``) traced again and split in turn
-    exactly as along a whole curve (``_split``); the rest as given."""
-    near = peak_window(f, threshold) if (lo, hi) == (0, len(f)) else None
-    if near is None:
-        return [(f, lo, hi)]
-    out, at = [], lo
-    for i0, i1 in windows(f.error_sources["model"], f._nodes, threshold, lo, hi):
-        if i1 <= i0 or i1 < near[0] or i0 > near[1]:
-            continue
-        g = _retrace(knobs, f, i0, i1, "model", threshold, step, work, notes, full)
-        if g is None:
-            continue
-        if at < i0:
-            out.append((f, at, i0))
-        out += _split(knobs, g, 0, len(g), "model", threshold, step, work, notes, full)
-        at = i1 + 1
-    if at < hi:
-        out.append((f, at, hi))
+def _near_peak(f: FrequencyResponse, ratio: np.ndarray) -> np.ndarray:
+    """The model knob's ``ratio`` kept in its windows that meet the peak's window (``peak_window``), zero
+    elsewhere: with ``model="peak"`` the refined model answers where the peak may lie, each window whole."""
+    out = np.zeros_like(ratio)
+    near = peak_window(f, 0.0) if np.max(ratio, initial=0.0) > 0.0 else None
+    if near is None or not ratio[int(np.argmax(f.amplitude))] > 1.0:
+        return out
+    for i0, i1 in windows(ratio, f._nodes, 1.0, 0, len(f)):
+        if i1 >= near[0] and i0 <= near[1]:
+            out[i0:i1 + 1] = ratio[i0:i1 + 1]
     return out
 
 

@@ -55,8 +55,8 @@ FIXED_HARMONICS = 7
 MODELS = ("given", "peak", "auto")
 MODEL_SHARE = 0.5
 #: With a tolerance, an element that chooses its discretisation at every call and offers a fixed
-#: start rung (``ContactElement.curve_element``: ``AllModeMicroslip`` with cells and harmonics None) is
-#: traced on that start rung and its windows on finer rungs (``hbm.adapt``, the model pass).
+#: start rung (``ContactElement.start_rung``: ``AllModeMicroslip`` with cells and harmonics None) is
+#: traced on that start rung and its windows on finer rungs (``hbm.adapt``, the model knob).
 RUNGS_ALONG_CURVE = True
 
 #: Newton tolerance on the scaled residual (``|R|/F`` for a one-DOF system at H = 1, ``|R|/x_ref``
@@ -287,7 +287,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         if again:  # the model and H chosen along the curve (hbm.adapt)
             at_peak = model == "peak" and not rungs  # (an element already the complete model: its rungs everywhere)
             plan = along.Plan(MODEL_SHARE if model != "given" or rungs else None, HARMONICS_SHARE if adapt else None,
-                              MAX_HARMONICS, rungs_only=model == "given" or (model == "peak" and rungs), at_peak=at_peak)
+                              MAX_HARMONICS, rungs_only=model == "given" or (model == "peak" and rungs), at_peak=at_peak,
+                              chosen=rungs)
             frf, notes = along.along(knobs, frf, plan)
             if callback is not None:
                 _stream(frf, callback)

@@ -525,8 +525,11 @@ def test_guides_page_runs_as_written(tmp_path, monkeypatch, capsys):
     assert (tmp_path / "frf.csv").is_file()
     peak, best = ns["peak"], ns["best"]
     assert (peak.omega, peak.amplitude) == pytest.approx((38773.6, 1.512e-6), rel=1e-3)
-    # the bar with every mode peaks 1.5 % above the single-mode bar, within its own estimate of tol
-    assert best.amplitude / peak.amplitude - 1 == pytest.approx(0.015, abs=0.002) and best.error < 1e-3
+    # the bar with every mode peaks 1.7 % above the single-mode bar (the converged all-mode curve of the
+    # main job's blade, tests/data/physical_curve_reference.json, peaks at 1.537e-6 m against 1.512e-6 m),
+    # within its own estimate of tol
+    assert best.amplitude / peak.amplitude - 1 == pytest.approx(0.017, abs=0.002) and best.estimate < 1e-3
+    assert best.interior and best.converged
     # the Jenkins blade at two tolerances agrees within the coarser one
     out = capsys.readouterr().out
     rows = {float(t): float(a) for t, a in re.findall(r"^(0\.01|1e-05) ([\d.e+-]+) ", out, re.M)}

@@ -69,7 +69,7 @@ def test_the_all_mode_bar_answers_with_its_rungs():
     assert (rung.cells, rung.harmonics) == (32, 7) and rung.model_name == "AllModeMicroslip(cells=32, H=7)"
     assert rung.exact_harmonics and rung.discretised and rung.harmonics_law() is rung
     assert rung.refined_rung() is None  # nothing estimated yet: no rung to predict from
-    assert rung.for_balance(3).harmonics == 15 and rung.for_balance(7).harmonics == 31
+    assert rung.for_balance(1) is rung and rung.for_balance(3).harmonics == 31 and rung.for_balance(7).harmonics == 31
 
 
 def _calls(path: Path):

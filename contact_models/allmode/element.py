@@ -75,7 +75,7 @@ if TYPE_CHECKING:
 
 __all__ = ["AllModeMicroslip", "AllModeSolution", "CELLS", "HARMONICS", "SAMPLES_PER_HARMONIC", "NEWTON_TOL",
            "NEWTON_MAX_ITER", "TOL", "HARMONIC_LADDER", "MAX_CELLS", "MAX_HARMONICS", "richardson", "cells_error"]
-# ``richardson`` and ``cells_error`` are re-exported for estimates built on the element's answers (hbm.allmode_peak).
+# ``richardson`` and ``cells_error`` are re-exported for estimates built on the element's answers.
 
 #: Cells of a bar with a fixed mesh where one is wanted (the scenes' ``cells`` key); the element's
 #: own default is None: cells chosen per call to ``tol``.
@@ -278,9 +278,17 @@ class AllModeMicroslip(ContactElement):
         return AllModeMicroslip(self.bar, self.load, n, rung.harmonics, tol=self.tol, linear=self.linear)
 
     def for_balance(self, H: int, at_least: int = 0) -> AllModeMicroslip:
-        """This fixed rung in a balance of H harmonics: with at least 4 H + 3 of its own (two rungs of the ladder
-        above H, at most ``MAX_HARMONICS``) and ``at_least``; itself where it has them, or where it chooses."""
-        h = max(min(4 * H + 3, MAX_HARMONICS), at_least)
+        """This fixed rung in a balance of H > 1 harmonics: with the top of the harmonic ladder
+        (``MAX_HARMONICS``) and ``at_least`` of its own; itself where it has them, or where it chooses.
+
+        The rung's estimate is made at the drive ``a sin``, one of whose samples is its maximum; in a balance
+        of more harmonics the drive has other harmonics and any phase, and the sampled return map's force
+        moves with the phase: on 15 harmonics (120 samples) by up to 4.6 times the estimate, on 31 (248
+        samples) by about the estimate or less (``docs/validation.md``, "The phase of the nested solve's
+        samples").  At H = 1 the element is evaluated at its own phase: the rung as it is."""
+        if H <= 1:
+            return self
+        h = max(MAX_HARMONICS, at_least)
         if not self._fixed or h <= self.harmonics:
             return self
         return AllModeMicroslip(self.bar, self.load, self.cells, h, tol=self.tol, linear=self.linear)

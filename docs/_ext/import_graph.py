@@ -57,8 +57,8 @@ MAY_IMPORT = {
 
 
 #: Subpackages whose modules are imported from outside only through the package (its
-#: ``__init__``): the all-mode bar's modules are its own; the elements package, ``hbm.allmode_peak``
-#: and the scenes import ``contact_models.allmode``.
+#: ``__init__``): the all-mode bar's modules are its own; the elements package, the all-mode
+#: reference (``hbm.reference.amplitude``) and the scenes import ``contact_models.allmode``.
 THROUGH_PACKAGE = ("contact_models.allmode",)
 
 
