@@ -5,15 +5,15 @@
 The base commit's tree is checked out with ``git archive`` into a temporary folder; the two
 trees' jobs run alternately (base, this tree, base, ...) as new processes, each in its own
 output folder, and the medians of wall-clock time (``time.perf_counter`` around the child) and of
-the child's CPU time (user + system, ``resource.getrusage(RUSAGE_CHILDREN)``, so the forked figure
-process and BLAS threads are counted) are printed as one Markdown row per tree, with the load
+the child's CPU time (user + system, ``resource.getrusage(RUSAGE_CHILDREN)``, so BLAS threads and an
+earlier tree's forked figure process are counted) are printed as one Markdown row per tree, with the load
 average before and after.  Both trees' last lines (the peak) are printed too.
 
 ``--profile`` adds where the job's time goes, tree by tree: one run in a process that times its
-phases (the interpreter's start, importing ``hbm.cli.main``, the single-mode FRF, the all-mode
-peak, the figure after the peak, the CSV), medians over the rounds.  The figure's row is the
-time the job spends on it after the peak (the serial drawing before; the wait for the forked
-process now, whose import and drawing overlap the peak).
+phases (the interpreter's start, importing ``hbm.cli.main``, ``frequency_response``, the figure, the
+CSV; in a tree that still solved the all-mode peak after the curve, that solve), medians over the
+rounds.  In a tree that drew the figure in a forked process while the peak was solved, the figure's
+row is the wait for that process.
 """
 
 from __future__ import annotations
@@ -50,13 +50,17 @@ def timed(owner, name, key):
         finally:
             out[key] = out.get(key, 0.0) + time.perf_counter() - t
     setattr(owner, name, g)
-timed(m, "frequency_response", "single-mode FRF")
-timed(m, "physical_peak", "all-mode peak")
-if hasattr(m, "_figure"):
-    timed(m, "_figure", "figure after the peak")
+timed(m, "frequency_response", "frequency_response (the curve, and the single-mode one beside it)")
+for name in ("physical_peak", "refine_peak"):  # an earlier tree's all-mode peak, solved after the curve
+    if hasattr(m, name):
+        timed(m, name, "all-mode peak (an earlier tree's own solve)")
+if hasattr(m, "job_figure"):
+    timed(m, "job_figure", "figure")
+elif hasattr(m, "_figure"):
+    timed(m, "_figure", "figure")
 else:
     import hbm.cli.figure as fg
-    timed(fg.JobFigure, "finish", "figure after the peak")
+    timed(fg.JobFigure, "finish", "figure")
 from hbm.result import FrequencyResponse
 timed(FrequencyResponse, "to_csv", "frf.csv")
 with contextlib.redirect_stdout(io.StringIO()):

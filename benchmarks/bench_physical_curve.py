@@ -4,7 +4,8 @@ In one process, the median of ``--repeats`` runs of each (after one warm-up run 
 compiled kernels, where the ``fast`` extra is installed, are loaded and numba's cache is warm):
 
 * the single-mode curve (``model="given"``, tol = 1e-3);
-* the single-mode curve and its physical peak (``model="peak"``: the curve, then ``hbm.refine_peak``);
+* the curve refined where it holds the peak (``model="peak"``: the windows of the model source that
+  hold the peak traced again with the bar of every mode, the single-mode bar elsewhere);
 * the physical curve (``model="auto"``: the bar with every mode wherever the single-mode bar is off);
 * the same with ``AllModeMicroslip`` given as the damper.
 
@@ -87,13 +88,10 @@ def main() -> None:
         point_table(points, blade, el, rng)
         return
 
-    def peak_job():
-        frf = hbm.frequency_response(blade, el, rng, tol=1e-3)
-        return frf, hbm.refine_peak(frf)
-
     runs = {
         "single-mode curve (model='given')": lambda: (hbm.frequency_response(blade, el, rng, tol=1e-3), None),
-        "single-mode curve + physical peak (model='peak')": peak_job,
+        "curve refined where it holds the peak (model='peak')":
+            lambda: (hbm.frequency_response(blade, el, rng, tol=1e-3, model="peak"), None),
         "physical curve (model='auto', the main job)":
             lambda: (hbm.frequency_response(blade, el, rng, tol=1e-3, model="auto"), None),
         "physical curve (AllModeMicroslip given)":

@@ -101,14 +101,16 @@ def test_a_failure_inside_the_computation_exits_1_not_2(tmp_path, capsys, monkey
 def test_a_signal_during_the_default_job_exits_130_or_143_with_one_kept_line(tmp_path, capsys, monkeypatch,
                                                                              signal_, code, word):
     import hbm.cli.main as cli
+    import hbm.cli.progress as progress
 
     stop = KeyboardInterrupt if signal_ == "KeyboardInterrupt" else cli.Terminated
 
     def interrupted(*args, **kwargs):
         raise stop()
 
-    monkeypatch.setattr(cli, "refine_peak", interrupted)  # the curve is computed and written: it is kept
-    assert main(["--model", "peak", "--out", str(tmp_path)]) == code
+    monkeypatch.setattr(cli, "job_figure", interrupted)  # the curve is computed and written: it is kept
+    monkeypatch.setattr(progress, "PLAIN_INTERVAL", float("inf"))  # stderr a pipe: no progress line however long
+    assert main(["--model", "given", "--out", str(tmp_path)]) == code
     err = capsys.readouterr().err.strip()
     assert err == f"{word}: kept files: {(tmp_path / 'frf.csv').resolve()}"
     assert (tmp_path / "frf.csv").exists()

@@ -28,14 +28,13 @@ from contact_models import __version__
 from contact_models.accuracy import AccuracyWarning
 
 from .._validation import MIN_RELATIVE_TOL, InputError
-from ..frf import DEFAULT_TOL, MODELS, frequency_response, refine_peak
+from ..frf import DEFAULT_TOL, MODELS, frequency_response
 from ..balance.presets import MAX_RTOL
 from ..output import COMMENT
 from .cases import default_case
-from .figure import JobFigure
-from ..allmode_peak import AllModePeak
+from .figure import job_figure
 
-__all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "allmode_line", "warning_line",
+__all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line", "warning_line",
            "COMMANDS",
            "DESCRIPTION", "EXAMPLES",
            "Terminated"]
@@ -65,7 +64,7 @@ def _default(args: argparse.Namespace) -> int:
     _check_folder(out, names, "--out" if args.out is not None else "the current folder")
     written: list[Path] = []
 
-    def kept():  # the files this job wrote (the curve is written before the all-mode peak is solved)
+    def kept():  # the files this job wrote (the curve is written before the figure is drawn)
         return f"kept files: {', '.join(str(p.resolve()) for p in written) or 'none'}"
 
     from .progress import ProgressLine, ticking  # lazily, as in _run
@@ -84,40 +83,31 @@ def _default_job(args: argparse.Namespace, out: Path, written: list, state: Any 
     model = getattr(args, "model", None) or DEFAULT_MODEL
     legacy = {} if args.rtol is None else {"rtol": args.rtol}  # --rtol: an earlier release's option, still read
 
-    def accepted(point):  # the progress line's count (with model="auto" the points come at the end)
+    def accepted(point):  # the progress line's count (with a refined model the points come at the end)
         if state is not None:
             state.points, state.omega = state.points + 1, point.omega
 
-    with warnings.catch_warnings(record=True) as caught:  # "peak": the single-mode curve's warning is superseded
+    with warnings.catch_warnings(record=True) as caught:  # said after the files are written, one line each
         warnings.simplefilter("always", AccuracyWarning)
         warnings.filterwarnings("ignore", category=DeprecationWarning)
         frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=_tol(args),
-                                 model="given" if model == "peak" else model, callback=accepted, **legacy)
+                                 model=model, callback=accepted, **legacy)
     if len(frf) == 0:
         raise ComputationFailed(f"no point of the frequency response converged: {frf.message}")
-    pk = frf.peak()  # the curve's own peak (the refined one, where it answers, is ``best``)
-    best = None
+    pk = frf.peak()
     out.mkdir(parents=True, exist_ok=True)
     elapsed = time.perf_counter() - t0
-    csv_path = frf.to_csv(out / "frf.csv", case=case.description)  # first: a signal during the peak keeps the curve
+    csv_path = frf.to_csv(out / "frf.csv", case=case.description)  # first: a signal during the figure keeps it
     written.append(csv_path)
     given = None
-    if model == "auto":  # the single-mode curve beside the physical one, for comparison (its error drawn)
+    if model != "given":  # the single-mode curve beside the refined one, for comparison (its error drawn)
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", AccuracyWarning)
             given = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=_tol(args))
-    # the figure is drawn in a forked process while the peak is solved with the refined model (hbm.cli.figure)
-    figure = JobFigure(frf, case, out / "frf.png", fork=model == "peak", given=given)
-    try:
-        if model == "peak":  # the peak solved again with the refined model: its own trouble it says itself
-            best = refine_peak(frf)
-        for w in caught:  # the single-mode curve's AccuracyWarning is superseded where the refined peak answers
-            if best is None or not issubclass(w.category, AccuracyWarning):
-                warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
-        png_path = figure.finish(best)
-        written.append(png_path)
-    finally:
-        figure.cancel()
+    png_path = job_figure(frf, case, out / "frf.png", given=given)
+    written.append(png_path)
+    for w in caught:  # the call's own warnings (for "peak": the given model's points outside the peak's window)
+        warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     a_min = case.element.slip_amplitude(pk.omega)
     in_a_min = f" (= {pk.amplitude / a_min:.4g} a_min)" if a_min > 0.0 else ""
     lines = [f"case: {case.description}",
@@ -126,8 +116,7 @@ def _default_job(args: argparse.Namespace, out: Path, written: list, state: Any 
              f"peak: omega = {pk.omega:.9g} rad/s, amplitude = {pk.amplitude:.9g} m{in_a_min}",
              f"wrote {csv_path.resolve()}",
              f"wrote {png_path.resolve()}",
-             accuracy_line(frf, pk, case.element) if best is None else
-             allmode_line(best, pk, case.element, frf.tol)]
+             accuracy_line(frf, pk, case.element, model)]
     return (0 if frf.success else 1), lines
 
 
@@ -151,10 +140,26 @@ def _check_folder(folder: Path, names: Any, what: str) -> None:
                              "--out another folder (nothing computed, nothing written)")
 
 
-def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
-    """The main job's last line from the curve itself: the peak, its estimated error and the model."""
+def accuracy_line(frf: Any, pk: Any, given: Any, model: str | None = None) -> str:
+    """The main job's last line from the curve itself: the peak, its estimated error and the model.
+
+    ``model`` is the job's ``--model``.  With "peak" the line names the model of the point the peak
+    was located at (``frf.point_models``): the refined one where the peak's window was traced again,
+    ``given``'s where its model source was within its share of tol there."""
     err = float(frf.error_estimate[int(np.argmax(frf.amplitude))])
     models = set(np.asarray(frf.point_models).tolist()) if frf.point_models is not None else set()
+    if model == "peak":
+        i = _peak_point(frf, pk)
+        err = pk.estimate if math.isfinite(pk.estimate) else float(frf.error_estimate[i])
+        at = str(frf.point_models[i]) if frf.point_models is not None else type(frf.element).__name__
+        within = "within" if err <= frf.tol else "further than"
+        if len(models) > 1:
+            how = (f"{at}, the bar with every mode in the windows that hold the peak, where the single-mode "
+                   f"{type(given).__name__} is further than its share of tol from it; {within} tol = {frf.tol:g}")
+        else:
+            how = f"{at}, {within} tol = {frf.tol:g}"
+        return (f"peak {pk.omega:.6g} rad/s, {pk.amplitude:.4g} m, estimated error {100.0 * err:.2g} % "
+                f"(model: {how}; the model and harmonics of each point are in the CSV)")
     if len(models) > 1:  # model="auto": the curve spliced from the models that answered where they do
         worst = float(np.max(frf.error_estimate))
         within = "within" if worst <= frf.tol else "above"
@@ -166,22 +171,20 @@ def accuracy_line(frf: Any, pk: Any, given: Any) -> str:
         model = (f"{type(frf.element).__name__}, the bar with every mode: the single-mode "
                  f"{type(given).__name__} is further than tol = {frf.tol:g} from it here")
     elif err > frf.tol:
-        model = (f"{type(given).__name__}, further than tol = {frf.tol:g}; the default --model peak gives the "
-                 "peak of the bar with every mode where it is")
+        model = (f"{type(given).__name__}, further than tol = {frf.tol:g}; --model peak or auto (the default) "
+                 "give the peak of the bar with every mode where it is")
     else:
         model = f"{type(given).__name__}, within tol = {frf.tol:g}"
     return (f"peak {pk.omega:.6g} rad/s, {pk.amplitude:.4g} m, estimated error {100.0 * err:.2g} % "
             f"(model: {model})")
 
 
-def allmode_line(best: AllModePeak, pk: Any, given: Any, tol: float) -> str:
-    """The main job's last line when the all-mode peak answers (``hbm.allmode_peak``)."""
-    off = abs(pk.amplitude - best.amplitude) / best.amplitude
-    return (f"peak {best.omega:.6g} rad/s, {best.amplitude:.4g} m, estimated error {100.0 * best.error:.2g} % "
-            f"(model: AllModeMicroslip, the bar with every mode, {best.cells} cells, H = {best.harmonics}; "
-            f"{100.0 * best.parts['other']:.2g} % of it from the blade's own harmonics and the rest of the curve's "
-            f"estimate: the single-mode {type(given).__name__} of the curve written is {100.0 * off:.2g} % off it "
-            f"at the peak, more than tol = {tol:g})")
+def _peak_point(frf: Any, pk: Any) -> int:
+    """The point of ``frf`` nearest its located peak ``pk`` (relative distance in omega and amplitude, so
+    that a fold's other points at the same omega are not taken): the peak is located between the
+    largest point and a neighbour, and the nearest of them is the one whose model is named there."""
+    d = np.abs(frf.omega / pk.omega - 1.0) + np.abs(frf.amplitude / pk.amplitude - 1.0)
+    return int(np.argmin(d))
 
 
 def _run(args) -> int:
@@ -404,10 +407,11 @@ def _model_argument(parser, suppress=True):
                              "frequency_response's tol")
     parser.add_argument("--model", choices=MODELS, default=argparse.SUPPRESS if suppress else None,
                         help="where the default job uses the damper's refined model, the bar with every mode "
-                             "(frequency_response's model=): 'auto' (default: every window of the curve where the "
-                             "single-mode bar is further than its share of tol from it, the physical curve; about "
-                             "8 s), 'peak' (the single-mode curve, its peak solved again with the bar with every "
-                             "mode; about 2 s) or 'given' (the single-mode bar only; about 1 s). Times: CPU seconds "
+                             "(frequency_response's model=): 'auto' (default: in every window of the curve where "
+                             "the single-mode bar is further than its share of tol from it, the physical curve; "
+                             "about 8 s), 'peak' (in those of the windows that hold the peak, the single-mode bar "
+                             "elsewhere; for the default case as long as 'auto': the windows that hold its peak span "
+                             "its slip range) or 'given' (the single-mode bar only; about 1 s). Times: CPU seconds "
                              "of the whole job, benchmarks/bench_stated_times.py")
 
 
