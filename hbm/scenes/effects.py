@@ -509,7 +509,7 @@ register_effect("phase differences along the bar", phase_differences, key_name="
                 key=Key(choice("auto", "on", "off"), "auto",
                         'the all-mode bar (AllModeMicroslip): "auto" (for damper.model = "auto": the whole curve '
                         'where the single-mode element is off by more than sweep.tol over most of the sweep; else '
-                        'the all-mode peak where needed), "on" or "off"'))
+                        'the peak\'s window where needed), "on" or "off"'))
 register_effect("higher harmonics", harmonics, key_name="harmonics",
                 key=Key(harmonics_key, 1, "harmonics of the balance (H >= 1; above 1 the element needs a "
                                                 "time-domain law: multi-harmonic balance with AFT)"))

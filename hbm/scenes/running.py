@@ -390,14 +390,15 @@ def _run_frequency(scene, plan, res, emit):
 def peak_refined(scene: Scene, p: RunPlan) -> bool:
     """Whether the run's peak is solved with the damper's refined model where the estimate asks for it
     (``frequency_response(..., model="peak")``): ``damper.model = "auto"`` with
-    ``effects.phase_differences = "auto"`` that kept the single-mode element (one with a refined model)
-    for a blade at H = 1, the case the "phase differences" effect names
+    ``effects.phase_differences = "auto"`` that kept the single-mode element (one with a refined model:
+    not held stuck, with inertia) for a blade at H = 1, the case the "phase differences" effect names
     (``hbm.scenes.effects.phase_differences``).  The solve then traces again, with the bar of every
     mode, the windows of the curve that hold the peak where the model part of the estimate exceeds
     half of tol, as ``damper.model = "auto"`` over the bulk of a sweep would trace the whole curve."""
-    refined = getattr(p.element, "refined_model", None)
+    el = p.element  # a single-mode bar has a refined model; a discretised one (the all-mode bar) refines its rungs
     return (p.name == "auto" and scene.effects["phase_differences"] == "auto" and scene.structure is None
-            and p.harmonics in (None, 1) and refined is not None and refined() is not None)
+            and p.harmonics in (None, 1) and not getattr(el, "discretised", True)
+            and getattr(el, "refined_model", lambda: None)() is not None)
 
 
 def accuracy_options(scene: Scene) -> dict:
