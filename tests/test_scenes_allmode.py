@@ -100,6 +100,32 @@ def test_no_inertia_no_phase_differences():
     assert not effect(run).simulated and "in phase" in effect(run).reason
 
 
+@pytest.mark.parametrize("changes, at_peak", [
+    ({"damper.model": "auto"}, True),                                      # single-mode curve, peak with every mode
+    ({"damper.model": "auto", "sweep.tol": 0.1}, True),                    # asked (the driver finds 2 % < tol/2)
+    ({"damper.model": "auto", "sweep.omega": [0.29, 0.31]}, False),        # the whole curve on the all-mode bar already
+    ({"damper.model": "auto", "effects.phase_differences": "off"}, False),  # never the all-mode bar
+    ({"damper.model": "auto", "effects.inertia": "off"}, False),           # quasi-static: no phase along the bar
+    ({"damper.model": "two-region"}, False),                               # an explicit single-mode model is kept
+])
+def test_the_peak_is_refined_where_the_effect_says_so(changes, at_peak):
+    """``model="peak"`` is asked exactly where the effect's line says the peak is the all-mode bar's
+    where the estimate asks for it (a blade's frequency sweep at H = 1 keeping the single-mode element)."""
+    import tomllib
+
+    from hbm.scenes.running import peak_refined
+
+    data = tomllib.loads((SCENES / "default_microslip_frf.toml").read_text())
+    data["sweep"]["tol"] = 1e-3
+    for dotted, value in changes.items():
+        table, key = dotted.split(".")
+        data.setdefault(table, {})[key] = value
+    sc = scene_from_dict(data, "s.toml")
+    run = plan_scene(sc).runs[0]
+    assert peak_refined(sc, run) is at_peak
+    assert ("the peak is the all-mode bar's" in effect(run).reason) is at_peak
+
+
 def test_the_default_scene_with_model_auto_solves_the_peak_with_every_mode(tmp_path):
     """The default blade scene with damper.model = "auto" at tol 1e-3 keeps the single-mode element
     (off over 25 % of the sweep only) and solves with model="peak": its model error at the curve's

@@ -155,16 +155,19 @@ def outcome(out: Any) -> dict:
             "peak_omega_rad_s": None if pk is None else pk.omega,
             "peak_amplitude_m": None if pk is None else pk.amplitude,
             "peak_error_rel": None if pk is None else _float(pk.estimate),
-            "peak_model": _peak_model(out) if pk is not None else "", "nfev": int(out.nfev),
+            "peak_model": _peak_model(out), "nfev": int(out.nfev),
             "curve": {"omega_rad_s": out.omega.tolist(), "amplitude_m": out.amplitude.tolist()}}
 
 
 def _peak_model(frf: FrequencyResponse) -> str:
     """The model of the point the peak of ``frf`` was located from (``hbm.scenes.reporting.peak_point``):
     its element's class name, so that a record names the model as a class (the class of the refined
-    model where ``model="peak"`` refined the peak); ``""`` for several contacts or none."""
+    model where ``model="peak"`` refined the peak; without points, the element's); ``""`` for several
+    contacts or none."""
     if frf.element is None:
         return ""
+    if not len(frf):
+        return type(frf.element).__name__
     return str(frf.point_models[peak_point(frf)]).split("(")[0]
 
 
