@@ -12,27 +12,29 @@ import pytest
 from contact_models import AccuracyWarning
 from hbm import frequency_response
 from hbm.output import csv_lines
-from hbm.allmode_peak import physical_peak
 from hbm.cli.cases import default_case
 from hbm.scenes import SceneError, run_scene, scene_from_dict
+from hbm.scenes.reporting import peak_point
 from hbm.study import RESULT_COLUMNS, Study, outcome, run_study
 
 DEFAULT = Path(__file__).resolve().parent.parent / "examples" / "scenes" / "default_microslip_frf.toml"
 
 
 def direct(tol):
-    """The default case as frequency_response gives it, and the main job's all-mode decision."""
+    """The default scene's run with damper.model = "auto" as frequency_response gives it: the default
+    case at the scene's H = 1 with model="peak" (the scene keeps the single-mode element there)."""
     case = default_case()
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", AccuracyWarning)
-        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, rtol=1e-6, tol=tol)
-        return frf, physical_peak(frf)
+        return frequency_response(case.blade, case.element, omega_range=case.omega_range, harmonics=1, tol=tol,
+                                  model="peak")
 
 
 def test_the_study_records_the_peak_s_estimate_and_model(tmp_path):
-    """damper.model = "auto" at tol 1e-3: the all-mode peak (the main job's 38821.4 rad/s, 1.535e-06 m)
-    with its estimate; at tol 0.1 the single-mode peak stands, with the curve's estimate at its
-    sampled maximum."""
+    """damper.model = "auto": at tol 1e-3 the peak solved with the bar of every mode (model="peak":
+    the single-mode model part at the peak, 2 %, exceeds tol/2), at tol 0.1 the single-mode peak
+    (2 % is below tol/2 = 5 %).  Each record holds the peak, its estimate and the model of the point
+    the peak was located from, as frequency_response computes them for the same run."""
     scene = DEFAULT.read_text().replace('model = "two-region"', 'model = "auto"').replace(
         '[output]\nformats = ["csv", "png", "json"]', '[study.grid]\n"sweep.tol" = [1e-3, 0.1]\n')
     path = tmp_path / "s.toml"
@@ -42,18 +44,18 @@ def test_the_study_records_the_peak_s_estimate_and_model(tmp_path):
     by_tol = {r["params"]["sweep.tol"]: r for r in result.records}
     fine, coarse = by_tol[1e-3], by_tol[0.1]
 
-    assert fine["peak_model"] == "AllModeMicroslip"  # the main job's answer (python -m hbm)
-    assert fine["peak_omega_rad_s"] == pytest.approx(38821.4, abs=0.1)
-    assert fine["peak_amplitude_m"] == pytest.approx(1.535e-06, abs=5e-10)
-    assert 1e-4 < fine["peak_error_rel"] < 1e-3  # its estimate (7.0e-4: mostly the bar's harmonics)
-
-    frf, best = direct(0.1)
-    assert best is None  # the model part at the peak (2 %) is below tol/2 = 5 %
-    i = int(np.argmax(frf.amplitude))
-    assert coarse["peak_model"] == "TwoRegionMicroslip"
-    assert coarse["peak_amplitude_m"] == pytest.approx(frf.peak().amplitude, rel=1e-9)
-    assert coarse["peak_error_rel"] == pytest.approx(frf.error_estimate[i], rel=1e-6)
+    for rec, tol, model in ((fine, 1e-3, "AllModeMicroslip"), (coarse, 0.1, "TwoRegionMicroslip")):
+        frf = direct(tol)
+        pk = frf.peak()
+        j = peak_point(frf)
+        assert frf.point_models[j].split("(")[0] == model and rec["peak_model"] == model
+        assert rec["peak_omega_rad_s"] == pytest.approx(pk.omega, rel=1e-12)
+        assert rec["peak_amplitude_m"] == pytest.approx(pk.amplitude, rel=1e-12)
+        assert rec["peak_error_rel"] == pytest.approx(pk.estimate, rel=1e-12)
+        assert rec["peak_error_rel"] == pytest.approx(frf.error_estimate[j], rel=1e-12)  # the point it was located from
     assert 0.0184 / 2.0 < coarse["peak_error_rel"] < 0.1  # mostly the single-mode model's part (docs/validation.md)
+    assert fine["peak_error_rel"] < coarse["peak_error_rel"] / 5.0  # the model part is gone from it
+    assert fine["peak_amplitude_m"] / coarse["peak_amplitude_m"] - 1.0 > 0.01  # the bar of every mode peaks higher
 
     with (tmp_path / "out" / "study.csv").open() as fh:
         rows = list(csv.DictReader(csv_lines(fh)))

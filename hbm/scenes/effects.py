@@ -307,9 +307,11 @@ def phase_differences(run: Any) -> Effect | None:
     The single-mode element's amplitude-aware model error (``ContactElement.model_error``, the
     validity map) is read at ``BULK_FREQUENCIES`` frequencies over the sweep (:func:`off_share`);
     the whole curve takes the all-mode bar when it exceeds ``sweep.tol`` over more than ``BULK`` of
-    them.  Otherwise a ``damper.model = "auto"`` frequency sweep of a blade keeps the single-mode
-    curve and its peak is checked after the solve: where the estimate's model part at the peak
-    exceeds half of tol, the peak is the all-mode peak (``hbm.allmode_peak.physical_peak``).
+    them.  Otherwise a ``damper.model = "auto"`` frequency sweep of a blade at H = 1 keeps the
+    single-mode element and solves with ``model="peak"`` (``hbm.scenes.running.peak_refined``): where
+    the estimate's model part at the curve's largest point exceeds half of tol, the windows of the
+    curve that hold the peak are traced again with the bar of every mode, and the peak is that
+    model's maximum.
 
     ``effects.phase_differences``: "auto" (default) decides for ``damper.model = "auto"`` and
     reports, without switching, for an explicitly chosen "two-region" or "three-region"; "on"
@@ -350,7 +352,7 @@ def phase_differences(run: Any) -> Effect | None:
                                    'element (damper.model = "auto" or effects.phase_differences = "on" takes '
                                    "the all-mode bar)")
     peak = ("; the peak is the all-mode bar's where the estimate's model part there exceeds tol/2 "
-            "(hbm.allmode_peak)" if run.blade is not None and run.scene.structure is None
+            '(frequency_response(..., model="peak"))' if run.blade is not None and run.scene.structure is None
             and run.scene.sweep["kind"] == "frequency" and run.scene.effects["harmonics"] == 1 else "")
     return Effect(name, False, f"auto: not more than {BULK:.0%}: {at}: single-mode element{peak}")
 
@@ -507,7 +509,7 @@ register_effect("phase differences along the bar", phase_differences, key_name="
                 key=Key(choice("auto", "on", "off"), "auto",
                         'the all-mode bar (AllModeMicroslip): "auto" (for damper.model = "auto": the whole curve '
                         'where the single-mode element is off by more than sweep.tol over most of the sweep; else '
-                        'the all-mode peak where needed), "on" or "off"'))
+                        'the peak\'s window where needed), "on" or "off"'))
 register_effect("higher harmonics", harmonics, key_name="harmonics",
                 key=Key(harmonics_key, 1, "harmonics of the balance (H >= 1; above 1 the element needs a "
                                                 "time-domain law: multi-harmonic balance with AFT)"))

@@ -39,7 +39,7 @@ def run_summary(res: Any, *, hz: bool = False) -> dict:
             out["peak"] = {"omega_rad_s": res.peak.omega, "amplitude_m": res.peak.amplitude,
                            "amplitude_over_a_min": res.peak.amplitude / a_min if a_min else None}
             if frf.tol is not None and len(frf):
-                out["peak"].update(peak_estimate(frf, getattr(res, "allmode", None)))
+                out["peak"].update(peak_estimate(frf))
             if hz:
                 out["peak"] = {"frequency_Hz": res.peak.omega / (2.0 * math.pi), **out["peak"]}
             slip = next((e for e in p.effects if e.name == "damper slip"), None)
@@ -72,19 +72,28 @@ def error_summary(frf: Any) -> dict:
             "warning": frf.accuracy_warning}
 
 
-def peak_estimate(frf: Any, allmode: Any = None) -> dict:
-    """The peak's estimated error: ``error_rel`` (relative), ``largest_source`` (its largest part),
-    ``tol`` and ``model`` (the element's class name).  From the all-mode peak where it answers
-    (``hbm.allmode_peak.AllModePeak``: its estimate and parts, with ``cells`` and ``harmonics``), else
-    from ``frf.error_estimate`` at the sampled maximum and its sources there."""
-    if allmode is not None:
-        parts = {k: float(v) for k, v in allmode.parts.items()}
-        return {"error_rel": float(allmode.error), "largest_source": max(parts, key=parts.get), "tol": frf.tol,
-                "model": "AllModeMicroslip", "cells": allmode.cells, "harmonics": allmode.harmonics}
-    j = int(np.argmax(frf.amplitude))
+def peak_estimate(frf: Any) -> dict:
+    """The peak's estimated error: ``error_rel`` (relative, the located peak's ``estimate``),
+    ``largest_source`` (the largest part of the estimate at the peak's point, ``peak_point``), ``tol``,
+    ``model`` (the model of that point, ``FrequencyResponse.point_models``: the bar with every mode
+    where ``model="peak"`` refined the peak, e.g. ``"AllModeMicroslip(cells=64, H=31)"``) and
+    ``harmonics`` (its H).  The peak is located between the neighbours of that point, whose estimate
+    it carries (``hbm.adapt.locate_peak``)."""
+    j = peak_point(frf)
     source = max(frf.error_sources, key=lambda k: frf.error_sources[k][j])
-    return {"error_rel": float(frf.error_estimate[j]), "largest_source": source, "tol": frf.tol,
-            "model": type(frf.element).__name__ if frf.element is not None else "none"}
+    return {"error_rel": float(frf.peak().estimate), "largest_source": source, "tol": frf.tol,
+            "model": str(frf.point_models[j]), "harmonics": int(frf.point_harmonics[j])}
+
+
+def peak_point(frf: Any) -> int:
+    """The index of the sampled point the peak of ``frf`` was located from: its largest point, or
+    where some points were solved with another model than the whole range's first trace (``model="peak"``:
+    the refined model in the peak's window), the largest of those, as ``frequency_response`` seeks it
+    (``hbm.adapt.locate_peak``'s ``among``): the refined model's maximum is the peak there, whatever the
+    coarse points outside read."""
+    refined = frf.point_models != frf._work[0].point_models[0]  # the first trace: the contacts as given
+    a = frf.amplitude
+    return int(np.argmax(np.where(refined, a, -np.inf) if np.any(refined) else a))
 
 
 def thin(omega: Any, n: int = 33) -> np.ndarray:
@@ -249,8 +258,9 @@ def effect_lines(plan: Plan) -> list:
 
 
 def _estimate_text(pk: dict) -> str:
-    """``; estimated error 0.07 % (tol 0.001, largest source: harmonics; model: AllModeMicroslip, ...)``."""
-    model = pk["model"] + (f", the bar with every mode, {pk['cells']} cells, H = {pk['harmonics']}" if "cells" in pk else "")
+    """``; estimated error 0.17 % (tol 0.001, largest source: harmonics; model: AllModeMicroslip(cells=64, H=31),
+    balance at H = 1)``: the model of the peak's point and the harmonics its balance was solved with."""
+    model = pk["model"] + (f", balance at H = {pk['harmonics']}" if "harmonics" in pk else "")
     return (f"; estimated error {100.0 * pk['error_rel']:.2g} % (tol {pk['tol']:g}, largest source: "
             f"{pk['largest_source']}; model: {model})")
 

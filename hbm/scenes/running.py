@@ -18,13 +18,13 @@ from typing import Any, Callable
 import numpy as np
 
 from ..balance.presets import DEFAULT_RTOL, Steps
-from ..frf import DEFAULT_TOL, MODEL_SHARE, frequency_response, refine_peak
+from ..frf import DEFAULT_TOL, MODEL_SHARE, frequency_response
 from ..output import (COMMENT, ERROR_COLUMN, HZ_COLUMN, RUN_COLUMNS, STABLE_COLUMN, TABLE_COLUMNS, CsvStream, error_value,
                       csv_lines, frf_columns, frf_row, harmonic_values, stable_value, with_hz)
 from .contacts import damper_contact
 from .modal import MODE_COLUMNS, OPTIMUM_COLUMNS, modal_figure, modal_summary, run_modes, run_optimum
 from .planning import Plan, RunPlan, plan_scene
-from .reporting import figure, jsonable, run_summary
+from .reporting import figure, jsonable, peak_point, run_summary
 from .validation import Scene
 
 #: The effect whose line says what the peak's check found (``hbm.scenes.effects.phase_differences``).
@@ -115,10 +115,6 @@ class RunResult:
         The optimum of an ``[optimum]`` scene's run (``hbm.damper_optimum``), else None.
     response_dof : int or None, optional
         The DOF whose response a mode's CSV reports.
-    allmode : AllModePeak or None, optional
-        For ``damper.model = "auto"``: the all-mode peak (``hbm.refine_peak``) where the
-        single-mode damper's model error at the peak exceeds half the tolerance; ``peak`` is then its
-        (omega, amplitude).  None where the curve's own peak stands.
     """
 
     plan: RunPlan
@@ -133,7 +129,6 @@ class RunResult:
     modes: Any = None  #: the nonlinear mode of a [modes] scene's run
     optimum: Any = None  #: the damper's optimum of an [optimum] scene's run
     response_dof: int | None = None  #: the DOF a mode's CSV reports
-    allmode: Any = None  #: the all-mode peak of a damper.model = "auto" run where it answers (hbm.allmode_peak)
 
     @property
     def number(self) -> int:
@@ -379,19 +374,31 @@ def _run_frequency(scene, plan, res, emit):
     if scene.structure is not None:  # a structure from matrices: the damper at structure.contact_dofs, its contacts
         damper = [damper_contact(scene, p.element, p.model), *plan.contacts]
         response_dof = scene.structure.get("response_dof")
+    at_peak = peak_refined(scene, p)
     frf = frequency_response(plan.blade, damper, (w0, w1), harmonics=p.harmonics, n_t=p.n_t,
-                             response_dof=response_dof, callback=on_point, **accuracy_options(scene))
+                             response_dof=response_dof, callback=on_point, **({"model": "peak"} if at_peak else {}),
+                             **accuracy_options(scene))
     res.frf = frf
     res.success = frf.success
     res.message = frf.message
     if len(frf):
         res.peak = frf.peak()
-        if p.name == "auto" and scene.effects["phase_differences"] == "auto":  # the model chosen by the estimate at
-            # tol: the all-mode peak where the single-mode damper is off there (None for any other FRF)
-            res.allmode = refine_peak(frf)  # says its own trouble
-            if scene.structure is None and p.harmonics in (None, 1):  # a blade at H = 1: the refined peak's case
-                _said(p, frf, res.allmode)
-            res.peak = frf.peak()
+        if at_peak:
+            _said(p, frf)
+
+
+def peak_refined(scene: Scene, p: RunPlan) -> bool:
+    """Whether the run's peak is solved with the damper's refined model where the estimate asks for it
+    (``frequency_response(..., model="peak")``): ``damper.model = "auto"`` with
+    ``effects.phase_differences = "auto"`` that kept the single-mode element (one with a refined model:
+    not held stuck, with inertia) for a blade at H = 1, the case the "phase differences" effect names
+    (``hbm.scenes.effects.phase_differences``).  The solve then traces again, with the bar of every
+    mode, the windows of the curve that hold the peak where the model part of the estimate exceeds
+    half of tol, as ``damper.model = "auto"`` over the bulk of a sweep would trace the whole curve."""
+    el = p.element  # a single-mode bar has a refined model; a discretised one (the all-mode bar) refines its rungs
+    return (p.name == "auto" and scene.effects["phase_differences"] == "auto" and scene.structure is None
+            and p.harmonics in (None, 1) and not getattr(el, "discretised", True)
+            and getattr(el, "refined_model", lambda: None)() is not None)
 
 
 def accuracy_options(scene: Scene) -> dict:
@@ -415,22 +422,28 @@ def accuracy_options(scene: Scene) -> dict:
     return out
 
 
-def _said(p: RunPlan, frf: Any, best: Any) -> None:
-    """Add to the run's "phase differences" effect what the peak's check found (``damper.model = "auto"``)."""
+def _said(p: RunPlan, frf: Any) -> None:
+    """Add to the run's "phase differences" effect what the peak's check found (``damper.model = "auto"``):
+    the model part of the single-mode curve's estimate at its largest point (the curve the solve traced
+    first, with the element as given), and, where it exceeded tol/2, the model, H and estimate of the
+    point the peak was answered from and how far the single-mode curve's largest point is off the peak."""
     effect = next((e for e in p.effects if e.name == PHASE_EFFECT and not e.simulated), None)
     if effect is None or frf.tol is None or "computed:" in effect.reason:
         return
-    i = int(np.argmax(frf.amplitude))
-    model = float(frf.error_sources["model"][i])
-    if best is None:
+    first = frf._work[0]  # the whole range traced with the element as given (hbm.adapt.along)
+    i = int(np.argmax(first.amplitude))
+    model = float(first.error_sources["model"][i])
+    j = peak_point(frf)
+    half = MODEL_SHARE * frf.tol
+    if frf.point_models[j] == first.point_models[i]:
         effect.reason += (f"; computed: the model part of the estimate at the peak is {model:.2g}, "
-                          f"{'not above' if model <= MODEL_SHARE * frf.tol else 'above'} tol/2 = "
-                          f"{MODEL_SHARE * frf.tol:g}: the single-mode peak stands")
+                          f"{'not above' if model <= half else 'above'} tol/2 = {half:g}: the single-mode peak stands")
         return
-    off = frf.peak().amplitude / best.amplitude - 1.0
-    effect.reason += (f"; computed: the model part of the estimate at the peak is {model:.2g} > tol/2 = "
-                      f"{MODEL_SHARE * frf.tol:g}: the peak is the all-mode bar's ({best.cells} cells, "
-                      f"H = {best.harmonics}, estimated error {best.error:.2g}); the single-mode peak is "
+    pk = frf.peak()
+    off = float(first.amplitude[i]) / pk.amplitude - 1.0
+    effect.reason += (f"; computed: the model part of the estimate at the peak is {model:.2g} > tol/2 = {half:g}: "
+                      f"the peak is the bar's with every mode ({frf.point_models[j]}, H = {frf.point_harmonics[j]}, "
+                      f"estimated error {pk.estimate:.2g}); the single-mode curve's largest point is "
                       f"{100.0 * off:+.2g} % off it")
 
 
@@ -523,4 +536,4 @@ def duration(seconds: float) -> str:
 
 
 __all__ = ["run_scene", "Progress", "RunResult", "SceneResult", "output_names", "columns", "in_hz", "scene_harmonics",
-           "accuracy_options"]
+           "accuracy_options", "peak_refined"]

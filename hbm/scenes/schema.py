@@ -119,8 +119,8 @@ _FIXED: dict[str, dict[str, Key]] = {
                          f"now sets (tol/100, at most {presets.DEFAULT_RTOL:g}); give sweep.tol"),
         "tol": Key(number(ge=MIN_RELATIVE_TOL, lt=1), OPTIONAL,
                    "target relative error of the response amplitude against the physical system "
-                   "(frequency_response's tol): the error estimate's target and the warning's threshold, the "
-                   'all-mode peak\'s, and what damper.model = "auto" holds the single-mode bar to; default '
+                   "(frequency_response's tol): the error estimate's target, the warning's threshold, the target "
+                   'of the peak\'s refinement and what damper.model = "auto" holds the single-mode bar to; default '
                    f"{DEFAULT_TOL:g}, with sweep.accuracy its tolerance (" +
                    ", ".join(f'"{n}" {t:g}' for n, t in presets.TOLERANCE.items()) +
                    "); not sweep.tolerance, the elements' rtol"),

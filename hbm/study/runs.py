@@ -20,6 +20,7 @@ from contact_models.accuracy import AccuracyWarning
 
 from ..result import FrequencyResponse
 from ..scenes import SceneError, plan_scene, scene_from_dict
+from ..scenes.reporting import peak_point
 from ..scenes.running import RunResult, _run_amplitude, _run_frequency
 from ..scenes.validation import apply_overrides
 
@@ -85,11 +86,7 @@ class SceneRun:
         res = RunResult(plan.runs[0])
         if scene.sweep["kind"] == "frequency":
             _run_frequency(scene, plan, res, lambda *a: None)  # its warnings: in the run's record (execute)
-            rec = outcome(res.frf)
-            if res.allmode is not None:  # damper.model = "auto": the all-mode peak answers (hbm.allmode_peak)
-                rec.update(peak_omega_rad_s=res.allmode.omega, peak_amplitude_m=res.allmode.amplitude,
-                           peak_error_rel=float(res.allmode.error), peak_model="AllModeMicroslip")
-            return rec
+            return outcome(res.frf)
         _run_amplitude(scene, plan, res, lambda *a: None)
         t = res.table
         best = max(((float(Fc[i]), w, float(t["a"][i])) for w, Fc in zip(t["omega"], t["F_c"])
@@ -120,13 +117,12 @@ def outcome(out: Any) -> dict:
     dict
         ``success``, ``message``, ``peak_omega_rad_s``, ``peak_amplitude_m`` (None where absent
         or not finite), ``peak_error_rel`` (the peak amplitude's estimated relative error: for an FRF
-        ``error_estimate`` at the sampled maximum, which bounds the located peak's too; None where
-        absent, not finite or not estimated), ``peak_model`` (the model the peak was computed with:
-        for an FRF its element's class name, ``""`` for several contacts or none; None where absent),
-        ``nfev`` (None where absent) and ``curve`` (for an FRF: ``omega_rad_s`` and ``amplitude_m``).
-        A scene run with ``damper.model = "auto"`` whose peak the all-mode bar answers
-        (``hbm.allmode_peak.physical_peak``) records that peak, its estimate and
-        ``"AllModeMicroslip"`` (:class:`SceneRun`).
+        the located peak's ``estimate``, the estimate at the sampled point it was located from, which
+        bounds the located peak's too; None where absent, not finite or not estimated), ``peak_model``
+        (the model the peak was computed with: for an FRF the class of the element at that point,
+        ``"AllModeMicroslip"`` where ``model="peak"`` solved the peak with the bar of every mode,
+        ``""`` for several contacts or none; None where absent), ``nfev`` (None where absent) and
+        ``curve`` (for an FRF: ``omega_rad_s`` and ``amplitude_m``).
 
     Raises
     ------
@@ -155,12 +151,24 @@ def outcome(out: Any) -> dict:
     if not isinstance(out, FrequencyResponse):
         raise ValueError(f"a runner must return an hbm.FrequencyResponse or a dict, got {type(out).__name__}")
     pk = out.peak() if len(out) else None
-    err = float(out.error_estimate[int(np.argmax(out.amplitude))]) if len(out) else None
     return {"success": bool(out.success), "message": out.message,
             "peak_omega_rad_s": None if pk is None else pk.omega,
-            "peak_amplitude_m": None if pk is None else pk.amplitude, "peak_error_rel": _float(err),
-            "peak_model": type(out.element).__name__ if out.element is not None else "", "nfev": int(out.nfev),
+            "peak_amplitude_m": None if pk is None else pk.amplitude,
+            "peak_error_rel": None if pk is None else _float(pk.estimate),
+            "peak_model": _peak_model(out), "nfev": int(out.nfev),
             "curve": {"omega_rad_s": out.omega.tolist(), "amplitude_m": out.amplitude.tolist()}}
+
+
+def _peak_model(frf: FrequencyResponse) -> str:
+    """The model of the point the peak of ``frf`` was located from (``hbm.scenes.reporting.peak_point``):
+    its element's class name, so that a record names the model as a class (the class of the refined
+    model where ``model="peak"`` refined the peak; without points, the element's); ``""`` for several
+    contacts or none."""
+    if frf.element is None:
+        return ""
+    if not len(frf):
+        return type(frf.element).__name__
+    return str(frf.point_models[peak_point(frf)]).split("(")[0]
 
 
 def _float(v: Any) -> float | None:
