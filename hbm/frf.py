@@ -268,6 +268,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if tolerance is not None and RUNGS_ALONG_CURVE:
         contacts, rungs = _start_rungs(contacts, structure, (w0, w1))
     again = adapt or model != "given" or rungs  # the balance may solve again: stream the final points at the end
+    at_peak = model == "peak" and not rungs  # (an element already the complete model: its rungs everywhere)
     knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, step_controls, stability, tolerance,
                         lambda H: n_t_given if n_t_given is not None else _samples(H), response_dof)
     live = None if again or callback is None else (lambda problem: _reporter(callback, problem))
@@ -285,7 +286,6 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     with one_blas_thread(small), errors.collected() as said:
         frf = along.solve(knobs, contacts, harmonics, live)
         if again:  # the model and H chosen along the curve (hbm.adapt)
-            at_peak = model == "peak" and not rungs  # (an element already the complete model: its rungs everywhere)
             plan = along.Plan(MODEL_SHARE if model != "given" or rungs else None, HARMONICS_SHARE if adapt else None,
                               MAX_HARMONICS, rungs_only=model == "given" or (model == "peak" and rungs), at_peak=at_peak,
                               chosen=rungs)
@@ -294,7 +294,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
                 _stream(frf, callback)
         if len(frf):  # the peak located between points (the elements' warnings while locating join the call's)
             refined = None
-            if model == "peak" and frf._segments_of is not None:  # the refined model's peak, in the peak's window
+            if at_peak and frf._segments_of is not None:  # the refined model's peak, in the peak's window
                 refined = frf.point_models != frf._work[0].point_models[0]
             along.locate_peak(frf, (w0, w1), refined)
     heard = [m for f in dict.fromkeys(p[0] for p in (frf._segments_of or [(frf,)])) for m in f._heard]
