@@ -2,10 +2,10 @@
 response with the bar of every mode, the reference of ``model="peak"`` and of the main job's peak.
 
 Each frequency is solved as in ``benchmarks/physical_curve_reference.py`` (a plain Newton iteration at
-fixed omega carried up the ladder (64, 31, 3) -> ... -> (512, 127, 9), not the library's continuation
+fixed omega carried up the ladder (64, 31, 3) -> ... -> (256, 127, 47), not the library's continuation
 or refinement), at ``COUNT`` frequencies ``STEP`` apart around ``CENTRE``; the peak is the vertex of the
 parabola through the largest and its two neighbours (the largest must be interior).  ``spread`` is the
-vertex's relative change from the rung below (256, 63, 7).
+vertex's relative change from the rung below.
 
 Run: ``PYTHONPATH=. python3 benchmarks/physical_peak_reference.py [--out PATH]`` (about two minutes).
 """
@@ -29,8 +29,8 @@ from physical_curve_reference import LADDER, fixed_frequency
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "tests" / "data" / "physical_peak_reference.json"
 #: The frequencies: COUNT of them STEP rad/s apart, centred on CENTRE (the converged curve's largest
-#: sample of ``tests/data/physical_curve_reference.json`` is at 38812.4 rad/s).
-CENTRE, STEP, COUNT = 38825.0, 6.0, 7
+#: sample of ``tests/data/physical_curve_reference.json`` is at 38732.5 rad/s).
+CENTRE, STEP, COUNT = 38740.0, 5.0, 9
 
 
 def vertex(w: np.ndarray, a: np.ndarray) -> tuple[float, float]:

@@ -88,7 +88,8 @@ class ContactElement(ABC):
     :meth:`stuck_stiffness`, :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
     :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force`, :meth:`harmonic_force_unchecked`,
     :attr:`even_block_optional` and :meth:`model_error`, and the refinement questions declared with their defaults
-    (:attr:`exact_harmonics`, :attr:`discretised`, :attr:`model_name`, :meth:`harmonics_law`, :meth:`refined_model`,
+    (:attr:`exact_harmonics`, :attr:`discretised`, :attr:`harmonics_reach`, :attr:`model_name`, :meth:`harmonics_law`,
+    :meth:`refined_model`,
     :meth:`start_rung`,
     :meth:`refined_rung`, :attr:`at_top_rung`, :attr:`refined_no_further`, :meth:`harmonics_of`, :meth:`for_balance`);
     docs/extending.md, section 1, states each hook and default.
@@ -527,6 +528,12 @@ class ContactElement(ABC):
     #: True for an element whose accuracy is set by its own discretisation (cells, internal harmonics):
     #: its ``model_error`` is that discretisation's error, which ``start_rung``/``refined_rung`` refine.
     discretised: bool = False
+    #: Rungs of the ladder H -> 2H + 1 above a balance's H that the harmonics the balance leaves out are read
+    #: from (``hbm.balance.errors``): 1 (to 2H + 1) for a force whose harmonics fall smoothly with their order;
+    #: more (2: to 4H + 3, 3: to 8H + 7, beyond the first rung at most 31) for an element with dynamics of its
+    #: own, whose modes a high harmonic of the drive can meet (a superharmonic resonance that a step of one rung
+    #: does not hold).
+    harmonics_reach: int = 1
 
     @property
     def model_name(self) -> str:

@@ -427,7 +427,13 @@ def refine(knobs: Knobs, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
         if not setting:  # every ladder that asks here has ended: the window is kept
             continue
         H = setting.get("H", f.harmonics)
-        g = _retrace(knobs, f, i0, i1, balanced(setting.get("contacts", f.contacts), H, keep), H, work, notes, full)
+        contacts = balanced(setting.get("contacts", f.contacts), H, keep)
+        g = _retrace(knobs, f, i0, i1, contacts, H, work, notes, full)
+        wider = None if g is None else _widened(f, g, i0, i1, at)
+        if wider is not None:  # the curve's peak at an end of the window: traced again to the next node beyond
+            h = _retrace(knobs, f, *wider, contacts, H, work, notes, full)
+            if h is not None:
+                g, (i0, i1) = h, wider
         if g is None:
             continue
         if at < i0:
@@ -437,6 +443,26 @@ def refine(knobs: Knobs, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
     if at < len(f):
         out.append((f, at, len(f)))
     return out
+
+
+def _widened(f: FrequencyResponse, g: FrequencyResponse, i0: int, i1: int, at: int) -> tuple[int, int] | None:
+    """The window ``i0..i1`` of ``f`` widened to the next estimate node beyond the end of its refined trace
+    ``g`` that holds ``g``'s largest response, where that is the curve's peak (at least the largest of ``f``
+    outside the window): the peak then lies at or beyond the window's end, where it cannot be located
+    between points of one balance.  None where the peak is inside, or the window already reaches the end
+    of ``f`` (or, at its start, the last window kept, ``at``)."""
+    j = int(np.argmax(g.amplitude))
+    outside = np.r_[f.amplitude[:i0], f.amplitude[i1 + 1:]]
+    if 0 < j < len(g) - 1 or (len(outside) and g.amplitude[j] < np.max(outside)):
+        return None
+    nodes = np.asarray(f._nodes)
+    if j == len(g) - 1 and i1 < len(f) - 1:
+        after = nodes[nodes > i1]
+        return i0, int(after[0]) if len(after) else len(f) - 1
+    if j == 0 and i0 > at:
+        before = nodes[(nodes < i0) & (nodes >= at)]
+        return int(before[-1]) if len(before) else at, i1
+    return None
 
 
 def _retrace(knobs: Knobs, f: FrequencyResponse, i0: int, i1: int, contacts: list, H: int, work: list,
@@ -517,7 +543,7 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     reasons = []
     located = False
     site, j = frf._site(i)  # located with the balance of the segment holding the maximum
-    if 0 < j < len(site) - 1:
+    if len(site) > 1 and (0 < j < len(site) - 1 or 0 < i < n - 1):  # (at a window's end: its last interval)
         loc, nit = _locate_on(site, j)
         frf._peak_nit += nit
         if loc is not None:
@@ -564,6 +590,8 @@ def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int]:
     try:
         xtol = PEAK_XTOL_FACTOR * math.sqrt(f.rtol)
         for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
+            if ja < 0 or jb >= len(y):
+                continue
             loc = cont.locate(pr, y[ja], y[jb], slope, tol=f.newton_tol, scale=f._scale, xtol=xtol, count=counter)
             if loc is not None:
                 return loc, counter.nit

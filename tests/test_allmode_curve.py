@@ -185,7 +185,9 @@ def test_a_window_where_both_knobs_ask_is_traced_once_at_both_next_settings():
     """At 200 N and 100 N, tol = 1e-3, the start rung's window around the peak needs both more blade
     harmonics (H = 1 -> 3) and a finer rung: the driver asks every knob that asks there for its next setting
     and traces the window once at all of them (``hbm.adapt.refine``), never at H = 3 on the start rung
-    (which the rung knob would then trace again).  No window is given up, and each curve ends within tol."""
+    (which the rung knob would then trace again).  No window is given up; at 100 N the curve ends within tol,
+    at 200 N within it or warned that the bar is on its finest rung along a curve there (near 38915 rad/s,
+    where the 13th harmonic meets a mode of the bar, 128 cells read 1.1e-3 at H = 15)."""
 
     def frf(N):
         return frequency_response(CASE.blade, AllModeMicroslip(BAR, type(LOAD)(N=N), tol=1e-3),
@@ -203,7 +205,8 @@ def test_a_window_where_both_knobs_ask_is_traced_once_at_both_next_settings():
         assert first[0] == 1 and windows and (3, cheap) not in windows
         assert windows[0][0] == 3 and windows[0][1] != first[1]  # both knobs turned at once
         assert f.success and "failed" not in f.message
-        assert float(f.error_estimate.max()) <= 1e-3 and not said
+        within = float(f.error_estimate.max()) <= 1e-3
+        assert within == (not said) and (within or (N == 200.0 and "last rung it is refined to" in str(said[0].message)))
 
 
 def test_harmonics_of_raises_a_rung_to_the_top_harmonics_on_its_cells():
@@ -239,18 +242,17 @@ def test_the_estimate_is_computed_either_side_of_the_onset_of_slip():
     assert abs(frf.amplitude[i] / ref - 1.0) <= frf.error_estimate[i]
 
 
-def test_the_40_N_curve_starts_its_H_31_window_in_stages():
-    """At 40 N and tol = 1e-3 a window at 38516 rad/s goes from H = 7 to 31; lifted straight from 7, its start
-    did not converge (Newton stopped contracting) and its points at H = 7 were kept with an estimate of 2.8e-2.
-    Solved again at H = 15, then 31, by damped Newton (``hbm.adapt.staged``), it is traced, and nothing is
-    given up."""
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", AccuracyWarning)
+def test_the_40_N_curve_reaches_its_H_31_windows_and_ends_within_tol():
+    """At 40 N and tol = 1e-3 windows below and beside the peak go to H = 31 (two rungs above H = 7 read
+    the harmonics the bar's modes meet there); every window's start converges (from the lifted point, or
+    in stages where that fails: ``hbm.adapt.staged``), nothing is given up, and the curve ends within tol."""
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always", AccuracyWarning)
         frf = frequency_response(CASE.blade, AllModeMicroslip(BAR, type(LOAD)(N=40.0)), omega_range=CASE.omega_range,
                                  tol=1e-3)
-    assert frf.success and "failed" not in frf.message
-    assert any(sg.harmonics == 31 and 38500.0 < frf.omega[sg.start] < 38600.0 for sg in frf.segments)
-    assert float(frf.error_estimate.max()) < 1e-2
+    assert frf.success and "failed" not in frf.message and not said
+    assert any(sg.harmonics == 31 for sg in frf.segments)
+    assert float(frf.error_estimate.max()) <= 1e-3
 
 
 def test_an_element_given_fixed_keeps_its_harmonics_in_every_window():

@@ -1,10 +1,10 @@
 """The main job's curve is the physical one: within tol = 1e-3 of the blade with the bar of every mode.
 
 The reference (``tests/data/physical_curve_reference.json``, from ``benchmarks/physical_curve_reference.py``)
-is the default blade with ``AllModeMicroslip`` on 512 cells and 127 harmonics, the blade balanced with 9
+is the default blade with ``AllModeMicroslip`` on 256 cells and 127 harmonics, the blade balanced with 47
 harmonics, solved at 16 fixed frequencies by a plain Newton iteration written in that script (not the
 library's continuation or refinement), each frequency carried up a ladder of resolutions; its own error
-(the change from the rung below) is below 2.1e-5 everywhere.
+(the larger change from the rungs below in cells and in harmonics) is below 1e-4 everywhere.
 """
 
 import contextlib
@@ -64,10 +64,11 @@ def test_the_main_job_is_within_tol_of_the_physical_curve_and_says_so(job):
         e = abs(at(p["omega"], w, A) / p["amplitude"] - 1.0)
         true.append(e)
         assert e <= TOL, f"omega = {p['omega']:.1f}: {e:.2e} off the physical curve"
-        # the stated error covers the true one (the reference's own error added) to the promised 2x
-        assert e <= 2.0 * at(p["omega"], w, est) + p["spread"] + 1e-6
+    # the reading between points has an error of its own, which no point's estimate states (at 38593 rad/s a
+    # harmonic of the blade bends the curve between points 13.5 rad/s apart: 4.5e-4 off, within tol); the
+    # estimate's 2x promise at the points is checked at their own frequencies (the slow test below)
     last = printed.strip().splitlines()[-1]  # the job's last line: the peak and the whole curve's estimate
-    assert last.startswith("peak 388") and "largest estimated error" in last and f"within tol = {TOL:g}" in last
+    assert last.startswith("peak 387") and "largest estimated error" in last and f"within tol = {TOL:g}" in last
     stated = float(last.split("largest estimated error ")[1].split(" %")[0]) / 100.0
     assert stated == pytest.approx(float(np.max(est)), rel=0.05)
 
@@ -81,3 +82,35 @@ def test_the_csv_says_which_model_and_harmonics_answered(job):
     assert models[peak].startswith("AllModeMicroslip(") and H[peak] >= 3
     assert models[0] == "TwoRegionMicroslip" and H[0] == 1  # far below the resonance the single-mode bar is within
     assert set(models) >= {"TwoRegionMicroslip"} and len(w) == len(models)
+
+
+@pytest.mark.slow
+def test_the_main_job_s_points_across_the_notches_are_within_twice_their_estimate(job):
+    """At the job's points nearest four reference frequencies across the resonance (the notches where a
+    harmonic of the drive meets a mode of the bar, and the peak), the reference solved at the point's own
+    frequency (``benchmarks/physical_curve_reference.py``'s plain Newton up its ladder to 256 cells, 127 bar
+    harmonics and 31 blade harmonics, from the point's first harmonic): the point within tol and within
+    twice its estimate, the reference's own change from the rung below added."""
+    import sys
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
+    from physical_curve_reference import fixed_frequency
+
+    from contact_models import AllModeMicroslip
+    from hbm.cli.cases import default_case
+
+    table, _, _ = job
+    case = default_case()
+    w = np.array(table["omega_rad_s"], dtype=float)
+    A = np.array(table["amplitude_m"], dtype=float)
+    est = np.array(table["error_rel"], dtype=float)
+    xc, xs = (np.array(table[k], dtype=float) for k in ("x_c_m", "x_s_m"))
+    for target in (38592.7, 38732.5, 38812.4, 38912.3):
+        i = int(np.argmin(np.abs(w - target)))
+        X, amps = np.array([0.0, xc[i], xs[i]]), []
+        for n, H, Hb in [(64, 31, 3), (128, 63, 15), (128, 127, 31), (256, 127, 31)]:
+            X = fixed_frequency(case.blade, AllModeMicroslip(case.element.bar, case.element.load, cells=n, harmonics=H),
+                                Hb, float(w[i]), X)
+            amps.append(float(np.hypot(X[1], X[2])))
+        doubt = abs(amps[-1] - amps[-2]) / amps[-1]
+        e = abs(A[i] / amps[-1] - 1.0)
+        assert doubt < 1e-4 and e <= TOL and e <= 2.0 * est[i] + doubt + 1e-6, f"omega = {w[i]:.1f}: {e:.2e}, {est[i]:.2e}"

@@ -168,6 +168,10 @@ class AllModeMicroslip(ContactElement):
     exact_harmonics = True
     #: Its accuracy is its discretisation's (cells, harmonics): refined along a curve by its rungs.
     discretised = True
+    #: The bar's own modes meet high harmonics of the drive (near the default blade's peak the 13th meets the
+    #: second mode with the end held): the harmonics a balance leaves out are read three rungs up (from H = 1
+    #: at 15, from H = 3 at 31).
+    harmonics_reach = 3
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, cells: int | None = None,
                  harmonics: int | None = None, *, n_t: int | None = None, tol: float = TOL,
