@@ -59,7 +59,7 @@ ESTIMATE_SLACK = 2.0
 
 
 @dataclasses.dataclass
-class Knobs:
+class Setup:
     """What every trace of one ``frequency_response`` call shares."""
 
     system: Any
@@ -79,26 +79,26 @@ class Knobs:
                                response_dof=self.response_dof, rtol=self.rtol)
 
 
-def solve(knobs: Knobs, contacts: Any, H: int, reporter: Callable | None = None) -> FrequencyResponse:
+def solve(setup: Setup, contacts: Any, H: int, reporter: Callable | None = None) -> FrequencyResponse:
     """The whole range traced with ``contacts`` at ``H`` harmonics (the stuck start at w0);
     ``reporter(problem)`` makes the continuation's ``on_point`` once the problem's scales are set."""
-    problem = knobs.balance(contacts, H)
-    problem.keep_jacobians = knobs.stability  # for Hill's method at the points (FrequencyResponse.stable)
+    problem = setup.balance(contacts, H)
+    problem.keep_jacobians = setup.stability  # for Hill's method at the points (FrequencyResponse.stable)
     with errors.collected() as now:
-        out = trace(problem, knobs, reporter=reporter)
+        out = trace(problem, setup, reporter=reporter)
     out._heard = list(now)
     return out
 
 
-def trace(problem: HarmonicBalance, knobs: Knobs, *, reporter: Callable | None = None, start: Any = None,
+def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None = None, start: Any = None,
           direction: int | None = None, stop: Callable | None = None,
           cut: Callable | None = None) -> FrequencyResponse:
     """Scales, the start (the stuck one at w0, else a homotopy in the force; or ``start``, scaled
     unknowns, in ``direction``), the continuation to w1 or to ``stop``, ``cut(run, scale)`` of the
     run, the check of its intervals (``curve_tol``), the result."""
-    w0, w1, steps = knobs.w0, knobs.w1, knobs.steps
+    w0, w1, steps = setup.w0, setup.w1, setup.steps
     problem.set_scales(w0, w1)
-    tol, scale, w_ref = knobs.newton_tol, problem.arclength_scale(), problem.omega_ref
+    tol, scale, w_ref = setup.newton_tol, problem.arclength_scale(), problem.omega_ref
     components = (*problem.response_components(), -1)
     report = reporter(problem) if reporter is not None else None
 
@@ -106,7 +106,7 @@ def trace(problem: HarmonicBalance, knobs: Knobs, *, reporter: Callable | None =
         return cont.continuation(problem, u_start, parameter=problem.unknowns - 1,
                                  bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
                                  direction=direction or (1 if w1 > w0 else -1), tol=tol, scale=scale,
-                                 fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(knobs.rtol), on_point=report,
+                                 fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(setup.rtol), on_point=report,
                                  curve_components=components, stop=stop, **steps)
 
     run = run_from(problem.stuck_start(w0) if start is None else start(problem))
@@ -118,10 +118,10 @@ def trace(problem: HarmonicBalance, knobs: Knobs, *, reporter: Callable | None =
         run = cut(run, scale)
     if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
         run = curve.refine(problem, run, scale, components, steps["curve_tol"], tol, parameter=problem.unknowns - 1)
-    out = FrequencyResponse(problem, run, rtol=knobs.rtol, newton_tol=tol, scale=scale, stability=knobs.stability,
-                            tol=knobs.tolerance)
-    if knobs.tolerance is not None:
-        out._estimated(errors.estimate(problem, out._X, out.omega, knobs.rtol), errors.nodes(out.amplitude))
+    out = FrequencyResponse(problem, run, rtol=setup.rtol, newton_tol=tol, scale=scale, stability=setup.stability,
+                            tol=setup.tolerance)
+    if setup.tolerance is not None:
+        out._estimated(errors.estimate(problem, out._X, out.omega, setup.rtol), errors.nodes(out.amplitude))
     return out
 
 
@@ -165,18 +165,18 @@ def lift(problem: HarmonicBalance, X: np.ndarray, w: float) -> np.ndarray:
     return np.append(Xp.ravel() / xr, w / wr)
 
 
-def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any,
+def window(setup: Setup, frf: FrequencyResponse, i0: int, i1: int, contacts: Any,
            H: int) -> tuple[FrequencyResponse, str | None]:
     """Points ``i0..i1`` of ``frf`` traced again with ``contacts`` at ``H``: the result, and why it
     failed (None: it did not)."""
-    problem = knobs.balance(contacts, H)
-    problem.keep_jacobians = knobs.stability  # for Hill's method at the points (FrequencyResponse.stable)
+    problem = setup.balance(contacts, H)
+    problem.keep_jacobians = setup.stability  # for Hill's method at the points (FrequencyResponse.stable)
     coarse, run = frf._problem, frf._run
     y_end, t_end = run.y[i1], run.tangent[i1]
     s_end = frf._scale(y_end)
     # the window reaches the end of the range (not the end of a window's own trace): the bound ends it
-    last = i1 == len(frf) - 1 and min(abs(float(frf.omega[-1]) - w) for w in (knobs.w0, knobs.w1)) <= 1e-9 * max(
-        abs(knobs.w0), abs(knobs.w1))
+    last = i1 == len(frf) - 1 and min(abs(float(frf.omega[-1]) - w) for w in (setup.w0, setup.w1)) <= 1e-9 * max(
+        abs(setup.w0), abs(setup.w1))
 
     def back(u):  # the refined point in the coarse run's coordinates scaled at its end point
         X, w = problem.to_physical(u)
@@ -185,7 +185,7 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
     # a crossing counts near the end point only (a bent branch may cross the hyperplane elsewhere):
     # within RADIUS_CHORDS of its coarse chords, or two of the longest steps (a step lands that close)
     chords = [float(np.linalg.norm((run.y[j] - y_end) / s_end)) for j in (i1 - 1, i1 + 1) if 0 <= j < len(run.y)]
-    radius = max(RADIUS_CHORDS * max(chords, default=0.0), 2.0 * knobs.steps["max_step"])
+    radius = max(RADIUS_CHORDS * max(chords, default=0.0), 2.0 * setup.steps["max_step"])
 
     crossed: list = []
 
@@ -198,7 +198,7 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
     def cut(r, scale):  # the point beyond, moved onto the hyperplane
         if last or len(r.y) < 2 or not crossed:
             return r
-        loc = cont.locate(problem, r.y[-2], r.y[-1], lambda u, t: float(t_end @ back(u)), tol=knobs.newton_tol,
+        loc = cont.locate(problem, r.y[-2], r.y[-1], lambda u, t: float(t_end @ back(u)), tol=setup.newton_tol,
                           scale=scale, xtol=CUT_XTOL)
         if loc is None:
             return r
@@ -212,15 +212,15 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
 
     X0, w_start = frf._X[i0], float(frf.omega[i0])
     t0 = float(run.tangent[i0][-1])
-    direction = (1 if t0 > 0.0 else -1) if t0 != 0.0 else (1 if knobs.w1 > knobs.w0 else -1)
+    direction = (1 if t0 > 0.0 else -1) if t0 != 0.0 else (1 if setup.w1 > setup.w0 else -1)
     def traced_from(X):
-        return trace(problem, knobs, start=lambda pr: lift(pr, X, w_start), direction=direction,
+        return trace(problem, setup, start=lambda pr: lift(pr, X, w_start), direction=direction,
                      stop=None if last else beyond, cut=cut)
 
     with errors.collected() as now:
         out = traced_from(X0)
         if out._run.status == cont.Status.START_FAILED and H > frf.harmonics:
-            X1 = staged(knobs, contacts, X0, w_start, frf.harmonics, H)
+            X1 = staged(setup, contacts, X0, w_start, frf.harmonics, H)
             if X1 is not None:
                 out = traced_from(X1)
     out._heard = list(now)
@@ -231,7 +231,7 @@ def window(knobs: Knobs, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
     return out, None
 
 
-def staged(knobs: Knobs, contacts: Any, X: np.ndarray, w: float, H0: int, H: int) -> np.ndarray | None:
+def staged(setup: Setup, contacts: Any, X: np.ndarray, w: float, H0: int, H: int) -> np.ndarray | None:
     """The point ``X`` (solved at ``H0`` harmonics, physical) solved again at ``w`` at each H of the ladder
     ``2 H0 + 1, ...`` up to ``H`` in turn, each lifted from the last, by Newton's method with a backtracking
     line search on |R| (``STAGED_MAX_ITER`` updates at most): a window's start where plain Newton from the
@@ -240,9 +240,9 @@ def staged(knobs: Knobs, contacts: Any, X: np.ndarray, w: float, H0: int, H: int
     stage fails."""
     h = min(2 * H0 + 1, H)
     while True:
-        problem = knobs.balance(contacts, h)
-        problem.set_scales(knobs.w0, knobs.w1)
-        u = damped_newton(problem, lift(problem, X, w), knobs.newton_tol)
+        problem = setup.balance(contacts, h)
+        problem.set_scales(setup.w0, setup.w1)
+        u = damped_newton(problem, lift(problem, X, w), setup.newton_tol)
         if u is None:
             return None
         X = problem.to_physical(u)[0]
@@ -354,14 +354,14 @@ class Knob:
     next: Callable[[FrequencyResponse, float, tuple[float, float]], dict | None]
 
 
-def knobs_of(plan: Plan, knobs: Knobs) -> list[Knob]:
-    """The knobs ``plan`` turns: the model (each element's next rung or refined model, ``refined_contacts``)
+def knobs_of(plan: Plan, setup: Setup) -> list[Knob]:
+    """The setup ``plan`` turns: the model (each element's next rung or refined model, ``refined_contacts``)
     and the balance's harmonics (``next_harmonics``; only where every contact has a time law: a
     first-harmonic element keeps H = 1, and the warning says why)."""
     out = []
     if plan.model_share is not None:
         def next_model(f, excess, span):
-            better = refined_contacts(f.contacts, excess, span, (knobs.w0, knobs.w1), plan.rungs_only)
+            better = refined_contacts(f.contacts, excess, span, (setup.w0, setup.w1), plan.rungs_only)
             return None if better is None else {"contacts": better}
         out.append(Knob("model", plan.model_share, next_model))
     if plan.harmonics_share is not None:
@@ -388,19 +388,19 @@ def asks(f: FrequencyResponse, knob: Knob, tol: float) -> np.ndarray:
     return part / limit
 
 
-def along(knobs: Knobs, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyResponse, list[str]]:
+def along(setup: Setup, frf: FrequencyResponse, plan: Plan) -> tuple[FrequencyResponse, list[str]]:
     """``frf`` (the whole range at the start setting) refined by the one driver (``refine``): one result
     and the notes of the windows whose refined trace failed (their coarse points kept)."""
     work, notes, full = [frf], [], {id(frf)}
     keep = frozenset() if plan.chosen else frozenset(id(c.element) for c in frf.contacts)
-    segments_of = refine(knobs, knobs_of(plan, knobs), frf, plan.at_peak, keep, work, notes, full)
+    segments_of = refine(setup, knobs_of(plan, setup), frf, plan.at_peak, keep, work, notes, full)
     note = "".join(f"; {n}" for n in notes)
     if len(segments_of) == 1 and segments_of[0][1] == 0 and segments_of[0][2] == len(segments_of[0][0]) and not notes:
         return segments_of[0][0], notes  # one setting everywhere: that solve's own result, as it was
     return FrequencyResponse.spliced(segments_of, work, note), notes
 
 
-def refine(knobs: Knobs, turn: list[Knob], f: FrequencyResponse, at_peak: bool, keep: frozenset, work: list,
+def refine(setup: Setup, turn: list[Knob], f: FrequencyResponse, at_peak: bool, keep: frozenset, work: list,
            notes: list, full: set) -> list[tuple[FrequencyResponse, int, int]]:
     """``f`` as segments ``(result, lo, hi)``: the windows where any knob asks (``asks``: its source above
     its share of tol, or above what the others leave of it where the sum exceeds tol; ``windows``) traced
@@ -408,7 +408,7 @@ def refine(knobs: Knobs, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
     window), and refined the same way in turn, until no knob asks or every ladder that asks has ended.
     ``at_peak``: the model knob asks only in its windows that meet the peak's window (``peak_window``).
     ``keep``: the caller's own elements, which keep their harmonics at any H (``balanced``)."""
-    tol = knobs.tolerance
+    tol = setup.tolerance
     if not len(f) or not turn:
         return [(f, 0, len(f))]
     ratio = {k.source: asks(f, k, tol) for k in turn}
@@ -428,17 +428,17 @@ def refine(knobs: Knobs, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
             continue
         H = setting.get("H", f.harmonics)
         contacts = balanced(setting.get("contacts", f.contacts), H, keep)
-        g = _retrace(knobs, f, i0, i1, contacts, H, work, notes, full)
+        g = _retrace(setup, f, i0, i1, contacts, H, work, notes, full)
         wider = None if g is None else _widened(f, g, i0, i1, at)
         if wider is not None:  # the curve's peak at an end of the window: traced again to the next node beyond
-            h = _retrace(knobs, f, *wider, contacts, H, work, notes, full)
+            h = _retrace(setup, f, *wider, contacts, H, work, notes, full)
             if h is not None:
                 g, (i0, i1) = h, wider
         if g is None:
             continue
         if at < i0:
             out.append((f, at, i0))
-        out += refine(knobs, turn, g, False, keep, work, notes, full)
+        out += refine(setup, turn, g, False, keep, work, notes, full)
         at = i1 + 1
     if at < len(f):
         out.append((f, at, len(f)))
@@ -465,17 +465,17 @@ def _widened(f: FrequencyResponse, g: FrequencyResponse, i0: int, i1: int, at: i
     return None
 
 
-def _retrace(knobs: Knobs, f: FrequencyResponse, i0: int, i1: int, contacts: list, H: int, work: list,
+def _retrace(setup: Setup, f: FrequencyResponse, i0: int, i1: int, contacts: list, H: int, work: list,
              notes: list, full: set) -> FrequencyResponse | None:
     """The window ``i0..i1`` of ``f`` traced again with ``contacts`` at ``H``; None where the trace failed (the
     note says so, and the coarse points stay).  A whole-range window is solved again from the stuck start,
     as a solve without windows."""
     whole = id(f) in full and (i0, i1) == (0, len(f) - 1)
     if whole:
-        g = solve(knobs, contacts, H)
+        g = solve(setup, contacts, H)
         why = None if len(g) else g.message
     else:
-        g, why = window(knobs, f, i0, i1, contacts, H)
+        g, why = window(setup, f, i0, i1, contacts, H)
     work.append(g)  # its work is counted, kept or not
     if why is not None:
         notes.append(f"the window omega = {f.omega[i0]:.6g}..{f.omega[i1]:.6g} rad/s traced again with H = "

@@ -269,7 +269,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         contacts, rungs = _start_rungs(contacts, structure, (w0, w1))
     again = adapt or model != "given" or rungs  # the balance may solve again: stream the final points at the end
     at_peak = model == "peak" and not rungs  # (an element already the complete model: its rungs everywhere)
-    knobs = along.Knobs(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, step_controls, stability, tolerance,
+    setup = along.Setup(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, step_controls, stability, tolerance,
                         lambda H: n_t_given if n_t_given is not None else _samples(H), response_dof)
     live = None if again or callback is None else (lambda problem: _reporter(callback, problem))
     notes: list[str] = []
@@ -284,12 +284,12 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         small = max(structure.n, n_contact * (2 * h_most + 1) + 1) <= SMALL_SYSTEM
     # one block: every other warning is said once, as Python says it
     with one_blas_thread(small), errors.collected() as said:
-        frf = along.solve(knobs, contacts, harmonics, live)
+        frf = along.solve(setup, contacts, harmonics, live)
         if again:  # the model and H chosen along the curve (hbm.adapt)
             plan = along.Plan(MODEL_SHARE if model != "given" or rungs else None, HARMONICS_SHARE if adapt else None,
                               MAX_HARMONICS, rungs_only=model == "given" or (model == "peak" and rungs), at_peak=at_peak,
                               chosen=rungs)
-            frf, notes = along.along(knobs, frf, plan)
+            frf, notes = along.along(setup, frf, plan)
             if callback is not None:
                 _stream(frf, callback)
         if len(frf):  # the peak located between points (the elements' warnings while locating join the call's)

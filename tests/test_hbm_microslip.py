@@ -59,7 +59,7 @@ def test_default_peak_converged(run):
 
 
 def test_main_writes_csv_and_png(tmp_path, capsys):
-    assert main(["--out", str(tmp_path)]) == 0
+    assert main(["--model", "given", "--out", str(tmp_path)]) == 0  # the files, not the model (test_physical_curve)
     out = capsys.readouterr().out
     assert (tmp_path / "frf.csv").stat().st_size > 10000
     assert (tmp_path / "frf.png").stat().st_size > 10000

@@ -39,6 +39,7 @@ def peak_run():
     return case, frf, [str(w.message) for w in said if issubclass(w.category, AccuracyWarning)]
 
 
+@pytest.mark.slow  # the same solve as tests/test_cli_peak.py's job, which checks the peak in the default run
 def test_the_peak_is_the_physical_one_within_tol_and_its_estimate(peak_run):
     _, frf, _ = peak_run
     pk = frf.peak()
@@ -51,6 +52,7 @@ def test_the_peak_is_the_physical_one_within_tol_and_its_estimate(peak_run):
     assert str(frf.point_models[i]).startswith("AllModeMicroslip")
 
 
+@pytest.mark.slow
 def test_away_from_the_peak_the_curve_keeps_the_given_model_and_says_its_error(peak_run):
     _, frf, said = peak_run
     given = frf.point_models == "TwoRegionMicroslip"

@@ -16,8 +16,9 @@ from hbm import Blade, frequency_response
 
 ROOT = Path(__file__).resolve().parent.parent
 #: The questions of docs/extending.md, "Refinement", and their defaults on an element with nothing to refine.
-DEFAULTS = {"exact_harmonics": False, "discretised": False, "at_top_rung": False, "refined_no_further": False}
-CAPABILITIES = ("exact_harmonics", "discretised", "model_name", "harmonics_law", "refined_model", "start_rung",
+DEFAULTS = {"exact_harmonics": False, "discretised": False, "at_top_rung": False, "refined_no_further": False,
+            "harmonics_reach": 1}
+CAPABILITIES = ("exact_harmonics", "discretised", "harmonics_reach", "model_name", "harmonics_law", "refined_model", "start_rung",
                 "refined_rung", "at_top_rung", "refined_no_further", "harmonics_of", "for_balance")
 #: The solve path: the modules between frequency_response and the elements.
 SOLVE_PATH = ("hbm/frf.py", "hbm/adapt.py", "hbm/result.py", "hbm/curve.py", "hbm/continuation.py",
@@ -70,6 +71,7 @@ def test_the_all_mode_bar_answers_with_its_rungs():
     assert rung.exact_harmonics and rung.discretised and rung.harmonics_law() is rung
     assert rung.refined_rung() is None  # nothing estimated yet: no rung to predict from
     assert rung.for_balance(1) is rung and rung.for_balance(3).harmonics == 31 and rung.for_balance(7).harmonics == 31
+    assert rung.harmonics_reach == 3  # its modes meet high harmonics of the drive
 
 
 def _calls(path: Path):

@@ -345,7 +345,10 @@ def test_cli_check_computes_nothing(tmp_path, capsys):
 
 
 def test_cli_default_job_still_runs_without_arguments(tmp_path, monkeypatch, capsys):
+    import hbm.cli.main as cli
+
     monkeypatch.chdir(tmp_path)
+    monkeypatch.setattr(cli, "DEFAULT_MODEL", "given")  # the path without arguments; the model: test_physical_curve
     assert main([]) == 0
     assert (tmp_path / "frf.csv").exists() and "peak: omega" in capsys.readouterr().out
 

@@ -255,7 +255,7 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
     if el is None:
         return out
     k_star = abs(float(el.linear_coefficients(0.0)[0]))
-    proxy = _harmonic_proxy(problem, el, rtol)
+    proxies = _harmonic_proxies(problem, el, rtol)
     for j, (x, w) in enumerate(zip(X[:, 0], omega)):
         xc, xs, w = float(x[1]), float(x[2]), float(w)
         a = math.hypot(xc, xs)
@@ -269,14 +269,20 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         out["element"][j] = _element_one_dof(tight, R, Jx, xc, xs, w, rtol * abs(p), rtol * abs(q)) / a
         floor = 0.01 * k_star  # the validity map's floor of 0.01 k* a on each coefficient
         out["model"][j] = _amplitude_change(Jx, xc, xs, e_s * max(abs(p), floor), e_c * max(abs(q), floor)) / a
-        if proxy is not None:
-            Xp = np.zeros((1, proxy.L))
+        while proxies:
+            Xp = np.zeros((1, proxies[0].L))
             Xp[0, 1], Xp[0, 2] = xc, xs
-            out["harmonics"][j] = abs(_truncation_step(proxy, Xp, w, 0, 1)) / a
+            try:
+                out["harmonics"][j] = abs(_truncation_step(proxies[0], Xp, w, 0, 1)) / a
+                break
+            except ValueError:  # the stand-in cannot resolve so many harmonics (too few cells): a rung lower
+                if len(proxies) == 1:
+                    raise
+                _count(problem, proxies.pop(0))
         else:
             s_min = float(np.linalg.svd(Jx, compute_uv=False)[-1])
             out["harmonics"][j] = _loop_truncation(fresh, el, a, w) / (s_min * a)
-    _count(problem, fresh, tight, proxy)
+    _count(problem, fresh, tight, *proxies)
     return out
 
 
@@ -314,16 +320,33 @@ def _amplitude_change(Jx: NDArray, xc: float, xs: float, dp: float, dq: float) -
     return abs(g @ Jinv @ np.array([xc, xs])) * dp + abs(g @ Jinv @ np.array([xs, -xc])) * dq
 
 
-def _harmonic_proxy(problem: HarmonicBalance, el: Any, rtol: float) -> HarmonicBalance | None:
-    """The balance (condensed form) of the one-DOF system with the element's stand-in with a time law
+def _harmonic_proxies(problem: HarmonicBalance, el: Any, rtol: float) -> list[HarmonicBalance]:
+    """The balances (condensed form) of the one-DOF system with the element's stand-in with a time law
     (``ContactElement.harmonics_law``: the element itself, or for a single-mode dynamic bar its
-    quasi-static bar) at the harmonics its reach from H = 1 asks (``reach``: 3, or 7); None where it has
-    none."""
+    quasi-static bar) at the harmonics its reach from H = 1 asks and the rungs below (``_steps``: 3, or
+    15, 7, 3), farthest first; none where it has no stand-in."""
     law = el.harmonics_law()
     if law is None or not law.has_time_law:
-        return None
-    H2 = reach(1, [law])
-    return HarmonicBalance(problem.structure, [Contact(law, dof=0)], harmonics=H2, n_t=default_samples(H2), rtol=rtol)
+        return []
+    return [HarmonicBalance(problem.structure, [Contact(law, dof=0)], harmonics=H2, n_t=default_samples(H2), rtol=rtol)
+            for H2 in _steps(1, [law])]
+
+
+def _steps(H: int, elements: list) -> list[int]:
+    """The harmonics the harmonics source tries, farthest first: ``reach`` and the rungs below it down to 2H + 1
+    (an element refuses a balance of more harmonics than its own discretisation resolves).
+
+    Examples
+    --------
+    >>> from contact_models import AllModeMicroslip, Bar, UniformLoad
+    >>> bar = AllModeMicroslip(Bar(E=2e11, rho=7850.0, A=1e-5, L=0.05, k=8e8, beta=4e7, mu=0.3), UniformLoad(N=100.0))
+    >>> _steps(1, [bar]), _steps(3, [bar])
+    ([15, 7, 3], [31, 15, 7])
+    """
+    out = [2 * H + 1]
+    while out[-1] < reach(H, elements):
+        out.append(min(2 * out[-1] + 1, reach(H, elements)))
+    return out[::-1]
 
 
 def reach(H: int, elements: list) -> int:
@@ -396,20 +419,30 @@ def _harmonics_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, r
     (``ContactElement.harmonics_reach``: 2H + 1 for one, 4H + 3 for two; beyond the first at most
     ``REACH_TOP``) from each point padded with zeros."""
     H, L = problem.H, problem.L
-    H2 = reach(H, [el for el, _ in problem._attach])
-    more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2,
-                           n_t=max(problem.n_t, default_samples(H2)), response_dof=problem.response_dof, rtol=rtol)
     r = problem.dofs.index(problem.response_dof)
-    out = np.zeros(len(omega))
-    for j, (x, w) in enumerate(zip(X, omega)):
-        a = math.hypot(x[r, 1], x[r, 2])
-        if a == 0.0:
-            continue
-        Xp = np.zeros((problem.na, 2 * H2 + 1))
-        Xp[:, :L] = x
-        out[j] = abs(_truncation_step(more, Xp, float(w), r, H)) / a
-    _count(problem, more)
-    return out
+    steps = _steps(H, [el for el, _ in problem._attach])
+    for k, H2 in enumerate(steps):
+        more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2,
+                               n_t=max(problem.n_t, default_samples(H2)), response_dof=problem.response_dof, rtol=rtol)
+        out = np.zeros(len(omega))
+        try:
+            for j, (x, w) in enumerate(zip(X, omega)):
+                a = math.hypot(x[r, 1], x[r, 2])
+                if a == 0.0:
+                    continue
+                Xp = np.zeros((problem.na, 2 * H2 + 1))
+                Xp[:, :L] = x
+                out[j] = abs(_truncation_step(more, Xp, float(w), r, H)) / a
+        except ValueError as e:  # an element that cannot resolve so many harmonics (too few cells): a rung lower
+            if k < len(steps) - 1:
+                continue
+            warnings.warn(f"the harmonics a balance of H = {H} leaves out are not in the estimate: at {H2} harmonics "
+                          f"{e}", AccuracyWarning, stacklevel=2)
+            return out  # (zero: the call's warning says they are left out, with the element's reason)
+        finally:
+            _count(problem, more)
+        return out
+    raise AssertionError("unreachable: the last step returns")
 
 
 def _sampling_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> NDArray:

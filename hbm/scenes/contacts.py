@@ -230,7 +230,7 @@ def structure_contacts(scene: Any, blade: Any, omega: tuple, harmonics: int) -> 
         try:
             built = spec.build(EntryRun(scene, spec, i, dict(e["params"]), blade, omega))
             element = built.element if isinstance(built, Built) else built
-            if harmonics > 1 and not getattr(element, "has_time_law", False):
+            if harmonics > 1 and not element.has_time_law:
                 raise SceneError([f"{scene.where(at + '.model')} = {show(e['model'])}: effects.harmonics = "
                                   f"{harmonics} needs an element with a time-domain law; "
                                   f"{type(element).__name__} has none"])

@@ -419,7 +419,7 @@ def harmonics(run: Any) -> Effect:
     if isinstance(element, StuckContact):
         return Effect("higher harmonics", False, f"effects.harmonics = {H}: the damper stays stuck (a linear "
                                                  "spring), so the response has no higher harmonics")
-    if not getattr(element, "has_time_law", False):
+    if not element.has_time_law:
         raise SceneError([f"{run.where('effects.harmonics')} = {H}: harmonics = {H} needs an element with a "
                           f"time-domain force law, but the {run.label} element {type(element).__name__} has none "
                           "(with damper inertia the single-mode bar is a first-harmonic element); use "

@@ -258,7 +258,7 @@ def effect_lines(plan: Plan) -> list:
 
 
 def _estimate_text(pk: dict) -> str:
-    """``; estimated error 0.17 % (tol 0.001, largest source: harmonics; model: AllModeMicroslip(cells=64, H=31),
+    """``; estimated error 0.84 % (tol 0.001, largest source: harmonics; model: AllModeMicroslip(cells=64, H=31),
     balance at H = 1)``: the model of the peak's point and the harmonics its balance was solved with."""
     model = pk["model"] + (f", balance at H = {pk['harmonics']}" if "harmonics" in pk else "")
     return (f"; estimated error {100.0 * pk['error_rel']:.2g} % (tol {pk['tol']:g}, largest source: "
