@@ -4,7 +4,7 @@
 What ``python3 -m hbm`` computes, written with the public API: a blade (one mode) with the
 two-region microslip bar of Cigeroglu, Lu & Menq (2006) as its damper, traced through resonance
 to ``tol = 1e-3`` of the physical answer (``model="auto"``: the bar with every mode wherever the
-single-mode bar is further than its share of tol from it, about 1.5 % at the peak); the
+single-mode bar is further than its share of tol from it, about 1.9 % at the peak); the
 single-mode curve beside it; and, for comparison, the macroslip damper that matches the
 microslip bar: ``Macroslip(k*, mu N)``, a Jenkins element with the bar's stuck stiffness and its
 gross-slip force.
