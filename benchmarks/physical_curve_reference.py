@@ -64,6 +64,17 @@ def fixed_frequency(blade, element, Hb: int, omega: float, X0: np.ndarray) -> np
     raise RuntimeError(f"Newton did not converge at omega = {omega!r} on {element!r}, Hb = {Hb}")
 
 
+def up_the_ladder(blade, el, omega: float, X0: np.ndarray, ladder=LADDER) -> list[float]:
+    """The first-harmonic amplitude (m) of the blade with ``AllModeMicroslip(el.bar, el.load, cells, harmonics)``
+    at ``omega`` on each rung of ``ladder`` (cells, bar harmonics, blade harmonics) in turn, each rung's Newton
+    iteration (``fixed_frequency``) started from the last rung's solution, the first from ``X0``."""
+    X, amps = X0, []
+    for n, H, Hb in ladder:
+        X = fixed_frequency(blade, AllModeMicroslip(el.bar, el.load, cells=n, harmonics=H), Hb, float(omega), X)
+        amps.append(float(np.hypot(X[1], X[2])))
+    return amps
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--out", type=Path, default=OUT)
@@ -78,11 +89,7 @@ def main() -> None:
     t0 = time.perf_counter()
     for w in omegas:
         i = int(np.argmin(np.abs(single.omega - w)))
-        X = np.array([0.0, single.x_c[i], single.x_s[i]])
-        amps = []
-        for n, H, Hb in LADDER:
-            X = fixed_frequency(blade, AllModeMicroslip(el.bar, el.load, cells=n, harmonics=H), Hb, w, X)
-            amps.append(float(np.hypot(X[1], X[2])))
+        amps = up_the_ladder(blade, el, w, np.array([0.0, single.x_c[i], single.x_s[i]]))
         spread = max(abs(amps[-1] - amps[-2]), abs(amps[-1] - amps[-3])) / amps[-1]
         points.append({"omega": w, "amplitude": amps[-1], "spread": spread, "ladder": amps})
         print(f"omega {w:.2f} amplitude {amps[-1]:.8e} spread {spread:.1e} ({time.perf_counter() - t0:.0f} s)",
