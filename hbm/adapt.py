@@ -514,8 +514,8 @@ def _near_peak(f: FrequencyResponse, ratio: np.ndarray) -> np.ndarray:
     """The model knob's ``ratio`` kept in its windows that meet the peak's window (``peak_window``), zero
     elsewhere: with ``model="peak"`` the refined model answers where the peak may lie, each window whole."""
     out = np.zeros_like(ratio)
-    near = peak_window(f, 0.0) if np.max(ratio, initial=0.0) > 0.0 else None
-    if near is None or not ratio[int(np.argmax(f.amplitude))] > 1.0:
+    near = peak_window(f, 0.0) if ratio[int(np.argmax(f.amplitude))] > 1.0 else None  # the model asks at the peak
+    if near is None:
         return out
     for i0, i1 in windows(ratio, f._nodes, 1.0, 0, len(f)):
         if i1 >= near[0] and i0 <= near[1]:

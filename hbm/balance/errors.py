@@ -343,9 +343,9 @@ def _steps(H: int, elements: list) -> list[int]:
     >>> _steps(1, [bar]), _steps(3, [bar])
     ([15, 7, 3], [31, 15, 7])
     """
-    out = [2 * H + 1]
-    while out[-1] < reach(H, elements):
-        out.append(min(2 * out[-1] + 1, reach(H, elements)))
+    top, out = reach(H, elements), [2 * H + 1]
+    while out[-1] < top:
+        out.append(min(2 * out[-1] + 1, top))
     return out[::-1]
 
 
