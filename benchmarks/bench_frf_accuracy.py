@@ -32,7 +32,6 @@ import sys
 import numpy as np
 
 from hbm import Blade, frequency_response
-from hbm import frf as frf_module
 from hbm.balance import presets
 from hbm.cli.cases import default_case
 
@@ -42,8 +41,8 @@ from common import FIGURES, REPEATS, interleaved, machine, machine_line, once, p
 #: The reference branch (peak of the default case, curve of both).
 REFERENCE = {"rtol": 1e-11, "max_step": 0.005}
 JENKINS_ZETA = 1e-4
-DEFAULTS = {"rtol": 1e-6, "max_step": frf_module.DEFAULT_MAX_STEP, "min_step": frf_module.DEFAULT_MIN_STEP,
-            "max_steps": frf_module.DEFAULT_MAX_STEPS}
+DEFAULTS = {"rtol": 1e-6, "max_step": presets.DEFAULT_MAX_STEP, "min_step": presets.DEFAULT_MIN_STEP,
+            "max_steps": presets.DEFAULT_MAX_STEPS}
 KNOBS = {
     "rtol": (1e-2, 1e-3, 1e-4, 1e-6, 1e-8, 1e-10),
     "max_step": (0.3, 0.1, 0.03, 0.01),

@@ -179,8 +179,7 @@ class Macroslip(ContactElement):
     def _periodic_tangent(self, x, omega):
         if self.slider == "centred":
             return super()._periodic_tangent(x, omega)
-        f, J = from_rest_periodic(x, self.stiffness, self.slip_force)
-        return f, np.zeros_like(f), np.arange(f.size), J
+        return from_rest_tangent(x, self.stiffness, self.slip_force)
 
     @property
     def rigid(self) -> bool:
@@ -251,8 +250,20 @@ def from_rest_periodic(x: NDArray, k: float, slip_force: float) -> tuple[NDArray
     samples 1..n-1 and then 0..n-1, and the second pass is returned: the march of NLvib's
     elastic dry friction element (Krack & Gross 2019).  Each sample's force is
     ``k (x_j - x_r) + s_r slip_force`` with ``r`` the last slip before it (or ``k x_j`` if none),
-    which gives the exact Jacobian of the march.
+    which gives the exact Jacobian of the march (dense here; :func:`from_rest_tangent` gives it as
+    a diagonal and the few columns of the slip samples).
     """
+    f, d, idx, C = from_rest_tangent(x, k, slip_force)
+    J = np.diag(d)
+    J[:, idx] += C
+    return f, J
+
+
+def from_rest_tangent(x: NDArray, k: float, slip_force: float) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """:func:`from_rest_periodic` as ``(f, d, idx, C)``: its Jacobian is ``diag(d)`` (``k`` where
+    stuck) plus the columns ``C`` at the samples ``idx`` the stuck samples were last slipping at
+    (``-k`` in the rows held from there).  A cycle has a few slip stretches, so ``idx`` is short
+    and the AFT Jacobian costs O(n_t H), not O(n_t^2)."""
     n = x.size
     w, r = 0.0, -1
     f = np.empty(n)
@@ -267,12 +278,12 @@ def from_rest_periodic(x: NDArray, k: float, slip_force: float) -> tuple[NDArray
             val, slip = trial, False
         if step >= n - 1:
             f[j], origin[j], slipped[j] = val, r, slip
-    J = np.zeros((n, n))
-    stuck = np.flatnonzero(~slipped)
-    J[stuck, stuck] = k
-    held = stuck[origin[stuck] >= 0]
-    np.add.at(J, (held, origin[held]), -k)
-    return f, J
+    d = np.where(slipped, 0.0, k)
+    held = np.flatnonzero(~slipped & (origin >= 0))
+    idx, col = np.unique(origin[held], return_inverse=True)
+    C = np.zeros((n, idx.size))
+    C[held, col] = -k
+    return f, d, idx, C
 
 
 def _is_inf(v) -> bool:

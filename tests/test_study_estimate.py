@@ -49,8 +49,10 @@ def test_the_study_records_the_peak_s_estimate_and_model(tmp_path):
         pk = frf.peak()
         j = peak_point(frf)
         assert frf.point_models[j].split("(")[0] == model and rec["peak_model"] == model
-        assert rec["peak_omega_rad_s"] == pytest.approx(pk.omega, rel=1e-12)
-        assert rec["peak_amplitude_m"] == pytest.approx(pk.amplitude, rel=1e-12)
+        # the same run to the nested solves' Newton tolerance: they start from the states the process
+        # kept, and the compiled kernels may load between the two runs (equal to rounding, not bitwise)
+        assert rec["peak_omega_rad_s"] == pytest.approx(pk.omega, rel=1e-9)
+        assert rec["peak_amplitude_m"] == pytest.approx(pk.amplitude, rel=1e-9)
         assert rec["peak_error_rel"] == pytest.approx(pk.estimate, rel=1e-6)  # (the nested solves start from states the process kept: 3e-10 apart)
         assert rec["peak_error_rel"] == pytest.approx(frf.error_estimate[j], rel=1e-6)  # the point it was located from
     assert 0.0184 / 2.0 < coarse["peak_error_rel"] < 0.1  # mostly the single-mode model's part (docs/validation.md)

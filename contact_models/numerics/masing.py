@@ -385,9 +385,12 @@ def aft_scalar(tangent: Callable, X: NDArray, omega: float, n_t: int, *,
         f, d, idx, C = tangent(x, omega, None)  # the force law
         dxdX = Einv[idx]
     F = to_harmonics(f, H)  # back, by the real FFT
-    # E J_t E^-1 with J_t = diag(d) + the columns C at idx (einsum: no small threaded BLAS call)
+    # E J_t E^-1 with J_t = diag(d) + the columns C at idx (einsum: no small threaded BLAS call); the
+    # product in the cheaper order: few columns to harmonics first, many (a dense law) into dx/dX first
     J = diagonal_product(d, H)
-    if idx.size:
+    if 0 < idx.size <= 2 * H + 1:
         J += np.einsum("ir,rj->ij", to_harmonics(C.T, H).T, dxdX)
+    elif idx.size:
+        J += to_harmonics((C @ dxdX).T, H).T
     return F, J, np.zeros_like(F)
 

@@ -463,7 +463,7 @@ class HarmonicBalance:
                                      for A in (s.M, s.C, s.K))
         self._F = float(s.force[0])
         el = self.element
-        self._freq_dep = el is not None and bool(getattr(el, "frequency_dependent", True))
+        self._freq_dep = el is not None and bool(el.frequency_dependent)
         self._derivs = el.fourier_derivatives_unchecked if el is not None else None
         self._dw: tuple | None = None  # (omega, a, dp/domega, dq/domega) of the last omega difference
         self._stuck_dw_cache: tuple | None = None  # (omega, (dk_s/domega, dk_c/domega))
