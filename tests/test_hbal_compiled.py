@@ -30,8 +30,9 @@ warm()  # the kernels in numba's cache (a clean clone has none): every test belo
 
 def test_a_cold_cache_starts_the_warm_up_in_the_background_and_the_numpy_path_answers(monkeypatch, tmp_path):
     """No marker beside numba's cache (a first run after a clone): the rule that would load the kernels
-    starts one background warm-up instead and this process stays on the numpy path; with the marker of this
-    numba and source the kernels load."""
+    starts one background warm-up instead and this process stays on the numpy path, looking for the marker
+    again after each LOOK_AGAIN seconds of nested solves; once the marker of this numba and source is there,
+    the same process loads the kernels."""
     import numba
 
     started = []
@@ -40,13 +41,19 @@ def test_a_cold_cache_starts_the_warm_up_in_the_background_and_the_numpy_path_an
     monkeypatch.setattr(compiled, "_start_warming", lambda: started.append(1))
     monkeypatch.setattr(compiled, "_TRIED", False)
     monkeypatch.setattr(compiled, "_KERNELS", None)
+    monkeypatch.setattr(compiled, "_WARMING_STARTED", False)
+    monkeypatch.setattr(compiled, "_LOOK_AT", 0.0)
+    monkeypatch.setattr(compiled, "_NUMPY_SECONDS", 1.0)  # past LOAD_AFTER: the rule would load them
     assert not compiled.cache_ready(numba)
-    assert compiled.kernels(load=True) is None and started == [1]
-    assert compiled.kernels(load=True) is None and started == [1]  # once a process
+    assert compiled.kernels() is None and started == [1]
+    assert compiled._LOOK_AT == 1.0 + compiled.LOOK_AGAIN and compiled.numpy_clock() is not None  # still counted
+    assert compiled.kernels(load=True) is None and started == [1]  # one warm-up a process
     (tmp_path / compiled.MARKER).write_text(compiled._stamp(numba))
     assert compiled.cache_ready(numba)
-    monkeypatch.setattr(compiled, "_TRIED", False)
-    assert compiled.kernels(load=True) is not None and started == [1]
+    assert compiled.kernels() is None  # not looked for again before LOOK_AGAIN more seconds of numpy work
+    monkeypatch.setattr(compiled, "_NUMPY_SECONDS", 1.0 + compiled.LOOK_AGAIN)
+    assert compiled.kernels() is not None and started == [1]  # the marker found: loaded in this process
+    assert compiled.numpy_clock() is None
     (tmp_path / compiled.MARKER).write_text("numba 0.0 source 0 0\n")  # another numba or an edited source
     assert not compiled.cache_ready(numba)
 
@@ -104,6 +111,8 @@ def not_loaded(monkeypatch):
     monkeypatch.setattr(compiled, "_TRIED", False)
     monkeypatch.setattr(compiled, "_KERNELS", None)
     monkeypatch.setattr(compiled, "_NUMPY_SECONDS", 0.0)
+    monkeypatch.setattr(compiled, "_LOOK_AT", 0.0)
+    monkeypatch.setattr(compiled, "_WARMING_STARTED", False)
 
 
 def test_the_kernels_are_loaded_once_the_numpy_path_has_spent_load_after_in_nested_solves(not_loaded, monkeypatch,

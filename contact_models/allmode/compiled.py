@@ -25,8 +25,9 @@ holds none).
 whole job.  numba caches them in the ``__pycache__`` folder beside this module, and the warm-up
 (``contact_models.allmode.warm``) leaves a marker there once every kernel is in the cache.  Where the
 rule would load the kernels and the marker is missing (a first run after an install or a clone), the process starts that warm-up in a background
-process of low priority and goes on on the numpy path, with the same numbers; the processes after it load
-the cached kernels.  Where that folder is not writable (or ``NUMBA_CACHE_DIR`` moves numba's cache), the
+process of low priority and goes on on the numpy path, with the same numbers, until the warm-up's marker
+appears (looked for every ``LOOK_AGAIN`` seconds of nested solves): it then loads the cached kernels, as do
+the processes after it.  Where that folder is not writable (or ``NUMBA_CACHE_DIR`` moves numba's cache), the
 kernels are compiled where they are first used, as numba does.
 """
 
@@ -57,27 +58,37 @@ _ENABLED = True
 #: (the optional `fast` extra)").
 LOAD_AFTER = 0.5
 _NUMPY_SECONDS = 0.0  # the nested solves' time on the numpy path while the kernels were not loaded
+#: While a background warm-up compiles the kernels, the process looks for its marker again after each
+#: further ``LOOK_AGAIN`` seconds of nested solves on the numpy path (one file read), and loads them
+#: from numba's cache once it is there: a first run is on the numpy path only until they are compiled.
+LOOK_AGAIN = 0.5
+_LOOK_AT = 0.0
+_WARMING_STARTED = False  # this process has started (or found under way) the warm-up
 
 
 def kernels(load: bool = False) -> SimpleNamespace | None:
     """The compiled kernels, or None: numba not installed, ``FRICTIONDAMP_COMPILED=0``, inside
     :func:`numpy_only`, or not loaded yet (the module docstring's rule; ``load=True`` loads them now).
     Compiled, or loaded from numba's cache, once."""
-    global _KERNELS, _TRIED
+    global _KERNELS, _TRIED, _LOOK_AT, _WARMING_STARTED
     mode = os.environ.get("FRICTIONDAMP_COMPILED", "")
     if not _ENABLED or mode == "0":
         return None
     if not _TRIED:
-        if not (load or mode == "1" or _NUMPY_SECONDS >= LOAD_AFTER):
+        if not (load or mode == "1" or _NUMPY_SECONDS >= max(LOAD_AFTER, _LOOK_AT)):
             return None
-        _TRIED = True
         try:
             import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
         except ImportError:
+            _TRIED = True
             return None
         if mode != "1" and not cache_ready(numba):  # compiled in the background; the numpy path here
-            _start_warming()
+            if not _WARMING_STARTED:
+                _WARMING_STARTED = True
+                _start_warming()
+            _LOOK_AT = _NUMPY_SECONDS + LOOK_AGAIN  # and taken up once the warm-up has cached them
             return None
+        _TRIED = True
         _KERNELS = _compiled(numba)
     return _KERNELS
 
