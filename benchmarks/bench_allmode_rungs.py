@@ -1,0 +1,125 @@
+"""The all-mode FRF on rungs along the curve, against a converged reference at its own points.
+
+``frequency_response(case.blade, AllModeMicroslip(bar, load, tol=tol), omega_range=case.omega_range,
+tol=tol, harmonics=1)`` on the default case (``hbm.cli.cases.default_case()``): the bar's cells and
+harmonics are chosen along the curve, and every point names its rung (``point_models``).  At the
+curve's points nearest ``OMEGAS`` (the flanks, the peak and the notch where the 13th harmonic meets
+the bar's second mode with its end held), at its first and last point where the bar slips, and at the
+curve's largest point and its largest estimate,
+the point's amplitude is compared with the converged H = 1 amplitude at the point's own frequency:
+``hbm.reference.amplitude.amplitude_at`` (the amplitude equation, solved by its own Newton iteration,
+not by the continuation) with the bar on ``REFERENCE`` = 1024 cells at H = 63.  The reference's doubt
+is its larger change to 512 cells at H = 63 and to 1024 cells at H = 47.
+
+The blade is held at H = 1 because the reference is the H = 1 amplitude equation; the curve's
+``error_estimate`` also holds the blade's harmonics that H = 1 leaves out (the ``"harmonics"``
+source), which the reference does not see, so the table gives the estimate and its part the
+reference does see (``"model"``, the bar's cells and harmonics).  Where the bar is stuck (the
+amplitude at most ``linear_amplitude``) the element is linear and the comparison is of the two
+solutions' Newton tolerances (the reference's is ``AMPLITUDE_RTOL`` = 1e-8): the table says "< 1e-8"
+and gives no ratio there.
+
+Run: ``PYTHONPATH=. OPENBLAS_NUM_THREADS=1 python3 benchmarks/bench_allmode_rungs.py [--tol 1e-3 1e-2]``
+(about 2 minutes of CPU per tolerance).  Prints, per tolerance, the curve's point count and its
+``AccuracyWarning`` (if any) and the table of ``docs/validation.md``, "The all-mode FRF on rungs along
+the curve, against a converged reference".
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+import time
+import warnings
+
+import numpy as np
+
+from contact_models import AccuracyWarning, AllModeMicroslip
+from hbm import frequency_response
+from hbm.cli.cases import default_case
+from hbm.reference.amplitude import AMPLITUDE_RTOL, amplitude_at
+
+#: Frequencies (rad/s) whose nearest curve points are compared (those of ``tests/test_allmode_curve.py``'s slow test).
+OMEGAS = (33000.0, 36000.0, 38000.0, 38400.0, 38600.0, 38710.0, 38751.0, 38758.0, 38780.0, 38820.0, 38860.0,
+          40000.0, 42000.0)
+#: The reference rung (cells, bar harmonics) and the two coarser ones its doubt is read from.
+REFERENCE = (1024, 63)
+DOUBT = ((512, 63), (1024, 47))
+
+
+def rung(name: str) -> str:
+    """``"AllModeMicroslip(cells=64, H=31)"`` as ``"64 cells, H = 31"``."""
+    m = re.fullmatch(r"AllModeMicroslip\(cells=(\d+), H=(\d+)\)", name)
+    return f"{m.group(1)} cells, H = {m.group(2)}" if m else name
+
+
+def curve(case, tol: float):
+    """The all-mode curve at ``tol`` and the messages of the ``AccuracyWarning``s it emitted."""
+    bar, load = case.element.bar, case.element.load
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", AccuracyWarning)
+        frf = frequency_response(case.blade, AllModeMicroslip(bar, load, tol=tol), omega_range=case.omega_range,
+                                 tol=tol, harmonics=1)
+    return frf, [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+
+
+def points(frf, linear) -> list[int]:
+    """The indices of the curve's points nearest ``OMEGAS``, its first and last point where the bar slips
+    (``linear``: the amplitude below which it is stuck, per frequency), its largest point and its largest
+    estimate."""
+    idx = {int(np.argmin(np.abs(frf.omega - w))) for w in OMEGAS}
+    slips = np.flatnonzero(frf.amplitude > np.array([linear(float(w)) for w in frf.omega]))
+    idx |= {int(slips[0]), int(slips[-1])}
+    idx |= {int(np.argmax(frf.amplitude)), int(np.argmax(frf.error_estimate))}
+    return sorted(idx)
+
+
+def table(case, tol: float) -> None:
+    bar, load = case.element.bar, case.element.load
+    t0 = time.process_time()
+    frf, heard = curve(case, tol)
+    print(f"tol = {tol:g}: {len(frf.omega)} points, {time.process_time() - t0:.1f} s CPU; "
+          f"largest estimate {float(np.max(frf.error_estimate)):.1e} at "
+          f"{float(frf.omega[int(np.argmax(frf.error_estimate))]):.1f} rad/s; "
+          f"largest point {float(np.max(frf.amplitude)):.6e} m at {float(frf.omega[int(np.argmax(frf.amplitude))]):.1f} rad/s")
+    print("AccuracyWarning: " + (" | ".join(heard) if heard else "none"))
+    refs = {k: AllModeMicroslip(bar, load, *k) for k in (REFERENCE, *DOUBT)}
+    model = frf.error_sources["model"]
+    linear = AllModeMicroslip(bar, load).linear_amplitude
+    print()
+    print("| omega (rad/s) | rung | true | doubt of the reference | estimate | model part | true / estimate "
+          "| true / model part |")
+    print("|---|---|---|---|---|---|---|---|")
+    ratios, t0 = [], time.process_time()
+    for i in points(frf, linear):
+        w, a = float(frf.omega[i]), float(frf.amplitude[i])
+        r = {k: amplitude_at(case.blade, el, w, a) for k, el in refs.items()}
+        ref = r[REFERENCE]
+        doubt = max(abs(r[k] / ref - 1.0) for k in DOUBT)
+        true = abs(a / ref - 1.0)
+        est, mod = float(frf.error_estimate[i]), float(model[i])
+        name = rung(str(frf.point_models[i]))
+        if a <= linear(w):  # stuck: no ratio (module docstring)
+            small = "< " + f"{AMPLITUDE_RTOL:.0e}".replace("e-0", "e-") if max(true, doubt) < AMPLITUDE_RTOL else None
+            print(f"| {w:.1f} | {name} (stuck) | {small or f'{true:.1e}'} | {small or f'{doubt:.1e}'} | {est:.1e} | "
+                  f"{mod:.1e} | - | - |", flush=True)
+            continue
+        ratios.append((true / est, true / mod))
+        print(f"| {w:.1f} | {name} | {true:.1e} | {doubt:.1e} | {est:.1e} | {mod:.1e} | {true / est:.2f} | "
+              f"{true / mod:.2f} |", flush=True)
+    r_est, r_mod = np.array(ratios).T
+    print(f"\nslipping points: true / estimate {r_est.min():.2f} to {r_est.max():.2f}, true / model part "
+          f"{r_mod.min():.2f} to {r_mod.max():.2f}; the references {time.process_time() - t0:.0f} s CPU\n")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--tol", type=float, nargs="+", default=[1e-3])
+    args = parser.parse_args()
+    case = default_case()
+    for tol in args.tol:
+        table(case, tol)
+
+
+if __name__ == "__main__":
+    main()
