@@ -19,10 +19,19 @@ amplitude at most ``linear_amplitude``) the element is linear and the comparison
 solutions' Newton tolerances (the reference's is ``AMPLITUDE_RTOL`` = 1e-8): the table says "< 1e-8"
 and gives no ratio there.
 
-Run: ``PYTHONPATH=. OPENBLAS_NUM_THREADS=1 python3 benchmarks/bench_allmode_rungs.py [--tol 1e-3 1e-2]``
-(about 2 minutes of CPU per tolerance).  Prints, per tolerance, the curve's point count and its
-``AccuracyWarning`` (if any) and the table of ``docs/validation.md``, "The all-mode FRF on rungs along
-the curve, against a converged reference".
+With ``--element``, the bar alone at points of the tol = 1e-2 curve (nearest ``ELEMENT_OMEGAS``), on
+the point's own rung and on 128 cells at H = 31 (at the notch also on 64 and 256 cells at H = 31 and
+64 cells at H = 15), driven by a sin(omega t): the relative error of (f_s, f_c) (the floor 0.01 k* a
+of the element's estimate) against ``ELEMENT_REFERENCE`` = 2048 cells at H = 63 (doubt: the larger
+change to 1024 cells at H = 63 and to 2048 cells at H = 47), the change of the same rung's cells to
+H = 63, and the element's estimate (``model_error(a, omega, parts=True)``, the larger component) with
+its cells and harmonics parts.
+
+Run: ``PYTHONPATH=. OPENBLAS_NUM_THREADS=1 python3 benchmarks/bench_allmode_rungs.py [--tol 1e-3 1e-2]
+[--element]`` (about 15 s of CPU per tolerance, 40 s for ``--element``).  Prints, per tolerance, the
+curve's point count and its ``AccuracyWarning`` (if any) and the table of ``docs/validation.md``, "The
+all-mode FRF on rungs along the curve, against a converged reference"; with ``--element`` the table of
+the harmonics part there.
 """
 
 from __future__ import annotations
@@ -35,6 +44,7 @@ import warnings
 import numpy as np
 
 from contact_models import AccuracyWarning, AllModeMicroslip
+from contact_models.allmode.accuracy import FLOOR
 from hbm import frequency_response
 from hbm.cli.cases import default_case
 from hbm.reference.amplitude import AMPLITUDE_RTOL, amplitude_at
@@ -45,6 +55,12 @@ OMEGAS = (33000.0, 36000.0, 38000.0, 38400.0, 38600.0, 38710.0, 38751.0, 38758.0
 #: The reference rung (cells, bar harmonics) and the two coarser ones its doubt is read from.
 REFERENCE = (1024, 63)
 DOUBT = ((512, 63), (1024, 47))
+#: ``--element``: frequencies (rad/s) of the tol = 1e-2 curve's points, from the flank to the notch
+#: (38751 rad/s) and past the peak; the reference of the bar alone and the rungs its doubt is read from.
+ELEMENT_OMEGAS = (38098.0, 38400.0, 38600.0, 38709.0, 38751.0, 38758.0, 38820.0, 39372.0)
+NOTCH = 38751.0
+ELEMENT_REFERENCE = (2048, 63)
+ELEMENT_DOUBT = ((1024, 63), (2048, 47))
 
 
 def rung(name: str) -> str:
@@ -112,11 +128,53 @@ def table(case, tol: float) -> None:
           f"{r_mod.min():.2f} to {r_mod.max():.2f}; the references {time.process_time() - t0:.0f} s CPU\n")
 
 
+def element_table(case) -> None:
+    """The bar alone at points of the tol = 1e-2 curve (module docstring, ``--element``)."""
+    bar, load = case.element.bar, case.element.load
+    frf, _ = curve(case, 1e-2)
+    t0 = time.process_time()
+
+    def force(n, H, a, w):
+        sol = AllModeMicroslip(bar, load, n, H).solve(a, w)
+        if not sol.success:
+            raise FloatingPointError(f"{n} cells, H = {H} did not converge at omega = {w}, a = {a}")
+        return sol.F[1:3]
+
+    def rel(F, ref, a):
+        return float(np.max(np.abs(F - ref) / np.maximum(np.abs(ref), FLOOR * bar.k_star * a)))
+
+    print("| omega (rad/s) | a (m) | rung | true | doubt of the reference | true, harmonics | cells part "
+          "| harmonics part | estimate | true / estimate |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for w0 in ELEMENT_OMEGAS:
+        i = int(np.argmin(np.abs(frf.omega - w0)))
+        w, a = float(frf.omega[i]), float(frf.amplitude[i])
+        ref = force(*ELEMENT_REFERENCE, a, w)
+        doubt = max(rel(force(*k, a, w), ref, a) for k in ELEMENT_DOUBT)
+        own = re.fullmatch(r"AllModeMicroslip\(cells=(\d+), H=(\d+)\)", str(frf.point_models[i]))
+        rungs = [(int(own.group(1)), int(own.group(2)))] if own else []
+        rungs += [(128, 31)] + ([(64, 31), (256, 31), (64, 15)] if w0 == NOTCH else [])
+        for n, H in dict.fromkeys(rungs):
+            el = AllModeMicroslip(bar, load, n, H)
+            F = force(n, H, a, w)
+            est = float(max(el.model_error(a, w, parts=True)))
+            (_, _, rel_c, rel_h), = el._seen  # the cells and harmonics parts of this estimate
+            true = rel(F, ref, a)
+            print(f"| {w:.1f} | {a:.3e} | {n} cells, H = {H}{' (the point)' if own and (n, H) == rungs[0] else ''} "
+                  f"| {true:.1e} | {doubt:.1e} | {rel(F, force(n, 63, a, w), a):.1e} | {rel_c:.1e} | {rel_h:.1e} "
+                  f"| {est:.1e} | {true / est:.2f} |", flush=True)
+    print(f"\n{time.process_time() - t0:.0f} s CPU\n")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tol", type=float, nargs="+", default=[1e-3])
+    parser.add_argument("--element", action="store_true", help="the bar alone at points of the tol = 1e-2 curve")
     args = parser.parse_args()
     case = default_case()
+    if args.element:
+        element_table(case)
+        return
     for tol in args.tol:
         table(case, tol)
 
