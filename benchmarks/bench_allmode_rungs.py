@@ -5,8 +5,8 @@ tol=tol, harmonics=1)`` on the default case (``hbm.cli.cases.default_case()``): 
 harmonics are chosen along the curve, and every point names its rung (``point_models``).  At the
 curve's points nearest ``OMEGAS`` (the flanks, the peak and the notch where the 13th harmonic meets
 the bar's second mode with its end held), at its first and last point where the bar slips, and at the
-curve's largest point and its largest estimate,
-the point's amplitude is compared with the converged H = 1 amplitude at the point's own frequency:
+curve's largest point and its largest estimate, the point's amplitude is compared with the converged
+H = 1 amplitude at the point's own frequency:
 ``hbm.reference.amplitude.amplitude_at`` (the amplitude equation, solved by its own Newton iteration,
 not by the continuation) with the bar on ``REFERENCE`` = 1024 cells at H = 63.  The reference's doubt
 is its larger change to 512 cells at H = 63 and to 1024 cells at H = 47.
@@ -28,10 +28,10 @@ H = 63, and the element's estimate (``model_error(a, omega, parts=True)``, the l
 its cells and harmonics parts.
 
 Run: ``PYTHONPATH=. OPENBLAS_NUM_THREADS=1 python3 benchmarks/bench_allmode_rungs.py [--tol 1e-3 1e-2]
-[--element]`` (about 15 s of CPU per tolerance, 40 s for ``--element``).  Prints, per tolerance, the
+[--element]`` (about 15 s of CPU per tolerance, 15 s for ``--element``).  Prints, per tolerance, the
 curve's point count and its ``AccuracyWarning`` (if any) and the table of ``docs/validation.md``, "The
 all-mode FRF on rungs along the curve, against a converged reference"; with ``--element`` the table of
-the harmonics part there.
+the bar alone there.
 """
 
 from __future__ import annotations
@@ -49,7 +49,8 @@ from hbm import frequency_response
 from hbm.cli.cases import default_case
 from hbm.reference.amplitude import AMPLITUDE_RTOL, amplitude_at
 
-#: Frequencies (rad/s) whose nearest curve points are compared (those of ``tests/test_allmode_curve.py``'s slow test).
+#: Frequencies (rad/s) whose nearest curve points are compared (those of the slow test of
+#: ``tests/test_allmode_curve.py``).
 OMEGAS = (33000.0, 36000.0, 38000.0, 38400.0, 38600.0, 38710.0, 38751.0, 38758.0, 38780.0, 38820.0, 38860.0,
           40000.0, 42000.0)
 #: The reference rung (cells, bar harmonics) and the two coarser ones its doubt is read from.
@@ -91,13 +92,14 @@ def points(frf, linear) -> list[int]:
 
 
 def table(case, tol: float) -> None:
+    """The curve at ``tol`` against the converged H = 1 amplitude at its points (module docstring)."""
     bar, load = case.element.bar, case.element.load
     t0 = time.process_time()
     frf, heard = curve(case, tol)
-    print(f"tol = {tol:g}: {len(frf.omega)} points, {time.process_time() - t0:.1f} s CPU; "
-          f"largest estimate {float(np.max(frf.error_estimate)):.1e} at "
-          f"{float(frf.omega[int(np.argmax(frf.error_estimate))]):.1f} rad/s; "
-          f"largest point {float(np.max(frf.amplitude)):.6e} m at {float(frf.omega[int(np.argmax(frf.amplitude))]):.1f} rad/s")
+    worst, top = int(np.argmax(frf.error_estimate)), int(np.argmax(frf.amplitude))
+    print(f"tol = {tol:g}: {len(frf.omega)} points, {time.process_time() - t0:.1f} s CPU; largest estimate "
+          f"{float(frf.error_estimate[worst]):.1e} at {float(frf.omega[worst]):.1f} rad/s; largest point "
+          f"{float(frf.amplitude[top]):.6e} m at {float(frf.omega[top]):.1f} rad/s")
     print("AccuracyWarning: " + (" | ".join(heard) if heard else "none"))
     refs = {k: AllModeMicroslip(bar, load, *k) for k in (REFERENCE, *DOUBT)}
     model = frf.error_sources["model"]

@@ -79,8 +79,8 @@ def main(cells: int = 40, harmonics: int = 15, outdir=FIGURES, figure: bool = Tr
           + (f" (refined {pk.amplitude / amin:.5f} a_min at {pk.omega:.6g} rad/s)" if pk is not None else "")
           + f"; single-mode peak {single.peak().amplitude / amin:.5f} a_min at {single.peak().omega:.6g} rad/s")
     print(f"the same through the one-DOF path (forward-difference omega-derivative): {one_dof.omega.size} points, "
-          f"success {one_dof.success}, up to {one_dof.omega.max():.6g} rad/s; peak {np.max(one_dof.amplitude) / amin:.5f} "
-          f"a_min")
+          f"success {one_dof.success}, up to {one_dof.omega.max():.6g} rad/s; "
+          f"peak {np.max(one_dof.amplitude) / amin:.5f} a_min")
     c = multi.coefficients(0)
     i = int(np.argmax(multi.amplitude))
     print(f"blade at H = 3 with the all-mode bar (20 cells, H = 7) as a substructure: {multi.omega.size} points in "
