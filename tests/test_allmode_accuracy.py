@@ -110,9 +110,9 @@ def test_the_cells_part_reads_a_coarse_rung_against_the_rung_above():
 def test_near_the_notch_the_harmonics_part_bounds_h_63(a, w):
     """Near the default case's peak, 128 cells, H = 31: the harmonics part of the estimate (rungs 7,
     15, 31) bounds the change to H = 63 on the same cells, whose own doubt (the change from H = 47)
-    is added.  At the notch (the 13th harmonic at a mode of the bar) it is pessimistic (1.7e-2
-    against 1.3e-4: the 13th's resonance is its first difference); at 38400 rad/s the 37th, beyond
-    H, meets the bar's fifth mode, which no rung up to 31 holds (docs/validation.md)."""
+    is added.  At the notch (the 13th harmonic at a mode of the bar) it is about twice the change
+    (1.9e-4 against 9.5e-5); at 38400 rad/s the 37th, beyond H, meets the bar's fifth mode, which no
+    rung up to 31 holds (docs/validation.md)."""
     el = AllModeMicroslip(BAR, UNIFORM, cells=128, harmonics=31)
     sol = el.solve(a, w, estimate_error=True)
     ref = {H: AllModeMicroslip(BAR, UNIFORM, cells=128, harmonics=H).solve(a, w) for H in (47, 63)}

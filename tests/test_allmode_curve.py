@@ -157,7 +157,8 @@ def test_the_curve_is_within_its_estimate_of_a_converged_reference(curve):
     """At FRF points from the flanks to the peak and across the 13th harmonic's notch (38751 rad/s):
     the reference converged in cells and in harmonics (1024 cells, H = 63, the amplitude equation of
     ``hbm.reference.amplitude``; its doubt the larger change from 512 cells and from H = 47) within the
-    point's estimate (docs/validation.md: true / estimate 0.01 to 0.99 at these points)."""
+    point's estimate (docs/validation.md, printed by ``benchmarks/bench_allmode_rungs.py --tol 1e-2``: true /
+    estimate 0.01 to 0.47 at the slipping points among these)."""
     frf, _ = curve
     refs = {k: AllModeMicroslip(BAR, LOAD, *k) for k in ((512, 63), (1024, 47), (1024, 63))}
     for w in (33000.0, 36000.0, 38000.0, 38400.0, 38600.0, 38710.0, 38751.0, 38758.0, 38780.0, 38820.0, 38860.0,
