@@ -576,8 +576,10 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
 
 
 def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int]:
-    """The zero of d(a^2)/ds near point ``i`` of the single-balance result ``f`` (None where there is
-    none between its neighbours), and the Newton updates spent."""
+    """The zero of d(a^2)/ds near point ``i`` of the single-balance result ``f``, or where no sign change of it
+    is bracketed between the neighbours (structure finer than the points, a ripple between them:
+    ``hbm.continuation.maximise``) the largest a^2 between them; None where neither is found, and the Newton
+    updates spent."""
     pr = f._problem
     pr.fresh_omega_derivative = True
     counter = cont._Count()
@@ -595,6 +597,10 @@ def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int]:
             loc = cont.locate(pr, y[ja], y[jb], slope, tol=f.newton_tol, scale=f._scale, xtol=xtol, count=counter)
             if loc is not None:
                 return loc, counter.nit
+        if 0 < i < len(y) - 1:
+            loc = cont.maximise(pr, y[i - 1], y[i + 1], lambda u: u[c] * u[c] + u[s_] * u[s_], tol=f.newton_tol,
+                                scale=f._scale, xtol=xtol, count=counter)
+            return loc, counter.nit
         return None, counter.nit
     finally:
         pr.fresh_omega_derivative = False

@@ -448,37 +448,14 @@ def locate(residual: Residual, ya: ArrayLike, yb: ArrayLike,
     coordinates scaled at ``ya``); Brent's method finds the root in ``sigma`` to ``xtol``
     times the chord length.  Returns None when ``g`` has the same sign at both ends.
     """
-    ya = np.asarray(ya, dtype=float)
-    yb = np.asarray(yb, dtype=float)
-    n = ya.size
     count = count if count is not None else _Count()
-    fun = _counted(residual, count)
-    s = _scale(scale if scale is not None else (lambda y: np.ones(n)), ya)
-    d = (yb - ya) / s
-    ell = float(np.linalg.norm(d))
-    if ell == 0.0:
+    chord = _Chord(residual, ya, yb, tol, scale, max_iter, count)
+    if chord.length == 0.0:
         return None
-    d /= ell
-    w = d / s
-    c_a = float(w @ ya)
-    n0 = count.nfev
-    cache = {}
-
-    def point(sigma):
-        if sigma not in cache:
-            guess = ya + sigma * s * d
-            sol = _newton(fun, guess, w, c_a + sigma, tol, max_iter, count)
-            if not sol.converged:
-                raise _LocateFailed(sol.reason)
-            try:
-                t = _tangent(sol.J, s, d) * s
-            except np.linalg.LinAlgError as exc:
-                raise _LocateFailed(str(exc)) from None
-            cache[sigma] = (sol, t)
-        return cache[sigma]
+    ell, n0 = chord.length, count.nfev
 
     def G(sigma):
-        sol, t = point(sigma)
+        sol, t = chord.point(sigma)
         return float(g(sol.y, t))
 
     try:
@@ -491,10 +468,76 @@ def locate(residual: Residual, ya: ArrayLike, yb: ArrayLike,
             return None
         else:
             root = brentq(G, 0.0, ell, xtol=xtol * ell, rtol=4 * np.finfo(float).eps, maxiter=100)
-        sol, t = point(root)
+        sol, t = chord.point(root)
     except _LocateFailed:
         return None
     return Located(sol.y, t, sol.rnorm, count.nfev - n0)
+
+
+def maximise(residual: Residual, ya: ArrayLike, yb: ArrayLike, f: Callable[[NDArray[np.float64]], float], *,
+             tol: float = 1e-10, scale: Scale | None = None, xtol: float = 1e-10, max_iter: int = NEWTON_MAX_ITER,
+             count: _Count | None = None) -> Located | None:
+    """The point of the branch between ``ya`` and ``yb`` where ``f(y)`` is largest, by golden-section search
+    in the chord parameter of :func:`locate` to ``xtol`` times the chord length: every trial a converged
+    point of the branch, no tangent asked.  It finds a maximum where a zero of ``f``'s slope along the
+    tangent cannot be bracketed, the slope having one sign at both ends: a branch with structure finer than
+    its points (a ripple between them), or an element whose tangent is not the branch's slope over a step
+    (kinks denser than the points).  The maximum of a unimodal ``f``; of a rippled one, a ripple's top.
+    None where a trial fails."""
+    count = count if count is not None else _Count()
+    chord = _Chord(residual, ya, yb, tol, scale, max_iter, count)
+    if chord.length == 0.0:
+        return None
+    n0, inv = count.nfev, (math.sqrt(5.0) - 1.0) / 2.0  # 1/phi
+    try:
+        value = lambda sigma: f(chord.point(sigma)[0].y)  # noqa: E731
+        lo, hi = 0.0, chord.length
+        x1, x2 = hi - inv * (hi - lo), lo + inv * (hi - lo)
+        f1, f2 = value(x1), value(x2)
+        while hi - lo > xtol * chord.length:
+            if f1 >= f2:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - inv * (hi - lo)
+                f1 = value(x1)
+            else:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + inv * (hi - lo)
+                f2 = value(x2)
+        sol, t = chord.point(x1 if f1 >= f2 else x2)
+    except _LocateFailed:
+        return None
+    return Located(sol.y, t, sol.rnorm, count.nfev - n0)
+
+
+class _Chord:
+    """The branch between ``ya`` and ``yb`` by the distance ``sigma`` along their chord (coordinates scaled at
+    ``ya``): ``point(sigma)`` is the branch's point on the hyperplane normal to the chord at ``sigma`` (a
+    Newton solve from the chord's point there) and its tangent, kept by ``sigma``."""
+
+    def __init__(self, residual: Residual, ya: ArrayLike, yb: ArrayLike, tol: float, scale: Scale | None,
+                 max_iter: int, count: _Count):
+        ya, yb = np.asarray(ya, dtype=float), np.asarray(yb, dtype=float)
+        self.fun, self.tol, self.max_iter, self.count = _counted(residual, count), tol, max_iter, count
+        self.ya, self.s = ya, _scale(scale if scale is not None else (lambda y: np.ones(ya.size)), ya)
+        d = (yb - ya) / self.s
+        self.length = float(np.linalg.norm(d))
+        self.d = d / self.length if self.length > 0.0 else d
+        self.w = self.d / self.s
+        self.c_a = float(self.w @ ya)
+        self.cache: dict = {}
+
+    def point(self, sigma: float):
+        if sigma not in self.cache:
+            guess = self.ya + sigma * self.s * self.d
+            sol = _newton(self.fun, guess, self.w, self.c_a + sigma, self.tol, self.max_iter, self.count)
+            if not sol.converged:
+                raise _LocateFailed(sol.reason)
+            try:
+                t = _tangent(sol.J, self.s, self.d) * self.s
+            except np.linalg.LinAlgError as exc:
+                raise _LocateFailed(str(exc)) from None
+            self.cache[sigma] = (sol, t)
+        return self.cache[sigma]
 
 
 class _LocateFailed(Exception):

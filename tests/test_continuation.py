@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from hbm.continuation import Status, continuation, locate
+from hbm.continuation import Status, continuation, locate, maximise
 
 TOL = 1e-12
 
@@ -160,6 +160,33 @@ def test_locate_a_level_on_the_branch():
     loc = locate(sine, ya, yb, lambda y, t: y[1] - 0.25, tol=TOL, xtol=1e-14)
     assert loc.y[0] == pytest.approx(math.asin(0.25), abs=1e-12)
     assert locate(sine, ya, yb, lambda y, t: y[1] - 0.9, tol=TOL) is None
+
+
+def test_maximise_finds_the_largest_point_of_the_branch_between_two_points():
+    ya, yb = np.array([1.2, math.sin(1.2)]), np.array([1.9, math.sin(1.9)])
+    loc = maximise(sine, ya, yb, lambda y: y[1], tol=TOL, xtol=1e-10)
+    assert loc.y[0] == pytest.approx(math.pi / 2, abs=1e-7) and loc.y[1] == pytest.approx(1.0, abs=1e-13)
+
+
+def _rippled(y):
+    """lam = 1 - (u - 1)^2 + a triangle wave of 1e-3 and period 0.01: kinks denser than the two ends
+    below, whose slope (0.2) beats the envelope's (at most 0.14) so the tangent misreads the trend."""
+    u, lam = y
+    phase = (u / 0.01) % 1.0
+    tri, dtri = (2e-3 * phase, 0.2) if phase < 0.5 else (2e-3 * (1.0 - phase), -0.2)
+    return np.array([1.0 - (u - 1.0) ** 2 + tri - lam]), np.array([[-2.0 * (u - 1.0) + dtri, -1.0]])
+
+
+def test_maximise_finds_a_maximum_where_kinks_hide_the_slope_from_the_tangent():
+    f = lambda u: _rippled(np.array([u, 0.0]))[0][0]  # noqa: E731  (lam on the branch)
+    u_a, u_b = 0.9325, 1.0725  # both on a rising stretch of the ripple: the slope along the tangent is > 0 at both
+    ya, yb = np.array([u_a, f(u_a)]), np.array([u_b, f(u_b)])
+    assert locate(_rippled, ya, yb, lambda y, t: t[1], tol=TOL) is None  # no sign change to bracket
+    loc = maximise(_rippled, ya, yb, lambda y: y[1], tol=TOL, xtol=1e-10)
+    grid = np.linspace(u_a, u_b, 20001)
+    best = max(f(u) for u in grid)
+    assert abs(loc.y[0] - 1.0) <= 0.02 and best - 1e-3 <= loc.y[1] <= best + 1e-12  # a peak of the ripple at the top
+    assert loc.y[1] > max(ya[1], yb[1])
 
 
 @pytest.mark.parametrize("kwargs, name", [
