@@ -250,7 +250,7 @@ def from_rest_periodic(x: NDArray, k: float, slip_force: float) -> tuple[NDArray
     samples 1..n-1 and then 0..n-1, and the second pass is returned: the march of NLvib's
     elastic dry friction element (Krack & Gross 2019).  Each sample's force is
     ``k (x_j - x_r) + s_r slip_force`` with ``r`` the last slip before it (or ``k x_j`` if none),
-    which gives the exact Jacobian of the march (dense here; :func:`from_rest_tangent` gives it as
+    which gives the exact Jacobian of the march (dense here; ``from_rest_tangent`` gives it as
     a diagonal and the few columns of the slip samples).
     """
     f, d, idx, C = from_rest_tangent(x, k, slip_force)
