@@ -88,7 +88,7 @@ def study_peak(case, N: float) -> dict:
             "model": str(frf.point_models[i]), "blade_harmonics": int(seg.harmonics), "cpu_s": round(cpu, 2)}
 
 
-def reference_peak(case, N: float, centre: float) -> dict:
+def reference_peak(case, N: float, centre: float, step: float = STEP, count: int = COUNT) -> dict:
     """The reference peak at load ``N`` from fixed-frequency balances around ``centre`` (rad/s)."""
     t0 = time.process_time()
     blade, el = case.blade, TwoRegionMicroslip(case.element.bar, UniformLoad(N=N))
@@ -98,7 +98,7 @@ def reference_peak(case, N: float, centre: float) -> dict:
         i = int(np.argmin(np.abs(single.omega - w)))
         return up_the_ladder(blade, el, w, np.array([0.0, single.x_c[i], single.x_s[i]]), ladder=LADDER)
 
-    omegas = list(centre + STEP * (np.arange(COUNT) - (COUNT - 1) / 2))
+    omegas = list(centre + step * (np.arange(count) - (count - 1) / 2))
     amps = [solve(w) for w in omegas]
     widened = 0
     while True:
@@ -110,10 +110,10 @@ def reference_peak(case, N: float, centre: float) -> dict:
             raise RuntimeError(f"N = {N}: the largest sample stays at an end of {omegas[0]:.1f}..{omegas[-1]:.1f}")
         widened += 1
         if min(js) < 2:
-            omegas.insert(0, omegas[0] - STEP)
+            omegas.insert(0, omegas[0] - step)
             amps.insert(0, solve(omegas[0]))
         else:
-            omegas.append(omegas[-1] + STEP)
+            omegas.append(omegas[-1] + step)
             amps.append(solve(omegas[-1]))
     w = np.array(omegas)
     peaks = []
@@ -138,15 +138,17 @@ def rows(results: list[dict]) -> list[list[str]]:
         s, ref = r["study"], r["reference"]
         true = abs(s["amplitude"] / ref["amplitude"] - 1.0)
         big = max(s["sources"], key=s["sources"].get)
-        out.append([f"{r['N']:.1f}", f"{s['amplitude']:.6e}", f"{s['omega']:.1f}", f"{ref['amplitude']:.6e}",
-                    f"{ref['omega']:.1f}", f"{ref['ladder_doubt']:.1e}", f"{ref['sampling_doubt']:.1e}",
-                    f"{true:.1e}", f"{s['estimate']:.1e}", f"{true / s['estimate']:.2f}",
-                    f"{s['model'].replace('AllModeMicroslip', '')}, {s['blade_harmonics']}", big])
+        rung = s["model"].replace("AllModeMicroslip(cells=", "").replace(", H=", " cells, H = ").rstrip(")")
+        out.append([f"{r['N']:.1f}", f"{s['amplitude']:.6e} at {s['omega']:.1f}",
+                    f"{ref['amplitude']:.6e} at {ref['omega']:.1f}", f"{ref['ladder_doubt']:.1e}",
+                    f"{ref['sampling_doubt']:.1e}", f"{true:.1e}", f"{s['estimate']:.1e}",
+                    f"**{true / s['estimate']:.2f}**" if true > s["estimate"] else f"{true / s['estimate']:.2f}",
+                    f"{rung}; {s['blade_harmonics']}", big + ("" if s["converged"] else " (not located)")])
     return out
 
 
-HEADER = ["N", "study peak (m)", "at (rad/s)", "reference (m)", "at (rad/s)", "ladder doubt", "sampling doubt",
-          "true", "estimate", "true / estimate", "rung, blade H", "largest source"]
+HEADER = ["N", "study peak (m at rad/s)", "reference (m at rad/s)", "ladder doubt", "sampling doubt", "true",
+          "estimate", "true / estimate", "bar's rung; blade H", "largest source"]
 
 
 def main() -> None:
@@ -154,6 +156,8 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=OUT)
     parser.add_argument("--every", type=int, default=1, help="take every n-th of the 50 loads")
     parser.add_argument("--loads", type=float, nargs="*", help="these loads (N) instead")
+    parser.add_argument("--step", type=float, default=STEP, help="the reference's frequency step (rad/s)")
+    parser.add_argument("--count", type=int, default=COUNT, help="the reference's frequencies before widening")
     parser.add_argument("--table", action="store_true", help="print the table from the stored results")
     args = parser.parse_args()
     if args.table:
@@ -165,12 +169,12 @@ def main() -> None:
     loads = args.loads if args.loads else [float(N) for N in LOADS[::args.every]]
     info = machine()
     data = {"generated_by": "benchmarks/study_peak_references.py", "case": case.description, "tol": TOL,
-            "ladder": LADDER, "step": STEP, "count": COUNT, "machine": machine_line(info), "loads": []}
+            "ladder": LADDER, "step": args.step, "count": args.count, "machine": machine_line(info), "loads": []}
     args.out.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     for N in loads:
         s = study_peak(case, N)
-        ref = reference_peak(case, N, s["omega"])
+        ref = reference_peak(case, N, s["omega"], args.step, args.count)
         data["loads"].append({"N": N, "study": s, "reference": ref})
         data["seconds"] = round(time.perf_counter() - t0, 1)
         args.out.write_text(json.dumps(data, indent=1) + "\n")
