@@ -27,9 +27,13 @@ the step: the vertex's own error at ``STEP`` is about a third of it where the cu
 is ``|a_study / a_ref - 1|``; ``ratio`` is true / estimate.
 
 Writes ``benchmarks/results/study_peak_references.json`` after every load (``--out``), one line per load
-on stdout.  Run (one process; about 40 minutes of one core for the 50 loads, about 45 s per load):
+on stdout.  Run (one process; about 25 minutes of one core for the 50 loads, 15 to 50 s per load, about
+4.5 s per reference frequency):
 
     PYTHONPATH=. OPENBLAS_NUM_THREADS=1 python3 benchmarks/study_peak_references.py [--every 2] [--loads 100 220.4]
+
+``--step`` and ``--count`` set the reference's frequencies (finer steps beside a notch, where the sampling
+doubt is largest: ``--step 1.5 --count 25`` takes about two minutes a load).
 
 ``--table`` prints the Markdown table of ``docs/validation.md`` ("The 50-FRF study's peaks against
 converged references") from the stored results without computing anything.
