@@ -33,10 +33,11 @@ CENTRE, STEP, COUNT = 38740.0, 5.0, 9
 
 
 def vertex(w: np.ndarray, a: np.ndarray) -> tuple[float, float]:
-    """The vertex of the parabola through three points (w_i, a_i)."""
-    c2, c1, c0 = np.polyfit(w, a, 2)
+    """The vertex (omega, amplitude) of the parabola through three points (w_i, a_i), fitted in
+    omega - w_1 (frequencies some 4e4 rad/s, a few rad/s apart, are ill-conditioned raw)."""
+    c2, c1, c0 = np.polyfit(w - w[1], a, 2)
     wv = -c1 / (2.0 * c2)
-    return float(wv), float(c0 + c1 * wv + c2 * wv * wv)
+    return float(wv + w[1]), float(c0 + c1 * wv + c2 * wv * wv)
 
 
 def main() -> None:

@@ -57,6 +57,7 @@ from bench_allmode import _frf_along
 from common import machine, machine_line, table
 from physical_curve_reference import LADDER as CURVE_LADDER
 from physical_curve_reference import up_the_ladder
+from physical_peak_reference import vertex
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "benchmarks" / "results" / "study_peak_references.json"
@@ -69,13 +70,6 @@ LADDER = [*CURVE_LADDER, (512, 127, 47)]
 STEP, COUNT = 4.0, 9
 #: At most this many samples added on one side to bring the largest inside.
 MAX_WIDEN = 20
-
-
-def vertex(w: np.ndarray, a: np.ndarray) -> tuple[float, float]:
-    """The vertex (omega, amplitude) of the parabola through three points (w_i, a_i)."""
-    c2, c1, c0 = np.polyfit(w - w[1], a, 2)
-    wv = -c1 / (2.0 * c2)
-    return float(wv + w[1]), float(c0 + c1 * wv + c2 * wv * wv)
 
 
 def study_peak(case, N: float) -> dict:
