@@ -567,7 +567,7 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
                        f"the peak found is the largest on the traced part only")
     elif not located:
         reasons.append("the maximum could not be located between points (the largest sampled point is given)")
-    estimate = float(frf.error_estimate[i]) if len(frf.error_estimate) else math.nan
+    estimate = errors.peak_estimate(frf.error_estimate, i)
     if frf.tol is not None and estimate > frf.tol:
         reasons.append(f"its estimated error {estimate:.2g} exceeds tol {frf.tol:g}")
     interior = not (at_edge or at_stop)

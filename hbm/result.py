@@ -53,7 +53,9 @@ class Peak(tuple):
         ``interior``, on a branch that reached the end of its range, located between points (the
         zero of d(a^2)/ds), and with its error estimate within the tolerance asked for.
     estimate : float
-        The estimated relative error of ``amplitude`` at the peak (NaN without an estimate).
+        The estimated relative error of ``amplitude`` at the peak: the largest point estimate within
+        two points of the sampled maximum (``hbm.balance.errors.peak_estimate``; NaN without an
+        estimate).
     message : str
         Why the peak is not converged ("" where it is).
     """
@@ -514,7 +516,7 @@ class FrequencyResponse:
         if len(self) == 0:
             raise ValueError("the frequency response has no points")
         i = int(np.argmax(self.amplitude))
-        est = float(self.error_estimate[i]) if len(self.error_estimate) else math.nan
+        est = errors.peak_estimate(self.error_estimate, i)
         return Peak(float(self.omega[i]), float(self.amplitude[i]), interior=0 < i < len(self) - 1, converged=False,
                     estimate=est, message="the largest sampled point, not located between points")
 

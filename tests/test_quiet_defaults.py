@@ -65,8 +65,12 @@ def test_the_template_runs_as_written_without_a_warning(tmp_path, capsys):
     assert main(["new", str(path)]) == 0
     result, said = accuracy_warnings(lambda: run_scene(load_scene(path), tmp_path / "out"))
     assert result.success and said == []
-    peak = result.summary["runs"][0]["peak"]
-    assert peak["error_rel"] == pytest.approx(0.019, abs=0.002) and peak["tol"] == 0.15  # the error it states
+    run = result.summary["runs"][0]
+    peak = run["peak"]
+    # the error it states: the CSV's error_rel at the peak's point; the peak's estimate takes the largest
+    # within two points of it (hbm.balance.errors.peak_estimate), the single-mode model's part all along
+    assert run["error"]["at_peak"] == pytest.approx(0.019, abs=0.002) and peak["tol"] == 0.15
+    assert run["error"]["at_peak"] <= peak["error_rel"] < 0.025
     assert "1.9 % at the peak" in path.read_text()
 
 

@@ -44,6 +44,7 @@ def test_the_study_records_the_peak_s_estimate_and_model(tmp_path):
     by_tol = {r["params"]["sweep.tol"]: r for r in result.records}
     fine, coarse = by_tol[1e-3], by_tol[0.1]
 
+    spanned = {}  # per tol, the model source at the points the peak's estimate spans
     for rec, tol, model in ((fine, 1e-3, "AllModeMicroslip"), (coarse, 0.1, "TwoRegionMicroslip")):
         frf = direct(tol)
         pk = frf.peak()
@@ -54,10 +55,16 @@ def test_the_study_records_the_peak_s_estimate_and_model(tmp_path):
         assert rec["peak_omega_rad_s"] == pytest.approx(pk.omega, rel=1e-9)
         assert rec["peak_amplitude_m"] == pytest.approx(pk.amplitude, rel=1e-9)
         assert rec["peak_error_rel"] == pytest.approx(pk.estimate, rel=1e-6)  # (the nested solves start from states the process kept: 3e-10 apart)
-        assert rec["peak_error_rel"] == pytest.approx(frf.error_estimate[j], rel=1e-6)  # the point it was located from
+        # the largest point estimate within two points of the sampled maximum (hbm.balance.errors.peak_estimate)
+        i = int(np.argmax(frf.amplitude))
+        assert rec["peak_error_rel"] == pytest.approx(float(np.max(frf.error_estimate[max(i - 2, 0):i + 3])), rel=1e-6)
+        assert rec["peak_error_rel"] >= frf.error_estimate[j] * (1.0 - 1e-6)  # at least the point it was located from
+        spanned[tol] = frf.error_sources["model"][max(i - 2, 0):i + 3]
     assert 0.0184 / 2.0 < coarse["peak_error_rel"] < 0.1  # mostly the single-mode model's part (docs/validation.md)
-    # the model part is gone from it; what is left is mostly the blade's harmonics the scene's H = 1 leaves out
-    assert fine["peak_error_rel"] < coarse["peak_error_rel"] / 2.0
+    # the model part is gone from it (below tol / 2 at every point it spans, against 1.8 % or more with the
+    # single-mode bar); what is left is mostly the blade's harmonics the scene's H = 1 leaves out
+    assert np.max(spanned[1e-3]) < 1e-3 / 2.0 and np.min(spanned[0.1]) > 0.0184 / 2.0
+    assert fine["peak_error_rel"] < coarse["peak_error_rel"]
     assert fine["peak_amplitude_m"] / coarse["peak_amplitude_m"] - 1.0 > 0.01  # the bar of every mode peaks higher
 
     with (tmp_path / "out" / "study.csv").open() as fh:
@@ -101,7 +108,7 @@ def test_sweep_tol_reaches_frequency_response(tmp_path, sweep, tolerance, rtol):
     assert run["error"]["tolerance"] == tolerance and run["peak"]["tol"] == tolerance
     assert run["peak"]["model"] == "Macroslip"
     i = int(np.argmax(frf.amplitude))
-    assert run["peak"]["error_rel"] == frf.error_estimate[i]
+    assert run["peak"]["error_rel"] == frf.peak().estimate == np.max(frf.error_estimate[max(i - 2, 0):i + 3])
     assert run["peak"]["largest_source"] == max(frf.error_sources, key=lambda k: frf.error_sources[k][i])
 
 

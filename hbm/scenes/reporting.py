@@ -77,8 +77,9 @@ def peak_estimate(frf: Any) -> dict:
     ``largest_source`` (the largest part of the estimate at the peak's point, ``peak_point``), ``tol``,
     ``model`` (the model of that point, ``FrequencyResponse.point_models``: the bar with every mode
     where ``model="peak"`` refined the peak, e.g. ``"AllModeMicroslip(cells=64, H=31)"``) and
-    ``harmonics`` (its H).  The peak is located between the neighbours of that point, whose estimate
-    it carries (``hbm.adapt.locate_peak``)."""
+    ``harmonics`` (its H).  The peak is located between the neighbours of that point and carries the
+    largest point estimate within two points of it (``hbm.adapt.locate_peak``,
+    ``hbm.balance.errors.peak_estimate``)."""
     j = peak_point(frf)
     source = max(frf.error_sources, key=lambda k: frf.error_sources[k][j])
     return {"error_rel": float(frf.peak().estimate), "largest_source": source, "tol": frf.tol,
@@ -258,7 +259,7 @@ def effect_lines(plan: Plan) -> list:
 
 
 def _estimate_text(pk: dict) -> str:
-    """``; estimated error 0.84 % (tol 0.001, largest source: harmonics; model: AllModeMicroslip(cells=64, H=31),
+    """``; estimated error 1.2 % (tol 0.001, largest source: harmonics; model: AllModeMicroslip(cells=64, H=31),
     balance at H = 1)``: the model of the peak's point and the harmonics its balance was solved with."""
     model = pk["model"] + (f", balance at H = {pk['harmonics']}" if "harmonics" in pk else "")
     return (f"; estimated error {100.0 * pk['error_rel']:.2g} % (tol {pk['tol']:g}, largest source: "

@@ -32,7 +32,7 @@ def template(title: str = "") -> str:
              "# sweep.tol = 0.15 states the single-mode bar's error: up to 10 % off the bar with every mode on",
              "# the resonance flank, 1.9 % at the peak (error_rel in frf.csv).  damper.model = \"auto\" with",
              "# sweep.tol = 1e-3 solves the peak's window again with the bar with every mode; its estimate,",
-             "# 0.84 %, is then mostly the harmonics the single-harmonic balance leaves out, and it warns.", ""]
+             "# 1.2 %, is then mostly the harmonics the single-harmonic balance leaves out, and it warns.", ""]
     for table, keys in schema().items():
         if table:  # a table the template does not set (e.g. [study]) stays commented out, header and all
             lines += ["", f"[{table}]" if table in VALUES else f"# [{table}]"]
