@@ -141,12 +141,13 @@ def _check_folder(folder: Path, names: Any, what: str) -> None:
 
 
 def accuracy_line(frf: Any, pk: Any, given: Any, model: str | None = None) -> str:
-    """The main job's last line from the curve itself: the peak, its estimated error and the model.
+    """The main job's last line from the curve itself: the peak, its estimated error (``pk.estimate``) and
+    the model.
 
     ``model`` is the job's ``--model``.  With "peak" the line names the model of the point the peak
     was located at (``frf.point_models``): the refined one where the peak's window was traced again,
     ``given``'s where its model source was within its share of tol there."""
-    err = float(frf.error_estimate[int(np.argmax(frf.amplitude))])
+    err = pk.estimate if math.isfinite(pk.estimate) else float(frf.error_estimate[int(np.argmax(frf.amplitude))])
     models = set(np.asarray(frf.point_models).tolist()) if frf.point_models is not None else set()
     if model == "peak":
         i = _peak_point(frf, pk)
