@@ -215,7 +215,8 @@ def peak_estimate(estimate: NDArray, i: int) -> float:
         return math.nan
     lo, hi = max(i - PEAK_SPREAD, 0), min(i + PEAK_SPREAD + 1, len(estimate))
     near = np.asarray(estimate[lo:hi], dtype=float)
-    return float(np.max(near)) if np.all(np.isfinite(near)) else float(estimate[i])
+    near = near[~np.isnan(near)]  # (a point without an estimate has none to lend; a failed one, inf, is kept)
+    return float(np.max(near)) if len(near) and not math.isnan(estimate[i]) else float(estimate[i])
 
 
 def peak_location(amplitude: NDArray, omega: NDArray, newton: float) -> NDArray:
