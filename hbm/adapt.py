@@ -534,8 +534,8 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     source.  A maximum at an end of the branch is kept as sampled and is not interior: at an end of
     ``omega_range`` the resonance may lie outside the range, and where a branch stopped early the
     response may still rise beyond.  The peak's estimate is the largest point estimate within two points of
-    the sampled maximum (``hbm.balance.errors.peak_estimate``).  ``among``: the points the peak is sought among (a mask; the refined
-    model's points for ``model="peak"``), else all.  The elements' warnings while locating join the call's."""
+    the sampled maximum (``hbm.balance.errors.peak_estimate``).  ``among``: the points the peak is sought
+    among (a mask; the refined model's points for ``model="peak"``), else all.  The elements' warnings while locating join the call's."""
     if len(frf) == 0:
         raise ValueError("the frequency response has no points")
     n = len(frf)

@@ -605,5 +605,5 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
     return total
 
 
-__all__ = ["SOURCES", "NODES", "NEWTON_SHARE", "PEAK_SAFETY", "PEAK_SPREAD", "peak_estimate", "estimate", "total", "peak_location", "nodes", "onsets",
-           "collected", "stated_error", "heard_line"]
+__all__ = ["SOURCES", "NODES", "NEWTON_SHARE", "PEAK_SAFETY", "PEAK_SPREAD", "peak_estimate", "estimate", "total",
+           "peak_location", "nodes", "onsets", "collected", "stated_error", "heard_line"]
