@@ -432,13 +432,34 @@ class FrequencyResponse:
         self._exponents = np.empty((n, 0), dtype=complex)
         if not (self._with_stability and n):
             return
+        self._exponents = self._hill(range(n))
+        for f in self._balances():
+            f._problem.forget_jacobians()  # every point's exponents are kept: the balances' Jacobians are not needed
+        self._stable = self._exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)
+        folds = list(zip(self.folds_omega, self.folds_amplitude))
+        self._changes = stability_changes(self.omega, self.amplitude, self._exponents, self._stable,
+                                          self.fold_after, folds)
+
+    def _balances(self) -> list:
+        """The results whose own balance solved this one's points: itself, or a spliced result's segments'."""
+        if self._segments_of is None:
+            return [self] if self._problem is not None else []
+        return list(dict.fromkeys(g for f, _, _ in self._segments_of for g in f._balances()))
+
+    def _hill(self, rows: range) -> NDArray[np.complex128]:
+        """Floquet exponents (len(rows), 2 n_s) by Hill's method at the points ``rows`` of this result
+        (a spliced result asks each segment for the rows it keeps, and no more)."""
+        if not (self._with_stability and len(rows)):
+            return np.empty((len(rows), 0), dtype=complex)
         if self._segments_of is not None:  # each segment by its own balance (2 n_s exponents at any H)
-            self._exponents = np.concatenate([f.exponents[lo:hi] for f, lo, hi in self._segments_of])
-            self._stable = np.concatenate([f.stable[lo:hi] for f, lo, hi in self._segments_of])
+            parts, start = [], 0
+            for f, lo, hi in self._segments_of:
+                a, b = max(rows.start, start), min(rows.stop, start + hi - lo)
+                if a < b:
+                    parts.append(f._hill(range(lo + a - start, lo + b - start)))
+                start += hi - lo
             self.stability_dofs = self._segments_of[0][0].stability_dofs
-            self._changes = stability_changes(self.omega, self.amplitude, self._exponents, self._stable,
-                                              self.fold_after, list(zip(self.folds_omega, self.folds_amplitude)))
-            return
+            return np.concatenate(parts)
         pr, s = self._problem, self.structure
         L = pr.L
         coupling = None
@@ -460,23 +481,18 @@ class FrequencyResponse:
         lams = []
         hill = HillProblem(M, C, K, self.harmonics, coupling, s.sector_angle or 0.0)
         dF = np.zeros((M.shape[0] * L, M.shape[0] * L))  # zero but on the contacts' rows, every point
-        rows = np.ix_(idx, idx)
+        block = np.ix_(idx, idx)
         # a sector: every family of perturbations mu = 2 pi m / N (the whole tuned disk's exponents)
         families = [0.0] if coupling is None else [2.0 * math.pi * m / s.sectors for m in range(s.sectors)]
-        for X, w in zip(self._X, self.omega):
+        for X, w in zip(self._X[rows.start:rows.stop], self.omega[rows.start:rows.stop]):
             lam = []
             for mu in families:
                 dF = dF.astype(complex) if mu and not np.iscomplexobj(dF) else dF
-                dF[rows] = pr.perturbation_jacobian(X, float(w), mu)
+                dF[block] = pr.perturbation_jacobian(X, float(w), mu)
                 lam.append(hill.exponents(float(w), dF if mu else dF.real, mu))
             lam = np.concatenate(lam) if len(lam) > 1 else lam[0]
             lams.append(lam[np.argsort(-lam.real, kind="stable")] if len(families) > 1 else lam)
-        pr.forget_jacobians()  # every point's exponents are kept: the balance's Jacobians are not needed
-        self._exponents = np.array(lams)
-        self._stable = self._exponents[:, 0].real <= STABILITY_TOL * np.maximum(self.omega, 1e-300)
-        folds = list(zip(self.folds_omega, self.folds_amplitude))
-        self._changes = stability_changes(self.omega, self.amplitude, self._exponents, self._stable,
-                                          self.fold_after, folds)
+        return np.array(lams)
 
     # ------------------------------------------------------------------ peak
     def peak(self) -> Peak:
