@@ -39,7 +39,7 @@ def run_summary(res: Any, *, hz: bool = False) -> dict:
             out["peak"] = {"omega_rad_s": res.peak.omega, "amplitude_m": res.peak.amplitude,
                            "amplitude_over_a_min": res.peak.amplitude / a_min if a_min else None}
             if frf.tol is not None and len(frf):
-                out["peak"].update(peak_estimate(frf))
+                out["peak"].update(peak_accuracy(frf))
             if hz:
                 out["peak"] = {"frequency_Hz": res.peak.omega / (2.0 * math.pi), **out["peak"]}
             slip = next((e for e in p.effects if e.name == "damper slip"), None)
@@ -72,7 +72,7 @@ def error_summary(frf: Any) -> dict:
             "warning": frf.accuracy_warning}
 
 
-def peak_estimate(frf: Any) -> dict:
+def peak_accuracy(frf: Any) -> dict:
     """The peak's estimated error: ``error_rel`` (relative, the located peak's ``estimate``),
     ``largest_source`` (the largest part of the estimate at the peak's point, ``peak_point``), ``tol``,
     ``model`` (the model of that point, ``FrequencyResponse.point_models``: the bar with every mode
