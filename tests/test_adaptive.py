@@ -297,6 +297,28 @@ def test_folds_and_stability_across_a_splice():
     assert [c.kind for c in frf.stability_changes] == ["fold", "fold"]
 
 
+def test_a_splices_stability_is_computed_at_the_points_it_keeps_only(monkeypatch):
+    """Hill's method on a spliced curve asks each segment's balance for the points the splice keeps of it:
+    one perturbation Jacobian per point of the curve (a segment's own trace holds more, its window's overlap),
+    and the exponents are each segment's own at those points."""
+    from hbm.balance.residual import HarmonicBalance
+
+    s = Structure(np.eye(1), [[0.02]], np.eye(1), force=[0.1])
+    frf = quiet(s, [Contact(CubicSpring(1.0), dof=0)], omega_range=(0.5, 3.0), tol=1e-4)
+    assert frf._segments_of is not None and sum(len(f) for f, _, _ in frf._segments_of) > len(frf)
+    calls, asked = [0], HarmonicBalance.perturbation_jacobian
+
+    def counted(self, *args, **kwargs):
+        calls[0] += 1
+        return asked(self, *args, **kwargs)
+
+    monkeypatch.setattr(HarmonicBalance, "perturbation_jacobian", counted)
+    exponents = frf.exponents
+    assert calls[0] == len(frf) and exponents.shape == (len(frf), 2)
+    own = np.concatenate([f.exponents[lo:hi] for f, lo, hi in frf._segments_of])  # each segment whole
+    np.testing.assert_array_equal(exponents, own)
+
+
 def test_a_window_whose_lifted_start_fails_is_started_in_stages(monkeypatch):
     """Windows that jump two rungs of H (forced here: H -> 4H + 3) whose start lifted straight from the coarse H
     fails (made to fail here: its first residual raises) are started from the point solved at the H between and
