@@ -457,8 +457,8 @@ class FrequencyResponse:
                 a, b = max(rows.start, start), min(rows.stop, start + hi - lo)
                 if a < b:
                     parts.append(f._hill(range(lo + a - start, lo + b - start)))
+                    self.stability_dofs = self.stability_dofs or f.stability_dofs  # (the first segment asked)
                 start += hi - lo
-            self.stability_dofs = self._segments_of[0][0].stability_dofs
             return np.concatenate(parts)
         pr, s = self._problem, self.structure
         L = pr.L
