@@ -42,6 +42,17 @@ PRESETS = dict(TOLERANCE)
 #: traced again at H -> 2H + 1, up to ``MAX_HARMONICS`` (``hbm.adapt``).
 ADAPT_START = 3
 HARMONICS_SHARE = 0.5
+#: Where every element's force is in closed form (``exact_harmonics`` and not ``discretised``: no samples,
+#: no nested solve), a point costs about the same at any H while the balance is small, so a first trace at
+#: ``ADAPT_START`` would be paid again wherever its windows are traced at a higher H.  The whole range then
+#: starts at the H its tolerance predicts (``start_harmonics``): the rung where ``START_ESTIMATE``, the
+#: harmonics source at H = 3 near a friction resonance, falls within ``HARMONICS_SHARE * tol`` by the decay
+#: of ``hbm.adapt.next_harmonics`` (h^-4: 2e-3 at H = 7, 1e-4 at 15; the Jenkins problems and chains of
+#: ``docs/multiharmonic.md`` read 1.5e-4 to 2.2e-3 at 7, 9e-6 to 9e-5 at 15), at most the rung at which
+#: the balance has ``START_UNKNOWNS`` unknowns (a dense solve of that size costs about one closed-form
+#: evaluation of the elements).  Where the prediction is short, the windows go up the ladder as from 3.
+START_ESTIMATE = 0.06
+START_UNKNOWNS = 200
 #: With ``tol``, the elements' tolerance rtol is this share of it, at most ``DEFAULT_RTOL`` (the peak is
 #: accepted within 10 rtol: ``hbm.balance.errors``).
 RTOL_SHARE = 1e-2
@@ -98,6 +109,33 @@ class Point(NamedTuple):
     x_s: float
     residual: float
     harmonics: Any
+
+
+def start_harmonics(structure: Any, contacts: Any, response_dof: int | None, tol: float) -> int:
+    """The H a structure's balance traces the whole range at first with ``tol`` and no ``harmonics``:
+    ``ADAPT_START``, or where every element's force is in closed form the rung of the ladder 3 -> 7 -> 15
+    -> 31 that ``START_ESTIMATE`` predicts for ``tol`` (``START_ESTIMATE`` above), at most
+    ``START_UNKNOWNS`` unknowns of the balance.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from contact_models import Macroslip
+    >>> from hbm import Contact, Structure
+    >>> s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    >>> [start_harmonics(s, [Contact(Macroslip(1.0, 0.02), dof=0)], None, t) for t in (0.2, 1e-2, 1e-3, 1e-5)]
+    [3, 7, 15, 31]
+    """
+    attached = as_contacts(contacts, structure.n)
+    if not attached or not all(c.element.exact_harmonics and not c.element.discretised for c in attached):
+        return ADAPT_START
+    if START_ESTIMATE <= HARMONICS_SHARE * tol:
+        return ADAPT_START
+    H = along.next_harmonics(ADAPT_START, START_ESTIMATE / (HARMONICS_SHARE * tol), MAX_HARMONICS)
+    dofs = len({d for c in attached for d in c.all_dofs} | {response_dof})  # (None: one more, the response's)
+    while H > ADAPT_START and dofs * (2 * H + 1) > START_UNKNOWNS:
+        H = (H - 1) // 2
+    return max(H, ADAPT_START)
 
 
 def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[float, float] | None = None, *,
@@ -260,7 +298,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     adapt = harmonics is None and tolerance is not None
     if harmonics is None:
         harmonics = structure.default_harmonics if structure.default_harmonics is not None else (
-            ADAPT_START if adapt else fixed[0])
+            start_harmonics(structure, contacts, response_dof, tolerance) if adapt else fixed[0])
         if n_t is None and not adapt and structure.default_harmonics is None:
             n_t = fixed[1]
     n_t_given = n_t

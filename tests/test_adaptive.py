@@ -15,12 +15,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import hbm.frf
 from contact_models import AccuracyWarning, CubicSpring, Macroslip
 from hbm import Contact, Steps, Structure, continuation as cont, frequency_response
 from hbm.adapt import lift, windows
 from hbm.balance import errors
 from hbm.balance.residual import HarmonicBalance
-from hbm.frf import MAX_HARMONICS
+from hbm.frf import MAX_HARMONICS, start_harmonics
 from hbm.output import csv_lines
 
 DATA = json.loads((Path(__file__).parent / "data" / "periodic_reference.json").read_text())
@@ -44,18 +45,28 @@ def quiet(*args, **kw):
         return frequency_response(*args, **kw)
 
 
+def from_three(*args, **kw):
+    """``quiet`` with the coarse trace at H = 3 (``START_UNKNOWNS = 0``): the chain's sliders are in closed
+    form, so ``frequency_response`` would start them at the rung the tolerance predicts; these tests are of
+    the ladder from 3 and its windows, which an element with sampled harmonics always climbs."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(hbm.frf, "START_UNKNOWNS", 0)
+        return quiet(*args, **kw)
+
+
 @pytest.fixture(scope="module")
 def precise():
-    """The chain at tol = 1e-5 with steps by accuracy (curve_tol 1e-5): H along the curve."""
+    """The chain at tol = 1e-5 with steps by accuracy (curve_tol 1e-5): H along the curve from 3."""
     s, cs = chain()
-    return quiet(s, cs, omega_range=(0.3, 1.6), tol=1e-5, steps=Steps(max_step=0.1, curve_tol=1e-5), stability=False)
+    return from_three(s, cs, omega_range=(0.3, 1.6), tol=1e-5, steps=Steps(max_step=0.1, curve_tol=1e-5),
+                      stability=False)
 
 
 @pytest.fixture(scope="module")
 def default():
-    """The Jenkins chain of docs/multiharmonic.md at tol = 1e-3."""
+    """The Jenkins chain of docs/multiharmonic.md at tol = 1e-3, H along the curve from 3."""
     s, cs = chain()
-    return quiet(s, cs, omega_range=(0.3, 1.8), tol=1e-3, stability=False)
+    return from_three(s, cs, omega_range=(0.3, 1.8), tol=1e-3, stability=False)
 
 
 def at_omega(frf, w):
@@ -93,6 +104,41 @@ def test_windows_are_widened_to_the_nodes_below_and_merged():
     assert windows(e, np.array([0, 3, 9]), 0.5, 0, 10) == [(0, 9)]  # (0, 9) and (3, 9) merge
     assert windows(e, np.array([0, 9]), 0.5, 1, 9) == [(1, 8)]  # the stretch's ends where no node is
     assert windows(e, np.array([0, 9]), 0.95, 0, 10) == []
+
+
+# ------------------------------------------------------------------ the start where the force is in closed form
+def test_a_closed_form_force_is_traced_once_at_the_rung_its_tolerance_predicts():
+    """P1 at tol = 1e-5: its slider is in closed form, so the whole range starts at H = 31 (what the ladder
+    from 3 reaches near the peak) and no window is traced again; the peak is that of the ladder from 3,
+    both within 1e-5 of the true peak (shooting), with fewer points traced in all."""
+    cs = [Contact(Macroslip(1.0, 0.02), dof=0)]
+    frf = quiet(one_dof(), cs, omega_range=(0.6, 1.8), tol=1e-5)
+    ladder = from_three(one_dof(), cs, omega_range=(0.6, 1.8), tol=1e-5)
+    assert frf.success and frf.harmonics == 31 and set(frf.point_harmonics) == {31} and len(frf._work) == 1
+    assert set(ladder.point_harmonics) == {3, 31} and len(ladder._work) > 1
+    assert float(np.max(frf.error_estimate)) < 1e-5
+    true = DATA["jenkins"]["P1"]["peak_amplitude"]
+    for f in (frf, ladder):
+        pk = f.peak()
+        assert pk.converged and abs(pk.amplitude / true["amplitude"] - 1.0) < 1e-5
+        assert abs(pk.omega / true["omega"] - 1.0) < 1e-5
+    assert sum(len(f) for f in frf._work) < 0.8 * sum(len(f) for f in ladder._work)
+
+
+def test_the_start_follows_the_tolerance_for_closed_forms_on_small_balances_only():
+    """``start_harmonics``: 3, 7, 15, 31 for a slider as tol falls; at most the rung of ``START_UNKNOWNS``
+    unknowns for a balance of many contact DOFs; 3 for a force with AFT samples (a cubic spring, a slider
+    "from rest")."""
+    s1 = one_dof()
+    slider = [Contact(Macroslip(1.0, 0.02), dof=0)]
+    assert [start_harmonics(s1, slider, None, t) for t in (0.2, 1e-2, 1e-3, 1e-4, 1e-6)] == [3, 7, 15, 31, 31]
+    n = 10
+    K = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    many = Structure(np.eye(n), 0.004 * K, K, force=[0.0] * (n - 1) + [0.01])
+    sliders = [Contact(Macroslip(1.0, 0.02), dof=i) for i in range(n)]
+    assert start_harmonics(many, sliders, n - 1, 1e-5) == 7  # 10 DOFs: 10 (2H + 1) <= 200 at H = 7, not 15
+    assert start_harmonics(s1, [Contact(CubicSpring(1.0), dof=0)], None, 1e-5) == 3
+    assert start_harmonics(s1, [Contact(Macroslip(1.0, 0.02, slider="from rest"), dof=0)], None, 1e-5) == 3
 
 
 # ------------------------------------------------------------------ the chain, precise
@@ -155,7 +201,7 @@ def test_segmented_chain_is_within_tol_of_the_true_response(default):
 # ------------------------------------------------------------------ one DOF: stability, CSV, one segment
 @pytest.fixture(scope="module")
 def p1():
-    return quiet(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=1e-4)
+    return from_three(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=1e-4)
 
 
 def test_one_dof_peak_stability_and_counters(p1):
@@ -181,8 +227,8 @@ def test_csv_has_H_column_where_it_varies(p1, tmp_path):
 
 
 def test_one_segment_is_the_plain_solve():
-    a = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=0.05,
-                           stability=False)
+    a = from_three(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=0.05,
+                   stability=False)
     b = frequency_response(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), harmonics=3,
                            tol=0.05, stability=False)
     assert a._segments_of is None and a.harmonics == 3
@@ -245,8 +291,8 @@ def test_a_failed_window_keeps_the_coarse_points_and_says_so():
 
 def test_callbacks_get_the_spliced_points_once_at_the_end(p1):
     got, harm = [], []
-    frf = quiet(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=1e-4,
-                on_point=lambda w, xc, xs, r: got.append((w, xc, xs, r)), on_harmonics=lambda w, X: harm.append(X))
+    frf = from_three(one_dof(), [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8), tol=1e-4,
+                     on_point=lambda w, xc, xs, r: got.append((w, xc, xs, r)), on_harmonics=lambda w, X: harm.append(X))
     assert len(frf.segments) > 1
     np.testing.assert_array_equal([g[0] for g in got], frf.omega)
     np.testing.assert_array_equal([g[1] for g in got], frf.x_c)
@@ -328,6 +374,7 @@ def test_a_window_whose_lifted_start_fails_is_started_in_stages(monkeypatch):
 
     s, cs = chain()
     monkeypatch.setattr(adapt, "next_harmonics", lambda H, excess, top: min(4 * H + 3, top))
+    monkeypatch.setattr(hbm.frf, "START_UNKNOWNS", 0)  # the ladder from 3 (the chain's sliders are closed forms)
     plain = quiet(s, cs, omega_range=(0.3, 1.8), tol=1e-3, stability=False)
     trace, staged, failed = adapt.trace, adapt.staged, []
 
