@@ -127,6 +127,7 @@ class RotatingPreload(ContactElement):
         self.has_time_law = proto.has_time_law
         self.even_block_optional = proto.even_block_optional
         self.exact_harmonics = proto.exact_harmonics
+        self.discretised = proto.discretised
         self._exact_df = proto.exact_describing_function
 
     def __repr__(self) -> str:
