@@ -42,8 +42,8 @@ PRESETS = dict(TOLERANCE)
 #: traced again at H -> 2H + 1, up to ``MAX_HARMONICS`` (``hbm.adapt``).
 ADAPT_START = 3
 HARMONICS_SHARE = 0.5
-#: Where every element's force is in closed form (``exact_harmonics`` and not ``discretised``: no samples,
-#: no nested solve), a point costs about the same at any H while the balance is small, so a first trace at
+#: Where every element's force is in closed form (``exact_harmonics`` and not ``discretised``, with a time law:
+#: no samples, no nested solve), a point costs about the same at any H while the balance is small, so a first trace at
 #: ``ADAPT_START`` would be paid again wherever its windows are traced at a higher H.  The whole range then
 #: starts at the H its tolerance predicts (``start_harmonics``): the rung where ``START_ESTIMATE``, the
 #: harmonics source at H = 3 near a friction resonance, falls within ``HARMONICS_SHARE * tol`` by the decay
@@ -127,7 +127,8 @@ def start_harmonics(structure: Any, contacts: Any, response_dof: int | None, tol
     [3, 7, 15, 31]
     """
     attached = as_contacts(contacts, structure.n)
-    if not attached or not all(c.element.exact_harmonics and not c.element.discretised for c in attached):
+    closed = [c.element.exact_harmonics and not c.element.discretised and c.element.has_time_law for c in attached]
+    if not attached or not all(closed):  # (the rigid slider: H = 1 only, which the balance says)
         return ADAPT_START
     if START_ESTIMATE <= HARMONICS_SHARE * tol:
         return ADAPT_START
