@@ -323,8 +323,7 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
 
 #: Products are done in blocks of rows of at most this many multiply-adds: OpenBLAS runs a GEMM of more
 #: than 4 * 65536 of them on every thread it has, and for products this small waking and waiting for the
-#: threads costs more than the product (docs/performance.md, "The main job under 1.5 s: the figure beside
-#: the peak").
+#: threads costs more than the product (docs/performance.md, "Large structures", on BLAS threads).
 GEMM_SERIAL = 1 << 18
 
 

@@ -37,8 +37,7 @@ class ForceMemo:
     at 2H + 1 harmonics from the point padded with zeros, whose end motion is the same on the bar's
     harmonics).  A solve there would start from another cached state and could differ from the
     first answer within Newton's tolerance; the memo returns the first answer, without a solve, so
-    the estimate reads the same force the balance converged on (docs/performance.md, "The all-mode
-    FRF: rounding out of the even basis, forces kept, compiled kernels")."""
+    the estimate reads the same force the balance converged on."""
 
     def __init__(self, max_bytes: int = MEMO_BYTES) -> None:
         self.max_bytes = max_bytes

@@ -38,8 +38,7 @@ from typing import Callable
 #: the cells a window needs (docs/performance.md, "The all-mode FRF: the bar's exact segments").
 #: 7 harmonics: its harmonics part is read against 15 (``accuracy.harmonics_error``), so it sees a
 #: harmonic up to 15 meet a mode of the bar, which a reading from 1, 3, 7 cannot, at the cost of a
-#: 7-harmonic nested solve (docs/performance.md, "The all-mode FRF: one trace per harmonics window, a
-#: start rung of 7 harmonics").
+#: 7-harmonic nested solve (docs/theory.md, "The all-mode bar along a curve").
 START_HARMONICS = 7
 START_CELLS = 32
 #: The most cells a rung along a curve gets (the element alone: ``element.MAX_CELLS``): where a

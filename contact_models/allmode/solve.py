@@ -40,8 +40,7 @@ NEWTON_MAX_ITER = 40
 #: Newton without the linear state being evaluated too: where the bar slips the linear state is
 #: far from the solution, so a tangent start this close is the better start and evaluating the
 #: linear state as well would only cost a residual (docs/theory.md, "The all-mode bar in the
-#: frequency domain", "Error estimate"; measured in docs/performance.md, "The main job under 1.5 s:
-#: the figure beside the peak").
+#: frequency domain", "Error estimate").
 START_CLOSE = 1e-6
 #: A start whose residual is below this fraction of the force scale is the solution to rounding and
 #: is kept without a Newton step (the tangent start where no sample changes between stick and slip,
