@@ -133,10 +133,16 @@ def start_harmonics(structure: Any, contacts: Any, response_dof: int | None, tol
     if START_ESTIMATE <= HARMONICS_SHARE * tol:
         return ADAPT_START
     H = along.next_harmonics(ADAPT_START, START_ESTIMATE / (HARMONICS_SHARE * tol), MAX_HARMONICS)
-    dofs = len({d for c in attached for d in c.all_dofs} | {response_dof})  # (None: one more, the response's)
+    dofs = balance_dofs(attached, response_dof)
     while H > ADAPT_START and dofs * (2 * H + 1) > START_UNKNOWNS:
         H = (H - 1) // 2
-    return max(H, ADAPT_START)
+    return H
+
+
+def balance_dofs(contacts: list, response_dof: int | None) -> int:
+    """The DOFs a balance of ``contacts`` (``as_contacts``'s list) solves: every contact DOF and the response's
+    (None counts as one more: the response DOF the balance picks)."""
+    return len({d for c in contacts for d in c.all_dofs} | {response_dof})
 
 
 def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[float, float] | None = None, *,
@@ -319,7 +325,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if small:
         if tolerance is not None:
             h_most = 2 * h_most + 1
-        n_contact = len({d for c in as_contacts(contacts, structure.n) for d in c.all_dofs} | {response_dof})
+        n_contact = balance_dofs(as_contacts(contacts, structure.n), response_dof)
         small = max(structure.n, n_contact * (2 * h_most + 1) + 1) <= SMALL_SYSTEM
     # one block: every other warning is said once, as Python says it
     with one_blas_thread(small), errors.collected() as said:
