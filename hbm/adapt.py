@@ -428,9 +428,10 @@ def refine(setup: Setup, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
             continue
         H = setting.get("H", f.harmonics)
         contacts = balanced(setting.get("contacts", f.contacts), H, keep)
+        i0, i1 = _widened(f, f.amplitude[i0:i1 + 1], i0, i1, at) or (i0, i1)  # f's own peak at an end: wider at once
         g = _retrace(setup, f, i0, i1, contacts, H, work, notes, full)
-        wider = None if g is None else _widened(f, g, i0, i1, at)
-        if wider is not None:  # the curve's peak at an end of the window: traced again to the next node beyond
+        wider = None if g is None else _widened(f, g.amplitude, i0, i1, at)
+        if wider is not None:  # the refined peak at an end of the window: traced again to the next node beyond
             h = _retrace(setup, f, *wider, contacts, H, work, notes, full)
             if h is not None:
                 g, (i0, i1) = h, wider
@@ -445,18 +446,20 @@ def refine(setup: Setup, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
     return out
 
 
-def _widened(f: FrequencyResponse, g: FrequencyResponse, i0: int, i1: int, at: int) -> tuple[int, int] | None:
-    """The window ``i0..i1`` of ``f`` widened to the next estimate node beyond the end of its refined trace
-    ``g`` that holds ``g``'s largest response, where that is the curve's peak (at least the largest of ``f``
-    outside the window): the peak then lies at or beyond the window's end, where it cannot be located
-    between points of one balance.  None where the peak is inside, or the window already reaches the end
-    of ``f`` (or, at its start, the last window kept, ``at``)."""
-    j = int(np.argmax(g.amplitude))
+def _widened(f: FrequencyResponse, amplitude: np.ndarray, i0: int, i1: int, at: int) -> tuple[int, int] | None:
+    """The window ``i0..i1`` of ``f`` widened to the next estimate node beyond the end of the window where
+    ``amplitude`` (the response along it: ``f``'s own, or its refined trace's) is largest, where that is the
+    curve's peak (at least the largest of ``f`` outside the window): the peak then lies at or beyond the
+    window's end, where it cannot be located between points of one balance.  Asked first of ``f`` (a
+    window whose coarse peak is at its end is traced wide at once) and then of the refined trace (whose
+    peak may have moved there).  None where the peak is inside, or the window already reaches the end of
+    ``f`` (or, at its start, the last window kept, ``at``)."""
+    j = int(np.argmax(amplitude))
     outside = np.r_[f.amplitude[:i0], f.amplitude[i1 + 1:]]
-    if 0 < j < len(g) - 1 or (len(outside) and g.amplitude[j] < np.max(outside)):
+    if 0 < j < len(amplitude) - 1 or (len(outside) and amplitude[j] < np.max(outside)):
         return None
     nodes = np.asarray(f._nodes)
-    if j == len(g) - 1 and i1 < len(f) - 1:
+    if j == len(amplitude) - 1 and i1 < len(f) - 1:
         after = nodes[nodes > i1]
         return i0, int(after[0]) if len(after) else len(f) - 1
     if j == 0 and i0 > at:

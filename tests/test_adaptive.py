@@ -106,6 +106,29 @@ def test_windows_are_widened_to_the_nodes_below_and_merged():
     assert windows(e, np.array([0, 9]), 0.95, 0, 10) == []
 
 
+def test_a_window_holding_the_peak_at_its_end_is_widened_to_the_next_node_beyond():
+    from hbm.adapt import _widened
+
+    class Coarse:  # what _widened reads of a coarse result: its amplitudes, its estimate nodes, its length
+        amplitude = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 4.5, 4.0, 3.0, 2.0, 1.0])
+        _nodes = np.array([0, 2, 5, 7, 9])
+
+        def __len__(self):
+            return 10
+
+    f = Coarse()
+    # the coarse peak (point 4) is the window's last point: widened to node 5, the first beyond it
+    assert _widened(f, f.amplitude[2:5], 2, 4, 0) == (2, 5)
+    # the same at the window's start, back to the node before it (not before the last window kept)
+    assert _widened(f, f.amplitude[4:8], 4, 7, 0) == (2, 7)
+    assert _widened(f, f.amplitude[4:8], 4, 7, 3) == (3, 7)
+    # a peak inside the window, or an end that is not the curve's peak, leaves it as it is
+    assert _widened(f, f.amplitude[2:8], 2, 7, 0) is None
+    assert _widened(f, f.amplitude[7:9], 7, 8, 0) is None
+    # a refined trace whose peak moved to the end widens the window that its coarse points did not
+    assert _widened(f, np.array([4.0, 5.0, 5.2]), 3, 5, 0) == (3, 7)
+
+
 # ------------------------------------------------------------------ the start where the force is in closed form
 def test_a_closed_form_force_is_traced_once_at_the_rung_its_tolerance_predicts():
     """P1 at tol = 1e-5: its slider is in closed form, so the whole range starts at H = 31 (what the ladder
