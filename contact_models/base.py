@@ -631,6 +631,13 @@ class ContactElement(ABC):
         return a_b.ravel().astype(float), w_b.ravel().astype(float), shape
 
 
+#: The class attributes that declare what kind of element an element is (its time law, its components,
+#: how its harmonics are computed and read): an element that stands for others it builds (a preload that
+#: follows the speed) declares what they declare, attribute by attribute from this list.
+KIND_ATTRIBUTES = ("has_time_law", "components", "even_block_optional", "exact_harmonics", "discretised",
+                   "harmonics_reach")
+
+
 #: The public methods of the contract, defined once here, and the hook each calls: a subclass
 #: implements the hook and may not override the method (``__init_subclass__`` refuses it).
 PUBLIC_HOOKS = {

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .numerics.checks import positive
-from .base import ContactElement
+from .base import KIND_ATTRIBUTES, ContactElement
 
 #: Relative step of the forward difference of the force in the preload.
 LOAD_FD_STEP = 1e-6
@@ -122,12 +122,8 @@ class RotatingPreload(ContactElement):
         self.omega_ref = positive("omega_ref", omega_ref)
         self._built: dict[float, ContactElement] = {}
         proto = self.at(self.omega_ref)
-        # the kind of every element built (instance attributes: the same for every preload)
-        self.components = proto.components
-        self.has_time_law = proto.has_time_law
-        self.even_block_optional = proto.even_block_optional
-        self.exact_harmonics = proto.exact_harmonics
-        self.discretised = proto.discretised
+        for name in KIND_ATTRIBUTES:  # the kind of every element built (the same for every preload)
+            setattr(self, name, getattr(proto, name))
         self._exact_df = proto.exact_describing_function
 
     def __repr__(self) -> str:

@@ -140,16 +140,20 @@ def test_scene_centrifugal_load_runs(tmp_path):
 def test_the_preload_keeps_the_kind_of_the_elements_it_builds():
     """A rotating preload declares what the elements it builds declare: a slider's closed form (a structure's
     balance with tol starts at the H its tolerance predicts), the all-mode bar's discretisation (its harmonics
-    are exact but solved for, so the start stays at 3)."""
+    are exact but solved for, so the start stays at 3; its own modes, read three rungs up)."""
     from contact_models import AllModeMicroslip, Bar, UniformLoad
+    from contact_models.base import KIND_ATTRIBUTES
     from hbm.frf import start_harmonics
 
     load = CentrifugalLoad(mass=0.01, radius=0.3, engine_order=2)
     bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
     slider = RotatingPreload(lambda N: Macroslip(stiffness=5e6, slip_force=0.3 * N), load)
     allmode = RotatingPreload(lambda N: AllModeMicroslip(bar, UniformLoad(N=N)), load)
-    assert (slider.exact_harmonics, slider.discretised) == (True, False)
-    assert (allmode.exact_harmonics, allmode.discretised) == (True, True)
+    assert (slider.exact_harmonics, slider.discretised, slider.harmonics_reach) == (True, False, 1)
+    assert (allmode.exact_harmonics, allmode.discretised, allmode.harmonics_reach) == (True, True, 3)
+    for preload in (slider, allmode):  # every attribute that declares the kind, as the element built declares it
+        built = preload.at(preload.omega_ref)
+        assert {n: getattr(preload, n) for n in KIND_ATTRIBUTES} == {n: getattr(built, n) for n in KIND_ATTRIBUTES}
     s = hbm.Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
     assert start_harmonics(s, [hbm.Contact(slider, dof=0)], None, 1e-5) == 31
     assert start_harmonics(s, [hbm.Contact(allmode, dof=0)], None, 1e-5) == 3
