@@ -7,10 +7,13 @@ periodic response of the physical system, at the point's frequency (``docs/valid
 - ``harmonics``: the harmonics the balance leaves out.  Condensed form: one Newton step of the
   balance at ``2H + 1`` harmonics from the converged point padded with zeros (the residual's
   new harmonics are the missing response, to first order, and the step carries their effect
-  back into the first harmonic).  One-DOF form (a describing function, no time law): the
-  element's own loop gives its force harmonics ``F_h`` (``hysteresis``), the blade's dynamic
-  stiffness at ``h omega`` the missing response ``X_h``, and the element's stuck stiffness
-  ``k*`` bounds their effect on the first harmonic, ``|dX_1| <= k* sum |X_h| / s_min(J)``.
+  back into the first harmonic); a first-harmonic element (no time law) takes part in that step by
+  its stand-in with a time law (``ContactElement.harmonics_law``).  One-DOF form (a describing
+  function, no time law, no stand-in): the element's own loop gives its force harmonics ``F_h``
+  (``hysteresis``), the blade's dynamic stiffness at ``h omega`` the missing response ``X_h``, and
+  the element's stuck stiffness ``k*`` bounds their effect on the first harmonic,
+  ``|dX_1| <= k* sum |X_h| / s_min(J)``.  Where neither exists (the rigid slider: no stand-in, and
+  ``k*`` infinite) the source cannot be estimated and reads inf, which the call's warning says.
 - ``sampling``: the AFT's samples: the balance at ``2 n_t`` samples, one Newton step; zero where
   every element declares ``exact_harmonics`` (its harmonic force uses no samples).
 - ``element``: the error of the elements' evaluation at ``rtol``: the balance's residual with the
@@ -19,7 +22,8 @@ periodic response of the physical system, at the point's frequency (``docs/valid
   ``rtol`` (one DOF: errors ``rtol |p|``, ``rtol |q|`` of the element's stiffness ``p + i q``).
 - ``model``: the element's error against the physical contact it stands for
   (``ContactElement.model_error``: the validity map of the single-mode bars), through the balance:
-  ``|dX_1| <= e |F_1| / s_min(J)``.
+  ``|dX_1| <= e |F_1| / s_min(J)``; 0 for an element exact for what it models, whatever its ``k*``
+  (``_coefficient_error``).
 - ``peak``: the error of the peak's location.  At the sampled maximum and its two neighbours
   (the peak lies between them) the parabola through the three points, in the frequency (in the
   chord length along the branch across a fold), bounds how far the peak rises above the sampled
@@ -290,7 +294,8 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         # a change dp, dq of the element's stiffness is the force (x_c, x_s) dp + (x_s, -x_c) dq
         out["element"][j] = _element_one_dof(tight, R, Jx, xc, xs, w, rtol * abs(p), rtol * abs(q)) / a
         floor = 0.01 * k_star  # the validity map's floor of 0.01 k* a on each coefficient
-        out["model"][j] = _amplitude_change(Jx, xc, xs, e_s * max(abs(p), floor), e_c * max(abs(q), floor)) / a
+        out["model"][j] = _amplitude_change(Jx, xc, xs, _coefficient_error(e_s, p, floor),
+                                            _coefficient_error(e_c, q, floor)) / a
         while proxies:
             Xp = np.zeros((1, proxies[0].L))
             Xp[0, 1], Xp[0, 2] = xc, xs
@@ -331,8 +336,25 @@ def _count(problem: HarmonicBalance, *helpers: HarmonicBalance | None) -> None:
             problem.nstuck += h.nstuck
 
 
+def _coefficient_error(e: float, coefficient: float, floor: float) -> float:
+    """The error (N/m) of a first-harmonic stiffness ``coefficient`` (``p`` or ``q``) whose relative model error is
+    ``e``, relative to ``max(|coefficient|, floor)`` (``ContactElement.model_error``; ``floor`` the validity map's
+    0.01 k*): 0 where ``e`` is 0, whatever the floor.  An element exact for what it models has no model error
+    also where its stuck stiffness k* is infinite (the rigid slider, ``Macroslip(math.inf, ...)``), where the
+    product ``0 * max(|p|, 0.01 k*)`` would be ``0 * inf``, NaN.
+
+    Examples
+    --------
+    >>> _coefficient_error(0.0, 0.0, math.inf), _coefficient_error(0.02, 3.0, 0.5), _coefficient_error(0.02, 0.1, 0.5)
+    (0.0, 0.06, 0.01)
+    """
+    return 0.0 if e == 0.0 else float(e) * max(abs(float(coefficient)), float(floor))
+
+
 def _amplitude_change(Jx: NDArray, xc: float, xs: float, dp: float, dq: float) -> float:
-    """``|da|`` (m) from stiffness errors ``dp``, ``dq`` (signs unknown: their effects add)."""
+    """``|da|`` (m) from stiffness errors ``dp``, ``dq`` (signs unknown: their effects add); 0 for none."""
+    if dp == 0.0 and dq == 0.0:
+        return 0.0
     a = math.hypot(xc, xs)
     g = np.array([xc, xs]) / a
     try:
@@ -352,6 +374,29 @@ def _harmonic_proxies(problem: HarmonicBalance, el: Any, rtol: float) -> list[Ha
         return []
     return [HarmonicBalance(problem.structure, [Contact(law, dof=0)], harmonics=H2, n_t=default_samples(H2), rtol=rtol)
             for H2 in _steps(1, [law])]
+
+
+def _time_law_contacts(contacts: list) -> list | None:
+    """``contacts`` (a balance's ``hbm.Contact`` list) for a balance above H = 1: as given where every element has a
+    time law, else each first-harmonic element replaced by its stand-in (``ContactElement.harmonics_law``); None
+    where an element has no stand-in with a time law (the rigid slider: no balance above H = 1 holds it).
+
+    Examples
+    --------
+    >>> from contact_models import Macroslip
+    >>> jen = [Contact(Macroslip(1.0, 0.5), dof=0)]
+    >>> _time_law_contacts(jen) is jen, _time_law_contacts([Contact(Macroslip(math.inf, 0.5), dof=0)])
+    (True, None)
+    """
+    if all(c.element.has_time_law for c in contacts):
+        return contacts
+    out = []
+    for c in contacts:
+        law = c.element if c.element.has_time_law else c.element.harmonics_law()
+        if law is None or not law.has_time_law:
+            return None
+        out.append(c if law is c.element else c.with_element(law))
+    return out
 
 
 def _steps(H: int, elements: list) -> list[int]:
@@ -392,7 +437,10 @@ def reach(H: int, elements: list) -> int:
 
 def _loop_truncation(fresh: HarmonicBalance, el: Any, a: float, w: float) -> float:
     """``k* sum_h |X_h|`` (N): the element's higher force harmonics through the system at ``h omega``
-    (an element with neither a time law nor a quasi-static bar: a bound)."""
+    (an element with neither a time law nor a quasi-static bar: a bound).  Infinite where ``k*`` is (the
+    rigid slider: its force is no Lipschitz function of the displacement, so the loop bounds nothing and the
+    harmonics source cannot be estimated: inf, which the call's warning says); 0 where the loop has no
+    higher harmonics."""
     _, f = el.hysteresis(a, w, n=LOOP_SAMPLES + 1)
     F = np.abs(np.fft.rfft(f[:-1])) * (2.0 / LOOP_SAMPLES)
     k_star = abs(float(el.linear_coefficients(0.0)[0]))
@@ -402,7 +450,7 @@ def _loop_truncation(fresh: HarmonicBalance, el: Any, a: float, w: float) -> flo
         Z = complex(fresh._k - fresh._m * wh * wh, fresh._c * wh)
         Zc = Z + complex(*(float(v) for v in el.linear_coefficients(wh)))
         missing += F[h] / max(min(abs(Z), abs(Zc)), 1e-300)
-    return k_star * missing
+    return k_star * missing if missing > 0.0 else 0.0
 
 
 # ------------------------------------------------------------------ condensed, AFT
@@ -439,12 +487,19 @@ def _harmonics_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, r
     """The harmonics source (condensed form) at the points ``X`` (points, n_a, 2H+1), ``omega``: one
     Newton step of the balance at as many rungs of the ladder above H as the elements reach
     (``ContactElement.harmonics_reach``: 2H + 1 for one, 4H + 3 for two; beyond the first at most
-    ``REACH_TOP``) from each point padded with zeros."""
+    ``REACH_TOP``) from each point padded with zeros.  A first-harmonic element (no time law: the balance is at
+    H = 1) takes part in that balance by its stand-in with a time law (``ContactElement.harmonics_law``, as in
+    the one-DOF form); where one has none (the rigid slider) the source cannot be estimated: inf at every
+    point that moves, which the call's warning says."""
     H, L = problem.H, problem.L
     r = problem.dofs.index(problem.response_dof)
-    steps = _steps(H, [el for el, _ in problem._attach])
+    contacts = _time_law_contacts(problem.contacts)
+    if contacts is None:
+        return np.array([math.inf if math.hypot(x[r, 1], x[r, 2]) > 0.0 else 0.0 for x in X])
+    steps = _steps(H, [el for el, _ in problem._attach] if contacts is problem.contacts else
+                   [c.element for c in contacts])
     for k, H2 in enumerate(steps):
-        more = HarmonicBalance(problem.structure, problem.contacts, harmonics=H2,
+        more = HarmonicBalance(problem.structure, contacts, harmonics=H2,
                                n_t=max(problem.n_t, default_samples(H2)), response_dof=problem.response_dof, rtol=rtol)
         out = np.zeros(len(omega))
         try:
@@ -592,7 +647,10 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
         Fc, Fs = el.harmonic_force_unchecked(np.ascontiguousarray(Xrel), w, same.n_t, same.rtol, False)[0][1:3]
         p, q = (Fc * xc + Fs * xs) / a_c**2, (Fc * xs - Fs * xc) / a_c**2
         floor = 0.01 * abs(float(el.linear_coefficients(0.0)[0]))
-        for dk, direction in ((e_s * max(abs(p), floor), (xc, xs)), (e_c * max(abs(q), floor), (xs, -xc))):
+        for dk, direction in ((_coefficient_error(e_s, p, floor), (xc, xs)),
+                              (_coefficient_error(e_c, q, floor), (xs, -xc))):
+            if dk == 0.0:
+                continue
             dF = np.zeros(na, dtype=complex)  # the force error's first harmonic c = Fc - i Fs on the DOFs
             # on p of a contact to the next sector: the previous sector's, leading by phi
             first = complex(math.cos(same._angle), math.sin(same._angle)) if same._next[c] else 1.0
