@@ -38,7 +38,8 @@ DEFAULT_TOL = 1e-3
 #: The named tolerances ``tol`` accepts: each is the number it names, and adapts as that number does.
 PRESETS = dict(TOLERANCE)
 #: With ``tol`` and no ``harmonics``, a structure's balance starts at this H over the whole range (a
-#: blade at its own, 1); each window where the harmonics' estimate exceeds ``HARMONICS_SHARE * tol`` is
+#: blade at its own, 1; a balance with a first-harmonic element, one without a time law, at the only H it
+#: takes, 1, where it stays); each window where the harmonics' estimate exceeds ``HARMONICS_SHARE * tol`` is
 #: traced again at H -> 2H + 1, up to ``MAX_HARMONICS`` (``hbm.adapt``).
 ADAPT_START = 3
 HARMONICS_SHARE = 0.5
@@ -113,22 +114,28 @@ class Point(NamedTuple):
 
 def start_harmonics(structure: Any, contacts: Any, response_dof: int | None, tol: float) -> int:
     """The H a structure's balance traces the whole range at first with ``tol`` and no ``harmonics``:
-    ``ADAPT_START``, or where every element's force is in closed form the rung of the ladder 3 -> 7 -> 15
-    -> 31 that ``START_ESTIMATE`` predicts for ``tol`` (``START_ESTIMATE`` above), at most
-    ``START_UNKNOWNS`` unknowns of the balance.
+    1 where an element has no time law (a first-harmonic element: the balance takes no other H, and the
+    driver raises it nowhere, ``hbm.adapt.knobs_of``); else ``ADAPT_START``, or where every element's force
+    is in closed form the rung of the ladder 3 -> 7 -> 15 -> 31 that ``START_ESTIMATE`` predicts for ``tol``
+    (``START_ESTIMATE`` above), at most ``START_UNKNOWNS`` unknowns of the balance.
 
     Examples
     --------
+    >>> import math
     >>> import numpy as np
     >>> from contact_models import Macroslip
     >>> from hbm import Contact, Structure
     >>> s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
     >>> [start_harmonics(s, [Contact(Macroslip(1.0, 0.02), dof=0)], None, t) for t in (0.2, 1e-2, 1e-3, 1e-5)]
     [3, 7, 15, 31]
+    >>> start_harmonics(s, [Contact(Macroslip(math.inf, 0.005), dof=0)], None, 1e-3)  # the rigid slider
+    1
     """
     attached = as_contacts(contacts, structure.n)
-    closed = [c.element.exact_harmonics and not c.element.discretised and c.element.has_time_law for c in attached]
-    if not attached or not all(closed):  # (the rigid slider: H = 1 only, which the balance says)
+    if not all(c.element.has_time_law for c in attached):
+        return 1
+    closed = [c.element.exact_harmonics and not c.element.discretised for c in attached]
+    if not attached or not all(closed):
         return ADAPT_START
     if START_ESTIMATE <= HARMONICS_SHARE * tol:
         return ADAPT_START
@@ -137,6 +144,29 @@ def start_harmonics(structure: Any, contacts: Any, response_dof: int | None, tol
     while H > ADAPT_START and dofs * (2 * H + 1) > START_UNKNOWNS:
         H = (H - 1) // 2
     return H
+
+
+def may_climb(contacts: list, refined: bool) -> bool:
+    """Whether a window of the curve can be traced at a higher H with ``contacts`` (``as_contacts``'s list): where
+    every element has a time law, or where the model is refined along the curve (``refined``) every element
+    without one has a refined model with one (``ContactElement.refined_model``: the single-mode bar's all-mode
+    bar).  False with an element that keeps H = 1 everywhere (the rigid slider): the harmonics then have no knob.
+
+    Examples
+    --------
+    >>> import math
+    >>> from contact_models import Macroslip
+    >>> from hbm import Contact
+    >>> elastic, rigid = Contact(Macroslip(1.0, 0.02), dof=0), Contact(Macroslip(math.inf, 0.02), dof=0)
+    >>> may_climb([elastic], False), may_climb([rigid], True)
+    (True, False)
+    """
+    for c in contacts:
+        if not c.element.has_time_law:
+            better = c.element.refined_model() if refined else None
+            if better is None or not better.has_time_law:
+                return False
+    return True
 
 
 def balance_dofs(contacts: list, response_dof: int | None) -> int:
@@ -177,7 +207,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         number does.  Default "default" (``DEFAULT_TOL`` = 1e-3).  Without ``harmonics``, a
         structure's H is chosen along the curve (``hbm.adapt``): the whole range at 3 (a blade at
         1), then each window where the harmonics' estimate exceeds half of it traced again at
-        2H + 1 (7, 15, 31), where every contact has a time law.  None: no estimate and nothing
+        2H + 1 (7, 15, 31), where every contact has a time law; with a contact that has none (a
+        first-harmonic element, e.g. the rigid slider ``Macroslip(math.inf, ...)``) H is 1
+        everywhere, and the warning says so where the harmonics' estimate exceeds ``tol`` or
+        cannot be made.  None: no estimate and nothing
         chosen (H as given, else 1 for a blade and ``FIXED_HARMONICS`` for a structure).
     harmonics : int, optional
         The number of harmonics H, fixed.  Above 1 every contact needs a time law.
@@ -312,7 +345,10 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     rungs = False
     if tolerance is not None and RUNGS_ALONG_CURVE:
         contacts, rungs = _start_rungs(contacts, structure, (w0, w1))
-    again = adapt or model != "given" or rungs  # the balance may solve again: stream the final points at the end
+    # H is raised along the curve where every element has a time law: a first-harmonic element keeps H = 1 (the only
+    # H the balance takes with it) unless the model knob may put a refined model with one in its place
+    climbs = adapt and may_climb(as_contacts(contacts, structure.n), model != "given" or rungs)
+    again = climbs or model != "given" or rungs  # the balance may solve again: stream the final points at the end
     at_peak = model == "peak" and not rungs  # (an element already the complete model: its rungs everywhere)
     setup = along.Setup(system, w0, w1, rtol, NEWTON_TOL_FACTOR * rtol, step_controls, stability, tolerance,
                         lambda H: n_t_given if n_t_given is not None else _samples(H), response_dof)
@@ -320,7 +356,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     notes: list[str] = []
     # the largest dense system of the call: the structure's, or the balance's at the most harmonics
     # it may use, 2H + 1 for the harmonics' estimate (SMALL_SYSTEM: on one BLAS thread up to that)
-    h_most = MAX_HARMONICS if adapt else harmonics
+    h_most = MAX_HARMONICS if climbs else harmonics
     small = isinstance(h_most, (int, np.integer)) and not isinstance(h_most, bool)  # else the balance refuses it
     if small:
         if tolerance is not None:
@@ -331,7 +367,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     with one_blas_thread(small), errors.collected() as said:
         frf = along.solve(setup, contacts, harmonics, live)
         if again:  # the model and H chosen along the curve (hbm.adapt)
-            plan = along.Plan(MODEL_SHARE if model != "given" or rungs else None, HARMONICS_SHARE if adapt else None,
+            plan = along.Plan(MODEL_SHARE if model != "given" or rungs else None, HARMONICS_SHARE if climbs else None,
                               MAX_HARMONICS, rungs_only=model == "given" or (model == "peak" and rungs), at_peak=at_peak,
                               chosen=rungs)
             frf, notes = along.along(setup, frf, plan)
@@ -439,8 +475,9 @@ def _samples(H: Any) -> Any:
 #: What brings each source of error down (the warning's advice).
 REMEDY = {
     "harmonics": "more harmonics (leave harmonics= out to let the balance choose them to tol, or raise harmonics=)",
-    "first-harmonic": ("an element with a time-domain force law ({names} is a first-harmonic element: it has none, so "
-                       "the balance keeps H = 1 with it; contact_models.AllModeMicroslip is the microslip bar with one)"),
+    "first-harmonic": ("an element with a time-domain force law in its place ({names} is a first-harmonic element: "
+                       "{elements} has no time-domain force law, so the balance cannot raise H above 1 with it, and "
+                       "harmonics=1 is its describing-function answer{refined})"),
     "sampling": "more AFT samples (raise n_t=)",
     "element": "a smaller tol= (the elements are evaluated to tol/100)",
     "model": "model='auto' (each element's refined model where the estimate asks for it: for a single-mode "
@@ -462,9 +499,15 @@ def _remedy(frf: FrequencyResponse, source: str, i: int) -> str:
     harmonics source, a time law where an element has none (the balance cannot raise H with it)."""
     if source == "harmonics":
         site, _ = frf._site(i)
-        first = [type(c.element).__name__ for c in site.contacts if not c.element.has_time_law]
+        first = [c.element for c in site.contacts if not c.element.has_time_law]
         if first:  # no H above 1 for such an element: more harmonics is no advice
-            return REMEDY["first-harmonic"].format(names=", ".join(dict.fromkeys(first)))
+            refined = [(type(e).__name__, type(m).__name__) for e in first for m in [e.refined_model()]
+                       if m is not None and m.has_time_law]  # the element's refined model, where it has a time law
+            return REMEDY["first-harmonic"].format(
+                names=", ".join(dict.fromkeys(type(e).__name__ for e in first)),
+                elements=", ".join(dict.fromkeys(repr(e) for e in first)),
+                refined="".join(dict.fromkeys(f"; {name}'s refined model, contact_models.{m}, has one"
+                                              for name, m in refined)))
         return REMEDY[source]
     if source != "model":
         return REMEDY[source]
@@ -500,10 +543,18 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
     if tolerance is not None and len(frf) and np.any(frf.error_estimate > tolerance):
         i = int(np.nanargmax(frf.error_estimate))
         source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
-        parts.append(f"estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at omega = {frf.omega[i]:.6g} "
-                     f"rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: {source}, "
-                     f"{frf.error_sources[source][i]:.2g}; H = {frf.point_harmonics[i]}); for a closer answer use "
-                     f"{_remedy(frf, source, i)}")
+        unknown = np.isinf(frf.error_sources[source])
+        if unknown[i]:  # no bound: say where, not "estimated error inf"
+            w = frf.omega[unknown]
+            parts.append(f"the {source} source of the error cannot be estimated at {int(np.sum(unknown))} of "
+                         f"{len(frf)} points (omega = {float(np.min(w)):.6g} to {float(np.max(w)):.6g} rad/s, H = "
+                         f"{frf.point_harmonics[i]}): its estimate is inf there, no bound could be computed; for an "
+                         f"estimate and a closer answer use {_remedy(frf, source, i)}")
+        else:
+            parts.append(f"estimated error {frf.error_estimate[i]:.2g} > tol {tolerance:g} at omega = "
+                         f"{frf.omega[i]:.6g} rad/s, amplitude {frf.amplitude[i]:.4g} m (largest source: {source}, "
+                         f"{frf.error_sources[source][i]:.2g}; H = {frf.point_harmonics[i]}); for a closer answer use "
+                         f"{_remedy(frf, source, i)}")
     elif heard and tolerance is not None and len(frf):
         parts.append(f"the response's estimated error (at most {float(np.nanmax(frf.error_estimate)):.2g}, "
                      f"tol {tolerance:g}) carries the elements' own estimates through the balance")

@@ -198,7 +198,8 @@ class FrequencyResponse:
         estimate was asked for).
     error_estimate : ndarray
         Per point, the estimated relative error of ``amplitude`` against the true periodic
-        response of the physical system (all sources; NaN without an estimate).
+        response of the physical system (all sources; NaN without an estimate; inf where a source
+        cannot be estimated, which the call's ``AccuracyWarning`` names with its reason).
     error_sources : dict of ndarray
         The estimate per source, ``"harmonics"``, ``"sampling"``, ``"element"``, ``"model"``,
         ``"peak"`` (``hbm.balance.errors``).
