@@ -82,6 +82,8 @@ def test_the_rigid_slider_with_tol_is_traced_at_one_harmonic_to_the_closed_form(
     assert np.all(frf.error_sources["element"] <= 1e-12)
     assert np.all(np.isinf(frf.error_sources["harmonics"])) and np.all(np.isinf(frf.error_estimate))
     assert not pk.converged and pk.estimate == math.inf
+    assert pk.message == ("its error cannot be estimated (a source of it has no bound there), so it is not known "
+                          "to be within tol 0.001")
     # one warning, and it is the AccuracyWarning that says why (no RuntimeWarning of inf arithmetic)
     assert [c for c, _ in said] == [AccuracyWarning]
     message = said[0][1]
