@@ -175,7 +175,7 @@ def harmonics_checked(element: Any, out: Any, X: NDArray, omega: float) -> tuple
         F, J, Fw = out
         if (type(F) is np.ndarray and type(J) is np.ndarray and type(Fw) is np.ndarray
                 and F.dtype == J.dtype == Fw.dtype == np.float64 and F.size == n == Fw.size and J.size == n * n
-                and math.isfinite(float(np.sum(F)) + float(np.sum(J)) + float(np.sum(Fw)))):
+                and math.isfinite(float(F.sum()) + float(J.sum()) + float(Fw.sum()))):
             return out
     name = f"element={element!r}: {type(element).__name__}._harmonic_force(X, omega, n_t, rtol)"
     names = ("F", "dF_dX", "dF_domega")

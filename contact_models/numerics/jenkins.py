@@ -50,6 +50,9 @@ NEWTON_ITERATIONS = 60
 #: instant, so an error dtheta there moves F by O(k |x'| dtheta^2) (stick -> slip) or
 #: O(k |x''| dtheta^3) (a reversal), and the Jacobian by O(k H dtheta) (the anchors, the pieces' ends).
 STEP_DONE = 1e-7
+#: ``x`` at a reversal comes from its Newton start by Taylor's formula where the remainder is below
+#: this fraction of ``sum |C_m|`` (a sixteenth of a rounding unit of ``x``); else it is summed again.
+TAYLOR_RTOL = 2.0**-56
 
 
 def jenkins_harmonics(X: Array, k: float, fs: float) -> tuple[Array, Array]:
@@ -76,13 +79,21 @@ def jenkins_harmonics(X: Array, k: float, fs: float) -> tuple[Array, Array]:
     >>> np.round(F * np.pi, 12).tolist()   # f_s = a (psi - sin 2 psi/2)/pi at psi = pi/2; f_c = 2/pi
     [0.0, 2.0, 3.14159265359, 0.0, 0.0]
     """
+    X = np.ascontiguousarray(X, dtype=float)
     H = (X.size - 1) // 2
-    C = X[1::2] - 1j * X[2::2]  # x = X0 + Re sum_m C_m e^{i m theta}
-    if not C.any():
+    if H == 0:
         return _stuck(X, k, 0.0, 0.0, np.pi, H)
-    th, grid = _reversals(C)
-    xr = (X[0] + (np.exp(1j * np.outer(th, _grid(H)[3])) @ C).real).tolist()
-    th = th.tolist()
+    C = np.conjugate(X[1:].view(np.complex128))  # C_m = Xc_m - i Xs_m: x = X0 + Re sum_m C_m e^{i m theta}
+    c = _constants(H)
+    bounds = (np.abs(C) @ c.m341).tolist()  # M3, M4, sum |C_m|
+    if bounds[2] == 0.0:
+        return _stuck(X, k, 0.0, 0.0, np.pi, H)
+    D = C[:, None] * c.dfac  # columns: C_m, i m C_m, -m^2 C_m (x - X0, x', x'')
+    th, xr, grid = _reversals(C, D, c, bounds)
+    if xr is None:
+        xr = (np.exp(np.multiply.outer(th, c.im)) @ C).real.tolist()
+    X0 = float(X[0])
+    xr = [X0 + v for v in xr]
     iM = max(range(len(xr)), key=xr.__getitem__)
     im = min(range(len(xr)), key=xr.__getitem__)
     a = 0.5 * (xr[iM] - xr[im])
@@ -92,35 +103,55 @@ def jenkins_harmonics(X: Array, k: float, fs: float) -> tuple[Array, Array]:
     th = th[iM:] + [t + two_pi for t in th[:iM + 1]]
     xr = xr[iM:] + xr[:iM + 1]
     pieces, levels = _march(xr, k, fs)
-    return _integrals(X, k, th, _crossings(float(X[0]), C, th, xr, levels, grid), pieces, H)
+    return _integrals(X, k, th, _crossings(X0, D, th, xr, levels, grid, c), pieces, H, c)
 
 
 def _stuck(X: Array, k: float, xc: float, th_max: float, th_min: float, H: int) -> tuple[Array, Array]:
     """Stuck all period: ``f = k (x - x_c)``, ``F = k X`` less ``k x_c`` in ``F0``;
     ``dx_c/dX = (phi(theta_max) + phi(theta_min))/2`` (``x' = 0`` at both)."""
-    F = k * X.astype(float)
+    F = k * X
     F[0] -= k * xc
     J = k * np.eye(2 * H + 1)
-    J[0] -= 0.5 * k * _basis(np.array([th_max, th_min]), H).sum(axis=0)
+    J[0, 0] -= k  # the basis' 1 at both instants
+    if H:  # cos m theta, sin m theta: e^{i m theta} seen as floats
+        e = np.exp(np.multiply.outer([th_max, th_min], _constants(H).im))
+        J[0, 1:] -= (0.5 * k) * (e[0] + e[1]).view(np.float64)
     return F, J
 
 
-def _basis(theta: Array, H: int) -> Array:
-    """Rows ``[1, cos theta, sin theta, ..., cos H theta, sin H theta]`` at the instants ``theta``."""
-    ang = np.outer(theta, np.arange(1, H + 1))
-    out = np.empty((theta.size, 2 * H + 1))
-    out[:, 0] = 1.0
-    out[:, 1::2], out[:, 2::2] = np.cos(ang), np.sin(ang)
-    return out
+class _Constants:
+    """What depends on H only, formed once per H (:func:`_constants`)."""
+
+    __slots__ = ("n_h", "n", "w", "fac", "m341", "im", "dfac", "exps", "i_n", "half")
+
+    def __init__(self, H: int):
+        n = max(GRID_MIN, 1 << int(math.ceil(math.log2(GRID_PER_HARMONIC * H))))
+        self.n_h = H
+        m = np.arange(1, H + 1, dtype=float)
+        mi = np.arange(1, H + 1)
+        #: the grid: its size (a power of two >= GRID_PER_HARMONIC H and >= GRID_MIN) and its cell
+        self.n, self.w = n, 2.0 * np.pi / n
+        #: the factors taking C_m to the inverse real FFT's input of x - X0, x' and x'' (3, H)
+        self.fac = (0.5 * n) * np.stack((np.ones(H) + 0j, 1j * m, -m * m + 0j))
+        #: [m^3, m^4, 1] (H, 3): from |C_m|, the bounds M3, M4 and sum |C_m|
+        self.m341 = np.stack((m**3, m**4, np.ones(H)), axis=1)
+        #: i m, the exponents of e^{i m theta}; [1, i m, -m^2] (H, 3), the factors of x - X0, x', x''
+        self.im = 1j * mi
+        self.dfac = np.stack((np.ones(H, dtype=complex), 1j * mi, -(mi * mi) + 0j), axis=1)
+        #: i r (r = 0..7) and 8i q (q = 0.., 8q > 2H): e^{i n theta} = e^{8i q theta} e^{i r theta}, n = 8q + r;
+        #: [1, -i/n], n = 1..2H: the pieces' (conjugated) integrals from their ends
+        self.exps = 1j * np.concatenate((np.arange(8), 8 * np.arange(-(-(2 * H + 1) // 8))))
+        self.i_n = np.concatenate(([1.0 + 0j], -1j / np.arange(1, 2 * H + 1)))
+        #: [1/2, i/2, -i/2]: the factors of the S_n in T
+        self.half = np.array([[0.5], [0.5j], [-0.5j]])
+
+
+@lru_cache(maxsize=32)
+def _constants(H: int) -> _Constants:
+    return _Constants(H)
 
 
 # ------------------------------------------------------------------ reversals
-def _derivatives(C: NDArray[np.complex128], theta: Array) -> Array:
-    """``x'`` and ``x''`` at the instants ``theta`` (rows 0 and 1)."""
-    m = np.arange(1, C.size + 1)
-    return (np.exp(1j * theta[:, None] * m) @ np.stack((1j * m * C, -(m * m) * C), axis=1)).real.T
-
-
 def reversals(C: NDArray[np.complex128]) -> Array:
     """The reversals of a trigonometric path: the instants in [0, 2 pi) where ``x'`` changes sign.
 
@@ -141,12 +172,17 @@ def reversals(C: NDArray[np.complex128]) -> Array:
     >>> np.round(reversals(np.array([1.0 + 0j])), 12).tolist()   # x = cos theta
     [0.0, 3.14159265359]
     """
-    return _reversals(C)[0]
+    C = np.asarray(C, dtype=complex)
+    c = _constants(C.size)
+    return np.array(_reversals(C, C[:, None] * c.dfac, c, (np.abs(C) @ c.m341).tolist())[0])
 
 
-def _reversals(C: NDArray[np.complex128]) -> tuple[Array, tuple]:
+def _reversals(C: NDArray[np.complex128], D: NDArray[np.complex128], c: _Constants,
+               bounds: list) -> tuple[list, list | None, tuple]:
     """The instants in [0, 2 pi) where ``x'`` changes sign, for ``x = Re sum_m C_m e^{i m theta}``
-    (m = 1..H), sorted.
+    (m = 1..H; ``D`` the columns ``C_m, i m C_m, -m^2 C_m``, ``bounds`` = ``[M3, M4, sum |C_m|]``),
+    sorted; ``x - X0`` there, or None (:func:`_polish`); the grid ``(x - X0, x', w, n)``, where the
+    stick -> slip instants start.
 
     ``x'`` and ``x''`` on a grid (inverse real FFT); with ``M3 = sum m^3 |C_m|`` and
     ``M4 = sum m^4 |C_m|`` bounding ``|x'''|`` and ``|x''''|``, a cell of width ``w`` is certified
@@ -155,33 +191,33 @@ def _reversals(C: NDArray[np.complex128]) -> tuple[Array, tuple]:
     its sign with ``min |x''| > M4 w^2/8``.  Other cells are split (:data:`SPLIT`) until certified or
     until a pair of roots they might hide would open an inner loop below ``M3 w^3/8 <=
     WIGGLE_RTOL sum |C_m|``.  Each root is then found by bracketed Newton from the cubic through
-    the cell's ends.  Also returns the grid ``(x - X0, x', w, n)`` (the starts of the stick -> slip
-    instants).
+    the cell's ends.
     """
-    H = C.size
-    n, fac, m34, _, im, mm = _grid(H)
-    absC = np.abs(C)
-    M3, M4 = (absC @ m34).tolist()
-    bounds = (M3, M4, WIGGLE_RTOL * float(absC.sum()))
+    H, n, w = C.size, c.n, c.w
+    M3, M4, sum_abs = bounds
     spec = np.zeros((3, n // 2 + 1), dtype=complex)
-    spec[:, 1:H + 1] = fac * C
+    np.multiply(c.fac, C, out=spec[:, 1:H + 1])
     xg, g, gp = np.fft.irfft(spec, n=n)
-    g1 = np.concatenate((g[1:], g[:1]))
-    w = 2.0 * np.pi / n
-    # the cells [i w, (i + 1) w] that the grid alone does not certify free of roots: next to the roots
-    cells = np.flatnonzero(((g >= 0.0) != (g1 >= 0.0))
-                           | (np.minimum(np.abs(g), np.abs(g1)) <= M3 * w * w / 8.0)).tolist()
+    # the cells [i w, (i + 1) w] the grid alone does not certify free of roots (next to the roots):
+    # x' neither above M3 w^2/8 at both ends nor below -M3 w^2/8 at both (a sign change, or small)
+    free = M3 * w * w / 8.0
+    ge = np.concatenate((g, g[:1]))
+    lo, hi = np.minimum(ge[:-1], ge[1:]), np.maximum(ge[:-1], ge[1:])
+    cells = np.flatnonzero((lo <= free) & (hi >= -free)).tolist()
     found: list = []
+    gi, gpi = ge.item, gp.item
+    dx = D[:, 1:]  # x', x''
+    cell_bounds = (M3, M4, WIGGLE_RTOL * sum_abs)
     for i in cells:
-        _cell(C, bounds, i * w, w, float(g[i]), float(g1[i]), float(gp[i]), float(gp[(i + 1) % n]), found)
-    A, B = (im * C).tolist(), (mm * C).tolist()
-    roots = [_newton(A, B, 0.0, _hermite_root(t, cw, p, q, dp, dq), t, t + cw, q > p) for t, cw, p, q, dp, dq in found]
+        _cell(dx, cell_bounds, i * w, w, gi(i), gi(i + 1), gpi(i), gpi((i + 1) % n), found, c)
+    roots, xs = _polish(D, c, [0.0] * len(found), [_hermite_root(*f) for f in found],
+                        [(t, t + cw, q > p) for t, cw, p, q, _, _ in found], (M3, sum_abs))
     two_pi = 2.0 * math.pi
-    th = sorted(r % two_pi for r in roots)  # Python floats: a few roots, cheaper than arrays
+    th = sorted(zip([r % two_pi for r in roots], xs or [0.0] * len(roots)))  # Python floats: a few roots
     if len(th) > 1:  # one reversal found from two cells (the grid's and the direct sums' rounding differ)
-        nxt = th[1:] + [th[0] + two_pi]
-        th = [t for t, u in zip(th, nxt) if u - t > SAME_REVERSAL] or th[:1]
-    return np.array(th), (xg, g, w, n)
+        nxt = th[1:] + [(th[0][0] + two_pi, 0.0)]
+        th = [t for t, u in zip(th, nxt) if u[0] - t[0] > SAME_REVERSAL] or th[:1]
+    return [t for t, _ in th], None if xs is None else [v for _, v in th], (xg, g, w, n)
 
 
 def _hermite_root(lo: float, w: float, g0: float, g1: float, p0: float, p1: float) -> float:
@@ -189,22 +225,22 @@ def _hermite_root(lo: float, w: float, g0: float, g1: float, p0: float, p1: floa
     the slopes p0, p1 at the ends (Newton on it from the secant, kept in the cell): a start within
     O(w^4) of the root of a smooth function."""
     t = -g0 / (g1 - g0) if g1 != g0 else 0.5  # in units of w
-    d0, d1 = p0 * w, p1 * w
-    for _ in range(3):  # Hermite basis on t in [0, 1]
-        t2, t3 = t * t, t * t * t
-        v = (2 * t3 - 3 * t2 + 1) * g0 + (t3 - 2 * t2 + t) * d0 + (-2 * t3 + 3 * t2) * g1 + (t3 - t2) * d1
-        dv = (6 * t2 - 6 * t) * g0 + (3 * t2 - 4 * t + 1) * d0 + (-6 * t2 + 6 * t) * g1 + (3 * t2 - 2 * t) * d1
+    d0, d1 = p0 * w, p1 * w  # the cubic g0 + t (d0 + t (c2 + t c3)) on t in [0, 1]
+    c2, c3 = 3.0 * (g1 - g0) - 2.0 * d0 - d1, 2.0 * (g0 - g1) + d0 + d1
+    for _ in range(3):
+        dv = d0 + t * (2.0 * c2 + 3.0 * c3 * t)
         if dv == 0.0:
             break
-        t = min(max(t - v / dv, 0.0), 1.0)
+        t = min(max(t - (g0 + t * (d0 + t * (c2 + t * c3))) / dv, 0.0), 1.0)
     return lo + t * w
 
 
-def _cell(C: NDArray[np.complex128], bounds: tuple, lo: float, w: float, g0: float, g1: float, p0: float,
-          p1: float, found: list) -> None:
-    """Certify the cell ``[lo, lo + w]`` (``x'`` = g0, g1 and ``x''`` = p0, p1 at its ends): append
-    ``(lo, w, g0, g1, p0, p1)`` to ``found`` if it holds one root (or is finest and ``x'`` changes sign),
-    nothing if it holds none, else split it (:func:`reversals`)."""
+def _cell(dx: NDArray[np.complex128], bounds: tuple, lo: float, w: float, g0: float, g1: float, p0: float,
+          p1: float, found: list, c: _Constants) -> None:
+    """Certify the cell ``[lo, lo + w]`` (``x'`` = g0, g1 and ``x''`` = p0, p1 at its ends; ``dx`` the
+    columns ``i m C_m, -m^2 C_m``): append ``(lo, w, g0, g1, p0, p1)`` to ``found`` if it holds one
+    root (or is finest and ``x'`` changes sign), nothing if it holds none, else split it
+    (:func:`_reversals`)."""
     M3, M4, tiny = bounds
     change = (g0 >= 0.0) != (g1 >= 0.0)
     if M3 * w**3 / 8.0 <= tiny:  # finest: a pair of roots it may hide is an inner loop below rounding
@@ -218,23 +254,52 @@ def _cell(C: NDArray[np.complex128], bounds: tuple, lo: float, w: float, g0: flo
         return
     w /= SPLIT
     pts = lo + w * np.arange(SPLIT + 1)
-    gg, pp = (v.tolist() for v in _derivatives(C, pts))
+    gg, pp = (v.tolist() for v in (np.exp(np.multiply.outer(pts, c.im)) @ dx).real.T)
     for j in range(SPLIT):
-        _cell(C, bounds, float(pts[j]), w, gg[j], gg[j + 1], pp[j], pp[j + 1], found)
+        _cell(dx, bounds, float(pts[j]), w, gg[j], gg[j + 1], pp[j], pp[j + 1], found, c)
 
 
-@lru_cache(maxsize=32)
-def _grid(H: int) -> tuple[int, NDArray[np.complex128], Array, NDArray[np.intp], NDArray[np.complex128],
-                           NDArray[np.intp]]:
-    """For :func:`reversals`: the grid's size ``n`` (a power of two >= GRID_PER_HARMONIC H and
-    >= GRID_MIN), the factors taking ``C_m`` to the inverse real FFT's input of ``x - X0``, ``x'``
-    and ``x''`` (3, H), ``[m^3, m^4]`` (H, 2), and ``m``, ``i m``, ``-m^2`` (the factors of ``x'``
-    and ``x''``), m = 1..H."""
-    n = max(GRID_MIN, 1 << int(math.ceil(math.log2(GRID_PER_HARMONIC * H))))
-    m = np.arange(1, H + 1, dtype=float)
-    mi = np.arange(1, H + 1)
-    return (n, (0.5 * n) * np.stack((np.ones(H) + 0j, 1j * m, -m * m + 0j)), np.stack((m**3, m**4), axis=1),
-            mi, 1j * mi, -(mi * mi))
+def _polish(D: NDArray[np.complex128], c: _Constants, offsets: list, starts: list, brackets: list,
+            taylor: tuple | None = None) -> tuple[list, list | None]:
+    """The roots of ``r_j = offsets[j] + Re sum_m D[m, -2] e^{i m theta}`` (its derivative
+    ``Re sum_m D[m, -1] e^{i m theta}``), each from ``starts[j]`` in its bracket
+    ``brackets[j] = (a, b, up)`` (``up``: ``r_j`` increases through it), as :func:`_newton` finds
+    them, its first step taken for all the roots in one product (usually the only step).
+
+    With ``taylor = (M3, sum |C_m|)`` and ``D``'s columns ``x - X0, x', x''``, also ``x - X0`` at the
+    roots: ``x + d (x' + x'' d/2)`` at the start, ``d`` the step, where every root took that one step
+    and the remainder ``M3 |d|^3/6`` (``M3`` bounds ``|x'''|``) is below ``TAYLOR_RTOL sum |C_m|``;
+    else None (then the caller sums ``x`` again)."""
+    xs = [] if taylor is not None else None
+    if not starts:
+        return [], xs
+    vals = (np.exp(np.multiply.outer(starts, c.im)) @ D).real.tolist()
+    out = []
+    AB = None
+    for th, off, v, (a, b, up) in zip(starts, offsets, vals, brackets):
+        r, d = v[-2] + off, v[-1]
+        if (r < 0.0) == up:
+            a = th
+        else:
+            b = th
+        new = th - r / d if d != 0.0 else math.nan
+        if not a <= new <= b:  # also nan
+            new, done = 0.5 * (a + b), False
+        else:
+            done = abs(new - th) <= STEP_DONE
+        if not done:  # the rest of the iterations one root at a time
+            if AB is None:
+                AB = D[:, -2].tolist(), D[:, -1].tolist()
+            new = _newton(*AB, off, new, a, b, up, NEWTON_ITERATIONS - 1)
+            xs = None
+        elif xs is not None:
+            step = new - th
+            if taylor[0] * abs(step) ** 3 <= 6.0 * TAYLOR_RTOL * taylor[1]:
+                xs.append(v[0] + step * (r + 0.5 * d * step))
+            else:
+                xs = None
+        out.append(new)
+    return out, xs
 
 
 def _pair(A: list, B: list, th: float) -> tuple[float, float]:
@@ -249,11 +314,12 @@ def _pair(A: list, B: list, th: float) -> tuple[float, float]:
     return sa.real, sb.real
 
 
-def _newton(A: list, B: list, offset: float, th: float, a: float, b: float, up: bool) -> float:
+def _newton(A: list, B: list, offset: float, th: float, a: float, b: float, up: bool,
+            iterations: int = NEWTON_ITERATIONS) -> float:
     """The root in ``[a, b]`` of ``r = offset + Re sum A_m e^{i m theta}`` (derivative
     ``Re sum B_m e^{i m theta}``), which increases through it if ``up``: Newton from ``th``, the
     bracket's middle where a step leaves the bracket, until a step is below :data:`STEP_DONE`."""
-    for _ in range(NEWTON_ITERATIONS):
+    for _ in range(iterations):
         r, d = _pair(A, B, th)
         r += offset
         if (r < 0.0) == up:
@@ -298,15 +364,15 @@ def _march(xr: list, k: float, fs: float) -> tuple[list, list]:
     return pieces, levels
 
 
-def _crossings(X0: float, C: NDArray[np.complex128], th: list, xr: list, levels: list, grid: tuple) -> list:
+def _crossings(X0: float, D: NDArray[np.complex128], th: list, xr: list, levels: list, grid: tuple,
+               c: _Constants) -> list:
     """The instants where ``x`` crosses ``levels[j][1]`` in the monotone stretch after reversal
     ``levels[j][0]``: the grid cell that holds it (bisection on the grid's ``x`` in the stretch),
     the cubic through its ends (``x``, ``x'``; a reversal's ``x' = 0`` where the stretch ends in
-    the cell), then Newton, kept in the stretch."""
+    the cell), then Newton, kept in the stretch (:func:`_polish`)."""
     xg, dg, w, n = grid
-    xg, dg = xg.tolist(), dg.tolist()
-    A, B = C.tolist(), (_grid(C.size)[4] * C).tolist()
-    out = []
+    xi, di = xg.item, dg.item
+    starts, offsets, brackets = [], [], []
     for i, level in levels:
         a, b, xa, xb = th[i], th[i + 1], xr[i] - X0, xr[i + 1] - X0
         L = level - X0
@@ -315,58 +381,73 @@ def _crossings(X0: float, C: NDArray[np.complex128], th: list, xr: list, levels:
         lo, hi = j0, j1
         while lo < hi:  # the first grid point at or past the level
             mid = (lo + hi) // 2
-            if s * (xg[mid % n] - L) >= 0.0:
+            if s * (xi(mid % n) - L) >= 0.0:
                 hi = mid
             else:
                 lo = mid + 1
-        tl, vl, dl = (a, xa, 0.0) if lo == j0 else ((lo - 1) * w, xg[(lo - 1) % n], dg[(lo - 1) % n])
-        tr, vr, dr = (b, xb, 0.0) if lo == j1 else (lo * w, xg[lo % n], dg[lo % n])
-        t = _hermite_root(tl, tr - tl, vl - L, vr - L, dl, dr) if tr > tl else tl
-        out.append(_newton(A, B, X0 - level, t, a, b, s > 0.0))
-    return out
+        tl, vl, dl = (a, xa, 0.0) if lo == j0 else ((lo - 1) * w, xi((lo - 1) % n), di((lo - 1) % n))
+        tr, vr, dr = (b, xb, 0.0) if lo == j1 else (lo * w, xi(lo % n), di(lo % n))
+        starts.append(_hermite_root(tl, tr - tl, vl - L, vr - L, dl, dr) if tr > tl else tl)
+        offsets.append(X0 - level)
+        brackets.append((a, b, s > 0.0))
+    return _polish(D[:, :2], c, offsets, starts, brackets)[0]
 
 
-@lru_cache(maxsize=32)
-def _toeplitz_index(H: int) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp], NDArray[np.complex128]]:
-    """``(h - m + 2H, h + m + 2H)`` for h = 0..H (rows), m = 1..H (columns); ``n`` and ``i/n``, n = 1..2H."""
-    h, m = np.arange(H + 1)[:, None], np.arange(1, H + 1)[None, :]
-    n = np.arange(1, 2 * H + 1)
-    return h - m + 2 * H, h + m + 2 * H, n, 1j / n
-
-
-def _integrals(X: Array, k: float, th: list, cross: list, pieces: list, H: int) -> tuple[Array, Array]:
+def _integrals(X: Array, k: float, th: list, cross: list, pieces: list, H: int, c: _Constants) -> tuple[Array, Array]:
     """``(F, dF/dX)`` from the pieces: ``hat F_h = (1/pi) integral f e^{-i h theta}`` =
     ``(1/pi)[sum_p g_p E_h(p) + k (T X)_h]`` with ``E_n(p) = integral_p e^{-i n theta}`` and ``T`` the
     stuck pieces' integrals of the basis times ``e^{-i h theta}``; ``d hat F/dX = (k/pi)[T - sum_stuck
-    E(p) phi(theta_a(p))^T]``; ``F0 = Re hat F_0/2``, ``Fc_h = Re hat F_h``, ``Fs_h = -Im hat F_h``."""
+    E(p) phi(theta_a(p))^T]``; ``F0 = Re hat F_0/2``, ``Fc_h = Re hat F_h``, ``Fs_h = -Im hat F_h``.
+
+    Formed in that real layout directly (a complex row ``v_0..v_H`` conjugated and seen as floats is
+    ``[Re v_0, -Im v_0, Re v_1, -Im v_1, ...]``), where ``T = diag(1/2, 1, 1, ...) G``, ``G`` the stuck
+    pieces' integral of ``phi phi^T``.  The rows of ``conj(T^T)`` (entries ``S_{m-h}``, ``S_{-m-h}``
+    as ``conj S_n = S_{-n}``: Toeplitz and Hankel views of the ``S_n``) seen as floats without their
+    second entry (``-Im v_0``) are the columns of ``G``, so its rows (``G`` is symmetric); halving
+    the first gives ``T``."""
     P = len(pieces)
-    b = [th[p[0]] if p[0] >= 0 else cross[-p[0] - 1] for p in pieces] + [th[-1]]
     stuck = [j for j, p in enumerate(pieces) if p[3] >= 0]
-    anchors = [th[pieces[j][3]] for j in stuck]
-    mi, pl, n, i_n = _toeplitz_index(H)
-    Z = np.exp(-1j * np.outer(b + anchors, n))  # e^{-i n theta} at the breakpoints, then the anchors
-    E = np.empty((P, 2 * H + 1), dtype=complex)
-    E[:, 0] = [v - u for u, v in zip(b, b[1:])]
-    E[:, 1:] = (Z[1:P + 1] - Z[:P]) * i_n
-    Es = E[stuck]
-    S = Es.sum(axis=0)
-    Sf = np.concatenate((S[:0:-1].conj(), S))  # S_n at n + 2H, n = -2H..2H
-    T = np.empty((H + 1, 2 * H + 1), dtype=complex)
-    T[:, 0] = S[:H + 1]
-    T[:, 1::2] = 0.5 * (Sf[mi] + Sf[pl])
-    T[:, 2::2] = -0.5j * (Sf[mi] - Sf[pl])
-    phi = np.ones((len(stuck), 2 * H + 1))
-    Za = Z[P + 1:, :H]
-    phi[:, 1::2], phi[:, 2::2] = Za.real, -Za.imag
-    g = np.array([p[2] for p in pieces])
-    Fhat = (g @ E[:, :H + 1] + k * (T @ X)) * (1.0 / np.pi)
-    Jhat = (k / np.pi) * (T - Es[:, :H + 1].T @ phi)
-    F = np.empty(2 * H + 1)
-    J = np.empty((2 * H + 1, 2 * H + 1))
-    F[0], J[0] = 0.5 * Fhat[0].real, 0.5 * Jhat[0].real
-    F[1::2], F[2::2] = Fhat[1:].real, -Fhat[1:].imag
-    J[1::2], J[2::2] = Jhat[1:].real, -Jhat[1:].imag
+    L, q = 2 * H + 1, c.exps.size - 8  # 8 + q exponents
+    # the breakpoints: theta, then e^{i n theta} = e^{8i q theta} e^{i r theta}, n = 8q + r = 1..
+    ba = np.array([th[p[0]] if p[0] >= 0 else cross[-p[0] - 1] for p in pieces] + [th[-1]])
+    U = np.empty((P + 1, 8 * q), dtype=complex)
+    e = np.exp(np.multiply.outer(ba, c.exps))
+    np.multiply(e[:, 8:, None], e[:, None, :8], out=U.reshape(P + 1, q, 8))
+    U[:, 0] = ba
+    Ec = (U[1:, :L] - U[:-1, :L]) * c.i_n  # conj E_n(p), n = 0..2H
+    Sc = Ec[stuck[0]].copy()  # conj S_n, n = 0..2H
+    for j in stuck[1:]:
+        Sc += Ec[j]
+    # S_{2H - j} at j = 0..4H (S_{-n} = conj S_n), times 1/2, i/2 and -i/2
+    hs = c.half * np.concatenate((Sc[::-1].conj(), Sc[1:]))
+    Tc = np.empty((L, H + 1), dtype=complex)  # conj(T^T) but its first row halved
+    Tc[0] = hs[0, 2 * H:3 * H + 1]  # conj S_h / 2
+    # (S_{m-h} + S_{-m-h})/2 and i (S_{m-h} - S_{-m-h})/2, rows 2m-1 and 2m: Toeplitz and Hankel views
+    np.add(_view(hs, 2 * H - 1, -1, 1, c), _view(hs, 2 * H + 1, 1, 2, c), out=Tc[1:].reshape(H, 2, H + 1))
+    T = Tc.view(np.float64)
+    T[:, 1] = T[:, 0]  # the second entry of each row left out
+    T = T[:, 1:]  # T in the real layout
+    Er = Ec[:, :H + 1].view(np.float64)
+    np.multiply(Er[:, 0], 0.5, out=Er[:, 1])
+    Er = Er[:, 1:]  # E_h(p) in the real layout (P, 2H+1)
+    # phi(theta_a) of each stuck piece: [1, e^{i m theta_a}] from the row of U where the piece starts
+    first = {p[0]: j for j, p in enumerate(pieces) if p[0] >= 0}  # the piece that starts at each reversal
+    phi = U[[first[pieces[j][3]] for j in stuck], :H + 1].view(np.float64)
+    phi[:, 1] = 1.0
+    phi = phi[:, 1:]
+    F = (np.array([p[2] for p in pieces]) @ Er + k * (T @ X)) * (1.0 / np.pi)
+    J = Er[stuck].T @ phi
+    np.subtract(T, J, out=J)
+    J *= k / np.pi
     return F, J
+
+
+def _view(hs: NDArray[np.complex128], start: int, sign: int, rows: int, c: _Constants) -> NDArray[np.complex128]:
+    """The (H, 2, H+1) view ``hs[rows j, start + sign (m - 1) + h]`` of ``hs`` (3, 4H+1), m = 1..H, j = 0, 1,
+    h = 0..H: Toeplitz (``sign = -1``) or Hankel (``sign = 1``) in (m, h), without a copy.  For the
+    starts used the indices stay in ``0..4H`` (``2H - 1``: ``H..3H - 1``; ``2H + 1``: ``2H + 1..4H``)."""
+    H, item = c.n_h, hs.itemsize
+    return np.ndarray((H, 2, H + 1), hs.dtype, hs, start * item, (sign * item, rows * (4 * H + 1) * item, item))
 
 
 __all__ = ["jenkins_harmonics", "reversals"]

@@ -123,18 +123,21 @@ class Condensed:
         ``F_swapped`` with each harmonic's cos and sin exchanged), then ``x_lin`` and ``dx_lin/domega``."""
         if self._real_cache is not None and self._real_cache[0] == omega:
             return self._real_cache[1]
+        n1 = self.h.size
         if self._residues is None:
             G, dG, xl, dxl = self.at(omega)
-            g, dg, xl, dxl = G[:, 0, 0], dG[:, 0, 0], xl[0], dxl[0]
+            gdg, xl, dxl = np.concatenate((G[:, 0, 0], dG[:, 0, 0])), xl[0], dxl[0]
         else:  # at's product, without its (H+1, 1, 1) copies
-            n1 = self.h.size
             both = self._residues @ np.concatenate(self._poles(omega)).T  # (2, 2 (H+1))
-            g, dg, xl, dxl = both[0, :n1], both[0, n1:], both[1, 1], both[1, n1 + 1]
-        if self._layout is None:  # h of each real coefficient [0, 1, 1, 2, 2, ...] and the signs of b
-            L = 2 * self.h.size - 1
-            self._layout = ((np.arange(L) + 1) // 2, np.array([0.0] + [1.0, -1.0] * self.h[-1]))
+            gdg, xl, dxl = both[0], both[1, 1], both[1, n1 + 1]
+        L = 2 * n1 - 1
+        if self._layout is None:  # in [g, dg]: h of each real coefficient [0, 1, 1, 2, 2, ...], twice; the signs of b
+            at = (np.arange(L) + 1) // 2
+            sign = np.array([0.0] + [1.0, -1.0] * self.h[-1])
+            self._layout = (np.concatenate((at, at + n1)), np.concatenate((sign, sign)))
         at, sign = self._layout
-        res = (g.real[at], g.imag[at] * sign, dg.real[at], dg.imag[at] * sign, xl, dxl)  # sign[0] = 0: Im g_0 out
+        re, im = gdg.real[at], gdg.imag[at] * sign  # sign[0] = 0: Im g_0 out
+        res = (re[:L], im[:L], re[L:], im[L:], xl, dxl)
         self._real_cache = (omega, res)
         return res
 

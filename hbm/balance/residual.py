@@ -437,22 +437,23 @@ class HarmonicBalance:
         if whole:  # under the key _assemble looks up (its Xrel is [x])
             self._keep_jacobian((0, omega, x.tobytes()), dF)
         p = self._swap  # cos <-> sin of each harmonic; the static term onto itself (b[0] = 0)
-        R = x + (a * f + b * f[p])
+        fp = f[p]
+        R = x + (a * f + b * fp)
         R[1] -= xl.real
         R[2] += xl.imag
-        Rw = aw * f + bw * f[p]
+        Rw = aw * f + bw * fp
         if fw.any():  # an element with an omega-derivative (the exact Jenkins element has none)
             Rw += a * fw + b * fw[p]
         Rw[1] -= dxl.real
         Rw[2] += dxl.imag
         L = self.L
-        J = np.empty((L, L + 1))
-        Jx = J[:, :-1]
-        np.multiply(a[:, None], dF, out=Jx)
+        Jx = a[:, None] * dF  # formed apart, then copied into J once
         swapped = dF[p]
         swapped *= b[:, None]
         Jx += swapped
-        J.flat[::L + 2] += 1.0  # the diagonal of J[:, :-1]
+        J = np.empty((L, L + 1))
+        J[:, :-1] = Jx
+        J.reshape(-1)[::L + 2] += 1.0  # the diagonal of J[:, :-1]
         J[:, -1] = Rw
         return R, J
 
