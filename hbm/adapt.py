@@ -416,6 +416,7 @@ def refine(setup: Setup, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
         ratio["model"] = _near_peak(f, ratio["model"])
     out, at = [], 0
     for i0, i1 in windows(np.max(np.array(list(ratio.values())), axis=0), f._nodes, 1.0, 0, len(f)):
+        i0 = max(i0, at)  # the window before, widened to the node this one starts at, holds that point
         if i1 <= i0:  # a run of one point (between two others' windows) is not traced alone
             continue
         span = (float(np.min(f.omega[i0:i1 + 1])), float(np.max(f.omega[i0:i1 + 1])))

@@ -429,3 +429,45 @@ def test_a_window_whose_lifted_start_fails_is_started_in_stages(monkeypatch):
     assert failed and len(calls) == len(failed) and all(H > H0 for H0, H in calls)
     assert "failed" not in frf.message and len(frf) == len(plain)
     assert frf.peak().amplitude == pytest.approx(plain.peak().amplitude, rel=1e-8)
+
+
+def test_a_window_widened_into_the_next_one_leaves_it_the_points_after_its_own(monkeypatch):
+    """Windows (0, 4) and (6, 9) on the nodes 0, 4, 6, 9, the coarse peak at point 4: the first is traced
+    to node 6, so the second is traced from point 7, and the segments hold every point of the coarse
+    curve's range once (no point twice where the two windows meet)."""
+    import hbm.adapt as adapt
+
+    class Coarse:  # what refine reads of a coarse result
+        amplitude = np.array([1.0, 2.0, 3.0, 4.0, 5.0, 4.0, 3.0, 2.0, 1.5, 1.0])
+        omega = np.linspace(1.0, 1.9, 10)
+        _nodes = np.array([0, 4, 6, 9])
+        harmonics, contacts = 1, []
+
+        def __len__(self):
+            return 10
+
+    class Trace:  # a refined trace of the points i0..i1, its peak inside
+        def __init__(self, i0, i1):
+            self.span = (i0, i1)
+            self.amplitude = np.r_[0.0, np.ones(i1 - i0 - 1), 0.0]
+            self._nodes = np.array([0, i1 - i0])
+
+        def __len__(self):
+            return self.span[1] - self.span[0] + 1
+
+    f = Coarse()
+    traced = []
+
+    def retrace(setup, g, i0, i1, *args):
+        traced.append((i0, i1))
+        return Trace(i0, i1)
+
+    monkeypatch.setattr(adapt, "asks", lambda g, k, tol: np.ones(len(g)) * (2.0 if g is f else 0.0))
+    monkeypatch.setattr(adapt, "windows", lambda e, nodes, t, lo, hi: [(0, 4), (6, 9)] if e[0] > 1.0 else [])
+    monkeypatch.setattr(adapt, "_retrace", retrace)
+    knob = adapt.Knob("harmonics", 0.5, lambda g, excess, span: {"H": 3})
+    setup = type("Setup", (), {"tolerance": 1e-3})()
+    out = adapt.refine(setup, [knob], f, False, frozenset(), [], [], set())
+    assert traced == [(0, 6), (7, 9)]
+    assert [(type(g).__name__, lo, hi) for g, lo, hi in out] == [("Trace", 0, 7), ("Trace", 0, 3)]
+    assert sum(hi - lo for _, lo, hi in out) == len(f)
