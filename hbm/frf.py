@@ -334,6 +334,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     step_controls = steps.checked()
     if callback is not None and not callable(callback):
         raise ValueError(f"callback must be callable, got callback={callback!r}")
+    if not isinstance(stability, (bool, np.bool_)):
+        raise ValueError(f"stability must be True or False, got stability={stability!r}")
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
     adapt = harmonics is None and tolerance is not None
     if harmonics is None:

@@ -301,3 +301,23 @@ def test_frequency_range_across_omega_c(two, bar):
     if not frf.success:
         assert "single-mode" in frf.message and "stops at omega" in frf.message
     assert np.all(frf.residual_norm <= 1e-8) and np.all(np.isfinite(frf.amplitude))
+
+
+def test_a_force_of_1e200_is_traced_without_overflow_to_the_linear_peak():
+    """At F = 1e200 N the slider's 0.02 N is nothing: the curve is the linear blade's, whose peak is
+    F/(c sqrt(k/m - c^2/(4 m^2))) (m = k = 1, c = 0.004); the estimate's amplitude projections are
+    formed scale-free (no overflow warning leaves the library)."""
+    import warnings
+
+    from contact_models import Macroslip
+    from hbm import Contact
+
+    c, F = 0.004, 1e200
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        frf = frequency_response(Blade(mass=1.0, stiffness=1.0, damping=c, force=F),
+                                 [Contact(Macroslip(1.0, 0.02), dof=0)], omega_range=(0.6, 1.8))
+    pk = frf.peak()
+    assert frf.success and pk.converged and np.all(np.isfinite(frf.error_estimate))
+    assert abs(pk.amplitude / (F / (c * math.sqrt(1.0 - c * c / 4.0))) - 1.0) < 1e-7
+    assert abs(pk.omega / math.sqrt(1.0 - c * c / 2.0) - 1.0) < 1e-7

@@ -125,7 +125,8 @@ def test_the_callback_gets_every_point_in_order():
                                         (dict(steps={"max_step": 0.1}), "steps must be an hbm.Steps"),
                                         (dict(steps=Steps(max_step=-1.0)), "steps.max_step must be a positive"),
                                         (dict(model="auto", tol=None), "needs a tol"),
-                                        (dict(callback=3), "callback must be callable")])
+                                        (dict(callback=3), "callback must be callable"),
+                                        (dict(stability="yes"), r"^stability must be True or False, got stability='yes'$")])
 def test_bad_options_are_named(bad, match):
     with pytest.raises(ValueError, match=match):
         frequency_response(BARE, omega_range=(90.0, 110.0), **bad)

@@ -606,8 +606,8 @@ def _amplitude_step(Jx: NDArray, R: NDArray, x: NDArray, r: int, L: int) -> floa
         dX = np.linalg.solve(Jx, -R)
     except np.linalg.LinAlgError:
         dX = np.linalg.lstsq(Jx, -R, rcond=None)[0]
-    xc, xs = x[r, 1], x[r, 2]
-    return float((xc * dX[r * L + 1] + xs * dX[r * L + 2]) / math.hypot(xc, xs))
+    a = math.hypot(x[r, 1], x[r, 2])
+    return float(x[r, 1] / a * dX[r * L + 1] + x[r, 2] / a * dX[r * L + 2])  # (the unit vector first: no overflow)
 
 
 def _model_errors(same: HarmonicBalance, X: NDArray, omega: NDArray) -> dict[int, tuple[NDArray, NDArray]]:
