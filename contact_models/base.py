@@ -381,9 +381,11 @@ class ContactElement(ABC):
         """
         X = np.asarray(X, dtype=float)
         rows = () if self.components == 1 else (self.components,)
-        if X.shape[:-1] != rows or X.shape[-1] < 3 or X.shape[-1] % 2 == 0 or not np.all(np.isfinite(X)):
-            raise ValueError(f"X must be finite, of shape {rows + ('2H+1',)} with 2H+1 odd >= 3, got X with "
-                             f"shape {X.shape}")
+        if X.shape[:-1] != rows or X.shape[-1] < 3 or X.shape[-1] % 2 == 0:
+            raise ValueError(f"X must be of shape {rows + ('2H+1',)} with 2H+1 odd >= 3, got X with shape {X.shape}")
+        if not np.all(np.isfinite(X)):
+            bad = tuple(int(i) for i in np.argwhere(~np.isfinite(X))[0])
+            raise ValueError(f"X must be finite, got X[{', '.join(map(str, bad))}]={float(X[bad])!r}")
         H = (X.shape[-1] - 1) // 2
         omega = nonnegative("omega", omega)
         rtol = positive("rtol", rtol)

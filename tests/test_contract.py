@@ -5,6 +5,7 @@ method, or declares a time law it does not have, is refused with a TypeError nam
 """
 
 import inspect
+import math
 import warnings
 
 import numpy as np
@@ -148,3 +149,15 @@ def test_the_range_warning_comes_from_the_base_and_points_at_the_caller():
         warnings.simplefilter("always")
         two.fourier(a, 0.06 * bar.omega_c)
     assert caught == []
+
+
+def test_harmonic_force_names_a_bad_shape_and_the_first_non_finite_coefficient():
+    from contact_models import Macroslip
+
+    el = Macroslip(1.0, 0.02)
+    with pytest.raises(ValueError, match=r"^X must be of shape \('2H\+1',\) with 2H\+1 odd >= 3, got X with shape \(4,\)$"):
+        el.harmonic_force(np.zeros(4), 1.0)
+    with pytest.raises(ValueError, match=r"^X must be finite, got X\[2\]=nan$"):
+        el.harmonic_force(np.array([0.0, 1.0, math.nan]), 1.0)
+    with pytest.raises(ValueError, match=r"^X must be finite, got X\[1\]=inf$"):
+        el.harmonic_force(np.array([0.0, math.inf, 0.0, 1.0, 1.0]), 1.0)
