@@ -124,6 +124,12 @@ def test_default_job_output_places_that_cannot_take_the_files_exit_2_before_comp
     assert main(["--out", str(tmp_path / "out")]) == 2
     assert "frf.csv is a folder where the output file frf.csv goes" in capsys.readouterr().err
     assert not (tmp_path / "out" / "frf.png").exists()
+    # a folder to be made under a file, or where nothing can be written
+    assert main(["--out", str(tmp_path / "file" / "sub")]) == 2
+    assert f"{tmp_path / 'file'} is a file, so the folder cannot be made there" in capsys.readouterr().err
+    if Path("/proc/self").is_dir():
+        assert main(["--out", "/proc/frictiondamp-out"]) == 2
+        assert "--out = /proc/frictiondamp-out: nothing can be written in /proc" in capsys.readouterr().err
 
 
 def test_run_refuses_an_output_folder_that_is_a_file(tmp_path, capsys):
@@ -178,3 +184,11 @@ def test_a_scene_says_its_warning_once_after_the_summary(tmp_path, capsys):
     assert lines[-1].startswith("warning: frequency_response: estimated error ")
     assert lines[-1].endswith(" (AccuracyWarning)")
     assert sum(line.startswith("warning:") for line in lines) == 1
+
+
+@pytest.mark.parametrize("argv", [["--harmonics", "3"], ["run", "--harmonics", "3", "scene.toml"]])
+def test_an_option_no_command_takes_is_named_not_the_value_after_it(argv, capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(argv)
+    assert stop.value.code == 2
+    assert capsys.readouterr().err.strip().endswith("error: unrecognized option: --harmonics")

@@ -17,6 +17,7 @@ import math
 import os
 import signal
 import sys
+import tempfile
 import time
 import warnings
 from pathlib import Path
@@ -138,6 +139,18 @@ def _check_folder(folder: Path, names: Any, what: str) -> None:
         if (folder / name).is_dir():
             raise UsageError(f"{folder / name} is a folder where the output file {name} goes; move it or give "
                              "--out another folder (nothing computed, nothing written)")
+    place = folder.absolute()
+    while not place.exists() and place != place.parent:  # the folder, or where it would be made
+        place = place.parent
+    if not place.is_dir():
+        raise UsageError(f"{what} = {folder}: {place} is a file, so the folder cannot be made there "
+                         "(nothing computed, nothing written)")
+    try:  # a file made and removed at once: the place takes files (os.access cannot tell for root or /proc)
+        with tempfile.TemporaryFile(dir=place):
+            pass
+    except OSError as exc:
+        raise UsageError(f"{what} = {folder}: nothing can be written in {place} ({exc.strerror or exc}) "
+                         "(nothing computed, nothing written)") from None
 
 
 def accuracy_line(frf: Any, pk: Any, given: Any, model: str | None = None) -> str:
@@ -534,13 +547,27 @@ def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
 
 def _parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.Namespace:
     """Parse ``argv``; ``--out``/``--rtol`` given before a subcommand that does not take them is an
-    error (exit code 2), not an option silently ignored."""
+    error (exit code 2), not an option silently ignored; an option that no command takes is named as such
+    (argparse would otherwise report the value after it as an unknown command)."""
+    known = {o for p in _parsers(parser) for a in p._actions for o in a.option_strings}
+    for token in (sys.argv[1:] if argv is None else argv):
+        if token == "--":
+            break
+        name = token.split("=", 1)[0]
+        if name.startswith("--") and len(name) > 2 and not any(o.startswith(name) for o in known):
+            parser.error(f"unrecognized option: {name}")
     args = parser.parse_args(argv)
     for dest in ("out", "rtol", "model", "tol"):
         if getattr(args, dest) is not None and dest not in args.takes:
             where = "the default job" if dest in ("model", "tol") else "the default job and run"
             parser.error(f"--{dest} does not apply to {args.command} (only to {where})")
     return args
+
+
+def _parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
+    """``parser`` and its subcommands' parsers."""
+    subs = [a for a in parser._actions if isinstance(a, argparse._SubParsersAction)]
+    return [parser] + [p for a in subs for p in a.choices.values()]
 
 
 def main(argv: list[str] | None = None) -> int:
