@@ -43,10 +43,33 @@ MODEL_COLUMN = "model"
 RUN_COLUMNS = ("run", "model", "normal_load_N")
 #: Columns of an amplitude sweep's table (F_s, F_c normalised by k* a).
 TABLE_COLUMNS = ("omega_rad_s", "a_m", "a_over_unit", "f_s_N", "f_c_N", "F_s", "F_c")
+class _Units(dict):
+    """A figure's units by name; a name not among them is refused naming the parameter it came from."""
+
+    def __init__(self, parameter: str, units: dict):
+        super().__init__(units)
+        self.parameter = parameter
+
+    def __missing__(self, name: object):
+        raise ValueError(f"{self.parameter} must be one of {', '.join(map(repr, self))}, "
+                         f"got {self.parameter}={name!r}")
+
+
 #: Frequency units of a figure's axis: name -> (factor from rad/s, axis label).
-OMEGA_UNITS = {"rad/s": (1.0, r"$\omega$ (rad/s)"), "Hz": (1.0 / (2.0 * math.pi), "frequency (Hz)")}
+OMEGA_UNITS = _Units("omega_unit", {"rad/s": (1.0, r"$\omega$ (rad/s)"), "Hz": (1.0 / (2.0 * math.pi), "frequency (Hz)")})
 #: Amplitude units of a figure's axis: name -> (factor from m, axis label).
-AMPLITUDE_UNITS = {"m": (1.0, "amplitude (m)"), "um": (1.0e6, "amplitude (\u00b5m)")}
+AMPLITUDE_UNITS = _Units("amplitude_unit", {"m": (1.0, "amplitude (m)"), "um": (1.0e6, "amplitude (\u00b5m)")})
+
+
+def _axes(ax: Any) -> Any:
+    """``ax``, or a new figure's axes where it is None; anything that cannot draw is refused by name."""
+    if ax is None:
+        import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
+
+        return plt.subplots(figsize=(6.4, 4.2))[1]
+    if not callable(getattr(ax, "plot", None)):
+        raise ValueError(f"ax must be a matplotlib Axes or None, got ax={ax!r}")
+    return ax
 #: Axis names of the scene keys a scene or study varies: key -> (name, unit); SI units, "" for a
 #: number without one.  A key not here is named by itself (:func:`key_label`).
 KEY_LABELS = {
@@ -350,10 +373,8 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     ``amplitude_unit`` (:data:`AMPLITUDE_UNITS`) set the axes' units.  ``parameter`` is the colour
     bar's title (:func:`key_label` of a scene key).
     """
-    if ax is None:
-        import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
-
-        _, ax = plt.subplots(figsize=(6.4, 4.2))
+    ax = _axes(ax)
+    OMEGA_UNITS[omega_unit], AMPLITUDE_UNITS[amplitude_unit]  # (refused here, before any curve is drawn)
     curves = list(curves)
     # units passed on only when asked: a curve may be any object with plot(ax, label=, peak=, **style)
     units = {k: v for k, v in (("omega_unit", omega_unit), ("amplitude_unit", amplitude_unit))
@@ -462,11 +483,8 @@ def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, labe
     A ``ls``/``linestyle`` given in ``kwargs`` styles the stable stretches (the model's style in
     :func:`plot_frfs`); unstable stretches are always dashed.
     """
-    import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
-
-    if ax is None:
-        _, ax = plt.subplots(figsize=(6.4, 4.2))
     (w_scale, w_label), (a_scale, a_label) = OMEGA_UNITS[omega_unit], AMPLITUDE_UNITS[amplitude_unit]
+    ax = _axes(ax)
     omega, amplitude = np.asarray(omega) * w_scale, np.asarray(amplitude) * a_scale
     stable = np.ones(omega.size, dtype=bool) if stable is None else np.asarray(stable, dtype=bool)
     ls = kwargs.pop("ls", kwargs.pop("linestyle", "-"))

@@ -130,3 +130,19 @@ def test_study_to_dataframe_is_its_table():
              "curve": {}} for i, x in enumerate([1.0, 2.0])]
     frame = StudyResult(("x",), recs, {}, 2, 0, [], 1.0).to_dataframe()
     assert list(frame.columns)[:3] == ["run", "id", "x"] and frame["peak_amplitude_m"].tolist() == [1.0, 4.0]
+
+
+def test_plot_refuses_an_unknown_unit_and_an_ax_that_cannot_draw_by_name():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hbm import Blade, frequency_response
+
+    frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0), omega_range=(90.0, 110.0))
+    with pytest.raises(ValueError, match=r"^omega_unit must be one of 'rad/s', 'Hz', got omega_unit='rpm'$"):
+        frf.plot(omega_unit="rpm")
+    with pytest.raises(ValueError, match=r"^amplitude_unit must be one of 'm', 'um', got amplitude_unit='in'$"):
+        frf.plot(amplitude_unit="in")
+    with pytest.raises(ValueError, match=r"^ax must be a matplotlib Axes or None, got ax=3$"):
+        frf.plot(ax=3)
+    assert frf.plot(omega_unit="Hz", amplitude_unit="um").get_xlabel() == "frequency (Hz)"
