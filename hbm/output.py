@@ -43,6 +43,8 @@ MODEL_COLUMN = "model"
 RUN_COLUMNS = ("run", "model", "normal_load_N")
 #: Columns of an amplitude sweep's table (F_s, F_c normalised by k* a).
 TABLE_COLUMNS = ("omega_rad_s", "a_m", "a_over_unit", "f_s_N", "f_c_N", "F_s", "F_c")
+
+
 class _Units(dict):
     """A figure's units by name; a name not among them is refused naming the parameter it came from."""
 
@@ -56,20 +58,11 @@ class _Units(dict):
 
 
 #: Frequency units of a figure's axis: name -> (factor from rad/s, axis label).
-OMEGA_UNITS = _Units("omega_unit", {"rad/s": (1.0, r"$\omega$ (rad/s)"), "Hz": (1.0 / (2.0 * math.pi), "frequency (Hz)")})
+OMEGA_UNITS = _Units("omega_unit", {"rad/s": (1.0, r"$\omega$ (rad/s)"),
+                                    "Hz": (1.0 / (2.0 * math.pi), "frequency (Hz)")})
 #: Amplitude units of a figure's axis: name -> (factor from m, axis label).
 AMPLITUDE_UNITS = _Units("amplitude_unit", {"m": (1.0, "amplitude (m)"), "um": (1.0e6, "amplitude (\u00b5m)")})
 
-
-def _axes(ax: Any) -> Any:
-    """``ax``, or a new figure's axes where it is None; anything that cannot draw is refused by name."""
-    if ax is None:
-        import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
-
-        return plt.subplots(figsize=(6.4, 4.2))[1]
-    if not callable(getattr(ax, "plot", None)):
-        raise ValueError(f"ax must be a matplotlib Axes or None, got ax={ax!r}")
-    return ax
 #: Axis names of the scene keys a scene or study varies: key -> (name, unit); SI units, "" for a
 #: number without one.  A key not here is named by itself (:func:`key_label`).
 KEY_LABELS = {
@@ -358,6 +351,17 @@ def write_frf_csv(path: str | Path, frf: Any, *, case: str | None = None) -> Pat
                 out.write(frf_row(w, xc, xs, r, amplitude=a, phase=ph, error=e) + harmonic_values(x, H)
                           + [stable_value(st)] + t)
     return Path(path)
+
+
+def _axes(ax: Any) -> Any:
+    """``ax``, or a new figure's axes where it is None; anything that cannot draw is refused by name."""
+    if ax is None:
+        import matplotlib.pyplot as plt  # lazily: matplotlib only when a figure is drawn
+
+        return plt.subplots(figsize=(6.4, 4.2))[1]
+    if not callable(getattr(ax, "plot", None)):
+        raise ValueError(f"ax must be a matplotlib Axes or None, got ax={ax!r}")
+    return ax
 
 
 def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]], ax: Any = None, *,
