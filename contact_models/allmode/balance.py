@@ -154,7 +154,10 @@ def jacobian_prefix(E: NDArray[np.float64], P: NDArray[np.float64]) -> tuple:
     coefs, inv = np.unique(np.concatenate([c1, c2]), return_inverse=True)
     cols = np.concatenate([column(f1, sin_term).ravel(), column(f2, sin_term).ravel()])
     idx = inv * L + cols
-    return np.cumsum(g, axis=0), np.cumsum(P.T, axis=0), idx[: s * s], idx[s * s:], coefs
+    out = (np.cumsum(g, axis=0), np.cumsum(P.T, axis=0), idx[: s * s], idx[s * s:], coefs)
+    for a in out:  # read-only, as every basis keeps them: one signature of the Jacobian kernel
+        a.flags.writeable = False
+    return out
 
 
 def jenkins_harmonic(U: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray[np.float64],

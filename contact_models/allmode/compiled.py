@@ -294,11 +294,11 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
         u = np.empty((n + 1, 2 * h))
         u[:, :h] = uh
         u[:, h:] = -uh
-        f, stuck, anchor, never = _march(u, kc, p, True)
+        f, stuck, anchor, never = _march(u, kc, p, half)
         T = _rows_c(np.ascontiguousarray(f[:, :h]), PT)
     else:
         u = _rows_c(full, ET)
-        f, stuck, anchor, never = _march(u, kc, p, False)
+        f, stuck, anchor, never = _march(u, kc, p, half)
         T = _rows_c(f, PT)
     R = np.empty((n, s))
     for i in range(n):
@@ -494,7 +494,7 @@ def newton(U: Array, R: Array, res: float, T: Array, u: Array, st: Array, an: Ar
     Jacobian is known (``has_J``) and the last factorisation (``has_fac``; ``bad`` its first singular block or -1),
     the iterations and whether ``res <= tol``:
     ``(U, R, res, T, u, st, an, nv, J, has_J, inv_d, inv_v, inv, has_fac, bad, it, converged)``."""
-    scaled = False
+    scaled = c.size < 0  # False, typed as a bool (not the literal False): one signature of coupled_factor
     for q in range(c.size):
         if c[q] != c[0]:
             scaled = True
