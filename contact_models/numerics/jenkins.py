@@ -278,15 +278,8 @@ def _polish(D: NDArray[np.complex128], c: _Constants, offsets: list, starts: lis
     AB = None
     for th, off, v, (a, b, up) in zip(starts, offsets, vals, brackets):
         r, d = v[-2] + off, v[-1]
-        if (r < 0.0) == up:
-            a = th
-        else:
-            b = th
-        new = th - r / d if d != 0.0 else math.nan
-        if not a <= new <= b:  # also nan
-            new, done = 0.5 * (a + b), False
-        else:
-            done = abs(new - th) <= STEP_DONE
+        new, a, b, stepped = _step(th, r, d, a, b, up)
+        done = stepped and abs(new - th) <= STEP_DONE
         if not done:  # the rest of the iterations one root at a time
             if AB is None:
                 AB = D[:, -2].tolist(), D[:, -1].tolist()
@@ -314,6 +307,20 @@ def _pair(A: list, B: list, th: float) -> tuple[float, float]:
     return sa.real, sb.real
 
 
+def _step(th: float, r: float, d: float, a: float, b: float, up: bool) -> tuple[float, float, float, bool]:
+    """One safeguarded Newton step on ``r`` (derivative ``d``) at ``th``: the bracket ``[a, b]`` narrowed to
+    the side the root is on (``up``: ``r`` increases through it), then ``(new, a, b, True)`` for the Newton
+    step, or ``(middle, a, b, False)`` where that step leaves the bracket (or ``d`` is 0)."""
+    if (r < 0.0) == up:
+        a = th
+    else:
+        b = th
+    new = th - r / d if d != 0.0 else math.nan
+    if not a <= new <= b:  # also nan
+        return 0.5 * (a + b), a, b, False
+    return new, a, b, True
+
+
 def _newton(A: list, B: list, offset: float, th: float, a: float, b: float, up: bool,
             iterations: int = NEWTON_ITERATIONS) -> float:
     """The root in ``[a, b]`` of ``r = offset + Re sum A_m e^{i m theta}`` (derivative
@@ -321,14 +328,9 @@ def _newton(A: list, B: list, offset: float, th: float, a: float, b: float, up: 
     bracket's middle where a step leaves the bracket, until a step is below :data:`STEP_DONE`."""
     for _ in range(iterations):
         r, d = _pair(A, B, th)
-        r += offset
-        if (r < 0.0) == up:
-            a = th
-        else:
-            b = th
-        new = th - r / d if d != 0.0 else math.nan
-        if not a <= new <= b:  # also nan
-            th = 0.5 * (a + b)
+        new, a, b, stepped = _step(th, r + offset, d, a, b, up)
+        if not stepped:
+            th = new
             continue
         done = abs(new - th) <= STEP_DONE
         th = new
