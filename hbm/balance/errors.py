@@ -168,7 +168,7 @@ def onsets(problem: HarmonicBalance, X: NDArray, omega: NDArray, idx: NDArray) -
     if n < 2 or len(idx) < 1:
         return np.empty(0, dtype=np.intp)
     for e, (el, comps) in enumerate(problem._attach):
-        if len(comps) > 1 or type(el)._model_error is ContactElement._model_error:
+        if not _has_model_error(el, comps):
             continue  # a contact with a normal direction (its onset is not one amplitude), or an exact element
         rel = problem.relative_motion(e, X)[:, 0]
         a = np.hypot(rel[:, 1], rel[:, 2])
@@ -468,8 +468,7 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     out = {s: np.zeros(n) for s in ("sampling", "element", "model")}  # the harmonics: _harmonics_condensed
     known = _model_errors(same, X, omega)
     # elements exact at every H with no model error: no balance at the nodes would change a number
-    exact = not sampled and all(len(comps) > 1 or type(el)._model_error is ContactElement._model_error
-                                for el, comps in same._attach)
+    exact = not sampled and not any(_has_model_error(el, comps) for el, comps in same._attach)
     for j, (x, w) in enumerate(zip(X, omega)):
         w = float(w)
         a = math.hypot(x[r, 1], x[r, 2])
@@ -610,13 +609,19 @@ def _amplitude_step(Jx: NDArray, R: NDArray, x: NDArray, r: int, L: int) -> floa
     return float(x[r, 1] / a * dX[r * L + 1] + x[r, 2] / a * dX[r * L + 2])  # (the unit vector first: no overflow)
 
 
+def _has_model_error(el: Any, comps: list) -> bool:
+    """Whether the contact ``el`` on the components ``comps`` has a model source: one direction (a contact with
+    a normal direction is exact for what it models) and its own ``_model_error`` (the base's is zero)."""
+    return len(comps) == 1 and type(el)._model_error is not ContactElement._model_error
+
+
 def _model_errors(same: HarmonicBalance, X: NDArray, omega: NDArray) -> dict[int, tuple[NDArray, NDArray]]:
     """``{contact index: (e_s, e_c)}`` at every point of ``X`` (points, n_a, 2H+1), ``omega`` for the contacts with
     a model error (one direction): each element asked once for all points, which it may spread over threads
     (``AllModeMicroslip``); ``_model`` reads them."""
     out = {}
     for c, (el, comps) in enumerate(same._attach):
-        if len(comps) > 1 or type(el)._model_error is ContactElement._model_error:
+        if not _has_model_error(el, comps):
             continue
         a = np.array([math.hypot(*(float(v) for v in same.relative_motion(c, x)[0, 1:3])) for x in X])
         e_s, e_c = (np.zeros(len(a)) for _ in range(2))
