@@ -188,7 +188,7 @@ def _compiled(numba: object) -> SimpleNamespace:
     compiled."""
     global _march, _rows_c, _block_factor_c, _jacobians_c, _same_c, _residual_c, _coupled_c, _block_solve_c
     funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve, thomas=thomas,
-                 same_pattern=same_pattern, residual=residual, rows=rows_product, coupled_factor=coupled_factor,
+                 same_pattern=same_pattern, residual=residual, rows=rows_kernel, coupled_factor=coupled_factor,
                  newton=newton)
     try:
         jit = numba.njit(cache=True, nogil=True)
@@ -286,14 +286,19 @@ def residual(U: Array, X: Array, lin: Array, c: Array, kc: Array, p: Array, ET: 
     the same operations in the same order."""
     n, s = U.shape
     full = np.empty((n + 1, s))
-    full[:n] = U
-    full[n] = X
+    for i in range(n):  # (copies element by element: no array assignment, whose compilation costs seconds)
+        for q in range(s):
+            full[i, q] = U[i, q]
+    for q in range(s):
+        full[n, q] = X[q]
     if half:
         uh = _rows_c(full, ET)
         h = uh.shape[1]
         u = np.empty((n + 1, 2 * h))
-        u[:, :h] = uh
-        u[:, h:] = -uh
+        for i in range(n + 1):
+            for j in range(h):
+                u[i, j] = uh[i, j]
+                u[i, h + j] = -uh[i, j]
         f, stuck, anchor, never = _march(u, kc, p, half)
         T = _rows_c(np.ascontiguousarray(f[:, :h]), PT)
     else:
@@ -329,8 +334,8 @@ GEMM_SERIAL = 1 << 18
 
 def rows_product(A: Array, B: Array) -> Array:
     """``A @ B`` (A of shape (m, k), B (k, n)) in blocks of rows of at most :data:`GEMM_SERIAL`
-    multiply-adds each, so that a threaded BLAS runs every block on one thread.  Plain numpy, and compiled
-    as it is (the kernels' ``rows``)."""
+    multiply-adds each, so that a threaded BLAS runs every block on one thread.  Plain numpy; the kernels'
+    ``rows`` is :func:`rows_kernel`."""
     m, k = A.shape
     n = B.shape[1]
     rows = max(1, GEMM_SERIAL // max(1, k * n))
@@ -339,6 +344,21 @@ def rows_product(A: Array, B: Array) -> Array:
     out = np.empty((m, n))
     for i in range(0, m, rows):
         out[i:i + rows] = A[i:i + rows] @ B
+    return out
+
+
+def rows_kernel(A: Array, B: Array) -> Array:
+    """:func:`rows_product` as the kernels compile it: each block's product written into its rows by ``np.dot``'s
+    ``out`` (the call numba's ``A @ B`` makes into a new array: the same BLAS routine on the same operands) rather
+    than assigned to them, an array assignment whose compilation costs seconds."""
+    m, k = A.shape
+    n = B.shape[1]
+    rows = max(1, GEMM_SERIAL // max(1, k * n))
+    if m <= rows:
+        return A @ B
+    out = np.empty((m, n))
+    for i in range(0, m, rows):
+        np.dot(A[i:i + rows], B, out[i:i + rows])
     return out
 
 
@@ -462,9 +482,12 @@ def block_factor(B: Array, c: float, k: int, row0: bool) -> tuple[Array, Array, 
             inv[i - k] = np.nan
             continue
         try:
-            inv[i - k] = np.linalg.inv(Ci)  # LAPACK's dgetrf and dgetri, as the numpy path
+            Ri = np.linalg.inv(Ci)  # LAPACK's dgetrf and dgetri, as the numpy path
         except Exception:  # singular
             return inv_d, inv_v, inv, i
+        for q in range(s):  # (copied element by element, as in ``residual``)
+            for r in range(s):
+                inv[i - k, q, r] = Ri[q, r]
     return inv_d, inv_v, inv, -1
 
 
@@ -555,9 +578,11 @@ def block_solve(inv_d: Array, inv_v: Array, inv: Array, c: float, r: Array, row0
                 z[q] = inv_d[i - 1, q] * y[i - 1, q]
             if row0:
                 z[0] += inv_v[i - 1, 1:] @ y[i - 1, 1:]
-            y[i] -= c * z
+            yi = y[i]  # in place on the row, as numpy's y[i] -= ... (whose assignment back numba would compile)
+            yi -= c * z
         else:
-            y[i] -= c * (inv[i - 1 - k] @ y[i - 1])
+            yi = y[i]
+            yi -= c * (inv[i - 1 - k] @ y[i - 1])
     x = np.empty_like(y)
     for i in range(n - 1, -1, -1):
         z = y[i] - c * x[i + 1] if i < n - 1 else y[i].copy()
@@ -567,7 +592,7 @@ def block_solve(inv_d: Array, inv_v: Array, inv: Array, c: float, r: Array, row0
             if row0:
                 x[i, 0] += inv_v[i, 1:] @ z[1:]
         else:
-            x[i] = inv[i - k] @ z
+            np.dot(inv[i - k], z, x[i])  # the call of numba's inv @ z, into the row (as ``rows_kernel``)
     return x
 
 
