@@ -58,6 +58,42 @@ def test_a_cold_cache_starts_the_warm_up_in_the_background_and_the_numpy_path_an
     assert not compiled.cache_ready(numba)
 
 
+def test_the_kernels_the_warm_up_has_cached_are_taken_up_group_by_group(monkeypatch, tmp_path):
+    """While the warm-up is under way, its progress file lists the groups of kernels already in numba's cache:
+    a process loads those (the others None, their callers on the numpy path), and looks again for the rest every
+    LOOK_AGAIN seconds; the marker brings them all."""
+    import numba
+
+    started = []
+    monkeypatch.delenv("FRICTIONDAMP_COMPILED", raising=False)
+    monkeypatch.setattr(compiled, "_cache_folder", lambda: tmp_path)
+    monkeypatch.setattr(compiled, "_start_warming", lambda: started.append(1))
+    monkeypatch.setattr(compiled, "_TRIED", False)
+    monkeypatch.setattr(compiled, "_KERNELS", None)
+    monkeypatch.setattr(compiled, "_WARMING_STARTED", False)
+    monkeypatch.setattr(compiled, "_LOOK_AT", 0.0)
+    monkeypatch.setattr(compiled, "_NUMPY_SECONDS", 1.0)
+    first, second, *rest = compiled.GROUPS
+    compiled.mark_group(first)
+    assert compiled.cached_groups(numba) == (first,) and not compiled.cache_ready(numba)
+    fused = compiled.kernels()
+    assert fused is not None and started == [1]  # the warm-up goes on for the rest
+    assert all(compiled.kernel(k) is not None for k in compiled.GROUPS[first])
+    assert all(getattr(fused, k) is None for g in (second, *rest) for k in compiled.GROUPS[g])
+    assert compiled.kernel("newton") is None and compiled.numpy_clock() is None
+    compiled.mark_group(second)
+    assert compiled.kernel(compiled.GROUPS[second][0]) is None  # not looked for again before LOOK_AGAIN seconds
+    monkeypatch.setattr(compiled, "_LOOK_WALL", 0.0)
+    assert all(compiled.kernel(k) is not None for g in (first, second) for k in compiled.GROUPS[g])
+    assert compiled.kernel("newton") is None
+    (tmp_path / compiled.PROGRESS).write_text("numba 0.0 source 0 0\n" + "".join(g + "\n" for g in compiled.GROUPS))
+    assert compiled.cached_groups(numba) == ()  # another numba or an edited source
+    compiled.mark_warm()
+    assert not (tmp_path / compiled.PROGRESS).exists() and compiled.cached_groups(numba) == tuple(compiled.GROUPS)
+    monkeypatch.setattr(compiled, "_LOOK_WALL", 0.0)
+    assert compiled.kernel("newton") is not None and compiled._MISSING == () and started == [1]
+
+
 def test_one_background_warm_up_at_a_time(monkeypatch, tmp_path):
     """The lock file keeps a second process from starting a second warm-up; a stale lock is replaced."""
     calls = []

@@ -55,9 +55,9 @@ def jenkins_periodic(u: NDArray[np.float64], kc: NDArray[np.float64], p: NDArray
     ``df_k = kc (du_k - du_anchor)`` on stuck samples, 0 on slipping ones, and for never-slipping
     rows ``f = kc (u - (u_max + u_min)/2)``.
     """
-    kernels = compiled.kernels()
-    if kernels is not None:
-        return kernels.march(np.ascontiguousarray(u, dtype=float), np.ascontiguousarray(kc, dtype=float),
+    march = compiled.kernel("march")
+    if march is not None:
+        return march(np.ascontiguousarray(u, dtype=float), np.ascontiguousarray(kc, dtype=float),
                              np.ascontiguousarray(p, dtype=float), bool(half))
     m, n_t = u.shape
     rows = np.arange(m)
@@ -247,9 +247,9 @@ def same_pattern(p: tuple, q: tuple) -> bool:
 def same_jacobian(a: tuple, b: tuple) -> bool:
     """True when the return map's states ``a`` and ``b`` (:func:`jenkins_state`) have equal patterns
     (:func:`same_pattern` of their :func:`jacobian_pattern`): then their Jacobians are equal, bit for bit."""
-    kernels = compiled.kernels()
-    if kernels is not None:
-        return bool(kernels.same_pattern(*a, *b))
+    same = compiled.kernel("same_pattern")
+    if same is not None:
+        return bool(same(*a, *b))
     return same_pattern(jacobian_pattern(a), jacobian_pattern(b))
 
 
@@ -275,12 +275,12 @@ def jenkins_jacobian(state: tuple, kc: NDArray[np.float64], E: NDArray[np.float6
     """The Jacobians dT/dU (m, s, s) on the basis (E, P) from the ``state`` of :func:`jenkins_state`
     (the derivation in :func:`jenkins_harmonic`)."""
     u, stuck, anchor, never = state
-    kernels = compiled.kernels()
-    if kernels is not None:
+    jacobians = compiled.kernel("jacobians")
+    if jacobians is not None:
         S, CP, I1, I2, coefs = jacobian_prefix(E, P) if prefix is None else prefix
         E, P1, mean = kernel_constants(E, P)
-        return kernels.jacobians(u, stuck, anchor, never, np.ascontiguousarray(kc, dtype=float), E, P1, mean, S, CP,
-                                 I1, I2, coefs)
+        return jacobians(u, stuck, anchor, never, np.ascontiguousarray(kc, dtype=float), E, P1, mean, S, CP,
+                         I1, I2, coefs)
     m, nh = u.shape[0], E.shape[1]
     if not np.any(never):
         J = _slip_jacobians(stuck, anchor, E, P, prefix)
@@ -344,9 +344,9 @@ def _slip_jacobians(st: NDArray[np.bool_], anchor: NDArray[np.intp], E: NDArray[
 def scalar_tridiagonal(diag: NDArray[np.float64], off: float, last: NDArray[np.float64]) -> NDArray[np.float64]:
     """Solve the tridiagonal systems with diagonal ``diag[:, j]`` (n, s), every off-diagonal ``off``
     and right-hand side zero but ``last`` (s) in the last row, for every column j at once (Thomas)."""
-    kernels = compiled.kernels()
-    if kernels is not None:
-        return kernels.thomas(np.ascontiguousarray(diag, dtype=float), float(off), np.asarray(last, dtype=float))
+    thomas = compiled.kernel("thomas")
+    if thomas is not None:
+        return thomas(np.ascontiguousarray(diag, dtype=float), float(off), np.asarray(last, dtype=float))
     n = diag.shape[0]
     cp = np.empty_like(diag)
     y = np.zeros_like(diag)
@@ -390,10 +390,10 @@ class BlockTridiagonal:
         n, s, _ = B.shape
         self.c, self.row0 = c, bool(row0)
         self.k = k = min(int(diagonal), n)
-        kernels = compiled.kernels()
-        if kernels is not None:
-            self.inv_d, self.inv_v, self.inv, bad = kernels.block_factor(np.ascontiguousarray(B, dtype=float),
-                                                                         float(c), k, self.row0)
+        block_factor = compiled.kernel("block_factor")
+        if block_factor is not None:
+            self.inv_d, self.inv_v, self.inv, bad = block_factor(np.ascontiguousarray(B, dtype=float),
+                                                                 float(c), k, self.row0)
             if bad >= 0:
                 raise np.linalg.LinAlgError(f"singular block {bad} in the block elimination")
             return
@@ -457,9 +457,9 @@ class BlockTridiagonal:
     def solve(self, r: NDArray[np.float64]) -> NDArray[np.float64]:
         """Solve for ``r`` of shape (n, s) or (n, s, q) (q right-hand sides)."""
         c, k, inv = self.c, self.k, self.inv
-        kernels = compiled.kernels()
-        if kernels is not None:
-            return kernels.block_solve(self.inv_d, self.inv_v, inv, float(c), np.array(r, dtype=float), self.row0)
+        block_solve = compiled.kernel("block_solve")
+        if block_solve is not None:
+            return block_solve(self.inv_d, self.inv_v, inv, float(c), np.array(r, dtype=float), self.row0)
         n = k + inv.shape[0]
         y = np.array(r, dtype=float, copy=True)
         for i in range(1, n):

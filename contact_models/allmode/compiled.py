@@ -21,14 +21,21 @@ The environment variable ``FRICTIONDAMP_COMPILED`` overrides the rule: ``0`` kee
 numba installed, ``1`` loads the kernels at the first nested solve (compiling them there if numba's cache
 holds none).
 
-**No first-use wait.**  Compiling the kernels takes a fresh installation some ten seconds, more than a
-whole job.  numba caches them in the ``__pycache__`` folder beside this module, and the warm-up
+**No first-use wait.**  Compiling the kernels takes a fresh installation some fifteen seconds, more than
+a whole job.  numba caches them in the ``__pycache__`` folder beside this module, and the warm-up
 (``contact_models.allmode.warm``) leaves a marker there once every kernel is in the cache.  Where the
-rule would load the kernels and the marker is missing (a first run after an install or a clone), the process starts that warm-up in a background
-process of low priority and goes on on the numpy path, with the same numbers, until the warm-up's marker
-appears (looked for every ``LOOK_AGAIN`` seconds of nested solves): it then loads the cached kernels, as do
-the processes after it.  Where that folder is not writable (or ``NUMBA_CACHE_DIR`` moves numba's cache), the
-kernels are compiled where they are first used, as numba does.
+rule would load the kernels and the marker is missing (a first run after an install or a clone), the process
+starts that warm-up in a background process of low priority and goes on on the numpy path, with the same
+numbers.  The warm-up compiles the kernels in groups (:data:`GROUPS`, those that save a curve the most per
+second of compiling first) and lists each group in a progress file once it is cached; the process looks at
+it every ``LOOK_AGAIN`` seconds (of nested solves while it has no kernel, of wall time after) and loads each
+group as it appears: a kernel not yet cached is None (:func:`kernel`) and its caller takes the numpy path.
+The processes after the marker load them all at once.  Where that folder is not writable (or
+``NUMBA_CACHE_DIR`` moves numba's cache), the kernels are compiled where they are first used, as numba does.
+
+The kernels assign no array to a slice (they copy element by element, update rows in place and write
+products with ``np.dot``'s ``out``): numba compiles such an assignment's broadcasting and error message in
+seconds, in every kernel that links it, and the same floating-point operations need none of it.
 """
 
 from __future__ import annotations
@@ -46,7 +53,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 Array = NDArray  # any dtype: float samples and forces, bool masks, intp anchors
-# compiled kernels that other kernels call (set by ``_compiled``)
+# compiled kernels that other kernels call (set by ``_load``)
 _march = _rows_c = _block_factor_c = _jacobians_c = _same_c = _residual_c = _coupled_c = _block_solve_c = None
 _KERNELS: SimpleNamespace | None = None
 _TRIED = False
@@ -58,9 +65,10 @@ _ENABLED = True
 #: (the optional `fast` extra)").
 LOAD_AFTER = 0.5
 _NUMPY_SECONDS = 0.0  # the nested solves' time on the numpy path while the kernels were not loaded
-#: While a background warm-up compiles the kernels, the process looks for its marker again after each
-#: further ``LOOK_AGAIN`` seconds of nested solves on the numpy path (one file read), and loads them
-#: from numba's cache once it is there: a first run is on the numpy path only until they are compiled.
+#: While a background warm-up compiles the kernels, the process looks at its progress again after each
+#: further ``LOOK_AGAIN`` seconds of nested solves on the numpy path (of wall time once it has loaded some;
+#: one file read), and loads from numba's cache each group of kernels the warm-up has cached: a first run
+#: is on the numpy path only until the warm-up has compiled the first group, and on it alone only until the next.
 LOOK_AGAIN = 0.5
 _LOOK_AT = 0.0
 _WARMING_STARTED = False  # this process has started (or found under way) the warm-up
@@ -69,34 +77,48 @@ _WARMING_STARTED = False  # this process has started (or found under way) the wa
 def kernels(load: bool = False) -> SimpleNamespace | None:
     """The compiled kernels, or None: numba not installed, ``FRICTIONDAMP_COMPILED=0``, inside
     :func:`numpy_only`, or not loaded yet (the module docstring's rule; ``load=True`` loads them now).
-    Compiled, or loaded from numba's cache, once."""
+    Compiled, or loaded from numba's cache, once.  While a background warm-up is under way, a kernel
+    not yet in the cache is None here (:func:`kernel`), and taken up once it is."""
     global _KERNELS, _TRIED, _LOOK_AT, _WARMING_STARTED
     mode = os.environ.get("FRICTIONDAMP_COMPILED", "")
     if not _ENABLED or mode == "0":
         return None
-    if not _TRIED:
-        if not (load or mode == "1" or _NUMPY_SECONDS >= max(LOAD_AFTER, _LOOK_AT)):
-            return None
-        try:
-            import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
-        except ImportError:
-            _TRIED = True
-            return None
-        if mode != "1" and not cache_ready(numba):  # compiled in the background; the numpy path here
-            if not _WARMING_STARTED:
-                _WARMING_STARTED = True
-                _start_warming()
-            _LOOK_AT = _NUMPY_SECONDS + LOOK_AGAIN  # and taken up once the warm-up has cached them
-            return None
+    if _TRIED:
+        if _MISSING and time.perf_counter() >= _LOOK_WALL:
+            _take_up()
+        return _KERNELS
+    if not (load or mode == "1" or _NUMPY_SECONDS >= max(LOAD_AFTER, _LOOK_AT)):
+        return None
+    try:
+        import numba  # lazily, and optional: the fast extra; the numpy path needs none of it
+    except ImportError:
         _TRIED = True
-        _KERNELS = _compiled(numba)
+        return None
+    groups = tuple(GROUPS) if mode == "1" else cached_groups(numba)
+    if len(groups) < len(GROUPS) and not _WARMING_STARTED:  # compiled in the background; numpy here
+        _WARMING_STARTED = True
+        _start_warming()
+    if not groups:
+        _LOOK_AT = _NUMPY_SECONDS + LOOK_AGAIN  # and taken up once the warm-up has cached some
+        return None
+    _TRIED = True
+    _load(numba, groups)
     return _KERNELS
+
+
+def kernel(name: str) -> object | None:
+    """The compiled kernel ``name`` (an attribute of :func:`kernels`), or None where the kernels are not
+    loaded or this one is not in numba's cache yet: its caller takes the numpy path, with the same numbers."""
+    fused = kernels()
+    return None if fused is None else getattr(fused, name)
 
 
 #: The marker the warm-up leaves beside numba's cache, and the lock of a warm-up under way (stale after
 #: ``WARMING_STALE`` seconds: a warm-up that died).
 MARKER = "compiled.warm"
 WARMING = "compiled.warming"
+#: The warm-up's progress: the stamp, then the name of each group of kernels it has cached so far.
+PROGRESS = "compiled.part"
 WARMING_STALE = 600.0
 
 
@@ -131,6 +153,22 @@ def cache_ready(numba: object) -> bool:
         return False
 
 
+def cached_groups(numba: object) -> tuple[str, ...]:
+    """The groups of :data:`GROUPS` whose kernels numba's cache holds: all where :func:`cache_ready`, else
+    those the warm-up under way has listed in its progress file (for this numba and this source)."""
+    if cache_ready(numba):
+        return tuple(GROUPS)
+    folder = _cache_folder()
+    try:
+        stamp, *done = (folder / PROGRESS).read_text().splitlines(keepends=True)
+    except (OSError, ValueError):
+        return ()
+    if stamp != _stamp(numba):
+        return ()
+    done = {g.strip() for g in done}
+    return tuple(g for g in GROUPS if g in done)
+
+
 def _start_warming() -> None:
     """Start the warm-up (``contact_models.allmode.warm``) in a detached process of low priority, unless one is
     under way."""
@@ -163,13 +201,32 @@ WARM_COMMAND = ("import os\nif hasattr(os, 'nice'): os.nice(10)\n"
                 "from contact_models.allmode.warm import warm\nwarm()")
 
 
-def _compiled_now() -> None:
-    """Load the kernels in this process now (compiling them into numba's cache): the start of
-    ``contact_models.allmode.warm.warm``."""
-    global _KERNELS, _TRIED
+def _compiled_now(groups: tuple[str, ...] | None = None) -> None:
+    """Load the kernels of ``groups`` (all by default) in this process now, compiling them into numba's cache
+    at their first call: ``contact_models.allmode.warm.warm``, group by group."""
+    global _TRIED
     import numba
 
-    _KERNELS, _TRIED = _compiled(numba), True
+    _load(numba, tuple(GROUPS) if groups is None else groups)
+    _TRIED = True
+
+
+def mark_group(group: str) -> None:
+    """Add ``group`` to the warm-up's progress file: its kernels are in numba's cache."""
+    import numba
+
+    folder = _cache_folder()
+    if folder is None:
+        return
+    try:
+        stamp, *done = (folder / PROGRESS).read_text().splitlines(keepends=True)
+    except (OSError, ValueError):
+        stamp, done = "", []
+    if stamp != _stamp(numba):
+        done = []
+    tmp = folder / (PROGRESS + ".tmp")
+    tmp.write_text(_stamp(numba) + "".join(done) + group + "\n")
+    os.replace(tmp, folder / PROGRESS)  # whole, for a process reading it now
 
 
 def mark_warm() -> None:
@@ -180,26 +237,63 @@ def mark_warm() -> None:
     if folder is not None:
         (folder / MARKER).write_text(_stamp(numba))
         (folder / WARMING).unlink(missing_ok=True)
+        (folder / PROGRESS).unlink(missing_ok=True)
 
 
-def _compiled(numba: object) -> SimpleNamespace:
-    """The kernels compiled (or loaded from numba's cache).  Kernels that call others (``residual``,
-    ``coupled_factor``, ``newton``) find them compiled as the module's ``_march``, ``_rows_c``, ... when they are
-    compiled."""
+#: The kernels by group, in the order the warm-up compiles them (the kernels' own, ``python_name``), the
+#: groups that save the most on a curve per second of compiling first; a group's kernels call only those of
+#: its own and of earlier groups.  A process loads each group once it is in numba's cache.
+GROUPS = {
+    "residual": ("march", "rows", "residual"),
+    "jacobians": ("jacobians", "same_pattern"),
+    "elimination": ("block_factor", "coupled_factor", "block_solve"),
+    "thomas": ("thomas",),
+    "newton": ("newton",),
+}
+_MISSING: tuple[str, ...] = ()  # the groups a process that loaded some still waits for
+_LOOK_WALL = 0.0  # when it looks for them again
+_JIT = None  # numba.njit with numba's cache, or without where it has no writable place
+
+
+def _take_up() -> None:
+    """Load the groups the warm-up has cached since this process last looked; look again after ``LOOK_AGAIN``
+    seconds."""
+    global _LOOK_WALL
+    import numba
+
+    _LOOK_WALL = time.perf_counter() + LOOK_AGAIN
+    groups = cached_groups(numba)
+    if any(g in _MISSING for g in groups):
+        _load(numba, groups)
+
+
+def _load(numba: object, groups: tuple[str, ...]) -> None:
+    """The kernels of ``groups`` (compiled, or loaded from numba's cache) in :func:`kernels`'s namespace, the others
+    None there.  Kernels that call others (``residual``, ``coupled_factor``, ``newton``) find them compiled as the
+    module's ``_march``, ``_rows_c``, ... when they are compiled."""
+    global _KERNELS, _JIT, _MISSING, _LOOK_WALL
     global _march, _rows_c, _block_factor_c, _jacobians_c, _same_c, _residual_c, _coupled_c, _block_solve_c
     funcs = dict(march=march, jacobians=jacobians, block_factor=block_factor, block_solve=block_solve, thomas=thomas,
                  same_pattern=same_pattern, residual=residual, rows=rows_kernel, coupled_factor=coupled_factor,
                  newton=newton)
-    try:
-        jit = numba.njit(cache=True, nogil=True)
-        jit(march)  # (the test of a writable cache)
-    except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
-        jit = numba.njit(nogil=True)
-    out = SimpleNamespace(**{k: jit(f) for k, f in funcs.items()})
+    if _KERNELS is None:
+        try:
+            _JIT = numba.njit(cache=True, nogil=True)
+            _JIT(march)  # (the test of a writable cache)
+        except RuntimeError:  # no writable place for numba's cache: compiled in every process instead
+            _JIT = numba.njit(nogil=True)
+        _KERNELS = SimpleNamespace(**dict.fromkeys(funcs))
+    out = _KERNELS
+    for group in GROUPS:  # in their order: a group's callees before it
+        if group in groups:
+            for name in GROUPS[group]:
+                if getattr(out, name) is None:
+                    setattr(out, name, _JIT(funcs[name]))
+    _MISSING = tuple(g for g in GROUPS if any(getattr(out, n) is None for n in GROUPS[g]))
+    _LOOK_WALL = time.perf_counter() + LOOK_AGAIN
     _march, _rows_c, _block_factor_c = out.march, out.rows, out.block_factor
     _jacobians_c, _same_c, _residual_c = out.jacobians, out.same_pattern, out.residual
     _coupled_c, _block_solve_c = out.coupled_factor, out.block_solve
-    return out
 
 
 def numpy_clock() -> float | None:

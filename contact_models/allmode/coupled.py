@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from .balance import BANDED_MAX_BLOCK, BlockTridiagonal, factorise
-from .compiled import kernels
+from .compiled import kernel
 
 Array = NDArray[np.float64]
 
@@ -40,11 +40,11 @@ class Coupled:
     def of(cls, J: Array, lin: Array, c: Array, diagonal: int, row0: bool) -> Coupled:
         """``Coupled(with_diagonal(J[:-1], lin[:-1]), c, diagonal, row0)``: in one compiled call where the blocks are
         eliminated one by one (more than ``BANDED_MAX_BLOCK`` coefficients a node), the same numbers."""
-        fused = kernels()
+        fused = kernel("coupled_factor")
         if fused is None or J.shape[1] <= BANDED_MAX_BLOCK:
             return cls(with_diagonal(J[:-1], lin[:-1]), c, diagonal, row0)
         k = min(int(diagonal), J.shape[0] - 1)
-        inv_d, inv_v, inv, bad = fused.coupled_factor(J, lin, c, k, bool(row0), bool(np.any(c != c[0])))
+        inv_d, inv_v, inv, bad = fused(J, lin, c, k, bool(row0), bool(np.any(c != c[0])))
         return cls.from_factors(inv_d, inv_v, inv, bad, c, row0)
 
     @classmethod

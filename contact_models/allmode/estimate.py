@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 
 from .accuracy import relative
 from .balance import BANDED_MAX_BLOCK
-from .compiled import kernels
+from .compiled import kernel
 
 AllModeMicroslip = Any  # the element (``contact_models.allmode``, which imports this module)
 
@@ -43,7 +43,7 @@ def threads(el: AllModeMicroslip) -> int:
     basis: H = 31), in a main process, on a machine of at least as many cores; else 1 (module docstring).  A
     smaller rung's solves are mostly Python, which holds the lock, so two threads there cannot overlap and only
     add their switching."""
-    if ESTIMATE_THREADS < 2 or kernels() is None or multiprocessing.parent_process() is not None:
+    if ESTIMATE_THREADS < 2 or kernel("newton") is None or multiprocessing.parent_process() is not None:
         return 1
     if not (el._fixed and el.harmonics + 1 > BANDED_MAX_BLOCK):
         return 1

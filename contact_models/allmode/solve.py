@@ -21,7 +21,7 @@ from ..numerics.checks import nonnegative
 from ..numerics.fe_bar import _Discretisation
 from .balance import (BANDED_MAX_BLOCK, aft_matrices, half_products, jacobian_prefix, jenkins_harmonic, jenkins_jacobian,
                       jenkins_periodic, jenkins_state, kernel_constants, same_jacobian, scalar_tridiagonal)
-from .compiled import kernels, numpy_clock, numpy_spent
+from .compiled import kernel, numpy_clock, numpy_spent
 from .coupled import Coupled, residual_rate, stuck_prefix, with_diagonal
 from .segments import Segments
 
@@ -283,10 +283,10 @@ class FixedBar:
         coefficients)."""
         d = self.disc
         lin, c = self.linear(omega, b.order, b.odd)[:2]  # (n+1, s), (s,)
-        fused = kernels()
+        fused = kernel("residual")
         if fused is not None:  # the same operations in one compiled call
             ET, PT = aft_products(b)
-            R, res, T, *state = fused.residual(np.ascontiguousarray(U), X, lin, c, d.kc, d.p, ET, PT, b.odd)
+            R, res, T, *state = fused(np.ascontiguousarray(U), X, lin, c, d.kc, d.p, ET, PT, b.odd)
             ev = _Eval(U, R, res, T, None, ~state[1], lin, tuple(state))
             return self.with_jacobian(ev, X, omega, b) if jacobian else ev
         full = np.vstack([U, X[None, :]])
@@ -365,7 +365,7 @@ class FixedBar:
         factorisation returned is the last one made (None if none was)."""
         scale = self.scale(X)
         tol = NEWTON_TOL * scale
-        fused = kernels()
+        fused = kernel("newton")
         if fused is not None and ev.J is not None and ev.state is not None and ev.U.shape[1] > BANDED_MAX_BLOCK:
             return self.compiled_newton(fused, ev, X, omega, b, max_iter, derivatives, scale)
         fac, J, prev = None, None, None
@@ -399,7 +399,7 @@ class FixedBar:
         c = self.linear(omega, b.order, b.odd)[1]
         ET, PT = aft_products(b)
         E, P1, mean = kernel_constants(b.E, b.P)
-        U, R, res, T, u, st, an, nv, J, has_J, inv_d, inv_v, inv, has_fac, bad, it, ok = fused.newton(
+        U, R, res, T, u, st, an, nv, J, has_J, inv_d, inv_v, inv, has_fac, bad, it, ok = fused(
             np.ascontiguousarray(ev.U), ev.R, ev.res, ev.T, *ev.state, ev.J, X, ev.lin, c, d.kc, d.p, ET, PT, b.odd,
             E, P1, mean, *b.prefix, NEWTON_TOL * scale, START_EXACT * scale, max_iter, not b.odd, derivatives)
         fac = Coupled.from_factors(inv_d, inv_v, inv, bad, c, not b.odd) if has_fac else None
