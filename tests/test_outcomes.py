@@ -123,10 +123,22 @@ def test_the_callback_gets_every_point_in_order():
 @pytest.mark.parametrize("bad, match", [(dict(tol="exact"), "tol must be a number in"), (dict(tol=2.0), "tol must be < 1"),
                                         (dict(model="physical"), "model must be one of"),
                                         (dict(steps={"max_step": 0.1}), "steps must be an hbm.Steps"),
-                                        (dict(steps=Steps(max_step=-1.0)), "steps.max_step must be a positive"),
                                         (dict(model="auto", tol=None), "needs a tol"),
                                         (dict(callback=3), "callback must be callable"),
                                         (dict(stability="yes"), r"^stability must be True or False, got stability='yes'$")])
 def test_bad_options_are_named(bad, match):
     with pytest.raises(ValueError, match=match):
         frequency_response(BARE, omega_range=(90.0, 110.0), **bad)
+
+
+@pytest.mark.parametrize("bad, match", [(dict(max_step=-1.0), r"^steps.max_step must be a positive number, got max_step=-1.0$"),
+                                        (dict(max_step=math.nan), "steps.max_step must be a positive number"),
+                                        (dict(max_steps=0), r"^steps.max_steps must be an integer >= 1, got max_steps=0$"),
+                                        (dict(curve_tol=-1), "steps.curve_tol must be None or in"),
+                                        (dict(locate_folds="no"),
+                                         r"^steps.locate_folds must be True or False, got locate_folds='no'$"),
+                                        (dict(max_step=1e-10), r"^steps.min_step must be <= max_step, got "
+                                                               r"min_step=1e-09, max_step=1e-10$")])
+def test_bad_step_controls_are_refused_where_they_are_made(bad, match):
+    with pytest.raises(ValueError, match=match):
+        Steps(**bad)

@@ -208,6 +208,9 @@ class Steps:
     curve_tol: float | None = None
     locate_folds: bool = True
 
+    def __post_init__(self) -> None:
+        self.checked()  # a bad control is refused where it is given, naming it
+
     def checked(self) -> dict:
         """The controls as the continuation's keyword arguments, each validated (``ValueError`` naming it)."""
         for name in ("max_step", "min_step"):
@@ -219,5 +222,10 @@ class Steps:
         c = self.curve_tol
         if c is not None and (isinstance(c, bool) or not isinstance(c, numbers.Real) or not 0.0 < float(c) < 1.0):
             raise ValueError(f"steps.curve_tol must be None or in (0, 1) (a relative error), got curve_tol={c!r}")
+        if type(self.locate_folds).__name__ not in ("bool", "bool_"):  # (numpy's bool too)
+            raise ValueError(f"steps.locate_folds must be True or False, got locate_folds={self.locate_folds!r}")
+        if self.min_step > self.max_step:
+            raise ValueError(f"steps.min_step must be <= max_step, got min_step={self.min_step!r}, "
+                             f"max_step={self.max_step!r}")
         return dict(max_step=float(self.max_step), min_step=float(self.min_step), max_steps=int(self.max_steps),
                     locate_folds=bool(self.locate_folds), curve_tol=None if c is None else float(c))
