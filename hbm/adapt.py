@@ -33,7 +33,7 @@ from . import continuation as cont  # the module (hbm.continuation)
 from . import curve
 from .balance import errors
 from .balance.residual import HarmonicBalance
-from .balance.start import force_homotopy
+from .balance.start import equivalent_start, force_homotopy, stuck_reason
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, model_label
 
 
@@ -79,6 +79,10 @@ class Setup:
                                response_dof=self.response_dof, rtol=self.rtol)
 
 
+#: Where a branch that stopped early is asked why (``stuck_reason``): this far beyond its last point, relative.
+BEYOND_END = 1e-3
+
+
 def solve(setup: Setup, contacts: Any, H: int, reporter: Callable | None = None) -> FrequencyResponse:
     """The whole range traced with ``contacts`` at ``H`` harmonics (the stuck start at w0);
     ``reporter(problem)`` makes the continuation's ``on_point`` once the problem's scales are set."""
@@ -114,6 +118,19 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
         u_h = force_homotopy(problem, w0, tol, scale)
         if u_h is not None:
             run = run_from(u_h)
+    if run.status == cont.Status.START_FAILED and start is None:  # the describing functions' equivalent system
+        u_e = equivalent_start(problem, w0)
+        if u_e is not None:
+            run = run_from(u_e)
+    if run.status == cont.Status.START_FAILED and start is None:  # say why, where a contact sticks there
+        why = stuck_reason(problem, w0)
+        if why is not None:
+            run = dataclasses.replace(run, message=f"{run.message}: {why}")
+    elif run.status == cont.Status.STEP_TOO_SMALL and len(run.y):  # stopped where such a contact stops slipping?
+        w_end = float(run.y[-1, -1]) * w_ref
+        why = stuck_reason(problem, w_end * (1.0 + BEYOND_END * (direction or (1 if w1 > w0 else -1))))
+        if why is not None:
+            run = dataclasses.replace(run, message=f"{run.message}; just beyond its last point, {why}")
     if cut is not None:
         run = cut(run, scale)
     if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off

@@ -248,15 +248,16 @@ def condensed(structure: Structure, dofs: Sequence[int], harmonics: int) -> Cond
 
 
 def stuck_matrix(contacts: Sequence[Any], dofs: Sequence[int], omega: float,
-                 angle: float = 0.0) -> NDArray[np.complex128]:
+                 angle: float = 0.0, stiffness: Sequence[complex] | None = None) -> NDArray[np.complex128]:
     """Complex stiffness (n_a, n_a) of the contacts held in their linear range at omega (rigid: 0), for a
     motion whose next sector is this one's times ``exp(-i angle)`` (a ``next_sector`` contact's p; 0:
-    the static term, or a structure that is not a sector)."""
+    the static term, or a structure that is not a sector); ``stiffness``: each contact's complex
+    stiffness instead (an equivalent linear system, ``hbm.balance.start``)."""
     pos = {d: i for i, d in enumerate(dofs)}
     Kc = np.zeros((len(dofs), len(dofs)), dtype=complex)
     turn = complex(math.cos(angle), -math.sin(angle))
-    for c in contacts:
-        ks, kc = c.element.linear_coefficients(omega)
+    for e, c in enumerate(contacts):
+        ks, kc = c.element.linear_coefficients(omega) if stiffness is None else (stiffness[e].real, stiffness[e].imag)
         k = complex(ks, kc) if math.isfinite(ks) and math.isfinite(kc) else 0.0
         ix = [pos[d] for d in c.dofs]
         if c.next_sector:  # relative motion turn c_p - c_q; force conj(turn) f on p, -f on q
