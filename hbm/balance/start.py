@@ -11,12 +11,11 @@ rigid slider ``Macroslip(math.inf, F)``, ``f_c = 4 F/pi`` for every a > 0) has a
 jumps at a = 0, and Newton from the free or the stuck guess does not find the amplitude.
 
 The force that holds a rigid contact (:func:`held_forces`): the contacts that are rigid while stuck
-held fixed (``B^T X = 0``), the others at their stuck stiffness; the force ``P`` on each.  With ``F_b``
-its breakaway force (``loading_curve`` at 0+: the rigid slider's ``F``) and ``F_1`` the first harmonic
-of its force at vanishing amplitude (``4 F/pi``): ``P < F_b``, it sticks all period; ``F_b < P <
-F_1``, it slips for part of each period and sticks for the rest, and the H = 1 balance, whose
-force is that of slipping throughout (at least ``F_1``), has no solution with it moving (for one
-such contact, ``|u(a)|/a -> P/F_1 < 1`` as a -> 0).
+held fixed (``B^T X = 0``), the others at their stuck stiffness; the force ``P`` on each.  With ``F_1``
+the first harmonic of its force at vanishing amplitude (the rigid slider's ``4 F/pi``): where ``P <
+F_1`` the H = 1 balance, whose force is that of slipping throughout (at least ``F_1``), has no solution
+with it moving (for one such contact, ``|u(a)|/a -> P/F_1 < 1`` as a -> 0); the contact sticks for part
+of each period or all of it (all where ``P`` is below its slip force: the rigid slider's ``F``).
 """
 
 from __future__ import annotations
@@ -37,8 +36,6 @@ from .residual import HarmonicBalance
 EQUIVALENT_SPAN = (1e-9, 1e6)
 #: Grid points per decade of that span at which the sign change is sought.
 EQUIVALENT_PER_DECADE = 8
-#: Damped fixed-point iterations (several contacts) and their relative tolerance.
-EQUIVALENT_ITER, EQUIVALENT_RTOL = 400, 1e-10
 
 
 def force_homotopy(problem: HarmonicBalance, w0: float, tol: float, scale: Callable) -> NDArray | None:
@@ -102,37 +99,25 @@ def _equivalent_motion(problem: HarmonicBalance, w: float, amps: NDArray) -> tup
 
 def equivalent_start(problem: HarmonicBalance, w0: float) -> NDArray | None:
     """Scaled unknowns at ``w0`` of the equivalent linear system (module docstring), or None where it has
-    no solution (or the contacts are not all plain tangential ones).  One contact: the root of
-    ``log(|u(a)|/a)`` bracketed on a grid of amplitudes and refined by Brent's method; several: a fixed
-    point of ``a <- sqrt(a |u(a)|)``."""
-    if not _plain(problem) or not problem.contacts:
+    no solution (or there is not exactly one contact, a plain tangential one): the root of
+    ``log(|u(a)|/a)`` bracketed on a grid of amplitudes and refined by Brent's method, the largest (the
+    slipping one) where there are several."""
+    if not _plain(problem) or len(problem.contacts) != 1:
         return None
     xr = problem.x_ref
-    n = len(problem.contacts)
 
     def gap(log_a):
-        return math.log(_equivalent_motion(problem, w0, np.full(n, math.exp(log_a)))[1][0]) - log_a
+        return math.log(_equivalent_motion(problem, w0, np.array([math.exp(log_a)]))[1][0]) - log_a
 
     try:
-        if n == 1:
-            lo, hi = (math.log(xr * f) for f in EQUIVALENT_SPAN)
-            grid = np.linspace(lo, hi, int(EQUIVALENT_PER_DECADE * (hi - lo) / math.log(10.0)) + 1)
-            g = [gap(v) for v in grid]
-            cross = [j for j in range(len(g) - 1) if g[j] > 0.0 >= g[j + 1]]
-            if not cross:
-                return None
-            j = cross[-1]  # the largest amplitude that balances (the slipping one)
-            amps = np.array([math.exp(brentq(gap, grid[j], grid[j + 1], xtol=1e-14, rtol=1e-14))])
-        else:
-            amps = np.full(n, xr)
-            for _ in range(EQUIVALENT_ITER):
-                rel = _equivalent_motion(problem, w0, amps)[1]
-                new = np.sqrt(amps * np.maximum(rel, xr * EQUIVALENT_SPAN[0]))
-                if np.all(np.abs(new / amps - 1.0) <= EQUIVALENT_RTOL):
-                    break
-                amps = new
-            else:
-                return None
+        lo, hi = (math.log(xr * f) for f in EQUIVALENT_SPAN)
+        grid = np.linspace(lo, hi, int(EQUIVALENT_PER_DECADE * (hi - lo) / math.log(10.0)) + 1)
+        g = [gap(v) for v in grid]
+        cross = [j for j in range(len(g) - 1) if g[j] > 0.0 >= g[j + 1]]
+        if not cross:
+            return None
+        j = cross[-1]  # the largest amplitude that balances (the slipping one)
+        amps = np.array([math.exp(brentq(gap, grid[j], grid[j + 1], xtol=1e-14, rtol=1e-14))])
         z = _equivalent_motion(problem, w0, amps)[0]
     except (ValueError, ArithmeticError, np.linalg.LinAlgError):
         return None
@@ -186,10 +171,25 @@ def stuck_reason(problem: HarmonicBalance, w: float) -> str | None:
     not that (no such contact, or every one is held by more than its ``F_1``)."""
     if problem.H != 1:
         return None
+    try:
+        parts = _stuck_parts(problem, w)
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError):  # no reason found: the run's own message stands
+        return None
+    if not parts:
+        return None
+    return (f"at omega = {w:.6g} rad/s the first-harmonic balance has no solution with "
+            + "; and ".join(parts)
+            + ". The describing function (harmonics=1) describes an element that slips all period, and an element "
+              "with no stuck stiffness has no time law for more harmonics: for this response give it a finite "
+              "stiffness (e.g. Macroslip(k, slip_force) for the rigid slider), which has a time-domain force law")
+
+
+def _stuck_parts(problem: HarmonicBalance, w: float) -> list[str]:
+    """For :func:`stuck_reason`: one phrase for each contact rigid while stuck and held by less than its ``F_1``."""
     rigid = rigid_contacts(problem, w)
     P = held_forces(problem, w, rigid) if rigid else None
     if P is None:
-        return None
+        return []
     parts = []
     for e, p in zip(rigid, P):
         c = problem.contacts[e]
@@ -198,25 +198,11 @@ def stuck_reason(problem: HarmonicBalance, w: float) -> str | None:
         f1 = math.hypot(*(float(v) for v in el.fourier(tiny, w, rtol=problem.rtol)))
         if not p < f1:
             continue
-        fb = float(el.loading_curve(tiny, w)) if callable(getattr(el, "loading_curve", None)) else math.nan
         where = f"dof={c.dofs[0]}" if len(c.dofs) == 1 else f"dofs={c.dofs}"
-        held = f"held fixed, it would carry a force of amplitude {p:.6g} N"
-        if p <= fb:
-            how = (f"{held}, no more than its breakaway force {fb:.6g} N: it sticks for the whole period, and the "
-                   f"response is the linear one with it held")
-        else:
-            how = (f"{held}, more than its breakaway force {fb:.6g} N but less than {f1:.6g} N, the first harmonic "
-                   f"of its force while it slips throughout: it slips for part of each period and sticks for the "
-                   f"rest (stick-slip)") if math.isfinite(fb) else (
-                   f"{held}, less than {f1:.6g} N, the first harmonic of its force while it slips throughout")
-        parts.append(f"{el!r} at {where}, {how}")
-    if not parts:
-        return None
-    return (f"at omega = {w:.6g} rad/s the first-harmonic balance has no solution with "
-            + "; and ".join(parts)
-            + ". The describing function (harmonics=1) describes an element that slips all period, and an element "
-              "with no stuck stiffness has no time law for more harmonics: for this response give it a finite "
-              "stiffness (e.g. Macroslip(k, slip_force) for the rigid slider), which has a time-domain force law")
+        parts.append(f"{el!r} at {where}: held fixed, it would carry a force of amplitude {p:.6g} N, less than "
+                     f"{f1:.6g} N, the first harmonic of its force while it slips throughout, so it sticks for "
+                     f"part of each period or all of it")
+    return parts
 
 
 __all__ = ["equivalent_start", "force_homotopy", "held_forces", "rigid_contacts", "stuck_reason"]
