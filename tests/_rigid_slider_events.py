@@ -99,8 +99,6 @@ class RigidSlider:
                     mode = 0 if abs(h) <= self.fs else int(np.sign(h))
                 else:
                     mode = int(np.sign(self.hold(t, y)))
-                if mode != 0:  # nudge off the event so that it is not found again at once
-                    pass
         return y, mode, pieces, stuck
 
     def periodic(self, periods=200):
