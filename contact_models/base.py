@@ -33,7 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
 from .numerics.checks import (ElementOutputError, count, fourier_checked, harmonics_checked, loop_checked,  # noqa: F401
-                              nonnegative, nonnegative_array, positive, scalar_checked, time_law_checked)
+                              nonnegative, nonnegative_array, positive, relative, scalar_checked, time_law_checked)
 from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
                               dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
                               to_harmonics, to_time, true_extremes)
@@ -137,7 +137,7 @@ class ContactElement(ABC):
         Raises
         ------
         ValueError
-            If ``a`` or ``omega`` is negative or not finite, or ``rtol`` <= 0, naming it.
+            If ``a`` or ``omega`` is negative or not finite, or ``rtol`` is not in (0, 1), naming it.
 
         Examples
         --------
@@ -156,7 +156,7 @@ class ContactElement(ABC):
         one = self._scalar_call(a, omega, rtol)
         if one is None:
             a_b, w_b, shape = self._prepare(a, omega)
-            rtol = positive("rtol", rtol)
+            rtol = relative("rtol", rtol)
             fs, fc = fourier_checked(self, a_b, w_b, rtol, values=True)
             out = _shaped(fs, shape), _shaped(fc, shape)
         else:
@@ -176,7 +176,7 @@ class ContactElement(ABC):
         one = self._scalar_call(a, omega, rtol)
         if one is None:
             a_b, w_b, shape = self._prepare(a, omega)
-            rtol = positive("rtol", rtol)
+            rtol = relative("rtol", rtol)
             out = tuple(_shaped(v, shape) for v in fourier_checked(self, a_b, w_b, rtol))
         else:
             out = one
@@ -327,9 +327,13 @@ class ContactElement(ABC):
         self._require_time_law()
         x = np.asarray(x, dtype=float)
         rows = () if self.components == 1 else (self.components,)
-        if x.shape[:-1] != rows or x.shape[-1] < 2 or not np.all(np.isfinite(x)):
-            raise ValueError(f"x must be a finite array of shape {rows + ('n_t',)} with n_t >= 2 samples, "
+        if x.ndim == 0 or x.shape[:-1] != rows or x.shape[-1] < 2:
+            raise ValueError(f"x must be an array of shape {rows + ('n_t',)} with n_t >= 2 samples, "
                              f"got x with shape {x.shape}")
+        if not np.all(np.isfinite(x)):
+            bad = tuple(int(i) for i in np.argwhere(~np.isfinite(x))[0])
+            at = ", ".join(map(str, bad))
+            raise ValueError(f"x must be finite, got x[{at}]={float(x[bad])!r}")
         omega = nonnegative("omega", omega)
         return self._periodic_force(x, omega) if self._is_masing() else time_law_checked(self, x, omega)
 
@@ -388,7 +392,7 @@ class ContactElement(ABC):
             raise ValueError(f"X must be finite, got X[{', '.join(map(str, bad))}]={float(X[bad])!r}")
         H = (X.shape[-1] - 1) // 2
         omega = nonnegative("omega", omega)
-        rtol = positive("rtol", rtol)
+        rtol = relative("rtol", rtol)
         if H > 1:
             self._require_time_law(f" at harmonics={H} (it is a first-harmonic element: use harmonics=1)")
         if n_t is None:
@@ -490,11 +494,11 @@ class ContactElement(ABC):
     def _scalar_call(self, a, omega, rtol):
         """``(f_s, f_c, df_s/da, df_c/da)`` as ``numpy.float64`` (the general path's scalar type) from
         the element's float path ``_derivatives_one``, for float ``a``, ``omega``, ``rtol`` passing the
-        checks of ``_prepare`` and ``positive`` (for floats: finite and >= 0; rtol > 0).  None for an
+        checks of ``_prepare`` and ``relative`` (for floats: finite and >= 0; rtol in (0, 1)).  None for an
         element without that path and for anything else: the general path validates and raises."""
         one = self._derivatives_one
         if (one is not None and type(a) in _FLOAT_TYPES and type(omega) in _FLOAT_TYPES and type(rtol) in _FLOAT_TYPES
-                and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < math.inf):
+                and 0.0 <= a < math.inf and 0.0 <= omega < math.inf and 0.0 < rtol < 1.0):
             return tuple(map(np.float64, scalar_checked(self, one(float(a), float(omega), float(rtol)), a, omega)))
         return None
 
@@ -628,7 +632,11 @@ class ContactElement(ABC):
     def _prepare(a, omega):
         a = nonnegative_array("a", a)
         omega = nonnegative_array("omega", omega)
-        a_b, w_b = np.broadcast_arrays(a, omega)
+        try:
+            a_b, w_b = np.broadcast_arrays(a, omega)
+        except ValueError:
+            raise ValueError(f"a and omega must broadcast against each other, got a with shape {np.shape(a)} and "
+                             f"omega with shape {np.shape(omega)}") from None
         shape = a_b.shape
         return a_b.ravel().astype(float), w_b.ravel().astype(float), shape
 

@@ -161,3 +161,36 @@ def test_harmonic_force_names_a_bad_shape_and_the_first_non_finite_coefficient()
         el.harmonic_force(np.array([0.0, 1.0, math.nan]), 1.0)
     with pytest.raises(ValueError, match=r"^X must be finite, got X\[1\]=inf$"):
         el.harmonic_force(np.array([0.0, math.inf, 0.0, 1.0, 1.0]), 1.0)
+
+
+def test_periodic_force_names_a_bad_shape_and_the_first_non_finite_sample():
+    from contact_models import Contact2D, Macroslip
+
+    el = Macroslip(1.0, 0.02)
+    with pytest.raises(ValueError, match=r"^x must be an array of shape \('n_t',\) with n_t >= 2 samples, "
+                                         r"got x with shape \(2, 2\)$"):
+        el.periodic_force(np.zeros((2, 2)))
+    with pytest.raises(ValueError, match=r"^x must be finite, got x\[1\]=nan$"):
+        el.periodic_force(np.array([0.0, math.nan, 0.0]))
+    with pytest.raises(ValueError, match=r"^x must be finite, got x\[1, 0\]=inf$"):  # two components
+        Contact2D(1.0, 1.0, 0.5, 1.0).periodic_force(np.array([[0.0, 1.0, 0.0], [math.inf, 0.0, 0.0]]))
+
+
+@pytest.mark.parametrize("rtol", [0.0, 1.0, 2.0, -1e-3, math.nan])
+def test_fourier_takes_a_relative_accuracy_in_0_1_only(rtol):
+    two = TwoRegionMicroslip(Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3),
+                             UniformLoad(N=100.0))
+    pattern = r"^rtol must be (in \(0, 1\) \(a relative accuracy\)|finite), got rtol="
+    for call in (lambda: two.fourier(1e-6, 100.0, rtol=rtol), lambda: two.fourier_derivatives(1e-6, 100.0, rtol=rtol),
+                 lambda: two.fourier(np.array([1e-6, 2e-6]), 100.0, rtol=rtol),
+                 lambda: two.harmonic_force(np.array([0.0, 1e-6, 0.0]), 100.0, rtol=rtol)):
+        with pytest.raises(ValueError, match=pattern):
+            call()
+
+
+def test_amplitudes_and_frequencies_that_do_not_broadcast_are_named():
+    from contact_models import Macroslip
+
+    with pytest.raises(ValueError, match=r"^a and omega must broadcast against each other, got a with shape \(3,\) "
+                                         r"and omega with shape \(2,\)$"):
+        Macroslip(1.0, 0.02).fourier(np.ones(3), np.ones(2))

@@ -18,6 +18,14 @@ def positive(name: str, value: object) -> float:
     return v
 
 
+def relative(name: str, value: object) -> float:
+    """Return ``value`` as float if it is in (0, 1) (a relative accuracy), else raise ValueError."""
+    v = _scalar(name, value)
+    if not 0.0 < v < 1.0:
+        raise ValueError(f"{name} must be in (0, 1) (a relative accuracy), got {name}={value!r}")
+    return v
+
+
 def nonnegative(name: str, value: object) -> float:
     """Return ``value`` as float if it is finite and >= 0, else raise ValueError."""
     v = _scalar(name, value)
