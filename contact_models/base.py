@@ -32,8 +32,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
-from .numerics.checks import (ElementOutputError, count, fourier_checked, harmonics_checked, loop_checked,  # noqa: F401
-                              nonnegative, nonnegative_array, positive, relative, scalar_checked, time_law_checked)
+from .numerics.checks import (ElementOutputError, count, flag, fourier_checked, harmonics_checked,  # noqa: F401
+                              loop_checked, nonnegative, nonnegative_array, number_array, positive, relative,
+                              scalar_checked, time_law_checked)
 from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
                               dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
                               to_harmonics, to_time, true_extremes)
@@ -126,7 +127,7 @@ class ContactElement(ABC):
         omega : array_like, optional
             Frequency (rad/s), finite and >= 0; broadcasts against ``a``.  Default 0.
         rtol : float, optional
-            Relative accuracy asked of f_s and f_c, > 0.  Default 1e-6.
+            Relative accuracy asked of f_s and f_c, in (0, 1).  Default 1e-6.
 
         Returns
         -------
@@ -137,7 +138,8 @@ class ContactElement(ABC):
         Raises
         ------
         ValueError
-            If ``a`` or ``omega`` is negative or not finite, or ``rtol`` is not in (0, 1), naming it.
+            If ``a`` or ``omega`` is negative or not finite (or not a number: a string, a bool), if they
+            do not broadcast, or if ``rtol`` is not in (0, 1), naming it.
 
         Examples
         --------
@@ -210,6 +212,7 @@ class ContactElement(ABC):
         >>> float(Macroslip(stiffness=1.0, slip_force=0.5).model_error(2.0, 1.0))
         0.0
         """
+        parts = flag("parts", parts)
         a_b, w_b, shape = self._prepare(a, omega)
         e = self._model_error(a_b, w_b)
         e_s, e_c = e if isinstance(e, tuple) else (e, e)
@@ -285,9 +288,8 @@ class ContactElement(ABC):
         """
         a = nonnegative("a", a)
         omega = nonnegative("omega", omega)
-        if int(n) != n or n < 5:
-            raise ValueError(f"n must be an integer >= 5, got n={n!r}")
-        return loop_checked(self, self._hysteresis(a, omega, int(n)), a, omega)
+        n = count("n", n, 5)
+        return loop_checked(self, self._hysteresis(a, omega, n), a, omega)
 
     # ------------------------------------------------------------ time domain
     def periodic_force(self, x: ArrayLike, omega: float = 0.0) -> tuple[NDArray, NDArray]:
@@ -325,7 +327,7 @@ class ContactElement(ABC):
         [0.5, 0.207, -0.5, -0.5, -0.5, -0.207, 0.5, 0.5]
         """
         self._require_time_law()
-        x = np.asarray(x, dtype=float)
+        x = number_array("x", x)
         rows = () if self.components == 1 else (self.components,)
         if x.ndim == 0 or x.shape[:-1] != rows or x.shape[-1] < 2:
             raise ValueError(f"x must be an array of shape {rows + ('n_t',)} with n_t >= 2 samples, "
@@ -352,7 +354,7 @@ class ContactElement(ABC):
             Time samples per period of the AFT, >= 2H+2 (aliasing); default
             ``default_samples(H)``.  Not used at H = 1 (exact describing function).
         rtol : float
-            Relative tolerance passed to ``fourier_derivatives`` at H = 1.
+            Relative tolerance passed to ``fourier_derivatives`` at H = 1, in (0, 1).
 
         Returns
         -------
@@ -383,9 +385,9 @@ class ContactElement(ABC):
         >>> np.round(F, 4).tolist()  # f_c = 4 F_s (1 - y/a)/pi in cos, f_s = a/2 in sin
         [0.0, 0.3183, 0.5]
         """
-        X = np.asarray(X, dtype=float)
+        X = number_array("X", X)
         rows = () if self.components == 1 else (self.components,)
-        if X.shape[:-1] != rows or X.shape[-1] < 3 or X.shape[-1] % 2 == 0:
+        if X.ndim != len(rows) + 1 or X.shape[:-1] != rows or X.shape[-1] < 3 or X.shape[-1] % 2 == 0:
             raise ValueError(f"X must be of shape {rows + ('2H+1',)} with 2H+1 odd >= 3, got X with shape {X.shape}")
         if not np.all(np.isfinite(X)):
             bad = tuple(int(i) for i in np.argwhere(~np.isfinite(X))[0])

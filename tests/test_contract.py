@@ -194,3 +194,47 @@ def test_amplitudes_and_frequencies_that_do_not_broadcast_are_named():
     with pytest.raises(ValueError, match=r"^a and omega must broadcast against each other, got a with shape \(3,\) "
                                          r"and omega with shape \(2,\)$"):
         Macroslip(1.0, 0.02).fourier(np.ones(3), np.ones(2))
+
+
+@pytest.mark.parametrize("a", ["1", True, [True, False], None])
+def test_fourier_refuses_an_amplitude_that_is_not_a_number(a):
+    from contact_models import Macroslip
+
+    el = Macroslip(1.0, 0.5)
+    for method in (el.fourier, el.fourier_derivatives, el.model_error):
+        with pytest.raises(ValueError, match=r"^a must be a number or an array of numbers, got a="):
+            method(a)
+    with pytest.raises(ValueError, match=r"^omega must be a number or an array of numbers, got omega='1'$"):
+        el.fourier(1.0, "1")
+
+
+def test_model_error_parts_must_be_a_bool():
+    from contact_models import Macroslip
+
+    with pytest.raises(ValueError, match=r"^parts must be True or False, got parts='yes'$"):
+        Macroslip(1.0, 0.5).model_error(1.0, parts="yes")
+
+
+@pytest.mark.parametrize("n", [None, math.nan, math.inf, "401", 4])
+def test_hysteresis_names_a_bad_number_of_points(n):
+    from contact_models import Macroslip
+
+    with pytest.raises(ValueError, match=rf"^n must be an integer >= 5, got n={n!r}$"):
+        Macroslip(1.0, 0.5).hysteresis(1.0, n=n)
+
+
+def test_the_time_laws_refuse_samples_that_are_not_real_numbers():
+    from contact_models import Macroslip
+
+    el = Macroslip(1.0, 0.5)
+    for x in ("abc", ["a", "b"], np.array([0.0, 1j, 1.0, 0.5])):
+        with pytest.raises(ValueError, match=r"^x must be a number or an array of numbers, got x="):
+            el.periodic_force(x)
+    with pytest.raises(ValueError, match=r"^x must be an array of shape \('n_t',\) with n_t >= 2 samples, "
+                                         r"got x with shape \(\)$"):
+        el.periodic_force(1.0)
+    for X in (["a", "b", "c"], None, np.array([0.0, 1j, 1.0])):
+        with pytest.raises(ValueError, match=r"^X must be a number or an array of numbers, got X="):
+            el.harmonic_force(X, 1.0)
+    with pytest.raises(ValueError, match=r"^X must be of shape \('2H\+1',\) with 2H\+1 odd >= 3, got X with shape \(\)$"):
+        el.harmonic_force(0.0, 1.0)

@@ -74,19 +74,58 @@ def derived(owner: str, params: dict, compute: Callable[[], dict], *, positive_n
     return out
 
 
+def flag(name: str, value: object) -> bool:
+    """``value`` if it is a bool (``True``, ``False`` or a numpy bool), else raise ValueError: a string
+    such as ``"no"`` would be taken as True."""
+    if value is True or value is False or isinstance(value, np.bool_):
+        return bool(value)
+    raise ValueError(f"{name} must be True or False, got {name}={value!r}")
+
+
+def number_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    """``value`` as a float array, refusing what ``numpy.asarray(value, dtype=float)`` would read or
+    convert silently: strings (``"1"``), booleans, None, complex numbers; finiteness is not checked."""
+    if value is None or isinstance(value, (str, bytes, bool, np.bool_)):
+        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={value!r}")
+    try:
+        arr = np.asarray(value)
+        kind = arr.dtype.kind
+        if kind == "O" and not any(v is None or isinstance(v, (str, bytes, bool, np.bool_, complex))
+                                   for v in arr.flat):
+            arr, kind = arr.astype(float), "f"
+    except (TypeError, ValueError):
+        kind = "?"
+    if kind not in "fiu":
+        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={_shown(value)}")
+    return arr.astype(float, copy=False)
+
+
+def finite_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
+    """``value`` as a float array (:func:`number_array`) whose entries are finite."""
+    arr = number_array(name, value)
+    if not np.all(np.isfinite(arr)):
+        first = float(arr[~np.isfinite(arr)].flat[0]) if arr.ndim else float(arr)
+        raise ValueError(f"{name} must be finite, got {name}={first!r}" if arr.ndim == 0 else
+                         f"{name} must be finite, got {name} with an entry {first!r}")
+    return arr
+
+
 def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     """Return ``value`` as a float array whose entries are finite and >= 0."""
     if type(value) is float and 0.0 <= value < math.inf:  # the common scalar, without numpy's checks
         return np.array(value)
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={value!r}") from None
+    arr = number_array(name, value)
     bad = ~np.isfinite(arr) | (arr < 0.0)
     if np.any(bad):
         first = arr[bad].flat[0] if arr.ndim else float(arr)
         raise ValueError(f"{name} must be finite and >= 0, got {name}={first!r}")
     return arr
+
+
+def _shown(value: object) -> str:
+    """``repr(value)``, cut for a message."""
+    r = repr(value)
+    return r if len(r) <= 120 else r[:117] + "..."
 
 
 def _scalar(name: str, value: object) -> float:
