@@ -61,7 +61,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.checks import derived, finite, nonnegative, positive
+from .numerics.checks import derived, finite, nonnegative, nonnegative_array, positive
 from .base import ContactElement, masing_loop
 
 
@@ -153,7 +153,8 @@ class Iwan(ContactElement):
     # ------------------------------------------------------------ the loading curve
     def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """Virgin loading force ``F(x)`` (N) for x >= 0: ``K_T x - R x**(chi+2)/((chi+1)(chi+2))``, F_S past phi_max."""
-        x = np.asarray(x, dtype=float)
+        x = nonnegative_array("x", x)  # x < 0: x**(chi+2) is NaN for a non-integer chi
+        nonnegative("omega", omega)
         u = np.minimum(x, self.phi_max)
         p = self.chi + 2.0
         F = self.stiffness * u - self.R * u**p / ((p - 1.0) * p)

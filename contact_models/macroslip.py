@@ -28,7 +28,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.checks import positive
+from .numerics.checks import finite_array, nonnegative, positive
 from .numerics.jenkins import jenkins_harmonics
 from .base import ContactElement, masing_loop
 
@@ -216,7 +216,8 @@ class Macroslip(ContactElement):
     # ------------------------------------------------------------ frequency domain
     def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """Virgin loading force ``F(x) = min(k x, slip_force)`` for x >= 0."""
-        x = np.asarray(x, dtype=float)
+        x = finite_array("x", x)
+        nonnegative("omega", omega)
         if self.rigid:
             return np.where(x > 0.0, self.slip_force, 0.0)
         return np.minimum(self.stiffness * x, self.slip_force)

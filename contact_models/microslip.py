@@ -39,7 +39,7 @@ from .bar import Bar, impedance_transmission
 from .base import ContactElement, masing_loop
 from .loads import QuadraticLoad, UniformLoad
 from .model_range import check_single_mode, single_mode_error
-from .numerics.checks import nonnegative
+from .numerics.checks import count, finite_array, nonnegative
 from .quasi_static import QuasiStatic
 
 
@@ -119,7 +119,7 @@ class _MicroslipBar(ContactElement):
 
     def loading_curve(self, x, omega=0.0):
         """Virgin loading force F(x) for tip displacement x >= 0 (Eq. 13 solved for theta)."""
-        x = np.asarray(x, dtype=float)
+        x = finite_array("x", x)
         omega = nonnegative("omega", omega)
         a_min, pieces, a_g, F_g, K_slip, K = self._path(omega)
         F = np.where(x <= a_min, K * x, F_g + K_slip * (x - a_g))
@@ -132,7 +132,7 @@ class _MicroslipBar(ContactElement):
     def boundaries(self, x, omega=0.0):
         """(L1, L2) on the virgin loading curve at tip displacement x (L1 = L2 = L while stuck
         for two regions; for three regions both equal the onset point x* while stuck)."""
-        x = np.asarray(x, dtype=float)
+        x = finite_array("x", x)
         omega = nonnegative("omega", omega)
         a_min, pieces, a_g, *_ = self._path(omega)
         L = self.bar.L
@@ -157,7 +157,7 @@ class _MicroslipBar(ContactElement):
         state at (a + x)/2 (and (a - x)/2 on the way down); theta in [-pi/2, 3 pi/2].
         """
         a = nonnegative("a", a)
-        theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, int(n))
+        theta = np.linspace(-0.5 * np.pi, 1.5 * np.pi, count("n", n, 2))
         x = a * np.sin(theta)
         up = theta <= 0.5 * np.pi
         s = np.where(up, 0.5 * (a + x), 0.5 * (a - x))

@@ -34,7 +34,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.checks import derived, finite, nonnegative, positive
+from .numerics.checks import derived, finite, finite_array, nonnegative, positive
 from .base import ContactElement, masing_loop
 from .macroslip import _history, _is_inf, jenkins_fourier
 
@@ -257,7 +257,8 @@ class PointContact(ContactElement):
 
     def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """Virgin loading force ``F(x) = K2 x + (K1 - K2) min(x, a_y)`` for x >= 0."""
-        x = np.asarray(x, dtype=float)
+        x = finite_array("x", x)
+        nonnegative("omega", omega)
         return self._K2 * x + self._D * np.minimum(x, self._a_y)
 
     def _loading_slope(self, x, omega):

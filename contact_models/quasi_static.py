@@ -30,7 +30,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.checks import nonnegative
+from .numerics.checks import finite_array, nonnegative
 from .base import ContactElement
 
 #: Relative step (of x + a_min) of the central difference giving a loading curve's slope.
@@ -115,6 +115,7 @@ class QuasiStatic(ContactElement):
 
     def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """The wrapped element's virgin loading curve at omega = 0."""
+        x = finite_array("x", x)
         self._check(omega)
         self.calls += 1
         return self.element.loading_curve(x, 0.0)

@@ -167,3 +167,13 @@ def test_multi_harmonic_frf_with_huge_beta_is_the_jenkins_frf():
              for el in (Iwan(slip_force=0.02, stiffness=1.0, chi=-0.5, beta=1e9), _SampledJenkins(1.0, 0.02))]
     assert peaks[0].amplitude == pytest.approx(peaks[1].amplitude, rel=1e-7)
     assert peaks[0].omega == pytest.approx(peaks[1].omega, rel=1e-7)
+
+
+def test_the_loading_curve_refuses_a_negative_or_non_finite_displacement_and_a_negative_omega():
+    iwan = Iwan(slip_force=1.0, stiffness=1.0, chi=-0.5, beta=0.0)  # x < 0: x**1.5 would be NaN
+    with pytest.raises(ValueError, match=r"^x must be finite and >= 0, got x=-1.0$"):
+        iwan.loading_curve(-1.0)
+    with pytest.raises(ValueError, match=r"^x must be finite and >= 0, got x=nan$"):
+        iwan.loading_curve([0.5, math.nan])
+    with pytest.raises(ValueError, match=r"^omega must be >= 0, got omega=-1.0$"):
+        iwan.loading_curve(0.5, -1.0)

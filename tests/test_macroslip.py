@@ -195,3 +195,16 @@ def test_bad_arguments():
         el.fourier(1e-6, -1.0)
     with pytest.raises(ValueError, match="x"):
         el.force_history(np.array([0.0, np.inf]))
+
+
+def test_the_loading_curve_refuses_a_non_finite_displacement_and_a_negative_omega():
+    from contact_models import QuasiStatic
+
+    jen = Macroslip(stiffness=1.0, slip_force=0.5)
+    for el in (jen, QuasiStatic(jen)):
+        with pytest.raises(ValueError, match=r"^x must be finite, got x=nan$"):
+            el.loading_curve(math.nan)
+        with pytest.raises(ValueError, match=r"^x must be a number or an array of numbers, got x='1'$"):
+            el.loading_curve("1")
+        with pytest.raises(ValueError, match=r"^omega must be >= 0, got omega=-1.0$"):
+            el.loading_curve(0.5, -1.0)

@@ -209,3 +209,19 @@ def test_static_fold_is_refused_up_front_with_a_true_message():
     assert "q0=16.67" in msg and "resonance" not in msg
     # the same bar with the uniform load is accepted, and so is the ratio-12 load on it
     assert ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=1.0, ratio=12.0)).slip_amplitude() > 0.0
+
+
+def test_the_loading_curve_and_its_boundaries_refuse_a_displacement_that_is_not_a_finite_number(two):
+    for method in (two.loading_curve, two.boundaries):
+        with pytest.raises(ValueError, match=r"^x must be finite, got x=nan$"):
+            method(math.nan)
+        with pytest.raises(ValueError, match=r"^x must be finite, got x with an entry inf$"):
+            method([0.0, math.inf])
+        with pytest.raises(ValueError, match=r"^x must be a number or an array of numbers, got x='a'$"):
+            method("a")
+
+
+@pytest.mark.parametrize("n", [math.nan, None, "361", 1])
+def test_stick_slip_history_names_a_bad_number_of_points(two, n):
+    with pytest.raises(ValueError, match=rf"^n must be an integer >= 2, got n={n!r}$"):
+        two.stick_slip_history(3e-6, n=n)

@@ -357,3 +357,11 @@ def test_example_three_region(examples, tmp_path):
     assert (tmp_path / "point_contact_three_region.png").exists()
     assert out["a_g_over_a_min2"] == pytest.approx(5.642857142857143, rel=1e-9)
     assert out["gaps"][30.0][1] < out["gaps"][3.0][1]
+
+
+def test_the_loading_curve_refuses_a_non_finite_displacement_and_a_negative_omega():
+    pc = PointContact(k_s=1.0, beta_p=1.0, k_p=1.0, slip_force=1.0)
+    with pytest.raises(ValueError, match=r"^x must be finite, got x=nan$"):
+        pc.loading_curve(math.nan)
+    with pytest.raises(ValueError, match=r"^omega must be >= 0, got omega=-1.0$"):
+        pc.loading_curve(0.5, -1.0)

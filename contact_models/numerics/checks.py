@@ -117,7 +117,7 @@ def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     arr = number_array(name, value)
     bad = ~np.isfinite(arr) | (arr < 0.0)
     if np.any(bad):
-        first = arr[bad].flat[0] if arr.ndim else float(arr)
+        first = float(arr[bad].flat[0]) if arr.ndim else float(arr)
         raise ValueError(f"{name} must be finite and >= 0, got {name}={first!r}")
     return arr
 
