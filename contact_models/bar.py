@@ -25,7 +25,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.roots import brentq
-from .numerics.checks import nonnegative, positive
+from .loads import bound_load
+from .numerics.checks import count, finite, nonnegative, positive
 
 if TYPE_CHECKING:
     from .loads import QuadraticLoad, UniformLoad
@@ -269,8 +270,9 @@ class Bar:
         Slip starts where ``k |u(x)| = mu q(x)`` first holds as the amplitude grows, i.e. at the
         minimum over x of ``mu q(x) / (k |u(x)/u(L)|)`` (Section 2.1, Fig. 3).
         """
-        load = load.on(self.L)
+        load = bound_load(load, self.L)
         omega = nonnegative("omega", omega)
+        grid = count("grid", grid, 2)
         xs = np.linspace(0.0, self.L, grid)
 
         def ratio(x):

@@ -22,7 +22,7 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from .numerics.checks import positive
+from .numerics.checks import nonnegative, positive
 from .base import KIND_ATTRIBUTES, ContactElement
 
 #: Relative step of the forward difference of the force in the preload.
@@ -63,15 +63,15 @@ class CentrifugalLoad:
 
     def __call__(self, omega: float) -> float:
         """The preload (N) at the drive frequency ``omega`` (rad/s)."""
-        return self.mass * self.radius * (float(omega) / self.engine_order) ** 2
+        return self.mass * self.radius * (nonnegative("omega", omega) / self.engine_order) ** 2
 
     def derivative(self, omega: float) -> float:
         """``dN0/domega`` (N s/rad)."""
-        return 2.0 * self.mass * self.radius * float(omega) / self.engine_order**2
+        return 2.0 * self.mass * self.radius * nonnegative("omega", omega) / self.engine_order**2
 
     def speed(self, omega: float) -> float:
         """The rotation speed ``Omega = omega / EO`` (rad/s)."""
-        return float(omega) / self.engine_order
+        return nonnegative("omega", omega) / self.engine_order
 
     def __repr__(self) -> str:
         return f"CentrifugalLoad(mass={self.mass!r}, radius={self.radius!r}, engine_order={self.engine_order})"
@@ -136,7 +136,7 @@ class RotatingPreload(ContactElement):
 
     def at(self, omega: float) -> ContactElement:
         """The element at the preload of ``omega`` (rad/s)."""
-        return self._at_load(float(self.load(float(omega))))
+        return self._at_load(float(self.load(nonnegative("omega", omega))))
 
     def _at_load(self, N: float) -> ContactElement:
         if N == 0.0 and self._built:  # at rest (omega = 0, the balance's static scale): the smallest preload

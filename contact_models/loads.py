@@ -22,6 +22,18 @@ from numpy.typing import ArrayLike, NDArray
 from .numerics.checks import finite, nonnegative, positive
 
 
+def bound_load(load: Any, L: float) -> "_Load":
+    """``load.on(L)``: a normal load of this module bound to a contact of length ``L`` (m), >= 0 along it;
+    else a ValueError naming ``load`` (a number or None given for it, a load negative somewhere)."""
+    if not isinstance(load, _Load):
+        raise ValueError(f"load must be a normal load (UniformLoad, QuadraticLoad, FunctionLoad or SampledLoad), "
+                         f"got load={load!r}")
+    bound = load.on(L)
+    if bound.minimum() < 0.0:
+        raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
+    return bound
+
+
 class _Load:
     N: float
     L: float | None
@@ -175,6 +187,8 @@ class QuadraticLoad(_Load):
         """Load with q0/(q0 - q2) = ``ratio`` and total ``N``; ``ratio=inf`` unloads mid-length."""
         N = nonnegative("N", N)
         try:
+            if isinstance(ratio, (bool, str, bytes)):  # float("12") would read a string: a number only
+                raise TypeError
             r = float(ratio)
         except (TypeError, ValueError):
             raise ValueError(f"ratio must be a number, got ratio={ratio!r}") from None
@@ -271,6 +285,10 @@ class FunctionLoad(_Load):
         q = np.asarray(self.func(x), dtype=float)
         if q.shape != x.shape or not np.all(np.isfinite(q)):
             raise ValueError(f"func must return finite values of the shape of x, got func={self.func!r}")
+        if np.any(q < 0.0):
+            i = int(np.argmin(q))
+            raise ValueError(f"func must return values >= 0 (a normal load), got func={self.func!r} with "
+                             f"q({float(x[i])!r}) = {float(q[i])!r}")
 
     def q(self, x: ArrayLike) -> NDArray[Any]:
         x = np.asarray(x, dtype=float)

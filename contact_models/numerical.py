@@ -77,7 +77,8 @@ from numpy.typing import ArrayLike, NDArray
 from .numerics.fe_bar import NodalData, _Discretisation
 from .numerics.genalpha import GeneralizedAlpha
 from .numerics.stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tangent, return_map, solve_step
-from .numerics.checks import nonnegative, positive
+from .loads import bound_load
+from .numerics.checks import count as _count, finite, nonnegative, relative
 from .bar import Bar
 from .base import ContactElement
 
@@ -219,6 +220,20 @@ def _fronts(slip, x, util):
     return L1, L2
 
 
+def _is_count(v: object) -> bool:
+    """Whether ``v`` is an integer (or an integral float), not a bool or a string."""
+    try:
+        _count("v", v, -2**62)
+    except ValueError:
+        return False
+    return True
+
+
+def _multiple_of_4(v: object) -> bool:
+    """Whether ``v`` is an integer >= 8 that 4 divides (``steps_per_cycle``)."""
+    return _is_count(v) and v >= 8 and int(v) % 4 == 0
+
+
 class NumericalMicroslip(ContactElement):
     """Microslip bar of Eq. 30 discretised in space (``cells`` linear elements) and time.
 
@@ -305,27 +320,24 @@ class NumericalMicroslip(ContactElement):
                 or not math.isfinite(cells) or int(cells) != cells or not 2 <= cells <= MAX_CELLS):
             raise ValueError(f"cells must be an integer in 2..{MAX_CELLS}, got cells={cells!r} (the bound is "
                              "contact_models.numerical.MAX_CELLS: raise it to go further)")
-        if steps_per_cycle is not None and (isinstance(steps_per_cycle, bool) or int(steps_per_cycle) != steps_per_cycle
-                                            or steps_per_cycle < 8 or steps_per_cycle % 4):
+        if steps_per_cycle is not None and not _multiple_of_4(steps_per_cycle):
             raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")
         if quasi_static not in (None, True, False):
             raise ValueError(f"quasi_static must be None, True or False, got quasi_static={quasi_static!r}")
-        if max_cycles is not None and (isinstance(max_cycles, bool) or int(max_cycles) != max_cycles or max_cycles < 2):
-            raise ValueError(f"max_cycles must be an integer >= 2, got max_cycles={max_cycles!r}")
+        if max_cycles is not None:
+            _count("max_cycles", max_cycles, 2)
         self.bar = bar
-        self.load = load.on(bar.L)
-        if self.load.minimum() < 0.0:
-            raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
+        self.load = bound_load(load, bar.L)
         self.cells = int(cells)
         self.steps_per_cycle = None if steps_per_cycle is None else int(steps_per_cycle)
         self.quasi_static = quasi_static
-        self.steady_tol = positive("steady_tol", steady_tol)
+        self.steady_tol = relative("steady_tol", steady_tol)
         self.max_cycles = None if max_cycles is None else int(max_cycles)
         self.ramp_cycles = nonnegative("ramp_cycles", ramp_cycles)
         if shooting not in (True, False):
             raise ValueError(f"shooting must be True or False, got shooting={shooting!r}")
         self.shooting = bool(shooting)
-        self.rho_inf = float(rho_inf)
+        self.rho_inf = finite("rho_inf", rho_inf)
         if not 0.0 <= self.rho_inf <= 1.0:
             raise ValueError(f"rho_inf must be in [0, 1], got rho_inf={rho_inf!r}")
         self._disc = _Discretisation(bar, self.load, self.cells)
@@ -342,6 +354,9 @@ class NumericalMicroslip(ContactElement):
     def natural_frequencies(self, count: int = 1) -> NDArray[np.float64]:
         """Lowest ``count`` natural frequencies (rad/s) of the discretised stuck bar, tip free."""
         d = self._disc
+        if not (_is_count(count) and 1 <= count <= d.m.size):
+            raise ValueError(f"count must be an integer in 1..{d.m.size} (the nodes of cells={self.cells}), "
+                             f"got count={count!r}")
         s = 1.0 / np.sqrt(d.m)
         diag = (d.kdiag + d.kc) * s * s
         off = d.off * s[:-1] * s[1:]
@@ -378,7 +393,8 @@ class NumericalMicroslip(ContactElement):
         a = nonnegative("a", a)
         omega = nonnegative("omega", omega)
         qs = self._check_mode(omega)
-        return self._run(np.array([a]), np.array([omega]), qs, steady_tol or self.steady_tol)[0]
+        tol = self.steady_tol if steady_tol is None else relative("steady_tol", steady_tol)
+        return self._run(np.array([a]), np.array([omega]), qs, tol)[0]
 
     def force_history(self, x: ArrayLike) -> NDArray[np.float64]:
         """Quasi-static tip force for a tip-displacement history ``x`` (from rest, x[0] first)."""

@@ -616,3 +616,16 @@ def test_docstring_examples():
 
     for mod in (contact_models.allmode.element, contact_models.loads, contact_models.model_range):
         assert doctest.testmod(mod).failed == 0, mod.__name__
+
+
+@pytest.mark.parametrize("load", ["x", None])
+def test_the_all_mode_bars_name_a_load_that_is_not_a_load(load):
+    from contact_models import AllModeMicroslip2D
+
+    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    message = (r"^load must be a normal load \(UniformLoad, QuadraticLoad, FunctionLoad or SampledLoad\), "
+               rf"got load={load!r}$")
+    with pytest.raises(ValueError, match=message):
+        AllModeMicroslip(bar, load, 8, 1)
+    with pytest.raises(ValueError, match=message):
+        AllModeMicroslip2D(bar, load, 1e7, 8, 1)

@@ -1,6 +1,7 @@
 """The bar, the loads and the fully stuck solution against independent answers."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -133,3 +134,32 @@ def test_loads_reject_bad_parameters():
         QuadraticLoad.from_ratio(100.0, -3.0)
     with pytest.raises(ValueError, match="length"):
         QuadraticLoad(q0=1.0, q2=0.5, L=0.04).on(0.05)
+
+
+@pytest.mark.parametrize("ratio", ["12", True, b"12"])
+def test_from_ratio_refuses_a_ratio_that_is_not_a_number(ratio):
+    with pytest.raises(ValueError, match=rf"^ratio must be a number, got ratio={re.escape(repr(ratio))}$"):
+        QuadraticLoad.from_ratio(100.0, ratio)
+
+
+def test_a_function_load_negative_somewhere_is_refused_when_it_has_a_length():
+    from contact_models import FunctionLoad
+
+    with pytest.raises(ValueError, match=r"^func must return values >= 0 \(a normal load\), got func=.* with "
+                                         r"q\(0\.025\) = -1\.0$"):
+        FunctionLoad(lambda x: np.abs(x - 0.025) * 1e3 - 1.0, L=0.05)
+    with pytest.raises(ValueError, match=r"^func must return values >= 0"):  # bound by the element's bar
+        FunctionLoad(lambda x: -1.0 + 0.0 * x).on(0.05)
+
+
+@pytest.mark.parametrize("load", ["x", None, 100.0])
+def test_slip_onset_names_a_load_that_is_not_a_load(load):
+    with pytest.raises(ValueError, match=r"^load must be a normal load \(UniformLoad, QuadraticLoad, FunctionLoad or "
+                                         rf"SampledLoad\), got load={re.escape(repr(load))}$"):
+        Bar(**BAR).slip_onset(load)
+
+
+@pytest.mark.parametrize("grid", [1, 2.5, "801", None])
+def test_slip_onset_names_a_bad_grid(grid):
+    with pytest.raises(ValueError, match=rf"^grid must be an integer >= 2, got grid={re.escape(repr(grid))}$"):
+        Bar(**BAR).slip_onset(UniformLoad(N=100.0), grid=grid)

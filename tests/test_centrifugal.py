@@ -157,3 +157,12 @@ def test_the_preload_keeps_the_kind_of_the_elements_it_builds():
     s = hbm.Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
     assert start_harmonics(s, [hbm.Contact(slider, dof=0)], None, 1e-5) == 31
     assert start_harmonics(s, [hbm.Contact(allmode, dof=0)], None, 1e-5) == 3
+
+
+@pytest.mark.parametrize("omega", [-1.0, float("nan"), "100", None])
+def test_the_load_and_the_preloaded_element_name_a_bad_frequency(omega):
+    load = CentrifugalLoad(mass=0.01, radius=0.3, engine_order=4)
+    el = RotatingPreload(lambda N: Contact2D(kt=1e7, kn=1e7, mu=0.3, n0=N), load)
+    for call in (load, load.derivative, load.speed, el.at):
+        with pytest.raises(ValueError, match=r"^omega must be (>= 0|finite|a number), got omega="):
+            call(omega)

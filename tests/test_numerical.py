@@ -7,6 +7,8 @@ cost.  Long studies are marked slow (docs/validation.md has their numbers).
 """
 
 import importlib
+import math
+import re
 import sys
 import time
 from pathlib import Path
@@ -395,3 +397,38 @@ def test_example_convergence(tmp_path):
     out = _example("validation_convergence").main(small=True, outdir=tmp_path)
     e = out["qs_cells_uniform"].max(axis=1)
     assert e[-1] < e[0] / 8  # n: 50 -> 200, second order
+
+
+def test_the_constructor_names_a_bad_integrator_setting():
+    from contact_models import Bar
+    from conftest import BAR
+
+    bar, load = Bar(**BAR), UniformLoad(N=100.0)
+    bad = [("steps_per_cycle", math.nan, r"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle=nan"),
+           ("steps_per_cycle", "8", r"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle='8'"),
+           ("max_cycles", math.nan, r"max_cycles must be an integer >= 2, got max_cycles=nan"),
+           ("rho_inf", "0.5", r"rho_inf must be a number, got rho_inf='0.5'"),
+           ("rho_inf", True, r"rho_inf must be a number, got rho_inf=True"),
+           ("rho_inf", None, r"rho_inf must be a number, got rho_inf=None"),
+           ("steady_tol", 2.0, r"steady_tol must be in \(0, 1\) \(a relative accuracy\), got steady_tol=2.0")]
+    for name, value, message in bad:
+        with pytest.raises(ValueError, match=f"^{message}$"):
+            NumericalMicroslip(bar, load, 10, **{name: value})
+    with pytest.raises(ValueError, match=r"^load must be a normal load \(UniformLoad, QuadraticLoad, FunctionLoad or "
+                                         r"SampledLoad\), got load='x'$"):
+        NumericalMicroslip(bar, "x", 10)
+
+
+def test_simulate_and_natural_frequencies_name_a_bad_tolerance_or_count():
+    from contact_models import Bar
+    from conftest import BAR
+
+    el = NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), 10)
+    for tol in (-1.0, 0.0, 1.0):
+        with pytest.raises(ValueError,
+                           match=rf"^steady_tol must be in \(0, 1\) \(a relative accuracy\), got steady_tol={tol!r}$"):
+            el.simulate(1e-6, steady_tol=tol)
+    for count in (0, 12, "2", 2.5):
+        with pytest.raises(ValueError, match=rf"^count must be an integer in 1\.\.11 \(the nodes of cells=10\), "
+                                             rf"got count={re.escape(repr(count))}$"):
+            el.natural_frequencies(count)

@@ -57,6 +57,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..accuracy import AccuracyWarning
 from ..bar import Bar
 from ..base import DEFAULT_RTOL, ContactElement
+from ..loads import bound_load
 from ..numerics.checks import count, nonnegative, positive
 from ..numerics.fe_bar import _Discretisation
 from .accuracy import (FLOOR, cells_error, harmonics_error, relative, richardson, shortfall_message, start_cells,
@@ -187,9 +188,7 @@ class AllModeMicroslip(ContactElement):
         if linear not in LINEAR_KINDS:
             raise ValueError(f"linear must be one of {', '.join(map(repr, LINEAR_KINDS))}, got linear={linear!r}")
         self.bar, self.linear = bar, linear
-        self.load = load.on(bar.L)
-        if self.load.minimum() < 0.0:
-            raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
+        self.load = bound_load(load, bar.L)
         self._levels: dict = {}  # (cells, H) -> FixedBar
         self._discs: dict = {}  # cells -> _Discretisation (the stuck bar)
         self._stuck: dict = {}  # omega -> (cells, K, a_min, relative estimate)

@@ -33,6 +33,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..bar import Bar
 from ..base import ContactElement
+from ..loads import bound_load
 from ..numerics.checks import count, finite, nonnegative
 from .accuracy import FLOOR, ladder, relative
 from .balance import aft_matrices
@@ -129,9 +130,7 @@ class AllModeMicroslip2D(ContactElement):
             raise ValueError(f"normal_shape must be a pair (s_0, s_L), got normal_shape={normal_shape!r}") from None
         self.normal_shape = (finite("normal_shape[0]", s0), finite("normal_shape[1]", sL))
         self.bar = bar
-        self.load = load.on(bar.L)
-        if self.load.minimum() < 0.0:
-            raise ValueError(f"load must be >= 0 everywhere, got load={load!r}")
+        self.load = bound_load(load, bar.L)
         # the normal at rest: the bar of AllModeMicroslip on the same cells and harmonics
         self.at_rest = AllModeMicroslip(bar, load, self.cells, self.harmonics, n_t=self.n_t, linear="lumped")
         self._levels: dict = {}
