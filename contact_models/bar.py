@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .numerics.roots import brentq
 from .loads import bound_load
-from .numerics.checks import count, finite, nonnegative, positive
+from .numerics.checks import count, finite, finite_array, nonnegative, number_array, positive
 
 if TYPE_CHECKING:
     from .loads import QuadraticLoad, UniformLoad
@@ -208,7 +208,7 @@ class Bar:
 
         Broadcasts over ``omega``; infinite values mark resonances of the bar held at x = L.
         """
-        omega = np.asarray(omega, dtype=float)
+        omega = number_array("omega", omega)
         if np.any(~np.isfinite(omega) | (omega < 0)):
             raise ValueError(f"omega must be finite and >= 0, got omega={omega!r}")
         with np.errstate(divide="ignore"):
@@ -237,8 +237,11 @@ class Bar:
         return math.sqrt(self.E / self.rho * (g * g + self.k / EA))
 
     def stuck_shape(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
-        """u(x)/u(L) of the fully stuck bar at frequency omega (the mode-like shape of Fig. 2)."""
-        x = np.asarray(x, dtype=float)
+        """u(x)/u(L) of the fully stuck bar at frequency omega (the mode-like shape of Fig. 2), 0 <= x <= L."""
+        x = finite_array("x", x)
+        if np.any((x < 0.0) | (x > self.L)):
+            raise ValueError(f"x must lie on the bar, 0 <= x <= L={self.L!r}, got x with an entry "
+                             f"{float(x[(x < 0.0) | (x > self.L)].flat[0]) if x.ndim else float(x)!r}")
         omega = nonnegative("omega", omega)
         s2 = float(self.gamma2(omega))
         # u(x) = u(0) (C(x) + beta Sn(x)/EA): ratio of scaled values at x and L.
@@ -260,7 +263,9 @@ class Bar:
             raise ValueError("give exactly one of tip_displacement and tip_force")
         if tip_force is not None:
             K = float(self.stuck_stiffness(omega))
-            tip_displacement = tip_force / K
+            tip_displacement = finite("tip_force", tip_force) / K
+        else:
+            tip_displacement = finite("tip_displacement", tip_displacement)
         return self.k * tip_displacement * self.stuck_shape(x, omega)
 
     def slip_onset(self, load: UniformLoad | QuadraticLoad, omega: float = 0.0, *,

@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .base import ContactElement
 from .macroslip import jenkins_fourier
-from .numerics.checks import finite, nonnegative, positive
+from .numerics.checks import finite, finite_array, nonnegative, positive
 from .numerics.masing import masing_loop
 
 #: Periods of the period map tried before giving up on a fixed point (finite in theory: two suffice
@@ -108,7 +108,7 @@ class PointContactLaw(ContactElement):
 
     def normal_force(self, v: ArrayLike) -> NDArray:
         """``N = max(0, n0 + kn v)`` (N) for normal displacements ``v`` (m)."""
-        return np.maximum(self.n0 + self.kn * np.asarray(v, dtype=float), 0.0)
+        return np.maximum(self.n0 + self.kn * finite_array("v", v), 0.0)
 
     def _fourier_derivatives(self, a, omega, rtol):
         if self.n0 <= 0.0:  # open at rest: no tangential force

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from .numerics.checks import finite, positive
+from .numerics.checks import finite, finite_array, positive
 from .base import ContactElement
 
 
@@ -77,8 +77,11 @@ class CubicSpring(ContactElement):
     def harmonic_force_exact(self, X: NDArray) -> NDArray:
         """Exact harmonic coefficients of ``k3 x^3`` (cubic of a trigonometric polynomial of
         degree H has degree 3H: sampled at 6H + 2 points it is exact), truncated to H."""
-        H = (np.asarray(X).size - 1) // 2
-        return self.harmonic_force_unchecked(np.asarray(X, dtype=float), 0.0, 6 * H + 2)[0]
+        X = finite_array("X", X)
+        if X.ndim != 1 or X.size < 3 or X.size % 2 == 0:
+            raise ValueError(f"X must be of shape ('2H+1',) with 2H+1 odd >= 3, got X with shape {X.shape}")
+        H = (X.size - 1) // 2
+        return self.harmonic_force_unchecked(X, 0.0, 6 * H + 2)[0]
 
 
 __all__ = ["CubicSpring"]

@@ -35,7 +35,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .base import ContactElement
-from .numerics.checks import finite, positive
+from .numerics.checks import finite, nonnegative_array, positive
 
 
 def gap_fourier(k: float, g: float, a: ArrayLike) -> tuple[NDArray, NDArray, NDArray, NDArray]:
@@ -104,7 +104,7 @@ class Gap(ContactElement):
 
     def mean_force(self, a: ArrayLike) -> float | NDArray:
         """``F_0`` (N), the mean of ``k max(0, a sin(theta) - g)`` over a period (module docstring)."""
-        a = np.asarray(a, dtype=float)
+        a = nonnegative_array("a", a)
         k, g = self.stiffness, self.gap
         s = np.clip(np.divide(g, a, out=np.full_like(a, math.copysign(math.inf, g) if g else 0.0),
                               where=a > 0.0), -1.0, 1.0)

@@ -629,3 +629,16 @@ def test_the_all_mode_bars_name_a_load_that_is_not_a_load(load):
         AllModeMicroslip(bar, load, 8, 1)
     with pytest.raises(ValueError, match=message):
         AllModeMicroslip2D(bar, load, 1e7, 8, 1)
+
+
+def test_solve_and_for_balance_name_a_bad_flag_or_harmonic_count():
+    from contact_models import AllModeMicroslip2D
+
+    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    el = AllModeMicroslip(bar, UniformLoad(N=100.0), 8, 1)
+    for solve in (el.solve, AllModeMicroslip2D(bar, UniformLoad(N=100.0), 1e7, 8, 1).solve):
+        with pytest.raises(ValueError, match=r"^estimate_error must be True or False, got estimate_error='yes'$"):
+            solve(1e-6, estimate_error="yes")
+    for H in (0, "2", 2.5):
+        with pytest.raises(ValueError, match=rf"^H must be an integer >= 1, got H={H!r}$"):
+            el.for_balance(H)

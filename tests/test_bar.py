@@ -163,3 +163,17 @@ def test_slip_onset_names_a_load_that_is_not_a_load(load):
 def test_slip_onset_names_a_bad_grid(grid):
     with pytest.raises(ValueError, match=rf"^grid must be an integer >= 2, got grid={re.escape(repr(grid))}$"):
         Bar(**BAR).slip_onset(UniformLoad(N=100.0), grid=grid)
+
+
+def test_the_stuck_bar_names_a_frequency_position_or_tip_value_that_is_not_a_finite_number():
+    bar = Bar(**BAR)
+    with pytest.raises(ValueError, match=r"^omega must be a number or an array of numbers, got omega='x'$"):
+        bar.stuck_stiffness("x")
+    with pytest.raises(ValueError, match=r"^x must be finite, got x=nan$"):
+        bar.stuck_shape(math.nan)
+    with pytest.raises(ValueError, match=r"^x must lie on the bar, 0 <= x <= L=0\.05, got x with an entry -1\.0$"):
+        bar.stuck_shape([0.0, -1.0])
+    with pytest.raises(ValueError, match=r"^tip_displacement must be a number, got tip_displacement='a'$"):
+        bar.contact_force(0.01, tip_displacement="a")
+    with pytest.raises(ValueError, match=r"^tip_force must be finite, got tip_force=nan$"):
+        bar.contact_force(0.01, tip_force=math.nan)

@@ -125,3 +125,13 @@ def test_contact_validates_the_normal_attachment():
 def test_bad_parameters_are_named(kw, name):
     with pytest.raises(ValueError, match=name):
         Contact2D(**kw)
+
+
+def test_normal_force_names_a_normal_displacement_that_is_not_a_finite_number():
+    import math
+
+    el = Contact2D(kt=1.0, kn=1.0, mu=0.3, n0=1.0)
+    with pytest.raises(ValueError, match=r"^v must be finite, got v=nan$"):
+        el.normal_force(math.nan)
+    with pytest.raises(ValueError, match=r"^v must be a number or an array of numbers, got v='0'$"):
+        el.normal_force("0")

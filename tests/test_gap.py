@@ -77,3 +77,11 @@ def test_the_jacobian_is_that_of_finite_differences():
 def test_bad_input_names_the_parameter(kw, name):
     with pytest.raises(ValueError, match=name):
         Gap(**kw)
+
+
+@pytest.mark.parametrize("a, message", [(-1.0, "a must be finite and >= 0, got a=-1.0"),
+                                        (math.nan, "a must be finite and >= 0, got a=nan"),
+                                        ("1", "a must be a number or an array of numbers, got a='1'")])
+def test_mean_force_names_a_bad_amplitude(a, message):
+    with pytest.raises(ValueError, match=f"^{message}$"):
+        Gap(stiffness=1.0, gap=0.1).mean_force(a)

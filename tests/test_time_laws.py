@@ -167,3 +167,13 @@ def test_fast_transforms_equal_the_dense_matrices(H, n_t):
     np.testing.assert_allclose(diagonal_product(d, H), (E * d) @ Einv, rtol=0, atol=1e-13)
     X = rng.normal(size=2 * H + 1)
     np.testing.assert_allclose(to_time(X, n_t), Einv @ X, rtol=0, atol=1e-13)
+
+
+def test_the_cubic_springs_exact_harmonics_name_a_bad_X():
+    from contact_models import CubicSpring
+
+    el = CubicSpring(k3=1.0)
+    with pytest.raises(ValueError, match=r"^X must be finite, got X with an entry nan$"):
+        el.harmonic_force_exact([0.0, math.nan, 1.0])
+    with pytest.raises(ValueError, match=r"^X must be of shape \('2H\+1',\) with 2H\+1 odd >= 3, got X with shape \(2,\)$"):
+        el.harmonic_force_exact([0.0, 1.0])

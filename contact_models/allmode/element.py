@@ -58,7 +58,7 @@ from ..accuracy import AccuracyWarning
 from ..bar import Bar
 from ..base import DEFAULT_RTOL, ContactElement
 from ..loads import bound_load
-from ..numerics.checks import count, nonnegative, positive
+from ..numerics.checks import count, flag, nonnegative, positive
 from ..numerics.fe_bar import _Discretisation
 from .accuracy import (FLOOR, cells_error, harmonics_error, relative, richardson, shortfall_message, start_cells,
                        stuck_data)
@@ -289,6 +289,8 @@ class AllModeMicroslip(ContactElement):
         moves with the phase: on 15 harmonics (120 samples) by up to 4.6 times the estimate, on 31 (248
         samples) by about the estimate or less (``docs/validation.md``, "The phase of the nested solve's
         samples").  At H = 1 the element is evaluated at its own phase: the rung as it is."""
+        H = count("H", H, 1)
+        at_least = count("at_least", at_least, 0)
         if H <= 1:
             return self
         h = max(MAX_HARMONICS, at_least)
@@ -342,6 +344,7 @@ class AllModeMicroslip(ContactElement):
         >>> sol.success, round(sol.f_c / (bar.k_star * 3 * 7.5e-7), 3), sol.error < 1e-3 * bar.k_star * 3 * 7.5e-7
         (True, 0.19, True)
         """
+        estimate_error = flag("estimate_error", estimate_error)
         omega = nonnegative("omega", omega)
         X = end_vector(a, self.harmonics or MAX_HARMONICS)
         odd = is_odd(X)

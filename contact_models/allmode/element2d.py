@@ -34,7 +34,7 @@ from numpy.typing import ArrayLike, NDArray
 from ..bar import Bar
 from ..base import ContactElement
 from ..loads import bound_load
-from ..numerics.checks import count, finite, nonnegative
+from ..numerics.checks import count, finite, flag, nonnegative
 from .accuracy import FLOOR, ladder, relative
 from .balance import aft_matrices
 from .element import AllModeMicroslip
@@ -179,6 +179,7 @@ class AllModeMicroslip2D(ContactElement):
         ValueError
             ``a``, ``v`` or ``omega`` out of range (named).
         """
+        estimate_error = flag("estimate_error", estimate_error)
         omega = nonnegative("omega", omega)
         H = self.harmonics
         if np.ndim(a) == 0:
