@@ -88,12 +88,13 @@ def as_structure(system: Any) -> Structure:
 
 
 def as_contacts(contacts: Any, n: int) -> list[Contact]:
-    """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or a bare element at DOF 0."""
+    """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or a bare element at DOF 0,
+    each on DOFs of a structure of ``n`` DOFs."""
     if contacts is None:
         return []
     if isinstance(contacts, Contact):
-        return [contacts]
-    if isinstance(contacts, ContactElement):
+        contacts = [contacts]
+    elif isinstance(contacts, ContactElement):
         if n != 1:
             raise ValueError(f"a bare element attaches only to a one-DOF system; give "
                              f"hbm.Contact(element, dof=...) for a structure of {n} DOFs, got contacts={contacts!r}")
@@ -108,16 +109,16 @@ def as_contacts(contacts: Any, n: int) -> list[Contact]:
     for c in contacts:
         if not isinstance(c, Contact):
             raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
+        for d in c.all_dofs:
+            if d >= n:
+                raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={d!r} in {c!r}")
     return contacts
 
 
 def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any, n_t: Any,
                   response_dof: Any) -> tuple[int, int, int]:
-    """Validate H, n_t, the contacts' DOFs and the response DOF; returns ``(H, n_t, response_dof)``."""
-    for c in contacts:
-        for d in c.all_dofs:
-            if d >= structure.n:
-                raise ValueError(f"dof must be a DOF index in 0..{structure.n - 1}, got dof={d!r} in {c!r}")
+    """Validate H, n_t, the contacts' sectors and the response DOF; returns ``(H, n_t, response_dof)``."""
+    for c in contacts:  # (their DOFs are checked by as_contacts)
         if c.next_sector and structure.sector_angle is None:
             raise ValueError(f"next_sector=True joins two sectors of a cyclic structure (hbm.CyclicStructure); "
                              f"{type(structure).__name__} is the whole model, got next_sector=True in {c!r}")
