@@ -59,7 +59,7 @@ from contact_models.base import DEFAULT_RTOL, default_samples
 from contact_models.numerics.describing import stiffness_terms as describing_terms
 from contact_models.numerics.masing import to_time
 
-from .._validation import count, relative_tolerance
+from .._validation import count, positive, relative_tolerance
 from ..structure import Contact, Structure
 from .condensation import condensed, stuck_matrix
 from .layout import from_complex, next_sector_operator, to_complex
@@ -158,9 +158,9 @@ class HarmonicBalance:
     rtol : float, default 1e-6
         Relative tolerance passed to the elements.
     x_ref : float, default 1.0
-        Displacement scale of the scaled unknowns (m).
+        Displacement scale of the scaled unknowns (m), > 0.
     omega_ref : float, default 1.0
-        Frequency scale of the scaled unknowns (rad/s).
+        Frequency scale of the scaled unknowns (rad/s), > 0.
 
     Attributes
     ----------
@@ -208,8 +208,8 @@ class HarmonicBalance:
         self.dofs = sorted({d for c in self.contacts for d in c.all_dofs} | {self.response_dof})
         self.na = len(self.dofs)
         self.rtol = relative_tolerance("rtol", rtol, MAX_RTOL)
-        self.x_ref = float(x_ref)
-        self.omega_ref = float(omega_ref)
+        self.x_ref = positive("x_ref", x_ref)
+        self.omega_ref = positive("omega_ref", omega_ref)
         pos = {d: i for i, d in enumerate(self.dofs)}
         self._attach = [(c.element, [[pos[d] for d in ix] for ix in c.components]) for c in self.contacts]
         # a contact to the next sector sees that sector's harmonic h turned by -h phi (docs/bladed_disks.md)
