@@ -55,7 +55,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, _corner_normal, _Count, _counted,  # noqa: F401
                      _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
-from ._validation import count as _whole, flag, positive
+from ._validation import count as _whole, finite, flag, positive
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -185,7 +185,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     max_steps, max_iter = _whole("max_steps", max_steps), _whole("max_iter", max_iter)
     tol, fold_xtol = positive("tol", tol), positive("fold_xtol", fold_xtol)
     locate_folds = flag("locate_folds", locate_folds)
-    if curve_tol is not None and not 0.0 < curve_tol < 1.0:
+    if curve_tol is not None and not 0.0 < _finite_or_nan(curve_tol) < 1.0:
         raise ValueError(f"curve_tol must be in (0, 1) or None, got curve_tol={curve_tol!r}")
     if curve_components is not None:
         curve_components = np.asarray(curve_components)
@@ -218,6 +218,14 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
                    trace.corners, trace.coarse)
+
+
+def _finite_or_nan(value: object) -> float:
+    """``value`` as a finite float, NaN for anything else (a string, a bool, inf): for a range test."""
+    try:
+        return finite("value", value)
+    except ValueError:
+        return math.nan
 
 
 class _Trace:

@@ -219,6 +219,7 @@ def test_bad_options(kwargs, name):
     ({"tol": math.nan}, r"^tol must be finite, got tol=nan$"),
     ({"fold_xtol": 0.0}, r"^fold_xtol must be positive, got fold_xtol=0.0$"),
     ({"locate_folds": "no"}, r"^locate_folds must be True or False, got locate_folds='no'$"),
+    ({"curve_tol": "0.01"}, r"^curve_tol must be in \(0, 1\) or None, got curve_tol='0.01'$"),
     ({"curve_tol": 1e-3, "curve_components": [5]}, r"^curve_components must be indices of y0 in -2..1, got "
                                                    r"curve_components=\[5\]$"),
     ({"on_point": 3}, r"^on_point must be a function or None, got on_point=3$"),
