@@ -70,7 +70,11 @@ class Blade:
         w = positive("frequency", frequency)
         zeta = nonnegative("damping_ratio", damping_ratio)
         m = positive("mass", mass)
-        return cls(mass=m, stiffness=m * w * w, damping=2.0 * zeta * m * w, force=force)
+        k, c = m * w * w, 2.0 * zeta * m * w
+        if not (math.isfinite(k) and math.isfinite(c)):  # each finite, their product past the float range
+            raise ValueError(f"frequency, damping_ratio and mass must give a finite stiffness m w^2 and damping "
+                             f"2 zeta m w, got frequency={frequency!r}, damping_ratio={damping_ratio!r}, mass={mass!r}")
+        return cls(mass=m, stiffness=k, damping=c, force=force)
 
     def as_structure(self) -> Structure:
         """The blade as a one-DOF :class:`hbm.Structure`, solved at one harmonic unless asked for more.

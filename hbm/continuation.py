@@ -55,6 +55,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, _corner_normal, _Count, _counted,  # noqa: F401
                      _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
+from ._validation import count as _whole, finite, flag, positive
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -151,20 +152,49 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     in order (streaming).  ``curve_tol``: the step's error control (see module); None: off.
     ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
     """
-    y0 = np.array(y0, dtype=float).ravel()
+    if not callable(residual):
+        raise ValueError(f"residual must be a function y -> (R, J), got residual={residual!r}")
+    try:
+        y0 = np.array(y0, dtype=float).ravel()
+    except (TypeError, ValueError):
+        raise ValueError(f"y0 must be an array of numbers, got y0={y0!r}") from None
     n = y0.size
     if n < 2:
         raise ValueError(f"y0 must have at least 2 components, got y0={y0!r}")
+    if not np.all(np.isfinite(y0)):
+        raise ValueError(f"y0 must be finite, got y0={y0!r}")
+    if isinstance(parameter, bool) or not isinstance(parameter, (int, np.integer)) or not -n <= parameter < n:
+        raise ValueError(f"parameter must be an index of y0 in {-n}..{n - 1}, got parameter={parameter!r}")
     p = int(parameter) % n
-    lo, hi = float(bounds[0]), float(bounds[1])
+    try:
+        lo, hi = bounds  # type: ignore[misc]
+        lo, hi = float(lo), float(hi)
+    except (TypeError, ValueError):
+        raise ValueError(f"bounds must be a pair (lo, hi) of numbers, got bounds={bounds!r}") from None
+    if not lo <= hi:  # (NaN too)
+        raise ValueError(f"bounds must have lo <= hi, got bounds={bounds!r}")
     if not lo <= y0[p] <= hi:
         raise ValueError(f"y0's parameter y0[{p}]={y0[p]!r} is outside bounds=({lo!r}, {hi!r})")
-    if direction not in (1, -1):
+    if isinstance(direction, bool) or direction not in (1, -1):
         raise ValueError(f"direction must be +1 or -1, got direction={direction!r}")
-    if not 0.0 < min_step <= max_step:
+    min_step, max_step = positive("min_step", min_step), positive("max_step", max_step)
+    if not min_step <= max_step:
         raise ValueError(f"need 0 < min_step <= max_step, got min_step={min_step!r}, max_step={max_step!r}")
-    if curve_tol is not None and not 0.0 < curve_tol < 1.0:
+    if step is not None:
+        step = positive("step", step)
+    max_steps, max_iter = _whole("max_steps", max_steps), _whole("max_iter", max_iter)
+    tol, fold_xtol = positive("tol", tol), positive("fold_xtol", fold_xtol)
+    locate_folds = flag("locate_folds", locate_folds)
+    if curve_tol is not None and not 0.0 < _finite_or_nan(curve_tol) < 1.0:
         raise ValueError(f"curve_tol must be in (0, 1) or None, got curve_tol={curve_tol!r}")
+    if curve_components is not None:
+        curve_components = np.asarray(curve_components)
+        if curve_components.dtype.kind not in "iu" or np.any(curve_components < -n) or np.any(curve_components >= n):
+            raise ValueError(f"curve_components must be indices of y0 in {-n}..{n - 1}, "
+                             f"got curve_components={curve_components.tolist()!r}")
+    for name, f in (("scale", scale), ("on_point", on_point), ("stop", stop)):
+        if f is not None and not callable(f):
+            raise ValueError(f"{name} must be a function or None, got {name}={f!r}")
     scale = scale if scale is not None else (lambda y: np.ones(n))
     count = _Count()
     trace = _Trace(_counted(residual, count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
@@ -188,6 +218,14 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
                    trace.corners, trace.coarse)
+
+
+def _finite_or_nan(value: object) -> float:
+    """``value`` as a finite float, NaN for anything else (a string, a bool, inf): for a range test."""
+    try:
+        return finite("value", value)
+    except ValueError:
+        return math.nan
 
 
 class _Trace:

@@ -20,7 +20,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont
-from ._validation import count, finite, positive
+from ._validation import count, finite, positive, relative_tolerance
 from .modes import ModeBalance, nonlinear_modes
 from .result import Peak
 from .single_mode import closest_minimum, coefficients, forced_response, forcing, frequency_term, peak_condition
@@ -138,6 +138,9 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
         raise ValueError(f"bounds must be a pair p0 < p1, got bounds={bounds!r}") from exc
     if not p0 < p1:
         raise ValueError(f"bounds must have p0 < p1, got bounds={bounds!r}")
+    # the peak curve's controls, before the mode is traced (that would fail first, and say something else)
+    tol = relative_tolerance("tol", tol, 1.0)
+    max_step, max_steps = positive("max_step", max_step), count("max_steps", max_steps)
     modes = nonlinear_modes(system, contacts_of(p0), mode=mode, amplitude_range=amplitude_range,
                             harmonics=harmonics, n_t=n_t)
     bal0 = modes.balance
@@ -153,9 +156,8 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
     p_ref = p1 - p0
     curve = _PeakCurve(make, bal0.uw, bal0.rw, p_ref, f, dof)
     z0 = np.concatenate([y_peak / bal0.uw, [p0 / p_ref]])
-    res = cont.continuation(curve, z0, parameter=-1, bounds=(p0 / p_ref, p1 / p_ref), tol=positive("tol", tol),
-                            max_step=positive("max_step", max_step), max_steps=count("max_steps", max_steps),
-                            locate_folds=False)
+    res = cont.continuation(curve, z0, parameter=-1, bounds=(p0 / p_ref, p1 / p_ref), tol=tol,
+                            max_step=max_step, max_steps=max_steps, locate_folds=False)
     amps = np.array([curve.amplitude(z, bal0)[0] for z in res.y])
     i = int(np.argmin(amps))
     if i == 0 or i == amps.size - 1:

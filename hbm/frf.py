@@ -27,8 +27,8 @@ from contact_models.numerics.roots import brentq  # scipy's algorithm without im
 from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
 from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
-from ._validation import nonnegative, omega_range_pair, positive
-from .balance.presets import DEFAULT_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
+from ._validation import nonnegative, omega_range_pair, positive, relative_tolerance
+from .balance.presets import DEFAULT_RTOL, MAX_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
 from .balance.residual import HarmonicBalance, as_contacts, as_structure
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
@@ -594,7 +594,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     amplitude_bracket : tuple of float
         ``(a_lo, a_hi)`` (m), 0 < a_lo < a_hi, bracketing one solution.
     rtol : float, optional
-        Relative tolerance on the amplitude, passed to the element too.  Default 1e-8.
+        Relative tolerance on the amplitude, passed to the element too, in (0, 0.1).  Default 1e-8.
 
     Returns
     -------
@@ -625,7 +625,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     if element is None or not callable(getattr(element, "fourier", None)):
         raise ValueError(f"element must be a contact element (with fourier(a, omega)), got element={element!r}")
     omega = nonnegative("omega", omega)
-    rtol = positive("rtol", rtol)
+    rtol = relative_tolerance("rtol", rtol, MAX_RTOL)
     try:
         lo, hi = (positive("amplitude_bracket", v) for v in amplitude_bracket)
     except (TypeError, ValueError):

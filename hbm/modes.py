@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from contact_models.base import DEFAULT_RTOL
 
 from . import continuation as cont
-from ._validation import count, positive
+from ._validation import count, positive, relative_tolerance
 from .balance.residual import HarmonicBalance, as_contacts, as_structure
 from .structure import Structure
 
@@ -241,6 +241,9 @@ class NonlinearModes:
 
     def coefficients(self, dof: int) -> NDArray[np.float64]:
         """The displacement harmonics ``a Psi`` of ``dof`` along the branch (points, 2H+1)."""
+        n = self.shapes.shape[1]
+        if isinstance(dof, bool) or not isinstance(dof, (int, np.integer)) or not 0 <= dof < n:
+            raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={dof!r}")
         return self.amplitude[:, None] * self.shapes[:, dof, :]
 
     def energies(self) -> NDArray[np.float64]:
@@ -275,7 +278,7 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     rtol : float
         Relative tolerance passed to the elements.
     tol : float
-        Newton tolerance on the scaled residual (relative to the mode's inertia force).
+        Newton tolerance on the scaled residual (relative to the mode's inertia force), in (0, 1).
     max_step, max_steps
         Continuation step (scaled units: log10 a, omega/omega_0, D, Psi/max|phi|) and budget.
 
@@ -291,13 +294,14 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     [1.1756, 1.0007]
     """
     mode = count("mode", mode, 0)
+    tol = relative_tolerance("tol", tol, 1.0)
+    max_step, max_steps = positive("max_step", max_step), count("max_steps", max_steps)
     a0, a1, targets = _amplitudes(amplitude_range, amplitudes)
     bal = ModeBalance(system, contacts, harmonics=harmonics, n_t=n_t, phase_dof=0, rtol=rtol)
     if mode >= bal.n:
         raise ValueError(f"mode must be in 0..{bal.n - 1}, got mode={mode}")
     phi, w0, D0 = bal.stuck_mode(mode)
     bal.phase_dof = int(np.argmax(np.abs(phi))) if phase_dof is None else bal.structure._dof("phase_dof", phase_dof)
-    tol = positive("tol", tol)
     y0 = np.zeros(bal.unknowns)
     y0[np.arange(bal.n) * bal.L + 1] = phi
     y0[-3:] = w0, D0, math.log10(a0)
@@ -305,8 +309,7 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     scaled = bal.scaled
 
     res = cont.continuation(scaled, y0 / bal.uw, parameter=-1, bounds=(math.log10(a0), math.log10(a1)),
-                            tol=tol, max_step=positive("max_step", max_step), max_steps=count("max_steps", max_steps),
-                            locate_folds=False)
+                            tol=tol, max_step=max_step, max_steps=max_steps, locate_folds=False)
     ys, rn, nit, nfev = res.y, res.residual_norm, res.nit, res.nfev
     if targets is not None:
         ys, rn, extra = _locate_amplitudes(scaled, res, np.log10(targets), tol)
@@ -327,7 +330,10 @@ def _amplitudes(amplitude_range, amplitudes) -> tuple[float, float, NDArray | No
     """``(a0, a1, targets)`` from the two ways of asking (validated)."""
     targets = None
     if amplitudes is not None:
-        targets = np.asarray(amplitudes, dtype=float).ravel()
+        try:
+            targets = np.asarray(amplitudes, dtype=float).ravel()
+        except (TypeError, ValueError):
+            targets = np.full(1, np.nan)  # not numbers: refused below, naming amplitudes
         if targets.size == 0 or not np.all(np.isfinite(targets)) or np.any(targets <= 0.0):
             raise ValueError(f"amplitudes must be finite numbers > 0, got amplitudes={amplitudes!r}")
     if amplitude_range is None:

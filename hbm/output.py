@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 from pathlib import Path
 from typing import Any, Iterable, Sequence
 
@@ -244,6 +245,8 @@ class CsvStream:
     """
 
     def __init__(self, path: str | Path, columns: Sequence[str], *, comments: Any = None) -> None:
+        if not isinstance(path, (str, os.PathLike)):
+            raise ValueError(f"path must be a file path (a str or pathlib.Path), got path={path!r}")
         self.path = Path(path)
         self.columns = tuple(columns)
         self._fh = self.path.open("w", newline="")
@@ -315,6 +318,8 @@ def frf_comments(frf: Any, case: str | None = None) -> dict:
     target of ``error_rel``; none without an estimate) and the harmonics."""
     from contact_models import __version__  # lazily: this module stays free of the packages' imports at load
 
+    if case is not None and not isinstance(case, str):
+        raise ValueError(f"case must be a str (what was solved, in words) or None, got case={case!r}")
     models = list(dict.fromkeys(str(m) for m in getattr(frf, "point_models", [])))
     tol = getattr(frf, "tol", None)
     return {"frictiondamp": __version__, "case": case, "model": ", ".join(models) or "none (linear)",

@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont  # the module (hbm.continuation)
+from ._validation import flag
 from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
@@ -665,6 +666,7 @@ class FrequencyResponse:
         >>> len(frf.plot(error_band=False).patches)
         0
         """
+        peak, error_band = flag("peak", peak), flag("error_band", error_band)
         # a single DOF at H = 1 with a passive element loses stability only at folds (the sum of
         # its two exponents is minus its damping): its stability is computed only on a folded branch
         known = (self._stable is not None or not self._problem.one_dof or len(self.fold_after) > 0)

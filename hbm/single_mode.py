@@ -158,7 +158,10 @@ def forcing(bal: ModeBalance, force, response_dof) -> tuple[NDArray, int]:
     if force is None and np.iscomplexobj(s.force):
         raise ValueError("force must be real for the single-mode forced response (a phase per DOF is not "
                          "provided here; hbm.frequency_response takes it), got a complex structure force")
-    f = s.force if force is None else np.asarray(force, dtype=float).ravel()
+    try:
+        f = s.force if force is None else np.asarray(force, dtype=float).ravel()
+    except (TypeError, ValueError):
+        f = np.empty(0)  # not numbers: refused below, naming force
     if f.size != s.n or not np.all(np.isfinite(f)) or not np.any(f):
         raise ValueError(f"force must be {s.n} finite numbers, not all zero, got force={force!r}")
     dof = int(np.argmax(np.abs(f))) if response_dof is None else s._dof("response_dof", response_dof)

@@ -315,6 +315,8 @@ class Structure:
         """
         from scipy.linalg import eigh  # lazily: import hbm stays light
 
+        if isinstance(keep, (str, bytes)) or not hasattr(keep, "__iter__"):
+            raise ValueError(f"keep must be a sequence of DOF indices, got keep={keep!r}")
         keep = [self._dof("keep", d) for d in keep]
         if len(set(keep)) != len(keep) or not keep:
             raise ValueError(f"keep must be distinct DOFs, at least one, got keep={keep!r}")
@@ -390,13 +392,25 @@ class ReducedStructure(Structure):
     def __init__(self, M: ArrayLike, C: ArrayLike, K: ArrayLike, *, force: ArrayLike, T: NDArray[np.float64],
                  kept: tuple[int, ...], full: Structure) -> None:
         super().__init__(M, C, K, force=force)
+        if not isinstance(full, Structure):
+            raise ValueError(f"full must be the hbm.Structure reduced, got full={full!r}")
+        try:
+            T = np.asarray(T, dtype=float)
+        except (TypeError, ValueError):
+            raise ValueError(f"T must be a {full.n} x {self.n} matrix of numbers, got T={T!r}") from None
+        if T.shape != (full.n, self.n) or not np.all(np.isfinite(T)):
+            raise ValueError(f"T must be a finite {full.n} x {self.n} matrix (original x reduced DOFs), "
+                             f"got T of shape {T.shape}")
+        kept = tuple(full._dof("kept", d) for d in kept)
+        if len(set(kept)) != len(kept) or len(kept) > self.n:
+            raise ValueError(f"kept must be distinct DOFs of full, at most {self.n}, got kept={kept!r}")
         self.T = T
         self.kept = kept
         self.full = full
 
     def dof(self, original: int) -> int:
         """The reduced DOF of the kept original DOF ``original``."""
-        if original not in self.kept:
+        if isinstance(original, bool) or not isinstance(original, (int, np.integer)) or original not in self.kept:
             raise ValueError(f"original must be one of the kept DOFs {self.kept}, got original={original!r}")
         return self.kept.index(original)
 

@@ -75,6 +75,26 @@ def test_a_bare_element_needs_a_one_dof_system():
         frequency_response(two_dof, [3], omega_range=(0.5, 1.5))
 
 
+@pytest.mark.parametrize("kwargs, message", [
+    # before, a zero, negative, NaN, infinite or string scale was taken, to divide the unknowns by later
+    (dict(x_ref=0.0), r"^x_ref must be positive, got x_ref=0.0$"),
+    (dict(x_ref=float("nan")), r"^x_ref must be finite, got x_ref=nan$"),
+    (dict(x_ref="1"), r"^x_ref must be a number, got x_ref='1'$"),
+    (dict(omega_ref=-1.0), r"^omega_ref must be positive, got omega_ref=-1.0$"),
+    (dict(omega_ref=float("inf")), r"^omega_ref must be finite, got omega_ref=inf$"),
+])
+def test_the_balance_names_a_bad_scale(kwargs, message):
+    s = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+    with pytest.raises(ValueError, match=message):
+        HarmonicBalance(s, [Contact(Macroslip(1.0, 0.1), dof=0)], **kwargs)
+
+
+def test_a_single_contact_past_the_structure_is_refused_by_name():
+    s = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+    with pytest.raises(ValueError, match=r"^dof must be a DOF index in 0..1, got dof=5 in "):
+        HarmonicBalance(s, Contact(Macroslip(1.0, 0.1), dof=5))  # one Contact, not in a list
+
+
 @pytest.mark.parametrize("package", [hbm, contact_models])
 def test_every_public_name_still_imports_from_its_package(package):
     with warnings.catch_warnings():

@@ -137,6 +137,28 @@ def test_simulate_blade_rejects_bad_input(case, kwargs, name):
         simulate_blade(args.pop("blade"), args.pop("damper"), args.pop("omega"), **args)
 
 
+@pytest.mark.parametrize("kwargs, message", [
+    # before, NaN, None and inf failed in int() with numpy's or Python's message, naming nothing
+    (dict(steps_per_cycle=float("nan")), r"^steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle=nan$"),
+    (dict(steps_per_cycle=None), r"^steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle=None$"),
+    (dict(max_cycles=math.inf), r"^max_cycles must be an integer >= 2, got max_cycles=inf$"),
+    (dict(ramp_cycles=float("nan")), r"^ramp_cycles must be an integer >= 0, got ramp_cycles=nan$"),
+    (dict(ramp_cycles=None), r"^ramp_cycles must be an integer >= 0, got ramp_cycles=None$"),
+])
+def test_simulate_blade_names_the_value_refused(case, kwargs, message):
+    el = case.element
+    with pytest.raises(ValueError, match=message):
+        simulate_blade(case.blade, NumericalMicroslip(el.bar, el.load, cells=4), 38000.0, **kwargs)
+
+
+def test_harmonic_of_a_run_names_a_bad_h(case):
+    el = case.element
+    sim = simulate_blade(case.blade, NumericalMicroslip(el.bar, el.load, cells=4), 38000.0, steps_per_cycle=16,
+                         max_cycles=2, ramp_cycles=0)
+    with pytest.raises(ValueError, match=r"^h must be an integer >= 1, got h=nan$"):
+        sim.harmonic(float("nan"))  # before: "cannot convert float NaN to integer"
+
+
 def test_simulate_blade_needs_a_discretised_bar(case):
     with pytest.raises(ValueError, match="damper must be a contact_models.NumericalMicroslip"):
         simulate_blade(case.blade, case.element, 38000.0)
@@ -191,6 +213,8 @@ def test_response_at_rejects_bad_input(case):
         response_at(None, el, 38768.0, (1e-7, 1e-5))
     with pytest.raises(ValueError, match="rtol"):
         response_at(b, el, 38768.0, (1e-7, 1e-5), rtol=0.0)
+    with pytest.raises(ValueError, match=r"^rtol must be < 0.1, got rtol=5.0$"):  # before: taken, a 500 % tolerance
+        response_at(b, el, 38768.0, (1e-7, 1e-5), rtol=5.0)
 
 
 # ------------------------------------------------------------------ the study's script

@@ -197,3 +197,41 @@ def test_maximise_finds_a_maximum_where_kinks_hide_the_slope_from_the_tangent():
 def test_bad_options(kwargs, name):
     with pytest.raises(ValueError, match=name):
         continuation(sine, [0.0, 0.0], parameter=1, **kwargs)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    # each refused where it enters, naming it: before, an index past y0 wrapped around, a NaN step or an
+    # infinite max_step never ended, a negative tolerance failed the start, a string was taken as True
+    ({"parameter": 5}, r"^parameter must be an index of y0 in -2..1, got parameter=5$"),
+    ({"parameter": True}, r"^parameter must be an index of y0 in -2..1, got parameter=True$"),
+    ({"parameter": 1.5}, r"^parameter must be an index of y0 in -2..1, got parameter=1.5$"),
+    ({"bounds": 1.0}, r"^bounds must be a pair \(lo, hi\) of numbers, got bounds=1.0$"),
+    ({"bounds": (1.0, 0.0)}, r"^bounds must have lo <= hi, got bounds=\(1.0, 0.0\)$"),
+    ({"bounds": (math.nan, 1.0)}, r"^bounds must have lo <= hi, got bounds=\(nan, 1.0\)$"),
+    ({"direction": True}, r"^direction must be \+1 or -1, got direction=True$"),
+    ({"step": -1.0}, r"^step must be positive, got step=-1.0$"),
+    ({"step": math.nan}, r"^step must be finite, got step=nan$"),
+    ({"max_step": math.inf}, r"^max_step must be finite, got max_step=inf$"),
+    ({"max_steps": 0}, r"^max_steps must be an integer >= 1, got max_steps=0$"),
+    ({"max_steps": 2.5}, r"^max_steps must be an integer >= 1, got max_steps=2.5$"),
+    ({"max_iter": 0}, r"^max_iter must be an integer >= 1, got max_iter=0$"),
+    ({"tol": -1.0}, r"^tol must be positive, got tol=-1.0$"),
+    ({"tol": math.nan}, r"^tol must be finite, got tol=nan$"),
+    ({"fold_xtol": 0.0}, r"^fold_xtol must be positive, got fold_xtol=0.0$"),
+    ({"locate_folds": "no"}, r"^locate_folds must be True or False, got locate_folds='no'$"),
+    ({"curve_tol": "0.01"}, r"^curve_tol must be in \(0, 1\) or None, got curve_tol='0.01'$"),
+    ({"curve_tol": 1e-3, "curve_components": [5]}, r"^curve_components must be indices of y0 in -2..1, got "
+                                                   r"curve_components=\[5\]$"),
+    ({"on_point": 3}, r"^on_point must be a function or None, got on_point=3$"),
+    ({"stop": 3}, r"^stop must be a function or None, got stop=3$"),
+])
+def test_bad_options_named(kwargs, message):
+    with pytest.raises(ValueError, match=message):
+        continuation(sine, [0.0, 0.0], **{"parameter": 1, "bounds": (-2.0, 2.0), **kwargs})
+
+
+def test_bad_residual_and_start_named():
+    with pytest.raises(ValueError, match=r"^residual must be a function y -> \(R, J\), got residual=3$"):
+        continuation(3, [0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^y0 must be finite, got y0=array\(\[nan,  0.\]\)$"):
+        continuation(sine, [math.nan, 0.0])

@@ -200,6 +200,54 @@ def test_bad_input_names_the_parameter():
         forced_response(m)
 
 
+@pytest.mark.parametrize("kwargs, message", [
+    # before, a tol of 2 was taken (a Newton residual twice the inertia force counted as converged), strings
+    # among the amplitudes failed inside numpy, and a contact on a DOF past the structure raised an IndexError
+    (dict(tol=2.0), r"^tol must be < 1, got tol=2.0$"),
+    (dict(amplitudes=["a"]), r"^amplitudes must be finite numbers > 0, got amplitudes=\['a'\]$"),
+])
+def test_bad_input_names_the_value(kwargs, message):
+    s, contacts = ground()
+    with pytest.raises(ValueError, match=message):
+        nonlinear_modes(s, contacts, **{"amplitudes": [0.01, 1.0], **kwargs})
+
+
+def test_a_contact_past_the_structure_is_refused_by_name():
+    s, _ = ground()
+    with pytest.raises(ValueError, match=r"^dof must be a DOF index in 0..1, got dof=5 in "):
+        nonlinear_modes(s, [Contact(Macroslip(1.0, 0.1), dof=5)], amplitudes=[1.0])
+
+
+def test_mode_coefficients_and_forced_response_name_bad_input():
+    s, contacts = ground()
+    m = nonlinear_modes(s, contacts, amplitude_range=(1e-3, 1e-2), harmonics=1)
+    for dof in (5, -1, 1.5):  # before: an IndexError, a silent count from the end, an IndexError
+        with pytest.raises(ValueError, match=rf"^dof must be a DOF index in 0..1, got dof={dof}$"):
+            m.coefficients(dof)
+    with pytest.raises(ValueError, match=r"^force must be 2 finite numbers, not all zero, got force='ab'$"):
+        forced_response(m, force="ab")  # before: numpy's "could not convert string to float"
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    # checked before the mode at the first bound is traced: that trace failed first, and said the mode
+    # does not reach the peak
+    (dict(max_step=0.0), r"^max_step must be positive, got max_step=0.0$"),
+    (dict(max_steps=0), r"^max_steps must be an integer >= 1, got max_steps=0$"),
+    (dict(tol=-1.0), r"^tol must be positive, got tol=-1.0$"),
+    (dict(tol=2.0), r"^tol must be < 1, got tol=2.0$"),
+])
+def test_damper_optimum_checks_its_controls_first(kwargs, message):
+    s, contacts = ground()
+    traced = []
+
+    def contacts_of(p):
+        traced.append(p)
+        return contacts
+    with pytest.raises(ValueError, match=message):
+        damper_optimum(s, contacts_of, (1.0, 2.0), amplitude_range=(0.1, 1.0), **kwargs)
+    assert traced == []
+
+
 def _example(name):
     import importlib
     import sys

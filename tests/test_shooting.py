@@ -223,6 +223,50 @@ def test_bad_options_are_refused_by_name(kwargs, name):
         periodic_response(blade, cs, **kwargs)
 
 
+@pytest.mark.parametrize("kwargs, message", [
+    # before, a string or a bool was read as the frequency, a NaN or negative tol and a negative max_iter
+    # were taken, floquet="no" computed the multipliers, and the others failed inside numpy without a name
+    (dict(omega="1"), r"^omega must be a number, got omega='1'$"),
+    (dict(omega=True), r"^omega must be a number, got omega=True$"),
+    (dict(omega=None), r"^omega must be a number, got omega=None$"),
+    (dict(omega=1.0, tol=-1.0), r"^tol must be positive, got tol=-1.0$"),
+    (dict(omega=1.0, tol=math.nan), r"^tol must be finite, got tol=nan$"),
+    (dict(omega=1.0, tol="a"), r"^tol must be a number, got tol='a'$"),
+    (dict(omega=1.0, max_iter=-1), r"^max_iter must be an integer >= 0, got max_iter=-1$"),
+    (dict(omega=1.0, max_iter=1.5), r"^max_iter must be an integer >= 0, got max_iter=1.5$"),
+    (dict(omega=1.0, floquet="no"), r"^floquet must be True or False, got floquet='no'$"),
+    (dict(omega=1.0, initial="abc"), r"^initial must be a finite state of length 3, got initial='abc'$"),
+])
+def test_bad_options_are_refused_with_the_value(kwargs, message):
+    blade, cs = p1()
+    with pytest.raises(ValueError, match=message):
+        periodic_response(blade, cs, steps=16, harmonics=1, **kwargs)
+
+
+def test_a_contact_without_element_and_dofs_is_refused_by_name():
+    blade, _ = p1()
+    with pytest.raises(ValueError, match=r"^contacts must hold objects with .element and .dofs \(e.g. hbm.Contact\), "
+                                         r"got 3$"):
+        periodic_response(blade, [3], omega=1.0)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    # before, a bracket of three or of strings failed in the unpacking without a name, a negative or NaN
+    # xtol was taken, and an initial that is no response failed with an AttributeError
+    (dict(bracket=(1.1, 1.3, 1.5)), r"^bracket must be two increasing positive frequencies, got "
+                                    r"bracket=\(1.1, 1.3, 1.5\)$"),
+    (dict(bracket="ab"), r"^bracket must be two increasing positive frequencies, got bracket='ab'$"),
+    (dict(bracket=(1.3, 1.5), xtol=-1.0), r"^xtol must be positive, got xtol=-1.0$"),
+    (dict(bracket=(1.3, 1.5), xtol=math.nan), r"^xtol must be finite, got xtol=nan$"),
+    (dict(bracket=(1.3, 1.5), initial=3), r"^initial must be a PeriodicResponse \(from periodic_response\) or "
+                                          r"None, got initial=3$"),
+])
+def test_bad_peak_options_are_refused_with_the_value(kwargs, message):
+    blade, cs = p1()
+    with pytest.raises(ValueError, match=message):
+        periodic_peak(blade, cs, steps=16, harmonics=1, **kwargs)
+
+
 @pytest.mark.parametrize("system, cs, name", [
     ((np.eye(2), np.eye(2), np.eye(3), np.ones(2)), [], "K"),
     ((np.eye(2), np.eye(2), np.eye(2), np.ones(3)), [], "force"),

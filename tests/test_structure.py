@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from contact_models import Macroslip, TwoRegionMicroslip
-from hbm import Contact, Structure, frequency_response
+from hbm import Contact, ReducedStructure, Structure, frequency_response
 from hbm.structure import load_matrix
 
 K2 = np.array([[2.0, -1.0], [-1.0, 1.0]])
@@ -55,6 +55,28 @@ def test_bad_contacts_and_options_refused_by_name(two):
         Contact("jenkins", dof=0)
     with pytest.raises(ValueError, match="K must be nonsingular"):
         frequency_response(build(K=np.zeros((2, 2))), [Contact(jen, dof=0)], omega_range=(0.5, 1.5))
+
+
+def test_reduce_and_reduced_structure_refuse_bad_input_by_name():
+    s3 = Structure(np.eye(3), 0.01 * np.eye(3), 2 * np.eye(3) - np.eye(3, k=1) - np.eye(3, k=-1), force=[0, 0, 1.0])
+    with pytest.raises(ValueError, match=r"^keep must be a sequence of DOF indices, got keep=2$"):
+        s3.reduce(2, modes=1)  # before: "'int' object is not iterable"
+    r = s3.reduce([2], modes=1)
+    for bad in (2.0, True):  # before: 2.0 and True (== 1 of another reduction) were looked up as DOFs
+        with pytest.raises(ValueError, match=rf"^original must be one of the kept DOFs \(2,\), got original={bad}$"):
+            r.dof(bad)
+    M, force = np.eye(2), [1.0, 0.0]
+    # made by hand: before, a T of the wrong shape, kept DOFs outside the full structure and a full that is
+    # no structure were all taken
+    with pytest.raises(ValueError, match=r"^T must be a finite 3 x 2 matrix \(original x reduced DOFs\), "
+                                         r"got T of shape \(3, 3\)$"):
+        ReducedStructure(M, M, M, force=force, T=np.eye(3), kept=(0,), full=s3)
+    with pytest.raises(ValueError, match=r"^kept must be a DOF index in 0..2, got kept=7$"):
+        ReducedStructure(M, M, M, force=force, T=np.ones((3, 2)), kept=(7,), full=s3)
+    with pytest.raises(ValueError, match=r"^kept must be distinct DOFs of full, at most 2, got kept=\(0, 0\)$"):
+        ReducedStructure(M, M, M, force=force, T=np.ones((3, 2)), kept=(0, 0), full=s3)
+    with pytest.raises(ValueError, match=r"^full must be the hbm.Structure reduced, got full=3$"):
+        ReducedStructure(M, M, M, force=force, T=np.ones((3, 2)), kept=(0,), full=3)
 
 
 def test_damping_helpers_and_files(tmp_path):

@@ -740,3 +740,38 @@ def test_a_non_finite_hysteresis_loop_is_named():
 
     with pytest.raises(ElementOutputError, match=r"_hysteresis\(a, omega, n\) returned f = nan \(not finite\)"):
         Loop().hysteresis(0.1)
+
+
+# ------------------------------------------------------------------ a result's output, and Blade.from_modal
+@pytest.fixture(scope="module")
+def chain_frf():
+    s = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+    return frequency_response(s, [Contact(Macroslip(1.0, 0.1), dof=0)], omega_range=(0.5, 2.0), harmonics=1)
+
+
+def test_to_csv_names_a_path_that_is_no_path_and_a_case_that_is_no_string(chain_frf, tmp_path):
+    # before: Python's "expected str, bytes or os.PathLike object", and case=3 written as "# case: 3"
+    for bad in (None, 3):
+        with pytest.raises(ValueError, match=rf"^path must be a file path \(a str or pathlib.Path\), got path={bad}$"):
+            chain_frf.to_csv(bad)
+    with pytest.raises(ValueError, match=r"^case must be a str \(what was solved, in words\) or None, got case=3$"):
+        chain_frf.to_csv(tmp_path / "frf.csv", case=3)
+    assert not (tmp_path / "frf.csv").exists()  # refused before the file is opened
+
+
+def test_plot_flags_must_be_bools(chain_frf):
+    import matplotlib
+    matplotlib.use("Agg")
+    for name in ("peak", "error_band"):  # before: "no" was taken as True
+        with pytest.raises(ValueError, match=rf"^{name} must be True or False, got {name}='no'$"):
+            chain_frf.plot(**{name: "no"})
+
+
+def test_blade_from_modal_names_the_parameters_whose_product_overflows():
+    from hbm import Blade
+
+    # before: "stiffness must be finite, got stiffness=inf", a parameter from_modal does not take
+    with pytest.raises(ValueError, match=r"^frequency, damping_ratio and mass must give a finite stiffness m w\^2 "
+                                         r"and damping 2 zeta m w, got frequency=1e\+200, damping_ratio=0.01, "
+                                         r"mass=1e\+200$"):
+        Blade.from_modal(frequency=1e200, damping_ratio=0.01, mass=1e200, force=1.0)

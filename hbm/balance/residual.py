@@ -59,7 +59,7 @@ from contact_models.base import DEFAULT_RTOL, default_samples
 from contact_models.numerics.describing import stiffness_terms as describing_terms
 from contact_models.numerics.masing import to_time
 
-from .._validation import count, relative_tolerance
+from .._validation import count, positive, relative_tolerance
 from ..structure import Contact, Structure
 from .condensation import condensed, stuck_matrix
 from .layout import from_complex, next_sector_operator, to_complex
@@ -88,12 +88,13 @@ def as_structure(system: Any) -> Structure:
 
 
 def as_contacts(contacts: Any, n: int) -> list[Contact]:
-    """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or a bare element at DOF 0."""
+    """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or a bare element at DOF 0,
+    each on DOFs of a structure of ``n`` DOFs."""
     if contacts is None:
         return []
     if isinstance(contacts, Contact):
-        return [contacts]
-    if isinstance(contacts, ContactElement):
+        contacts = [contacts]
+    elif isinstance(contacts, ContactElement):
         if n != 1:
             raise ValueError(f"a bare element attaches only to a one-DOF system; give "
                              f"hbm.Contact(element, dof=...) for a structure of {n} DOFs, got contacts={contacts!r}")
@@ -108,16 +109,16 @@ def as_contacts(contacts: Any, n: int) -> list[Contact]:
     for c in contacts:
         if not isinstance(c, Contact):
             raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
+        for d in c.all_dofs:
+            if d >= n:
+                raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={d!r} in {c!r}")
     return contacts
 
 
 def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any, n_t: Any,
                   response_dof: Any) -> tuple[int, int, int]:
-    """Validate H, n_t, the contacts' DOFs and the response DOF; returns ``(H, n_t, response_dof)``."""
-    for c in contacts:
-        for d in c.all_dofs:
-            if d >= structure.n:
-                raise ValueError(f"dof must be a DOF index in 0..{structure.n - 1}, got dof={d!r} in {c!r}")
+    """Validate H, n_t, the contacts' sectors and the response DOF; returns ``(H, n_t, response_dof)``."""
+    for c in contacts:  # (their DOFs are checked by as_contacts)
         if c.next_sector and structure.sector_angle is None:
             raise ValueError(f"next_sector=True joins two sectors of a cyclic structure (hbm.CyclicStructure); "
                              f"{type(structure).__name__} is the whole model, got next_sector=True in {c!r}")
@@ -157,9 +158,9 @@ class HarmonicBalance:
     rtol : float, default 1e-6
         Relative tolerance passed to the elements.
     x_ref : float, default 1.0
-        Displacement scale of the scaled unknowns (m).
+        Displacement scale of the scaled unknowns (m), > 0.
     omega_ref : float, default 1.0
-        Frequency scale of the scaled unknowns (rad/s).
+        Frequency scale of the scaled unknowns (rad/s), > 0.
 
     Attributes
     ----------
@@ -207,8 +208,8 @@ class HarmonicBalance:
         self.dofs = sorted({d for c in self.contacts for d in c.all_dofs} | {self.response_dof})
         self.na = len(self.dofs)
         self.rtol = relative_tolerance("rtol", rtol, MAX_RTOL)
-        self.x_ref = float(x_ref)
-        self.omega_ref = float(omega_ref)
+        self.x_ref = positive("x_ref", x_ref)
+        self.omega_ref = positive("omega_ref", omega_ref)
         pos = {d: i for i, d in enumerate(self.dofs)}
         self._attach = [(c.element, [[pos[d] for d in ix] for ix in c.components]) for c in self.contacts]
         # a contact to the next sector sees that sector's harmonic h turned by -h phi (docs/bladed_disks.md)

@@ -40,6 +40,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .._validation import count, flag, positive
 from .newmark import NewmarkIntegrator
 from .piecewise import EventIntegrator, Model
 from .system import build_model
@@ -345,11 +346,10 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     >>> round(r.amplitude(0), 10), round(abs(0.01 / complex(1.0, 0.1)), 10)
     (0.0099503719, 0.0099503719)
     """
-    omega = float(omega)
-    if not (0.0 < omega < math.inf):
-        raise ValueError(f"omega must be positive and finite, got omega={omega!r}")
+    omega = positive("omega", omega)
     if isinstance(harmonics, bool) or not isinstance(harmonics, (int, np.integer)) or harmonics < 1:
         raise ValueError(f"harmonics must be an integer >= 1, got harmonics={harmonics!r}")
+    tol, max_iter, floquet = positive("tol", tol), count("max_iter", max_iter, 0), flag("floquet", floquet)
     m = build_model(system, contacts)
     I = _integrator(m, omega, integrator, steps)
     if I.steps < 2 * harmonics + 2:
@@ -361,7 +361,10 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     elif np.iscomplexobj(initial):
         y = _harmonic_guess(m, omega, np.asarray(initial).ravel())
     else:
-        y = np.asarray(initial, dtype=float).ravel().copy()
+        try:
+            y = np.asarray(initial, dtype=float).ravel().copy()
+        except (TypeError, ValueError):
+            y = np.empty(0)  # not numbers: refused below, naming initial
     d = 2 * m.n + m.nc
     if y.size != d or not np.all(np.isfinite(y)):
         raise ValueError(f"initial must be a finite state of length {d}, got initial={initial!r}")
@@ -484,11 +487,17 @@ def periodic_peak(system: Any, contacts: Sequence[Any] = (), *, bracket: tuple[f
     """
     from scipy.optimize import minimize_scalar  # heavy (0.1-0.5 s), lazily: import hbm stays light
 
-    lo, hi = (float(b) for b in bracket)
+    try:
+        lo, hi = (positive("bracket", b) for b in bracket)
+    except (TypeError, ValueError):
+        lo = hi = math.nan
     if not (0.0 < lo < hi < math.inf):
         raise ValueError(f"bracket must be two increasing positive frequencies, got bracket={bracket!r}")
     if measure not in ("amplitude", "max"):
         raise ValueError(f"measure must be 'amplitude' or 'max', got measure={measure!r}")
+    xtol = positive("xtol", xtol)
+    if initial is not None and not isinstance(initial, PeriodicResponse):
+        raise ValueError(f"initial must be a PeriodicResponse (from periodic_response) or None, got initial={initial!r}")
     options = {**options, "floquet": False}
     solved: dict[float, PeriodicResponse] = {}
     if initial is not None:

@@ -63,6 +63,8 @@ def _contact_dofs(contact: Any, n: int) -> tuple[int, ...]:
     dofs = getattr(contact, "dofs", None)
     if dofs is None and hasattr(contact, "dof"):
         dofs = (contact.dof,)
+    if dofs is None or not hasattr(contact, "element"):
+        raise ValueError(f"contacts must hold objects with .element and .dofs (e.g. hbm.Contact), got {contact!r}")
     dofs = tuple(np.atleast_1d(dofs)) if dofs is not None else ()
     if len(dofs) not in (1, 2) or any(isinstance(d, bool) or not isinstance(d, (int, np.integer))
                                       or not 0 <= d < n for d in dofs) or len(set(dofs)) != len(dofs):

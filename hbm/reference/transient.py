@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from contact_models.numerical import NEWTON_RTOL, GeneralizedAlpha, NumericalMicroslip, return_map, solve_step
 
-from .._validation import positive
+from .._validation import count, positive
 from ..blade import Blade
 
 #: Default theta steps per cycle (a multiple of 4), steady tolerance, cycle budget and ramp.
@@ -127,8 +127,7 @@ class BladeSimulation:
 
     def harmonic(self, h: int) -> float:
         """Amplitude of the h-th harmonic of x (h >= 1)."""
-        if isinstance(h, bool) or int(h) != h or h < 1:
-            raise ValueError(f"h must be an integer >= 1, got h={h!r}")
+        h = count("h", h, 1)
         return 2.0 / self.steps * float(abs(np.sum(self.x * np.exp(-1j * h * self.theta))))
 
     def to_csv(self, path: str | Path) -> None:
@@ -206,16 +205,16 @@ def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, st
         raise ValueError("damper must be a contact_models.NumericalMicroslip (an element with a state to "
                          f"integrate), got damper={damper!r}")
     omega = positive("omega", omega)
-    if isinstance(steps_per_cycle, bool) or int(steps_per_cycle) != steps_per_cycle or steps_per_cycle < 8 \
-            or steps_per_cycle % 4:
+    try:
+        steps = count("steps_per_cycle", steps_per_cycle, 8)
+    except ValueError:
+        steps = 1  # (not an integer >= 8: the one message below)
+    if steps % 4:
         raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")
     steady_tol = positive("steady_tol", steady_tol)
-    if isinstance(max_cycles, bool) or int(max_cycles) != max_cycles or max_cycles < 2:
-        raise ValueError(f"max_cycles must be an integer >= 2, got max_cycles={max_cycles!r}")
-    if isinstance(ramp_cycles, bool) or int(ramp_cycles) != ramp_cycles or ramp_cycles < 0:
-        raise ValueError(f"ramp_cycles must be an integer >= 0, got ramp_cycles={ramp_cycles!r}")
-    run = _Coupled(blade, damper, omega, int(steps_per_cycle), int(ramp_cycles))
-    return run.to_steady_state(steady_tol, int(max_cycles))
+    max_cycles, ramp_cycles = count("max_cycles", max_cycles, 2), count("ramp_cycles", ramp_cycles, 0)
+    run = _Coupled(blade, damper, omega, steps, ramp_cycles)
+    return run.to_steady_state(steady_tol, max_cycles)
 
 
 class _Coupled:
