@@ -55,14 +55,6 @@ def count(name: str, value: object, minimum: int = 1) -> int:
     return int(value)
 
 
-def flag(name: str, value: object) -> bool:
-    """Return ``value`` as a bool if it is True or False (numpy's bool too), else raise ValueError:
-    a string such as ``"no"``, which ``bool()`` would take as True, or a number is refused."""
-    if type(value).__name__ not in ("bool", "bool_"):
-        raise ValueError(f"{name} must be True or False, got {name}={value!r}")
-    return bool(value)
-
-
 def derived(owner: str, params: dict, compute: Callable[[], dict], *, positive_names: tuple = ()) -> dict:
     """``compute()``: the quantities an element derives from its parameters (a dict), each finite
     (and > 0 for ``positive_names``); else a ValueError naming the parameters, the quantity and its
