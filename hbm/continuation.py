@@ -50,12 +50,12 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from contact_models.numerics.checks import count as _whole, finite, flag, positive
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, _corner_normal, _Count, _counted,  # noqa: F401
                      _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
-from ._validation import count as _whole, finite, flag, positive
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
