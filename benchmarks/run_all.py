@@ -5,7 +5,7 @@
     python benchmarks/run_all.py --save m.json; python benchmarks/run_all.py --load m.json
                                             # keep the measurements; redo text and figures from them
 
-Order: the analytic elements (``bench_element``), the FRF knobs and presets
+Order: the analytic elements (``bench_element``), the FRF's tolerance and step controls
 (``bench_frf_accuracy``), the numerical bar (``bench_numerical``, last: the slowest), then the
 FRF timing table (``bench_frf``, printed only: its section of docs/performance.md is kept as
 it is).  Writes ``docs/figures/accuracy_{element,frf,numerical}.png`` and replaces the text
@@ -76,22 +76,27 @@ def section(el, fr, nu, info, elapsed) -> str:
     d3 = next(r for r in rt3 if r["default"])
     tp3 = {r["value"]: r for r in three["knobs"]["TABLE_POINTS"]}
     cases = fr["cases"]
-    dc = cases["default case"]["rows"]
-    base = next(r for r in dc if r["knob"] is None)
-    pre = {r["value"]: r for r in dc if r["knob"] == "accuracy"}
-    ms_rows = {r["value"]: r for r in dc if r["knob"] == "max_step"}
-    rt_rows = {r["value"]: r for r in dc if r["knob"] == "rtol"}
-    ms_lo, ms_hi = max(ms_rows), min(ms_rows)
-    rt_lo, rt_hi = max(rt_rows), min(rt_rows)
-    names = ("fast", "default", "precise")
-    bounds_ok = all(pre[n]["peak_error"] <= presets.PEAK_ERROR_BOUND[n] for n in names)
-    preset_rows = []
-    for n in names:
-        r, st = pre[n], presets.resolve(n)
-        preset_rows.append(f"| `accuracy=\"{n}\"` | {st.rtol:g} | {st.max_step:.3g} | {st.min_step:g} | {st.max_steps} "
-                           f"| {r['points']} | {r['peak_amplitude_error']:.1e} | {r['peak_omega_error']:.1e} "
-                           f"| **{r['peak_error']:.1e}** (bound {presets.PEAK_ERROR_BOUND[n]:g}) "
-                           f"| {r['curve_error']:.1e} | {r['cpu']:.3f} | {r['wall']:.3f} | {r['cpu'] / base['cpu']:.2f} |")
+    dc = cases["default blade, single-mode damper"]["rows"]
+    p1 = cases[bench_frf_accuracy.P1]["rows"]
+
+    def by(rows, knob):
+        return {r["value"]: r for r in bench_frf_accuracy.rows_for(rows, knob)[0]}
+
+    tol_dc, tol_p1, ms_dc = by(dc, "tol"), by(p1, "tol"), by(dc, "max_step")
+    base_dc = next(r for r in dc if r["knob"] is None)
+    t_lo, t_hi = max(tol_p1), min(tol_p1)
+    ms_lo, ms_hi = max(ms_dc), min(ms_dc)
+    under = max(r["peak_error"] / r["peak_estimate"] for r in tol_p1.values())
+    short = [r for r in by(dc, "max_steps").values() if not r["success"]]
+    honest = (f"no estimate below the true error by more than a factor {under:.2f}" if under <= 2.0 else
+              f"**an estimate {under:.1f} times below the true error in this run**")
+    tol_rows = []
+    for name, rows in (("default blade", tol_dc), ("P1", tol_p1)):
+        base = rows[presets.TOLERANCE["default"]]
+        for v, r in rows.items():
+            tol_rows.append(f"| {name} | {bench_frf_accuracy.shown('tol', v)} | {r['harmonics']} | {r['points']} "
+                            f"| {r['peak_error']:.1e} | {r['peak_estimate']:.1e} | {'yes' if r['warned'] else 'no'} "
+                            f"| {r['cpu']:.3f} | {r['cpu'] / base['cpu']:.2f} |")
     dyn = [sw for sw in nu["sweeps"] if sw["mode"] == "dynamic"]
     qs = [sw for sw in nu["sweeps"] if sw["mode"] == "quasi-static"]
     dyn_err = [r["error"] for sw in dyn for r in sw["rows"] if not r["failed"]]
@@ -120,36 +125,35 @@ wall = CPU for this single-threaded code). The settings of one sweep are timed r
 every ratio compares times of the same run. The number of harmonics and of time samples has its
 own section ("What accuracy costs: harmonics", below).
 
-### Presets
+### The tolerance and the step controls
 
-`frequency_response(blade, element, omega_range, accuracy=...)` with `"fast"`, `"default"`,
-`"precise"` or an rtol sets every knob of the solver (`hbm/balance/presets.py`): one rtol for the element
-and the Newton tolerance, `max_step = 0.03 (rtol/1e-6)^(1/6)` (clipped to
-[{presets.MIN_PRESET_STEP:g}, {presets.MAX_PRESET_STEP:g}]), `max_steps` scaled to the same arclength budget, `min_step`
-{presets.resolve('default').min_step:g}; `"default"` is exactly `frequency_response`'s defaults. On the default case
-(`hbm.cli.cases.default_case()`), against its FRF at rtol {bench_frf_accuracy.REFERENCE['rtol']:g}, max_step {bench_frf_accuracy.REFERENCE['max_step']:g}:
+`frequency_response(system, contacts, omega_range, tol=..., steps=hbm.Steps(...))` has one accuracy
+knob, `tol`: the target relative error of the amplitude against the true periodic response. The
+named presets are tolerances ("fast" {presets.TOLERANCE['fast']:g}, "default" {presets.TOLERANCE['default']:g}, "precise" {presets.TOLERANCE['precise']:g}) and adapt exactly
+as those numbers do. `tol` sets the harmonics along the curve, the elements' tolerance, the Newton
+tolerance and, with `model=`, the model; `hbm.Steps` sets how densely the branch is sampled and how
+long the run may go on, not its accuracy. `tol` on both cases of the next section (peak error: on P1
+against the true periodic peak by shooting, on the default blade against its own model converged):
 
-| preset | rtol | max_step | min_step | max_steps | points | peak a error | peak omega error | peak error | curve error | CPU (s) | wall (s) | CPU / default |
-|---|---|---|---|---|---|---|---|---|---|---|---|---|
-{chr(10).join(preset_rows)}
+| case | tol | largest H | points | peak error | peak estimate | warned | CPU (s) | CPU / tol 1e-3 |
+|---|---|---|---|---|---|---|---|---|
+{chr(10).join(tol_rows)}
 
-{"Each preset is within its documented bound (`hbm.balance.presets.PEAK_ERROR_BOUND`, checked by `tests/test_presets.py`)." if bounds_ok else "**A preset exceeds its documented bound in this run: see hbm.balance.presets.PEAK_ERROR_BOUND.**"}
-Why these settings (measurements below): the peak's error is set by rtol, its frequency error
-falling like sqrt(rtol) (from {rt_rows[rt_lo]['peak_omega_error']:.1e} at rtol {rt_lo:g} to {rt_rows[rt_hi]['peak_omega_error']:.1e} at {rt_hi:g}, for
-{rt_rows[rt_hi]['cpu'] / rt_rows[rt_lo]['cpu']:.1f} times the time); max_step sets the number of points, the time and the drawn
-curve's error (max_step {ms_lo:g} to {ms_hi:g}: {ms_rows[ms_lo]['points']} to {ms_rows[ms_hi]['points']} points, curve error {ms_rows[ms_lo]['curve_error']:.0e} to
-{ms_rows[ms_hi]['curve_error']:.0e}, {ms_rows[ms_hi]['cpu'] / ms_rows[ms_lo]['cpu']:.1f} times the time) but not the peak, which is refined between points.
-So a preset moves both: 1000 times tighter rtol and about 3 times smaller steps per level.
-`"fast"` takes {pre['fast']['cpu'] / base['cpu']:.2f} of the default's time: below about {ms_rows[ms_lo]['points']} points the step is held by
-the continuation's curvature control, not by max_step, so there is little more to gain.
-`"precise"` takes {pre['precise']['cpu'] / pre['default']['cpu']:.1f} times the default's, most of it for the finer curve. The element's
-rtol costs nothing in accuracy (next section), so the element gets the same rtol. min_step never
-binds on these cases; max_steps is a budget: below the {base['points']} points the default case needs, the
-branch stops early and the peak may be missed (the max_steps rows).
+On P1 the tolerance raises H where the harmonics ask ({tol_p1[t_lo]['harmonics']} at {t_lo:g}, {tol_p1[t_hi]['harmonics']} at {t_hi:g}) and the peak's
+error falls from {tol_p1[t_lo]['peak_error']:.1e} to {tol_p1[t_hi]['peak_error']:.1e} for {tol_p1[t_hi]['cpu'] / tol_p1[t_lo]['cpu']:.1f} times the time, {honest}. The
+default blade's single-mode damper has no time law, so H stays 1 and `tol` moves only the element's
+and Newton's tolerances: the peak is within {max(r['peak_error'] for r in tol_dc.values()):.0e} of the same model converged at every
+tol. Every one of its rows warns, and rightly: the estimate holds the model source, the single-mode
+bar's distance from the bar with every mode ({tol_dc[presets.TOLERANCE['default']]['peak_estimate']:.1e} at the peak, {tol_dc[presets.TOLERANCE['default']]['estimate_max']:.2g} on the flank), which no knob of
+this sweep reduces; `model="auto"` does ("The physical curve: what the main job costs", below).
 
-Both cases, and two rtol values through `accuracy=<float>`:
-
-{bench_frf_accuracy.preset_table(fr)}
+`Steps.max_step` sets the number of points, the time and the drawn curve's error (on the default
+blade max_step {ms_lo:g} to {ms_hi:g}: {ms_dc[ms_lo]['points']} to {ms_dc[ms_hi]['points']} points, curve error {ms_dc[ms_lo]['curve_error']:.0e} to
+{ms_dc[ms_hi]['curve_error']:.0e}, {ms_dc[ms_hi]['cpu'] / ms_dc[ms_lo]['cpu']:.1f} times the time) but not the peak, which is located between points.
+`Steps.min_step` never binds on these cases. `Steps.max_steps` is a budget: below the {base_dc['points']} points
+the default blade needs ({len(short)} of its rows) the branch stops early, the call warns, and the peak
+may be missed. `Steps.curve_tol` sizes the steps by the error of the curve between points ("Step
+control by accuracy", below); the polyline's error measured here is held by the corners at slip onset.
 
 ### The analytic elements (`TwoRegionMicroslip`, `ThreeRegionMicroslip`)
 
@@ -161,11 +165,10 @@ The element's `rtol` is a ceiling, not its error: the quadrature (Gauss-Legendre
 parameter, doubled from `GAUSS_START` = 12 nodes until two rules agree to rtol/10) converges
 spectrally, so the first comparison already agrees to rounding. For every rtol from 1e-2 to 1e-12
 the error is {rng([r['error'] for r in rt2])} (two-region) and {rng([r['error'] for r in rt3])} (three-region); the tighter rtols only add
-rules (up to {max(r['vec_cold'] for r in rt2) / d2['vec_cold']:.1f} / {max(r['vec_cold'] for r in rt3) / d3['vec_cold']:.1f} times the default's time). What limits the three-region element
-is `TABLE_POINTS`, the per-frequency table that also finds the shallow dip of the loading curve
-just after slip nucleation (the onset fold): with 65 points (default) its largest error is
-{tp3[65]['error']:.0e} at {where(tp3[65])}; with 17 points {tp3[17]['error']:.0e} at {where(tp3[17])};
-with 129 points {tp3[129]['error']:.0e}. The two-region element has no onset fold and is exact to
+rules (up to {max(r['vec_cold'] for r in rt2) / d2['vec_cold']:.1f} / {max(r['vec_cold'] for r in rt3) / d3['vec_cold']:.1f} times the default's time). The three-region element's `TABLE_POINTS` sets the per-frequency
+table that also finds the shallow dip of the loading curve just after slip nucleation (the onset
+fold): its largest error is {tp3[17]['error']:.0e} with 17 points (at {where(tp3[17])}), {tp3[65]['error']:.0e} with 65 (the default;
+at {where(tp3[65])}) and {tp3[129]['error']:.0e} with 129. The two-region element has no onset fold and is exact to
 rounding for every setting. A scalar call at a new frequency costs {d2['scalar_cold'] * 1e3:.1f} ms / {d3['scalar_cold'] * 1e3:.1f} ms
 (two / three-region, default settings; mostly building the loading path: {d2['scalar_warm'] * 1e3:.1f} / {d3['scalar_warm'] * 1e3:.1f} ms
 once it is cached); 1000 amplitudes cost {d2['vec_cold'] * 1e3:.0f} ms / {d3['vec_cold'] * 1e3:.0f} ms.
@@ -177,14 +180,10 @@ once it is cached); 1000 amplitudes cost {d2['vec_cold'] * 1e3:.0f} ms / {d3['ve
 ![frf](figures/accuracy_frf.png)
 
 Peak error: the larger of the relative errors of the peak amplitude and frequency. Curve error:
-the largest distance of the reference branch from the computed polyline in the plane
-(omega/(w1-w0), a/a_peak), i.e. as a fraction of the plot's width and height. On the default
-case rtol from {rt_lo:g} to {rt_hi:g} changes the time {rt_rows[rt_hi]['cpu'] / rt_rows[rt_lo]['cpu']:.1f} times and the point count not at
-all; every point is a converged Newton point, so even rtol = {rt_lo:g} gives the peak amplitude
-within {rt_rows[rt_lo]['peak_amplitude_error']:.0e}. The Jenkins blade's peak reference (a quartic in omega for each amplitude)
-is independent of the solver; its curve error at a fixed max_step varies with rtol because its
-largest distance sits next to the FRF's corners at slip onset (a = 1), where the points happen
-to land.
+the largest distance of a dense trace of the branch (tol {bench_frf_accuracy.CURVE_REFERENCE['tol']:g}, max_step
+{bench_frf_accuracy.CURVE_REFERENCE['steps'].max_step:g}) from the computed polyline in the plane (omega/(w1-w0), a/a_peak), i.e. as a fraction of
+the plot's width and height. Peak estimate: `frf.peak().estimate`, what the call says of its peak;
+warned: whether it gave an `AccuracyWarning`. Each knob is swept with the others at their defaults.
 
 {bench_frf_accuracy.tables(fr)}
 
@@ -240,7 +239,7 @@ def main(argv=None):
         log(machine_line(info))
         log("analytic elements ...")
         el = bench_element.measure(log=log)
-        log(f"  done at {time.perf_counter() - t0:.0f} s; frequency_response knobs and presets ...")
+        log(f"  done at {time.perf_counter() - t0:.0f} s; frequency_response tol and steps ...")
         fr = bench_frf_accuracy.measure(log=log)
         log(f"  done at {time.perf_counter() - t0:.0f} s; numerical bar ...")
         nu = bench_numerical.measure(log=log)

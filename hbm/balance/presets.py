@@ -9,10 +9,10 @@ the peak is located between points): ``max_step`` bounds the chord error of the 
 (``hbm.curve``) with ``max_step`` a safeguard, ``max_steps`` is a budget.
 
 The presets of an earlier release (``frequency_response(..., accuracy=...)``, still read with a
-``DeprecationWarning``) bundled an rtol with steps along a measured error/time front
-(``benchmarks/bench_frf_accuracy.py``, ``docs/performance.md``): ``max_step = DEFAULT_MAX_STEP
+``DeprecationWarning``) bundled an rtol with steps: ``max_step = DEFAULT_MAX_STEP
 (rtol / DEFAULT_RTOL) ** STEP_EXPONENT`` at the default and coarser, and ``curve_tol = CURVE_FACTOR
-rtol ** (1/3)`` finer; ``resolve`` and ``apply`` give them as they were.
+rtol ** (1/3)`` finer; ``resolve`` and ``apply`` give them as they were.  What ``tol`` and the step
+controls cost is measured by ``benchmarks/bench_frf_accuracy.py`` (``docs/performance.md``).
 """
 
 from __future__ import annotations
