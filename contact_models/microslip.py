@@ -63,7 +63,8 @@ class _MicroslipBar(ContactElement):
         self._onsets: dict = {}
         self._check_topology()
         try:  # the static path (cached for later): a bar and load it cannot follow are refused here
-            a_min, _, a_g, F_g, K_slip, K = self._path(0.0)
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # (checked finite below)
+                a_min, _, a_g, F_g, K_slip, K = self._path(0.0)
         except FloatingPointError as exc:
             raise ValueError(f"bar, load: {exc} (bar={bar!r}, lambda L={bar.lam * bar.L:.4g}, "
                              f"load={self.load!r})") from None

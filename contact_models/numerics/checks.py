@@ -156,10 +156,14 @@ def _own(element: object, hook: str) -> bool:
 def fourier_checked(element: Any, a: NDArray, omega: NDArray, rtol: float, *, values: bool = False) -> list:
     """The element's ``(f_s, f_c, df_s/da, df_c/da)`` (``values``: ``(f_s, f_c)``, from ``_fourier`` where
     it implements it) for flat ``a``, ``omega``, checked: real arrays of one value per amplitude, finite;
-    else ``ValueError`` (type, shape) or ``ElementOutputError`` naming the element, the hook and where."""
-    if values and _own(element, "_fourier"):
-        return _returned(element, "_fourier", element._fourier(a, omega, rtol), 2, a, omega)
-    out = _returned(element, "_fourier_derivatives", element._fourier_derivatives(a, omega, rtol), 4, a, omega)
+    else ``ValueError`` (type, shape) or ``ElementOutputError`` naming the element, the hook and where.
+    numpy's floating-point warnings inside the hook are not passed on: every value is checked here, and
+    a value that left double precision is named in the error instead."""
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        if values and _own(element, "_fourier"):
+            return _returned(element, "_fourier", element._fourier(a, omega, rtol), 2, a, omega)
+        out = element._fourier_derivatives(a, omega, rtol)
+    out = _returned(element, "_fourier_derivatives", out, 4, a, omega)
     return out[:2] if values else out
 
 
