@@ -71,6 +71,17 @@ def test_tol_sets_where_the_peak_job_refines_its_peak(tmp_path, capsys):
     assert (tmp_path / "frf.png").stat().st_size > 10000
 
 
+def test_tol_takes_the_names_of_frequency_response_tol(tmp_path, capsys):
+    # --tol fast is frequency_response(tol="fast"): the tolerance 0.01, as the line says
+    assert main(["--model", "given", "--tol", "fast", "--out", str(tmp_path)]) == 0
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert "(model: TwoRegionMicroslip, further than tol = 0.01;" in last
+    with pytest.raises(SystemExit) as exc:  # a misspelt name: refused, listing the names and their numbers
+        main(["--tol", "fats", "--out", str(tmp_path)])
+    assert exc.value.code == 2 and ("or one of fast (0.01), default (0.001), precise (1e-05), got --tol fats"
+                                    in capsys.readouterr().err)
+
+
 def test_tol_is_checked_and_belongs_to_the_default_job(tmp_path, capsys):
     with pytest.raises(SystemExit) as exc:  # refused by the parser, naming the option and its range
         main(["--tol", "2", "--out", str(tmp_path)])

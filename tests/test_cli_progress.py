@@ -19,7 +19,8 @@ SCENE = """title = "a small study"
 """ + MACROSLIP_BLADE + """[sweep]
 omega = [0.24, 0.33]
 unit = "omega_c"
-accuracy = "fast"
+tol = "fast"
+max_step = 0.095
 [study]
 n = 3
 seed = 11

@@ -51,6 +51,8 @@ CASES = [
     ("negative mass", "mass = 0.0877", "mass = -0.0877", ["blade.mass = -0.0877", "> 0"]),
     ("negative load", "N = 100.0", "N = -1.0", ["damper.load.N = -1.0", ">= 0"]),
     ("tolerance too large", "tolerance = 1e-6", "tolerance = 0.5", ["sweep.tolerance = 0.5", "< 0.1"]),
+    ("misspelt tol name", "tolerance = 1e-6", 'tol = "fats"',
+     ['sweep.tol = "fats"', 'or one of "fast" (0.01), "default" (0.001), "precise" (1e-05)', 'did you mean "fast"?']),
     ("empty range", "omega = [0.24, 0.33]", "omega = [0.3, 0.3]", ["sweep.omega = [0.3, 0.3]", "different"]),
     ("two ways to give stiffness", "stiffness = 1.0e8", "stiffness = 1.0e8\nfrequency = 3.0e4",
      ["blade.frequency = 30000.0", "together with blade.stiffness"]),
@@ -200,3 +202,30 @@ def test_sweep_tolerance_warns_as_deprecated_naming_sweep_tol(tmp_path):
         warnings.simplefilter("error", FutureWarning)
         for shipped in sorted(SCENES.glob("*.toml")):  # nothing shipped uses it
             load_scene(shipped)
+
+
+def test_sweep_tol_takes_the_names_of_frequency_response_tol(tmp_path):
+    """sweep.tol = "precise" is sweep.tol = 1e-5, as frequency_response(tol="precise") is tol=1e-5."""
+    named, number = tmp_path / "named.toml", tmp_path / "number.toml"
+    named.write_text(DEFAULT.replace("tolerance = 1e-6", 'tol = "precise"'))
+    number.write_text(DEFAULT.replace("tolerance = 1e-6", "tol = 1e-5"))
+    a, b = load_scene(named), load_scene(number)
+    assert a.sweep["tol"] == b.sweep["tol"] == 1e-5
+    assert a.sweep["options"] == b.sweep["options"] and a.sweep["options"]["tol"] == 1e-5
+
+
+def test_sweep_accuracy_warns_once_as_deprecated_naming_sweep_tol(tmp_path, capsys):
+    """The preset key of an earlier release still reads as it did, with one warning in the scene's terms
+    (not a second one from frequency_response's own deprecated keyword)."""
+    import warnings
+
+    path = tmp_path / "old.toml"
+    path.write_text(DEFAULT.replace("tolerance = 1e-6", 'accuracy = "fast"'))
+    with pytest.warns(FutureWarning, match=r'sweep.accuracy is deprecated: .*give sweep.tol = "fast"'):
+        scene = load_scene(path)
+    assert scene.sweep["options"]["rtol"] == 1e-3 and scene.sweep["tol"] == 1e-2  # the preset, for one release
+    with warnings.catch_warnings(record=True) as seen:
+        warnings.simplefilter("always")
+        assert main(["run", str(path), "--quiet", "--out", str(tmp_path / "out")]) == 0
+    said = [str(w.message) for w in seen] + capsys.readouterr().err.splitlines()
+    assert sum("deprecated" in m for m in said) == 1, said

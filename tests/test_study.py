@@ -33,7 +33,8 @@ inertia = "on"
 [sweep]
 omega = [0.24, 0.33]
 unit = "omega_c"
-accuracy = "fast"
+tol = "fast"
+max_step = 0.095
 """
 STUDY = """[study]
 n = 3
@@ -243,7 +244,7 @@ def test_cli_study_signal_keeps_finished_runs_and_resumes(tmp_path, sig, executo
     scene = tmp_path / "chart.toml"
     loads = ", ".join(repr(float(v)) for v in np.geomspace(20.0, 400.0, 6))
     scene.write_text(SCENE.replace('model = "macroslip"', 'model = "two-region"')
-                     .replace('accuracy = "fast"', 'accuracy = "default"')
+                     .replace('tol = "fast"\nmax_step = 0.095', 'tol = "default"')
                      + f'[study]\nexecutor = "{executor}"\nworkers = 2\n[study.grid]\n"damper.load.N" = [{loads}]\n')
     out = tmp_path / "out"
     cmd = [sys.executable, "-m", "hbm", "run", str(scene), "--out", str(out), "--quiet"]
@@ -275,7 +276,7 @@ def test_cli_study_signal_keeps_finished_runs_and_resumes(tmp_path, sig, executo
 def test_cli_scene_sigterm_says_what_was_kept(tmp_path):
     """A plain scene: SIGTERM keeps the partial CSV and says so, as Ctrl-C does (exit 143)."""
     scene = tmp_path / "long.toml"
-    scene.write_text(SCENE.replace('accuracy = "fast"', "max_step = 0.0005"))
+    scene.write_text(SCENE.replace('tol = "fast"\nmax_step = 0.095', "max_step = 0.0005"))
     out = tmp_path / "out"
     proc = subprocess.Popen([sys.executable, "-m", "hbm", "run", str(scene), "--out", str(out), "--quiet"],
                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,

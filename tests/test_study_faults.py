@@ -29,7 +29,8 @@ inertia = "on"
 [sweep]
 omega = [0.24, 0.33]
 unit = "omega_c"
-accuracy = "fast"
+tol = "fast"
+max_step = 0.095
 [study]
 n = {n}
 seed = 1

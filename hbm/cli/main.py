@@ -29,7 +29,7 @@ from contact_models import __version__
 from contact_models.accuracy import AccuracyWarning
 
 from .._validation import MIN_RELATIVE_TOL, InputError
-from ..frf import DEFAULT_TOL, MODELS, frequency_response
+from ..frf import DEFAULT_TOL, MODELS, PRESETS, frequency_response
 from ..balance.presets import MAX_RTOL
 from ..output import COMMENT
 from .cases import default_case
@@ -51,7 +51,7 @@ EXAMPLES = """examples:
   {prog} --out results                     the same, written to results/
   {prog} run study.toml                    run a scene (a study described in a TOML file)
   {prog} run study.toml --check            validate it and print its effects; compute nothing
-  {prog} run study.toml --set sweep.accuracy=fast --out quick
+  {prog} run study.toml --set sweep.tol=fast --out quick
   {prog} run chart.toml --workers 2                a scene with [study]: its runs on 2 processes
   {prog} run chart.toml --scheduler tcp://host:8786   ... on a running Dask cluster
   {prog} new study.toml                    write an annotated template scene that runs as written
@@ -398,9 +398,14 @@ def _seconds(text: str) -> float:
     return value
 
 
-def _relative(option: str, upper: float) -> Callable[[str], float]:
-    """argparse's type of a relative tolerance ``option``: a number in [MIN_RELATIVE_TOL, upper)."""
+def _relative(option: str, upper: float, names: dict | None = None) -> Callable[[str], float]:
+    """argparse's type of a relative tolerance ``option``: a number in [MIN_RELATIVE_TOL, upper), or a name of
+    ``names`` standing for its number (``--tol precise``, as ``frequency_response(tol="precise")``)."""
+    named = "" if not names else " or one of " + ", ".join(f"{n} ({v:g})" for n, v in names.items())
+
     def parse(text: str) -> float:
+        if names and text in names:
+            return float(names[text])
         try:
             value = float(text)
         except ValueError:
@@ -408,7 +413,7 @@ def _relative(option: str, upper: float) -> Callable[[str], float]:
         if not MIN_RELATIVE_TOL <= value < upper:
             raise argparse.ArgumentTypeError(
                 f"must be a number in [{MIN_RELATIVE_TOL:g}, {upper:g}) (a relative error; below {MIN_RELATIVE_TOL:g} "
-                f"double precision cannot meet it), got {option} {text}")
+                f"double precision cannot meet it){named}, got {option} {text}")
         return value
 
     return parse
@@ -416,9 +421,9 @@ def _relative(option: str, upper: float) -> Callable[[str], float]:
 
 def _model_argument(parser, suppress=True):
     """``--model`` and ``--tol``: the default job's damper model and target relative error."""
-    parser.add_argument("--tol", type=_relative("--tol", 1.0), default=argparse.SUPPRESS if suppress else None,
-                        help=f"the default job's target relative error of every point (default {DEFAULT_TOL:g}): "
-                             "frequency_response's tol")
+    parser.add_argument("--tol", type=_relative("--tol", 1.0, PRESETS), default=argparse.SUPPRESS if suppress else None,
+                        help=f"the default job's target relative error of every point (default {DEFAULT_TOL:g}): a "
+                             "number, or fast, default, precise as frequency_response's tol")
     parser.add_argument("--model", choices=MODELS, default=argparse.SUPPRESS if suppress else None,
                         help="where the default job uses the damper's refined model, the bar with every mode "
                              "(frequency_response's model=): 'auto' (default: in every window of the curve where "

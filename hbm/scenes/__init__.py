@@ -19,7 +19,7 @@ Adding a damper model is one :func:`register_model` call; adding an effect one
 """
 
 from .checks import (OPTIONAL, REQUIRED, Invalid, Key, SceneError, boolean, choice, integer, number,
-                     number_list, one_or_list, text)
+                     number_list, number_or_name, one_or_list, text)
 from .effects import EFFECTS, Effect, EffectSpec, register_effect, unregister_effect
 from .models import MODELS, Built, ModelSpec, register_model, unregister_model
 from .planning import Plan, RunContext, RunPlan, plan_scene
@@ -29,7 +29,7 @@ from .schema import all_keys, schema
 from .validation import Scene, load_scene, parse_override, scene_from_dict
 
 __all__ = ["OPTIONAL", "REQUIRED", "Invalid", "Key", "SceneError", "boolean", "choice", "integer", "number",
-           "number_list", "one_or_list", "text", "EFFECTS", "Effect", "EffectSpec", "register_effect",
+           "number_list", "number_or_name", "one_or_list", "text", "EFFECTS", "Effect", "EffectSpec", "register_effect",
            "unregister_effect", "MODELS", "Built", "ModelSpec", "register_model", "unregister_model", "Plan",
            "RunContext", "RunPlan", "plan_scene", "effect_lines", "summary_lines", "Progress", "RunResult",
            "SceneResult", "columns", "output_names", "run_scene", "all_keys", "schema", "Scene", "load_scene",

@@ -317,6 +317,45 @@ def choice(*names: str) -> Callable[[Any], str]:
     return check
 
 
+def number_or_name(number_check: Callable[[Any], float], names: dict) -> Callable[[Any], float]:
+    """A number that ``number_check`` accepts, or a name of ``names`` standing for its number (the
+    named tolerances ``"fast"``, ``"default"``, ``"precise"`` of ``frequency_response``'s ``tol``).
+
+    Returns
+    -------
+    callable
+        ``check(value) -> float``: the number, or the named one; ``Invalid`` saying both forms.
+
+    Examples
+    --------
+    >>> from hbm.scenes import Invalid, number, number_or_name
+    >>> check = number_or_name(number(gt=0, lt=1), {"fast": 1e-2, "precise": 1e-5})
+    >>> check("precise"), check(0.002)
+    (1e-05, 0.002)
+    >>> try:
+    ...     check("fats")
+    ... except Invalid as exc:
+    ...     print(exc)
+    must be a number > 0 and < 1 or one of "fast" (0.01), "precise" (1e-05) (did you mean "fast"?)
+    """
+    allowed = ", ".join(f"{json.dumps(n)} ({v:g})" for n, v in names.items())
+    what = f"{number_check.what} or one of {allowed}"
+
+    def check(v: Any) -> float:
+        if isinstance(v, str):
+            if v in names:
+                return float(names[v])
+            close = [n for n in names if n.lower() == v.lower()] or difflib.get_close_matches(v, list(names), n=1)
+            raise Invalid(f"must be {what}" + (f" (did you mean {json.dumps(close[0])}?)" if close else ""))
+        try:
+            return number_check(v)
+        except Invalid:
+            raise Invalid(f"must be {what}") from None
+
+    check.what = what
+    return check
+
+
 def one_or_list(item: Callable[[Any], Any], what: str) -> Callable[[Any], tuple]:
     """A single value or a non-empty list of distinct values (a study over them); returns a tuple.
 

@@ -15,7 +15,7 @@ from .._validation import MIN_RELATIVE_TOL
 from ..balance import presets
 from ..frf import DEFAULT_TOL
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
-                     one_or_list, positive, text, choice, inner_folder, boolean)
+                     number_or_name, one_or_list, positive, text, choice, inner_folder, boolean)
 from .contacts import contact_tables, dof_pair_list
 from .effects import EFFECTS
 from .models import BASE_DAMPER_KEYS, MODELS
@@ -117,17 +117,17 @@ _FIXED: dict[str, dict[str, Key]] = {
         "tolerance": Key(number(ge=MIN_RELATIVE_TOL, lt=presets.MAX_RTOL), OPTIONAL,
                          f"deprecated (it warns): the elements' relative accuracy (rtol), which sweep.tol "
                          f"now sets (tol/100, at most {presets.DEFAULT_RTOL:g}); give sweep.tol"),
-        "tol": Key(number(ge=MIN_RELATIVE_TOL, lt=1), OPTIONAL,
+        "tol": Key(number_or_name(number(ge=MIN_RELATIVE_TOL, lt=1), presets.TOLERANCE), OPTIONAL,
                    "target relative error of the response amplitude against the physical system "
                    "(frequency_response's tol): the error estimate's target, the warning's threshold, the target "
-                   'of the peak\'s refinement and what damper.model = "auto" holds the single-mode bar to; default '
-                   f"{DEFAULT_TOL:g}, with sweep.accuracy its tolerance (" +
-                   ", ".join(f'"{n}" {t:g}' for n, t in presets.TOLERANCE.items()) +
-                   "); not sweep.tolerance, the elements' rtol"),
+                   'of the peak\'s refinement and what damper.model = "auto" holds the single-mode bar to; a number '
+                   "or a name (" + ", ".join(f'"{n}" {t:g}' for n, t in presets.TOLERANCE.items()) +
+                   f", as frequency_response's tol); default {DEFAULT_TOL:g}; not sweep.tolerance, the elements' rtol"),
         "accuracy": Key(choice(*presets.NAMED), OPTIONAL,
-                        "kept from an earlier release, instead of tolerance and the step settings (sweep.tol "
-                        "now sets the accuracy): " +
-                        ", ".join(f'"{n}" ({r:g})' for n, r in presets.NAMED.items())),
+                        "deprecated (it warns): a preset of an earlier release, the tolerance of its name with that "
+                        "release's element rtol and steps (" +
+                        ", ".join(f'"{n}" rtol {r:g}' for n, r in presets.NAMED.items()) +
+                        "); give sweep.tol, which takes the same names"),
         "max_step": Key(positive, OPTIONAL,
                         f"largest continuation step (scaled arclength); default {presets.DEFAULT_MAX_STEP:g}"),
         "min_step": Key(positive, OPTIONAL, f"smallest continuation step; default {presets.DEFAULT_MIN_STEP:g}"),

@@ -478,7 +478,11 @@ class _Rules:
             warnings.warn(f"{self.where('sweep.tolerance')} is deprecated: it sets the elements' relative accuracy "
                           "(rtol), not the target error of the response; give sweep.tol, the one accuracy key (it "
                           "sets rtol = tol/100, at most 1e-6)", FutureWarning, stacklevel=2)
-        if self.has("sweep", "accuracy"):
+        if self.has("sweep", "accuracy"):  # read for one release: sweep.tol takes the same names
+            name = self.t["sweep"]["accuracy"]
+            warnings.warn(f"{self.where('sweep.accuracy')} is deprecated: it is a preset of an earlier release (the "
+                          "tolerance of its name with that release's element rtol and steps); give sweep.tol = "
+                          f"{show(name)}, which adapts as a number does", FutureWarning, stacklevel=2)
             for key in knobs:
                 if self.has("sweep", key):
                     self.forbid("sweep", "accuracy", f"together with sweep.{key}, which it sets: give one of "
