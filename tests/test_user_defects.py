@@ -779,3 +779,34 @@ def test_blade_from_modal_names_the_parameters_whose_product_overflows():
                                          r"and damping 2 zeta m w, got frequency=1e\+200, damping_ratio=0.01, "
                                          r"mass=1e\+200$"):
         Blade.from_modal(frequency=1e200, damping_ratio=0.01, mass=1e200, force=1.0)
+
+
+# ------------------------------------------------------------------ bad input probed as a new user would
+def test_balance_samples_are_bounded_with_the_bound_named():
+    import time
+
+    from contact_models import Iwan
+    from hbm.balance.residual import MAX_BALANCE_SAMPLES
+
+    # before: numpy's MemoryError allocating 7.45 GiB (or the machine swapping)
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    t0 = time.perf_counter()
+    with pytest.raises(ValueError, match=rf"^n_t must be an integer in 8..{MAX_BALANCE_SAMPLES}, got n_t=1000000000 "
+                                         r"\(the bound is hbm.balance.residual.MAX_BALANCE_SAMPLES"):
+        frequency_response(s, [Contact(Iwan(1.0, 0.02, -0.5, 0.1), dof=0)], (0.3, 0.8), harmonics=3, n_t=10**9)
+    assert time.perf_counter() - t0 < 2.0
+
+
+@pytest.mark.parametrize("effects, expected", [
+    ({"harmonics": 1000}, "effects.harmonics = 1000: must be an integer in 1..256 (the bound is "
+                          "hbm.balance.residual.MAX_BALANCE_HARMONICS"),
+    ({"harmonics": 3, "samples": 7}, "effects.samples = 7: must be at least 2 H + 2 = 8"),
+    ({"harmonics": 3, "samples": 10**9}, "effects.samples = 1000000000: must be an integer in 3..65536 (the bound is "
+                                         "hbm.balance.residual.MAX_BALANCE_SAMPLES")])
+def test_scene_harmonics_and_samples_the_balance_refuses_fail_the_check(tmp_path, effects, expected):
+    # before: the check passed and the run failed with the balance's ValueError, 0 points kept
+    data = chain(tmp_path)
+    data["effects"] = effects
+    with pytest.raises(SceneError) as info:
+        plan_scene(scene_from_dict(data, tmp_path / "chain.toml"))
+    assert any(expected in p for p in info.value.problems), info.value.problems

@@ -74,6 +74,9 @@ AMP_REFRESH = 3e-2
 JACOBIAN_KEEP_BYTES = 4 * 2**20
 #: The most harmonics a balance takes (its unknowns grow as 2H + 1 per contact DOF, a step's cost as their cube).
 MAX_BALANCE_HARMONICS = 256
+#: The most AFT samples per period a balance takes (each evaluation holds arrays of n_t by 2H + 1 per
+#: contact DOF); eight times the default at ``MAX_BALANCE_HARMONICS``.
+MAX_BALANCE_SAMPLES = 2**16
 
 
 def as_structure(system: Any) -> Structure:
@@ -127,6 +130,7 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
         n_t = default_samples(H)
     if isinstance(n_t, bool) or not isinstance(n_t, (int, np.integer)) or n_t < 2 * H + 2:
         raise ValueError(f"n_t must be an integer >= 2H + 2 = {2 * H + 2} (aliasing), got n_t={n_t!r}")
+    count("n_t", n_t, 2 * H + 2, MAX_BALANCE_SAMPLES, "hbm.balance.residual.MAX_BALANCE_SAMPLES")
     if H > 1:
         for c in contacts:
             if not c.element.has_time_law:
