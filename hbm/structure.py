@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from contact_models import ContactElement
 
-from ._validation import count, nonnegative
+from ._validation import count, nonnegative, number_array
 
 #: An eigenvalue of (K, M) below ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest one in magnitude
 #: is negative (K indefinite: :meth:`Structure.natural_frequencies` raises); above it, rounding of
@@ -63,6 +63,12 @@ def _real(name: str, A: Any, what: str) -> Any:
     return A.real
 
 
+def _shown(value: Any) -> str:
+    """``repr(value)``, cut for a message."""
+    r = repr(value)
+    return r if len(r) <= 120 else r[:117] + "..."
+
+
 def _check_matrix(name: str, A: Any, n: int | None) -> Any:
     """Validate one of M, C, K (dense or scipy.sparse): real, square, size n, finite, symmetric."""
     sparse = hasattr(A, "tocsr") and hasattr(A, "nnz")
@@ -72,10 +78,10 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
         except (TypeError, ValueError):
             raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
         raw = _real(name, raw, "matrix")
-        try:
-            A = np.asarray(raw, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
+        try:  # strings, booleans and None refused: numpy would read "2" as 2.0 and True as 1.0
+            A = number_array(name, raw)
+        except ValueError:
+            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={_shown(A)}") from None
     else:
         A = _real(name, A, "matrix")
     shape = A.shape
@@ -152,13 +158,13 @@ class Structure:
         try:
             f = np.asarray(force)
         except (TypeError, ValueError):
-            raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
+            raise ValueError(f"force must be a vector of {n} numbers, got force={_shown(force)}") from None
         if np.iscomplexobj(f) and not np.any(np.imag(f)):
             f = f.real  # a complex force with every phase 0 is the real force, bit for bit
-        try:
-            f = np.asarray(f, dtype=complex if np.iscomplexobj(f) else float).ravel()
+        try:  # as the matrices: no strings, booleans or None read as numbers
+            f = (np.asarray(f, dtype=complex) if np.iscomplexobj(f) else number_array("force", f)).ravel()
         except (TypeError, ValueError):
-            raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
+            raise ValueError(f"force must be a vector of {n} numbers, got force={_shown(force)}") from None
         if f.size != n:
             raise ValueError(f"force must have length n = {n}, got force of length {f.size}")
         if not np.all(np.isfinite(f)):

@@ -810,3 +810,28 @@ def test_scene_harmonics_and_samples_the_balance_refuses_fail_the_check(tmp_path
     with pytest.raises(SceneError) as info:
         plan_scene(scene_from_dict(data, tmp_path / "chain.toml"))
     assert any(expected in p for p in info.value.problems), info.value.problems
+
+
+@pytest.mark.parametrize("name", ["M", "C", "K"])
+@pytest.mark.parametrize("bad", [[["2", "-1"], ["-1", "2"]], np.eye(2, dtype=bool), None])
+def test_matrices_of_strings_booleans_or_none_are_refused_by_name(name, bad):
+    # before: strings read as numbers and booleans as 0/1 (a structure built), None "of shape ()"
+    given = {"M": np.eye(2), "C": 0.01 * np.eye(2), "K": [[2.0, -1.0], [-1.0, 2.0]], name: bad}
+    with pytest.raises(ValueError, match=rf"^{name} must be a square matrix of numbers, got {name}="):
+        Structure(given["M"], given["C"], given["K"], force=[1.0, 0.0])
+
+
+@pytest.mark.parametrize("bad", [[["-1", "0"], ["0", "0"]], np.eye(2, dtype=bool)])
+def test_a_sector_coupling_of_strings_or_booleans_is_refused_by_name(bad):
+    from hbm import CyclicStructure
+
+    with pytest.raises(ValueError, match=r"^K_next must be a square matrix of numbers, got K_next="):
+        CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=4, engine_order=1,
+                        force=[1.0, 0.0], K_next=bad)
+
+
+@pytest.mark.parametrize("bad", [["1", "0"], [True, False], None])
+def test_a_force_of_strings_booleans_or_none_is_refused_by_name(bad):
+    # before: ["1", "0"] and [True, False] built a structure; None was "a force of length 1"
+    with pytest.raises(ValueError, match=r"^force must be a vector of 2 numbers, got force="):
+        Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=bad)
