@@ -213,8 +213,11 @@ class Structure:
         K = _check_matrix("K", K, M.shape[0])
         Md, Kd = _dense(M), _dense(K)
         n = Md.shape[0]
-        z = np.broadcast_to(np.asarray(ratios, dtype=float), (n,)) if np.ndim(ratios) == 0 else np.asarray(
-            ratios, dtype=float)
+        try:  # numbers only: numpy's "could not convert string to float" names no parameter
+            z = number_array("ratios", ratios)
+        except ValueError:
+            z = np.full(n + 1, np.nan)  # refused below, naming ratios
+        z = np.broadcast_to(z, (n,)) if z.ndim == 0 else z
         if z.shape != (n,) or not np.all(np.isfinite(z)) or np.any(z < 0.0):
             raise ValueError(f"ratios must be one number >= 0 or {n} of them, got ratios={ratios!r}")
         try:

@@ -835,3 +835,11 @@ def test_a_force_of_strings_booleans_or_none_is_refused_by_name(bad):
     # before: ["1", "0"] and [True, False] built a structure; None was "a force of length 1"
     with pytest.raises(ValueError, match=r"^force must be a vector of 2 numbers, got force="):
         Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=bad)
+
+
+@pytest.mark.parametrize("bad", ["a", [0.01, "x"], True, [[0.01], [0.01, 0.02]]])
+def test_modal_damping_ratios_that_are_no_numbers_are_refused_by_name(bad):
+    # before: numpy's "could not convert string to float: 'a'", and True taken as a ratio of 1
+    with pytest.raises(ValueError, match=r"^ratios must be one number >= 0 or 2 of them, got ratios="):
+        Structure.with_modal_damping(np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], ratios=bad, force=[1.0, 0.0])
+
