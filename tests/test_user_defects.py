@@ -843,3 +843,16 @@ def test_modal_damping_ratios_that_are_no_numbers_are_refused_by_name(bad):
     with pytest.raises(ValueError, match=r"^ratios must be one number >= 0 or 2 of them, got ratios="):
         Structure.with_modal_damping(np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], ratios=bad, force=[1.0, 0.0])
 
+
+def test_a_centrifugal_load_out_of_double_precision_is_named_not_an_overflow_or_inf():
+    from contact_models import CentrifugalLoad
+
+    # before: Python's OverflowError (34, 'Numerical result out of range'), and inf from the product
+    with pytest.raises(ValueError, match=r"^omega=1e\+200 is too large for this load: the preload mass radius "
+                                         r"\(omega / engine_order\)\^2 is not finite in double precision$"):
+        CentrifugalLoad(1.0, 1.0, 1)(1e200)
+    with pytest.raises(ValueError, match=r"^mass and radius must give a finite mass \* radius, got mass=1e\+300, "
+                                         r"radius=1e\+300$"):
+        CentrifugalLoad(1e300, 1e300, 4)
+    with pytest.raises(ValueError, match=r"^omega=1e\+300 is too large for this load: dN0/domega"):
+        CentrifugalLoad(1e300, 1.0, 1).derivative(1e300)
