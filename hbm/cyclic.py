@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._validation import number_array
-from .structure import Contact, Structure, _check_matrix, _dense, _shown
+from .structure import Contact, Structure, _check_matrix, _dense, _shown, contact_within
 
 
 def _coupling(name: str, A: Any, n: int) -> NDArray[np.float64]:
@@ -211,6 +211,7 @@ class CyclicStructure(Structure):
         for c in self.solved_contacts if contacts is None else list(contacts):
             if not isinstance(c, Contact):
                 raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
+            contact_within(c, n)  # a DOF past the sector's would land on the next sector's
             for j in range(N):
                 out.append(self._placed(c, j))
         return full, out

@@ -550,6 +550,15 @@ class Contact:
         return f"Contact({self.element!r}, {where})"
 
 
+def contact_within(c: Contact, n: int) -> Contact:
+    """``c`` if every DOF it touches is one of a structure of ``n`` DOFs, else a ValueError naming the
+    DOF and the contact (a DOF past n would index another sector's, or no, DOF)."""
+    for d in c.all_dofs:
+        if d >= n:
+            raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={d!r} in {c!r}")
+    return c
+
+
 def _attachment(one: str, d: Any, two: str, pair: Any, same: bool = False) -> tuple[int, ...]:
     """``(d,)`` or the pair ``(i, j)`` of DOF indices >= 0, distinct unless ``same`` (a pair across
     two sectors may name one DOF of each); exactly one of them given."""

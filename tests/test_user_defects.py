@@ -856,3 +856,16 @@ def test_a_centrifugal_load_out_of_double_precision_is_named_not_an_overflow_or_
         CentrifugalLoad(1e300, 1e300, 4)
     with pytest.raises(ValueError, match=r"^omega=1e\+300 is too large for this load: dN0/domega"):
         CentrifugalLoad(1e300, 1.0, 1).derivative(1e300)
+
+
+@pytest.mark.parametrize("where", [{"dofs": (0, 5), "next_sector": True}, {"dof": 2}])
+def test_the_whole_disk_refuses_a_sector_contact_on_a_dof_the_sector_has_not(where):
+    from hbm import CyclicStructure
+
+    # before: full() placed dofs=(0, 5) of a 2-DOF sector on DOFs of other sectors, silently
+    disk = CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=2,
+                           force=[0.0, 1.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+    c = Contact(Macroslip(1.0, 0.1), **where)
+    with pytest.raises(ValueError, match=rf"^dof must be a DOF index in 0..1, got dof={c.all_dofs[-1]} in "
+                                         + re.escape(repr(c))):
+        disk.full([c])

@@ -60,7 +60,7 @@ from contact_models.numerics.describing import stiffness_terms as describing_ter
 from contact_models.numerics.masing import to_time
 
 from .._validation import count, positive, relative_tolerance
-from ..structure import Contact, Structure
+from ..structure import Contact, Structure, contact_within
 from .condensation import condensed, stuck_matrix
 from .layout import from_complex, next_sector_operator, to_complex
 from .presets import MAX_RTOL
@@ -112,9 +112,7 @@ def as_contacts(contacts: Any, n: int) -> list[Contact]:
     for c in contacts:
         if not isinstance(c, Contact):
             raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
-        for d in c.all_dofs:
-            if d >= n:
-                raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={d!r} in {c!r}")
+        contact_within(c, n)
     return contacts
 
 
