@@ -869,3 +869,16 @@ def test_the_whole_disk_refuses_a_sector_contact_on_a_dof_the_sector_has_not(whe
     with pytest.raises(ValueError, match=rf"^dof must be a DOF index in 0..1, got dof={c.all_dofs[-1]} in "
                                          + re.escape(repr(c))):
         disk.full([c])
+
+
+def test_to_csv_names_a_path_in_a_missing_folder_or_a_folder(chain_frf, tmp_path):
+    # before: FileNotFoundError and IsADirectoryError from open()
+    missing = tmp_path / "no" / "frf.csv"
+    with pytest.raises(ValueError, match=rf"^path must be in an existing folder, got path={re.escape(repr(str(missing)))} "
+                                         r"\(no folder .*; create it first\)$"):
+        chain_frf.to_csv(missing)
+    for folder in (tmp_path, ""):
+        with pytest.raises(ValueError, match=rf"^path must be a file path, not a folder, got path="
+                                             rf"{re.escape(repr(str(folder)))}$"):
+            chain_frf.to_csv(folder)
+    assert not (tmp_path / "no").exists()
