@@ -116,6 +116,15 @@ def as_contacts(contacts: Any, n: int) -> list[Contact]:
     return contacts
 
 
+def samples_within_bound(n_t: Any) -> Any:
+    """``n_t`` as given (None, or an int <= ``MAX_BALANCE_SAMPLES``; its lower bound 2H + 2 is
+    :func:`check_problem`'s): the bound on what a caller asks for, checked in the public solves
+    (the error estimate's own balances sample up to ``SAMPLING_SHIFTS`` times more)."""
+    if n_t is not None and not isinstance(n_t, bool) and isinstance(n_t, (int, np.integer)) and n_t > 4:
+        count("n_t", n_t, 4, MAX_BALANCE_SAMPLES, "hbm.balance.residual.MAX_BALANCE_SAMPLES")
+    return n_t
+
+
 def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any, n_t: Any,
                   response_dof: Any) -> tuple[int, int, int]:
     """Validate H, n_t, the contacts' sectors and the response DOF; returns ``(H, n_t, response_dof)``."""
@@ -128,7 +137,6 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
         n_t = default_samples(H)
     if isinstance(n_t, bool) or not isinstance(n_t, (int, np.integer)) or n_t < 2 * H + 2:
         raise ValueError(f"n_t must be an integer >= 2H + 2 = {2 * H + 2} (aliasing), got n_t={n_t!r}")
-    count("n_t", n_t, 2 * H + 2, MAX_BALANCE_SAMPLES, "hbm.balance.residual.MAX_BALANCE_SAMPLES")
     if H > 1:
         for c in contacts:
             if not c.element.has_time_law:
