@@ -60,14 +60,30 @@ class CentrifugalLoad:
         if isinstance(engine_order, bool) or not isinstance(engine_order, (int, np.integer)) or engine_order < 1:
             raise ValueError(f"engine_order must be an integer >= 1 (omega = EO Omega), got engine_order={engine_order!r}")
         self.engine_order = int(engine_order)
+        if not math.isfinite(self.mass * self.radius):
+            raise ValueError(f"mass and radius must give a finite mass * radius, got mass={mass!r}, radius={radius!r}")
 
     def __call__(self, omega: float) -> float:
         """The preload (N) at the drive frequency ``omega`` (rad/s)."""
-        return self.mass * self.radius * (nonnegative("omega", omega) / self.engine_order) ** 2
+        what = "the preload mass radius (omega / engine_order)^2"
+        try:
+            value = self.mass * self.radius * (nonnegative("omega", omega) / self.engine_order) ** 2
+        except OverflowError:  # float ** raises where * gives inf
+            value = math.inf
+        return self._finite(what, omega, value)
 
     def derivative(self, omega: float) -> float:
         """``dN0/domega`` (N s/rad)."""
-        return 2.0 * self.mass * self.radius * nonnegative("omega", omega) / self.engine_order**2
+        return self._finite("dN0/domega", omega,
+                            2.0 * self.mass * self.radius * nonnegative("omega", omega) / self.engine_order**2)
+
+    @staticmethod
+    def _finite(what: str, omega: float, value: float) -> float:
+        """``value``, or a ValueError naming ``omega`` where it left double precision (an inf preload
+        would reach the element as a NaN force)."""
+        if not math.isfinite(value):
+            raise ValueError(f"omega={omega!r} is too large for this load: {what} is not finite in double precision")
+        return value
 
     def speed(self, omega: float) -> float:
         """The rotation speed ``Omega = omega / EO`` (rad/s)."""

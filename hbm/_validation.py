@@ -1,7 +1,7 @@
 """Input checks shared by ``hbm``: the library's one set (each failure a ValueError naming the
 parameter and its value), re-exported so ``hbm`` modules import them from one place."""
 
-from contact_models.numerics.checks import count as _count, finite, flag, nonnegative, positive
+from contact_models.numerics.checks import count as _count, finite, flag, nonnegative, number_array, positive
 
 number = finite
 
@@ -47,5 +47,5 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     return w0, w1
 
-__all__ = ["count", "finite", "flag", "nonnegative", "number", "positive", "omega_range_pair", "InputError",
+__all__ = ["count", "finite", "flag", "nonnegative", "number", "number_array", "positive", "omega_range_pair", "InputError",
            "relative_tolerance", "MIN_RELATIVE_TOL"]

@@ -25,7 +25,8 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .structure import Contact, Structure, _check_matrix, _dense
+from ._validation import number_array
+from .structure import Contact, Structure, _check_matrix, _dense, _shown, contact_within
 
 
 def _coupling(name: str, A: Any, n: int) -> NDArray[np.float64]:
@@ -38,10 +39,10 @@ def _coupling(name: str, A: Any, n: int) -> NDArray[np.float64]:
         raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
     if np.iscomplexobj(raw):
         raise ValueError(f"{name} must be real, got a complex {name}")
-    try:
-        raw = np.asarray(raw, dtype=float)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
+    try:  # strings, booleans and None refused, as in M, C, K
+        raw = number_array(name, raw)
+    except ValueError:
+        raise ValueError(f"{name} must be a square matrix of numbers, got {name}={_shown(A)}") from None
     if raw.shape != (n, n):
         raise ValueError(f"{name} must be {n} x {n} like M, got {name} of shape {raw.shape}")
     if not np.all(np.isfinite(raw)):
@@ -210,6 +211,7 @@ class CyclicStructure(Structure):
         for c in self.solved_contacts if contacts is None else list(contacts):
             if not isinstance(c, Contact):
                 raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
+            contact_within(c, n)  # a DOF past the sector's would land on the next sector's
             for j in range(N):
                 out.append(self._placed(c, j))
         return full, out

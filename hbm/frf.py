@@ -29,7 +29,7 @@ from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
 from ._validation import nonnegative, omega_range_pair, positive, relative_tolerance
 from .balance.presets import DEFAULT_RTOL, MAX_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
-from .balance.residual import HarmonicBalance, as_contacts, as_structure
+from .balance.residual import HarmonicBalance, as_contacts, as_structure, samples_within_bound
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
@@ -343,7 +343,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
             start_harmonics(structure, contacts, response_dof, tolerance) if adapt else fixed[0])
         if n_t is None and not adapt and structure.default_harmonics is None:
             n_t = fixed[1]
-    n_t_given = n_t
+    n_t_given = samples_within_bound(n_t)
     rungs = False
     if tolerance is not None and RUNGS_ALONG_CURVE:
         contacts, rungs = _start_rungs(contacts, structure, (w0, w1))

@@ -34,7 +34,7 @@ from contact_models.base import DEFAULT_RTOL
 
 from . import continuation as cont
 from ._validation import count, positive, relative_tolerance
-from .balance.residual import HarmonicBalance, as_contacts, as_structure
+from .balance.residual import HarmonicBalance, as_contacts, as_structure, samples_within_bound
 from .structure import Structure
 
 LN10 = math.log(10.0)
@@ -297,7 +297,7 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     tol = relative_tolerance("tol", tol, 1.0)
     max_step, max_steps = positive("max_step", max_step), count("max_steps", max_steps)
     a0, a1, targets = _amplitudes(amplitude_range, amplitudes)
-    bal = ModeBalance(system, contacts, harmonics=harmonics, n_t=n_t, phase_dof=0, rtol=rtol)
+    bal = ModeBalance(system, contacts, harmonics=harmonics, n_t=samples_within_bound(n_t), phase_dof=0, rtol=rtol)
     if mode >= bal.n:
         raise ValueError(f"mode must be in 0..{bal.n - 1}, got mode={mode}")
     phi, w0, D0 = bal.stuck_mode(mode)

@@ -248,6 +248,11 @@ class CsvStream:
         if not isinstance(path, (str, os.PathLike)):
             raise ValueError(f"path must be a file path (a str or pathlib.Path), got path={path!r}")
         self.path = Path(path)
+        if self.path.is_dir():  # ("" is the current folder)
+            raise ValueError(f"path must be a file path, not a folder, got path={str(path)!r}")
+        if not self.path.parent.is_dir():  # before: a bare FileNotFoundError
+            raise ValueError(f"path must be in an existing folder, got path={str(path)!r} (no folder "
+                             f"{str(self.path.parent)!r}; create it first)")
         self.columns = tuple(columns)
         self._fh = self.path.open("w", newline="")
         self.comments = comment_lines(comments or {})

@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from contact_models import ContactElement
 
-from ._validation import count, nonnegative
+from ._validation import count, nonnegative, number_array
 
 #: An eigenvalue of (K, M) below ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest one in magnitude
 #: is negative (K indefinite: :meth:`Structure.natural_frequencies` raises); above it, rounding of
@@ -63,6 +63,12 @@ def _real(name: str, A: Any, what: str) -> Any:
     return A.real
 
 
+def _shown(value: Any) -> str:
+    """``repr(value)``, cut for a message."""
+    r = repr(value)
+    return r if len(r) <= 120 else r[:117] + "..."
+
+
 def _check_matrix(name: str, A: Any, n: int | None) -> Any:
     """Validate one of M, C, K (dense or scipy.sparse): real, square, size n, finite, symmetric."""
     sparse = hasattr(A, "tocsr") and hasattr(A, "nnz")
@@ -72,10 +78,10 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
         except (TypeError, ValueError):
             raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
         raw = _real(name, raw, "matrix")
-        try:
-            A = np.asarray(raw, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
+        try:  # strings, booleans and None refused: numpy would read "2" as 2.0 and True as 1.0
+            A = number_array(name, raw)
+        except ValueError:
+            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={_shown(A)}") from None
     else:
         A = _real(name, A, "matrix")
     shape = A.shape
@@ -152,13 +158,13 @@ class Structure:
         try:
             f = np.asarray(force)
         except (TypeError, ValueError):
-            raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
+            raise ValueError(f"force must be a vector of {n} numbers, got force={_shown(force)}") from None
         if np.iscomplexobj(f) and not np.any(np.imag(f)):
             f = f.real  # a complex force with every phase 0 is the real force, bit for bit
-        try:
-            f = np.asarray(f, dtype=complex if np.iscomplexobj(f) else float).ravel()
+        try:  # as the matrices: no strings, booleans or None read as numbers
+            f = (np.asarray(f, dtype=complex) if np.iscomplexobj(f) else number_array("force", f)).ravel()
         except (TypeError, ValueError):
-            raise ValueError(f"force must be a vector of {n} numbers, got force={force!r}") from None
+            raise ValueError(f"force must be a vector of {n} numbers, got force={_shown(force)}") from None
         if f.size != n:
             raise ValueError(f"force must have length n = {n}, got force of length {f.size}")
         if not np.all(np.isfinite(f)):
@@ -207,8 +213,11 @@ class Structure:
         K = _check_matrix("K", K, M.shape[0])
         Md, Kd = _dense(M), _dense(K)
         n = Md.shape[0]
-        z = np.broadcast_to(np.asarray(ratios, dtype=float), (n,)) if np.ndim(ratios) == 0 else np.asarray(
-            ratios, dtype=float)
+        try:  # numbers only: numpy's "could not convert string to float" names no parameter
+            z = number_array("ratios", ratios)
+        except ValueError:
+            z = np.full(n + 1, np.nan)  # refused below, naming ratios
+        z = np.broadcast_to(z, (n,)) if z.ndim == 0 else z
         if z.shape != (n,) or not np.all(np.isfinite(z)) or np.any(z < 0.0):
             raise ValueError(f"ratios must be one number >= 0 or {n} of them, got ratios={ratios!r}")
         try:
@@ -539,6 +548,15 @@ class Contact:
         if self.next_sector:
             where += ", next_sector=True"
         return f"Contact({self.element!r}, {where})"
+
+
+def contact_within(c: Contact, n: int) -> Contact:
+    """``c`` if every DOF it touches is one of a structure of ``n`` DOFs, else a ValueError naming the
+    DOF and the contact (a DOF past n would index another sector's, or no, DOF)."""
+    for d in c.all_dofs:
+        if d >= n:
+            raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={d!r} in {c!r}")
+    return c
 
 
 def _attachment(one: str, d: Any, two: str, pair: Any, same: bool = False) -> tuple[int, ...]:

@@ -169,8 +169,8 @@ def test_bad_damper_attachment_and_keys_are_named(tmp_path):
     assert "sweep.kind = \"amplitude\": damper.model = \"gap\" has no stuck stiffness (k* = 0" in problems(
         table, tmp_path / "a.toml", plan=True)
     data = structure_scene(tmp_path, damper)
-    data["effects"] = {"harmonics": 3, "samples": 6}
-    assert "effects.samples = 6: must be at least 2 H + 1 = 7" in problems(data, tmp_path / "a.toml", plan=True)
+    data["effects"] = {"harmonics": 3, "samples": 7}
+    assert "effects.samples = 7: must be at least 2 H + 2 = 8" in problems(data, tmp_path / "a.toml", plan=True)
     blade["damper"] = {"model": "macroslip", "stiffness": 1.0, "slip_force": 0.03}
     blade["effects"] = {"samples": 64}
     assert "effects.samples = 64: not used here" in problems(blade, tmp_path / "a.toml", plan=True)

@@ -779,3 +779,110 @@ def test_blade_from_modal_names_the_parameters_whose_product_overflows():
                                          r"and damping 2 zeta m w, got frequency=1e\+200, damping_ratio=0.01, "
                                          r"mass=1e\+200$"):
         Blade.from_modal(frequency=1e200, damping_ratio=0.01, mass=1e200, force=1.0)
+
+
+# ------------------------------------------------------------------ bad input probed as a new user would
+def test_balance_samples_are_bounded_with_the_bound_named():
+    import time
+
+    from contact_models import Iwan
+    from hbm.balance.residual import MAX_BALANCE_SAMPLES
+
+    # before: numpy's MemoryError allocating 7.45 GiB (or the machine swapping)
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    t0 = time.perf_counter()
+    for call in (frequency_response, __import__("hbm").nonlinear_modes):
+        with pytest.raises(ValueError, match=rf"^n_t must be an integer in 4..{MAX_BALANCE_SAMPLES}, got n_t=1000000000"
+                                             r" \(the bound is hbm.balance.residual.MAX_BALANCE_SAMPLES"):
+            if call is frequency_response:
+                call(s, [Contact(Iwan(1.0, 0.02, -0.5, 0.1), dof=0)], (0.3, 0.8), harmonics=3, n_t=10**9)
+            else:
+                call(s, [Contact(Iwan(1.0, 0.02, -0.5, 0.1), dof=0)], amplitudes=[0.01, 1.0], harmonics=3, n_t=10**9)
+    assert time.perf_counter() - t0 < 2.0
+
+
+@pytest.mark.parametrize("effects, expected", [
+    ({"harmonics": 1000}, "effects.harmonics = 1000: must be an integer in 1..256 (the bound is "
+                          "hbm.balance.residual.MAX_BALANCE_HARMONICS"),
+    ({"harmonics": 3, "samples": 7}, "effects.samples = 7: must be at least 2 H + 2 = 8"),
+    ({"harmonics": 3, "samples": 10**9}, "effects.samples = 1000000000: must be an integer in 3..65536 (the bound is "
+                                         "hbm.balance.residual.MAX_BALANCE_SAMPLES")])
+def test_scene_harmonics_and_samples_the_balance_refuses_fail_the_check(tmp_path, effects, expected):
+    # before: the check passed and the run failed with the balance's ValueError, 0 points kept
+    data = chain(tmp_path)
+    data["effects"] = effects
+    with pytest.raises(SceneError) as info:
+        plan_scene(scene_from_dict(data, tmp_path / "chain.toml"))
+    assert any(expected in p for p in info.value.problems), info.value.problems
+
+
+@pytest.mark.parametrize("name", ["M", "C", "K"])
+@pytest.mark.parametrize("bad", [[["2", "-1"], ["-1", "2"]], np.eye(2, dtype=bool), None])
+def test_matrices_of_strings_booleans_or_none_are_refused_by_name(name, bad):
+    # before: strings read as numbers and booleans as 0/1 (a structure built), None "of shape ()"
+    given = {"M": np.eye(2), "C": 0.01 * np.eye(2), "K": [[2.0, -1.0], [-1.0, 2.0]], name: bad}
+    with pytest.raises(ValueError, match=rf"^{name} must be a square matrix of numbers, got {name}="):
+        Structure(given["M"], given["C"], given["K"], force=[1.0, 0.0])
+
+
+@pytest.mark.parametrize("bad", [[["-1", "0"], ["0", "0"]], np.eye(2, dtype=bool)])
+def test_a_sector_coupling_of_strings_or_booleans_is_refused_by_name(bad):
+    from hbm import CyclicStructure
+
+    with pytest.raises(ValueError, match=r"^K_next must be a square matrix of numbers, got K_next="):
+        CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=4, engine_order=1,
+                        force=[1.0, 0.0], K_next=bad)
+
+
+@pytest.mark.parametrize("bad", [["1", "0"], [True, False], None])
+def test_a_force_of_strings_booleans_or_none_is_refused_by_name(bad):
+    # before: ["1", "0"] and [True, False] built a structure; None was "a force of length 1"
+    with pytest.raises(ValueError, match=r"^force must be a vector of 2 numbers, got force="):
+        Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=bad)
+
+
+@pytest.mark.parametrize("bad", ["a", [0.01, "x"], True, [[0.01], [0.01, 0.02]]])
+def test_modal_damping_ratios_that_are_no_numbers_are_refused_by_name(bad):
+    # before: numpy's "could not convert string to float: 'a'", and True taken as a ratio of 1
+    with pytest.raises(ValueError, match=r"^ratios must be one number >= 0 or 2 of them, got ratios="):
+        Structure.with_modal_damping(np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], ratios=bad, force=[1.0, 0.0])
+
+
+def test_a_centrifugal_load_out_of_double_precision_is_named_not_an_overflow_or_inf():
+    from contact_models import CentrifugalLoad
+
+    # before: Python's OverflowError (34, 'Numerical result out of range'), and inf from the product
+    with pytest.raises(ValueError, match=r"^omega=1e\+200 is too large for this load: the preload mass radius "
+                                         r"\(omega / engine_order\)\^2 is not finite in double precision$"):
+        CentrifugalLoad(1.0, 1.0, 1)(1e200)
+    with pytest.raises(ValueError, match=r"^mass and radius must give a finite mass \* radius, got mass=1e\+300, "
+                                         r"radius=1e\+300$"):
+        CentrifugalLoad(1e300, 1e300, 4)
+    with pytest.raises(ValueError, match=r"^omega=1e\+300 is too large for this load: dN0/domega"):
+        CentrifugalLoad(1e300, 1.0, 1).derivative(1e300)
+
+
+@pytest.mark.parametrize("where", [{"dofs": (0, 5), "next_sector": True}, {"dof": 2}])
+def test_the_whole_disk_refuses_a_sector_contact_on_a_dof_the_sector_has_not(where):
+    from hbm import CyclicStructure
+
+    # before: full() placed dofs=(0, 5) of a 2-DOF sector on DOFs of other sectors, silently
+    disk = CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=2,
+                           force=[0.0, 1.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+    c = Contact(Macroslip(1.0, 0.1), **where)
+    with pytest.raises(ValueError, match=rf"^dof must be a DOF index in 0..1, got dof={c.all_dofs[-1]} in "
+                                         + re.escape(repr(c))):
+        disk.full([c])
+
+
+def test_to_csv_names_a_path_in_a_missing_folder_or_a_folder(chain_frf, tmp_path):
+    # before: FileNotFoundError and IsADirectoryError from open()
+    missing = tmp_path / "no" / "frf.csv"
+    with pytest.raises(ValueError, match=rf"^path must be in an existing folder, got path={re.escape(repr(str(missing)))} "
+                                         r"\(no folder .*; create it first\)$"):
+        chain_frf.to_csv(missing)
+    for folder in (tmp_path, ""):
+        with pytest.raises(ValueError, match=rf"^path must be a file path, not a folder, got path="
+                                             rf"{re.escape(repr(str(folder)))}$"):
+            chain_frf.to_csv(folder)
+    assert not (tmp_path / "no").exists()

@@ -60,7 +60,7 @@ from contact_models.numerics.describing import stiffness_terms as describing_ter
 from contact_models.numerics.masing import to_time
 
 from .._validation import count, positive, relative_tolerance
-from ..structure import Contact, Structure
+from ..structure import Contact, Structure, contact_within
 from .condensation import condensed, stuck_matrix
 from .layout import from_complex, next_sector_operator, to_complex
 from .presets import MAX_RTOL
@@ -74,6 +74,9 @@ AMP_REFRESH = 3e-2
 JACOBIAN_KEEP_BYTES = 4 * 2**20
 #: The most harmonics a balance takes (its unknowns grow as 2H + 1 per contact DOF, a step's cost as their cube).
 MAX_BALANCE_HARMONICS = 256
+#: The most AFT samples per period a balance takes (each evaluation holds arrays of n_t by 2H + 1 per
+#: contact DOF); eight times the default at ``MAX_BALANCE_HARMONICS``.
+MAX_BALANCE_SAMPLES = 2**16
 
 
 def as_structure(system: Any) -> Structure:
@@ -109,10 +112,17 @@ def as_contacts(contacts: Any, n: int) -> list[Contact]:
     for c in contacts:
         if not isinstance(c, Contact):
             raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
-        for d in c.all_dofs:
-            if d >= n:
-                raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={d!r} in {c!r}")
+        contact_within(c, n)
     return contacts
+
+
+def samples_within_bound(n_t: Any) -> Any:
+    """``n_t`` as given (None, or an int <= ``MAX_BALANCE_SAMPLES``; its lower bound 2H + 2 is
+    :func:`check_problem`'s): the bound on what a caller asks for, checked in the public solves
+    (the error estimate's own balances sample up to ``SAMPLING_SHIFTS`` times more)."""
+    if n_t is not None and not isinstance(n_t, bool) and isinstance(n_t, (int, np.integer)) and n_t > 4:
+        count("n_t", n_t, 4, MAX_BALANCE_SAMPLES, "hbm.balance.residual.MAX_BALANCE_SAMPLES")
+    return n_t
 
 
 def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any, n_t: Any,

@@ -25,7 +25,7 @@ from contact_models.model_range import TOLERANCE, single_mode_frequency_limit
 from contact_models.quasi_static import StuckContact
 
 from ..balance.presets import samples_for
-from ..balance.residual import linear_response
+from ..balance.residual import MAX_BALANCE_HARMONICS, MAX_BALANCE_SAMPLES, linear_response
 from .checks import Key, SceneError, boolean, choice, integer, Invalid, show
 from .models import SCENE_HARMONICS, Built
 
@@ -387,8 +387,21 @@ def off_share(run: Any, micro: Any, tol: float) -> tuple[float, float, str]:
 
 
 def harmonics_key(v: Any) -> int:
-    """``effects.harmonics``: H >= 1; above 1 every element of the scene needs a time law."""
-    return integer(1)(v)
+    """``effects.harmonics``: H in 1..``MAX_BALANCE_HARMONICS`` (the balance's bound, so that ``--check``
+    refuses what the run would); above 1 every element of the scene needs a time law."""
+    return _bounded(integer(1)(v), 1, MAX_BALANCE_HARMONICS, "MAX_BALANCE_HARMONICS")
+
+
+def samples_key(v: Any) -> int:
+    """``effects.samples``: n_t in 3..``MAX_BALANCE_SAMPLES`` (the balance's bound); its lower bound
+    2 H + 2 is checked with H (:func:`harmonics`)."""
+    return _bounded(integer(3)(v), 3, MAX_BALANCE_SAMPLES, "MAX_BALANCE_SAMPLES")
+
+
+def _bounded(v: int, lo: int, hi: int, bound: str) -> int:
+    if v > hi:
+        raise Invalid(f"must be an integer in {lo}..{hi} (the bound is hbm.balance.residual.{bound})")
+    return v
 
 
 def harmonics(run: Any) -> Effect:
@@ -402,8 +415,8 @@ def harmonics(run: Any) -> Effect:
         raise SceneError([f"{run.where('effects.samples')} = {samples}: not used here: only a multi-harmonic "
                           "balance samples the period (a [structure], or effects.harmonics > 1 in a frequency "
                           "sweep); leave it out"])
-    if samples is not None and samples < 2 * H + 1:
-        raise SceneError([f"{run.where('effects.samples')} = {samples}: must be at least 2 H + 1 = {2 * H + 1} "
+    if samples is not None and samples < 2 * H + 2:  # the balance's aliasing bound (hbm.balance.residual)
+        raise SceneError([f"{run.where('effects.samples')} = {samples}: must be at least 2 H + 2 = {2 * H + 2} "
                           f"samples per period for effects.harmonics = {H}"])
     if H == 1:  # a structure's balance is the multi-harmonic one at H = 1; a blade's the single-harmonic one
         # the scene asks for H = 1: the balance keeps it (frequency_response would otherwise choose H to tol)

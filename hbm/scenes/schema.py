@@ -17,7 +17,7 @@ from ..frf import DEFAULT_TOL
 from .checks import (Invalid, Key, OPTIONAL, REQUIRED, dot, formats, integer, nonnegative, number, number_list,
                      number_or_name, one_or_list, positive, text, choice, inner_folder, boolean)
 from .contacts import contact_tables, dof_pair_list
-from .effects import EFFECTS
+from .effects import EFFECTS, samples_key
 from .models import BASE_DAMPER_KEYS, MODELS
 from .sampling import study_keys
 
@@ -202,9 +202,9 @@ def schema() -> dict[str, dict[str, Key]]:
         for key, k in spec.keys.items():
             damper.setdefault(key, k)
     effects = {e.key_name: e.key for e in EFFECTS if e.key_name is not None}
-    effects["samples"] = Key(integer(3), OPTIONAL,
+    effects["samples"] = Key(samples_key, OPTIONAL,
                              "AFT samples per period n_t of a multi-harmonic balance (a [structure], or "
-                             "effects.harmonics > 1), at least 2 H + 1; default hbm.balance.presets.samples_for(H) "
+                             "effects.harmonics > 1), at least 2 H + 2; default hbm.balance.presets.samples_for(H) "
                              "(32 at H = 1, 512 above)")
     effects["tolerance"] = Key(number(gt=0, lt=1), OPTIONAL,
                                "relative change below which `auto` leaves an effect out; default sweep.tolerance")
