@@ -132,6 +132,7 @@ def test_check_prints_the_effects_of_a_mode_scene(tmp_path, capsys):
     (OPTIMUM, {"modes": None}, "[modes] is missing: required with [optimum]"),
     (OPTIMUM, {"modes.amplitudes": [1e-8]}, "modes.amplitudes = [1e-08]: not allowed with [optimum]"),
     (OPTIMUM, {"sweep.tolerance": 1e-8}, "sweep.tolerance = 1e-08: not allowed with [optimum]"),
+    (OPTIMUM, {"sweep.tol": 1e-4}, "sweep.tol = 0.0001: not allowed with [optimum]"),
     (OPTIMUM, {"damper.load.N": [30.0, 60.0]}, 'optimum.parameter = "damper.load.N": must be a number key'),
 ])
 def test_bad_mode_and_optimum_keys_are_refused_by_name(path, changes, expected):
@@ -152,3 +153,21 @@ def test_an_invalid_mode_scene_exits_2_and_writes_nothing(tmp_path, capsys):
     assert main(["run", str(bad), "--out", str(tmp_path / "o")]) == 2
     assert 'optimum.parameter = "damper.normal_load"' in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("changes, rtol", [({}, RTOL), ({"sweep.tol": 1e-6}, 1e-8), ({"sweep.tol": 0.01}, RTOL)])
+def test_a_mode_scene_takes_its_elements_rtol_from_sweep_tol_as_frequency_response_does(tmp_path, monkeypatch,
+                                                                                      changes, rtol):
+    """sweep.tol caps the elements' rtol at tol/100 (at most 1e-6), the rule of frequency_response's tol."""
+    import hbm.scenes.modal as modal
+
+    seen = {}
+
+    def spy(*args, **kwargs):
+        seen.update(kwargs)
+        raise RuntimeError("stop here")
+
+    monkeypatch.setattr(modal, "nonlinear_modes", spy)
+    result = run_scene(scene_from_dict(scene_data(CHAIN, **changes), CHAIN), tmp_path, progress=None)
+    assert not result.success  # (the run stopped where the mode would be computed)
+    assert seen["rtol"] == pytest.approx(rtol, rel=1e-15)

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from ..damper_optimum import damper_optimum
+from ..frf import RTOL_SHARE
 from ..modes import nonlinear_modes
 from ..single_mode import forcing
 from ..structure import Contact
@@ -39,13 +40,19 @@ def system_of(scene: Any, system: Any, element: Any, others: Any = ()) -> tuple[
     return system, [damper_contact(scene, element), *others], scene.structure.get("response_dof")
 
 
+def elements_rtol(opts: dict) -> float:
+    """The elements' rtol of a mode's scene: ``sweep.tolerance`` (or its default), capped at ``RTOL_SHARE`` of
+    ``sweep.tol`` where given, as ``frequency_response`` caps it (its one accuracy key)."""
+    return min(opts["rtol"], RTOL_SHARE * opts["tol"]) if "tol" in opts else opts["rtol"]
+
+
 def run_modes(scene: Any, plan: Any, res: Any, emit: Any) -> None:
     """The nonlinear mode of one run (``hbm.nonlinear_modes``), one row per point."""
     p, m, opts = res.plan, scene.modes, scene.sweep["options"]
     structure, contacts, dof = system_of(scene, plan.blade, p.element, plan.contacts)
     modes = nonlinear_modes(structure, contacts, mode=m["mode"], amplitude_range=m.get("amplitude"),
                             amplitudes=m.get("amplitudes"), harmonics=p.harmonics or 1, n_t=p.n_t,
-                            rtol=opts["rtol"], max_step=opts["max_step"], max_steps=opts["max_steps"])
+                            rtol=elements_rtol(opts), max_step=opts["max_step"], max_steps=opts["max_steps"])
     dof = forcing(modes.balance, None, dof)[1]
     span = np.log10([modes.amplitude.min(), modes.amplitude.max()]) if len(modes) else (0.0, 0.0)
     for a, w, D, r in zip(modes.amplitude, modes.omega, modes.damping_ratio, response_amplitude(modes, dof)):

@@ -207,7 +207,8 @@ def schema() -> dict[str, dict[str, Key]]:
                              "effects.harmonics > 1), at least 2 H + 2; default hbm.balance.presets.samples_for(H) "
                              "(32 at H = 1, 512 above)")
     effects["tolerance"] = Key(number(gt=0, lt=1), OPTIONAL,
-                               "relative change below which `auto` leaves an effect out; default sweep.tolerance")
+                               "relative change below which `auto` leaves an effect out; default 1e-6 (the deprecated "
+                               "sweep.tolerance where given)")
     out = {"": _FIXED[""], "blade": _FIXED["blade"], "structure": _FIXED["structure"], "damper": damper, "damper.load": _FIXED["damper.load"],
            "effects": effects, "sweep": _FIXED["sweep"], "modes": _FIXED["modes"], "optimum": _FIXED["optimum"], "output": _FIXED["output"]}
     # hbm.scenes.sampling: a grid over, or samples of, the keys above

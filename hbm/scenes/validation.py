@@ -502,10 +502,10 @@ class _Rules:
         else:
             sweep["tol"] = presets.TOLERANCE[sweep["accuracy"]] if sweep.get("accuracy") else DEFAULT_TOL
         if kind in ("modes", "optimum"):
-            for key in ("min_step", "accuracy") + (("tolerance",) if kind == "optimum" else ()):
+            for key in ("min_step", "accuracy") + (("tolerance", "tol") if kind == "optimum" else ()):
                 if self.has("sweep", key):
                     self.forbid("sweep", key, f"with [{kind}] (not a setting of the mode's continuation"
-                                              f"{'; the optimum takes the elements default tolerance' if key == 'tolerance' else ''})")
+                                              f"{'; the optimum takes the elements default tolerance' if key in ('tolerance', 'tol') else ''})")
         if kind != "amplitude":
             for key in ("amplitude", "amplitude_unit", "points"):
                 if self.has("sweep", key):
