@@ -38,7 +38,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from contact_models import Macroslip  # noqa: E402
-from hbm import Contact, Structure, frequency_response  # noqa: E402
+from hbm import Contact, Steps, Structure, frequency_response  # noqa: E402
 
 DEFAULT_OUTDIR = Path(__file__).resolve().parent.parent / "docs" / "figures"
 K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
@@ -70,7 +70,7 @@ def main(outdir: Path | str = DEFAULT_OUTDIR, small: bool = False, harmonics: in
     H = 2 if small else harmonics
     t0 = time.perf_counter()
     frf = frequency_response(s, contacts, omega_range=(0.3, 1.8), harmonics=H, n_t=64 if small else n_t,
-                             response_dof=2, max_step=0.1 if small else 0.03)
+                             response_dof=2, steps=Steps(max_step=0.1 if small else 0.03))
     seconds = time.perf_counter() - t0
 
     fig, ax = plt.subplots(figsize=(6.4, 4.2))

@@ -95,7 +95,7 @@ def fsolve_converged(omega: np.ndarray, X: np.ndarray, res: np.ndarray) -> np.nd
 def frf(slider: str = "centred") -> hbm.FrequencyResponse:
     """Our branch from Om = 0.5 to 2 through every fold (stability marked on first use)."""
     return hbm.frequency_response(system(), contacts(slider), OMEGA, harmonics=H, n_t=N_T, response_dof=1,
-                                  rtol=1e-7, max_steps=20000)
+                                  tol=1e-5, steps=hbm.Steps(max_steps=20000))  # (the elements' rtol: tol/100)
 
 
 def solve_at(bal: HarmonicBalance, X: np.ndarray, omega: float, iterations: int = 30) -> np.ndarray:
