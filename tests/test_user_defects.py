@@ -886,3 +886,30 @@ def test_to_csv_names_a_path_in_a_missing_folder_or_a_folder(chain_frf, tmp_path
                                              rf"{re.escape(repr(str(folder)))}$"):
             chain_frf.to_csv(folder)
     assert not (tmp_path / "no").exists()
+
+
+def two_dof(damping=0.01):
+    return Structure(np.eye(2), damping * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+
+
+def test_a_predictor_below_omega_zero_is_a_failed_step_not_an_error():
+    # before: "omega must be >= 0, got omega=-0.0026..." from inside the solve, every point lost
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frf = frequency_response(two_dof(), [Contact(Macroslip(1.0, 0.1), dof=0)], (2.0, 0.0), harmonics=1)
+    assert frf.success and frf.omega[0] == 2.0 and frf.omega[-1] == 0.0
+
+
+@pytest.mark.parametrize("omega_range, turn", [((0.5, 1e300), None), ((1e150, 1e151), 1.0033e150)])
+def test_a_range_too_wide_to_trace_keeps_its_points_and_says_the_branch_came_back(omega_range, turn):
+    # before: (0.5, 1e300) raised "omega must be >= 0" from inside the solve; (1e150, 1e151) came back
+    # to w0 after two points and said success=True
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frf = frequency_response(two_dof(), [Contact(Macroslip(1.0, 0.1), dof=0)], omega_range, harmonics=1)
+    assert not frf.success and len(frf) >= 3 and frf.omega[0] == omega_range[0]
+    assert re.match(r"^the branch turned back and left the parameter range where it started: it turned at omega = "
+                    r"\S+ rad/s and came back to w0 = " + re.escape(f"{omega_range[0]:.6g}") + r" rad/s before reaching "
+                    r"w1 = " + re.escape(f"{omega_range[1]:.6g}"), frf.message)
+    if turn is not None:
+        assert f"it turned at omega = {turn:.6g} rad/s" in frf.message
