@@ -113,7 +113,12 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
                                  fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(setup.rtol), on_point=report,
                                  curve_components=components, stop=stop, **steps)
 
-    run = run_from(problem.stuck_start(w0) if start is None else start(problem))
+    try:
+        u0 = problem.stuck_start(w0) if start is None else start(problem)
+    except ZeroDivisionError as exc:  # w0 on an undamped natural frequency: no finite response to start from
+        raise ValueError(f"omega_range must not start on a natural frequency of the undamped structure, got "
+                         f"omega_range[0]={w0!r} ({exc})") from None
+    run = run_from(u0)
     if run.status == cont.Status.START_FAILED and start is None:
         u_h = force_homotopy(problem, w0, tol, scale)
         if u_h is not None:

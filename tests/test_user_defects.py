@@ -913,3 +913,17 @@ def test_a_range_too_wide_to_trace_keeps_its_points_and_says_the_branch_came_bac
                     r"w1 = " + re.escape(f"{omega_range[1]:.6g}"), frf.message)
     if turn is not None:
         assert f"it turned at omega = {turn:.6g} rad/s" in frf.message
+
+
+def test_an_undamped_structure_on_its_pole_gives_no_numpy_warning_and_no_nan():
+    # before: numpy's divide-by-zero and invalid-value RuntimeWarnings from the compliance at 2 * 0.5 = 1 rad/s
+    # (the second harmonic of the estimate on the first natural frequency), and NaN error estimates
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        frf = frequency_response(two_dof(0.0), [], (0.5, 2.0), harmonics=1)
+    assert not [w for w in said if issubclass(w.category, RuntimeWarning)]
+    assert len(frf) > 100 and not frf.success and not np.isnan(frf.error_estimate).any()
+    assert frf.error_estimate[0] < 1e-6  # no contacts: no harmonic above the first is excited
+    with pytest.raises(ValueError, match=r"^omega_range must not start on a natural frequency of the undamped "
+                                         r"structure, got omega_range\[0\]=1\.0 \(omega=1\.0 puts harmonic 1 on"):
+        frequency_response(two_dof(0.0), [], (1.0, 2.0), harmonics=1)
