@@ -927,3 +927,15 @@ def test_an_undamped_structure_on_its_pole_gives_no_numpy_warning_and_no_nan():
     with pytest.raises(ValueError, match=r"^omega_range must not start on a natural frequency of the undamped "
                                          r"structure, got omega_range\[0\]=1\.0 \(omega=1\.0 puts harmonic 1 on"):
         frequency_response(two_dof(0.0), [], (1.0, 2.0), harmonics=1)
+
+
+def test_a_zero_force_is_refused_with_a_response_dof_too(tmp_path):
+    # before: with response_dof given the zero-force check was skipped: a zero response was solved, and a
+    # scene passed --check and wrote a zero FRF (with matplotlib's "no positive values" warning)
+    s = Structure(np.eye(3), 0.01 * np.eye(3), K, force=[0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^force must not be all zero \(nothing excites the structure\), got "
+                                         r"force=\[0\.0, 0\.0, 0\.0\]$"):
+        frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], (0.3, 0.8), response_dof=2, harmonics=1)
+    data = chain(tmp_path, force=[0.0, 0.0, 0.0])
+    assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: structure.force: force must not be all zero "
+                                        "(nothing excites the structure), got force=[0.0, 0.0, 0.0]"]

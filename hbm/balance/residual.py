@@ -60,7 +60,7 @@ from contact_models.numerics.describing import stiffness_terms as describing_ter
 from contact_models.numerics.masing import to_time
 
 from .._steps import OutsideDomain
-from .._validation import count, positive, relative_tolerance
+from .._validation import count, nonzero_force, positive, relative_tolerance
 from ..structure import Contact, Structure, contact_within
 from .condensation import condensed, stuck_matrix
 from .layout import from_complex, next_sector_operator, to_complex
@@ -143,9 +143,8 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
             if not c.element.has_time_law:
                 raise ValueError(f"element={c.element!r}: {type(c.element).__name__} has no time-domain force law, "
                                  f"so it works at harmonics=1 only, got harmonics={H}")
+    nonzero_force(structure.force)
     if response_dof is None:
-        if not np.any(structure.force):
-            raise ValueError("force must not be all zero (nothing excites the structure), got force=0")
         response_dof = int(np.argmax(np.abs(structure.force)))
     response_dof = structure._dof("response_dof", response_dof)
     return H, int(n_t), response_dof
