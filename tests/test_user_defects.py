@@ -939,3 +939,17 @@ def test_a_zero_force_is_refused_with_a_response_dof_too(tmp_path):
     data = chain(tmp_path, force=[0.0, 0.0, 0.0])
     assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: structure.force: force must not be all zero "
                                         "(nothing excites the structure), got force=[0.0, 0.0, 0.0]"]
+
+
+def test_an_invalid_damper_key_is_said_once_without_its_follow_on_problems(tmp_path):
+    # before: damper.stiffness = -1.0 was reported, then eight "damper.E ... is missing" (and [damper.load])
+    # lines as if macroslip had no stiffness and needed the bar
+    data = chain(tmp_path)
+    data["damper"]["stiffness"] = -1.0
+    assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: damper.stiffness = -1.0: must be a number > 0 "
+                                        "(N/m)"]
+    # and so in a contact of the structure: no "as given it needs the bar and load of [damper]"
+    data = chain(tmp_path)
+    data["structure"]["contacts"] = [{"model": "macroslip", "dofs": [1], "stiffness": -1.0, "slip_force": 0.01}]
+    assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: structure.contacts[0].stiffness = -1.0: must be "
+                                        "a number > 0 (N/m)"]
