@@ -953,3 +953,16 @@ def test_an_invalid_damper_key_is_said_once_without_its_follow_on_problems(tmp_p
     data["structure"]["contacts"] = [{"model": "macroslip", "dofs": [1], "stiffness": -1.0, "slip_force": 0.01}]
     assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: structure.contacts[0].stiffness = -1.0: must be "
                                         "a number > 0 (N/m)"]
+
+
+def test_plot_refuses_a_keyword_that_is_no_line_property(chain_frf):
+    import matplotlib
+    import matplotlib.pyplot as plt
+    matplotlib.use("Agg")
+    # before: matplotlib's AttributeError "Line2D.set() got an unexpected keyword argument 'foo'"
+    with pytest.raises(TypeError, match=r"^plot\(\) got an unexpected keyword argument 'foo': not a property of a "
+                                        r"matplotlib line \(matplotlib.lines.Line2D\), got foo=1$"):
+        chain_frf.plot(foo=1)
+    ax = chain_frf.plot(ls=":", lw=2.0, color="k", alpha=0.5, marker="o")  # line properties and their aliases
+    assert ax.lines[0].get_linestyle() == ":" and ax.lines[0].get_linewidth() == 2.0
+    plt.close("all")
