@@ -966,3 +966,12 @@ def test_plot_refuses_a_keyword_that_is_no_line_property(chain_frf):
     ax = chain_frf.plot(ls=":", lw=2.0, color="k", alpha=0.5, marker="o")  # line properties and their aliases
     assert ax.lines[0].get_linestyle() == ":" and ax.lines[0].get_linewidth() == 2.0
     plt.close("all")
+
+
+@pytest.mark.parametrize("bad, shape", [([[1.0], [0.0]], "(2, 1)"), (np.ones((1, 2)), "(1, 2)"), (1.0, "()")])
+def test_a_force_that_is_not_one_dimensional_is_refused_naming_its_shape(bad, shape):
+    # before: the column [[1.0], [0.0]] (and a (1, 2) row) was flattened silently
+    with pytest.raises(ValueError, match=rf"^force must be a one-dimensional vector of 2 numbers, got force of shape "
+                                         rf"{re.escape(shape)}: force="):
+        Structure(np.eye(2), np.zeros((2, 2)), np.eye(2), force=bad)
+    assert Structure(np.eye(1), np.zeros((1, 1)), np.eye(1), force=2.0).force.tolist() == [2.0]  # one DOF: a number
