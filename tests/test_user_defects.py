@@ -975,3 +975,14 @@ def test_a_force_that_is_not_one_dimensional_is_refused_naming_its_shape(bad, sh
                                          rf"{re.escape(shape)}: force="):
         Structure(np.eye(2), np.zeros((2, 2)), np.eye(2), force=bad)
     assert Structure(np.eye(1), np.zeros((1, 1)), np.eye(1), force=2.0).force.tolist() == [2.0]  # one DOF: a number
+
+
+def test_a_cyclic_structure_bounds_its_sectors_at_the_module_constant():
+    from hbm import CyclicStructure
+    from hbm.cyclic import MAX_SECTORS
+
+    # before: sectors=10**7 was taken (and the constructor went on to check ten million nodal diameters)
+    with pytest.raises(ValueError, match=rf"^sectors must be an integer in 2\.\.{MAX_SECTORS}, got sectors=10000000 "
+                                         r"\(the bound is hbm\.cyclic\.MAX_SECTORS: raise it to go further\)$"):
+        CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=10**7, engine_order=2,
+                        force=[0.0, 1.0])
