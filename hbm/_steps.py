@@ -13,8 +13,15 @@ from contact_models.numerics.small import solve_small as _solve
 
 #: Largest accepted ratio ``|R_{k+1}| / |R_k|`` from the second Newton update on (``|.|`` Euclidean).
 MAX_CONTRACTION = 0.5
+
+
+class OutsideDomain(ValueError):
+    """Raised by a residual at a point where it is not defined (a negative frequency): the step that
+    led there failed, and a shorter one is tried, instead of the error ending the run."""
+
+
 #: Exceptions of the residual that count as a failed corrector instead of ending the run.
-RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError)
+RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError, OutsideDomain)
 #: A step whose tangent turns by more than this (rad) is rejected and retried shorter; a retry's
 #: corrector uses the bisector normal when the tangent at the failed predictor turned that much.
 REJECT_TURN = 0.5
@@ -38,6 +45,7 @@ class _Newton:
     converged: bool
     reason: str = ""
     J0: np.ndarray | None = None  # Jacobian at the first point (the predictor)
+    outside: bool = False  # the residual was asked outside its domain (OutsideDomain)
 
 
 def _counted(residual, count):
@@ -132,14 +140,15 @@ def _tangent(J, s, prev):
 def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
     """Newton on ``[R(y); w . y - c] = 0`` from ``y`` until ``|R| <= tol``.
 
-    An arithmetic error raised by the residual counts as a failed corrector (its message is
-    kept as the reason), so that the branch computed so far survives it.
+    An arithmetic error raised by the residual, or ``OutsideDomain``, counts as a failed corrector
+    (its message is kept as the reason), so that the branch computed so far survives it.
     """
     y = np.array(y, dtype=float)
     try:
         R, J = fun(y)
     except RESIDUAL_ERRORS as exc:
-        return _Newton(y, None, None, math.inf, 0, False, f"the residual failed: {exc}")
+        return _Newton(y, None, None, math.inf, 0, False, f"the residual failed: {exc}",
+                       outside=isinstance(exc, OutsideDomain))
     rnorm = _norm(R)
     J0 = J
     for k in range(max_iter + 1):
@@ -160,7 +169,8 @@ def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
         try:
             R, J = fun(y)
         except RESIDUAL_ERRORS as exc:
-            return _Newton(y, R, J, math.inf, k + 1, False, f"the residual failed: {exc}", J0)
+            return _Newton(y, R, J, math.inf, k + 1, False, f"the residual failed: {exc}", J0,
+                           isinstance(exc, OutsideDomain))
         r_new = _norm(R)
         if k >= 1 and r_new > MAX_CONTRACTION * rnorm:
             return _Newton(y, R, J, r_new, k + 1, False,

@@ -1,6 +1,8 @@
 """Input checks shared by ``hbm``: the library's one set (each failure a ValueError naming the
 parameter and its value), re-exported so ``hbm`` modules import them from one place."""
 
+import numpy as np
+
 from contact_models.numerics.checks import count as _count, finite, flag, nonnegative, number_array, positive
 
 number = finite
@@ -33,6 +35,14 @@ def relative_tolerance(name: str, value: object, upper: float) -> float:
     return v
 
 
+def nonzero_force(force: object) -> None:
+    """Refuse an all-zero ``force`` (a structure's load vector): nothing excites the structure and the response
+    is zero, whether or not a ``response_dof`` is given (the balance; a scene's ``--check``)."""
+    if not np.any(force):
+        raise ValueError(f"force must not be all zero (nothing excites the structure), got "
+                         f"force={np.asarray(force, dtype=float).tolist()!r}")
+
+
 def omega_range_pair(omega_range: object) -> tuple[float, float]:
     """``(w0, w1)`` from ``omega_range``: a pair of finite numbers >= 0 with w0 != w1."""
     if omega_range is None:
@@ -47,5 +57,5 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     return w0, w1
 
-__all__ = ["count", "finite", "flag", "nonnegative", "number", "number_array", "positive", "omega_range_pair", "InputError",
+__all__ = ["count", "nonzero_force", "finite", "flag", "nonnegative", "number", "number_array", "positive", "omega_range_pair", "InputError",
            "relative_tolerance", "MIN_RELATIVE_TOL"]

@@ -113,7 +113,12 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
                                  fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(setup.rtol), on_point=report,
                                  curve_components=components, stop=stop, **steps)
 
-    run = run_from(problem.stuck_start(w0) if start is None else start(problem))
+    try:
+        u0 = problem.stuck_start(w0) if start is None else start(problem)
+    except ZeroDivisionError as exc:  # w0 on an undamped natural frequency: no finite response to start from
+        raise ValueError(f"omega_range must not start on a natural frequency of the undamped structure, got "
+                         f"omega_range[0]={w0!r} ({exc})") from None
+    run = run_from(u0)
     if run.status == cont.Status.START_FAILED and start is None:
         u_h = force_homotopy(problem, w0, tol, scale)
         if u_h is not None:
@@ -131,6 +136,13 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
         why = stuck_reason(problem, w_end * (1.0 + BEYOND_END * (direction or (1 if w1 > w0 else -1))))
         if why is not None:
             run = dataclasses.replace(run, message=f"{run.message}; just beyond its last point, {why}")
+    elif start is None and run.status == cont.Status.REACHED_END and len(run.y) > 1 and (
+            run.y[-1, -1] == w0 / w_ref):  # back on the bound it started from: the range was not traced
+        far = float((max if w1 > w0 else min)(run.y[:, -1])) * w_ref
+        run = dataclasses.replace(run, status=cont.Status.TURNED_BACK, message=(
+            f"{cont.MESSAGES[cont.Status.TURNED_BACK]}: it turned at omega = {far:.6g} rad/s and came back to "
+            f"w0 = {w0:.6g} rad/s before reaching w1 = {w1:.6g} rad/s (a response below what the balance "
+            "resolves, or an omega_range too wide to trace)"))
     if cut is not None:
         run = cut(run, scale)
     if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off

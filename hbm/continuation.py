@@ -54,8 +54,8 @@ from contact_models.numerics.checks import count as _whole, finite, flag, positi
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 from contact_models.numerics.small import lagrange
 
-from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, _corner_normal, _Count, _counted,  # noqa: F401
-                     _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
+from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, OutsideDomain,  # noqa: F401
+                     _corner_normal, _Count, _counted, _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -98,6 +98,9 @@ class Status(IntEnum):
     MAX_STEPS = 1
     STEP_TOO_SMALL = -1
     START_FAILED = -2
+    #: set by a caller whose range has a start (``hbm.frequency_response``): the branch left the range
+    #: through the bound it started from, never reaching the other
+    TURNED_BACK = -3
 
 
 MESSAGES = {
@@ -105,6 +108,7 @@ MESSAGES = {
     Status.MAX_STEPS: "the step budget (max_steps) was used up before the end of the parameter range",
     Status.STEP_TOO_SMALL: "the step fell below min_step: the corrector kept failing",
     Status.START_FAILED: "Newton's method did not converge at the starting point",
+    Status.TURNED_BACK: "the branch turned back and left the parameter range where it started",
 }
 
 
@@ -282,12 +286,14 @@ class _Trace:
             self.status = Status.MAX_STEPS
             return
         # ---- predictor along the tangent (+ curvature), in the coordinates scaled at y
-        y, s, h = self.y, self.s, self.h
+        y, s, h, p = self.y, self.s, self.h, self.p
         y_pred = y + h * s * (self.t + h * (self.c2 + h * self.c3))
         w = self.normal / s  # the constraint normal . (u - u_p) = 0 in physical coordinates
         new = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
         ok, reason, t_new, turn = self._judge(new)
         if not ok:
+            if new.outside and not self.lo <= y_pred[p] <= self.hi and self._end_from(y_pred):
+                return
             if not new.converged and self.failures >= CORNER_AFTER and self._round_corner(new, y_pred):
                 self.failures = 0
                 return
@@ -442,26 +448,44 @@ class _Trace:
         f = min(f_newton, f_turn, f_curve if f_curve is not None else math.inf)
         self.h = min(max(self.h * min(max(f, MIN_FACTOR), MAX_FACTOR), self.min_step), self.max_step)
 
+    def _end_from(self, y_pred) -> bool:
+        """A predictor past the bound where the residual is not defined (``OutsideDomain``): the point on
+        the bound from the chord to it, ending the run (True), as an accepted step past it would."""
+        y, p = self.y, self.p
+        bound = self.hi if y_pred[p] > self.hi else self.lo
+        guess = y + (bound - y[p]) / (y_pred[p] - y[p]) * (y_pred - y)
+        end = _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count)
+        if not end.converged:
+            return False
+        self.nsteps += 1
+        self._append_end(end, bound)
+        return True
+
+    def _append_end(self, end, bound) -> None:
+        """The converged point ``end`` on ``bound``: the last point of a run that reached the end."""
+        s_end = _scale(self.scale, end.y)
+        self.ys.append(end.y)
+        self.ts.append(_tangent(end.J, s_end, _rescale(self.t, self.s, s_end)))
+        self.rn.append(end.rnorm)
+        self.its.append(end.iterations)
+        self.report(end.y, end.rnorm)
+        self.detail = f" (at its {'upper' if bound == self.hi else 'lower'} end)"
+        self.status = Status.REACHED_END
+
     def _end_on_bound(self, y_prev) -> None:
         """The end of the parameter range: the last point goes on the bound."""
-        y, s, t, p, hi = self.y, self.s, self.t, self.p, self.hi
+        y, p, hi = self.y, self.p, self.hi
         bound = hi if y[p] > hi else self.lo
         frac = (bound - y_prev[p]) / (y[p] - y_prev[p])
         guess = y_prev + frac * (y - y_prev)
         end = _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count)
         if end.converged:
-            s_end = _scale(self.scale, end.y)
-            self.ys.append(end.y)
-            self.ts.append(_tangent(end.J, s_end, _rescale(t, s, s_end)))
-            self.rn.append(end.rnorm)
-            self.its.append(end.iterations)
-            self.report(end.y, end.rnorm)
-            self.detail = f" (at its {'upper' if bound == hi else 'lower'} end)"
-        else:
-            self.detail = (f" (the point on the bound {bound!r} did not converge: {end.reason}; kept the last "
-                           "inside)")
-            if self.fold_after and self.fold_after[-1] == len(self.ys) - 1:
-                self.fold_after.pop()
+            self._append_end(end, bound)
+            return
+        self.detail = (f" (the point on the bound {bound!r} did not converge: {end.reason}; kept the last "
+                       "inside)")
+        if self.fold_after and self.fold_after[-1] == len(self.ys) - 1:
+            self.fold_after.pop()
         self.status = Status.REACHED_END
 
 

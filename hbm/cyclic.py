@@ -25,8 +25,13 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import number_array
+from ._validation import count, number_array
 from .structure import Contact, Structure, _check_matrix, _dense, _shown, contact_within
+
+#: The most sectors a cyclic structure takes: its constructor checks the disk's mass at every nodal diameter
+#: and :meth:`CyclicStructure.full` builds N n DOFs, so the cost grows with N (a bladed disk has tens to a
+#: few hundred sectors).
+MAX_SECTORS = 1000
 
 
 def _coupling(name: str, A: Any, n: int) -> NDArray[np.float64]:
@@ -59,7 +64,7 @@ class CyclicStructure(Structure):
         The sector's own mass (kg), damping (N s/m) and stiffness (N/m), n x n, symmetric (the
         diagonal blocks of the whole disk).
     sectors : int
-        N, the number of sectors, >= 2.
+        N, the number of sectors, 2..``MAX_SECTORS``.
     engine_order : int
         EO, any integer: it is reduced mod N (EO and EO + N drive every sector with the same
         phase); a negative EO is a backward travelling wave.  Stored reduced, in 0..N-1.
@@ -82,7 +87,7 @@ class CyclicStructure(Structure):
     Raises
     ------
     ValueError
-        Naming the parameter: sectors not an integer >= 2, engine_order not an integer, a matrix
+        Naming the parameter: sectors not an integer in 2..``MAX_SECTORS``, engine_order not an integer, a matrix
         of another size, or a disk whose mass is not positive definite at some nodal diameter.
 
     Notes
@@ -113,6 +118,7 @@ class CyclicStructure(Structure):
                  K_next: ArrayLike | None = None) -> None:
         if isinstance(sectors, bool) or not isinstance(sectors, (int, np.integer)) or sectors < 2:
             raise ValueError(f"sectors must be an integer >= 2, got sectors={sectors!r}")
+        count("sectors", sectors, 2, MAX_SECTORS, "hbm.cyclic.MAX_SECTORS")
         if isinstance(engine_order, bool) or not isinstance(engine_order, (int, np.integer)):
             raise ValueError(f"engine_order must be an integer (reduced mod sectors), got engine_order={engine_order!r}")
         super().__init__(M, C, K, force=force)

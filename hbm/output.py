@@ -487,6 +487,18 @@ def plot_error_band(ax: Any, omega: Any, amplitude: Any, error: Any, *, color: A
     return band
 
 
+def line_options(kwargs: dict) -> None:
+    """Refuse a keyword that is not a property of a matplotlib line (``Line2D.set_<name>``, aliases such as
+    ``ls`` and ``lw`` included): a TypeError naming it, before anything is drawn, not matplotlib's
+    AttributeError from inside ``ax.plot``."""
+    from matplotlib.lines import Line2D  # lazily, as pyplot in _axes
+
+    for key, value in kwargs.items():
+        if not callable(getattr(Line2D, f"set_{key}", None)):
+            raise TypeError(f"plot() got an unexpected keyword argument {key!r}: not a property of a matplotlib line "
+                            f"(matplotlib.lines.Line2D), got {key}={value!r}")
+
+
 def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, label: str | None = None,
                 omega_unit: str = "rad/s", amplitude_unit: str = "m", **kwargs: Any) -> tuple[Any, Any]:
     """Draw one branch on ``ax`` (a new figure if None): stable stretches solid, unstable
@@ -498,6 +510,7 @@ def plot_branch(ax: Any, omega: Any, amplitude: Any, stable: Any = None, *, labe
     :func:`plot_frfs`); unstable stretches are always dashed.
     """
     (w_scale, w_label), (a_scale, a_label) = OMEGA_UNITS[omega_unit], AMPLITUDE_UNITS[amplitude_unit]
+    line_options(kwargs)
     ax = _axes(ax)
     omega, amplitude = np.asarray(omega) * w_scale, np.asarray(amplitude) * a_scale
     stable = np.ones(omega.size, dtype=bool) if stable is None else np.asarray(stable, dtype=bool)

@@ -646,7 +646,8 @@ class FrequencyResponse:
             Draw the estimated error as a band in the curve's colour, where the result has an
             estimate (``tol`` not None).  Default True.
         **kwargs
-            Passed to ``ax.plot`` (colour, line style).
+            Passed to ``ax.plot`` (colour, line style): properties of a matplotlib line; another keyword is a
+            TypeError naming it.
 
         Returns
         -------

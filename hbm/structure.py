@@ -162,9 +162,14 @@ class Structure:
         if np.iscomplexobj(f) and not np.any(np.imag(f)):
             f = f.real  # a complex force with every phase 0 is the real force, bit for bit
         try:  # as the matrices: no strings, booleans or None read as numbers
-            f = (np.asarray(f, dtype=complex) if np.iscomplexobj(f) else number_array("force", f)).ravel()
+            f = (np.asarray(f, dtype=complex) if np.iscomplexobj(f) else number_array("force", f))
         except (TypeError, ValueError):
             raise ValueError(f"force must be a vector of {n} numbers, got force={_shown(force)}") from None
+        if f.ndim > 1 or (f.ndim == 0 and n != 1):  # a column or a table is not flattened (its layout is unknown)
+            raise ValueError(f"force must be a one-dimensional vector of {n} number{'s' if n != 1 else ''}"
+                             f"{' (or one number)' if n == 1 else ''}, got force of shape {f.shape}: "
+                             f"force={_shown(force)}")
+        f = f.ravel()
         if f.size != n:
             raise ValueError(f"force must have length n = {n}, got force of length {f.size}")
         if not np.all(np.isfinite(f)):

@@ -886,3 +886,103 @@ def test_to_csv_names_a_path_in_a_missing_folder_or_a_folder(chain_frf, tmp_path
                                              rf"{re.escape(repr(str(folder)))}$"):
             chain_frf.to_csv(folder)
     assert not (tmp_path / "no").exists()
+
+
+def two_dof(damping=0.01):
+    return Structure(np.eye(2), damping * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+
+
+def test_a_predictor_below_omega_zero_is_a_failed_step_not_an_error():
+    # before: "omega must be >= 0, got omega=-0.0026..." from inside the solve, every point lost
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frf = frequency_response(two_dof(), [Contact(Macroslip(1.0, 0.1), dof=0)], (2.0, 0.0), harmonics=1)
+    assert frf.success and frf.omega[0] == 2.0 and frf.omega[-1] == 0.0
+
+
+@pytest.mark.parametrize("omega_range, turn", [((0.5, 1e300), None), ((1e150, 1e151), 1.0033e150)])
+def test_a_range_too_wide_to_trace_keeps_its_points_and_says_the_branch_came_back(omega_range, turn):
+    # before: (0.5, 1e300) raised "omega must be >= 0" from inside the solve; (1e150, 1e151) came back
+    # to w0 after two points and said success=True
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        frf = frequency_response(two_dof(), [Contact(Macroslip(1.0, 0.1), dof=0)], omega_range, harmonics=1)
+    assert not frf.success and len(frf) >= 3 and frf.omega[0] == omega_range[0]
+    assert re.match(r"^the branch turned back and left the parameter range where it started: it turned at omega = "
+                    r"\S+ rad/s and came back to w0 = " + re.escape(f"{omega_range[0]:.6g}") + r" rad/s before reaching "
+                    r"w1 = " + re.escape(f"{omega_range[1]:.6g}"), frf.message)
+    if turn is not None:
+        assert f"it turned at omega = {turn:.6g} rad/s" in frf.message
+
+
+def test_an_undamped_structure_on_its_pole_gives_no_numpy_warning_and_no_nan():
+    # before: numpy's divide-by-zero and invalid-value RuntimeWarnings from the compliance at 2 * 0.5 = 1 rad/s
+    # (the second harmonic of the estimate on the first natural frequency), and NaN error estimates
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        frf = frequency_response(two_dof(0.0), [], (0.5, 2.0), harmonics=1)
+    assert not [w for w in said if issubclass(w.category, RuntimeWarning)]
+    assert len(frf) > 100 and not frf.success and not np.isnan(frf.error_estimate).any()
+    assert frf.error_estimate[0] < 1e-6  # no contacts: no harmonic above the first is excited
+    with pytest.raises(ValueError, match=r"^omega_range must not start on a natural frequency of the undamped "
+                                         r"structure, got omega_range\[0\]=1\.0 \(omega=1\.0 puts harmonic 1 on"):
+        frequency_response(two_dof(0.0), [], (1.0, 2.0), harmonics=1)
+
+
+def test_a_zero_force_is_refused_with_a_response_dof_too(tmp_path):
+    # before: with response_dof given the zero-force check was skipped: a zero response was solved, and a
+    # scene passed --check and wrote a zero FRF (with matplotlib's "no positive values" warning)
+    s = Structure(np.eye(3), 0.01 * np.eye(3), K, force=[0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^force must not be all zero \(nothing excites the structure\), got "
+                                         r"force=\[0\.0, 0\.0, 0\.0\]$"):
+        frequency_response(s, [Contact(Macroslip(1.0, 0.02), dof=0)], (0.3, 0.8), response_dof=2, harmonics=1)
+    data = chain(tmp_path, force=[0.0, 0.0, 0.0])
+    assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: structure.force: force must not be all zero "
+                                        "(nothing excites the structure), got force=[0.0, 0.0, 0.0]"]
+
+
+def test_an_invalid_damper_key_is_said_once_without_its_follow_on_problems(tmp_path):
+    # before: damper.stiffness = -1.0 was reported, then eight "damper.E ... is missing" (and [damper.load])
+    # lines as if macroslip had no stiffness and needed the bar
+    data = chain(tmp_path)
+    data["damper"]["stiffness"] = -1.0
+    assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: damper.stiffness = -1.0: must be a number > 0 "
+                                        "(N/m)"]
+    # and so in a contact of the structure: no "as given it needs the bar and load of [damper]"
+    data = chain(tmp_path)
+    data["structure"]["contacts"] = [{"model": "macroslip", "dofs": [1], "stiffness": -1.0, "slip_force": 0.01}]
+    assert problems(data, tmp_path) == [f"{tmp_path / 'chain.toml'}: structure.contacts[0].stiffness = -1.0: must be "
+                                        "a number > 0 (N/m)"]
+
+
+def test_plot_refuses_a_keyword_that_is_no_line_property(chain_frf):
+    import matplotlib
+    import matplotlib.pyplot as plt
+    matplotlib.use("Agg")
+    # before: matplotlib's AttributeError "Line2D.set() got an unexpected keyword argument 'foo'"
+    with pytest.raises(TypeError, match=r"^plot\(\) got an unexpected keyword argument 'foo': not a property of a "
+                                        r"matplotlib line \(matplotlib.lines.Line2D\), got foo=1$"):
+        chain_frf.plot(foo=1)
+    ax = chain_frf.plot(ls=":", lw=2.0, color="k", alpha=0.5, marker="o")  # line properties and their aliases
+    assert ax.lines[0].get_linestyle() == ":" and ax.lines[0].get_linewidth() == 2.0
+    plt.close("all")
+
+
+@pytest.mark.parametrize("bad, shape", [([[1.0], [0.0]], "(2, 1)"), (np.ones((1, 2)), "(1, 2)"), (1.0, "()")])
+def test_a_force_that_is_not_one_dimensional_is_refused_naming_its_shape(bad, shape):
+    # before: the column [[1.0], [0.0]] (and a (1, 2) row) was flattened silently
+    with pytest.raises(ValueError, match=rf"^force must be a one-dimensional vector of 2 numbers, got force of shape "
+                                         rf"{re.escape(shape)}: force="):
+        Structure(np.eye(2), np.zeros((2, 2)), np.eye(2), force=bad)
+    assert Structure(np.eye(1), np.zeros((1, 1)), np.eye(1), force=2.0).force.tolist() == [2.0]  # one DOF: a number
+
+
+def test_a_cyclic_structure_bounds_its_sectors_at_the_module_constant():
+    from hbm import CyclicStructure
+    from hbm.cyclic import MAX_SECTORS
+
+    # before: sectors=10**7 was taken (and the constructor went on to check ten million nodal diameters)
+    with pytest.raises(ValueError, match=rf"^sectors must be an integer in 2\.\.{MAX_SECTORS}, got sectors=10000000 "
+                                         r"\(the bound is hbm\.cyclic\.MAX_SECTORS: raise it to go further\)$"):
+        CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=10**7, engine_order=2,
+                        force=[0.0, 1.0])

@@ -112,10 +112,20 @@ class Condensed:
         return out
 
     def _poles(self, omega: float) -> tuple[NDArray, NDArray]:
-        """``1/(i h omega - lambda_j)`` (H+1, 2n) and its omega-derivative."""
+        """``1/(i h omega - lambda_j)`` (H+1, 2n) and its omega-derivative.
+
+        ``h omega`` exactly on an undamped pole (a natural frequency of the structure without damping) has
+        no finite compliance: a ``ZeroDivisionError`` saying so (a failed step to a continuation), not
+        numpy's warnings and an inf/NaN compliance."""
         ih, mih = self._ih
-        S = 1.0 / (ih * omega - self.lam[None, :])
-        return S, mih * S * S
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            S = 1.0 / (ih * omega - self.lam[None, :])
+            dS = mih * S * S
+        if not (np.isfinite(S).all() and np.isfinite(dS).all()):
+            h = int(np.flatnonzero(~np.isfinite(S).all(axis=1) | ~np.isfinite(dS).all(axis=1))[0])
+            raise ZeroDivisionError(f"omega={omega!r} puts harmonic {h} on a natural frequency of the undamped "
+                                    "structure: its compliance is infinite there")
+        return S, dS
 
     def real_at(self, omega: float) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray, NDArray]:
         """For one condensation DOF: ``G`` and ``dG/domega`` as the multipliers ``(a, b)`` of the real

@@ -495,8 +495,12 @@ def _harmonics_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, r
     ``REACH_TOP``) from each point padded with zeros.  A first-harmonic element (no time law: the balance is at
     H = 1) takes part in that balance by its stand-in with a time law (``ContactElement.harmonics_law``, as in
     the one-DOF form); where one has none (the rigid slider) the source cannot be estimated: inf at every
-    point that moves, which the call's warning says."""
+    point that moves, which the call's warning says.  Without contacts the balance is linear and no harmonic
+    above the first is excited: zero.  A harmonic above H exactly on a natural frequency of the undamped
+    structure (its compliance infinite) makes the error unbounded: inf at that point."""
     H, L = problem.H, problem.L
+    if not problem._attach:
+        return np.zeros(len(omega))
     r = problem.dofs.index(problem.response_dof)
     contacts = _time_law_contacts(problem.contacts)
     if contacts is None:
@@ -514,7 +518,10 @@ def _harmonics_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, r
                     continue
                 Xp = np.zeros((problem.na, 2 * H2 + 1))
                 Xp[:, :L] = x
-                out[j] = abs(_truncation_step(more, Xp, float(w), r, H)) / a
+                try:
+                    out[j] = abs(_truncation_step(more, Xp, float(w), r, H)) / a
+                except ZeroDivisionError:  # on an undamped pole (Condensed._poles)
+                    out[j] = math.inf
         except ValueError as e:  # an element that cannot resolve so many harmonics (too few cells): a rung lower
             if k < len(steps) - 1:
                 continue

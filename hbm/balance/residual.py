@@ -59,7 +59,8 @@ from contact_models.base import DEFAULT_RTOL, default_samples
 from contact_models.numerics.describing import stiffness_terms as describing_terms
 from contact_models.numerics.masing import to_time
 
-from .._validation import count, positive, relative_tolerance
+from .._steps import OutsideDomain
+from .._validation import count, nonzero_force, positive, relative_tolerance
 from ..structure import Contact, Structure, contact_within
 from .condensation import condensed, stuck_matrix
 from .layout import from_complex, next_sector_operator, to_complex
@@ -142,9 +143,8 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
             if not c.element.has_time_law:
                 raise ValueError(f"element={c.element!r}: {type(c.element).__name__} has no time-domain force law, "
                                  f"so it works at harmonics=1 only, got harmonics={H}")
+    nonzero_force(structure.force)
     if response_dof is None:
-        if not np.any(structure.force):
-            raise ValueError("force must not be all zero (nothing excites the structure), got force=0")
         response_dof = int(np.argmax(np.abs(structure.force)))
     response_dof = structure._dof("response_dof", response_dof)
     return H, int(n_t), response_dof
@@ -283,7 +283,12 @@ class HarmonicBalance:
         return self._condensed(y[:-1].reshape(self.na, self.L), float(y[-1]))
 
     def __call__(self, u: ArrayLike) -> tuple[NDArray, NDArray]:
-        """Scaled residual and its Jacobian in ``u = (X/x_ref, omega/omega_ref)``."""
+        """Scaled residual and its Jacobian in ``u = (X/x_ref, omega/omega_ref)``.
+
+        A negative omega (a continuation's predictor past omega = 0) raises ``OutsideDomain``: the
+        continuation's step failed there and is retried, instead of the elements' ValueError ending it."""
+        if not u[-1] >= 0.0:
+            raise OutsideDomain(f"omega must be >= 0, got omega={float(u[-1]) * self.omega_ref!r}")
         if self.one_dof:
             return self._scaled_one_dof(u)
         xr, wr = self.x_ref, self.omega_ref

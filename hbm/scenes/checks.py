@@ -85,6 +85,19 @@ class Key(NamedTuple):
     doc: str
 
 
+class _GivenInvalid:
+    """The type of :data:`GIVEN_INVALID`."""
+
+    def __repr__(self) -> str:
+        return "GIVEN_INVALID"
+
+
+#: The value a rule sees for a key given with an invalid value: given (not None, which is a key's absent
+#: default), so a model's ``needs`` and the rules that ask whether a key is given do not report a
+#: follow-on problem of a key whose own problem is already said.
+GIVEN_INVALID = _GivenInvalid()
+
+
 def show(v: Any) -> str:
     """A value as it would be written in TOML."""
     if isinstance(v, bool):

@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 from ..structure import Contact
-from .checks import Invalid, OPTIONAL, REQUIRED, SceneError, boolean, choice, show
+from .checks import GIVEN_INVALID, Invalid, OPTIONAL, REQUIRED, SceneError, boolean, choice, show
 from .models import MODELS, Built
 
 #: The keys of a ``[[structure.contacts]]`` entry besides its model's own.
@@ -117,7 +117,7 @@ def check_entries(entries: tuple, path: Any) -> tuple[list, list]:
                 elif key in ENTRY_KEYS:
                     dofs[key] = dof_pair_list(value)
                 else:
-                    given[key] = None  # given, even if invalid (the rules do not repeat its problem)
+                    given[key] = GIVEN_INVALID  # given, even if invalid (the rules do not repeat its problem)
                     params[key] = given[key] = spec.keys[key].check(value)
             except Invalid as exc:
                 problems.append(f"{path}: {at}.{key} = {show(value)}: {exc}")

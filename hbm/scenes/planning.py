@@ -20,6 +20,7 @@ from contact_models import (Bar, CentrifugalLoad, ContactElement, QuadraticLoad,
 from contact_models.quasi_static import StuckContact
 
 from ..blade import Blade
+from .._validation import nonzero_force
 from ..balance.residual import solved_as_one_dof, static_deflection
 from ..cyclic import CyclicStructure
 from ..structure import Structure
@@ -532,6 +533,7 @@ def _structure(scene):
                                     **{k: v for k, v in damping.items() if v is not None})
         if st.get("sectors") is not None:
             s = _sector(st, s, matrices)
+        nonzero_force(s.force)  # (a zero force passes the structure: the balance refuses it, and so does --check)
     except ValueError as exc:
         text = str(exc)
         key = next((k for m, k in _MATRIX_KEYS.items() if text.startswith(f"{m} ")), "[structure]")

@@ -74,7 +74,8 @@ _FIXED: dict[str, dict[str, Key]] = {
                         "[damper]"),
         "response_dof": Key(integer(0), OPTIONAL, "the DOF whose response is reported; default the forced DOF"),
         "sectors": Key(integer(2), OPTIONAL,
-                       "N: the matrices are one sector of a tuned cyclic structure (a bladed disk) of N sectors, "
+                       "N: the matrices are one sector of a tuned cyclic structure (a bladed disk) of N sectors "
+                       "(at most hbm.cyclic.MAX_SECTORS), "
                        "solved as hbm.CyclicStructure; requires structure.engine_order"),
         "engine_order": Key(any_integer, OPTIONAL,
                             "with structure.sectors, required: EO, the engine order of the travelling-wave force "

@@ -18,7 +18,8 @@ from typing import Any, Mapping
 
 from ..balance import presets
 from ..frf import DEFAULT_TOL
-from .checks import TOO_DEEP, Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list, refuse_nesting, show
+from .checks import (GIVEN_INVALID, TOO_DEEP, Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list,
+                     refuse_nesting, show)
 from .contacts import check_entries, same_dof_problem
 from .models import BAR_KEYS, MODELS
 from .schema import REQUIRED_TABLES, SUBTABLES, schema
@@ -346,6 +347,11 @@ class _Rules:
     def has(self, table, key):
         return key in self.given[table]
 
+    def given_values(self, table):
+        """The valid values of ``table`` and ``GIVEN_INVALID`` for each key given with an invalid value: what a
+        model's ``needs`` sees (a key whose value is refused is still given: its problem is said once)."""
+        return {**dict.fromkeys(self.given[table], GIVEN_INVALID), **self.t[table]}
+
     def need(self, table, key, why):
         if not self.has(table, key):
             self.problems.append(f"{self.where(dot(table, key))} is missing: required {why}; "
@@ -376,7 +382,7 @@ class _Rules:
         blade = self._blade(sweep["kind"])
         structure = self._structure(sweep["kind"])
         specs = [MODELS[m] for m in damper["model"]]
-        needs = set().union(*(s.needs(self.t["damper"]) for s in specs)) if specs else set()
+        needs = set().union(*(s.needs(self.given_values("damper")) for s in specs)) if specs else set()
         self._damper(specs, needs, effects)
         has_load = "damper.load" in self.present
         self._load(needs, has_load, load, damper["model"])
@@ -597,7 +603,7 @@ class _Rules:
 
     def _damper(self, specs, needs, effects):
         if "bar" in needs:
-            first = next(s.name for s in specs if "bar" in s.needs(self.t["damper"]))
+            first = next(s.name for s in specs if "bar" in s.needs(self.given_values("damper")))
             why = f"for damper.model = {show(first)}"
             for key in BAR_KEYS:
                 self.need("damper", key, why)
@@ -617,7 +623,7 @@ class _Rules:
 
     def _load(self, needs, has_load, load, models):
         if "load" in needs and not has_load:
-            first = next(m for m in models if "load" in MODELS[m].needs(self.t["damper"]))
+            first = next(m for m in models if "load" in MODELS[m].needs(self.given_values("damper")))
             self.problems.append(f"{self.path}: [damper.load] is missing: required for damper.model = {show(first)} "
                                  "(kind, N, and ratio or q0 and q2 for a quadratic load)")
             return
