@@ -141,8 +141,9 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
         far = float((max if w1 > w0 else min)(run.y[:, -1])) * w_ref
         run = dataclasses.replace(run, status=cont.Status.TURNED_BACK, message=(
             f"{cont.MESSAGES[cont.Status.TURNED_BACK]}: it turned at omega = {far:.6g} rad/s and came back to "
-            f"w0 = {w0:.6g} rad/s before reaching w1 = {w1:.6g} rad/s (a response below what the balance "
-            "resolves, or an omega_range too wide to trace)"))
+            f"w0 = {w0:.6g} rad/s before reaching w1 = {w1:.6g} rad/s: the branch through w0 leaves the range there "
+            "(a fold whose other branch lies beyond w0: start the range outside the folds; or a response below what "
+            "the balance resolves, an omega_range too wide to trace)"))
     if cut is not None:
         run = cut(run, scale)
     if steps["curve_tol"] is not None and len(run.y) > 1:  # every interval checked, split where off
