@@ -133,7 +133,8 @@ class ModelSpec:
         ``[damper]`` keys the model owns: name -> :class:`hbm.scenes.Key`.
     needs : callable
         ``needs(given) -> set`` of ``"bar"``, ``"load"``: what the model needs, given the
-        ``[damper]`` keys the scene sets.
+        ``[damper]`` keys the scene sets (a key set to an invalid value is there as
+        ``hbm.scenes.checks.GIVEN_INVALID``: given, its problem said once; read presence, not values).
     microslip : callable or None
         ``microslip(damper) -> "two-region" | "three-region" | "auto"``: the microslip element
         the model rests on (the topology effect decides it; ``run.micro`` is its element), or None.
