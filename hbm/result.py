@@ -310,7 +310,8 @@ class FrequencyResponse:
         out.error_sources = {k: np.concatenate([f.error_sources[k][lo:hi] for f, lo, hi in segments_of])
                              for k in segments_of[0][0].error_sources}
         if "peak" in out.error_sources:  # the peak's location is a property of the whole curve, not of each segment's
-            out.error_sources["peak"] = errors.peak_location(out.amplitude, out.omega, errors.NEWTON_SHARE * out.rtol)
+            newton = np.concatenate([f._newton_part(slice(lo, hi)) for f, lo, hi in segments_of])
+            out.error_sources["peak"] = errors.peak_location(out.amplitude, out.omega, newton)
             out.error_estimate = errors.total(out.error_sources)
         out.harmonics, out.n_t = max(f.harmonics for f, _, _ in segments_of), max(f.n_t for f, _, _ in segments_of)
         L = 2 * out.harmonics + 1
@@ -545,9 +546,17 @@ class FrequencyResponse:
         if "peak" not in self.error_sources:
             return
         src = self.error_sources["peak"].copy()
-        src[max(i - 1, 0):i + 2] = errors.NEWTON_SHARE * self.rtol
+        at = slice(max(i - 1, 0), i + 2)
+        src[at] = self._newton_part(at)
         self.error_sources = {**self.error_sources, "peak": src}
         self.error_estimate = errors.total(self.error_sources)
+
+    def _newton_part(self, at: slice) -> NDArray[np.float64]:
+        """The Newton tolerance's part of the error at the points ``at`` (``hbm.balance.errors.newton_part``)."""
+        n = len(self.omega[at])
+        if self._problem is None or self._X is None:
+            return np.full(n, errors.NEWTON_SHARE * self.rtol)
+        return errors.newton_part(self._problem, self._X[at], self.rtol)
 
     # ------------------------------------------------------------------ output
     def to_csv(self, path: str | Path, *, case: str | None = None) -> Path:

@@ -28,8 +28,9 @@ periodic response of the physical system, at the point's frequency (``docs/valid
   (the peak lies between them) the parabola through the three points, in the frequency (in the
   chord length along the branch across a fold), bounds how far the peak rises above the sampled
   maximum: ``PEAK_SAFETY (a_v - a_i) / a_v`` with ``a_v`` its vertex (:func:`peak_location`),
-  plus the Newton tolerance; at every other point (and at a maximum at an end of the branch, which is the peak as sampled) the Newton
-  tolerance ``NEWTON_SHARE * rtol`` alone.
+  plus the Newton tolerance's part; at every other point (and at a maximum at an end of the branch, which is the peak as
+  sampled) that part alone: ``NEWTON_SHARE * rtol`` relative to the scale the residual is measured in, the
+  larger of the static deflection and the contact DOFs' first harmonics (:func:`newton_part`).
 
 The estimate's element evaluations are counted in the result's ``nfev``.  ``J`` is the balance's Jacobian in the unknowns of the point (frequency fixed) and ``s_min`` its
 smallest singular value: a force error ``dF`` moves the response by at most ``|dF| / s_min``.
@@ -187,7 +188,7 @@ def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         return out
     amplitude = np.hypot(X[:, problem.dofs.index(problem.response_dof), 1],
                          X[:, problem.dofs.index(problem.response_dof), 2])
-    out["peak"] = peak_location(amplitude, omega, NEWTON_SHARE * rtol)
+    out["peak"] = peak_location(amplitude, omega, newton_part(problem, X, rtol))
     idx = nodes(amplitude)
     idx = np.union1d(idx, onsets(problem, X, omega, idx))
     at = _one_dof if problem.one_dof else _condensed
@@ -223,8 +224,29 @@ def peak_estimate(estimate: NDArray, i: int) -> float:
     return float(np.max(near)) if len(near) and not math.isnan(estimate[i]) else float(estimate[i])
 
 
-def peak_location(amplitude: NDArray, omega: NDArray, newton: float) -> NDArray:
-    """The peak source per point: ``newton`` (the Newton tolerance, relative) everywhere, and at the
+def newton_part(problem: HarmonicBalance, X: NDArray, rtol: float) -> NDArray:
+    """The Newton tolerance's part of each point's error, relative to the response DOF's amplitude ``a``.
+
+    The corrector stops at ``|R| <= NEWTON_SHARE rtol`` in the balance's scaled residual, which is the
+    condensed residual over ``max(x_ref, |X_1|)`` (``HarmonicBalance.__call__``: the static deflection, or the
+    first harmonics of the contact DOFs where they are larger).  With the balance's Jacobian about the
+    identity in those units, a point is off by that tolerance times ``max(x_ref, |X_1|) / a``: the tolerance
+    itself where the response is at least that scale, more where it is far below it (a tail far above
+    resonance, a DOF that barely moves), inf where it is zero.  The one-DOF form's residual is a force
+    relative to the load, of the response's own size: ``NEWTON_SHARE rtol`` at every point."""
+    base = NEWTON_SHARE * rtol
+    if problem.one_dof or len(X) == 0:
+        return np.full(len(X), base)
+    r = problem.dofs.index(problem.response_dof)
+    a = np.hypot(X[:, r, 1], X[:, r, 2])
+    scale = np.maximum(problem.x_ref, np.sqrt(np.sum(X[:, :, 1:3] ** 2, axis=(1, 2))))
+    with np.errstate(divide="ignore"):
+        return base * np.maximum(1.0, scale / a)
+
+
+def peak_location(amplitude: NDArray, omega: NDArray, newton: Any) -> NDArray:
+    """The peak source per point: ``newton`` (the Newton tolerance's part, relative: one number, or one per
+    point, :func:`newton_part`) everywhere, and at the
     sampled maximum ``i`` and its neighbours, when ``i`` is inside the branch, ``newton`` plus
     ``PEAK_SAFETY (a_v - a_i) / a_v``: ``a_v`` the vertex of the parabola through the three points in the
     frequency (where it is monotonic over them; across a fold in the chord length along the branch,
@@ -244,7 +266,7 @@ def peak_location(amplitude: NDArray, omega: NDArray, newton: float) -> NDArray:
     [4.94e-05, 4.94e-05, 4.94e-05]
     """
     n = len(amplitude)
-    out = np.full(n, float(newton))
+    out = np.array(np.broadcast_to(np.asarray(newton, dtype=float), (n,)))
     if n < 3:
         return out
     i = int(np.argmax(amplitude))
@@ -681,5 +703,5 @@ def _model(problem: HarmonicBalance, same: HarmonicBalance, x: NDArray, w: float
     return total
 
 
-__all__ = ["SOURCES", "NODES", "NEWTON_SHARE", "PEAK_SAFETY", "PEAK_SPREAD", "peak_estimate", "estimate", "total",
+__all__ = ["SOURCES", "NODES", "NEWTON_SHARE", "newton_part", "PEAK_SAFETY", "PEAK_SPREAD", "peak_estimate", "estimate", "total",
            "peak_location", "nodes", "onsets", "collected", "stated_error", "heard_line"]
