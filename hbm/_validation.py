@@ -3,7 +3,7 @@ parameter and its value), re-exported so ``hbm`` modules import them from one pl
 
 import numpy as np
 
-from contact_models.numerics.checks import count as _count, finite, flag, nonnegative, number_array, positive
+from contact_models.numerics.checks import count as _count, finite, flag, nonnegative, number_array, positive, shown
 
 number = finite
 
@@ -57,5 +57,6 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     return w0, w1
 
-__all__ = ["count", "nonzero_force", "finite", "flag", "nonnegative", "number", "number_array", "positive", "omega_range_pair", "InputError",
+__all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "shown",
+           "omega_range_pair", "InputError",
            "relative_tolerance", "MIN_RELATIVE_TOL"]

@@ -25,8 +25,8 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from ._validation import count, number_array
-from .structure import Contact, Structure, _check_matrix, _dense, _shown, contact_within
+from ._validation import count, number_array, shown
+from .structure import Contact, Structure, _check_matrix, _dense, contact_within
 
 #: The most sectors a cyclic structure takes: its constructor checks the disk's mass at every nodal diameter
 #: and :meth:`CyclicStructure.full` builds N n DOFs, so the cost grows with N (a bladed disk has tens to a
@@ -47,7 +47,7 @@ def _coupling(name: str, A: Any, n: int) -> NDArray[np.float64]:
     try:  # strings, booleans and None refused, as in M, C, K
         raw = number_array(name, raw)
     except ValueError:
-        raise ValueError(f"{name} must be a square matrix of numbers, got {name}={_shown(A)}") from None
+        raise ValueError(f"{name} must be a square matrix of numbers, got {name}={shown(A)}") from None
     if raw.shape != (n, n):
         raise ValueError(f"{name} must be {n} x {n} like M, got {name} of shape {raw.shape}")
     if not np.all(np.isfinite(raw)):

@@ -28,7 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from contact_models import ContactElement
 
-from ._validation import count, nonnegative, number_array
+from ._validation import count, nonnegative, number_array, shown
 
 #: An eigenvalue of (K, M) below ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest one in magnitude
 #: is negative (K indefinite: :meth:`Structure.natural_frequencies` raises); above it, rounding of
@@ -63,12 +63,6 @@ def _real(name: str, A: Any, what: str) -> Any:
     return A.real
 
 
-def _shown(value: Any) -> str:
-    """``repr(value)``, cut for a message."""
-    r = repr(value)
-    return r if len(r) <= 120 else r[:117] + "..."
-
-
 def _check_matrix(name: str, A: Any, n: int | None) -> Any:
     """Validate one of M, C, K (dense or scipy.sparse): real, square, size n, finite, symmetric."""
     sparse = hasattr(A, "tocsr") and hasattr(A, "nnz")
@@ -81,7 +75,7 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
         try:  # strings, booleans and None refused: numpy would read "2" as 2.0 and True as 1.0
             A = number_array(name, raw)
         except ValueError:
-            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={_shown(A)}") from None
+            raise ValueError(f"{name} must be a square matrix of numbers, got {name}={shown(A)}") from None
     else:
         A = _real(name, A, "matrix")
     shape = A.shape
@@ -158,17 +152,17 @@ class Structure:
         try:
             f = np.asarray(force)
         except (TypeError, ValueError):
-            raise ValueError(f"force must be a vector of {n} numbers, got force={_shown(force)}") from None
+            raise ValueError(f"force must be a vector of {n} numbers, got force={shown(force)}") from None
         if np.iscomplexobj(f) and not np.any(np.imag(f)):
             f = f.real  # a complex force with every phase 0 is the real force, bit for bit
         try:  # as the matrices: no strings, booleans or None read as numbers
             f = (np.asarray(f, dtype=complex) if np.iscomplexobj(f) else number_array("force", f))
         except (TypeError, ValueError):
-            raise ValueError(f"force must be a vector of {n} numbers, got force={_shown(force)}") from None
+            raise ValueError(f"force must be a vector of {n} numbers, got force={shown(force)}") from None
         if f.ndim > 1 or (f.ndim == 0 and n != 1):  # a column or a table is not flattened (its layout is unknown)
             raise ValueError(f"force must be a one-dimensional vector of {n} number{'s' if n != 1 else ''}"
                              f"{' (or one number)' if n == 1 else ''}, got force of shape {f.shape}: "
-                             f"force={_shown(force)}")
+                             f"force={shown(force)}")
         f = f.ravel()
         if f.size != n:
             raise ValueError(f"force must have length n = {n}, got force of length {f.size}")
@@ -218,13 +212,14 @@ class Structure:
         K = _check_matrix("K", K, M.shape[0])
         Md, Kd = _dense(M), _dense(K)
         n = Md.shape[0]
+        bad = ValueError(f"ratios must be one number >= 0 or {n} of them, got ratios={ratios!r}")
         try:  # numbers only: numpy's "could not convert string to float" names no parameter
             z = number_array("ratios", ratios)
         except ValueError:
-            z = np.full(n + 1, np.nan)  # refused below, naming ratios
+            raise bad from None
         z = np.broadcast_to(z, (n,)) if z.ndim == 0 else z
         if z.shape != (n,) or not np.all(np.isfinite(z)) or np.any(z < 0.0):
-            raise ValueError(f"ratios must be one number >= 0 or {n} of them, got ratios={ratios!r}")
+            raise bad
         try:
             lam, Phi = eigh(Kd, Md)
         except np.linalg.LinAlgError:
@@ -360,8 +355,8 @@ class Structure:
 
 def _one_damping(damping: Any, rayleigh: Any, modal_damping: Any) -> None:
     if sum(v is not None for v in (damping, rayleigh, modal_damping)) != 1:
-        shown = "a matrix" if damping is not None and not isinstance(damping, (str, Path)) else repr(damping)
-        raise ValueError(f"give exactly one of damping, rayleigh and modal_damping, got damping={shown}, "
+        given = "a matrix" if damping is not None and not isinstance(damping, (str, Path)) else repr(damping)
+        raise ValueError(f"give exactly one of damping, rayleigh and modal_damping, got damping={given}, "
                          f"rayleigh={rayleigh!r}, modal_damping={modal_damping!r}")
 
 

@@ -96,7 +96,7 @@ def number_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     except (TypeError, ValueError):
         kind = "?"
     if kind not in "fiu":
-        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={_shown(value)}")
+        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={shown(value)}")
     return arr.astype(float, copy=False)
 
 
@@ -122,8 +122,8 @@ def nonnegative_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     return arr
 
 
-def _shown(value: object) -> str:
-    """``repr(value)``, cut for a message."""
+def shown(value: object) -> str:
+    """``repr(value)``, cut to 120 characters for a message."""
     r = repr(value)
     return r if len(r) <= 120 else r[:117] + "..."
 
