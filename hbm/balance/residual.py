@@ -121,8 +121,8 @@ def samples_within_bound(n_t: Any) -> Any:
     """``n_t`` as given (None, or an int <= ``MAX_BALANCE_SAMPLES``; its lower bound 2H + 2 is
     :func:`check_problem`'s): the bound on what a caller asks for, checked in the public solves
     (the error estimate's own balances sample up to ``SAMPLING_SHIFTS`` times more)."""
-    if n_t is not None and not isinstance(n_t, bool) and isinstance(n_t, (int, np.integer)) and n_t > 4:
-        count("n_t", n_t, 4, MAX_BALANCE_SAMPLES, "hbm.balance.residual.MAX_BALANCE_SAMPLES")
+    if isinstance(n_t, (int, np.integer)) and not isinstance(n_t, bool) and n_t > MAX_BALANCE_SAMPLES:
+        count("n_t", n_t, 4, MAX_BALANCE_SAMPLES, "hbm.balance.residual.MAX_BALANCE_SAMPLES")  # (raises, naming it)
     return n_t
 
 
