@@ -451,15 +451,20 @@ class _Trace:
     def _end_from(self, y_pred) -> bool:
         """A predictor past the bound where the residual is not defined (``OutsideDomain``): the point on
         the bound from the chord to it, ending the run (True), as an accepted step past it would."""
-        y, p = self.y, self.p
-        bound = self.hi if y_pred[p] > self.hi else self.lo
-        guess = y + (bound - y[p]) / (y_pred[p] - y[p]) * (y_pred - y)
-        end = _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count)
+        end, bound = self._on_bound(self.y, y_pred)
         if not end.converged:
             return False
         self.nsteps += 1
         self._append_end(end, bound)
         return True
+
+    def _on_bound(self, inside, outside) -> tuple:
+        """Newton on the bound that the chord from ``inside`` to ``outside`` crosses, from where it crosses:
+        ``(the Newton result, the bound)``."""
+        p = self.p
+        bound = self.hi if outside[p] > self.hi else self.lo
+        guess = inside + (bound - inside[p]) / (outside[p] - inside[p]) * (outside - inside)
+        return _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count), bound
 
     def _append_end(self, end, bound) -> None:
         """The converged point ``end`` on ``bound``: the last point of a run that reached the end."""
@@ -474,11 +479,7 @@ class _Trace:
 
     def _end_on_bound(self, y_prev) -> None:
         """The end of the parameter range: the last point goes on the bound."""
-        y, p, hi = self.y, self.p, self.hi
-        bound = hi if y[p] > hi else self.lo
-        frac = (bound - y_prev[p]) / (y[p] - y_prev[p])
-        guess = y_prev + frac * (y - y_prev)
-        end = _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count)
+        end, bound = self._on_bound(y_prev, self.y)
         if end.converged:
             self._append_end(end, bound)
             return
