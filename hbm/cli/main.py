@@ -121,9 +121,10 @@ def _single_mode_curve(frf: Any, case: Any, tol: float) -> Any:
     """The single-mode curve drawn beside a refined ``frf`` (its error in the legend): the whole range as
     ``frequency_response`` traced it first, with the element as given (``frf._work[0]``, ``hbm.adapt.along``), where
     that trace is the one a call with ``model="given"`` makes (the element as given, which keeps its H along the
-    curve); else that call.  The first trace's estimate at the points beside the peak holds its sampled peak's
-    location where the call's holds the located one; neither is drawn, and the legend's largest estimate lies
-    away from the peak."""
+    curve); else that call.  The two differ only in the estimate's peak part at the points beside the peak (the
+    first trace's sampled peak there, the call's located one): the curve drawn is the same, and so is the legend's
+    largest estimate wherever it lies away from those points (the default case's: 10 % at 38387 rad/s, 32 points
+    below the peak)."""
     first = frf._work[0]
     if all(c.element is case.element for c in first.contacts) and not may_climb(first.contacts, False):
         return first
