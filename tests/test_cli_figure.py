@@ -9,7 +9,7 @@ import pytest
 from hbm import frequency_response
 from hbm.cli.cases import default_case
 from hbm.cli.figure import DPI, SIZE, job_figure
-from hbm.cli.main import main
+from hbm.cli.main import _single_mode_curve, main
 
 
 @pytest.fixture(scope="module")
@@ -46,6 +46,15 @@ def test_the_figure_is_the_curve_and_beside_a_refined_one_the_single_mode_curve(
     assert a.shape == b.shape == size
     # the single-mode curve drawn in grey beside the refined one, on the whole curve and in the inset
     assert _grey(b) > _grey(a) + 150
+
+
+def test_the_single_mode_curve_beside_a_refined_one_is_the_one_a_given_call_traces(job):
+    # the job draws the refined call's first trace, not a second call: the same points and the same legend number
+    case, given, peak = job
+    beside = _single_mode_curve(peak, case, 1e-2)
+    assert beside is not peak and set(np.asarray(beside.point_models).tolist()) == {"TwoRegionMicroslip"}
+    assert np.array_equal(beside.omega, given.omega) and np.array_equal(beside.amplitude, given.amplitude)
+    assert float(max(beside.error_estimate)) == float(max(given.error_estimate))
 
 
 def test_a_figure_that_cannot_be_written_raises(job, tmp_path):

@@ -17,12 +17,23 @@ from __future__ import annotations
 import threading
 import time
 from dataclasses import dataclass
-from typing import Any, Callable, TextIO
+from typing import TYPE_CHECKING, Any, Callable, TextIO
 
-from ..scenes.running import Progress, duration
-from ..study import StudyProgress
+if TYPE_CHECKING:  # only named in annotations: the default job draws its line without importing scenes or studies
+    from ..scenes.running import Progress
+    from ..study import StudyProgress
 
 __all__ = ["ProgressLine", "Elapsed", "ticking", "duration", "SHOW_AFTER", "INTERVAL", "PLAIN_INTERVAL", "TICK"]
+
+
+def __getattr__(name: str) -> Any:
+    """``duration`` (``hbm.scenes.running.duration``, named here as before), imported when it is asked for."""
+    if name == "duration":
+        from ..scenes.running import duration  # lazily: the default job imports no scene module
+
+        return duration
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 #: Seconds after which the line appears (shorter sweeps print nothing).
 SHOW_AFTER = 1.0
