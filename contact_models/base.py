@@ -88,10 +88,9 @@ class ContactElement(ABC):
     :attr:`has_time_law`, :meth:`fourier`, :meth:`fourier_derivatives`, :meth:`fourier_derivatives_unchecked`,
     :meth:`stuck_stiffness`, :meth:`slip_amplitude`, :meth:`linear_amplitude`, :meth:`linear_coefficients`,
     :meth:`reference_amplitude`, :meth:`hysteresis`, :meth:`harmonic_force`, :meth:`harmonic_force_unchecked`,
-    :attr:`even_block_optional` and :meth:`model_error`, and the refinement questions declared with their defaults
-    (:attr:`exact_harmonics`, :attr:`discretised`, :attr:`harmonics_reach`, :attr:`model_name`, :meth:`harmonics_law`,
-    :meth:`refined_model`,
-    :meth:`start_rung`,
+    :attr:`even_block_optional`, :meth:`harmonic_force_deferred` and :meth:`model_error`, and the refinement
+    questions declared with their defaults (:attr:`exact_harmonics`, :attr:`discretised`, :attr:`harmonics_reach`,
+    :attr:`model_name`, :meth:`harmonics_law`, :meth:`refined_model`, :meth:`start_rung`,
     :meth:`refined_rung`, :attr:`at_top_rung`, :attr:`refined_no_further`, :meth:`harmonics_of`, :meth:`for_balance`);
     docs/extending.md, section 1, states each hook and default.
 
@@ -411,6 +410,19 @@ class ContactElement(ABC):
         kw = {} if even_block or not self.even_block_optional else {"even_block": False}  # only elements that take it
         return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol, **kw), X, omega)
 
+    def harmonic_force_deferred(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL
+                                ) -> tuple[NDArray, NDArray, NDArray, Callable[[NDArray], NDArray] | None]:
+        """:meth:`harmonic_force_unchecked` with ``even_block=False`` (the same input and answer), and ``whole``:
+        how that same answer's dF/dX is made whole later.  None where it is whole already (an element without
+        :attr:`even_block_optional`, or an ``X`` with even harmonics); else a callable ``whole(dF_dX)`` returning
+        dF/dX (that answer's, as given) with its even-even block filled, whose ``nbytes`` is what it keeps.  A
+        balance that keeps its Jacobians for Hill's method (``HarmonicBalance.keep_jacobians``) asks this and
+        keeps ``whole`` with dF/dX: Hill's method needs the block (docs/multiharmonic.md, "Half-wave symmetry")
+        that the trace does without, at the points only.  F, dF/dX and dF/domega are checked as
+        :meth:`harmonic_force_unchecked`'s; what ``whole`` returns is the element's own."""
+        F, J, Fw, whole = self._harmonic_force_deferred(X, omega, n_t, rtol)
+        return (*harmonics_checked(self, (F, J, Fw), X, omega), whole)
+
     # ------------------------------------------------------------------ hooks
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float) -> tuple[NDArray, NDArray, NDArray]:
         """``(F, dF/dX, dF/domega)`` for checked input: the describing function at H = 1 (no time
@@ -423,6 +435,17 @@ class ContactElement(ABC):
             return self._describing_force(X, omega, rtol)
         tangent = self._masing_tangent if self._is_masing() else (lambda x, w, ext: self._periodic_tangent(x, w))
         return aft_scalar(tangent, X, omega, n_t, masing=self._is_masing())
+
+    def _harmonic_force_deferred(self, X: NDArray, omega: float, n_t: int, rtol: float):
+        """Hook of :meth:`harmonic_force_deferred`: ``(F, dF/dX, dF/domega, whole)``.  Default: an element
+        without :attr:`even_block_optional` answers whole (``whole`` None); one with it answers with
+        ``even_block=False`` and is asked again, whole, when ``whole`` is called (:class:`AskedWhole`).  An
+        element that can fill its block from what it keeps of this answer, for less than a new answer
+        (``AllModeMicroslip``: no new nested solve), implements it."""
+        if not self.even_block_optional:
+            return (*self._harmonic_force(X, omega, n_t, rtol), None)
+        return (*self._harmonic_force(X, omega, n_t, rtol, even_block=False),
+                AskedWhole(self, X, omega, n_t, rtol))
 
     # ----------------------------------------------------------------- private
     def _require_time_law(self, detail: str = "") -> None:
@@ -667,7 +690,23 @@ PUBLIC_HOOKS = {
     "refined_model": "_refined_model",
     "harmonic_force": "_harmonic_force",
     "harmonic_force_unchecked": "_harmonic_force",
+    "harmonic_force_deferred": "_harmonic_force_deferred",
 }
+
+
+class AskedWhole:
+    """The default ``whole`` of :meth:`ContactElement.harmonic_force_deferred`: the element asked again at
+    the same input with the even-even block (``harmonic_force_unchecked(..., even_block=True)``), keeping
+    only that input (``nbytes``)."""
+
+    __slots__ = ("element", "X", "omega", "n_t", "rtol", "nbytes")
+
+    def __init__(self, element: ContactElement, X: NDArray, omega: float, n_t: int, rtol: float) -> None:
+        self.element, self.X, self.omega, self.n_t, self.rtol = element, np.array(X, dtype=float), omega, n_t, rtol
+        self.nbytes = self.X.nbytes
+
+    def __call__(self, dF_dX: NDArray) -> NDArray:
+        return self.element.harmonic_force_unchecked(self.X, self.omega, self.n_t, self.rtol)[1]
 
 
 def _missing_time_law(cls: type) -> list[str]:

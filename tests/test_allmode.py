@@ -349,10 +349,10 @@ def test_without_the_even_block_the_force_and_the_odd_block_are_the_whole_answer
         np.testing.assert_array_equal(a, b)
 
 
-def test_hill_on_an_all_mode_curve_asks_again_for_the_whole_jacobians(monkeypatch):
-    """A frequency response keeps no Jacobian of the all-mode bar (its even block is left out) and Hill's
-    method asks the element again, whole, at its points: the curve, its exponents and its stability are
-    those of the balance that kept the whole Jacobians (the element without ``even_block_optional``)."""
+def test_hill_on_an_all_mode_curve_is_that_of_the_balance_that_kept_whole_jacobians(monkeypatch):
+    """A frequency response keeps the all-mode bar's Jacobians without their even block and fills it at
+    its points for Hill's method: the curve, its exponents and its stability are those of the balance that
+    kept the whole Jacobians (the element without ``even_block_optional``)."""
     from hbm import Contact, Structure, frequency_response
     from hbm.cli.cases import default_case
 
@@ -372,6 +372,37 @@ def test_hill_on_an_all_mode_curve_asks_again_for_the_whole_jacobians(monkeypatc
     np.testing.assert_allclose(frf.amplitude, ref.amplitude, rtol=1e-10)
     np.testing.assert_array_equal(stable, ref_stable)
     np.testing.assert_allclose(exponents, ref_exponents, rtol=0, atol=1e-8 * np.max(np.abs(ref_exponents)))
+
+
+def test_hill_fills_the_even_block_of_the_kept_all_mode_jacobians_without_a_nested_solve(monkeypatch):
+    """The balance keeps, with each all-mode Jacobian it traced without its even-even block, what the block
+    needs (``harmonic_force_deferred``: the odd solution's nodes), and Hill's method fills the block from it:
+    no nested solve at the curve's points, and the exponents (to 1e-10 of the largest) and the stability of
+    the element asked again whole at the same points (``even_block=True``: a new solve each)."""
+    from hbm import Contact, Structure, frequency_response
+    from hbm.cli.cases import default_case
+    from hbm.result import STABILITY_TOL
+
+    case = default_case()
+    b = case.blade
+    structure = Structure([[b.mass]], [[b.damping]], [[b.stiffness]], force=[b.force])
+    el = AllModeMicroslip(case.element.bar, UNIFORM, cells=8, harmonics=7)
+    frf = frequency_response(structure, [Contact(el, dof=0)], (38300.0, 38900.0), harmonics=3)
+    assert frf.success and len(frf) > 5
+    solves, solve = [0], FixedBar.solve
+
+    def counted(self, *args, **kw):
+        solves[0] += 1
+        return solve(self, *args, **kw)
+
+    monkeypatch.setattr(FixedBar, "solve", counted)
+    exponents, stable = frf.exponents, frf.stable
+    assert solves[0] == 0
+    assert frf._problem._jacobians == {}  # forgotten once Hill's method has run: asked again below
+    again = frf._hill(range(len(frf)))
+    assert solves[0] > 5  # every point where the bar slips: a new solve
+    np.testing.assert_allclose(exponents, again, rtol=0, atol=1e-10 * np.max(np.abs(again)))
+    np.testing.assert_array_equal(stable, again[:, 0].real <= STABILITY_TOL * frf.omega)
 
 
 def test_end_at_rest_is_exact_with_the_stuck_jacobian_and_no_warning():

@@ -44,7 +44,7 @@ class _Linear:
 
 
 def test_the_contract_table_names_methods_and_hooks_of_the_base():
-    assert len(PUBLIC_HOOKS) == 14  # model_error and refined_model joined the twelve of the first contract
+    assert len(PUBLIC_HOOKS) == 15  # model_error, refined_model and harmonic_force_deferred joined the first twelve
     for name, hook in PUBLIC_HOOKS.items():
         assert name in ContactElement.__dict__ and hook.startswith("_") and hasattr(ContactElement, hook)
 

@@ -56,7 +56,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from ..accuracy import AccuracyWarning
 from ..bar import Bar
-from ..base import DEFAULT_RTOL, ContactElement
+from ..base import DEFAULT_RTOL, AskedWhole, ContactElement
 from ..loads import bound_load
 from ..numerics.checks import count, flag, nonnegative, positive
 from ..numerics.fe_bar import _Discretisation
@@ -65,7 +65,7 @@ from .accuracy import (FLOOR, cells_error, harmonics_error, relative, richardson
 from .balance import aft_matrices
 from .compiled import kernels
 from .estimate import model_errors
-from .memo import ForceMemo, truncated
+from .memo import EvenBlockLater, ForceMemo, truncated
 from .rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
 from .segments import KINDS as LINEAR_KINDS, UnresolvedWave
 from .solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_samples, end_vector,
@@ -371,21 +371,37 @@ class AllModeMicroslip(ContactElement):
         dF/dX 0 instead of its elimination on the even harmonics; a fixed rung's answers are kept by their exact
         motion and frequency (``ForceMemo``).
         """
+        return self._answer(X, omega, even_block)[:3]
+
+    def _harmonic_force_deferred(self, X: NDArray[np.float64], omega: float, n_t: int, rtol: float) -> tuple:
+        """``_harmonic_force(..., even_block=False)`` and how to fill its even-even block later
+        (``ContactElement.harmonic_force_deferred``): where this call solved in the odd basis, from what is
+        kept of its solution (``EvenBlockLater``: one evaluation and one elimination, no nested Newton
+        solve); where it answered from the memo, by asking again whole (``AskedWhole``); None where the
+        answer is whole (X with even harmonics)."""
+        F, J, dw, later = self._answer(X, omega, False)
+        return F, J, dw, (AskedWhole(self, X, omega, n_t, rtol) if later is True else later)
+
+    def _answer(self, X: NDArray[np.float64], omega: float, even_block: bool) -> tuple:
+        """``(F, dF/dX, dF/domega, later)`` of ``_harmonic_force``; ``later``: None where dF/dX is whole, an
+        ``EvenBlockLater`` where its even block was left out of a solve, True where it was left out of an
+        answer from the memo (which keeps no solution)."""
         odd = is_odd(X, EVEN_ROUNDING)
         even_block = even_block or not odd
         key = ForceMemo.key(X, omega, max((X.size - 1) // 2, self.harmonics), odd, even_block) if self._fixed else None
         if key is not None and (kept := self._memo.get(key, X.size)) is not None:
-            return truncated(kept, X, odd)
+            return (*truncated(kept, X, odd), None if even_block else True)
         sol, short = self._resolved(X, float(omega), odd)
         if not sol.success:  # numerical trouble, not bad input: a continuation shrinks its step on it
             raise FloatingPointError(f"AllModeMicroslip: {sol.message} (omega={omega!r}, X={X!r})")
         self._warn([short] if short else [])
+        level = self._level(sol.cells, sol.H)
         if odd and even_block:
-            self._level(sol.cells, sol.H).even_block(sol)
+            level.even_block(sol)
         force = (sol.F, sol.dF_dX, sol.dF_domega)
         if key is not None:  # kept for an estimate's Newton step at 2H + 1 harmonics too
             self._memo.put(key, force, 2 * X.size + 1)
-        return truncated(force, X, odd)
+        return (*truncated(force, X, odd), None if even_block else EvenBlockLater(level, sol))
 
     even_block_optional = True  # harmonic_force_unchecked(..., even_block=False) passes even_block on to the hook
 

@@ -1,12 +1,13 @@
 """What a fixed rung of the all-mode bar returned, kept and read again: ``ForceMemo`` (the forces by their exact
-end motion and frequency) and ``truncated`` (a solution's force on the harmonics of the motion asked for)."""
+end motion and frequency), ``truncated`` (a solution's force on the harmonics of the motion asked for) and
+``EvenBlockLater`` (what an answer without dF/dX's even-even block needs to fill it later)."""
 
 from __future__ import annotations
 
 import numpy as np
 from numpy.typing import NDArray
 
-from .solve import even_part, pad_harmonics
+from .solve import AllModeSolution, FixedBar, even_part, pad_harmonics
 
 
 def truncated(force: tuple, X: NDArray[np.float64], odd: bool) -> tuple:
@@ -71,3 +72,33 @@ class ForceMemo:
         while self._bytes > self.max_bytes and len(self._kept) > 1:
             k = next(iter(self._kept))
             self._bytes -= len(k[-1]) + sum(a.nbytes for a in self._kept.pop(k))
+
+
+class EvenBlockLater:
+    """The even-even block of an odd-basis answer's dF/dX, filled when asked
+    (``ContactElement.harmonic_force_deferred``; ``AllModeMicroslip._harmonic_force_deferred``).
+
+    A balance leaves the block out while it traces a half-wave symmetric curve (docs/multiharmonic.md,
+    "Half-wave symmetry"), and Hill's method needs it at the curve's points.  At a point, the
+    solution's dF/dX is block diagonal in (odd, even) coefficients, so the block is independent of
+    the odd blocks the answer carries: it is the Schur complement of the even blocks at that same
+    solution (``FixedBar.even_block``).  This keeps what that needs, the free nodes' odd
+    coefficients and the end motion (``nbytes``), not the solution: ``whole(dF_dX)`` evaluates the
+    bar's balance once at them and eliminates (``FixedBar.even_block_at``; the block the solve's own
+    ``even_block`` gives, to the bit) instead of a new nested Newton solve, and returns ``dF_dX``
+    (the answer's, on its m coefficients, ``truncated``) with the block's first rows and columns in."""
+
+    __slots__ = ("bar", "U", "X", "omega", "nbytes")
+
+    def __init__(self, bar: FixedBar, sol: AllModeSolution) -> None:
+        self.bar, self.omega = bar, sol.omega
+        self.U = sol.U[:-1, bar.basis(True).idx]  # (a copy: fancy indexing)
+        self.X = sol.X.copy()
+        self.nbytes = self.U.nbytes + self.X.nbytes
+
+    def __call__(self, dF_dX: NDArray[np.float64]) -> NDArray[np.float64]:
+        even, block = self.bar.even_block_at(self.U, self.X, self.omega)
+        k = int(np.searchsorted(even, dF_dX.shape[0]))  # the even coefficients among the answer's m
+        whole = np.array(dF_dX, dtype=float)
+        whole[np.ix_(even[:k], even[:k])] = block[:k, :k]
+        return whole

@@ -517,6 +517,29 @@ class FixedBar:
         full-basis Jacobian at the solution (one evaluation and one block elimination).  The even
         basis and its prefix sums are kept; the return map's state is the one the odd solve kept
         where ``sol`` is the last solution of this bar (the same samples: no second march)."""
+        last, state = self._last
+        even, block = self._even_elimination(sol.U, sol.omega, state if last is sol else None)
+        sol.dF_dX[np.ix_(even, even)] = block
+
+    def even_block_at(self, U: Array, X: Array, omega: float) -> tuple[NDArray[np.intp], Array]:
+        """``(even, block)``: the indices of the even coefficients in the full layout and the block
+        ``even_block`` fills there, from what is left of an odd-basis solution without the solution:
+        its free nodes' odd coefficients ``U`` (n, s; ``sol.U[:-1, basis(True).idx]``) and its end
+        motion ``X`` (full layout) at ``omega``.  The balance is evaluated once at U (its return map's
+        state, the one the solve converged on), then the block eliminated as in ``even_block``: no
+        Newton step, so a caller that kept U (``memo.EvenBlockLater``) fills the block of an answer
+        given without it for the cost of one evaluation and one elimination."""
+        b = self.basis(True)
+        state = self.evaluate(U, X[b.idx], omega, b, jacobian=False).state
+        full = None
+        if state is None:  # (an evaluation that keeps no state: the full basis's march on the whole U)
+            full = np.zeros((U.shape[0] + 1, X.size))
+            full[:-1, b.idx], full[-1] = U, X
+        return self._even_elimination(full, omega, state)
+
+    def _even_elimination(self, U: Array | None, omega: float, state: tuple | None) -> tuple[NDArray[np.intp], Array]:
+        """``(even, dF_even/dX_even)`` at the odd solution whose return map's ``state`` (odd basis) is
+        given, else at its nodes' coefficients ``U`` (n + 1, full layout), marched again."""
         d = self.disc
         b = self.basis(False)
         if self._even is None:
@@ -524,12 +547,10 @@ class FixedBar:
             Ee, Pe = b.E[:, even], b.P[even]
             self._even = (even, Ee, Pe, jacobian_prefix(Ee, Pe))
         even, Ee, Pe, prefix = self._even
-        last, state = self._last
-        if last is sol and state is not None:
+        if state is not None:
             Je = jenkins_jacobian(state, d.kc, Ee, Pe, prefix)
         else:
-            _, Je, _ = jenkins_harmonic(sol.U, d.kc, d.p, b.E, b.P, jacobian_basis=(Ee, Pe), prefix=prefix)
-            state = None
-        lin, c = self.linear(sol.omega, b.order[even], "even")[:2]
+            _, Je, _ = jenkins_harmonic(U, d.kc, d.p, b.E, b.P, jacobian_basis=(Ee, Pe), prefix=prefix)
+        lin, c = self.linear(omega, b.order[even], "even")[:2]
         fac = Coupled(with_diagonal(Je[:-1], lin[:-1]), c, stuck_prefix(state), True)
-        sol.dF_dX[np.ix_(even, even)] = np.diag(lin[-1]) + Je[-1] - fac.coupled_last_inverse()
+        return even, np.diag(lin[-1]) + Je[-1] - fac.coupled_last_inverse()

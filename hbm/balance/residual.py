@@ -71,8 +71,12 @@ STUCK_FD_STEP = 1e-5
 #: Relative change of omega (or, next, of a) after which the element's omega-derivative is retaken.
 OMEGA_REFRESH = 3e-3
 AMP_REFRESH = 3e-2
-#: Bytes of the elements' Jacobians of the balance's evaluations kept for Hill's method (oldest dropped).
-JACOBIAN_KEEP_BYTES = 4 * 2**20
+#: Bytes of the elements' Jacobians of the balance's evaluations kept for Hill's method, with what an element
+#: keeps to make one whole (``ContactElement.harmonic_force_deferred``; the oldest dropped first).  The all-mode
+#: bar keeps its odd solution's nodes, cells x (H + 1) floats (32 KiB at 128 cells and 31 harmonics, as much as
+#: a Jacobian of 31 harmonics), at every evaluation of a trace, whose corrector evaluates several times a point:
+#: the default job's longest all-mode trace needs about 9 MiB to hold all its points.
+JACOBIAN_KEEP_BYTES = 16 * 2**20
 #: The most harmonics a balance takes (its unknowns grow as 2H + 1 per contact DOF, a step's cost as their cube).
 MAX_BALANCE_HARMONICS = 256
 #: The most AFT samples per period a balance takes (each evaluation holds arrays of n_t by 2H + 1 per
@@ -325,10 +329,6 @@ class HarmonicBalance:
         and times ``exp(-i mu)`` (complex for mu != 0; ``hbm.balance.stability.HillProblem``)."""
         return self._assemble(X, omega, True, False, True, family)[1]
 
-    def _whole_jacobian(self, el: ContactElement, asked: bool = False) -> bool:
-        """dF/dX whole from ``el``: where asked, or kept for Hill where ``el`` cannot leave its even block out."""
-        return asked or (self.keep_jacobians and not el.even_block_optional)
-
     def _assemble(self, X: NDArray, omega: float, perturbation: bool, force: bool,
                   whole: bool, family: float = 0.0) -> tuple[NDArray, NDArray, NDArray]:  # whole: with the even block
         na, L = self.na, self.L
@@ -337,18 +337,23 @@ class HarmonicBalance:
         Fw = np.zeros((na, L))
         for e, (el, comps) in enumerate(self._attach):
             Xrel = self.relative_motion(e, X)
-            c, linear, ask = len(comps), False, self._whole_jacobian(el, whole)
+            c, linear = len(comps), False
             if perturbation and c == 1:
                 x = to_time(Xrel[0], max(self.n_t, 4 * L))
                 linear = 0.5 * float(np.ptp(x)) <= el.linear_amplitude(omega)
             key = (e, omega, Xrel.tobytes()) if self.keep_jacobians else None  # (for Hill's method)
             if not force and not linear and key in self._jacobians:  # that same call's Jacobian, bit for bit
-                f, J, fw = np.zeros(c * L), self._jacobians[key], np.zeros(c * L)
+                f, J, fw = np.zeros(c * L), self._kept_jacobian(key), np.zeros(c * L)
             elif force or not linear:
-                f, J, fw = el.harmonic_force_unchecked(Xrel if c > 1 else Xrel[0], omega, self.n_t, self.rtol, ask)
+                x = Xrel if c > 1 else Xrel[0]
+                if key is not None and not perturbation and not whole:  # kept for Hill, made whole there
+                    f, J, fw, later = el.harmonic_force_deferred(x, omega, self.n_t, self.rtol)
+                    self._keep_jacobian(key, J, later)
+                else:
+                    f, J, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, whole)
+                    if key is not None and not perturbation:
+                        self._keep_jacobian(key, J)
                 self.nfev += 1
-                if not perturbation and key is not None and ask:
-                    self._keep_jacobian(key, J)
             else:  # the forces are not asked for
                 f, fw = np.zeros(L), np.zeros(L)
             if linear:
@@ -407,14 +412,25 @@ class HarmonicBalance:
         """Drop the elements' Jacobians kept for :meth:`perturbation_jacobian` (Hill's method has run)."""
         self._jacobians, self._jacobian_bytes = {}, 0
 
-    def _keep_jacobian(self, key: tuple, J: NDArray) -> None:
-        """Keep an element's Jacobian (a copy) at key (contact, omega, its X's bytes), for ``keep_jacobians``."""
+    def _keep_jacobian(self, key: tuple, J: NDArray, later: Callable[[NDArray], NDArray] | None = None) -> None:
+        """Keep an element's Jacobian (a copy) at key (contact, omega, its X's bytes), for ``keep_jacobians``, with
+        ``later``, how the element makes it whole (``ContactElement.harmonic_force_deferred``; None: it is)."""
         kept = self._jacobians
         if key not in kept:
-            kept[key] = J = np.array(J, dtype=float)
-            self._jacobian_bytes += J.nbytes
+            kept[key] = np.array(J, dtype=float), later
+            self._jacobian_bytes += _kept_bytes(*kept[key])
         while self._jacobian_bytes > JACOBIAN_KEEP_BYTES:
-            self._jacobian_bytes -= kept.pop(next(iter(kept))).nbytes
+            self._jacobian_bytes -= _kept_bytes(*kept.pop(next(iter(kept))))
+
+    def _kept_jacobian(self, key: tuple) -> NDArray:
+        """The whole Jacobian kept at key: as kept, or made whole by the element (then kept so, for the next
+        family of perturbations of a sector)."""
+        J, later = self._jacobians[key]
+        if later is not None:
+            J = later(J)
+            self._jacobians[key] = J, None
+            self._jacobian_bytes -= int(later.nbytes)
+        return J
 
     # ------------------------------------------------------------------ condensed form
     def _condensed(self, X: NDArray, omega: float) -> tuple[NDArray, NDArray]:
@@ -447,11 +463,12 @@ class HarmonicBalance:
         ``c_h = F_c - i F_s``), without the complex copies."""
         a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
         el = self._attach[0][0]
-        whole = self._whole_jacobian(el)
-        f, dF, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, whole)
+        if self.keep_jacobians:  # under the key _assemble looks up (its Xrel is [x]), made whole there
+            f, dF, fw, later = el.harmonic_force_deferred(x, omega, self.n_t, self.rtol)
+            self._keep_jacobian((0, omega, x.tobytes()), dF, later)
+        else:
+            f, dF, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, False)
         self.nfev += 1
-        if whole:  # under the key _assemble looks up (its Xrel is [x])
-            self._keep_jacobian((0, omega, x.tobytes()), dF)
         p = self._swap  # cos <-> sin of each harmonic; the static term onto itself (b[0] = 0)
         fp = f[p]
         R = x + (a * f + b * fp)
@@ -657,6 +674,11 @@ def linear_response(blade: Any, omega: ArrayLike, stiffness: complex | Callable[
     omega = np.asarray(omega, dtype=float)
     kd = stiffness(omega) if callable(stiffness) else stiffness
     return blade.force / (blade.stiffness + kd - blade.mass * omega**2 + 1j * blade.damping * omega)
+
+
+def _kept_bytes(J: NDArray, later: Any) -> int:
+    """Bytes of a kept Jacobian and of what its element keeps to make it whole."""
+    return J.nbytes + (0 if later is None else int(later.nbytes))
 
 
 def _finite_or_zero(k: Any) -> float:
