@@ -233,7 +233,7 @@ class AllModeMicroslip(ContactElement):
     # ------------------------------------------------------------ rungs along a curve
     def start_rung(self, omega_range: tuple[float, float]) -> AllModeMicroslip | None:
         """The cheap fixed rung a frequency response over ``omega_range`` (rad/s) starts on where this element chooses
-        its cells and harmonics (both None): ``START_HARMONICS`` = 15 harmonics and ``START_CELLS`` = 32 cells, doubled
+        its cells and harmonics (both None): ``START_HARMONICS`` = 7 harmonics and ``START_CELLS`` = 32 cells, doubled
         while fewer than the wavelength of its top harmonic at the top of the range asks for (``start_cells``); the
         same ``tol``; None where cells or harmonics are given.  Refined along the curve (``refined_rung``; see
         docs/theory.md, "The all-mode bar along a curve").  A curve follows: the compiled kernels load now."""

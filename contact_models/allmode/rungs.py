@@ -36,10 +36,10 @@ from typing import Callable
 #: at the top of the range asks for more: ``accuracy.start_cells``).  32 cells: below that the exact
 #: segments' estimate is read from rungs that are pre-asymptotic where the bar slips, and over-predicts
 #: the cells a window needs (docs/performance.md, "The all-mode FRF: the bar's exact segments").
-#: 15 harmonics: a harmonic up to 15 meeting a mode of the bar is then in the rung itself, and the
-#: windows beside a resonance are traced on it once where a rung of 7 (read against 15) asks for
-#: them to be traced again on 31 (docs/theory.md, "The all-mode bar along a curve").
-START_HARMONICS = 15
+#: 7 harmonics: its harmonics part is read against 15 (``accuracy.harmonics_error``), so it sees a
+#: harmonic up to 15 meet a mode of the bar, which a reading from 1, 3, 7 cannot, at the cost of a
+#: 7-harmonic nested solve (docs/theory.md, "The all-mode bar along a curve").
+START_HARMONICS = 7
 START_CELLS = 32
 #: The most cells a rung along a curve gets (the element alone: ``element.MAX_CELLS``): where a
 #: harmonic of the drive meets a mode of the bar the estimate stops falling with the cells, so finer
