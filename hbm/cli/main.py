@@ -440,7 +440,7 @@ def _model_argument(parser, suppress=True):
                         help="where the default job uses the damper's refined model, the bar with every mode "
                              "(frequency_response's model=): 'auto' (default: in every window of the curve where "
                              "the single-mode bar is further than its share of tol from it, the physical curve; "
-                             "about 10 s), 'peak' (in those of the windows that hold the peak, the single-mode bar "
+                             "about 9 s), 'peak' (in those of the windows that hold the peak, the single-mode bar "
                              "elsewhere; for the default case as long as 'auto': the windows that hold its peak span "
                              "its slip range) or 'given' (the single-mode bar only; about 1 s). Times: CPU seconds "
                              "of the whole job, benchmarks/bench_stated_times.py")
