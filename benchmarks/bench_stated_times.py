@@ -6,7 +6,7 @@ Each variant (``--model auto``, the default; ``peak``; ``given``) runs as a new 
 tree first on ``PYTHONPATH``, in its own output folder, ``--rounds`` times interleaved (peak,
 peak, given, auto, ...); printed per variant, as one Markdown row: the median wall-clock time
 (``time.perf_counter`` around the child), the median CPU time of the child (user + system,
-``resource.getrusage(RUSAGE_CHILDREN)``: the forked figure process counts), and the job's last
+``resource.getrusage(RUSAGE_CHILDREN)``), and the job's last
 line (its peak).  The machine's load average before and after is printed too: on a loaded
 machine the wall time grows with the load and the CPU time is the steadier number.
 """
