@@ -345,15 +345,7 @@ class HarmonicBalance:
             if not force and not linear and key in self._jacobians:  # that same call's Jacobian, bit for bit
                 f, J, fw = np.zeros(c * L), self._kept_jacobian(key), np.zeros(c * L)
             elif force or not linear:
-                x = Xrel if c > 1 else Xrel[0]
-                if key is not None and not perturbation and not whole:  # kept for Hill, made whole there
-                    f, J, fw, later = el.harmonic_force_deferred(x, omega, self.n_t, self.rtol)
-                    self._keep_jacobian(key, J, later)
-                else:
-                    f, J, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, whole)
-                    if key is not None and not perturbation:
-                        self._keep_jacobian(key, J)
-                self.nfev += 1
+                f, J, fw = self._asked(el, Xrel if c > 1 else Xrel[0], omega, None if perturbation else key, whole)
             else:  # the forces are not asked for
                 f, fw = np.zeros(L), np.zeros(L)
             if linear:
@@ -407,6 +399,21 @@ class HarmonicBalance:
                 dF[p, :, qb, :] -= TJ
                 dF[q, :, pb, :] -= Jab @ T
                 dF[q, :, qb, :] += Jab
+
+    def _asked(self, el: ContactElement, x: NDArray, omega: float, key: tuple | None,
+               whole: bool) -> tuple[NDArray, NDArray, NDArray]:
+        """``el``'s answer ``(f, dF/dX, df/domega)`` at ``x``, ``omega`` (counted in ``nfev``), with dF/dX's even
+        block where ``whole``; kept under ``key`` for Hill's method where one is given, with how ``el`` makes a
+        Jacobian without its even block whole at the point (``ContactElement.harmonic_force_deferred``)."""
+        if key is None or whole:
+            f, J, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, whole)
+            later = None
+        else:
+            f, J, fw, later = el.harmonic_force_deferred(x, omega, self.n_t, self.rtol)
+        self.nfev += 1
+        if key is not None:
+            self._keep_jacobian(key, J, later)
+        return f, J, fw
 
     def forget_jacobians(self) -> None:
         """Drop the elements' Jacobians kept for :meth:`perturbation_jacobian` (Hill's method has run)."""
@@ -463,12 +470,8 @@ class HarmonicBalance:
         ``c_h = F_c - i F_s``), without the complex copies."""
         a, b, aw, bw, xl, dxl = self.cond.real_at(omega)
         el = self._attach[0][0]
-        if self.keep_jacobians:  # under the key _assemble looks up (its Xrel is [x]), made whole there
-            f, dF, fw, later = el.harmonic_force_deferred(x, omega, self.n_t, self.rtol)
-            self._keep_jacobian((0, omega, x.tobytes()), dF, later)
-        else:
-            f, dF, fw = el.harmonic_force_unchecked(x, omega, self.n_t, self.rtol, False)
-        self.nfev += 1
+        key = (0, omega, x.tobytes()) if self.keep_jacobians else None  # the key _assemble looks up (its Xrel is [x])
+        f, dF, fw = self._asked(el, x, omega, key, False)
         p = self._swap  # cos <-> sin of each harmonic; the static term onto itself (b[0] = 0)
         fp = f[p]
         R = x + (a * f + b * fp)
