@@ -213,16 +213,23 @@ class _Piece:
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if not rising and np.any(np.diff(s) <= 0.0):
-            # A fold inside the slip path: the tip displacement falls while the slip zone grows,
-            # so the slip front would jump (snap through) at constant displacement.  At omega = 0
-            # this is the static bar's own behaviour (a load falling steeply away from where slip
-            # starts); at omega > 0 inertia adds it near a resonance of the damper bar.
-            cause = ("the load falls too steeply along the slip path" if omega == 0.0 else
-                     "the load, or inertia near a resonance of the damper bar")
+            # A fold inside the slip path: the tip displacement falls while the slip zone grows.
+            # At omega = 0 the bar's own static curve cannot fold (docs/theory.md, section 6):
+            # before the fold a second slip zone opens inside a stuck region, where mu q/(k u)
+            # dips on its own (a load falling steeply away from where slip starts), and the
+            # single-zone curve past that point is not the bar's.  At omega > 0 inertia adds
+            # folds near a resonance of the damper bar.
+            fall = np.max(np.maximum.accumulate(s) - s) / abs(s[-1])
+            if omega == 0.0:
+                raise FloatingPointError(
+                    f"the loading curve folds back inside the slip path at omega={omega!r} (the tip displacement "
+                    f"falls by {fall:.2g} relative while the slip zone grows): a second slip zone opens inside a "
+                    "stuck region first, where mu q/(k u) dips on its own (the load falls too steeply along the "
+                    "slip path); the two- and three-region models describe one slip zone")
             raise FloatingPointError(
                 f"the loading curve folds back inside the slip path at omega={omega!r} (the tip displacement "
-                f"falls by {(np.max(np.maximum.accumulate(s) - s)) / abs(s[-1]):.2g} relative while the slip zone "
-                f"grows, so the slip front would jump; cause: {cause}): outside the single-mode model's range")
+                f"falls by {fall:.2g} relative while the slip zone grows, so the slip front would jump; cause: "
+                "the load, or inertia near a resonance of the damper bar): outside the single-mode model's range")
 
     def _s(self, t):
         return float(self.evaluate(np.array([t]))[0][0])

@@ -199,16 +199,27 @@ def test_convex_load_whose_left_end_slips_is_refused(bar):
 def test_static_fold_is_refused_up_front_with_a_true_message():
     """Hypothesis found this concave load (ratio 2.5) on a stiff layer (lambda L = 2.49).
 
-    Its static (omega = 0) loading curve folds: slip starts at the tip, and as the slip zone moves
-    into the lighter middle the tip displacement falls, so the slip front would jump.  The element
-    refuses it when built, naming the bar, lambda L and the load, without blaming a resonance.
+    Slip starts at the tip, and the single-zone (two-region) curve folds back as the zone moves
+    into the lighter middle.  The bar's own static curve does not: the static reference (any
+    number of slip zones) opens a second zone inside the stuck region, at 0.848 L when
+    x = 1.00075 mu q(L)/k, and its tip force keeps rising.  The element refuses the load when
+    built, naming the bar, lambda L, the load and the second zone, without blaming a resonance.
     """
     bar = Bar(E=1e10, rho=1000, A=1e-4, L=0.1, k=6.2e8, beta=0, mu=1)
+    load = QuadraticLoad(q0=16.67, q2=10, L=0.1)
+    tip = bar.mu * load.q(bar.L) / bar.k
+    x, _, _, slip = static_state(bar, load, 1.0005 * tip)
+    assert len(slip_zones(x, slip)) == 1
+    x, _, _, slip = static_state(bar, load, 1.001 * tip)
+    inner, end = slip_zones(x, slip)
+    assert 0.0 < inner[0] < inner[1] < end[0] < bar.L == end[1]
+    forces = [static_state(bar, load, f * tip)[2] for f in (1.0005, 1.00075, 1.001, 1.002)]
+    assert np.all(np.diff(forces) > 0.0)
     with pytest.raises(ValueError) as info:
-        ThreeRegionMicroslip(bar, QuadraticLoad(q0=16.67, q2=10))
+        ThreeRegionMicroslip(bar, load)
     msg = str(info.value)
     assert msg.startswith("bar, load:") and "omega=0.0" in msg and "lambda L=2.49" in msg
-    assert "q0=16.67" in msg and "resonance" not in msg
+    assert "q0=16.67" in msg and "resonance" not in msg and "a second slip zone opens inside a stuck region" in msg
     # the same bar with the uniform load is accepted, and so is the ratio-12 load on it
     assert ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=1.0, ratio=12.0)).slip_amplitude() > 0.0
 
