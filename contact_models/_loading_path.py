@@ -178,6 +178,8 @@ class _Piece:
                 # Gross-slip fold: with little or no beta spring and inertia, s peaks just before
                 # L1 = 0 (relative overshoot 4e-7 at 0.06 omega_c, 4e-4 at 0.3 omega_c for beta = 0).
                 # Past the peak the last stuck zone cannot hold: gross slip starts at the peak.
+                if not last:  # a piece handing on to another: a stuck zone at its end gave way
+                    self._check_excited_end(tt, s)
                 if not last or s[j] - s[-1] > MAX_GROSS_DIP * abs(s[j]):
                     raise FloatingPointError(
                         f"the loading curve folds back before gross slip at omega={omega!r} by "
@@ -211,16 +213,23 @@ class _Piece:
         self.s0, self.s1 = float(s[0]), float(s[-1])
         self.F0, self.F1 = float(F[0]), float(F[-1])
         if not rising and np.any(np.diff(s) <= 0.0):
-            # A fold inside the slip path: the tip displacement falls while the slip zone grows,
-            # so the slip front would jump (snap through) at constant displacement.  At omega = 0
-            # this is the static bar's own behaviour (a load falling steeply away from where slip
-            # starts); at omega > 0 inertia adds it near a resonance of the damper bar.
-            cause = ("the load falls too steeply along the slip path" if omega == 0.0 else
-                     "the load, or inertia near a resonance of the damper bar")
+            # A fold inside the slip path: the tip displacement falls while the slip zone grows.
+            # At omega = 0 the bar's own static curve cannot fold (docs/theory.md, section 6):
+            # before the fold a second slip zone opens inside a stuck region, where mu q/(k u)
+            # dips on its own (a load falling steeply away from where slip starts), and the
+            # single-zone curve past that point is not the bar's.  At omega > 0 inertia adds
+            # folds near a resonance of the damper bar.
+            fall = np.max(np.maximum.accumulate(s) - s) / abs(s[-1])
+            if omega == 0.0:
+                raise FloatingPointError(
+                    f"the loading curve folds back inside the slip path at omega={omega!r} (the tip displacement "
+                    f"falls by {fall:.2g} relative while the slip zone grows): a second slip zone opens inside a "
+                    "stuck region first, where mu q/(k u) dips on its own (the load falls too steeply along the "
+                    "slip path); the two- and three-region models describe one slip zone")
             raise FloatingPointError(
                 f"the loading curve folds back inside the slip path at omega={omega!r} (the tip displacement "
-                f"falls by {(np.max(np.maximum.accumulate(s) - s)) / abs(s[-1]):.2g} relative while the slip zone "
-                f"grows, so the slip front would jump; cause: {cause}): outside the single-mode model's range")
+                f"falls by {fall:.2g} relative while the slip zone grows, so the slip front would jump; cause: "
+                "the load, or inertia near a resonance of the damper bar): outside the single-mode model's range")
 
     def _s(self, t):
         return float(self.evaluate(np.array([t]))[0][0])
@@ -256,6 +265,10 @@ class _Piece:
                 f"L1 = {L1c / bar.L:.3f} L) at omega={self.omega!r}, before gross slip; the interface then "
                 "has slip zones at both ends, which the two- and three-region models do not describe "
                 f"(q(0) = {float(load.q(0.0)):.4g} N/m is too small)")
+
+    def _check_excited_end(self, t, s):
+        """The stick condition at the excited end x = L along the table (t, s), for a piece
+        with a stuck zone there; default: none (the stuck zone is at x = 0)."""
 
     def boundaries(self, t):
         """(L1, L2) at parameter t in [0, 1] (t = 0 at the piece's start)."""
@@ -438,6 +451,30 @@ class _ThreeRegionPiece(_Piece):
             L1, dL1 = _chebyshev_sum(2.0 * t.real - 1.0, self.coef, self.dcoef)
             return L1 + 1j * t.imag * dL1, L2
         return _chebyshev_sum(2.0 * np.asarray(t, dtype=float) - 1.0, self.coef)[0], L2
+
+    def _check_excited_end(self, t, s):
+        """The right stuck region [L2, L] must stay stuck at x = L: k x <= mu q(L) along the path.
+
+        There u = x, and at L2 = L the slip condition there is k x = mu q(L) (Eq. 21), so the
+        path ends exactly at that limit: a tip displacement above it before L2 = L is the
+        loading curve folding back before its end.  The excited end then slips on its own, a
+        second slip zone beside [L1, L2] (when slip starts inside, close to the end, and the
+        load there is barely heavier than the onset needs), which the three-region model does
+        not describe.  At omega = 0 the bar's true curve does not fold (docs/theory.md, section 6).
+        """
+        bar, L = self.el.bar, self.el.bar.L
+        limit = bar.mu * float(self.el.load.q(L)) / bar.k
+        over = s > limit
+        if not over.any():  # a fold within rounding of the limit: the caller's message says how deep
+            return
+        i = int(np.argmax(over))
+        tc = brentq(lambda u: self._s(u) - limit, t[i - 1], t[i], xtol=1e-14) if i > 0 else t[0]
+        L1, L2 = (float(np.real(b)) for b in self.boundaries(tc))
+        raise FloatingPointError(
+            f"the excited end x = L starts slipping too, at tip amplitude {limit:.4g} m (k x = mu q(L)), while the "
+            f"slip zone is [L1, L2] = [{L1 / L:.4f}, {L2 / L:.4f}] L (omega={self.omega!r}): the single slip zone's "
+            f"loading curve rises {(s.max() - limit) / limit:.2g} (relative) above that and folds back before L2 = L; "
+            "the interface has two slip zones there, which the three-region model does not describe")
 
     @staticmethod
     def _fit_L1(el, omega, x_star, tol=1e-13):

@@ -1,12 +1,14 @@
 """Two- and three-region microslip elements: limits, properties, hard cases, paper findings."""
 
 import math
+import re
 
 import numpy as np
 import pytest
 
 from contact_models import Bar, QuadraticLoad, ThreeRegionMicroslip, TwoRegionMicroslip, UniformLoad
 from conftest import BAR
+from _static_bar import slip_zones, static_state
 
 FREQS = [0.0, 0.01, 0.2, 0.3, 0.5]  # in omega_c
 
@@ -197,18 +199,64 @@ def test_convex_load_whose_left_end_slips_is_refused(bar):
 def test_static_fold_is_refused_up_front_with_a_true_message():
     """Hypothesis found this concave load (ratio 2.5) on a stiff layer (lambda L = 2.49).
 
-    Its static (omega = 0) loading curve folds: slip starts at the tip, and as the slip zone moves
-    into the lighter middle the tip displacement falls, so the slip front would jump.  The element
-    refuses it when built, naming the bar, lambda L and the load, without blaming a resonance.
+    Slip starts at the tip, and the single-zone (two-region) curve folds back as the zone moves
+    into the lighter middle.  The bar's own static curve does not: the static reference (any
+    number of slip zones) opens a second zone inside the stuck region, at 0.848 L when
+    x = 1.00075 mu q(L)/k, and its tip force keeps rising.  The element refuses the load when
+    built, naming the bar, lambda L, the load and the second zone, without blaming a resonance.
     """
     bar = Bar(E=1e10, rho=1000, A=1e-4, L=0.1, k=6.2e8, beta=0, mu=1)
+    load = QuadraticLoad(q0=16.67, q2=10, L=0.1)
+    tip = bar.mu * load.q(bar.L) / bar.k
+    x, _, _, slip = static_state(bar, load, 1.0005 * tip)
+    assert len(slip_zones(x, slip)) == 1
+    x, _, _, slip = static_state(bar, load, 1.001 * tip)
+    inner, end = slip_zones(x, slip)
+    assert 0.0 < inner[0] < inner[1] < end[0] < bar.L == end[1]
+    forces = [static_state(bar, load, f * tip)[2] for f in (1.0005, 1.00075, 1.001, 1.002)]
+    assert np.all(np.diff(forces) > 0.0)
     with pytest.raises(ValueError) as info:
-        ThreeRegionMicroslip(bar, QuadraticLoad(q0=16.67, q2=10))
+        ThreeRegionMicroslip(bar, load)
     msg = str(info.value)
     assert msg.startswith("bar, load:") and "omega=0.0" in msg and "lambda L=2.49" in msg
-    assert "q0=16.67" in msg and "resonance" not in msg
+    assert "q0=16.67" in msg and "resonance" not in msg and "a second slip zone opens inside a stuck region" in msg
     # the same bar with the uniform load is accepted, and so is the ratio-12 load on it
     assert ThreeRegionMicroslip(bar, QuadraticLoad.from_ratio(N=1.0, ratio=12.0)).slip_amplitude() > 0.0
+
+
+def test_excited_end_that_slips_too_is_refused_naming_the_second_slip_zone():
+    """Hypothesis found this ratio-2 load on a stiff layer (lambda L = 2.07, beta = 0).
+
+    Slip starts inside, at x* = 0.943 L, only just before the excited end would (a_min is 6e-5
+    below mu q(L)/k).  The slip zone [L1, L2] grows, but the tip reaches k x = mu q(L) before the
+    zone reaches x = L: the end then slips on its own, a second slip zone, which the three-region
+    model does not describe.  The static reference (any number of slip zones) shows the two
+    zones; the element refuses the load when built, naming the end, the amplitude and the zone.
+    """
+    bar = Bar(E=1e10, rho=1e3, A=1e-4, L=0.1, k=4.2745e8, beta=0.0, mu=1.0)
+    load = QuadraticLoad(q0=15.0, q2=7.5, L=0.1)
+    tip = bar.mu * load.q(bar.L) / bar.k  # k u(L) = mu q(L): the end's own slip limit
+    x, _, _, slip = static_state(bar, load, tip * (1.0 - 1e-9))
+    (zone,) = slip_zones(x, slip)  # one interior zone up to that amplitude
+    x, _, _, slip = static_state(bar, load, tip * (1.0 + 2e-6))
+    inner, end = slip_zones(x, slip)  # just past it: the end slips too, apart from the inner zone
+    assert inner[1] < end[0] < bar.L == end[1]
+    # the static curve itself does not fold: the tip force rises through the second zone's opening
+    forces = [static_state(bar, load, tip * f)[2] for f in (1.0 - 1e-5, 1.0, 1.0 + 1e-5, 1.0 + 1e-4)]
+    assert np.all(np.diff(forces) > 0.0)
+    with pytest.raises(ValueError) as info:
+        ThreeRegionMicroslip(bar, load)
+    msg = str(info.value)
+    found = re.search(r"x = L starts slipping too, at tip amplitude (\S+) m .*\[L1, L2\] = \[(\S+), (\S+)\] L "
+                      r"\(omega=0\.0\)", msg)
+    assert found and msg.startswith("bar, load:") and "lambda L=2.067" in msg and "resonance" not in msg
+    assert float(found[1]) == pytest.approx(tip, rel=5e-4)  # printed to 4 digits
+    # printed to 4 decimals of L; the reference's cells are 5e-6 L
+    assert float(found[2]) * bar.L == pytest.approx(zone[0], abs=1e-4 * bar.L)
+    assert float(found[3]) * bar.L == pytest.approx(zone[1], abs=1e-4 * bar.L)
+    # a little more E (lambda L = 2.047): the inner zone reaches the end first, and the load is accepted
+    softer = Bar(E=1.02e10, rho=1e3, A=1e-4, L=0.1, k=4.2745e8, beta=0.0, mu=1.0)
+    assert ThreeRegionMicroslip(softer, load).gross_slip_amplitude() > tip
 
 
 def test_the_loading_curve_and_its_boundaries_refuse_a_displacement_that_is_not_a_finite_number(two):
