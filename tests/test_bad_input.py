@@ -1,0 +1,76 @@
+"""Bad input at the front door: each refusal a ValueError naming the parameter and its value, and what
+was computed before a failure kept (a callback that raises ends the run, it does not lose the curve)."""
+
+import math
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+from contact_models import AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Macroslip, NumericalMicroslip, UniformLoad
+from contact_models.allmode.solve import MAX_MESH
+from contact_models.numerics.checks import count
+from hbm import Blade, Contact, Structure, frequency_response
+from hbm.continuation import Status, continuation
+
+from conftest import BAR
+
+
+def _jenkins():
+    return Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01]), [Contact(Macroslip(1.0, 0.02), dof=0)]
+
+
+class _Stop(Exception):
+    pass
+
+
+def _raising_after(n):
+    seen = []
+
+    def callback(point):
+        seen.append(point.omega)
+        if len(seen) == n:
+            raise _Stop("enough points")
+
+    return callback, seen
+
+
+# ---------------------------------------------------------------- the work an element may start, bounded
+def test_count_names_its_bound():
+    assert count("cells", 64, 2, 128, "X.MAX") == 64
+    with pytest.raises(ValueError, match=r"^cells must be an integer in 2..128, got cells=129 \(the bound is X.MAX: "):
+        count("cells", 129, 2, 128, "X.MAX")
+    with pytest.raises(ValueError, match=r"^cells must be an integer >= 2, got cells=1$"):
+        count("cells", 1, 2, 128, "X.MAX")
+
+
+@pytest.mark.parametrize("kw", [dict(cells=10**9, harmonics=3), dict(cells=10**9), dict(cells=20, harmonics=10**9),
+                                dict(harmonics=10**6), dict(cells=20, harmonics=3, n_t=4 * 10**9)])
+def test_an_all_mode_bar_too_large_for_the_memory_is_refused_when_built(kw):
+    bar = Bar(**BAR)
+    given = ", ".join(f"{k}={v!r}" for k, v in {"cells": None, "harmonics": None, **kw}.items())
+    with pytest.raises(ValueError, match=rf"^{re.escape(given)}: a bar of .* more than .*the bound is "
+                                         r"contact_models.allmode.solve.MAX_MESH"):
+        AllModeMicroslip(bar, UniformLoad(N=100.0), **kw)
+
+
+def test_the_largest_reference_bars_are_still_built():
+    bar = Bar(**BAR)
+    for cells, H in ((8192, 63), (4096, 31), (1024, 63)):
+        assert cells * (2 * H + 1) ** 2 <= MAX_MESH
+        AllModeMicroslip(bar, UniformLoad(N=100.0), cells=cells, harmonics=H)
+
+
+def test_the_normal_all_mode_bar_is_bounded_too():
+    bar = Bar(**BAR)
+    with pytest.raises(ValueError, match=r"^cells=1000000000, harmonics=15, n_t=240: .*MAX_MESH"):
+        AllModeMicroslip2D(bar, UniformLoad(N=100.0), kn=2.0e9, cells=10**9)
+
+
+def test_the_numerical_bar_takes_the_shared_bounded_count():
+    bar = Bar(**BAR)
+    assert NumericalMicroslip(bar, UniformLoad(N=100.0), cells=20.0).cells == 20
+    for cells in (math.inf, math.nan, 2.5, True):
+        with pytest.raises(ValueError, match=rf"^cells must be an integer >= 2, got cells={re.escape(repr(cells))}$"):
+            NumericalMicroslip(bar, UniformLoad(N=100.0), cells=cells)
