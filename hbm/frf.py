@@ -25,6 +25,7 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
+from .continuation import Status
 from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
 from ._validation import nonnegative, omega_range_pair, positive, relative_tolerance
@@ -229,7 +230,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         ``callback(point)`` with each accepted point (a :class:`hbm.Point`), in continuation order:
         as it is accepted, or where the balance may solve a window again (``tol`` without
         ``harmonics``, ``model="auto"``) once the run ends, the final points in order (their
-        harmonics zero-padded to the largest H).
+        harmonics zero-padded to the largest H).  An exception it raises ends the run at that point
+        (``success`` False, ``status`` ``hbm.continuation.Status.CALLBACK_RAISED``, the exception in
+        ``message`` and the warning); the points computed are kept.
     response_dof : int, optional
         The DOF whose response is reported.  Default the forced DOF.
     stability : bool, optional
@@ -533,10 +536,12 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
     parts = []
     if len(frf) == 0:
         parts.append(f"no point was computed: {frf.message}")
-    elif not frf.success:
+    elif not frf._work[0]._run.success:
         w0, w1 = omega_range
         parts.append(f"the branch stopped at omega = {float(frf.omega[-1]):.6g} rad/s, before the end of omega_range "
                      f"({w0:.6g}, {w1:.6g}) ({frf._work[0]._run.message}); the points before are kept")
+    elif not frf.success:  # the whole curve traced, the callback failed while it was streamed
+        parts.append(frf.message)
     pk = frf._peak
     why = [] if pk is None else [r for r in pk.message.split("; ") if r and "estimated error" not in r]
     if why:  # (an estimate above tol at the peak is said with the curve's below)
@@ -652,15 +657,22 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
 
 def _stream(frf: FrequencyResponse, callback: Callable[[Point], None]) -> None:
     """The final points to ``callback``, in order (their harmonics padded with zeros to the result's
-    largest H)."""
-    if frf._segments_of is None:
-        report = _reporter(callback, frf._problem)
-        for u, rnorm in zip(frf._run.y, frf.residual_norm):
-            report(u, rnorm)
-        return
+    largest H).  An exception the callback raises ends the stream and the result's success
+    (``Status.CALLBACK_RAISED``, the message says at which point and what it raised): every point stays."""
+    report = _reporter(callback, frf._problem) if frf._segments_of is None else None
     for i, w in enumerate(frf.omega):
-        callback(Point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]),
-                       frf._X[i, frf._r].copy()))
+        try:
+            if report is not None:
+                report(frf._run.y[i], frf.residual_norm[i])
+            else:
+                callback(Point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]),
+                               frf._X[i, frf._r].copy()))
+        except Exception as exc:  # noqa: BLE001 - the caller's code: any Exception is said, nothing computed is lost
+            frf.status = Status.CALLBACK_RAISED
+            frf.message = (f"the callback raised an exception ({type(exc).__name__}: {exc}) at omega = {float(w):.9g} "
+                           f"rad/s, point {i + 1} of {len(frf)} of the final curve as it was streamed to it, which "
+                           f"ends the stream; every point was computed and is kept (the trace: {frf.message})")
+            return
 
 
 def _reporter(callback: Callable[[Point], None], problem: HarmonicBalance) -> Callable:

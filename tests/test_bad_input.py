@@ -36,6 +36,63 @@ def _raising_after(n):
     return callback, seen
 
 
+# ---------------------------------------------------------------- the callback raises: the curve is kept
+def test_a_callback_that_raises_ends_the_run_and_keeps_its_points():
+    s, contacts = _jenkins()
+    callback, seen = _raising_after(20)
+    with pytest.warns(AccuracyWarning, match=r"the branch stopped at omega = .*_Stop: enough points.*the points "
+                                             r"before are kept"):
+        frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None, callback=callback)
+    assert not frf.success and frf.status == Status.CALLBACK_RAISED
+    assert len(frf) == 20 and frf.omega[-1] == pytest.approx(seen[-1])  # the point it was called with is kept
+    assert "the callback raised an exception" in frf.message and "_Stop: enough points" in frf.message
+    assert np.all(np.isfinite(frf.amplitude))
+    assert math.isfinite(frf.peak().amplitude) and frf.peak().omega <= frf.omega[-1]
+
+
+def test_a_callback_that_raises_while_the_final_points_stream_keeps_every_point():
+    s, contacts = _jenkins()  # tol without harmonics: the points are streamed once the run ends
+    ref = frequency_response(s, contacts, omega_range=(0.6, 1.8))
+    callback, _ = _raising_after(5)
+    with pytest.warns(AccuracyWarning, match=r"the callback raised an exception \(_Stop: enough points\) at omega = "
+                                             r"[0-9.]+ rad/s, point 5 of"):
+        frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), callback=callback)
+    assert not frf.success and frf.status == Status.CALLBACK_RAISED
+    assert len(frf) == len(ref)  # every point computed is kept
+    np.testing.assert_allclose(frf.amplitude, ref.amplitude)
+
+
+def test_a_keyboard_interrupt_in_the_callback_goes_through():
+    s, contacts = _jenkins()
+
+    def callback(point):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None, callback=callback)
+
+
+def test_the_continuation_core_keeps_the_points_when_on_point_raises():
+    def circle(y):  # x^2 + lam^2 = 1
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    calls = []
+
+    def on_point(y, rnorm):
+        calls.append(y.copy())
+        if len(calls) == 4:
+            raise ValueError("stop here")
+
+    run = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9), on_point=on_point)
+    assert run.status == Status.CALLBACK_RAISED and not run.success
+    assert len(run.y) == 4 and "ValueError: stop here" in run.message
+    np.testing.assert_array_equal(run.y[-1], calls[-1])
+
+    first = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9),
+                         on_point=lambda y, r: 1 / 0)  # at the start point already
+    assert first.status == Status.CALLBACK_RAISED and len(first.y) == 1 and "ZeroDivisionError" in first.message
+
+
 # ---------------------------------------------------------------- the work an element may start, bounded
 def test_count_names_its_bound():
     assert count("cells", 64, 2, 128, "X.MAX") == 64
