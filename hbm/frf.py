@@ -28,7 +28,7 @@ from . import adapt as along  # the module (hbm.adapt); frequency_response's ada
 from .continuation import Status
 from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
-from ._validation import nonnegative, omega_range_pair, positive, relative_tolerance
+from ._validation import MIN_RELATIVE_TOL, nonnegative, omega_range_pair, positive, relative_tolerance
 from .balance.presets import DEFAULT_RTOL, MAX_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
 from .balance.residual import HarmonicBalance, as_contacts, as_structure, samples_within_bound
 from .blade import Blade
@@ -203,7 +203,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         ``(w0, w1)`` in rad/s, >= 0 and different; traced from w0 to w1 (either way).
     tol : float, {"fast", "default", "precise"} or None, optional
         The target relative error of the response amplitude against the true periodic response of
-        the physical system (all harmonics, the physical contact), in (0, 1); a name stands for its
+        the physical system (all harmonics, the physical contact), in [1e-10, 1) (``MIN_RELATIVE_TOL``,
+        the bound of the command line and the scenes); a name stands for its
         number (``PRESETS``: "fast" 1e-2, "default" 1e-3, "precise" 1e-5) and adapts exactly as that
         number does.  Default "default" (``DEFAULT_TOL`` = 1e-3).  Without ``harmonics``, a
         structure's H is chosen along the curve (``hbm.adapt``): the whole range at 3 (a blade at
@@ -409,6 +410,9 @@ def tolerance_of(tol: Any) -> float | None:
     tol = positive("tol", tol)
     if tol >= 1.0:
         raise ValueError(f"tol must be < 1 (a relative error), got tol={tol!r}")
+    if tol < MIN_RELATIVE_TOL:  # the command line's and the scenes' bound: no point would converge
+        raise ValueError(f"tol must be >= {MIN_RELATIVE_TOL:g} (below it double precision cannot meet the Newton "
+                         f"tolerance the balance derives from it), got tol={tol!r}")
     return tol
 
 

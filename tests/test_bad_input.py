@@ -93,6 +93,22 @@ def test_the_continuation_core_keeps_the_points_when_on_point_raises():
     assert first.status == Status.CALLBACK_RAISED and len(first.y) == 1 and "ZeroDivisionError" in first.message
 
 
+# ---------------------------------------------------------------- the options, refused by name
+@pytest.mark.parametrize("tol", [1e-11, 1e-300, 5e-324])
+def test_a_tol_below_what_double_precision_meets_is_refused_as_the_command_line_refuses_it(tol):
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^tol must be >= 1e-10 .*got tol={re.escape(repr(tol))}$"):
+        frequency_response(s, contacts, omega_range=(0.6, 1.8), tol=tol)
+
+
+def test_the_smallest_tol_is_still_taken():
+    blade = Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        frf = frequency_response(blade, omega_range=(90.0, 110.0), tol=1e-10)
+    assert frf.success and frf.tolerance == 1e-10
+
+
 # ---------------------------------------------------------------- the work an element may start, bounded
 def test_count_names_its_bound():
     assert count("cells", 64, 2, 128, "X.MAX") == 64
