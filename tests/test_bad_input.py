@@ -109,6 +109,13 @@ def test_the_smallest_tol_is_still_taken():
     assert frf.success and frf.tolerance == 1e-10
 
 
+@pytest.mark.parametrize("contacts", [{}, "two", b"two"])
+def test_contacts_of_the_wrong_type_are_refused_naming_contacts(contacts):
+    blade = Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0)
+    with pytest.raises(ValueError, match=rf"^contacts must be a contact element .*got contacts={re.escape(repr(contacts))}$"):
+        frequency_response(blade, contacts, omega_range=(90.0, 110.0))
+
+
 # ---------------------------------------------------------------- the work an element may start, bounded
 def test_count_names_its_bound():
     assert count("cells", 64, 2, 128, "X.MAX") == 64
