@@ -36,8 +36,8 @@ Optional scaling: ``scale(y)`` returns positive weights ``s``; the geometry of s
 (tangent, step length, turn, constraint) is measured in ``u = y / s(y_i)``.
 
 A failure (step below ``min_step``, the first point not converging, an exception raised by
-``on_point``) ends the branch with a ``message`` and every point computed so far; reaching the end of the parameter range puts the
-last point exactly on the bound.
+``on_point``) ends the branch with a ``message`` and every point computed so far; reaching the
+end of the parameter range puts the last point exactly on the bound.
 """
 
 from __future__ import annotations
@@ -157,7 +157,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     Folds are located to ``fold_xtol`` (relative arclength) when ``locate_folds``.
     ``on_point(y, residual_norm)``: called with each point and its ``|R|`` as soon as it is accepted,
     in order (streaming); an exception it raises (an ``Exception``: not ``KeyboardInterrupt``) ends the
-    run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.  ``curve_tol``: the step's error control (see module); None: off.
+    run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.
+    ``curve_tol``: the step's error control (see module); None: off.
     ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
     """
     if not callable(residual):

@@ -8,7 +8,8 @@ import warnings
 import numpy as np
 import pytest
 
-from contact_models import AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Macroslip, NumericalMicroslip, UniformLoad
+from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Macroslip, NumericalMicroslip,
+                            UniformLoad)
 from contact_models.allmode.solve import MAX_MESH
 from contact_models.numerics.checks import count
 from hbm import Blade, Contact, Structure, frequency_response
@@ -112,7 +113,8 @@ def test_the_smallest_tol_is_still_taken():
 @pytest.mark.parametrize("contacts", [{}, "two", b"two"])
 def test_contacts_of_the_wrong_type_are_refused_naming_contacts(contacts):
     blade = Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0)
-    with pytest.raises(ValueError, match=rf"^contacts must be a contact element .*got contacts={re.escape(repr(contacts))}$"):
+    got = re.escape(repr(contacts))
+    with pytest.raises(ValueError, match=rf"^contacts must be a contact element .*got contacts={got}$"):
         frequency_response(blade, contacts, omega_range=(90.0, 110.0))
 
 

@@ -68,8 +68,8 @@ from .estimate import model_errors
 from .memo import EvenBlockLater, ForceMemo, truncated
 from .rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
 from .segments import KINDS as LINEAR_KINDS, UnresolvedWave
-from .solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_mesh, checked_samples,
-                    end_vector, is_odd, pad_harmonics, scaled_samples, transferred)
+from .solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_mesh,
+                    checked_samples, end_vector, is_odd, pad_harmonics, scaled_samples, transferred)
 
 if TYPE_CHECKING:
     from ..loads import QuadraticLoad, UniformLoad

@@ -171,8 +171,9 @@ def checked_mesh(cells: int, harmonics: int, n_t: int, given: str) -> None:
     size = cells * max((2 * harmonics + 1) ** 2, n_t)
     if size > MAX_MESH:
         raise ValueError(f"{given}: a bar of {cells} cells at H = {harmonics} with {n_t} samples has "
-                         f"cells * max((2H + 1)^2, n_t) = {size:.3g} entries, more than {MAX_MESH:.3g} (the bound is "
-                         "contact_models.allmode.solve.MAX_MESH: raise it to go further); give fewer cells or harmonics")
+                         f"cells * max((2H + 1)^2, n_t) = {size:.3g} entries, more than {MAX_MESH:.3g} (the bound "
+                         "is contact_models.allmode.solve.MAX_MESH: raise it to go further); give fewer cells or "
+                         "harmonics")
 
 
 def checked_samples(n_t: int | None, harmonics: int | None, default: Callable[[int], int]) -> int | None:
