@@ -316,10 +316,7 @@ class NumericalMicroslip(ContactElement):
                  ramp_cycles: float = RAMP_CYCLES, shooting: bool = True, rho_inf: float = RHO_INF) -> None:
         if not isinstance(bar, Bar):
             raise ValueError(f"bar must be a contact_models.Bar, got bar={bar!r}")
-        if (isinstance(cells, (bool, str, bytes)) or not isinstance(cells, (int, float, np.integer, np.floating))
-                or not math.isfinite(cells) or int(cells) != cells or not 2 <= cells <= MAX_CELLS):
-            raise ValueError(f"cells must be an integer in 2..{MAX_CELLS}, got cells={cells!r} (the bound is "
-                             "contact_models.numerical.MAX_CELLS: raise it to go further)")
+        cells = _count("cells", cells, 2, MAX_CELLS, "contact_models.numerical.MAX_CELLS")
         if steps_per_cycle is not None and not _multiple_of_4(steps_per_cycle):
             raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")
         if quasi_static not in (None, True, False):

@@ -3,7 +3,7 @@ parameter and its value), re-exported so ``hbm`` modules import them from one pl
 
 import numpy as np
 
-from contact_models.numerics.checks import count as _count, finite, flag, nonnegative, number_array, positive, shown
+from contact_models.numerics.checks import count, finite, flag, nonnegative, number_array, positive, shown
 
 number = finite
 
@@ -15,16 +15,6 @@ MIN_RELATIVE_TOL = 1e-10
 class InputError(ValueError):
     """Bad input, refused before anything is computed (the command line's exit code 2); a
     ``ValueError``.  ``hbm.scenes.SceneError`` is one."""
-
-
-def count(name: str, value: object, minimum: int = 1, maximum: int | None = None, bound: str = "") -> int:
-    """``value`` as an int >= ``minimum`` (``contact_models.numerics.checks.count``) and, with ``maximum``,
-    <= it: the error then says the range and the constant ``bound`` that sets it, to raise it."""
-    v = _count(name, value, minimum)
-    if maximum is not None and v > maximum:
-        raise ValueError(f"{name} must be an integer in {minimum}..{maximum}, got {name}={value!r} (the bound is "
-                         f"{bound}: raise it to go further)")
-    return v
 
 
 def relative_tolerance(name: str, value: object, upper: float) -> float:

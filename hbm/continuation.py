@@ -35,9 +35,9 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
 Optional scaling: ``scale(y)`` returns positive weights ``s``; the geometry of step ``i``
 (tangent, step length, turn, constraint) is measured in ``u = y / s(y_i)``.
 
-A failure (step below ``min_step``, the first point not converging) ends the branch with a
-``message`` and every point computed so far; reaching the end of the parameter range puts the
-last point exactly on the bound.
+A failure (step below ``min_step``, the first point not converging, an exception raised by
+``on_point``) ends the branch with a ``message`` and every point computed so far; reaching the
+end of the parameter range puts the last point exactly on the bound.
 """
 
 from __future__ import annotations
@@ -101,6 +101,8 @@ class Status(IntEnum):
     #: set by a caller whose range has a start (``hbm.frequency_response``): the branch left the range
     #: through the bound it started from, never reaching the other
     TURNED_BACK = -3
+    #: ``on_point`` raised at the last point: the run ends there, keeping every point before it and that one
+    CALLBACK_RAISED = -4
 
 
 MESSAGES = {
@@ -109,6 +111,7 @@ MESSAGES = {
     Status.STEP_TOO_SMALL: "the step fell below min_step: the corrector kept failing",
     Status.START_FAILED: "Newton's method did not converge at the starting point",
     Status.TURNED_BACK: "the branch turned back and left the parameter range where it started",
+    Status.CALLBACK_RAISED: "the callback raised an exception at the last point, which ends the branch",
 }
 
 
@@ -153,7 +156,9 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     ``|R|`` (Euclidean) at every returned point.  ``scale(y)``: optional positive weights (see module).
     Folds are located to ``fold_xtol`` (relative arclength) when ``locate_folds``.
     ``on_point(y, residual_norm)``: called with each point and its ``|R|`` as soon as it is accepted,
-    in order (streaming).  ``curve_tol``: the step's error control (see module); None: off.
+    in order (streaming); an exception it raises (an ``Exception``: not ``KeyboardInterrupt``) ends the
+    run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.
+    ``curve_tol``: the step's error control (see module); None: off.
     ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
     """
     if not callable(residual):
@@ -268,7 +273,6 @@ class _Trace:
             t = -t
         self.y, self.s, self.t, self.J = y, s, t, start.J
         self.ys, self.ts, self.rn, self.its = [y], [t], [start.rnorm], [start.iterations]
-        self.report(y, start.rnorm)
         self.fold_after = []
         self.h = min(max(step if step is not None else FIRST_STEP * self.max_step, self.min_step), self.max_step)
         self.zero = np.zeros(n)
@@ -278,6 +282,7 @@ class _Trace:
         self.corners = []
         self.rejected = None  # (turn, step) of the last step rejected for turning
         self.failures = 0  # failed correctors in a row at this point
+        self._reported(y, start.rnorm)
         return None
 
     def advance(self, max_steps: int) -> None:
@@ -432,7 +437,8 @@ class _Trace:
         ts.append(t)
         self.rn.append(new.rnorm)
         self.its.append(new.iterations)
-        self.report(y, new.rnorm)
+        if not self._reported(y, new.rnorm):
+            return
         if self.stop is not None and self.stop(y):
             self.status, self.detail = Status.REACHED_END, " (where the caller's stop(y) ended it)"
             return
@@ -473,9 +479,20 @@ class _Trace:
         self.ts.append(_tangent(end.J, s_end, _rescale(self.t, self.s, s_end)))
         self.rn.append(end.rnorm)
         self.its.append(end.iterations)
-        self.report(end.y, end.rnorm)
         self.detail = f" (at its {'upper' if bound == self.hi else 'lower'} end)"
         self.status = Status.REACHED_END
+        self._reported(end.y, end.rnorm)
+
+    def _reported(self, y, rnorm) -> bool:
+        """``on_point(y, rnorm)`` for the point just kept; False if it raised, which ends the run there
+        (``Status.CALLBACK_RAISED``, the exception in the message): what was computed stays."""
+        try:
+            self.report(y, rnorm)
+        except Exception as exc:  # noqa: BLE001 - the caller's code: any Exception ends the run, none is lost
+            self.status = Status.CALLBACK_RAISED
+            self.detail = f" ({type(exc).__name__}: {exc}; the last point is the one it was called with)"
+            return False
+        return True
 
     def _end_on_bound(self, y_prev) -> None:
         """The end of the parameter range: the last point goes on the bound."""

@@ -25,9 +25,10 @@ from contact_models.accuracy import AccuracyWarning
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 
 from . import adapt as along  # the module (hbm.adapt); frequency_response's adapt is a flag
+from .continuation import Status
 from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
-from ._validation import nonnegative, omega_range_pair, positive, relative_tolerance
+from ._validation import MIN_RELATIVE_TOL, nonnegative, omega_range_pair, positive, relative_tolerance
 from .balance.presets import DEFAULT_RTOL, MAX_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
 from .balance.residual import HarmonicBalance, as_contacts, as_structure, samples_within_bound
 from .blade import Blade
@@ -202,7 +203,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         ``(w0, w1)`` in rad/s, >= 0 and different; traced from w0 to w1 (either way).
     tol : float, {"fast", "default", "precise"} or None, optional
         The target relative error of the response amplitude against the true periodic response of
-        the physical system (all harmonics, the physical contact), in (0, 1); a name stands for its
+        the physical system (all harmonics, the physical contact), in [1e-10, 1) (``MIN_RELATIVE_TOL``,
+        the bound of the command line and the scenes); a name stands for its
         number (``PRESETS``: "fast" 1e-2, "default" 1e-3, "precise" 1e-5) and adapts exactly as that
         number does.  Default "default" (``DEFAULT_TOL`` = 1e-3).  Without ``harmonics``, a
         structure's H is chosen along the curve (``hbm.adapt``): the whole range at 3 (a blade at
@@ -229,7 +231,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         ``callback(point)`` with each accepted point (a :class:`hbm.Point`), in continuation order:
         as it is accepted, or where the balance may solve a window again (``tol`` without
         ``harmonics``, ``model="auto"``) once the run ends, the final points in order (their
-        harmonics zero-padded to the largest H).
+        harmonics zero-padded to the largest H).  An exception it raises ends the run at that point
+        (``success`` False, ``status`` ``hbm.continuation.Status.CALLBACK_RAISED``, the exception in
+        ``message`` and the warning); the points computed are kept.
     response_dof : int, optional
         The DOF whose response is reported.  Default the forced DOF.
     stability : bool, optional
@@ -406,6 +410,9 @@ def tolerance_of(tol: Any) -> float | None:
     tol = positive("tol", tol)
     if tol >= 1.0:
         raise ValueError(f"tol must be < 1 (a relative error), got tol={tol!r}")
+    if tol < MIN_RELATIVE_TOL:  # the command line's and the scenes' bound: no point would converge
+        raise ValueError(f"tol must be >= {MIN_RELATIVE_TOL:g} (below it double precision cannot meet the Newton "
+                         f"tolerance the balance derives from it), got tol={tol!r}")
     return tol
 
 
@@ -533,10 +540,12 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
     parts = []
     if len(frf) == 0:
         parts.append(f"no point was computed: {frf.message}")
-    elif not frf.success:
+    elif not frf._work[0]._run.success:
         w0, w1 = omega_range
         parts.append(f"the branch stopped at omega = {float(frf.omega[-1]):.6g} rad/s, before the end of omega_range "
                      f"({w0:.6g}, {w1:.6g}) ({frf._work[0]._run.message}); the points before are kept")
+    elif not frf.success:  # the whole curve traced, the callback failed while it was streamed
+        parts.append(frf.message)
     pk = frf._peak
     why = [] if pk is None else [r for r in pk.message.split("; ") if r and "estimated error" not in r]
     if why:  # (an estimate above tol at the peak is said with the curve's below)
@@ -652,15 +661,22 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
 
 def _stream(frf: FrequencyResponse, callback: Callable[[Point], None]) -> None:
     """The final points to ``callback``, in order (their harmonics padded with zeros to the result's
-    largest H)."""
-    if frf._segments_of is None:
-        report = _reporter(callback, frf._problem)
-        for u, rnorm in zip(frf._run.y, frf.residual_norm):
-            report(u, rnorm)
-        return
+    largest H).  An exception the callback raises ends the stream and the result's success
+    (``Status.CALLBACK_RAISED``, the message says at which point and what it raised): every point stays."""
+    report = _reporter(callback, frf._problem) if frf._segments_of is None else None
     for i, w in enumerate(frf.omega):
-        callback(Point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]),
-                       frf._X[i, frf._r].copy()))
+        try:
+            if report is not None:
+                report(frf._run.y[i], frf.residual_norm[i])
+            else:
+                callback(Point(float(w), float(frf.x_c[i]), float(frf.x_s[i]), float(frf.residual_norm[i]),
+                               frf._X[i, frf._r].copy()))
+        except Exception as exc:  # noqa: BLE001 - the caller's code: any Exception is said, nothing computed is lost
+            frf.status = Status.CALLBACK_RAISED
+            frf.message = (f"the callback raised an exception ({type(exc).__name__}: {exc}) at omega = {float(w):.9g} "
+                           f"rad/s, point {i + 1} of {len(frf)} of the final curve as it was streamed to it, which "
+                           f"ends the stream; every point was computed and is kept (the trace: {frf.message})")
+            return
 
 
 def _reporter(callback: Callable[[Point], None], problem: HarmonicBalance) -> Callable:

@@ -182,7 +182,7 @@ class FrequencyResponse:
     stability_changes : list
         Located, classified changes of stability (``hbm.balance.stability.StabilityChange``).
     success : bool
-        Whether the branch reached the end of ``omega_range``.
+        Whether the branch reached the end of ``omega_range`` (and the callback, if any, took every point).
     status, message
         How the continuation ended, as a code and in words; on failure the points computed
         before are kept.
@@ -364,7 +364,8 @@ class FrequencyResponse:
     # ------------------------------------------------------------------ counters
     @property
     def success(self) -> bool:
-        return self._work[0]._run.success  # the whole range's first trace: did it reach the end
+        # the whole range's first trace reached the end, and the callback took every point (``status``)
+        return self._work[0]._run.success and self.status != cont.Status.CALLBACK_RAISED
 
     @property
     def nit(self) -> int:

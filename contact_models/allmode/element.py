@@ -68,8 +68,8 @@ from .estimate import model_errors
 from .memo import EvenBlockLater, ForceMemo, truncated
 from .rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
 from .segments import KINDS as LINEAR_KINDS, UnresolvedWave
-from .solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_samples, end_vector,
-                    is_odd, pad_harmonics, scaled_samples, transferred)
+from .solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_mesh,
+                    checked_samples, end_vector, is_odd, pad_harmonics, scaled_samples, transferred)
 
 if TYPE_CHECKING:
     from ..loads import QuadraticLoad, UniformLoad
@@ -182,6 +182,10 @@ class AllModeMicroslip(ContactElement):
         self.cells = None if cells is None else count("cells", cells, 2)
         self.harmonics = None if harmonics is None else count("harmonics", harmonics, 1)
         self.n_t = checked_samples(n_t, self.harmonics, _samples)
+        most = MAX_HARMONICS if self.harmonics is None else self.harmonics  # the most it may climb to
+        checked_mesh(MAX_CELLS if self.cells is None else self.cells, most,
+                     _samples(most) if self.n_t is None else self.n_t,
+                     f"cells={cells!r}, harmonics={harmonics!r}" + ("" if n_t is None else f", n_t={n_t!r}"))
         self.tol = positive("tol", tol)
         if not self.tol < 1.0:
             raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")

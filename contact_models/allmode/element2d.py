@@ -39,6 +39,7 @@ from .accuracy import FLOOR, ladder, relative
 from .balance import aft_matrices
 from .element import AllModeMicroslip
 from .normal import NormalBar, NormalSolution
+from .solve import checked_mesh
 
 if TYPE_CHECKING:
     from ..loads import QuadraticLoad, UniformLoad
@@ -124,6 +125,7 @@ class AllModeMicroslip2D(ContactElement):
             raise ValueError(f"n_t must be a multiple of 4 and >= 2 harmonics + 2 = {2 * self.harmonics + 2}, "
                              f"got n_t={n_t!r}")
         self.n_t = int(n_t)
+        checked_mesh(self.cells, self.harmonics, self.n_t, f"cells={cells!r}, harmonics={harmonics!r}, n_t={n_t!r}")
         try:
             s0, sL = normal_shape
         except (TypeError, ValueError):

@@ -159,6 +159,23 @@ def scaled_samples(n_t: int, harmonics: int, H: int) -> int:
     return max(4 * math.ceil((2 * H + 2) / 4), 4 * math.ceil(n_t * H / harmonics / 4))
 
 
+#: The largest bar an element is built on, in entries of its block-tridiagonal balance: cells times
+#: max((2H + 1)^2, n_t), the memory of one solve growing with it (2**28 entries take a few GB).
+MAX_MESH = 2**28
+
+
+def checked_mesh(cells: int, harmonics: int, n_t: int, given: str) -> None:
+    """Refuse a bar of ``cells`` cells, ``harmonics`` H and ``n_t`` samples above ``MAX_MESH`` (the most an
+    element may climb to where it chooses them), naming what was ``given`` and the bound: a request that
+    would exhaust the memory of the process is refused when the element is built, never killed later."""
+    size = cells * max((2 * harmonics + 1) ** 2, n_t)
+    if size > MAX_MESH:
+        raise ValueError(f"{given}: a bar of {cells} cells at H = {harmonics} with {n_t} samples has "
+                         f"cells * max((2H + 1)^2, n_t) = {size:.3g} entries, more than {MAX_MESH:.3g} (the bound "
+                         "is contact_models.allmode.solve.MAX_MESH: raise it to go further); give fewer cells or "
+                         "harmonics")
+
+
 def checked_samples(n_t: int | None, harmonics: int | None, default: Callable[[int], int]) -> int | None:
     """An element's ``n_t``: as given (a multiple of 4, at least 2 ``harmonics`` + 2), ``default(harmonics)`` where
     only ``harmonics`` is given, None where neither is; ValueError naming ``n_t`` otherwise."""

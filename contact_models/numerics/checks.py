@@ -39,11 +39,12 @@ def finite(name: str, value: object) -> float:
     return _scalar(name, value)
 
 
-def count(name: str, value: object, minimum: int = 1) -> int:
-    """Return ``value`` as an int >= ``minimum``, else raise ValueError.
+def count(name: str, value: object, minimum: int = 1, maximum: int | None = None, bound: str = "") -> int:
+    """Return ``value`` as an int >= ``minimum`` (and, with ``maximum``, <= it), else raise ValueError.
 
     A number only: an integer, or a float with an integral value; booleans and strings (``"3"``,
-    which ``int()`` would read) are refused.
+    which ``int()`` would read) are refused.  With ``maximum`` the error says the range and the
+    constant ``bound`` that sets it (a bound on the work a request starts), to raise it.
     """
     ok = not isinstance(value, (bool, str, bytes))
     try:
@@ -52,6 +53,9 @@ def count(name: str, value: object, minimum: int = 1) -> int:
         ok = False
     if not ok:
         raise ValueError(f"{name} must be an integer >= {minimum}, got {name}={value!r}")
+    if maximum is not None and int(value) > maximum:
+        raise ValueError(f"{name} must be an integer in {minimum}..{maximum}, got {name}={value!r} (the bound is "
+                         f"{bound}: raise it to go further)")
     return int(value)
 
 

@@ -60,7 +60,7 @@ from contact_models.numerics.describing import stiffness_terms as describing_ter
 from contact_models.numerics.masing import to_time
 
 from .._steps import OutsideDomain
-from .._validation import count, nonzero_force, positive, relative_tolerance
+from .._validation import count, nonzero_force, positive, relative_tolerance, shown
 from ..structure import Contact, Structure, contact_within
 from .condensation import condensed, stuck_matrix
 from .layout import from_complex, next_sector_operator, to_complex
@@ -108,7 +108,8 @@ def as_contacts(contacts: Any, n: int) -> list[Contact]:
                              f"hbm.Contact(element, dof=...) for a structure of {n} DOFs, got contacts={contacts!r}")
         return [Contact(contacts, dof=0)]
     if callable(getattr(contacts, "fourier", None)) or isinstance(contacts, (str, bytes, dict)):
-        raise ValueError(f"element must be a contact element (a contact_models.ContactElement), got element={contacts!r}")
+        raise ValueError(f"contacts must be a contact element (a contact_models.ContactElement), an hbm.Contact or a "
+                         f"sequence of hbm.Contact, got contacts={shown(contacts)}")
     try:
         contacts = list(contacts)
     except TypeError:

@@ -1,0 +1,158 @@
+"""Bad input at the front door: each refusal a ValueError naming the parameter and its value, and what
+was computed before a failure kept (a callback that raises ends the run, it does not lose the curve)."""
+
+import math
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Macroslip, NumericalMicroslip,
+                            UniformLoad)
+from contact_models.allmode.solve import MAX_MESH
+from contact_models.numerics.checks import count
+from hbm import Blade, Contact, Structure, frequency_response
+from hbm.continuation import Status, continuation
+
+from conftest import BAR
+
+
+def _jenkins():
+    return Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01]), [Contact(Macroslip(1.0, 0.02), dof=0)]
+
+
+class _Stop(Exception):
+    pass
+
+
+def _raising_after(n):
+    seen = []
+
+    def callback(point):
+        seen.append(point.omega)
+        if len(seen) == n:
+            raise _Stop("enough points")
+
+    return callback, seen
+
+
+# ---------------------------------------------------------------- the callback raises: the curve is kept
+def test_a_callback_that_raises_ends_the_run_and_keeps_its_points():
+    s, contacts = _jenkins()
+    callback, seen = _raising_after(20)
+    with pytest.warns(AccuracyWarning, match=r"the branch stopped at omega = .*_Stop: enough points.*the points "
+                                             r"before are kept"):
+        frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None, callback=callback)
+    assert not frf.success and frf.status == Status.CALLBACK_RAISED
+    assert len(frf) == 20 and frf.omega[-1] == pytest.approx(seen[-1])  # the point it was called with is kept
+    assert "the callback raised an exception" in frf.message and "_Stop: enough points" in frf.message
+    assert np.all(np.isfinite(frf.amplitude))
+    assert math.isfinite(frf.peak().amplitude) and frf.peak().omega <= frf.omega[-1]
+
+
+def test_a_callback_that_raises_while_the_final_points_stream_keeps_every_point():
+    s, contacts = _jenkins()  # tol without harmonics: the points are streamed once the run ends
+    ref = frequency_response(s, contacts, omega_range=(0.6, 1.8))
+    callback, _ = _raising_after(5)
+    with pytest.warns(AccuracyWarning, match=r"the callback raised an exception \(_Stop: enough points\) at omega = "
+                                             r"[0-9.]+ rad/s, point 5 of"):
+        frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), callback=callback)
+    assert not frf.success and frf.status == Status.CALLBACK_RAISED
+    assert len(frf) == len(ref)  # every point computed is kept
+    np.testing.assert_allclose(frf.amplitude, ref.amplitude)
+
+
+def test_a_keyboard_interrupt_in_the_callback_goes_through():
+    s, contacts = _jenkins()
+
+    def callback(point):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None, callback=callback)
+
+
+def test_the_continuation_core_keeps_the_points_when_on_point_raises():
+    def circle(y):  # x^2 + lam^2 = 1
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    calls = []
+
+    def on_point(y, rnorm):
+        calls.append(y.copy())
+        if len(calls) == 4:
+            raise ValueError("stop here")
+
+    run = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9), on_point=on_point)
+    assert run.status == Status.CALLBACK_RAISED and not run.success
+    assert len(run.y) == 4 and "ValueError: stop here" in run.message
+    np.testing.assert_array_equal(run.y[-1], calls[-1])
+
+    first = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9),
+                         on_point=lambda y, r: 1 / 0)  # at the start point already
+    assert first.status == Status.CALLBACK_RAISED and len(first.y) == 1 and "ZeroDivisionError" in first.message
+
+
+# ---------------------------------------------------------------- the options, refused by name
+@pytest.mark.parametrize("tol", [1e-11, 1e-300, 5e-324])
+def test_a_tol_below_what_double_precision_meets_is_refused_as_the_command_line_refuses_it(tol):
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^tol must be >= 1e-10 .*got tol={re.escape(repr(tol))}$"):
+        frequency_response(s, contacts, omega_range=(0.6, 1.8), tol=tol)
+
+
+def test_the_smallest_tol_is_still_taken():
+    blade = Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        frf = frequency_response(blade, omega_range=(90.0, 110.0), tol=1e-10)
+    assert frf.success and frf.tolerance == 1e-10
+
+
+@pytest.mark.parametrize("contacts", [{}, "two", b"two"])
+def test_contacts_of_the_wrong_type_are_refused_naming_contacts(contacts):
+    blade = Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0)
+    got = re.escape(repr(contacts))
+    with pytest.raises(ValueError, match=rf"^contacts must be a contact element .*got contacts={got}$"):
+        frequency_response(blade, contacts, omega_range=(90.0, 110.0))
+
+
+# ---------------------------------------------------------------- the work an element may start, bounded
+def test_count_names_its_bound():
+    assert count("cells", 64, 2, 128, "X.MAX") == 64
+    with pytest.raises(ValueError, match=r"^cells must be an integer in 2..128, got cells=129 \(the bound is X.MAX: "):
+        count("cells", 129, 2, 128, "X.MAX")
+    with pytest.raises(ValueError, match=r"^cells must be an integer >= 2, got cells=1$"):
+        count("cells", 1, 2, 128, "X.MAX")
+
+
+@pytest.mark.parametrize("kw", [dict(cells=10**9, harmonics=3), dict(cells=10**9), dict(cells=20, harmonics=10**9),
+                                dict(harmonics=10**6), dict(cells=20, harmonics=3, n_t=4 * 10**9)])
+def test_an_all_mode_bar_too_large_for_the_memory_is_refused_when_built(kw):
+    bar = Bar(**BAR)
+    given = ", ".join(f"{k}={v!r}" for k, v in {"cells": None, "harmonics": None, **kw}.items())
+    with pytest.raises(ValueError, match=rf"^{re.escape(given)}: a bar of .* more than .*the bound is "
+                                         r"contact_models.allmode.solve.MAX_MESH"):
+        AllModeMicroslip(bar, UniformLoad(N=100.0), **kw)
+
+
+def test_the_largest_reference_bars_are_still_built():
+    bar = Bar(**BAR)
+    for cells, H in ((8192, 63), (4096, 31), (1024, 63)):
+        assert cells * (2 * H + 1) ** 2 <= MAX_MESH
+        AllModeMicroslip(bar, UniformLoad(N=100.0), cells=cells, harmonics=H)
+
+
+def test_the_normal_all_mode_bar_is_bounded_too():
+    bar = Bar(**BAR)
+    with pytest.raises(ValueError, match=r"^cells=1000000000, harmonics=15, n_t=240: .*MAX_MESH"):
+        AllModeMicroslip2D(bar, UniformLoad(N=100.0), kn=2.0e9, cells=10**9)
+
+
+def test_the_numerical_bar_takes_the_shared_bounded_count():
+    bar = Bar(**BAR)
+    assert NumericalMicroslip(bar, UniformLoad(N=100.0), cells=20.0).cells == 20
+    for cells in (math.inf, math.nan, 2.5, True):
+        with pytest.raises(ValueError, match=rf"^cells must be an integer >= 2, got cells={re.escape(repr(cells))}$"):
+            NumericalMicroslip(bar, UniformLoad(N=100.0), cells=cells)
