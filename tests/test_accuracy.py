@@ -80,7 +80,7 @@ def test_no_estimate_no_warning_on_request():
     case = default_case()
     with warnings.catch_warnings():
         warnings.simplefilter("error", AccuracyWarning)
-        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, estimate_error=False)
+        frf = frequency_response(case.blade, case.element, omega_range=case.omega_range, tol=None)
     assert np.all(np.isnan(frf.error_estimate)) and frf.error_sources == {} and frf.tolerance is None
 
 

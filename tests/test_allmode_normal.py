@@ -135,7 +135,8 @@ def test_a_multi_dof_balance_converges_and_matches_the_time_integration():
     s = hbm.Structure(np.diag([0.1, 1.0]), np.diag([40.0, 2e3]), np.diag([4e7, 1e10]), force=[40.0, 3e3])
     el = AllModeMicroslip2D(BAR, LOAD, KN, CELLS, 15)
     res = hbm.frequency_response(s, hbm.Contact(el, dof=0, normal_dof=1), (1.8e4, 2.6e4), harmonics=3,
-                                 response_dof=0, estimate_error=False, stability=False, max_steps=400)
+                                 response_dof=0, tol=None, stability=False,
+                                 steps=hbm.Steps(max_steps=400))
     assert res.success and np.all(res.residual_norm < 1e-6)
     i = int(np.argmax(res.amplitude))
     omega = float(res.omega[i])

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from contact_models import ContactElement
-from hbm import Blade, FrequencyResponse, HarmonicBalance, frequency_response
+from hbm import Blade, FrequencyResponse, HarmonicBalance, Steps, frequency_response
 from hbm.balance.residual import linear_response
 from hbm.output import csv_lines
 
@@ -244,7 +244,7 @@ def test_frequency_response_rejects_non_blade():
 
 def test_step_budget_keeps_points():
     blade = Blade.from_modal(frequency=1.0, damping_ratio=1e-2, mass=1.0, force=0.5)
-    frf = frequency_response(blade, macroslip(1.0, 1.0), omega_range=(0.5, 2.0), max_steps=20)
+    frf = frequency_response(blade, macroslip(1.0, 1.0), omega_range=(0.5, 2.0), steps=Steps(max_steps=20))
     assert not frf.success and "max_steps" in frf.message
     assert len(frf) == 21
     assert np.all(frf.residual_norm <= 1e-8)

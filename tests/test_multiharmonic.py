@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from contact_models import CubicSpring, Macroslip
-from hbm import Blade, Contact, Structure, frequency_response
+from hbm import Blade, Contact, Steps, Structure, frequency_response
 from hbm import continuation as cont
 from hbm.balance.presets import harmonic_knobs
 from hbm.output import csv_lines
@@ -87,7 +87,8 @@ def test_precise_peak_within_1e5_of_the_true_periodic_peak(name):
     p = DATA["jenkins"][name]["parameters"]
     s, cs = one_dof(p["damping"], p["slip_force"])
     H, n_t = harmonic_knobs("precise")
-    frf = frequency_response(s, cs, omega_range=(0.6, 1.8), harmonics=H, n_t=n_t, max_step=0.1, stability=False)
+    frf = frequency_response(s, cs, omega_range=(0.6, 1.8), harmonics=H, n_t=n_t, steps=Steps(max_step=0.1),
+                             stability=False)
     true = DATA["jenkins"][name]["peak_amplitude"]["amplitude"]
     assert frf.success
     assert abs(frf.peak().amplitude - true) < 1e-5 * true

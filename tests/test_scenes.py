@@ -258,7 +258,8 @@ def test_on_point_streams_exactly_the_points_of_the_result(case):
     else:
         blade, el, rng = Blade(mass=1.0, stiffness=1.0, damping=0.02, force=0.05), Cubic(), (0.5, 3.0)
     seen = []
-    frf = frequency_response(blade, el, omega_range=rng, max_step=0.1, on_point=lambda *p: seen.append(p))
+    frf = frequency_response(blade, el, omega_range=rng, steps=Steps(max_step=0.1),
+                             callback=lambda p: seen.append((p.omega, p.x_c, p.x_s, p.residual)))
     if case == "folds":
         assert len(frf.folds_omega) == 2
     frf.peak()  # after the run: no more calls

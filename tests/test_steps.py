@@ -15,7 +15,7 @@ import numpy as np
 import pytest
 
 from contact_models import Macroslip
-from hbm import Contact, Structure, continuation as cont, curve, frequency_response
+from hbm import Contact, Steps, Structure, continuation as cont, curve, frequency_response
 from hbm.balance import presets
 from hbm.cli.cases import default_case
 
@@ -85,7 +85,7 @@ def test_step_control_on_an_ellipse_keeps_the_interpolant_within_tol():
 def test_bad_curve_tol_raises_naming_it(bad):
     s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
     with pytest.raises(ValueError, match="curve_tol"):
-        frequency_response(s, None, omega_range=(0.6, 1.8), curve_tol=bad)
+        frequency_response(s, None, omega_range=(0.6, 1.8), steps=Steps(curve_tol=bad))
 
 
 def test_precise_default_case_curve_within_tol_or_listed():

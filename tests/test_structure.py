@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from contact_models import Macroslip, TwoRegionMicroslip
-from hbm import Contact, ReducedStructure, Structure, frequency_response
+from hbm import Contact, ReducedStructure, Steps, Structure, frequency_response
 from hbm.structure import load_matrix
 
 K2 = np.array([[2.0, -1.0], [-1.0, 1.0]])
@@ -157,7 +157,7 @@ def problems(draw):
 @given(problems())
 def test_random_structures_every_point_finite_every_failure_a_message(problem):
     s, contacts, H = problem
-    frf = frequency_response(s, contacts, omega_range=(0.2, 2.5), harmonics=H, n_t=64, max_steps=80)
+    frf = frequency_response(s, contacts, omega_range=(0.2, 2.5), harmonics=H, n_t=64, steps=Steps(max_steps=80))
     assert len(frf.omega) == len(frf.amplitude) == len(frf.stable) == len(frf.residual_norm)
     assert np.all(np.isfinite(frf.omega)) and np.all(np.isfinite(frf.amplitude))
     assert np.all(frf.residual_norm <= frf.newton_tol)
