@@ -15,6 +15,8 @@ the harmonic balance, for ``tests/test_estimate_honest.py`` (``tests/data/estima
   virgin curve ``phi`` (Segalman's closed form, ``Iwan.loading_curve``); shooting on
   ``(t_r, A)`` so that half a period later ``x = A``, ``v = 0``.
 
+``gap_fold``: the gap at frequencies near its fold, on either side of it (``GAP_FOLD``), by the same shooting.
+
 Run: ``PYTHONPATH=. python3 benchmarks/estimate_references.py [--out PATH]`` (about a minute).
 """
 
@@ -35,6 +37,11 @@ OUT = ROOT / "tests" / "data" / "estimate_references.json"
 #: The Gap case: m = k = 1, c = 0.01, force F, gap element (stiffness, gap); frequencies compared.
 GAP = dict(mass=1.0, damping=0.01, stiffness=1.0, force=0.01, k_gap=1.0, gap=0.2)
 GAP_OMEGA = [0.98, 1.0, 1.0204, 1.05, 1.08, 1.1]
+#: Frequencies near the gap's fold (1.12899 rad/s), on its upper side (the branch's first crossing) and on
+#: the side it comes back down (its last crossing above ``FOLD_FLOOR``, below the upper side's amplitude).
+GAP_FOLD = [(1.1284, "upper"), (1.1286, "upper"), (1.1288, "upper"), (1.1284, "lower"), (1.1286, "lower"),
+            (1.12869, "lower"), (1.128745, "lower"), (1.1288, "lower"), (1.1289, "lower")]
+FOLD_FLOOR = 0.5
 #: The Iwan case (the Iwan element of tests/test_iwan.py on a blade: slip at every amplitude).
 IWAN = dict(mass=1.0, damping=0.004, stiffness=1.0, force=0.01, slip_force=0.02, k_t=1.0, chi=-0.5, beta=0.1)
 IWAN_OMEGA = [0.95, 1.0, 1.05, 1.1, 1.15, 1.2]
@@ -181,6 +188,15 @@ def _first_crossing(frf, w):
     return j if abs(frf.omega[j] - w) <= abs(frf.omega[j + 1] - w) else j + 1
 
 
+def _fold_crossing(frf, w, side):
+    """Index of the point of ``frf`` nearest ``w`` on the given side of the fold (``GAP_FOLD``): a guess only."""
+    j = np.flatnonzero((frf.omega[:-1] - w) * (frf.omega[1:] - w) <= 0.0)
+    if side == "lower":
+        j = j[frf.amplitude[j] > FOLD_FLOOR]
+    j = int(j[0] if side == "upper" else j[-1])
+    return j if abs(frf.omega[j] - w) <= abs(frf.omega[j + 1] - w) else j + 1
+
+
 def main(argv=None) -> None:
     import sys
     sys.path.insert(0, str(ROOT))
@@ -204,6 +220,16 @@ def main(argv=None) -> None:
         points.append(dict(omega=w, amplitude=amp, state=y0.tolist(), period_residual=res))
         print(f"gap omega={w}: amplitude {amp:.12g} (|y(T) - y0| = {res:.1e})")
     out["gap"] = dict(parameters=p, points=points)
+    points = []
+    for w, side in GAP_FOLD:
+        c = guess.coefficients(0)[_fold_crossing(guess, w, side)]
+        h = np.arange(len(c))
+        y0 = np.array([float(np.real(np.sum(c))), float(np.real(np.sum(1j * h * w * c)))])
+        y0, amp, res = gap_reference(p, w, y0)
+        assert res < 1e-10, (w, side, res)  # past the true fold the shooting finds no periodic response here
+        points.append(dict(omega=w, side=side, amplitude=amp, state=y0.tolist(), period_residual=res))
+        print(f"gap fold omega={w} ({side}): amplitude {amp:.12g} (|y(T) - y0| = {res:.1e})")
+    out["gap_fold"] = dict(parameters=p, points=points)
     p = IWAN
     blade = Blade(mass=p["mass"], stiffness=p["stiffness"], damping=p["damping"], force=p["force"])
     guess = frequency_response(blade, Iwan(slip_force=p["slip_force"], stiffness=p["k_t"], chi=p["chi"],

@@ -562,7 +562,14 @@ def _sampling_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rt
     of a sample (k = 0, 1, ...) to the balance on their union, ``SAMPLING_SHIFTS n_t`` samples, at each point.
     A shifted grid's residual is the residual at the point shifted in time by that much, shifted back:
     ``R_k(X) = S(-phi) R(S(phi) X) + (S(-phi) - 1) X_lin`` (``S(phi)`` turns harmonic h by ``h phi``; the
-    structure's part commutes with it, the force ``X_lin`` does not)."""
+    structure's part commutes with it, the force ``X_lin`` does not).
+
+    The step is taken with the union's Jacobian, the one its residual comes with: from the point (converged on
+    the grid k = 0) it is the first Newton iterate of the better-resolved balance.  A sampled law with a kink
+    has a Jacobian that jumps as samples cross the kink, by about the kink's share of one sample; near a fold,
+    where the smallest singular value of ``J`` falls to that size, the point's own grid can state the
+    response's sensitivity several times too stiff, and a step through it reads the error short by as much.
+    The union's jumps are ``SAMPLING_SHIFTS`` times smaller (``docs/error_estimates.md``, "At a fold")."""
     kw = dict(response_dof=problem.response_dof, rtol=rtol)
     H, L = problem.H, problem.L
     same = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=problem.n_t, **kw)
@@ -575,9 +582,9 @@ def _sampling_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rt
         a = math.hypot(x[r, 1], x[r, 2])
         if a == 0.0:
             continue
-        R0, J = same._condensed(x, w)
-        Jx = J[:, :-1]
-        Ru = union._condensed(x, w)[0]
+        R0 = same._condensed(x, w)[0]
+        Ru, Ju = union._condensed(x, w)
+        Jx = Ju[:, :-1]  # the better-resolved balance's own Jacobian (docstring)
         xl = same.cond.at(w)[2]
         lin = np.zeros((problem.na, L))
         lin[:, 1], lin[:, 2] = xl.real, -xl.imag
