@@ -112,8 +112,8 @@ def gap_structure():
 def test_a_gap_closing_near_resonance_is_read_within_a_factor_two():
     """The gap closes from omega = 0.97 up to the fold at 1.129: its kink aliases by an error that swings
     from point to point with where the contact's instants fall between the samples (the sampling source),
-    about 1e-6 to 1e-5 at H = 31, n_t = 512 (measured: true 1.8e-6 to 1.2e-5, the estimate 0.6 to 1.8
-    times it at the six points); the fold's last point, 7e-4, warns."""
+    about 1e-6 to 1e-5 at H = 31, n_t = 512 (measured: true 3.7e-7 to 1.2e-5, the estimate 0.67 to 17
+    times it at the six points, the most where the swing is near zero); the fold's last point, 7e-4, warns."""
     s, cs = gap_structure()
     frf, said = solve(s, cs, omega_range=(0.9, 1.2), tol=1e-5)
     assert frf.success and len(said) == 1 and "omega =" in said[0]

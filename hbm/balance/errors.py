@@ -14,8 +14,10 @@ periodic response of the physical system, at the point's frequency (``docs/valid
   the element's stuck stiffness ``k*`` bounds their effect on the first harmonic,
   ``|dX_1| <= k* sum |X_h| / s_min(J)``.  Where neither exists (the rigid slider: no stand-in, and
   ``k*`` infinite) the source cannot be estimated and reads inf, which the call's warning says.
-- ``sampling``: the AFT's samples: the balance at ``2 n_t`` samples, one Newton step; zero where
-  every element declares ``exact_harmonics`` (its harmonic force uses no samples).
+- ``sampling``: the AFT's samples: the largest step, over time grids shifted by fractions of a sample,
+  from the balance on one grid to the balance on their union, a Newton step with the union's Jacobian
+  (``_sampling_condensed``); zero where every element declares ``exact_harmonics`` (its harmonic force
+  uses no samples) and in the one-DOF form (a describing function).
 - ``element``: the error of the elements' evaluation at ``rtol``: the balance's residual with the
   elements evaluated again at ``ELEMENT_TIGHTEN * rtol``, less the residual at ``rtol``, through
   the balance (one Newton step); at least ``ROUNDING``.  Where that evaluation fails, the bound
@@ -480,14 +482,13 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
     H, n_t, L = problem.H, problem.n_t, problem.L
     kw = dict(response_dof=problem.response_dof, rtol=rtol)
     same = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, **kw)
-    sampled = not all(el.exact_harmonics for el, _ in same._attach)
-    finer = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=2 * n_t, **kw) if sampled else None
+    sampled = not all(el.exact_harmonics for el, _ in same._attach)  # (its source: ``_sampling_condensed``)
     # elements exact to rounding at every H (``exact_harmonics``) ignore rtol: their source is the floor
     tight = HarmonicBalance(problem.structure, problem.contacts, harmonics=H, n_t=n_t, response_dof=problem.response_dof,
                             rtol=ELEMENT_TIGHTEN * rtol) if sampled else None
     r = problem.dofs.index(problem.response_dof)
     n = len(omega)
-    out = {s: np.zeros(n) for s in ("sampling", "element", "model")}  # the harmonics: _harmonics_condensed
+    out = {s: np.zeros(n) for s in ("sampling", "element", "model")}  # the harmonics, sampling: their own functions
     known = _model_errors(same, X, omega)
     # elements exact at every H with no model error: no balance at the nodes would change a number
     exact = not sampled and not any(_has_model_error(el, comps) for el, comps in same._attach)
@@ -501,12 +502,9 @@ def _condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float
             continue
         R, J = same._condensed(x, w)
         Jx = J[:, :-1]
-        if finer is not None:
-            Rf, _ = finer._condensed(x, w)
-            out["sampling"][j] = abs(_amplitude_step(Jx, Rf, x, r, L)) / a
         out["element"][j] = ROUNDING if tight is None else _element_condensed(tight, R, Jx, x, w, r, L, rtol)
         out["model"][j] = _model(problem, same, x, w, Jx, {c: (e_s[j], e_c[j]) for c, (e_s, e_c) in known.items()}) / a
-    _count(problem, same, finer, tight)
+    _count(problem, same, tight)
     return out
 
 
