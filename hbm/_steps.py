@@ -13,6 +13,12 @@ from contact_models.numerics.small import solve_small as _solve
 
 #: Largest accepted ratio ``|R_{k+1}| / |R_k|`` from the second Newton update on (``|.|`` Euclidean).
 MAX_CONTRACTION = 0.5
+#: A Newton update below ``ROUNDING_STEP |y|`` changes ``y`` by less than its rounding: the residual is at
+#: the floor double precision leaves it (about ``eps |J| |y|``), and the point is converged if that floor
+#: is within ``ROUNDING_REACH`` of the tolerance (a tolerance near the rounding of a residual whose terms
+#: are much larger than it, as a lightly damped structure's near resonance, cannot always be met).
+ROUNDING_STEP = 4.0 * np.finfo(float).eps
+ROUNDING_REACH = 100.0
 
 
 class OutsideDomain(ValueError):
@@ -138,7 +144,9 @@ def _tangent(J, s, prev):
 
 
 def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
-    """Newton on ``[R(y); w . y - c] = 0`` from ``y`` until ``|R| <= tol``.
+    """Newton on ``[R(y); w . y - c] = 0`` from ``y`` until ``|R| <= tol``, or until an update is below
+    the rounding of ``y`` with ``|R|`` within ``ROUNDING_REACH tol`` (the residual's floor: no update can
+    lower it).
 
     An arithmetic error raised by the residual, or ``OutsideDomain``, counts as a failed corrector
     (its message is kept as the reason), so that the branch computed so far survives it.
@@ -164,6 +172,8 @@ def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
             dy = _solve(A, -b)
         except np.linalg.LinAlgError:
             return _Newton(y, R, J, rnorm, k, False, "singular corrector matrix", J0)
+        if rnorm <= ROUNDING_REACH * tol and _norm(dy) <= ROUNDING_STEP * _norm(y):
+            return _Newton(y, R, J, rnorm, k, True)
         y = y + dy
         count.nit += 1
         try:
