@@ -32,9 +32,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
-from .numerics.checks import (ElementOutputError, count, flag, fourier_checked, harmonics_checked,  # noqa: F401
-                              loop_checked, nonnegative, nonnegative_array, number_array, positive, relative,
-                              scalar_checked, time_law_checked)
+from .numerics.checks import (ElementContractError, ElementOutputError, count, flag, fourier_checked,  # noqa: F401
+                              harmonics_asked, harmonics_checked, loop_checked, nonnegative, nonnegative_array,
+                              number_array, positive, relative, scalar_checked, time_law_checked)
 from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
                               dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
                               to_harmonics, to_time, true_extremes)
@@ -399,7 +399,7 @@ class ContactElement(ABC):
         if n_t is None:
             n_t = default_samples(H)
         n_t = count("n_t", n_t, 2 * H + 2)
-        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol), X, omega)
+        return harmonics_checked(self, harmonics_asked(self, X, omega, n_t, rtol), X, omega)
 
     def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL,
                                  even_block: bool = True) -> tuple[NDArray, NDArray, NDArray]:
@@ -408,7 +408,7 @@ class ContactElement(ABC):
         no even harmonics beyond rounding, an element with :attr:`even_block_optional` may leave the even-even block
         of dF/dX 0 (a balance in receptance form does not use it there: docs/multiharmonic.md, "Half-wave symmetry")."""
         kw = {} if even_block or not self.even_block_optional else {"even_block": False}  # only elements that take it
-        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol, **kw), X, omega)
+        return harmonics_checked(self, harmonics_asked(self, X, omega, n_t, rtol, **kw), X, omega)
 
     def harmonic_force_deferred(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL
                                 ) -> tuple[NDArray, NDArray, NDArray, Callable[[NDArray], NDArray] | None]:
@@ -420,7 +420,7 @@ class ContactElement(ABC):
         keeps ``whole`` with dF/dX: Hill's method needs the block (docs/multiharmonic.md, "Half-wave symmetry")
         that the trace does without, at the points only.  F, dF/dX and dF/domega are checked as
         :meth:`harmonic_force_unchecked`'s; what ``whole`` returns is the element's own."""
-        F, J, Fw, whole = self._harmonic_force_deferred(X, omega, n_t, rtol)
+        F, J, Fw, whole = harmonics_asked(self, X, omega, n_t, rtol, hook="_harmonic_force_deferred")
         return (*harmonics_checked(self, (F, J, Fw), X, omega), whole)
 
     # ------------------------------------------------------------------ hooks

@@ -1,0 +1,149 @@
+"""Faults inside a solve and bad input a first round left open: a user's element that raises midway through
+a curve ends the run keeping the curve, the message naming the element and where it was asked."""
+
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+from contact_models import AccuracyWarning, ContactElement, Macroslip
+from contact_models.macroslip import jenkins_fourier
+from hbm import Blade, Contact, Structure, frequency_response, nonlinear_modes
+from hbm.continuation import Status, continuation
+
+K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+F = [0.0, 0.0, 0.01]
+#: The amplitude (m) above which the spoilt elements below fail: past slip (0.02), on the way up to the peak.
+AT = 0.03
+
+
+class _Stop(Exception):
+    pass
+
+
+class Spoilt(ContactElement):
+    """The Jenkins element (stiffness 1, slip force 0.02), written by a user, failing in one way above AT."""
+
+    frequency_dependent = False
+
+    def __init__(self, mode):
+        self.mode, self.jen = mode, Macroslip(1.0, 0.02)
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.mode!r})"
+
+    def _fail(self, a):
+        if a > AT:
+            if self.mode == "raise":
+                raise _Stop("state lost")
+            if self.mode == "divide":
+                return 1 / 0
+        return None
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        self._fail(float(np.max(a, initial=0.0)))
+        return jenkins_fourier(1.0, 0.02, a)
+
+    def _stuck_stiffness(self, omega):
+        return 1.0
+
+    def _slip_amplitude(self, omega):
+        return 0.02
+
+    def _hysteresis(self, a, omega, n):
+        return self.jen.hysteresis(a, omega, n=n)
+
+
+class SpoiltLaw(Spoilt):
+    """:class:`Spoilt` with its time law, failing there too (the multi-harmonic balance's)."""
+
+    has_time_law = True
+
+    def _periodic_force(self, x, omega):
+        self._fail(0.5 * float(np.ptp(x)))
+        return self.jen.periodic_force(x, omega)
+
+
+def _blade():
+    return Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+
+
+def _solve(system, element, **kw):
+    contacts = element if isinstance(system, Blade) else [Contact(element, dof=0)]
+    w = (0.6, 1.8) if isinstance(system, Blade) else (0.3, 0.8)
+    with pytest.warns(AccuracyWarning, match=r"the branch stopped at omega = .*the residual raised an exception"):
+        return frequency_response(system, contacts, omega_range=w, **kw)
+
+
+# ---------------------------------------------------------------- an element that raises midway: the curve kept
+@pytest.mark.parametrize("kw", [dict(harmonics=1, tol=None), dict()])
+def test_an_element_that_raises_midway_ends_the_run_keeping_the_curve_before(kw):
+    frf = _solve(_blade(), Spoilt("raise"), **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(_blade(), Spoilt("never"), omega_range=(0.6, 1.8), **kw)  # the same element, sound
+    assert not frf.success and frf.status == Status.RESIDUAL_RAISED
+    assert 10 < len(frf) < len(ref)
+    assert float(np.max(frf.amplitude)) <= AT < float(np.max(ref.amplitude))
+    np.testing.assert_allclose(frf.amplitude, ref.amplitude[:len(frf)], rtol=1e-9)  # the same points, kept
+    assert re.search(r"\(_Stop: state lost \(in element=Spoilt\('raise'\): Spoilt._fourier_derivatives\(a, omega, "
+                     r"rtol\) at a=0.03\d* m, omega=1.\d* rad/s\)\); the branch stops at omega = 1.\d* rad/s",
+                     frf.message), frf.message
+    assert np.all(np.isfinite(frf.amplitude)) and frf.peak().amplitude == float(np.max(frf.amplitude))
+
+
+def test_an_element_whose_time_law_raises_in_the_multi_harmonic_balance_keeps_the_curve():
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    frf = _solve(s, SpoiltLaw("raise"), harmonics=3, tol=None)
+    assert not frf.success and frf.status == Status.RESIDUAL_RAISED and len(frf) > 10
+    assert re.search(r"_Stop: state lost \(in element=SpoiltLaw\('raise'\): SpoiltLaw._periodic_force\(x, omega\) at "
+                     r"omega=0.4\d*, x of shape \(\d+,\) in \[-0.03\d*, 0.03\d*\]\)", frf.message), frf.message
+    assert np.all(np.isfinite(frf.amplitude))
+
+
+def test_an_element_that_divides_by_zero_is_named_in_the_failed_step():
+    with pytest.warns(AccuracyWarning):
+        frf = frequency_response(_blade(), Spoilt("divide"), omega_range=(0.6, 1.8), harmonics=1, tol=None)
+    assert not frf.success and frf.status == Status.STEP_TOO_SMALL and len(frf) > 10
+    assert re.search(r"the residual failed: division by zero \(in element=Spoilt\('divide'\): "
+                     r"Spoilt._fourier_derivatives\(a, omega, rtol\) at a=0.03\d* m, omega=1.\d* rad/s\)",
+                     frf.message), frf.message
+
+
+def test_a_public_call_of_a_raising_element_raises_its_own_exception_naming_the_element():
+    with pytest.raises(_Stop, match="state lost") as info:
+        Spoilt("raise").fourier(np.array([0.02, 0.04]), 1.0)
+    assert info.value.__notes__ == ["in element=Spoilt('raise'): Spoilt._fourier_derivatives(a, omega, rtol) at "
+                                    "a in [0.02, 0.04] m, omega=1 rad/s"]
+
+
+def test_nonlinear_modes_keep_the_branch_before_an_element_that_raises():
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    modes = nonlinear_modes(s, [Contact(SpoiltLaw("raise"), dof=0)], amplitude_range=(1e-3, 10.0), harmonics=3)
+    assert not modes.success and len(modes) > 5 and np.all(np.isfinite(modes.omega))
+    assert "the residual raised an exception beyond the last point" in modes.message
+    assert "_Stop: state lost (in element=SpoiltLaw('raise'): SpoiltLaw._periodic_force(x, omega)" in modes.message
+
+
+# ---------------------------------------------------------------- the continuation core
+def _circle_raising_past(x_min):
+    def circle(y):  # x^2 + lam^2 = 1, traced from (1, 0) towards lam = 0.9: x falls
+        if y[0] < x_min:
+            raise KeyError("outside the table")
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    return circle
+
+
+def test_the_continuation_keeps_its_points_when_the_residual_raises_after_the_first():
+    run = continuation(_circle_raising_past(0.8), [1.0, 0.0], parameter=1, bounds=(-0.95, 0.95))
+    assert run.status == Status.RESIDUAL_RAISED and not run.success and len(run.y) > 2
+    assert run.message == ("the residual raised an exception beyond the last point, which ends the branch "
+                           "(KeyError: 'outside the table')")
+    assert np.all(run.y[:, 0] >= 0.8) and np.allclose(np.hypot(run.y[:, 0], run.y[:, 1]), 1.0, atol=1e-9)
+
+
+def test_the_continuation_raises_what_the_residual_raises_at_the_start():
+    with pytest.raises(KeyError, match="outside the table"):
+        continuation(_circle_raising_past(2.0), [1.0, 0.0], parameter=1, bounds=(-0.95, 0.95))
