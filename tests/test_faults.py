@@ -147,3 +147,38 @@ def test_the_continuation_keeps_its_points_when_the_residual_raises_after_the_fi
 def test_the_continuation_raises_what_the_residual_raises_at_the_start():
     with pytest.raises(KeyError, match="outside the table"):
         continuation(_circle_raising_past(2.0), [1.0, 0.0], parameter=1, bounds=(-0.95, 0.95))
+
+
+# ---------------------------------------------------------------- a reduced structure: its modal coordinates
+def _reduced():
+    n = 6
+    Kc = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    Kc[-1, -1] = 1.0
+    f = np.zeros(n)
+    f[3] = 0.01  # on a DOF not kept: the reduced force has entries on the modal coordinates too
+    s = Structure(np.eye(n), 0.004 * Kc, Kc, force=f)
+    return s, s.reduce([0, 5], modes=4)  # every mode: exact
+
+
+def test_a_contact_on_a_modal_coordinate_of_a_reduced_structure_is_refused_by_name():
+    _, r = _reduced()
+    with pytest.raises(ValueError, match=r"^dof must be a kept DOF of the reduced structure, in 0..1 \(its DOFs from "
+                                         r"2 on are modal coordinates; reduced.dof\(i\) is original DOF i's\), got "
+                                         r"dof=2 in Contact\(Macroslip\(stiffness=1.0, slip_force=0.02\), dof=2\)$"):
+        frequency_response(r, [Contact(Macroslip(1.0, 0.02), dof=2)], omega_range=(0.2, 0.6), harmonics=3, tol=None)
+    with pytest.raises(ValueError, match=r"^dof must be a kept DOF .* got dof=4 in Contact\(.*dofs=\(0, 4\)\)$"):
+        nonlinear_modes(r, [Contact(Macroslip(1.0, 0.02), dofs=(0, 4))], amplitude_range=(1e-3, 1.0))
+
+
+def test_a_response_on_a_modal_coordinate_is_refused_and_the_default_is_a_kept_dof():
+    s, r = _reduced()
+    assert int(np.argmax(np.abs(r.force))) == 2  # the largest reduced force is on a modal coordinate
+    contacts = [Contact(Macroslip(1.0, 0.02), dof=0)]
+    with pytest.raises(ValueError, match=r"^response_dof must be a kept DOF of the reduced structure, in 0..1 .*got "
+                                         r"response_dof=3$"):
+        frequency_response(r, contacts, omega_range=(0.2, 0.6), harmonics=3, tol=None, response_dof=3)
+    frf = frequency_response(r, contacts, omega_range=(0.2, 0.6), harmonics=3, tol=None)
+    full = frequency_response(s, contacts, omega_range=(0.2, 0.6), harmonics=3, tol=None, response_dof=5)
+    assert r.response_dof() == 1 == r.dof(5)  # the kept DOF of the largest force: original DOF 5
+    assert frf.peak().amplitude == pytest.approx(full.peak().amplitude, rel=1e-6)  # a displacement, not a mode's
+
