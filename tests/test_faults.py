@@ -182,3 +182,41 @@ def test_a_response_on_a_modal_coordinate_is_refused_and_the_default_is_a_kept_d
     assert r.response_dof() == 1 == r.dof(5)  # the kept DOF of the largest force: original DOF 5
     assert frf.peak().amplitude == pytest.approx(full.peak().amplitude, rel=1e-6)  # a displacement, not a mode's
 
+
+# ---------------------------------------------------------------- the shooting reference takes contacts as the balance does
+def test_the_periodic_reference_takes_one_contact_or_a_bare_element_and_refuses_the_rest_by_name():
+    from hbm import periodic_response
+
+    blade = _blade()
+    bare = periodic_response(blade, Macroslip(1.0, 0.02), omega=1.0)
+    listed = periodic_response(blade, [Contact(Macroslip(1.0, 0.02), dof=0)], omega=1.0)
+    one = periodic_response(blade, Contact(Macroslip(1.0, 0.02), dof=0), omega=1.0)
+    np.testing.assert_array_equal(bare.harmonics, listed.harmonics)
+    np.testing.assert_array_equal(one.harmonics, listed.harmonics)
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with pytest.raises(ValueError, match=r"^a bare element attaches only to a one-DOF system; give "
+                                         r"hbm.Contact\(element, dof=...\) for a structure of 3 DOFs, got "
+                                         r"contacts=Macroslip\(stiffness=1.0, slip_force=0.02\)$"):
+        periodic_response(s, Macroslip(1.0, 0.02), omega=0.5)
+    for bad in (5, "jenkins", {"dof": 0}):
+        with pytest.raises(ValueError, match=rf"^contacts must be a sequence of hbm.Contact .*got "
+                                             rf"contacts={re.escape(repr(bad))}$"):
+            periodic_response(s, bad, omega=0.5)
+
+
+# ---------------------------------------------------------------- a study's designs: dicts of points, named
+def test_designs_and_a_study_refuse_what_is_not_a_dict_of_points_by_name():
+    from hbm.study import Study, combine, grid, samples, uniform
+
+    with pytest.raises(ValueError, match=r"^axes must be a dict of parameter name to its values, got axes=\[1, 2\]$"):
+        grid([1, 2])
+    with pytest.raises(ValueError, match=r"^distributions must be a dict of parameter name to a Distribution, got "
+                                         r"distributions=\[1, 2\]$"):
+        samples(3, [1, 2], seed=1)
+    with pytest.raises(ValueError, match=r"^second must be a sequence of points .*got second=5$"):
+        combine(grid({"a": [1.0]}), 5)
+    with pytest.raises(ValueError, match=r"^points must be a sequence of points .*got points='abc'$"):
+        Study(lambda p: p, "abc")
+    with pytest.raises(ValueError, match=r"^points\[1\] must be a dict of parameter name to value, got points\[1\]=3$"):
+        Study(lambda p: p, [{"a": 1.0}, 3])
+    assert len(combine(grid({"a": [1.0, 2.0]}), samples(3, {"b": uniform(0.0, 1.0)}, seed=1))) == 6
