@@ -32,9 +32,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
-from .numerics.checks import (ElementContractError, ElementOutputError, count, flag, fourier_checked,  # noqa: F401
-                              harmonics_asked, harmonics_checked, loop_checked, nonnegative, nonnegative_array,
-                              number_array, positive, relative, scalar_checked, time_law_checked)
+from .numerics.checks import (ElementContractError, ElementOutputError, amount_checked, count,  # noqa: F401
+                              flag, fourier_checked, harmonics_asked, harmonics_checked, loop_checked, nonnegative,
+                              nonnegative_array, number_array, pair_checked, positive, relative, scalar_checked,
+                              time_law_checked)
 from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
                               dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
                               to_harmonics, to_time, true_extremes)
@@ -227,27 +228,32 @@ class ContactElement(ABC):
 
         Default: ``slip_amplitude(omega)``.  0 for an element that is nonlinear at any amplitude.
         """
-        return self._linear_amplitude(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_linear_amplitude", self._linear_amplitude(omega), omega, amplitude=True)
 
     def linear_coefficients(self, omega: float = 0.0) -> tuple[float, float]:
         """``(k_s, k_c)`` (N/m): ``f_s = k_s a``, ``f_c = k_c a`` for ``a <= linear_amplitude(omega)``.
 
         Default: ``(stuck_stiffness(omega), 0.0)``.
         """
-        return self._linear_coefficients(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return pair_checked(self, "_linear_coefficients", self._linear_coefficients(omega), omega)
 
     def reference_amplitude(self, omega: float = 0.0) -> float:
         """An amplitude (m) at which the element is clearly nonlinear (default ``slip_amplitude``):
         amplitude sweeps are measured in it, and property tests sample amplitudes around it."""
-        return self._reference_amplitude(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_reference_amplitude", self._reference_amplitude(omega), omega, amplitude=True)
 
     def stuck_stiffness(self, omega: float = 0.0) -> float:
         """Dynamic stiffness (N/m) while nothing slips; ``k* = stuck_stiffness(0)``."""
-        return self._stuck_stiffness(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_stuck_stiffness", self._stuck_stiffness(omega), omega)
 
     def slip_amplitude(self, omega: float = 0.0) -> float:
         """``a_min`` (m): the amplitude at which slip begins."""
-        return self._slip_amplitude(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_slip_amplitude", self._slip_amplitude(omega), omega, amplitude=True)
 
     def hysteresis(self, a: float, omega: float = 0.0, *, n: int = 401) -> tuple[NDArray, NDArray]:
         """One closed loop ``(x, f)`` of the steady response to ``x = a sin(theta)``.

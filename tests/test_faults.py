@@ -1,6 +1,7 @@
 """Faults inside a solve and bad input a first round left open: a user's element that raises midway through
 a curve ends the run keeping the curve, the message naming the element and where it was asked."""
 
+import math
 import re
 import warnings
 
@@ -183,7 +184,7 @@ def test_a_response_on_a_modal_coordinate_is_refused_and_the_default_is_a_kept_d
     assert frf.peak().amplitude == pytest.approx(full.peak().amplitude, rel=1e-6)  # a displacement, not a mode's
 
 
-# ---------------------------------------------------------------- the shooting reference takes contacts as the balance does
+# ---------------------------------------------------------------- the shooting reference takes contacts as frf does
 def test_the_periodic_reference_takes_one_contact_or_a_bare_element_and_refuses_the_rest_by_name():
     from hbm import periodic_response
 
@@ -220,3 +221,40 @@ def test_designs_and_a_study_refuse_what_is_not_a_dict_of_points_by_name():
     with pytest.raises(ValueError, match=r"^points\[1\] must be a dict of parameter name to value, got points\[1\]=3$"):
         Study(lambda p: p, [{"a": 1.0}, 3])
     assert len(combine(grid({"a": [1.0, 2.0]}), samples(3, {"b": uniform(0.0, 1.0)}, seed=1))) == 6
+
+
+# ---------------------------------------------------------------- an element's scalar answers, checked
+class Stated(Spoilt):
+    """A sound Jenkins element whose stuck stiffness or slip amplitude is stated wrongly."""
+
+    def __init__(self, k=1.0, a_min=0.02):
+        super().__init__("never")
+        self.k, self.a_min = k, a_min
+
+    def __repr__(self):
+        return f"Stated(k={self.k!r}, a_min={self.a_min!r})"
+
+    def _stuck_stiffness(self, omega):
+        return self.k
+
+    def _slip_amplitude(self, omega):
+        return self.a_min
+
+
+def test_a_nan_or_a_negative_scalar_answer_of_an_element_is_named_not_returned():
+    from contact_models.base import ElementContractError, ElementOutputError
+
+    with pytest.raises(ElementOutputError, match=r"^element=Stated\(k=nan, a_min=0.02\): Stated._stuck_stiffness"
+                                                 r"\(omega\) returned nan \(not a number\) at omega=0.0$"):
+        Stated(k=float("nan")).stuck_stiffness()
+    with pytest.raises(ElementContractError, match=r"^element=Stated\(k=1.0, a_min=-1.0\): Stated._slip_amplitude"
+                                                   r"\(omega\) must return an amplitude >= 0 \(m\), got -1.0 at "
+                                                   r"omega=2.0$"):
+        Stated(a_min=-1.0).slip_amplitude(2.0)
+    with pytest.raises(ElementContractError, match=r"^element=Stated\(k='stiff', a_min=0.02\): "
+                                                   r"Stated._stuck_stiffness\(omega\) must return a real number, got "
+                                                   r"str 'stiff'$"):
+        Stated(k="stiff").stuck_stiffness()
+    with pytest.raises(ElementContractError, match=r"^element=Stated\(k=1.0, a_min=-1.0\): Stated._linear_amplitude"):
+        frequency_response(_blade(), Stated(a_min=-1.0), omega_range=(0.6, 1.8), harmonics=1, tol=None)
+    assert Stated(a_min=math.inf).slip_amplitude() == math.inf and Stated(k=math.inf).stuck_stiffness() == math.inf

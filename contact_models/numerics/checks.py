@@ -292,6 +292,33 @@ def harmonics_checked(element: Any, out: Any, X: NDArray, omega: float) -> tuple
     return tuple(checked)
 
 
+def amount_checked(element: Any, hook: str, value: Any, omega: float, *, amplitude: bool = False) -> Any:
+    """A scalar hook's answer at ``omega`` (a stiffness, N/m; an ``amplitude``, m, >= 0) as given, if it is
+    a real number other than NaN (inf is one: a rigid contact's stiffness, an amplitude at which nothing
+    slips); else ``ElementContractError`` (not a number, a negative amplitude) or ``ElementOutputError``
+    (NaN) naming the element and the hook: the solver compares amplitudes with it and divides by it."""
+    if type(value) is float and (value >= 0.0 if amplitude else value == value):  # the common case, at once
+        return value
+    name = f"element={element!r}: {type(element).__name__}.{hook}(omega)"
+    if (isinstance(value, (bool, str, bytes)) or np.ndim(value) != 0 or np.iscomplexobj(value)
+            or not isinstance(np.asarray(value).item(), (int, float))):
+        raise ElementContractError(f"{name} must return a real number, got {_kind(value)}")
+    v = float(value)
+    if v != v:
+        raise ElementOutputError(f"{name} returned nan (not a number) at omega={omega!r}")
+    if amplitude and v < 0.0:
+        raise ElementContractError(f"{name} must return an amplitude >= 0 (m), got {v!r} at omega={omega!r}")
+    return value
+
+
+def pair_checked(element: Any, hook: str, value: Any, omega: float) -> tuple:
+    """``_linear_coefficients``' ``(k_s, k_c)`` (N/m) at ``omega``, each checked as :func:`amount_checked`."""
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise ElementContractError(f"element={element!r}: {type(element).__name__}.{hook}(omega) must return a "
+                                   f"pair (k_s, k_c), got {_kind(value)}")
+    return tuple(amount_checked(element, hook, v, omega) for v in value)
+
+
 def loop_checked(element: Any, out: Any, a: float, omega: float) -> tuple[NDArray, NDArray]:
     """``_hysteresis``'s ``(x, f)`` checked: a pair of real arrays, finite."""
     name = f"element={element!r}: {type(element).__name__}._hysteresis(a, omega, n)"
