@@ -32,9 +32,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from .numerics.describing import first_harmonic, stiffness_terms
-from .numerics.checks import (ElementOutputError, count, flag, fourier_checked, harmonics_checked,  # noqa: F401
-                              loop_checked, nonnegative, nonnegative_array, number_array, positive, relative,
-                              scalar_checked, time_law_checked)
+from .numerics.checks import (ElementContractError, ElementOutputError, amount_checked, count,  # noqa: F401
+                              flag, fourier_checked, harmonics_asked, harmonics_checked, loop_checked, nonnegative,
+                              nonnegative_array, number_array, pair_checked, positive, relative, scalar_checked,
+                              time_law_checked)
 from .numerics.masing import (SAMPLES_PER_HARMONIC, aft_matrices, aft_scalar, aft_vector, default_samples,  # noqa: F401
                               dense_jacobian, diagonal_product, masing_loop, masing_periodic,  # (public here)
                               to_harmonics, to_time, true_extremes)
@@ -227,27 +228,32 @@ class ContactElement(ABC):
 
         Default: ``slip_amplitude(omega)``.  0 for an element that is nonlinear at any amplitude.
         """
-        return self._linear_amplitude(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_linear_amplitude", self._linear_amplitude(omega), omega, amplitude=True)
 
     def linear_coefficients(self, omega: float = 0.0) -> tuple[float, float]:
         """``(k_s, k_c)`` (N/m): ``f_s = k_s a``, ``f_c = k_c a`` for ``a <= linear_amplitude(omega)``.
 
         Default: ``(stuck_stiffness(omega), 0.0)``.
         """
-        return self._linear_coefficients(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return pair_checked(self, "_linear_coefficients", self._linear_coefficients(omega), omega)
 
     def reference_amplitude(self, omega: float = 0.0) -> float:
         """An amplitude (m) at which the element is clearly nonlinear (default ``slip_amplitude``):
         amplitude sweeps are measured in it, and property tests sample amplitudes around it."""
-        return self._reference_amplitude(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_reference_amplitude", self._reference_amplitude(omega), omega, amplitude=True)
 
     def stuck_stiffness(self, omega: float = 0.0) -> float:
         """Dynamic stiffness (N/m) while nothing slips; ``k* = stuck_stiffness(0)``."""
-        return self._stuck_stiffness(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_stuck_stiffness", self._stuck_stiffness(omega), omega)
 
     def slip_amplitude(self, omega: float = 0.0) -> float:
         """``a_min`` (m): the amplitude at which slip begins."""
-        return self._slip_amplitude(nonnegative("omega", omega))
+        omega = nonnegative("omega", omega)
+        return amount_checked(self, "_slip_amplitude", self._slip_amplitude(omega), omega, amplitude=True)
 
     def hysteresis(self, a: float, omega: float = 0.0, *, n: int = 401) -> tuple[NDArray, NDArray]:
         """One closed loop ``(x, f)`` of the steady response to ``x = a sin(theta)``.
@@ -399,7 +405,7 @@ class ContactElement(ABC):
         if n_t is None:
             n_t = default_samples(H)
         n_t = count("n_t", n_t, 2 * H + 2)
-        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol), X, omega)
+        return harmonics_checked(self, harmonics_asked(self, X, omega, n_t, rtol), X, omega)
 
     def harmonic_force_unchecked(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL,
                                  even_block: bool = True) -> tuple[NDArray, NDArray, NDArray]:
@@ -408,7 +414,7 @@ class ContactElement(ABC):
         no even harmonics beyond rounding, an element with :attr:`even_block_optional` may leave the even-even block
         of dF/dX 0 (a balance in receptance form does not use it there: docs/multiharmonic.md, "Half-wave symmetry")."""
         kw = {} if even_block or not self.even_block_optional else {"even_block": False}  # only elements that take it
-        return harmonics_checked(self, self._harmonic_force(X, omega, n_t, rtol, **kw), X, omega)
+        return harmonics_checked(self, harmonics_asked(self, X, omega, n_t, rtol, **kw), X, omega)
 
     def harmonic_force_deferred(self, X: NDArray, omega: float, n_t: int, rtol: float = DEFAULT_RTOL
                                 ) -> tuple[NDArray, NDArray, NDArray, Callable[[NDArray], NDArray] | None]:
@@ -420,7 +426,7 @@ class ContactElement(ABC):
         keeps ``whole`` with dF/dX: Hill's method needs the block (docs/multiharmonic.md, "Half-wave symmetry")
         that the trace does without, at the points only.  F, dF/dX and dF/domega are checked as
         :meth:`harmonic_force_unchecked`'s; what ``whole`` returns is the element's own."""
-        F, J, Fw, whole = self._harmonic_force_deferred(X, omega, n_t, rtol)
+        F, J, Fw, whole = harmonics_asked(self, X, omega, n_t, rtol, hook="_harmonic_force_deferred")
         return (*harmonics_checked(self, (F, J, Fw), X, omega), whole)
 
     # ------------------------------------------------------------------ hooks

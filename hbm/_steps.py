@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from contact_models.numerics.checks import ElementContractError
 from contact_models.numerics.small import solve_small as _solve
 
 #: Largest accepted ratio ``|R_{k+1}| / |R_k|`` from the second Newton update on (``|.|`` Euclidean).
@@ -28,6 +29,16 @@ class OutsideDomain(ValueError):
 
 #: Exceptions of the residual that count as a failed corrector instead of ending the run.
 RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError, OutsideDomain)
+#: Exceptions of the residual that are a defect of its code at any point (an element's answer of the wrong
+#: type or shape): raised at once; any other exception after the first point ends the run, keeping it.
+RESIDUAL_DEFECTS = (ElementContractError,)
+
+
+def _told(exc: BaseException) -> str:
+    """``exc``'s text and its notes (an element's check names the element in one)."""
+    return str(exc) + "".join(f" ({n})" for n in getattr(exc, "__notes__", ()))
+
+
 #: A step whose tangent turns by more than this (rad) is rejected and retried shorter; a retry's
 #: corrector uses the bisector normal when the tangent at the failed predictor turned that much.
 REJECT_TURN = 0.5
@@ -155,7 +166,7 @@ def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
     try:
         R, J = fun(y)
     except RESIDUAL_ERRORS as exc:
-        return _Newton(y, None, None, math.inf, 0, False, f"the residual failed: {exc}",
+        return _Newton(y, None, None, math.inf, 0, False, f"the residual failed: {_told(exc)}",
                        outside=isinstance(exc, OutsideDomain))
     rnorm = _norm(R)
     J0 = J
@@ -179,7 +190,7 @@ def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
         try:
             R, J = fun(y)
         except RESIDUAL_ERRORS as exc:
-            return _Newton(y, R, J, math.inf, k + 1, False, f"the residual failed: {exc}", J0,
+            return _Newton(y, R, J, math.inf, k + 1, False, f"the residual failed: {_told(exc)}", J0,
                            isinstance(exc, OutsideDomain))
         r_new = _norm(R)
         if k >= 1 and r_new > MAX_CONTRACTION * rnorm:

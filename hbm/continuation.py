@@ -36,8 +36,8 @@ Optional scaling: ``scale(y)`` returns positive weights ``s``; the geometry of s
 (tangent, step length, turn, constraint) is measured in ``u = y / s(y_i)``.
 
 A failure (step below ``min_step``, the first point not converging, an exception raised by
-``on_point``) ends the branch with a ``message`` and every point computed so far; reaching the
-end of the parameter range puts the last point exactly on the bound.
+``on_point``, or by the residual after the first point) ends the branch with a ``message`` and every
+point computed so far; reaching the end of the parameter range puts the last point exactly on the bound.
 """
 
 from __future__ import annotations
@@ -56,6 +56,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, OutsideDomain,  # noqa: F401
                      _corner_normal, _Count, _counted, _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
+from ._steps import RESIDUAL_DEFECTS, _told
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -103,6 +104,9 @@ class Status(IntEnum):
     TURNED_BACK = -3
     #: ``on_point`` raised at the last point: the run ends there, keeping every point before it and that one
     CALLBACK_RAISED = -4
+    #: the residual raised (not an arithmetic error, which is a failed step) after the first point: the run
+    #: ends there, keeping every point before (a user's contact element that raises midway through a curve)
+    RESIDUAL_RAISED = -5
 
 
 MESSAGES = {
@@ -112,6 +116,7 @@ MESSAGES = {
     Status.START_FAILED: "Newton's method did not converge at the starting point",
     Status.TURNED_BACK: "the branch turned back and left the parameter range where it started",
     Status.CALLBACK_RAISED: "the callback raised an exception at the last point, which ends the branch",
+    Status.RESIDUAL_RAISED: "the residual raised an exception beyond the last point, which ends the branch",
 }
 
 
@@ -160,6 +165,9 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.
     ``curve_tol``: the step's error control (see module); None: off.
     ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
+    An arithmetic error of ``residual`` is a failed step; any other ``Exception`` it raises propagates
+    at the start, and after it ends the run with ``Status.RESIDUAL_RAISED``, the points kept (an
+    element's answer of the wrong type or shape, ``RESIDUAL_DEFECTS``, propagates at once).
     """
     if not callable(residual):
         raise ValueError(f"residual must be a function y -> (R, J), got residual={residual!r}")
@@ -213,20 +221,40 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     if failed is not None:
         return failed
     while trace.status is None:
-        trace.advance(max_steps)
-    # ---- locate the folds between their neighbouring points
-    folds = []
-    if locate_folds:
-        for i in trace.fold_after:
-            loc = locate(residual, trace.ys[i], trace.ys[i + 1], lambda yy, tt: tt[p], tol=tol, scale=scale,
-                         xtol=fold_xtol, max_iter=max_iter, count=count)
-            # a corner of the branch (the tangent jumps) can defeat the locator: keep the bracketing
-            # point whose parameter is the extreme of the turn, a converged point within one step of it
-            ya, yb = trace.ys[i], trace.ys[i + 1]
-            folds.append(loc.y if loc is not None else max(ya, yb, key=lambda yy: yy[p] * np.sign(trace.ts[i][p])))
+        try:
+            trace.advance(max_steps)
+        except RESIDUAL_DEFECTS:
+            raise
+        except Exception as exc:  # noqa: BLE001 - a residual of the caller's (an element's hook): the points stay
+            trace.raised(exc)
+    folds = _located_folds(trace, residual, tol, scale, fold_xtol, max_iter, count) if locate_folds else []
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
                    trace.corners, trace.coarse)
+
+
+def _located_folds(trace: "_Trace", residual: Residual, tol: float, scale: Scale, xtol: float, max_iter: int,
+                   count: _Count) -> list:
+    """The folds of ``trace``, each located between its neighbouring points; where locating fails (a
+    corner of the branch, or a residual that raises), the bracketing point whose parameter is the extreme
+    of the turn, a converged point within one step of it."""
+    folds, p = [], trace.p
+    for i in trace.fold_after:
+        ya, yb = trace.ys[i], trace.ys[i + 1]
+        try:
+            loc = locate(residual, ya, yb, lambda yy, tt: tt[p], tol=tol, scale=scale, xtol=xtol, max_iter=max_iter,
+                         count=count)
+        except RESIDUAL_DEFECTS:
+            raise
+        except Exception:  # noqa: BLE001 - as a locator that fails
+            loc = None
+        folds.append(loc.y if loc is not None else max(ya, yb, key=lambda yy: yy[p] * np.sign(trace.ts[i][p])))
+    return folds
+
+
+def described(exc: BaseException) -> str:
+    """``exc`` for a message: its type, its text and its notes (where an element's check added one)."""
+    return f"{type(exc).__name__}: {_told(exc)}"
 
 
 def _finite_or_nan(value: object) -> float:
@@ -493,6 +521,13 @@ class _Trace:
             self.detail = f" ({type(exc).__name__}: {exc}; the last point is the one it was called with)"
             return False
         return True
+
+    def raised(self, exc: Exception) -> None:
+        """The residual raised ``exc`` during a step: the run ends with ``Status.RESIDUAL_RAISED``, the
+        points accepted before kept (a fold marked after the last of them dropped)."""
+        self.status = Status.RESIDUAL_RAISED
+        self.fold_after = [i for i in self.fold_after if i + 1 < len(self.ys)]
+        self.detail = f" ({described(exc)})"
 
     def _end_on_bound(self, y_prev) -> None:
         """The end of the parameter range: the last point goes on the bound."""

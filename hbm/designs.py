@@ -21,6 +21,31 @@ import numpy as np
 MAX_RUNS = 1_000_000
 
 
+def _shown(value: Any) -> str:
+    """``repr(value)``, cut to 120 characters for a message."""
+    r = repr(value)
+    return r if len(r) <= 120 else r[:117] + "..."
+
+
+def mapping(name: str, value: Any, holds: str) -> Mapping:
+    """``value`` if it is a mapping (a dict of ``holds``), else a ValueError naming ``name`` and the value."""
+    if not isinstance(value, Mapping):
+        raise ValueError(f"{name} must be a dict of {holds}, got {name}={_shown(value)}")
+    return value
+
+
+def point_list(name: str, value: Any) -> Sequence:
+    """``value`` if it is a sequence of points (each a dict of parameter name to value), else a ValueError
+    naming ``name``, the value or the first point that is not a dict."""
+    if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, _Sequence):
+        raise ValueError(f"{name} must be a sequence of points (dicts of parameter name to value, e.g. from "
+                         f"grid or samples), got {name}={_shown(value)}")
+    if not isinstance(value, Points):  # (Points of grid, samples or combine are dicts, each made when asked)
+        for i, p in enumerate(value):
+            mapping(f"{name}[{i}]", p, "parameter name to value")
+    return value
+
+
 def _too_many(count: int, what: str, scene: str = "") -> None:
     """Refuse ``count`` runs over :data:`MAX_RUNS`: ``what`` says what made them, ``scene`` the
     scene keys that did."""
@@ -299,7 +324,7 @@ def grid(axes: Mapping[str, Sequence[Any]]) -> list[dict]:
     >>> len(grid({"a": [1, 2, 3], "b": [4, 5]}))
     6
     """
-    if not axes:
+    if not mapping("axes", axes, "parameter name to its values"):
         raise ValueError("grid needs at least one parameter, got axes={}")
     values = []
     for name, vals in axes.items():
@@ -376,7 +401,7 @@ def samples(n: int, distributions: Mapping[str, Distribution], *, seed: int) -> 
     _too_many(int(n), "samples: n", f"study.n = {int(n)}")
     if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
         raise ValueError(f"samples needs an integer seed >= 0, got seed={seed!r}")
-    if not distributions:
+    if not mapping("distributions", distributions, "parameter name to a Distribution"):
         raise ValueError("samples needs at least one distribution, got distributions={}")
     rng = np.random.default_rng(int(seed))
     drawn = {}
@@ -414,6 +439,7 @@ def combine(first: Sequence[dict], second: Sequence[dict]) -> list[dict]:
     >>> combine([{"a": 1}, {"a": 2}], [{"b": 3}])
     [{'a': 1, 'b': 3}, {'a': 2, 'b': 3}]
     """
+    first, second = point_list("first", first), point_list("second", second)
     _too_many(len(first) * len(second), f"combine: {len(first)} x {len(second)} points",
               f"the points of study.grid x study.n = {len(second)}")
     return Points(len(first) * len(second), _Joined(first, second))

@@ -66,7 +66,7 @@ class ModeBalance:
         if s.sector_angle is not None:
             raise ValueError(f"system must be a whole structure: the nonlinear modes of one sector of a cyclic "
                              f"structure are not provided (solve its full() disk), got system={system!r}")
-        self.contacts = as_contacts(contacts, s.n)
+        self.contacts = as_contacts(contacts, s.n, s.physical_dofs)
         if not self.contacts:
             raise ValueError("contacts must hold at least one contact (a linear structure's modes are its "
                              "eigenvectors), got contacts=[]")

@@ -164,8 +164,7 @@ def forcing(bal: ModeBalance, force, response_dof) -> tuple[NDArray, int]:
         f = np.empty(0)  # not numbers: refused below, naming force
     if f.size != s.n or not np.all(np.isfinite(f)) or not np.any(f):
         raise ValueError(f"force must be {s.n} finite numbers, not all zero, got force={force!r}")
-    dof = int(np.argmax(np.abs(f))) if response_dof is None else s._dof("response_dof", response_dof)
-    return f, dof
+    return f, s.response_dof(response_dof, f)
 
 
 __all__ = ["forced_response", "ModalFRF", "frequency_term", "coefficients", "closest_minimum", "peak_condition", "locate_peak"]

@@ -352,6 +352,24 @@ class Structure:
             raise ValueError(f"{name} must be a DOF index in 0..{self.n - 1}, got {name}={d!r}")
         return int(d)
 
+    @property
+    def physical_dofs(self) -> int:
+        """How many DOFs, from 0, are physical displacements (where a contact or a response may be): all
+        of them; a reduced structure's kept DOFs only (:class:`ReducedStructure`)."""
+        return self.n
+
+    def response_dof(self, response_dof: Any = None, force: Any = None) -> int:
+        """``response_dof`` checked as a physical DOF (:attr:`physical_dofs`), or by default the physical DOF
+        of the largest ``|force|`` (the structure's own force if None)."""
+        p = self.physical_dofs
+        if response_dof is None:
+            f = self.force if force is None else np.asarray(force)
+            return int(np.argmax(np.abs(f[:p])))
+        d = self._dof("response_dof", response_dof)
+        if d >= p:
+            raise ValueError(_modal_coordinate("response_dof", d, p))
+        return d
+
 
 def _one_damping(damping: Any, rayleigh: Any, modal_damping: Any) -> None:
     if sum(v is not None for v in (damping, rayleigh, modal_damping)) != 1:
@@ -416,6 +434,11 @@ class ReducedStructure(Structure):
         self.T = T
         self.kept = kept
         self.full = full
+
+    @property
+    def physical_dofs(self) -> int:
+        """The kept DOFs: the reduced DOFs from ``len(kept)`` on are modal coordinates."""
+        return len(self.kept)
 
     def dof(self, original: int) -> int:
         """The reduced DOF of the kept original DOF ``original``."""
@@ -550,13 +573,22 @@ class Contact:
         return f"Contact({self.element!r}, {where})"
 
 
-def contact_within(c: Contact, n: int) -> Contact:
+def contact_within(c: Contact, n: int, physical: int | None = None) -> Contact:
     """``c`` if every DOF it touches is one of a structure of ``n`` DOFs, else a ValueError naming the
-    DOF and the contact (a DOF past n would index another sector's, or no, DOF)."""
+    DOF and the contact (a DOF past n would index another sector's, or no, DOF); with ``physical``, one
+    of the first ``physical`` (a reduced structure's kept DOFs, not its modal coordinates)."""
     for d in c.all_dofs:
         if d >= n:
             raise ValueError(f"dof must be a DOF index in 0..{n - 1}, got dof={d!r} in {c!r}")
+        if physical is not None and d >= physical:
+            raise ValueError(f"{_modal_coordinate('dof', d, physical)} in {c!r}")
     return c
+
+
+def _modal_coordinate(name: str, d: int, physical: int) -> str:
+    """The refusal of DOF ``d`` of a reduced structure whose first ``physical`` DOFs are its kept ones."""
+    return (f"{name} must be a kept DOF of the reduced structure, in 0..{physical - 1} (its DOFs from {physical} on "
+            f"are modal coordinates; reduced.dof(i) is original DOF i's), got {name}={d!r}")
 
 
 def _attachment(one: str, d: Any, two: str, pair: Any, same: bool = False) -> tuple[int, ...]:

@@ -145,10 +145,32 @@ def _scalar(name: str, value: object) -> float:
 
 
 # ---------------------------------------------------------------- what an element returns (the contract)
+class ElementContractError(ValueError):
+    """A contact element's hook returned the wrong type or shape (a defect of its code, not of a point):
+    raised at once, also from inside a solve, naming the element, the hook and the output."""
+
+
 class ElementOutputError(FloatingPointError):
     """A contact element returned a non-finite value (NaN or inf); the message names the element,
     the hook, the output and where.  A ``FloatingPointError``: the continuation takes it as a failed
     step, keeping the branch computed before it."""
+
+
+def noted(exc: BaseException, element: Any, call: str, where: str) -> None:
+    """Add to ``exc`` (raised by ``element``'s hook ``call``) a note naming the element, the hook and
+    where it was asked, once (the innermost hook's): a solve's message then says which element failed.
+    The contract's own errors name the element already (their message starts ``element=``)."""
+    notes = getattr(exc, "__notes__", ())
+    if not str(exc).startswith("element=") and not any(str(n).startswith("in element=") for n in notes):
+        exc.add_note(f"in element={element!r}: {type(element).__name__}.{call} at {where}")
+
+
+def _span(name: str, v: NDArray, unit: str) -> str:
+    """``name=value unit``, or its range over an array, for a note."""
+    if not v.size:
+        return f"no {name}"
+    lo, hi = float(np.min(v)), float(np.max(v))
+    return f"{name}={lo:.6g} {unit}" if lo == hi else f"{name} in [{lo:.6g}, {hi:.6g}] {unit}"
 
 
 def _own(element: object, hook: str) -> bool:
@@ -160,14 +182,19 @@ def _own(element: object, hook: str) -> bool:
 def fourier_checked(element: Any, a: NDArray, omega: NDArray, rtol: float, *, values: bool = False) -> list:
     """The element's ``(f_s, f_c, df_s/da, df_c/da)`` (``values``: ``(f_s, f_c)``, from ``_fourier`` where
     it implements it) for flat ``a``, ``omega``, checked: real arrays of one value per amplitude, finite;
-    else ``ValueError`` (type, shape) or ``ElementOutputError`` naming the element, the hook and where.
+    else ``ElementContractError`` (type, shape) or ``ElementOutputError`` naming the element, the hook and where.
     numpy's floating-point warnings inside the hook are not passed on: every value is checked here, and
     a value that left double precision is named in the error instead."""
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        if values and _own(element, "_fourier"):
-            return _returned(element, "_fourier", element._fourier(a, omega, rtol), 2, a, omega)
-        out = element._fourier_derivatives(a, omega, rtol)
-    out = _returned(element, "_fourier_derivatives", out, 4, a, omega)
+    hook = "_fourier" if values and _own(element, "_fourier") else "_fourier_derivatives"
+    try:
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            out = getattr(element, hook)(a, omega, rtol)
+    except Exception as exc:
+        noted(exc, element, f"{hook}(a, omega, rtol)", f"{_span('a', a, 'm')}, {_span('omega', omega, 'rad/s')}")
+        raise
+    if hook == "_fourier":
+        return _returned(element, hook, out, 2, a, omega)
+    out = _returned(element, hook, out, 4, a, omega)
     return out[:2] if values else out
 
 
@@ -190,13 +217,13 @@ def _returned(element: Any, hook: str, out: Any, count: int, a: NDArray, omega: 
     name = f"element={element!r}: {type(element).__name__}.{hook}(a, omega, rtol)"
     names = ("f_s", "f_c", "df_s/da", "df_c/da")[:count]
     if not isinstance(out, (tuple, list)) or len(out) != count:
-        raise ValueError(f"{name} must return {count} arrays ({', '.join(names)}), got {_kind(out)}")
+        raise ElementContractError(f"{name} must return {count} arrays ({', '.join(names)}), got {_kind(out)}")
     checked = []
     for what, v in zip(names, out):
         v = _real_array(v, f"{name}: {what}")
         if v.size != n or (v.ndim > 1 and v.shape != a.shape):
-            raise ValueError(f"{name} must return {what} with one value per amplitude ({n}), got {what} of "
-                             f"shape {v.shape}")
+            raise ElementContractError(f"{name} must return {what} with one value per amplitude ({n}), got "
+                                       f"{what} of shape {v.shape}")
         checked.append(v.reshape(n))
     _finite(checked, names, name, lambda i: f"a={float(a.flat[i]):.6g} m, omega={float(omega.flat[i]):.6g} rad/s")
     return checked
@@ -205,21 +232,37 @@ def _returned(element: Any, hook: str, out: Any, count: int, a: NDArray, omega: 
 def time_law_checked(element: Any, x: NDArray, omega: float) -> tuple[NDArray, NDArray]:
     """``element._periodic_force(x, omega)`` checked: a pair ``(f, df/dx)`` of real arrays of shapes
     x's and (x.size, x.size), finite; else ``ValueError`` or ``ElementOutputError`` naming the element."""
-    out = element._periodic_force(x, omega)
     n = x.size
+    where = f"omega={omega!r}, x of shape {x.shape} in [{float(np.min(x)):.6g}, {float(np.max(x)):.6g}]"
+    try:
+        out = element._periodic_force(x, omega)
+    except Exception as exc:
+        noted(exc, element, "_periodic_force(x, omega)", where)
+        raise
     name = f"element={element!r}: {type(element).__name__}._periodic_force(x, omega)"
     if not isinstance(out, (tuple, list)) or len(out) != 2:
-        raise ValueError(f"{name} must return a pair (f, df_dx), got {_kind(out)}")
+        raise ElementContractError(f"{name} must return a pair (f, df_dx), got {_kind(out)}")
     checked = []
     for what, v, shape in zip(("f", "df_dx"), out, (x.shape, (n, n))):
         v = _real_array(v, f"{name}: {what}")
         if v.shape != shape:
-            raise ValueError(f"{name} must return {what} of shape {shape} for x of shape {x.shape}, got "
-                             f"{what} of shape {v.shape}")
+            raise ElementContractError(f"{name} must return {what} of shape {shape} for x of shape {x.shape}, got "
+                                       f"{what} of shape {v.shape}")
         checked.append(v)
-    where = f"omega={omega!r}, x of shape {x.shape} in [{float(np.min(x)):.6g}, {float(np.max(x)):.6g}]"
     _finite(checked, ("f", "df_dx"), name, lambda i: where)
     return checked[0], checked[1]
+
+
+def harmonics_asked(element: Any, X: NDArray, omega: float, n_t: int, rtol: float, *, hook: str = "_harmonic_force",
+                    **kw: Any) -> Any:
+    """``element.<hook>(X, omega, n_t, rtol, **kw)`` (unchecked), an exception it raises noted with the
+    element and where (:func:`noted`)."""
+    try:
+        return getattr(element, hook)(X, omega, n_t, rtol, **kw)
+    except Exception as exc:
+        noted(exc, element, f"{hook}(X, omega, n_t, rtol)",
+              f"omega={omega!r} rad/s, |X| = {float(np.linalg.norm(X)):.6g} m")
+        raise
 
 
 def harmonics_checked(element: Any, out: Any, X: NDArray, omega: float) -> tuple[NDArray, NDArray, NDArray]:
@@ -235,25 +278,52 @@ def harmonics_checked(element: Any, out: Any, X: NDArray, omega: float) -> tuple
     name = f"element={element!r}: {type(element).__name__}._harmonic_force(X, omega, n_t, rtol)"
     names = ("F", "dF_dX", "dF_domega")
     if not isinstance(out, (tuple, list)) or len(out) != 3:
-        raise ValueError(f"{name} must return (F, dF_dX, dF_domega), got {_kind(out)}")
+        raise ElementContractError(f"{name} must return (F, dF_dX, dF_domega), got {_kind(out)}")
     checked = []
     for what, v, size in zip(names, out, (n, n * n, n)):
         v = _real_array(v, f"{name}: {what}")
         if v.size != size:
             want = f"({n}, {n})" if what == "dF_dX" else f"({n},)"
-            raise ValueError(f"{name} must return {what} of shape {want} for X of shape {X.shape}, got {what} "
-                             f"of shape {v.shape}")
+            raise ElementContractError(f"{name} must return {what} of shape {want} for X of shape {X.shape}, got "
+                                       f"{what} of shape {v.shape}")
         checked.append(v)
     where = f"omega={omega!r}, |X| = {float(np.linalg.norm(X)):.6g} m"
     _finite(checked, names, name, lambda i: where)
     return tuple(checked)
 
 
+def amount_checked(element: Any, hook: str, value: Any, omega: float, *, amplitude: bool = False) -> Any:
+    """A scalar hook's answer at ``omega`` (a stiffness, N/m; an ``amplitude``, m, >= 0) as given, if it is
+    a real number other than NaN (inf is one: a rigid contact's stiffness, an amplitude at which nothing
+    slips); else ``ElementContractError`` (not a number, a negative amplitude) or ``ElementOutputError``
+    (NaN) naming the element and the hook: the solver compares amplitudes with it and divides by it."""
+    if type(value) is float and (value >= 0.0 if amplitude else value == value):  # the common case, at once
+        return value
+    name = f"element={element!r}: {type(element).__name__}.{hook}(omega)"
+    if (isinstance(value, (bool, str, bytes)) or np.ndim(value) != 0 or np.iscomplexobj(value)
+            or not isinstance(np.asarray(value).item(), (int, float))):
+        raise ElementContractError(f"{name} must return a real number, got {_kind(value)}")
+    v = float(value)
+    if v != v:
+        raise ElementOutputError(f"{name} returned nan (not a number) at omega={omega!r}")
+    if amplitude and v < 0.0:
+        raise ElementContractError(f"{name} must return an amplitude >= 0 (m), got {v!r} at omega={omega!r}")
+    return value
+
+
+def pair_checked(element: Any, hook: str, value: Any, omega: float) -> tuple:
+    """``_linear_coefficients``' ``(k_s, k_c)`` (N/m) at ``omega``, each checked as :func:`amount_checked`."""
+    if not isinstance(value, (tuple, list)) or len(value) != 2:
+        raise ElementContractError(f"element={element!r}: {type(element).__name__}.{hook}(omega) must return a "
+                                   f"pair (k_s, k_c), got {_kind(value)}")
+    return tuple(amount_checked(element, hook, v, omega) for v in value)
+
+
 def loop_checked(element: Any, out: Any, a: float, omega: float) -> tuple[NDArray, NDArray]:
     """``_hysteresis``'s ``(x, f)`` checked: a pair of real arrays, finite."""
     name = f"element={element!r}: {type(element).__name__}._hysteresis(a, omega, n)"
     if not isinstance(out, (tuple, list)) or len(out) != 2:
-        raise ValueError(f"{name} must return a pair (x, f), got {_kind(out)}")
+        raise ElementContractError(f"{name} must return a pair (x, f), got {_kind(out)}")
     x, f = (_real_array(v, f"{name}: {w}") for v, w in zip(out, ("x", "f")))
     _finite([x, f], ("x", "f"), name, lambda i: f"a={a!r} m, omega={omega!r} rad/s")
     return x, f
@@ -271,15 +341,16 @@ def _kind(v: object) -> str:
 def _real_array(v: object, name: str) -> np.ndarray:
     """``v`` as a float64 array; ``ValueError`` naming it for a complex, a non-numeric or a ragged value."""
     if v is None or isinstance(v, (str, bytes)):
-        raise ValueError(f"{name} must be a real array, got {_kind(v)}")
+        raise ElementContractError(f"{name} must be a real array, got {_kind(v)}")
     try:
         arr = np.asarray(v)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be a real array, got {_kind(v)}") from None
+        raise ElementContractError(f"{name} must be a real array, got {_kind(v)}") from None
     if np.iscomplexobj(arr):
-        raise ValueError(f"{name} must be real, got a complex array (max|Im| = {float(np.max(np.abs(arr.imag))):.3g})")
+        raise ElementContractError(f"{name} must be real, got a complex array "
+                                   f"(max|Im| = {float(np.max(np.abs(arr.imag))):.3g})")
     if arr.dtype.kind not in "fiu":
-        raise ValueError(f"{name} must be a real array, got {_kind(v)} of dtype {arr.dtype}")
+        raise ElementContractError(f"{name} must be a real array, got {_kind(v)} of dtype {arr.dtype}")
     return arr.astype(float, copy=False)
 
 

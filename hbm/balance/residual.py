@@ -95,9 +95,9 @@ def as_structure(system: Any) -> Structure:
                      f"got system={system!r}")
 
 
-def as_contacts(contacts: Any, n: int) -> list[Contact]:
+def as_contacts(contacts: Any, n: int, physical: int | None = None) -> list[Contact]:
     """A list of :class:`hbm.Contact` from None, one Contact, a sequence of them, or a bare element at DOF 0,
-    each on DOFs of a structure of ``n`` DOFs."""
+    each on DOFs of a structure of ``n`` DOFs (with ``physical``, on its first ``physical``: contact_within)."""
     if contacts is None:
         return []
     if isinstance(contacts, Contact):
@@ -118,7 +118,7 @@ def as_contacts(contacts: Any, n: int) -> list[Contact]:
     for c in contacts:
         if not isinstance(c, Contact):
             raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
-        contact_within(c, n)
+        contact_within(c, n, physical)
     return contacts
 
 
@@ -149,10 +149,7 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
                 raise ValueError(f"element={c.element!r}: {type(c.element).__name__} has no time-domain force law, "
                                  f"so it works at harmonics=1 only, got harmonics={H}")
     nonzero_force(structure.force)
-    if response_dof is None:
-        response_dof = int(np.argmax(np.abs(structure.force)))
-    response_dof = structure._dof("response_dof", response_dof)
-    return H, int(n_t), response_dof
+    return H, int(n_t), structure.response_dof(response_dof)
 
 
 class HarmonicBalance:
@@ -217,7 +214,7 @@ class HarmonicBalance:
                  omega_ref: float = 1.0) -> None:
         s = self.structure = as_structure(system)
         self.system = system
-        self.contacts = as_contacts(contacts, s.n)
+        self.contacts = as_contacts(contacts, s.n, s.physical_dofs)
         self.H, self.n_t, self.response_dof = check_problem(s, self.contacts, harmonics, n_t, response_dof)
         self.L = 2 * self.H + 1
         self.dofs = sorted({d for c in self.contacts for d in c.all_dofs} | {self.response_dof})

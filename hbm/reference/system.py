@@ -10,6 +10,7 @@ integrators of ``hbm.reference.shooting`` take.
 from __future__ import annotations
 
 import math
+from types import SimpleNamespace
 from typing import Any, Iterable
 
 import numpy as np
@@ -72,13 +73,31 @@ def _contact_dofs(contact: Any, n: int) -> tuple[int, ...]:
     return tuple(int(d) for d in dofs)
 
 
+def _contact_list(contacts: Any, n: int) -> list:
+    """``contacts`` as a list, as ``hbm.frequency_response`` takes them: None, one contact (an object with
+    ``.element``), a sequence of them, or a bare element on a one-DOF system; else a ValueError naming it."""
+    if contacts is None:
+        return []
+    if hasattr(contacts, "element"):
+        return [contacts]
+    if callable(getattr(contacts, "fourier", None)):  # a bare contact element
+        if n != 1:
+            raise ValueError(f"a bare element attaches only to a one-DOF system; give hbm.Contact(element, dof=...) "
+                             f"for a structure of {n} DOFs, got contacts={contacts!r}")
+        return [SimpleNamespace(element=contacts, dofs=(0,))]
+    if isinstance(contacts, (str, bytes, dict)) or not isinstance(contacts, Iterable):
+        raise ValueError(f"contacts must be a sequence of hbm.Contact (or one, or a bare element on a one-DOF "
+                         f"system), got contacts={contacts!r}")
+    return list(contacts)
+
+
 def build_model(system: Any, contacts: Iterable[Any]) -> Model:
     """The integrators' ``Model`` of ``system`` (M, C, K, force) with its Jenkins contacts and cubic
     springs; ``ValueError`` naming the offending input otherwise."""
     M, C, K, f = _system(system)
     n = M.shape[0]
     cols: dict[str, list] = {"B": [], "kt": [], "fs": [], "Bq": [], "k3": []}
-    for contact in contacts:
+    for contact in _contact_list(contacts, n):
         el = getattr(contact, "element", None)
         dofs = _contact_dofs(contact, n)
         b = np.zeros(n)

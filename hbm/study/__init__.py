@@ -33,8 +33,8 @@ from contact_models.accuracy import AccuracyWarning
 from ..scenes import SceneError, effect_lines, plan_scene, scene_from_dict
 from ..scenes.validation import apply_overrides, read_toml
 
-from ..designs import (DISTRIBUTIONS, MAX_RUNS, Distribution, Points, combine, grid, lognormal, normal, run_id,
-                     samples, uniform)
+from ..designs import (DISTRIBUTIONS, MAX_RUNS, Distribution, Points, combine, grid, lognormal, normal, point_list,
+                       run_id, samples, uniform)
 from .execute import DASK_MISSING, EXECUTORS, check_executor, cores, run_tasks
 from .lock import FolderInUse
 from .runs import RESULT_COLUMNS, SceneRun, execute, outcome
@@ -78,6 +78,7 @@ class Study:
     def __post_init__(self) -> None:
         if not callable(self.runner):
             raise ValueError(f"runner must be callable, got runner={self.runner!r}")
+        point_list("points", self.points)
         if len(self.points) > MAX_RUNS:  # refused before a single point is made
             raise ValueError(f"points = {len(self.points)} runs, more than a study may make (MAX_RUNS = {MAX_RUNS})")
         self.points = [{k: v.item() if isinstance(v, np.generic) else v for k, v in p.items()} for p in self.points]

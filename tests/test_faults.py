@@ -1,0 +1,260 @@
+"""Faults inside a solve and bad input a first round left open: a user's element that raises midway through
+a curve ends the run keeping the curve, the message naming the element and where it was asked."""
+
+import math
+import re
+import warnings
+
+import numpy as np
+import pytest
+
+from contact_models import AccuracyWarning, ContactElement, Macroslip
+from contact_models.macroslip import jenkins_fourier
+from hbm import Blade, Contact, Structure, frequency_response, nonlinear_modes
+from hbm.continuation import Status, continuation
+
+K = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+F = [0.0, 0.0, 0.01]
+#: The amplitude (m) above which the spoilt elements below fail: past slip (0.02), on the way up to the peak.
+AT = 0.03
+
+
+class _Stop(Exception):
+    pass
+
+
+class Spoilt(ContactElement):
+    """The Jenkins element (stiffness 1, slip force 0.02), written by a user, failing in one way above AT."""
+
+    frequency_dependent = False
+
+    def __init__(self, mode):
+        self.mode, self.jen = mode, Macroslip(1.0, 0.02)
+
+    def __repr__(self):
+        return f"{type(self).__name__}({self.mode!r})"
+
+    def _fail(self, a):
+        if a > AT:
+            if self.mode == "raise":
+                raise _Stop("state lost")
+            if self.mode == "divide":
+                return 1 / 0
+        return None
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        self._fail(float(np.max(a, initial=0.0)))
+        return jenkins_fourier(1.0, 0.02, a)
+
+    def _stuck_stiffness(self, omega):
+        return 1.0
+
+    def _slip_amplitude(self, omega):
+        return 0.02
+
+    def _hysteresis(self, a, omega, n):
+        return self.jen.hysteresis(a, omega, n=n)
+
+
+class SpoiltLaw(Spoilt):
+    """:class:`Spoilt` with its time law, failing there too (the multi-harmonic balance's)."""
+
+    has_time_law = True
+
+    def _periodic_force(self, x, omega):
+        self._fail(0.5 * float(np.ptp(x)))
+        return self.jen.periodic_force(x, omega)
+
+
+def _blade():
+    return Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+
+
+def _solve(system, element, **kw):
+    contacts = element if isinstance(system, Blade) else [Contact(element, dof=0)]
+    w = (0.6, 1.8) if isinstance(system, Blade) else (0.3, 0.8)
+    with pytest.warns(AccuracyWarning, match=r"the branch stopped at omega = .*the residual raised an exception"):
+        return frequency_response(system, contacts, omega_range=w, **kw)
+
+
+# ---------------------------------------------------------------- an element that raises midway: the curve kept
+@pytest.mark.parametrize("kw", [dict(harmonics=1, tol=None), dict()])
+def test_an_element_that_raises_midway_ends_the_run_keeping_the_curve_before(kw):
+    frf = _solve(_blade(), Spoilt("raise"), **kw)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(_blade(), Spoilt("never"), omega_range=(0.6, 1.8), **kw)  # the same element, sound
+    assert not frf.success and frf.status == Status.RESIDUAL_RAISED
+    assert 10 < len(frf) < len(ref)
+    assert float(np.max(frf.amplitude)) <= AT < float(np.max(ref.amplitude))
+    np.testing.assert_allclose(frf.amplitude, ref.amplitude[:len(frf)], rtol=1e-9)  # the same points, kept
+    assert re.search(r"\(_Stop: state lost \(in element=Spoilt\('raise'\): Spoilt._fourier_derivatives\(a, omega, "
+                     r"rtol\) at a=0.03\d* m, omega=1.\d* rad/s\)\); the branch stops at omega = 1.\d* rad/s",
+                     frf.message), frf.message
+    assert np.all(np.isfinite(frf.amplitude)) and frf.peak().amplitude == float(np.max(frf.amplitude))
+
+
+def test_an_element_whose_time_law_raises_in_the_multi_harmonic_balance_keeps_the_curve():
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    frf = _solve(s, SpoiltLaw("raise"), harmonics=3, tol=None)
+    assert not frf.success and frf.status == Status.RESIDUAL_RAISED and len(frf) > 10
+    assert re.search(r"_Stop: state lost \(in element=SpoiltLaw\('raise'\): SpoiltLaw._periodic_force\(x, omega\) at "
+                     r"omega=0.4\d*, x of shape \(\d+,\) in \[-0.03\d*, 0.03\d*\]\)", frf.message), frf.message
+    assert np.all(np.isfinite(frf.amplitude))
+
+
+def test_an_element_that_divides_by_zero_is_named_in_the_failed_step():
+    with pytest.warns(AccuracyWarning):
+        frf = frequency_response(_blade(), Spoilt("divide"), omega_range=(0.6, 1.8), harmonics=1, tol=None)
+    assert not frf.success and frf.status == Status.STEP_TOO_SMALL and len(frf) > 10
+    assert re.search(r"the residual failed: division by zero \(in element=Spoilt\('divide'\): "
+                     r"Spoilt._fourier_derivatives\(a, omega, rtol\) at a=0.03\d* m, omega=1.\d* rad/s\)",
+                     frf.message), frf.message
+
+
+def test_a_public_call_of_a_raising_element_raises_its_own_exception_naming_the_element():
+    with pytest.raises(_Stop, match="state lost") as info:
+        Spoilt("raise").fourier(np.array([0.02, 0.04]), 1.0)
+    assert info.value.__notes__ == ["in element=Spoilt('raise'): Spoilt._fourier_derivatives(a, omega, rtol) at "
+                                    "a in [0.02, 0.04] m, omega=1 rad/s"]
+
+
+def test_nonlinear_modes_keep_the_branch_before_an_element_that_raises():
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    modes = nonlinear_modes(s, [Contact(SpoiltLaw("raise"), dof=0)], amplitude_range=(1e-3, 10.0), harmonics=3)
+    assert not modes.success and len(modes) > 5 and np.all(np.isfinite(modes.omega))
+    assert "the residual raised an exception beyond the last point" in modes.message
+    assert "_Stop: state lost (in element=SpoiltLaw('raise'): SpoiltLaw._periodic_force(x, omega)" in modes.message
+
+
+# ---------------------------------------------------------------- the continuation core
+def _circle_raising_past(x_min):
+    def circle(y):  # x^2 + lam^2 = 1, traced from (1, 0) towards lam = 0.9: x falls
+        if y[0] < x_min:
+            raise KeyError("outside the table")
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    return circle
+
+
+def test_the_continuation_keeps_its_points_when_the_residual_raises_after_the_first():
+    run = continuation(_circle_raising_past(0.8), [1.0, 0.0], parameter=1, bounds=(-0.95, 0.95))
+    assert run.status == Status.RESIDUAL_RAISED and not run.success and len(run.y) > 2
+    assert run.message == ("the residual raised an exception beyond the last point, which ends the branch "
+                           "(KeyError: 'outside the table')")
+    assert np.all(run.y[:, 0] >= 0.8) and np.allclose(np.hypot(run.y[:, 0], run.y[:, 1]), 1.0, atol=1e-9)
+
+
+def test_the_continuation_raises_what_the_residual_raises_at_the_start():
+    with pytest.raises(KeyError, match="outside the table"):
+        continuation(_circle_raising_past(2.0), [1.0, 0.0], parameter=1, bounds=(-0.95, 0.95))
+
+
+# ---------------------------------------------------------------- a reduced structure: its modal coordinates
+def _reduced():
+    n = 6
+    Kc = 2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    Kc[-1, -1] = 1.0
+    f = np.zeros(n)
+    f[3] = 0.01  # on a DOF not kept: the reduced force has entries on the modal coordinates too
+    s = Structure(np.eye(n), 0.004 * Kc, Kc, force=f)
+    return s, s.reduce([0, 5], modes=4)  # every mode: exact
+
+
+def test_a_contact_on_a_modal_coordinate_of_a_reduced_structure_is_refused_by_name():
+    _, r = _reduced()
+    with pytest.raises(ValueError, match=r"^dof must be a kept DOF of the reduced structure, in 0..1 \(its DOFs from "
+                                         r"2 on are modal coordinates; reduced.dof\(i\) is original DOF i's\), got "
+                                         r"dof=2 in Contact\(Macroslip\(stiffness=1.0, slip_force=0.02\), dof=2\)$"):
+        frequency_response(r, [Contact(Macroslip(1.0, 0.02), dof=2)], omega_range=(0.2, 0.6), harmonics=3, tol=None)
+    with pytest.raises(ValueError, match=r"^dof must be a kept DOF .* got dof=4 in Contact\(.*dofs=\(0, 4\)\)$"):
+        nonlinear_modes(r, [Contact(Macroslip(1.0, 0.02), dofs=(0, 4))], amplitude_range=(1e-3, 1.0))
+
+
+def test_a_response_on_a_modal_coordinate_is_refused_and_the_default_is_a_kept_dof():
+    s, r = _reduced()
+    assert int(np.argmax(np.abs(r.force))) == 2  # the largest reduced force is on a modal coordinate
+    contacts = [Contact(Macroslip(1.0, 0.02), dof=0)]
+    with pytest.raises(ValueError, match=r"^response_dof must be a kept DOF of the reduced structure, in 0..1 .*got "
+                                         r"response_dof=3$"):
+        frequency_response(r, contacts, omega_range=(0.2, 0.6), harmonics=3, tol=None, response_dof=3)
+    frf = frequency_response(r, contacts, omega_range=(0.2, 0.6), harmonics=3, tol=None)
+    full = frequency_response(s, contacts, omega_range=(0.2, 0.6), harmonics=3, tol=None, response_dof=5)
+    assert r.response_dof() == 1 == r.dof(5)  # the kept DOF of the largest force: original DOF 5
+    assert frf.peak().amplitude == pytest.approx(full.peak().amplitude, rel=1e-6)  # a displacement, not a mode's
+
+
+# ---------------------------------------------------------------- the shooting reference takes contacts as frf does
+def test_the_periodic_reference_takes_one_contact_or_a_bare_element_and_refuses_the_rest_by_name():
+    from hbm import periodic_response
+
+    blade = _blade()
+    bare = periodic_response(blade, Macroslip(1.0, 0.02), omega=1.0)
+    listed = periodic_response(blade, [Contact(Macroslip(1.0, 0.02), dof=0)], omega=1.0)
+    one = periodic_response(blade, Contact(Macroslip(1.0, 0.02), dof=0), omega=1.0)
+    np.testing.assert_array_equal(bare.harmonics, listed.harmonics)
+    np.testing.assert_array_equal(one.harmonics, listed.harmonics)
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with pytest.raises(ValueError, match=r"^a bare element attaches only to a one-DOF system; give "
+                                         r"hbm.Contact\(element, dof=...\) for a structure of 3 DOFs, got "
+                                         r"contacts=Macroslip\(stiffness=1.0, slip_force=0.02\)$"):
+        periodic_response(s, Macroslip(1.0, 0.02), omega=0.5)
+    for bad in (5, "jenkins", {"dof": 0}):
+        with pytest.raises(ValueError, match=rf"^contacts must be a sequence of hbm.Contact .*got "
+                                             rf"contacts={re.escape(repr(bad))}$"):
+            periodic_response(s, bad, omega=0.5)
+
+
+# ---------------------------------------------------------------- a study's designs: dicts of points, named
+def test_designs_and_a_study_refuse_what_is_not_a_dict_of_points_by_name():
+    from hbm.study import Study, combine, grid, samples, uniform
+
+    with pytest.raises(ValueError, match=r"^axes must be a dict of parameter name to its values, got axes=\[1, 2\]$"):
+        grid([1, 2])
+    with pytest.raises(ValueError, match=r"^distributions must be a dict of parameter name to a Distribution, got "
+                                         r"distributions=\[1, 2\]$"):
+        samples(3, [1, 2], seed=1)
+    with pytest.raises(ValueError, match=r"^second must be a sequence of points .*got second=5$"):
+        combine(grid({"a": [1.0]}), 5)
+    with pytest.raises(ValueError, match=r"^points must be a sequence of points .*got points='abc'$"):
+        Study(lambda p: p, "abc")
+    with pytest.raises(ValueError, match=r"^points\[1\] must be a dict of parameter name to value, got points\[1\]=3$"):
+        Study(lambda p: p, [{"a": 1.0}, 3])
+    assert len(combine(grid({"a": [1.0, 2.0]}), samples(3, {"b": uniform(0.0, 1.0)}, seed=1))) == 6
+
+
+# ---------------------------------------------------------------- an element's scalar answers, checked
+class Stated(Spoilt):
+    """A sound Jenkins element whose stuck stiffness or slip amplitude is stated wrongly."""
+
+    def __init__(self, k=1.0, a_min=0.02):
+        super().__init__("never")
+        self.k, self.a_min = k, a_min
+
+    def __repr__(self):
+        return f"Stated(k={self.k!r}, a_min={self.a_min!r})"
+
+    def _stuck_stiffness(self, omega):
+        return self.k
+
+    def _slip_amplitude(self, omega):
+        return self.a_min
+
+
+def test_a_nan_or_a_negative_scalar_answer_of_an_element_is_named_not_returned():
+    from contact_models.base import ElementContractError, ElementOutputError
+
+    with pytest.raises(ElementOutputError, match=r"^element=Stated\(k=nan, a_min=0.02\): Stated._stuck_stiffness"
+                                                 r"\(omega\) returned nan \(not a number\) at omega=0.0$"):
+        Stated(k=float("nan")).stuck_stiffness()
+    with pytest.raises(ElementContractError, match=r"^element=Stated\(k=1.0, a_min=-1.0\): Stated._slip_amplitude"
+                                                   r"\(omega\) must return an amplitude >= 0 \(m\), got -1.0 at "
+                                                   r"omega=2.0$"):
+        Stated(a_min=-1.0).slip_amplitude(2.0)
+    with pytest.raises(ElementContractError, match=r"^element=Stated\(k='stiff', a_min=0.02\): "
+                                                   r"Stated._stuck_stiffness\(omega\) must return a real number, got "
+                                                   r"str 'stiff'$"):
+        Stated(k="stiff").stuck_stiffness()
+    with pytest.raises(ElementContractError, match=r"^element=Stated\(k=1.0, a_min=-1.0\): Stated._linear_amplitude"):
+        frequency_response(_blade(), Stated(a_min=-1.0), omega_range=(0.6, 1.8), harmonics=1, tol=None)
+    assert Stated(a_min=math.inf).slip_amplitude() == math.inf and Stated(k=math.inf).stuck_stiffness() == math.inf
