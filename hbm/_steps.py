@@ -29,9 +29,10 @@ class OutsideDomain(ValueError):
 
 #: Exceptions of the residual that count as a failed corrector instead of ending the run.
 RESIDUAL_ERRORS = (ArithmeticError, np.linalg.LinAlgError, OutsideDomain)
-#: Exceptions of the residual that are a defect of its code at any point (an element's answer of the wrong
-#: type or shape): raised at once; any other exception after the first point ends the run, keeping it.
-RESIDUAL_DEFECTS = (ElementContractError,)
+#: Exceptions of the residual raised at once, wherever they occur: a defect of its code at any point (an
+#: element's answer of the wrong type or shape), or a warning the caller's filter turned into an error (the
+#: caller asked to stop there); any other exception after the first point ends the run, keeping it.
+RESIDUAL_RAISED_AT_ONCE = (ElementContractError, Warning)
 
 
 def _told(exc: BaseException) -> str:

@@ -56,7 +56,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, OutsideDomain,  # noqa: F401
                      _corner_normal, _Count, _counted, _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
-from ._steps import RESIDUAL_DEFECTS, _told
+from ._steps import RESIDUAL_RAISED_AT_ONCE, _told
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -167,7 +167,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
     An arithmetic error of ``residual`` is a failed step; any other ``Exception`` it raises propagates
     at the start, and after it ends the run with ``Status.RESIDUAL_RAISED``, the points kept (an
-    element's answer of the wrong type or shape, ``RESIDUAL_DEFECTS``, propagates at once).
+    element's answer of the wrong type or shape, or a warning an ``"error"`` filter raises, propagates at once:
+    ``RESIDUAL_RAISED_AT_ONCE``).
     """
     if not callable(residual):
         raise ValueError(f"residual must be a function y -> (R, J), got residual={residual!r}")
@@ -223,7 +224,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     while trace.status is None:
         try:
             trace.advance(max_steps)
-        except RESIDUAL_DEFECTS:
+        except RESIDUAL_RAISED_AT_ONCE:
             raise
         except Exception as exc:  # noqa: BLE001 - a residual of the caller's (an element's hook): the points stay
             trace.raised(exc)
@@ -244,7 +245,7 @@ def _located_folds(trace: "_Trace", residual: Residual, tol: float, scale: Scale
         try:
             loc = locate(residual, ya, yb, lambda yy, tt: tt[p], tol=tol, scale=scale, xtol=xtol, max_iter=max_iter,
                          count=count)
-        except RESIDUAL_DEFECTS:
+        except RESIDUAL_RAISED_AT_ONCE:
             raise
         except Exception:  # noqa: BLE001 - as a locator that fails
             loc = None
