@@ -164,3 +164,33 @@ def test_the_numerical_bar_takes_the_shared_bounded_count():
     for cells in (math.inf, math.nan, 2.5, True):
         with pytest.raises(ValueError, match=rf"^cells must be an integer >= 2, got cells={re.escape(repr(cells))}$"):
             NumericalMicroslip(bar, UniformLoad(N=100.0), cells=cells)
+
+
+# ---------------------------------------------------------------- a structure's C and K: positive semi-definite
+@pytest.mark.parametrize("name, C, K, smallest", [
+    ("C", [[-0.004]], [[1.0]], "-0.004"),
+    ("C", [[0.01, 0.02], [0.02, 0.01]], [[2.0, -1.0], [-1.0, 1.0]], "-0.01"),  # positive entries, indefinite
+    ("K", [[0.004]], [[-1.0]], "-1"),
+    ("K", np.zeros((2, 2)), [[1.0, 2.0], [2.0, 1.0]], "-1"),
+])
+def test_negative_damping_or_stiffness_is_refused_naming_the_matrix_and_its_smallest_eigenvalue(name, C, K, smallest):
+    n = len(K)
+    with pytest.raises(ValueError, match=rf"^{name} must be positive semi-definite \(no negative (damping|stiffness)"
+                                         rf".*\), got {name} with a negative eigenvalue \(smallest "
+                                         rf"{re.escape(smallest)}, largest in magnitude "):
+        Structure(np.eye(n), C, K, force=[1.0] * n)
+
+
+def test_a_sparse_indefinite_stiffness_is_refused_and_zero_eigenvalues_within_rounding_are_taken():
+    from scipy import sparse
+
+    with pytest.raises(ValueError, match=r"^K must be positive semi-definite .*smallest -1"):
+        Structure(sparse.eye(2, format="csr"), sparse.csr_matrix((2, 2)), sparse.csr_matrix(np.diag([1.0, -1.0])),
+                  force=[1.0, 0.0])
+    n = 8  # a free-free chain (a rigid-body mode), its matrices rounded as a model's are: zero within 1e-10
+    K = 1e8 * (2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    K[0, 0] = K[-1, -1] = 1e8
+    K -= 1e-7 * np.eye(n)  # rounding: the zero eigenvalue slightly negative (-1e-7 of 4e8)
+    assert np.linalg.eigvalsh(K)[0] < 0.0
+    s = Structure(np.eye(n), 0.0 * K, K, force=[1.0] + [0.0] * (n - 1))  # undamped and free-free: taken
+    assert s.natural_frequencies()[0] == 0.0
