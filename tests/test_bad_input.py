@@ -194,3 +194,19 @@ def test_a_sparse_indefinite_stiffness_is_refused_and_zero_eigenvalues_within_ro
     assert np.linalg.eigvalsh(K)[0] < 0.0
     s = Structure(np.eye(n), 0.0 * K, K, force=[1.0] + [0.0] * (n - 1))  # undamped and free-free: taken
     assert s.natural_frequencies()[0] == 0.0
+
+
+# ---------------------------------------------------------------- a frequency grid: NaN and inf refused by name
+@pytest.mark.parametrize("omega_range, name", [((0.5, math.nan), "omega_range[1]"), ((0.5, math.inf), "omega_range[1]"),
+                                               ((math.nan, 1.5), "omega_range[0]")])
+def test_the_stuck_reference_curve_refuses_a_frequency_range_with_nan_or_inf_by_name(omega_range, name):
+    from hbm.output import plot_linear_reference
+
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+    got = re.escape(f"{name}={omega_range[int(name[-2])]!r}")
+    with pytest.raises(ValueError, match=rf"^{re.escape(name)} must be finite, got {got}$"):
+        plot_linear_reference(None, blade, Macroslip(1.0, 0.02), omega_range)  # before anything is drawn
+    with pytest.raises(ValueError, match=r"^points must be an integer >= 2, got points=1$"):
+        plot_linear_reference(None, blade, Macroslip(1.0, 0.02), (0.5, 1.5), points=1)
+    with pytest.raises(ValueError, match=rf"^{re.escape(name)} must be finite, got {got}$"):  # as the solve refuses it
+        frequency_response(blade, Macroslip(1.0, 0.02), omega_range=omega_range)
