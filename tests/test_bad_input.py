@@ -8,7 +8,8 @@ import warnings
 import numpy as np
 import pytest
 
-from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Macroslip, NumericalMicroslip,
+from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, Contact3D, Gap, Iwan,
+                            Macroslip, NumericalMicroslip, PointContact,
                             UniformLoad)
 from contact_models.allmode.solve import MAX_MESH
 from contact_models.numerics.checks import count
@@ -210,3 +211,25 @@ def test_the_stuck_reference_curve_refuses_a_frequency_range_with_nan_or_inf_by_
         plot_linear_reference(None, blade, Macroslip(1.0, 0.02), (0.5, 1.5), points=1)
     with pytest.raises(ValueError, match=rf"^{re.escape(name)} must be finite, got {got}$"):  # as the solve refuses it
         frequency_response(blade, Macroslip(1.0, 0.02), omega_range=omega_range)
+
+
+# ---------------------------------------------------------------- a contact's stuck (tangential) stiffness
+@pytest.mark.parametrize("build, name", [
+    (lambda k: Macroslip(k, 0.02), "stiffness"), (lambda k: Macroslip(k, 0.02, slider="from rest"), "stiffness"),
+    (lambda k: PointContact(k, 1.0, 1.0, 1.0), "k_s"), (lambda k: PointContact(1.0, 1.0, k, 1.0), "k_p"),
+    (lambda k: Iwan(0.02, k, 0.0, 1.0), "stiffness"), (lambda k: Gap(k, 0.1), "stiffness"),
+    (lambda k: Contact2D(k, 1.0, 0.3, 1.0), "kt"), (lambda k: Contact3D(k, 1.0, 0.3, 1.0), "kt"),
+    (lambda k: Bar(**{**BAR, "k": k}), "k"),  # the microslip bars' shear-layer stiffness, before any element
+])
+@pytest.mark.parametrize("k", [-1.0, 0.0, math.nan, -math.inf])
+def test_a_negative_zero_or_nan_stuck_stiffness_is_refused_by_name_at_construction(build, name, k):
+    got = re.escape(f"{name}={k!r}")
+    with pytest.raises(ValueError, match=rf"^{name} must be (positive|finite)\b.*, got {got}$"):
+        build(k)
+
+
+def test_a_stiffness_that_may_be_inf_refuses_minus_inf_as_not_positive():
+    for build, name in ((lambda k: Macroslip(k, 0.02), "stiffness"), (lambda k: PointContact(k, 1.0, 1.0, 1.0), "k_s")):
+        assert getattr(build(math.inf), name) == math.inf  # rigid: taken
+        with pytest.raises(ValueError, match=rf"^{name} must be positive \(finite, or inf: rigid\), got {name}=-inf$"):
+            build(-math.inf)  # before: "must be finite", though inf is taken
