@@ -86,8 +86,8 @@ class Macroslip(ContactElement):
     Parameters
     ----------
     stiffness : float
-        Tangential spring k (N/m), > 0; ``math.inf`` (or ``"inf"``) for the rigid Coulomb
-        slider.
+        Tangential spring k (N/m), > 0 (negative, zero, NaN, -inf refused by name); ``math.inf`` for
+        the rigid Coulomb slider.
     slip_force : float
         Slider force (N), > 0.
     slider : {"centred", "from rest"}, optional
@@ -136,10 +136,7 @@ class Macroslip(ContactElement):
     frequency_dependent = False
 
     def __init__(self, stiffness: float, slip_force: float, *, slider: str = "centred") -> None:
-        if _is_inf(stiffness):
-            self.stiffness = math.inf
-        else:
-            self.stiffness = positive("stiffness", stiffness)
+        self.stiffness = _stiffness("stiffness", stiffness)
         self.slip_force = positive("slip_force", slip_force)
         if slider not in SLIDERS:
             raise ValueError(f"slider must be one of {SLIDERS}, got slider={slider!r}")
@@ -290,6 +287,16 @@ def from_rest_tangent(x: NDArray, k: float, slip_force: float) -> tuple[NDArray,
 def _is_inf(v) -> bool:
     """True for +inf given as a Python or numpy float (an allowed 'rigid' stiffness)."""
     return isinstance(v, (int, float)) and not isinstance(v, bool) and v == math.inf
+
+
+def _stiffness(name: str, v) -> float:
+    """A stuck (tangential) stiffness: +inf (rigid, :func:`_is_inf`) or finite and > 0 (:func:`positive`); else a
+    ValueError naming ``name`` and its value, -inf as "must be positive" (not "finite": +inf is taken)."""
+    if _is_inf(v):
+        return math.inf
+    if isinstance(v, (int, float)) and not isinstance(v, bool) and v == -math.inf:
+        raise ValueError(f"{name} must be positive (finite, or inf: rigid), got {name}={v!r}")
+    return positive(name, v)
 
 
 def _history(step, x, x0, f0):

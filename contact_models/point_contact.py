@@ -36,7 +36,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .numerics.checks import derived, finite, finite_array, nonnegative, positive
 from .base import ContactElement, masing_loop
-from .macroslip import _history, _is_inf, jenkins_fourier
+from .macroslip import _history, _is_inf, _stiffness, jenkins_fourier
 
 #: A slip_force this close (relative) to the intercept (K1 - K2) a_g is taken as equal: k_s = inf.
 INTERCEPT_RTOL = 1e-12
@@ -51,7 +51,7 @@ class PointContact(ContactElement):
     Parameters
     ----------
     k_s : float
-        Series spring between the input and the node (N/m), > 0 or ``math.inf``.
+        Series spring between the input and the node (N/m), > 0 or ``math.inf`` (negative, zero, NaN, -inf refused).
     beta_p : float
         Spring from the node to ground (N/m), >= 0.
     k_p : float
@@ -91,10 +91,7 @@ class PointContact(ContactElement):
     has_time_law = True
 
     def __init__(self, k_s: float, beta_p: float, k_p: float, slip_force: float) -> None:
-        if _is_inf(k_s):
-            self.k_s = math.inf
-        else:
-            self.k_s = positive("k_s", k_s)
+        self.k_s = _stiffness("k_s", k_s)
         self.beta_p = nonnegative("beta_p", beta_p)
         self.k_p = positive("k_p", k_p)
         self.slip_force = positive("slip_force", slip_force)

@@ -31,6 +31,7 @@ import numpy as np
 
 from . import continuation as cont  # the module (hbm.continuation)
 from . import curve
+from ._steps import RESIDUAL_RAISED_AT_ONCE
 from .balance import errors
 from .balance.residual import HarmonicBalance
 from .balance.start import equivalent_start, force_homotopy, stuck_reason
@@ -151,8 +152,24 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
     out = FrequencyResponse(problem, run, rtol=setup.rtol, newton_tol=tol, scale=scale, stability=setup.stability,
                             tol=setup.tolerance)
     if setup.tolerance is not None:
-        out._estimated(errors.estimate(problem, out._X, out.omega, setup.rtol), errors.nodes(out.amplitude))
+        out._estimated(estimated(problem, out, setup.rtol), errors.nodes(out.amplitude))
     return out
+
+
+def estimated(problem: HarmonicBalance, out: FrequencyResponse, rtol: float) -> dict:
+    """``errors.estimate`` of the points of ``out``; where an element's hook raises during it (a user's force
+    function), the traced points are kept as they are during the trace: every source reads inf (unknown, as a
+    source with no bound) at every point, and ``out._estimate_failed`` says what raised, naming the element, the
+    hook and the omega (the call's warning says it).  ``RESIDUAL_RAISED_AT_ONCE`` (a defect of the element's
+    code, a warning the caller made an error) propagates at once, as during the trace."""
+    try:
+        return errors.estimate(problem, out._X, out.omega, rtol)
+    except RESIDUAL_RAISED_AT_ONCE:
+        raise
+    except Exception as exc:  # noqa: BLE001 - an element's hook of the caller's: the curve stays
+        out._estimate_failed = cont.described(exc)
+        out.message += f"; the error estimate raised an exception ({out._estimate_failed}), it is unknown (inf)"
+        return {s: np.full(len(out), math.inf) for s in errors.SOURCES}
 
 
 # ------------------------------------------------------------------ windows
@@ -440,6 +457,8 @@ def refine(setup: Setup, turn: list[Knob], f: FrequencyResponse, at_peak: bool, 
     ``keep``: the caller's own elements, which keep their harmonics at any H (``balanced``)."""
     tol = setup.tolerance
     if not len(f) or not turn:
+        return [(f, 0, len(f))]
+    if f._estimate_failed is not None:  # its estimate raised (unknown everywhere): nothing to refine by
         return [(f, 0, len(f))]
     ratio = {k.source: asks(f, k, tol) for k in turn}
     if at_peak and "model" in ratio:

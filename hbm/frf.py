@@ -249,7 +249,9 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     FrequencyResponse
         The branch, with ``success`` and ``message``; a run that stops early keeps the points it
         computed.  A window whose refined trace fails keeps its coarse points; ``message`` and the
-        warning say so.  The peak is located (``peak()``).
+        warning say so.  An element that raises in the error estimate after the curve keeps it too: the
+        estimate reads inf (unknown) there, ``message`` and the warning name the element, hook and omega.
+        The peak is located (``peak()``).
 
     Raises
     ------
@@ -551,7 +553,14 @@ def _warn_once(frf: FrequencyResponse, tolerance: float | None, heard: list[str]
     if why:  # (an estimate above tol at the peak is said with the curve's below)
         parts.append(f"the peak at omega = {pk.omega:.6g} rad/s, amplitude {pk.amplitude:.4g} m is not a converged "
                      f"interior maximum: {'; '.join(why)}")
-    if tolerance is not None and len(frf) and np.any(frf.error_estimate > tolerance):
+    failed = list(dict.fromkeys(f._estimate_failed for f in frf._work if f._estimate_failed))
+    if failed and len(frf):  # an element raised in the estimate: it is unknown there, the points kept
+        w = frf.omega[np.isinf(frf.error_estimate)]
+        parts.append(f"the error estimate raised an exception ({'; '.join(failed)}): it is unknown (inf) at "
+                     f"{len(w)} of {len(frf)} points" + (f" (omega = {float(np.min(w)):.6g} to "
+                                                         f"{float(np.max(w)):.6g} rad/s)" if len(w) else "")
+                     + "; the points are kept")
+    elif tolerance is not None and len(frf) and np.any(frf.error_estimate > tolerance):
         i = int(np.nanargmax(frf.error_estimate))
         source = max(frf.error_sources, key=lambda s: frf.error_sources[s][i])
         unknown = np.isinf(frf.error_sources[source])

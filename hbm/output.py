@@ -20,6 +20,7 @@ from typing import Any, Iterable, Sequence
 
 import numpy as np
 
+from ._validation import count, omega_range_pair
 from .balance.residual import linear_response
 
 #: Columns of an FRF point: frequency, first-harmonic amplitude, phase lag, x_c, x_s and the
@@ -437,11 +438,12 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     and a scene's; returns ``ax``.  ``label`` False draws them without legend entries (a second
     run's references); ``stiffness(omega array) -> array`` replaces ``element.stuck_stiffness``
     (a scene's quasi-static damper, whose own evaluations are counted as the run's); ``a_min_color``
-    colours the a_min line (a scene of several runs: the run's colour)."""
+    colours the a_min line (a scene of several runs: the run's colour).  ``omega_range`` is checked as
+    :func:`hbm.frequency_response`'s (finite, >= 0, w0 != w1: NaN or inf refused by name), ``points`` >= 2."""
 
     w_scale = OMEGA_UNITS[omega_unit][0]
     a_scale = AMPLITUDE_UNITS[amplitude_unit][0]
-    w = np.linspace(*omega_range, points)
+    w = np.linspace(*omega_range_pair(omega_range), count("points", points, 2))
     if stiffness is None:
         stiffness = lambda om: np.array([element.stuck_stiffness(x) for x in om])  # noqa: E731
     stuck = np.abs(linear_response(blade, w, stiffness))

@@ -200,7 +200,8 @@ class FrequencyResponse:
     error_estimate : ndarray
         Per point, the estimated relative error of ``amplitude`` against the true periodic
         response of the physical system (all sources; NaN without an estimate; inf where a source
-        cannot be estimated, which the call's ``AccuracyWarning`` names with its reason).
+        cannot be estimated, which the call's ``AccuracyWarning`` names with its reason: also at every
+        point of a solve whose estimate an element's hook raised in, the curve kept).
     error_sources : dict of ndarray
         The estimate per source, ``"harmonics"``, ``"sampling"``, ``"element"``, ``"model"``,
         ``"peak"`` (``hbm.balance.errors``).
@@ -276,6 +277,7 @@ class FrequencyResponse:
         self._nodes = np.empty(0, dtype=np.intp)
         self.error_sources: dict = {}
         self.error_estimate = np.full(len(w), np.nan)
+        self._estimate_failed: str | None = None  # what raised during this solve's error estimate (inf there)
         label = model_label(self.contacts)
         self.point_harmonics, self.point_models = np.full(len(w), self.harmonics), np.full(len(w), label)
         self.segments = [Segment(0, len(w), self.harmonics, self.n_t, label)]

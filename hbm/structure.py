@@ -95,6 +95,23 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
     return A.tocsr().astype(float) if sparse else A
 
 
+def _semidefinite(name: str, A: Any, what: str) -> None:
+    """Refuse a symmetric ``A`` (one of C, K) that is not positive semi-definite: a ValueError naming ``name`` and
+    its smallest eigenvalue, below ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest in magnitude (above it, the
+    rounding of a zero eigenvalue: a free-free structure's rigid-body modes, an undamped DOF)."""
+    dense = _dense(A)
+    try:  # positive definite: the common case, cheaply
+        np.linalg.cholesky(dense)
+        return
+    except np.linalg.LinAlgError:
+        pass
+    lam = np.linalg.eigvalsh(dense)
+    scale = float(np.max(np.abs(lam))) if lam.size else 0.0
+    if lam.size and lam[0] < -NEGATIVE_EIGENVALUE_RTOL * scale:
+        raise ValueError(f"{name} must be positive semi-definite ({what}), got {name} with a negative eigenvalue "
+                         f"(smallest {float(lam[0]):.6g}, largest in magnitude {scale:.6g})")
+
+
 class Structure:
     """A linear structure ``M x'' + C x' + K x = force cos(omega t)`` with n DOFs.
 
@@ -102,7 +119,8 @@ class Structure:
     ----------
     M, C, K : array_like or scipy.sparse matrix
         Mass (kg), damping (N s/m) and stiffness (N/m) matrices, n x n, finite and symmetric;
-        M positive definite.
+        M positive definite, C and K positive semi-definite (no negative damping or stiffness; a
+        zero eigenvalue within ``NEGATIVE_EIGENVALUE_RTOL`` of the largest, e.g. a free-free K, is taken).
     force : array_like
         Amplitudes (N) of the harmonic excitation ``force * cos(omega t)``, length n.  A complex
         entry ``f_i = |f_i| exp(i psi_i)`` is an amplitude with a phase: the force on DOF i is
@@ -149,6 +167,8 @@ class Structure:
         except np.linalg.LinAlgError:
             raise ValueError("M must be positive definite, got M with a non-positive eigenvalue "
                              f"(smallest {float(np.linalg.eigvalsh(_dense(self.M))[0]):.3g})") from None
+        _semidefinite("C", self.C, "no negative damping")
+        _semidefinite("K", self.K, "no negative stiffness: the structure would be statically unstable")
         try:
             f = np.asarray(force)
         except (TypeError, ValueError):
@@ -289,10 +309,10 @@ class Structure:
         >>> Structure(np.eye(2), 0.0 * np.eye(2), [[1.0, -1.0], [-1.0, 1.0]], force=[1.0, 0.0]).natural_frequencies()
         array([0.        , 1.41421356])
         >>> try:
-        ...     Structure(np.eye(1), np.zeros((1, 1)), [[-3.2]], force=[1.0]).natural_frequencies()
+        ...     Structure(np.eye(1), np.zeros((1, 1)), [[-3.2]], force=[1.0])  # refused when built
         ... except ValueError as exc:
         ...     print(exc)
-        K has a negative eigenvalue -3.2 (K x = lambda M x): the structure is unstable; natural_frequencies needs K positive semi-definite
+        K must be positive semi-definite (no negative stiffness: the structure would be statically unstable), got K with a negative eigenvalue (smallest -3.2, largest in magnitude 3.2)
         """
         from scipy.linalg import eigh  # lazily: import hbm stays light
 

@@ -8,7 +8,8 @@ import warnings
 import numpy as np
 import pytest
 
-from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Macroslip, NumericalMicroslip,
+from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, Contact3D, Gap, Iwan,
+                            Macroslip, NumericalMicroslip, PointContact,
                             UniformLoad)
 from contact_models.allmode.solve import MAX_MESH
 from contact_models.numerics.checks import count
@@ -164,3 +165,71 @@ def test_the_numerical_bar_takes_the_shared_bounded_count():
     for cells in (math.inf, math.nan, 2.5, True):
         with pytest.raises(ValueError, match=rf"^cells must be an integer >= 2, got cells={re.escape(repr(cells))}$"):
             NumericalMicroslip(bar, UniformLoad(N=100.0), cells=cells)
+
+
+# ---------------------------------------------------------------- a structure's C and K: positive semi-definite
+@pytest.mark.parametrize("name, C, K, smallest", [
+    ("C", [[-0.004]], [[1.0]], "-0.004"),
+    ("C", [[0.01, 0.02], [0.02, 0.01]], [[2.0, -1.0], [-1.0, 1.0]], "-0.01"),  # positive entries, indefinite
+    ("K", [[0.004]], [[-1.0]], "-1"),
+    ("K", np.zeros((2, 2)), [[1.0, 2.0], [2.0, 1.0]], "-1"),
+])
+def test_negative_damping_or_stiffness_is_refused_naming_the_matrix_and_its_smallest_eigenvalue(name, C, K, smallest):
+    n = len(K)
+    with pytest.raises(ValueError, match=rf"^{name} must be positive semi-definite \(no negative (damping|stiffness)"
+                                         rf".*\), got {name} with a negative eigenvalue \(smallest "
+                                         rf"{re.escape(smallest)}, largest in magnitude "):
+        Structure(np.eye(n), C, K, force=[1.0] * n)
+
+
+def test_a_sparse_indefinite_stiffness_is_refused_and_zero_eigenvalues_within_rounding_are_taken():
+    from scipy import sparse
+
+    with pytest.raises(ValueError, match=r"^K must be positive semi-definite .*smallest -1"):
+        Structure(sparse.eye(2, format="csr"), sparse.csr_matrix((2, 2)), sparse.csr_matrix(np.diag([1.0, -1.0])),
+                  force=[1.0, 0.0])
+    n = 8  # a free-free chain (a rigid-body mode), its matrices rounded as a model's are: zero within 1e-10
+    K = 1e8 * (2.0 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1))
+    K[0, 0] = K[-1, -1] = 1e8
+    K -= 1e-7 * np.eye(n)  # rounding: the zero eigenvalue slightly negative (-1e-7 of 4e8)
+    assert np.linalg.eigvalsh(K)[0] < 0.0
+    s = Structure(np.eye(n), 0.0 * K, K, force=[1.0] + [0.0] * (n - 1))  # undamped and free-free: taken
+    assert s.natural_frequencies()[0] == 0.0
+
+
+# ---------------------------------------------------------------- a frequency grid: NaN and inf refused by name
+@pytest.mark.parametrize("omega_range, name", [((0.5, math.nan), "omega_range[1]"), ((0.5, math.inf), "omega_range[1]"),
+                                               ((math.nan, 1.5), "omega_range[0]")])
+def test_the_stuck_reference_curve_refuses_a_frequency_range_with_nan_or_inf_by_name(omega_range, name):
+    from hbm.output import plot_linear_reference
+
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+    got = re.escape(f"{name}={omega_range[int(name[-2])]!r}")
+    with pytest.raises(ValueError, match=rf"^{re.escape(name)} must be finite, got {got}$"):
+        plot_linear_reference(None, blade, Macroslip(1.0, 0.02), omega_range)  # before anything is drawn
+    with pytest.raises(ValueError, match=r"^points must be an integer >= 2, got points=1$"):
+        plot_linear_reference(None, blade, Macroslip(1.0, 0.02), (0.5, 1.5), points=1)
+    with pytest.raises(ValueError, match=rf"^{re.escape(name)} must be finite, got {got}$"):  # as the solve refuses it
+        frequency_response(blade, Macroslip(1.0, 0.02), omega_range=omega_range)
+
+
+# ---------------------------------------------------------------- a contact's stuck (tangential) stiffness
+@pytest.mark.parametrize("build, name", [
+    (lambda k: Macroslip(k, 0.02), "stiffness"), (lambda k: Macroslip(k, 0.02, slider="from rest"), "stiffness"),
+    (lambda k: PointContact(k, 1.0, 1.0, 1.0), "k_s"), (lambda k: PointContact(1.0, 1.0, k, 1.0), "k_p"),
+    (lambda k: Iwan(0.02, k, 0.0, 1.0), "stiffness"), (lambda k: Gap(k, 0.1), "stiffness"),
+    (lambda k: Contact2D(k, 1.0, 0.3, 1.0), "kt"), (lambda k: Contact3D(k, 1.0, 0.3, 1.0), "kt"),
+    (lambda k: Bar(**{**BAR, "k": k}), "k"),  # the microslip bars' shear-layer stiffness, before any element
+])
+@pytest.mark.parametrize("k", [-1.0, 0.0, math.nan, -math.inf])
+def test_a_negative_zero_or_nan_stuck_stiffness_is_refused_by_name_at_construction(build, name, k):
+    got = re.escape(f"{name}={k!r}")
+    with pytest.raises(ValueError, match=rf"^{name} must be (positive|finite)\b.*, got {got}$"):
+        build(k)
+
+
+def test_a_stiffness_that_may_be_inf_refuses_minus_inf_as_not_positive():
+    for build, name in ((lambda k: Macroslip(k, 0.02), "stiffness"), (lambda k: PointContact(k, 1.0, 1.0, 1.0), "k_s")):
+        assert getattr(build(math.inf), name) == math.inf  # rigid: taken
+        with pytest.raises(ValueError, match=rf"^{name} must be positive \(finite, or inf: rigid\), got {name}=-inf$"):
+            build(-math.inf)  # before: "must be finite", though inf is taken

@@ -258,3 +258,86 @@ def test_a_nan_or_a_negative_scalar_answer_of_an_element_is_named_not_returned()
     with pytest.raises(ElementContractError, match=r"^element=Stated\(k=1.0, a_min=-1.0\): Stated._linear_amplitude"):
         frequency_response(_blade(), Stated(a_min=-1.0), omega_range=(0.6, 1.8), harmonics=1, tol=None)
     assert Stated(a_min=math.inf).slip_amplitude() == math.inf and Stated(k=math.inf).stuck_stiffness() == math.inf
+
+
+# ---------------------------------------------------------------- an element that raises in the error estimate
+class Coarse(Spoilt):
+    """A sound Jenkins element that raises where it is asked at a tighter rtol than ``rtol``: what the error
+    estimate does after the curve (its element source, at rtol / 100)."""
+
+    def __init__(self, rtol=0.0):
+        super().__init__("never")
+        self.rtol = rtol
+
+    def __repr__(self):
+        return f"{type(self).__name__}()"
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        if rtol < self.rtol:
+            raise _Stop("no table that fine")
+        return jenkins_fourier(1.0, 0.02, a)
+
+
+class CoarseLaw(SpoiltLaw):
+    """The same with its time law, raising on more samples than ``samples``: the estimate's balance at 2H + 1."""
+
+    def __init__(self, samples=10**9):
+        super().__init__("never")
+        self.samples = samples
+
+    def __repr__(self):
+        return f"{type(self).__name__}()"
+
+    def _periodic_force(self, x, omega):
+        if x.shape[0] > self.samples:
+            raise _Stop("no table that fine")
+        return self.jen.periodic_force(x, omega)
+
+
+def _estimate_raised(frf, ref, name, hook):
+    assert frf.status == ref.status == Status.REACHED_END and frf.success  # the curve traced to the end, kept
+    np.testing.assert_array_equal(frf.amplitude, ref.amplitude)
+    assert np.all(np.isinf(frf.error_estimate)) and np.all(np.isfinite(ref.error_estimate))  # unknown, not NaN
+    assert not np.any(np.isnan(frf.error_estimate)) and not frf.peak().converged
+    assert re.search(rf"the error estimate raised an exception \(_Stop: no table that fine \(in element={name}\(\): "
+                     rf"{name}.{hook}.*\)\): it is unknown \(inf\) at {len(frf)} of {len(frf)} points "
+                     r"\(omega = [0-9.]+ to [0-9.]+ rad/s\); the points are kept", frf.accuracy_warning), \
+        frf.accuracy_warning
+    assert f"the error estimate raised an exception (_Stop: no table that fine (in element={name}()" in frf.message
+
+
+def test_an_element_that_raises_in_the_error_estimate_keeps_the_curve_its_estimate_unknown():
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(_blade(), Coarse(), omega_range=(0.6, 1.8), harmonics=1)
+    with pytest.warns(AccuracyWarning, match=r"the error estimate raised an exception"):  # rtol / 100 in the estimate
+        frf = frequency_response(_blade(), Coarse(rtol=ref.rtol), omega_range=(0.6, 1.8), harmonics=1)
+    _estimate_raised(frf, ref, "Coarse", r"_fourier_derivatives\(a, omega, rtol\) at a=0.0\d* m")
+
+
+@pytest.mark.parametrize("kw", [dict(harmonics=3), dict()])
+def test_an_element_whose_time_law_raises_in_the_multi_harmonic_estimate_keeps_the_curve(kw):
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(s, [Contact(CoarseLaw(), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
+    with pytest.warns(AccuracyWarning, match=r"the error estimate raised an exception"):  # 2H + 1 in the estimate
+        frf = frequency_response(s, [Contact(CoarseLaw(samples=ref.n_t), dof=0)], omega_range=(0.3, 0.8), **kw)
+    if kw:
+        _estimate_raised(frf, ref, "CoarseLaw", r"_periodic_force\(x, omega\) at omega=")
+    else:  # the balance's own start (H, samples): the estimate unknown, so no window is refined
+        assert frf.success and len(frf.segments) == 1 and np.all(np.isinf(frf.error_estimate))
+        assert "the error estimate raised an exception (_Stop: no table that fine" in frf.accuracy_warning
+
+
+def test_a_contract_error_in_the_error_estimate_still_raises_at_once():
+    from contact_models.base import ElementContractError
+
+    class Wrong(CoarseLaw):
+        def _periodic_force(self, x, omega):
+            f, df = self.jen.periodic_force(x, omega)
+            return (f, df) if x.shape[0] <= self.samples else (f[:-1], df)  # a force of the wrong shape
+
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with pytest.raises(ElementContractError, match=r"Wrong._periodic_force\(x, omega\) must return"):
+        frequency_response(s, [Contact(Wrong(samples=512), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
