@@ -448,11 +448,14 @@ def test_a_window_widened_into_the_next_one_leaves_it_the_points_after_its_own(m
         omega = np.linspace(1.0, 1.9, 10)
         _nodes = np.array([0, 4, 6, 9])
         harmonics, contacts = 1, []
+        _estimate_failed = None  # its estimate computed
 
         def __len__(self):
             return 10
 
     class Trace:  # a refined trace of the points i0..i1, its peak inside
+        _estimate_failed = None
+
         def __init__(self, i0, i1):
             self.span = (i0, i1)
             self.amplitude = np.r_[0.0, np.ones(i1 - i0 - 1), 0.0]
