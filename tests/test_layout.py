@@ -64,18 +64,32 @@ def test_no_import_circles():
 
 
 # ---------------------------------------------------------------------------- import alone
+# Importing ``pkg.mod`` first runs ``pkg/__init__.py`` to its end, so a module that the package's
+# own import already loads is imported exactly as the package is: each package is imported once
+# from a clean state, then every module it did not load is imported alone, from a clean state.
 _IMPORT_ALONE = """
 import importlib, json, sys, traceback, warnings
 warnings.simplefilter("ignore")
-failed = {}
-for name in json.loads(sys.argv[1]):
-    for loaded in [m for m in sys.modules if m.split(".")[0] in ("hbm", "contact_models")]:
+OURS = ("hbm", "contact_models")
+
+def clean_import(name):
+    for loaded in [m for m in sys.modules if m.split(".")[0] in OURS]:
         del sys.modules[loaded]
     try:
         importlib.import_module(name)
     except BaseException:
         failed[name] = traceback.format_exc(limit=-3)
-print(json.dumps(failed))
+    return {m for m in sys.modules if m.split(".")[0] == name.split(".")[0]}
+
+failed, alone = {}, []
+names = json.loads(sys.argv[1])
+for package in OURS:
+    with_package = clean_import(package)
+    for name in names:
+        if name.split(".")[0] == package and name != package and name not in with_package:
+            clean_import(name)
+            alone.append(name)
+print(json.dumps({"failed": failed, "alone": alone}))
 """
 
 
@@ -83,8 +97,21 @@ def test_every_module_imports_alone():
     names = sorted(module_files())
     out = subprocess.run([sys.executable, "-c", _IMPORT_ALONE, json.dumps(names)], capture_output=True, text=True,
                          cwd=ROOT, check=True).stdout
-    failed = json.loads(out.strip().splitlines()[-1])
-    assert not failed, "\n".join(f"{k}:\n{v}" for k, v in failed.items())
+    result = json.loads(out.strip().splitlines()[-1])
+    assert not result["failed"], "\n".join(f"{k}:\n{v}" for k, v in result["failed"].items())
+    assert "hbm.__main__" in result["alone"]  # not loaded by ``import hbm``: imported on its own
+
+
+def test_a_module_that_fails_alone_is_named(tmp_path):
+    """The check can fail: a module its package does not load, broken on import, is reported."""
+    for package in ("hbm", "contact_models"):
+        (tmp_path / package).mkdir()
+        (tmp_path / package / "__init__.py").write_text("")
+    (tmp_path / "hbm" / "broken.py").write_text("import hbm.nowhere\n")
+    out = subprocess.run([sys.executable, "-c", _IMPORT_ALONE, json.dumps(["hbm", "hbm.broken", "contact_models"])],
+                         capture_output=True, text=True, cwd=tmp_path, check=True).stdout
+    result = json.loads(out.strip().splitlines()[-1])
+    assert list(result["failed"]) == ["hbm.broken"] and "ModuleNotFoundError" in result["failed"]["hbm.broken"]
 
 
 # ---------------------------------------------------------------------------------------- sizes
