@@ -233,3 +233,41 @@ def test_a_stiffness_that_may_be_inf_refuses_minus_inf_as_not_positive():
         assert getattr(build(math.inf), name) == math.inf  # rigid: taken
         with pytest.raises(ValueError, match=rf"^{name} must be positive \(finite, or inf: rigid\), got {name}=-inf$"):
             build(-math.inf)  # before: "must be finite", though inf is taken
+
+
+# ---------------------------------------------------------------- a structure's matrices in any scipy.sparse format
+def _chain_peak(M, C, K):
+    s = Structure(M, C, K, force=[0.0, 0.0, 0.01])
+    frf = frequency_response(s, [Contact(Macroslip(0.5, 0.01), dof=2)], omega_range=(0.3, 0.7), harmonics=3, tol=None,
+                             response_dof=2)
+    return s, frf.peak()
+
+
+def test_every_scipy_sparse_format_is_taken_as_the_dense_matrix_with_the_same_peak():
+    from scipy import sparse
+
+    K3 = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    M3, C3 = np.eye(3), 0.004 * K3 + 0.002 * np.eye(3)
+    _, dense = _chain_peak(M3, C3, K3)
+    assert dense.interior and 0.45 < dense.omega < 0.55
+    # diags builds DIA: abs(A - A.T) stays DIA, which has no max()
+    dia = tuple(sparse.diags([np.diag(A, -1), np.diag(A), np.diag(A, 1)], [-1, 0, 1]) for A in (M3, C3, K3))
+    assert dia[0].format == "dia"
+    s, pk = _chain_peak(*dia)
+    assert pk.omega == pytest.approx(dense.omega, rel=1e-12)
+    assert pk.amplitude == pytest.approx(dense.amplitude, rel=1e-12)
+    for A, B in zip((s.M, s.C, s.K), (M3, C3, K3)):
+        assert sparse.issparse(A) and A.format == "csr"
+        np.testing.assert_array_equal(A.toarray(), B)
+    for fmt in ("csr", "csc", "coo", "bsr", "lil", "dok", "dia"):
+        for kind in (sparse.csr_matrix, sparse.csr_array):  # the sparse matrices and the sparse arrays
+            mats = [kind(A).asformat(fmt) for A in (M3, C3, K3)]
+            s = Structure(*mats, force=[0.0, 0.0, 0.01])
+            for A, B in zip((s.M, s.C, s.K), (M3, C3, K3)):
+                assert A.format == "csr", (fmt, kind)
+                np.testing.assert_array_equal(A.toarray(), B)
+    with pytest.raises(ValueError, match=r"^K must be symmetric, got K with max\|K - K\^T\| = 1 \(max\|K\| = 2\)$"):
+        Structure(sparse.diags([1.0, 1.0]), sparse.diags([0.0, 0.0]), sparse.diags([[2.0, 2.0], [1.0]], [0, 1]),
+                  force=[1.0, 0.0])
+    with pytest.raises(ValueError, match=r"^M must be finite, got M with a non-finite entry$"):
+        Structure(sparse.diags([1.0, math.nan]), np.zeros((2, 2)), np.eye(2), force=[1.0, 0.0])
