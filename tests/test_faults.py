@@ -341,3 +341,93 @@ def test_a_contract_error_in_the_error_estimate_still_raises_at_once():
     s = Structure(np.eye(3), 0.004 * K, K, force=F)
     with pytest.raises(ElementContractError, match=r"Wrong._periodic_force\(x, omega\) must return"):
         frequency_response(s, [Contact(Wrong(samples=512), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
+
+
+class Misshapen(Coarse):
+    """A Jenkins element that answers one value too few where it is asked at a tighter rtol than ``rtol`` (the
+    error estimate's element source, at rtol / 100), or raises an ordinary ``ValueError`` there (``plain``)."""
+
+    def __init__(self, rtol=0.0, plain=False):
+        super().__init__(rtol)
+        self.plain = plain
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        out = jenkins_fourier(1.0, 0.02, a)
+        if rtol >= self.rtol:
+            return out
+        if self.plain:
+            raise ValueError("no table that fine")
+        return tuple(np.atleast_1d(v)[:-1] for v in out)
+
+
+def _element_source_case(system):
+    if isinstance(system, Blade):
+        return (lambda el: el), (0.6, 1.8)
+    return (lambda el: [Contact(el, dof=0)]), (0.3, 0.8)
+
+
+_ONE_DOF_AND_CONDENSED = dict(argvalues=[_blade(), Structure(np.eye(3), 0.004 * K, K, force=F)],
+                              ids=["one_dof", "condensed"])
+
+
+@pytest.mark.parametrize("system", **_ONE_DOF_AND_CONDENSED)
+def test_a_contract_error_in_the_element_source_of_the_estimate_raises_at_once(system):
+    from contact_models.base import ElementContractError
+
+    contacts, w = _element_source_case(system)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(system, contacts(Misshapen()), omega_range=w, harmonics=1)
+    assert ref.success and ref.rtol == 1e-6  # the trace's rtol: the estimate's element source asks at 1e-8
+    with pytest.raises(ElementContractError, match=r"^element=Misshapen\(\): Misshapen._fourier_derivatives\(a, omega, "
+                                                   r"rtol\) must return f_s with one value per amplitude \(1\), got "
+                                                   r"f_s of shape \(0,\)$"):
+        frequency_response(system, contacts(Misshapen(rtol=ref.rtol)), omega_range=w, harmonics=1)
+
+
+@pytest.mark.parametrize("system", **_ONE_DOF_AND_CONDENSED)
+def test_an_ordinary_failure_in_the_element_source_of_the_estimate_keeps_the_bound(system):
+    contacts, w = _element_source_case(system)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(system, contacts(Misshapen()), omega_range=w, harmonics=1)
+        frf = frequency_response(system, contacts(Misshapen(rtol=ref.rtol, plain=True)), omega_range=w, harmonics=1)
+    assert frf.success and frf._estimate_failed is None  # the estimate ran: the element source took its bound
+    np.testing.assert_array_equal(frf.amplitude, ref.amplitude)
+    got, sound = frf.error_sources["element"], ref.error_sources["element"]
+    if isinstance(system, Blade):  # rtol |p|, rtol |q| of the element's stiffness through the balance
+        slipping = sound > 0.0
+        assert np.all(got[slipping] > sound[slipping]) and 1e-7 < float(np.max(got)) < 1e-4
+    else:
+        assert float(np.max(got)) == ref.rtol and float(np.max(sound)) < 1e-12  # the bound rtol, where it moves
+    for s in ("harmonics", "sampling", "model"):
+        np.testing.assert_array_equal(frf.error_sources[s], ref.error_sources[s])
+
+
+class MisshapenAbove(SpoiltLaw):
+    """A Jenkins element with its time law whose harmonic force has one coefficient too few above ``H``
+    harmonics (the error estimate's harmonics source, at 2H + 1)."""
+
+    def __init__(self, H):
+        super().__init__("never")
+        self.H = H
+
+    def __repr__(self):
+        return f"MisshapenAbove(H={self.H})"
+
+    def _harmonic_force(self, X, omega, n_t, rtol):
+        Fh, J, Fw = super()._harmonic_force(X, omega, n_t, rtol)
+        return (Fh, J, Fw) if X.size <= 2 * self.H + 1 else (Fh[:-1], J, Fw)
+
+
+def test_a_contract_error_in_the_harmonics_source_of_the_estimate_raises_at_once():
+    from contact_models.base import ElementContractError
+
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(s, [Contact(MisshapenAbove(H=7), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
+    assert ref.success and np.all(np.isfinite(ref.error_estimate))  # sound up to the estimate's 7 harmonics
+    with pytest.raises(ElementContractError, match=r"^element=MisshapenAbove\(H=3\): MisshapenAbove._harmonic_force"
+                                                   r".* must return F of shape \(15,\).*got F of shape \(14,\)"):
+        frequency_response(s, [Contact(MisshapenAbove(H=3), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
