@@ -246,7 +246,7 @@ class Structure:
             lam, Phi = eigh(Kd, Md)
         except np.linalg.LinAlgError:
             raise ValueError("M must be positive definite, got M for which (K, M) has no eigen-decomposition") from None
-        if lam[0] < -1e-10 * float(np.max(np.abs(lam))):  # eigh sorts ascending
+        if lam[0] < -NEGATIVE_EIGENVALUE_RTOL * float(np.max(np.abs(lam))):  # eigh sorts ascending
             raise ValueError(f"K must be positive semi-definite for modal damping: (K, M) has omega^2 = {lam[0]:.6g}")
         w = np.sqrt(np.clip(lam, 0.0, None))
         MPhi = Md @ Phi

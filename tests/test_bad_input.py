@@ -197,6 +197,33 @@ def test_a_sparse_indefinite_stiffness_is_refused_and_zero_eigenvalues_within_ro
     assert s.natural_frequencies()[0] == 0.0
 
 
+def _rounded_disk():
+    """A ring of sectors whose rigid rotation (nodal diameter 0) has K's eigenvalue -2e-9 of the largest, 1."""
+    from hbm import CyclicStructure
+
+    return CyclicStructure(np.eye(2), 0.01 * np.eye(2), np.diag([2.0 * (1.0 - 1e-9), 1.0]), sectors=4, engine_order=1,
+                           force=[1.0, 0.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+
+
+def test_every_negative_eigenvalue_check_reads_the_one_rounding_constant(monkeypatch):
+    import hbm.cyclic
+    import hbm.structure
+
+    assert hbm.structure.NEGATIVE_EIGENVALUE_RTOL == 1e-10
+    disk = _rounded_disk()
+    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -2e-09 at nodal diameter 0: the disk is "
+                                         r"unstable$"):
+        disk.natural_frequencies(0)
+    with pytest.raises(ValueError, match=r"^K must be positive semi-definite for modal damping: \(K, M\) has "
+                                         r"omega\^2 = -2e-09$"):
+        Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
+    for module in (hbm.structure, hbm.cyclic):  # a looser rounding: -2e-9 of the largest is a zero eigenvalue
+        monkeypatch.setattr(module, "NEGATIVE_EIGENVALUE_RTOL", 1e-8)
+    np.testing.assert_allclose(disk.natural_frequencies(0), [0.0, 1.0], atol=1e-15)
+    s = Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
+    np.testing.assert_allclose(s.C, np.diag([0.0, 0.1]), atol=1e-15)  # 2 zeta omega; the rigid mode undamped
+
+
 # ---------------------------------------------------------------- a frequency grid: NaN and inf refused by name
 @pytest.mark.parametrize("omega_range, name", [((0.5, math.nan), "omega_range[1]"), ((0.5, math.inf), "omega_range[1]"),
                                                ((math.nan, 1.5), "omega_range[0]")])
