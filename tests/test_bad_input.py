@@ -298,3 +298,66 @@ def test_every_scipy_sparse_format_is_taken_as_the_dense_matrix_with_the_same_pe
                   force=[1.0, 0.0])
     with pytest.raises(ValueError, match=r"^M must be finite, got M with a non-finite entry$"):
         Structure(sparse.diags([1.0, math.nan]), np.zeros((2, 2)), np.eye(2), force=[1.0, 0.0])
+
+
+# ---------------------------------------------------------------- a study's grid: NaN and inf refused downstream
+_STUDY_SCENE = """title = "a study with a non-finite value"
+[blade]
+mass = 0.08771473371579717
+stiffness = 1.0e8
+damping_ratio = 2.0e-3
+force = 8.0
+[damper]
+model = "macroslip"
+E = 2.0e11
+rho = 7850.0
+A = 1.0e-5
+L = 0.05
+k = 8.0e8
+beta = 4.0e7
+mu = 0.3
+[damper.load]
+N = 100.0
+[sweep]
+omega = [0.24, 0.33]
+unit = "omega_c"
+[study]
+executor = "serial"
+[study.grid]
+"""
+
+
+@pytest.mark.parametrize("key, values, bad, why", [
+    ("damper.load.N", "[100.0, nan]", "nan", "must be a number >= 0 (N) (finite)"),
+    ("damper.mu", "[0.3, inf]", "inf", "must be a number >= 0 (finite)"),
+    ("blade.force", "[8.0, -inf]", "-inf", "must be a number > 0 (N) (finite)"),
+])
+def test_a_nan_or_inf_on_a_scene_grid_axis_is_refused_naming_the_run_the_key_and_the_value(tmp_path, key, values, bad,
+                                                                                            why):
+    from hbm.scenes import SceneError
+    from hbm.study import Study
+
+    path = tmp_path / "study.toml"
+    path.write_text(_STUDY_SCENE + f'"{key}" = {values}\n')
+    with pytest.raises(SceneError) as info:
+        Study.from_scene(path)  # every run's scene checked before any run is made
+    assert len(info.value.problems) == 1
+    assert info.value.problems[0].startswith(f"run 2 ({key} = {bad}): {path}: {key} = {bad}: {why}")
+
+
+def _jenkins_run(point):
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+    return frequency_response(blade, Macroslip(1.0, point["slip_force"]), omega_range=(0.6, 1.8), harmonics=1, tol=None)
+
+
+def test_a_nan_or_inf_on_a_grid_axis_reaches_the_element_which_refuses_it_by_name(tmp_path):
+    from hbm.study import Study, grid, run_study
+
+    points = grid({"slip_force": [0.02, math.nan, math.inf]})
+    assert math.isnan(points[1]["slip_force"]) and points[2]["slip_force"] == math.inf  # the grid takes them
+    result = run_study(Study(_jenkins_run, points), tmp_path, executor="serial", formats=("csv",))
+    assert [r["success"] for r in result.records] == [True, False, False]
+    assert [r["message"] for r in result.records[1:]] == ["ValueError: slip_force must be finite, got slip_force=nan",
+                                                          "ValueError: slip_force must be finite, got slip_force=inf"]
+    assert result.records[0]["peak_amplitude_m"] == pytest.approx(_jenkins_run({"slip_force": 0.02}).peak().amplitude,
+                                                                  rel=1e-12)
