@@ -588,17 +588,20 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     ``omega_range`` the resonance may lie outside the range, and where a branch stopped early the
     response may still rise beyond.  The peak's estimate is the largest point estimate within two points of
     the sampled maximum (``hbm.balance.errors.peak_estimate``).  ``among``: the points the peak is sought
-    among (a mask; the refined model's points for ``model="peak"``), else all.  The elements' warnings while locating join the call's."""
+    among (a mask; the refined model's points for ``model="peak"``), else all.  The elements' warnings while locating join the call's.
+    Where an element's hook raises while locating (a user's force function), the traced points stay as they are
+    and the largest sampled point is the peak, not converged, its message naming the exception, the element,
+    the hook and where it was asked (the call's warning says it); ``RESIDUAL_RAISED_AT_ONCE`` propagates."""
     if len(frf) == 0:
         raise ValueError("the frequency response has no points")
     n = len(frf)
     i = int(np.argmax(frf.amplitude if among is None or not np.any(among) else np.where(among, frf.amplitude, -np.inf)))
     w, a = float(frf.omega[i]), float(frf.amplitude[i])
     reasons = []
-    located = False
+    located, raised = False, None
     site, j = frf._site(i)  # located with the balance of the segment holding the maximum
     if len(site) > 1 and (0 < j < len(site) - 1 or 0 < i < n - 1):  # (at a window's end: its last interval)
-        loc, nit = _locate_on(site, j)
+        loc, nit, raised = _locate_on(site, j)
         frf._peak_nit += nit
         if loc is not None:
             X, w_loc = site._problem.to_physical(loc.y)
@@ -619,6 +622,9 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     elif not frf.success:
         reasons.append(f"the branch stopped at omega = {float(frf.omega[-1]):.6g} rad/s before the end of the range: "
                        f"the peak found is the largest on the traced part only")
+    elif raised is not None:
+        reasons.append(f"the maximum could not be located between points: locating it near omega = {w:.6g} rad/s "
+                       f"raised an exception ({raised}); the largest sampled point is given")
     elif not located:
         reasons.append("the maximum could not be located between points (the largest sampled point is given)")
     estimate = errors.peak_estimate(frf.error_estimate, i)
@@ -632,11 +638,12 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     return frf._peak
 
 
-def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int]:
+def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int, str | None]:
     """The zero of d(a^2)/ds near point ``i`` of the single-balance result ``f``, or where no sign change of it
     is bracketed between the neighbours (structure finer than the points, a ripple between them:
-    ``hbm.continuation.maximise``) the largest a^2 between them; None where neither is found, and the Newton
-    updates spent."""
+    ``hbm.continuation.maximise``) the largest a^2 between them; None where neither is found, the Newton
+    updates spent, and what an element's hook raised meanwhile (``hbm.continuation.described``; None where
+    nothing did: ``RESIDUAL_RAISED_AT_ONCE`` propagates)."""
     pr = f._problem
     pr.fresh_omega_derivative = True
     counter = cont._Count()
@@ -653,11 +660,15 @@ def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int]:
                 continue
             loc = cont.locate(pr, y[ja], y[jb], slope, tol=f.newton_tol, scale=f._scale, xtol=xtol, count=counter)
             if loc is not None:
-                return loc, counter.nit
+                return loc, counter.nit, None
         if 0 < i < len(y) - 1:
             loc = cont.maximise(pr, y[i - 1], y[i + 1], lambda u: u[c] * u[c] + u[s_] * u[s_], tol=f.newton_tol,
                                 scale=f._scale, xtol=xtol, count=counter)
-            return loc, counter.nit
-        return None, counter.nit
+            return loc, counter.nit, None
+        return None, counter.nit, None
+    except RESIDUAL_RAISED_AT_ONCE:
+        raise
+    except Exception as exc:  # noqa: BLE001 - an element's hook of the caller's: the traced peak stays
+        return None, counter.nit, cont.described(exc)
     finally:
         pr.fresh_omega_derivative = False

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._validation import count, number_array, shown
-from .structure import Contact, Structure, _check_matrix, _dense, contact_within
+from .structure import NEGATIVE_EIGENVALUE_RTOL, Contact, Structure, _check_matrix, _dense, contact_within
 
 #: The most sectors a cyclic structure takes: its constructor checks the disk's mass at every nodal diameter
 #: and :meth:`CyclicStructure.full` builds N n DOFs, so the cost grows with N (a bladed disk has tens to a
@@ -163,7 +163,9 @@ class CyclicStructure(Structure):
 
     def natural_frequencies(self, nodal_diameter: int | None = None) -> NDArray[np.float64]:
         """Undamped natural frequencies (rad/s) of the disk's modes of one nodal diameter (default
-        EO's, the one harmonic 1 meets), ascending: the eigenvalues of ``(K_k, M_k)``."""
+        EO's, the one harmonic 1 meets), ascending: the eigenvalues of ``(K_k, M_k)``.  One below
+        ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest in magnitude is negative (ValueError), as for a structure;
+        above it, the rounding of a zero (the disk's rigid rotation), frequency 0."""
         from scipy.linalg import eigh  # lazily: import hbm stays light
 
         k = self.engine_order if nodal_diameter is None else nodal_diameter
@@ -171,7 +173,7 @@ class CyclicStructure(Structure):
             raise ValueError(f"nodal_diameter must be an integer, got nodal_diameter={nodal_diameter!r}")
         Mk, _, Kk = self.nodal_matrices(int(k))
         lam = eigh(Kk, Mk, eigvals_only=True)
-        if lam.size and lam[0] < -1e-10 * float(np.max(np.abs(lam))):
+        if lam.size and lam[0] < -NEGATIVE_EIGENVALUE_RTOL * float(np.max(np.abs(lam))):
             raise ValueError(f"K has a negative eigenvalue {float(lam[0]):.3g} at nodal diameter {k}: the disk is unstable")
         return np.sqrt(np.clip(lam, 0.0, None))
 

@@ -64,9 +64,13 @@ def _real(name: str, A: Any, what: str) -> Any:
 
 
 def _check_matrix(name: str, A: Any, n: int | None) -> Any:
-    """Validate one of M, C, K (dense or scipy.sparse): real, square, size n, finite, symmetric."""
+    """Validate one of M, C, K (dense or scipy.sparse): real, square, size n, finite, symmetric.  A sparse
+    matrix or array of any format is converted to CSR first: the checks read its stored entries, which the
+    other formats keep differently (DIA pads its diagonals, LIL holds lists) or not at all (DOK)."""
     sparse = hasattr(A, "tocsr") and hasattr(A, "nnz")
-    if not sparse:
+    if sparse:
+        A = _real(name, A.tocsr(), "matrix")
+    else:
         try:
             raw = np.asarray(A)
         except (TypeError, ValueError):
@@ -76,8 +80,6 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
             A = number_array(name, raw)
         except ValueError:
             raise ValueError(f"{name} must be a square matrix of numbers, got {name}={shown(A)}") from None
-    else:
-        A = _real(name, A, "matrix")
     shape = A.shape
     if len(shape) != 2 or shape[0] != shape[1] or shape[0] < 1:
         raise ValueError(f"{name} must be a square matrix, got {name} of shape {shape}")
@@ -92,7 +94,7 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
     if asym > SYMMETRY_RTOL * big:
         raise ValueError(f"{name} must be symmetric, got {name} with max|{name} - {name}^T| = {asym:.3g} "
                          f"(max|{name}| = {big:.3g})")
-    return A.tocsr().astype(float) if sparse else A
+    return A.astype(float) if sparse else A
 
 
 def _semidefinite(name: str, A: Any, what: str) -> None:
@@ -244,7 +246,7 @@ class Structure:
             lam, Phi = eigh(Kd, Md)
         except np.linalg.LinAlgError:
             raise ValueError("M must be positive definite, got M for which (K, M) has no eigen-decomposition") from None
-        if lam[0] < -1e-10 * float(np.max(np.abs(lam))):  # eigh sorts ascending
+        if lam[0] < -NEGATIVE_EIGENVALUE_RTOL * float(np.max(np.abs(lam))):  # eigh sorts ascending
             raise ValueError(f"K must be positive semi-definite for modal damping: (K, M) has omega^2 = {lam[0]:.6g}")
         w = np.sqrt(np.clip(lam, 0.0, None))
         MPhi = Md @ Phi

@@ -197,6 +197,33 @@ def test_a_sparse_indefinite_stiffness_is_refused_and_zero_eigenvalues_within_ro
     assert s.natural_frequencies()[0] == 0.0
 
 
+def _rounded_disk():
+    """A ring of sectors whose rigid rotation (nodal diameter 0) has K's eigenvalue -2e-9 of the largest, 1."""
+    from hbm import CyclicStructure
+
+    return CyclicStructure(np.eye(2), 0.01 * np.eye(2), np.diag([2.0 * (1.0 - 1e-9), 1.0]), sectors=4, engine_order=1,
+                           force=[1.0, 0.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+
+
+def test_every_negative_eigenvalue_check_reads_the_one_rounding_constant(monkeypatch):
+    import hbm.cyclic
+    import hbm.structure
+
+    assert hbm.structure.NEGATIVE_EIGENVALUE_RTOL == 1e-10
+    disk = _rounded_disk()
+    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -2e-09 at nodal diameter 0: the disk is "
+                                         r"unstable$"):
+        disk.natural_frequencies(0)
+    with pytest.raises(ValueError, match=r"^K must be positive semi-definite for modal damping: \(K, M\) has "
+                                         r"omega\^2 = -2e-09$"):
+        Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
+    for module in (hbm.structure, hbm.cyclic):  # a looser rounding: -2e-9 of the largest is a zero eigenvalue
+        monkeypatch.setattr(module, "NEGATIVE_EIGENVALUE_RTOL", 1e-8)
+    np.testing.assert_allclose(disk.natural_frequencies(0), [0.0, 1.0], atol=1e-15)
+    s = Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
+    np.testing.assert_allclose(s.C, np.diag([0.0, 0.1]), atol=1e-15)  # 2 zeta omega; the rigid mode undamped
+
+
 # ---------------------------------------------------------------- a frequency grid: NaN and inf refused by name
 @pytest.mark.parametrize("omega_range, name", [((0.5, math.nan), "omega_range[1]"), ((0.5, math.inf), "omega_range[1]"),
                                                ((math.nan, 1.5), "omega_range[0]")])
@@ -233,3 +260,104 @@ def test_a_stiffness_that_may_be_inf_refuses_minus_inf_as_not_positive():
         assert getattr(build(math.inf), name) == math.inf  # rigid: taken
         with pytest.raises(ValueError, match=rf"^{name} must be positive \(finite, or inf: rigid\), got {name}=-inf$"):
             build(-math.inf)  # before: "must be finite", though inf is taken
+
+
+# ---------------------------------------------------------------- a structure's matrices in any scipy.sparse format
+def _chain_peak(M, C, K):
+    s = Structure(M, C, K, force=[0.0, 0.0, 0.01])
+    frf = frequency_response(s, [Contact(Macroslip(0.5, 0.01), dof=2)], omega_range=(0.3, 0.7), harmonics=3, tol=None,
+                             response_dof=2)
+    return s, frf.peak()
+
+
+def test_every_scipy_sparse_format_is_taken_as_the_dense_matrix_with_the_same_peak():
+    from scipy import sparse
+
+    K3 = np.array([[2.0, -1.0, 0.0], [-1.0, 2.0, -1.0], [0.0, -1.0, 1.0]])
+    M3, C3 = np.eye(3), 0.004 * K3 + 0.002 * np.eye(3)
+    _, dense = _chain_peak(M3, C3, K3)
+    assert dense.interior and 0.45 < dense.omega < 0.55
+    # diags builds DIA: abs(A - A.T) stays DIA, which has no max()
+    dia = tuple(sparse.diags([np.diag(A, -1), np.diag(A), np.diag(A, 1)], [-1, 0, 1]) for A in (M3, C3, K3))
+    assert dia[0].format == "dia"
+    s, pk = _chain_peak(*dia)
+    assert pk.omega == pytest.approx(dense.omega, rel=1e-12)
+    assert pk.amplitude == pytest.approx(dense.amplitude, rel=1e-12)
+    for A, B in zip((s.M, s.C, s.K), (M3, C3, K3)):
+        assert sparse.issparse(A) and A.format == "csr"
+        np.testing.assert_array_equal(A.toarray(), B)
+    for fmt in ("csr", "csc", "coo", "bsr", "lil", "dok", "dia"):
+        for kind in (sparse.csr_matrix, sparse.csr_array):  # the sparse matrices and the sparse arrays
+            mats = [kind(A).asformat(fmt) for A in (M3, C3, K3)]
+            s = Structure(*mats, force=[0.0, 0.0, 0.01])
+            for A, B in zip((s.M, s.C, s.K), (M3, C3, K3)):
+                assert A.format == "csr", (fmt, kind)
+                np.testing.assert_array_equal(A.toarray(), B)
+    with pytest.raises(ValueError, match=r"^K must be symmetric, got K with max\|K - K\^T\| = 1 \(max\|K\| = 2\)$"):
+        Structure(sparse.diags([1.0, 1.0]), sparse.diags([0.0, 0.0]), sparse.diags([[2.0, 2.0], [1.0]], [0, 1]),
+                  force=[1.0, 0.0])
+    with pytest.raises(ValueError, match=r"^M must be finite, got M with a non-finite entry$"):
+        Structure(sparse.diags([1.0, math.nan]), np.zeros((2, 2)), np.eye(2), force=[1.0, 0.0])
+
+
+# ---------------------------------------------------------------- a study's grid: NaN and inf refused downstream
+_STUDY_SCENE = """title = "a study with a non-finite value"
+[blade]
+mass = 0.08771473371579717
+stiffness = 1.0e8
+damping_ratio = 2.0e-3
+force = 8.0
+[damper]
+model = "macroslip"
+E = 2.0e11
+rho = 7850.0
+A = 1.0e-5
+L = 0.05
+k = 8.0e8
+beta = 4.0e7
+mu = 0.3
+[damper.load]
+N = 100.0
+[sweep]
+omega = [0.24, 0.33]
+unit = "omega_c"
+[study]
+executor = "serial"
+[study.grid]
+"""
+
+
+@pytest.mark.parametrize("key, values, bad, why", [
+    ("damper.load.N", "[100.0, nan]", "nan", "must be a number >= 0 (N) (finite)"),
+    ("damper.mu", "[0.3, inf]", "inf", "must be a number >= 0 (finite)"),
+    ("blade.force", "[8.0, -inf]", "-inf", "must be a number > 0 (N) (finite)"),
+])
+def test_a_nan_or_inf_on_a_scene_grid_axis_is_refused_naming_the_run_the_key_and_the_value(tmp_path, key, values, bad,
+                                                                                            why):
+    from hbm.scenes import SceneError
+    from hbm.study import Study
+
+    path = tmp_path / "study.toml"
+    path.write_text(_STUDY_SCENE + f'"{key}" = {values}\n')
+    with pytest.raises(SceneError) as info:
+        Study.from_scene(path)  # every run's scene checked before any run is made
+    assert len(info.value.problems) == 1
+    assert info.value.problems[0].startswith(f"run 2 ({key} = {bad}): {path}: {key} = {bad}: {why}")
+
+
+def _jenkins_run(point):
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+    return frequency_response(blade, Macroslip(1.0, point["slip_force"]), omega_range=(0.6, 1.8), harmonics=1, tol=None)
+
+
+def test_a_nan_or_inf_on_a_grid_axis_reaches_the_element_which_refuses_it_by_name(tmp_path):
+    from hbm.study import Study, grid, run_study
+
+    points = grid({"slip_force": [0.02, math.nan, math.inf]})
+    assert math.isnan(points[1]["slip_force"]) and points[2]["slip_force"] == math.inf  # the grid takes them
+    result = run_study(Study(_jenkins_run, points), tmp_path, executor="serial", formats=("csv",))
+    assert [r["success"] for r in result.records] == [True, False, False]
+    assert [r["message"] for r in result.records[1:]] == ["ValueError: slip_force must be finite, got slip_force=nan",
+                                                          "ValueError: slip_force must be finite, got slip_force=inf"]
+    assert result.records[0]["peak_amplitude_m"] == pytest.approx(_jenkins_run({"slip_force": 0.02}).peak().amplitude,
+                                                                  rel=1e-12)

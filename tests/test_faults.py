@@ -341,3 +341,193 @@ def test_a_contract_error_in_the_error_estimate_still_raises_at_once():
     s = Structure(np.eye(3), 0.004 * K, K, force=F)
     with pytest.raises(ElementContractError, match=r"Wrong._periodic_force\(x, omega\) must return"):
         frequency_response(s, [Contact(Wrong(samples=512), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
+
+
+class Misshapen(Coarse):
+    """A Jenkins element that answers one value too few where it is asked at a tighter rtol than ``rtol`` (the
+    error estimate's element source, at rtol / 100), or raises an ordinary ``ValueError`` there (``plain``)."""
+
+    def __init__(self, rtol=0.0, plain=False):
+        super().__init__(rtol)
+        self.plain = plain
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        out = jenkins_fourier(1.0, 0.02, a)
+        if rtol >= self.rtol:
+            return out
+        if self.plain:
+            raise ValueError("no table that fine")
+        return tuple(np.atleast_1d(v)[:-1] for v in out)
+
+
+def _element_source_case(system):
+    if isinstance(system, Blade):
+        return (lambda el: el), (0.6, 1.8)
+    return (lambda el: [Contact(el, dof=0)]), (0.3, 0.8)
+
+
+_ONE_DOF_AND_CONDENSED = dict(argvalues=[_blade(), Structure(np.eye(3), 0.004 * K, K, force=F)],
+                              ids=["one_dof", "condensed"])
+
+
+@pytest.mark.parametrize("system", **_ONE_DOF_AND_CONDENSED)
+def test_a_contract_error_in_the_element_source_of_the_estimate_raises_at_once(system):
+    from contact_models.base import ElementContractError
+
+    contacts, w = _element_source_case(system)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(system, contacts(Misshapen()), omega_range=w, harmonics=1)
+    assert ref.success and ref.rtol == 1e-6  # the trace's rtol: the estimate's element source asks at 1e-8
+    with pytest.raises(ElementContractError, match=r"^element=Misshapen\(\): Misshapen._fourier_derivatives\(a, omega, "
+                                                   r"rtol\) must return f_s with one value per amplitude \(1\), got "
+                                                   r"f_s of shape \(0,\)$"):
+        frequency_response(system, contacts(Misshapen(rtol=ref.rtol)), omega_range=w, harmonics=1)
+
+
+@pytest.mark.parametrize("system", **_ONE_DOF_AND_CONDENSED)
+def test_an_ordinary_failure_in_the_element_source_of_the_estimate_keeps_the_bound(system):
+    contacts, w = _element_source_case(system)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(system, contacts(Misshapen()), omega_range=w, harmonics=1)
+        frf = frequency_response(system, contacts(Misshapen(rtol=ref.rtol, plain=True)), omega_range=w, harmonics=1)
+    assert frf.success and frf._estimate_failed is None  # the estimate ran: the element source took its bound
+    np.testing.assert_array_equal(frf.amplitude, ref.amplitude)
+    got, sound = frf.error_sources["element"], ref.error_sources["element"]
+    if isinstance(system, Blade):  # rtol |p|, rtol |q| of the element's stiffness through the balance
+        slipping = sound > 0.0
+        assert np.all(got[slipping] > sound[slipping]) and 1e-7 < float(np.max(got)) < 1e-4
+    else:
+        assert float(np.max(got)) == ref.rtol and float(np.max(sound)) < 1e-12  # the bound rtol, where it moves
+    for s in ("harmonics", "sampling", "model"):
+        np.testing.assert_array_equal(frf.error_sources[s], ref.error_sources[s])
+
+
+class MisshapenAbove(SpoiltLaw):
+    """A Jenkins element with its time law whose harmonic force has one coefficient too few above ``H``
+    harmonics (the error estimate's harmonics source, at 2H + 1)."""
+
+    def __init__(self, H):
+        super().__init__("never")
+        self.H = H
+
+    def __repr__(self):
+        return f"MisshapenAbove(H={self.H})"
+
+    def _harmonic_force(self, X, omega, n_t, rtol):
+        Fh, J, Fw = super()._harmonic_force(X, omega, n_t, rtol)
+        return (Fh, J, Fw) if X.size <= 2 * self.H + 1 else (Fh[:-1], J, Fw)
+
+
+def test_a_contract_error_in_the_harmonics_source_of_the_estimate_raises_at_once():
+    from contact_models.base import ElementContractError
+
+    s = Structure(np.eye(3), 0.004 * K, K, force=F)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(s, [Contact(MisshapenAbove(H=7), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
+    assert ref.success and np.all(np.isfinite(ref.error_estimate))  # sound up to the estimate's 7 harmonics
+    with pytest.raises(ElementContractError, match=r"^element=MisshapenAbove\(H=3\): MisshapenAbove._harmonic_force"
+                                                   r".* must return F of shape \(15,\).*got F of shape \(14,\)"):
+        frequency_response(s, [Contact(MisshapenAbove(H=3), dof=0)], omega_range=(0.3, 0.8), harmonics=3)
+
+
+# ---------------------------------------------------------------- an element that raises while the peak is located
+class Armed(Spoilt):
+    """A sound Jenkins element that fails once armed: the callback arms it at the point that ends the range, so
+    the trace (and the estimate) are done and locating the peak is what asks it next.  ``wrong``: it answers
+    with one value too few instead of raising (a contract error)."""
+
+    def __init__(self, wrong=False):
+        super().__init__("never")
+        self.armed, self.wrong = False, wrong
+
+    def __repr__(self):
+        return f"{type(self).__name__}()"
+
+    def arm_at(self, w1):
+        def callback(point):
+            if point.omega >= w1:
+                self.armed = True
+        return callback
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        out = jenkins_fourier(1.0, 0.02, a)
+        if self.armed:
+            if not self.wrong:
+                raise RuntimeError("state lost")
+            return tuple(np.atleast_1d(v)[:-1] for v in out)
+        return out
+
+
+class ArmedLaw(Armed):
+    """:class:`Armed` with its time law, failing there too once armed (the multi-harmonic balance's)."""
+
+    has_time_law = True
+
+    def _periodic_force(self, x, omega):
+        f, df = self.jen.periodic_force(x, omega)
+        if self.armed:
+            if not self.wrong:
+                raise RuntimeError("state lost")
+            return f[:-1], df
+        return f, df
+
+
+def _armed_case(case):
+    """``(system, contacts of an element, omega_range, options, element class, its hook)``."""
+    law = r"_periodic_force\(x, omega\) at omega=[0-9.]+, x of shape"
+    if case == "condensed":
+        s = Structure(np.eye(3), 0.004 * K, K, force=F)
+        return s, (lambda el: [Contact(el, dof=0)]), (0.3, 0.8), dict(harmonics=3, tol=None), ArmedLaw, law
+    if case == "default":  # tol's default: the estimate, H chosen along the curve (windows), then the peak
+        return _blade(), (lambda el: el), (0.6, 1.8), {}, ArmedLaw, law
+    return _blade(), (lambda el: el), (0.6, 1.8), dict(harmonics=1, tol=None), Armed, \
+        r"_fourier_derivatives\(a, omega, rtol\) at a=[0-9.]+ m, omega=[0-9.]+ rad/s"
+
+
+@pytest.mark.parametrize("case", ["one_dof", "condensed", "default"])
+def test_an_element_that_raises_while_the_peak_is_located_keeps_the_curve_and_the_sampled_peak(case):
+    system, contacts, w, kw, kind, hook = _armed_case(case)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", AccuracyWarning)
+        ref = frequency_response(system, contacts(kind()), omega_range=w, **kw)  # never armed: sound
+    # (the sampled Jenkins law at H = 3 ripples between points: there the sound element's located maximum falls
+    # short of the sampled one, which is given)
+    assert ref.peak().interior and ref.peak_refined == ref.peak().converged == (case != "condensed")
+    el = kind()
+    with warnings.catch_warnings(record=True) as said:
+        warnings.simplefilter("always")
+        frf = frequency_response(system, contacts(el), omega_range=w, callback=el.arm_at(w[1]), **kw)
+    assert el.armed and frf.success and frf.status == Status.REACHED_END  # the traced points kept, as they are
+    np.testing.assert_array_equal(frf.amplitude, ref.amplitude)
+    i = int(np.argmax(frf.amplitude))
+    near = np.zeros(len(frf), dtype=bool)
+    near[i - 1:i + 2] = True  # the located peak's Newton part (ref) in place of the parabola's bound (frf) there
+    np.testing.assert_array_equal(frf.error_estimate[~near], ref.error_estimate[~near])
+    if frf.tol is not None:
+        assert np.all(frf.error_estimate[near] > ref.error_estimate[near])
+    pk = frf.peak()
+    assert (pk.omega, pk.amplitude) == (frf.omega[i], frf.amplitude[i]) and 0 < i < len(frf) - 1
+    assert pk.interior and not pk.converged and not frf.peak_refined  # the largest traced point, not located
+    assert pk.amplitude <= ref.peak().amplitude <= pk.amplitude * (1.0 + 1e-3)
+    assert re.fullmatch(rf"the maximum could not be located between points: locating it near omega = "
+                        rf"{frf.omega[i]:.6g} rad/s raised an exception \(RuntimeError: state lost \(in "
+                        rf"element={kind.__name__}\(\): {kind.__name__}.{hook}.*\)\); the largest sampled point is "
+                        rf"given", pk.message), pk.message
+    accuracy = [m for m in said if issubclass(m.category, AccuracyWarning)]
+    assert len(accuracy) == 1 and pk.message in str(accuracy[0].message) == frf.accuracy_warning
+    assert [m for m in said if not issubclass(m.category, AccuracyWarning)] == []
+
+
+@pytest.mark.parametrize("case", ["one_dof", "condensed"])
+def test_a_contract_error_while_the_peak_is_located_still_raises(case):
+    from contact_models.base import ElementContractError
+
+    system, contacts, w, kw, kind, hook = _armed_case(case)
+    el = kind(wrong=True)
+    with pytest.raises(ElementContractError, match=rf"^element={kind.__name__}\(\): {kind.__name__}."
+                                                   rf"{hook.split(' at ')[0]} must return f(_s)? "):
+        frequency_response(system, contacts(el), omega_range=w, callback=el.arm_at(w[1]), **kw)
+    assert el.armed

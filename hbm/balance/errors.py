@@ -21,7 +21,8 @@ periodic response of the physical system, at the point's frequency (``docs/valid
 - ``element``: the error of the elements' evaluation at ``rtol``: the balance's residual with the
   elements evaluated again at ``ELEMENT_TIGHTEN * rtol``, less the residual at ``rtol``, through
   the balance (one Newton step); at least ``ROUNDING``.  Where that evaluation fails, the bound
-  ``rtol`` (one DOF: errors ``rtol |p|``, ``rtol |q|`` of the element's stiffness ``p + i q``).
+  ``rtol`` (one DOF: errors ``rtol |p|``, ``rtol |q|`` of the element's stiffness ``p + i q``); an
+  answer of the wrong type or shape (``ElementContractError``) is raised at once, as during the trace.
 - ``model``: the element's error against the physical contact it stands for
   (``ContactElement.model_error``: the validity map of the single-mode bars), through the balance:
   ``|dX_1| <= e |F_1| / s_min(J)``; 0 for an element exact for what it models, whatever its ``k*``
@@ -55,6 +56,7 @@ from numpy.typing import NDArray
 from contact_models.accuracy import AccuracyWarning
 from contact_models.base import ContactElement, default_samples
 
+from .._steps import RESIDUAL_RAISED_AT_ONCE
 from ..structure import Contact
 from .residual import HarmonicBalance
 
@@ -105,6 +107,8 @@ ELEMENT_TIGHTEN = 1e-2
 #: Floor of the element source (relative): the rounding of an element exact to rounding, through the balance.
 ROUNDING = 1e-13
 #: What an element evaluation that cannot be repeated at the tighter tolerance raises: the bound rtol is kept.
+#: Not ``RESIDUAL_RAISED_AT_ONCE`` (an ``ElementContractError`` is a ValueError): a defect of the element's code,
+#: or a warning the caller made an error, is raised on at once, as during the trace.
 _FAILED = (ValueError, ArithmeticError, np.linalg.LinAlgError)
 
 
@@ -326,6 +330,8 @@ def _one_dof(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
             try:
                 out["harmonics"][j] = abs(_truncation_step(proxies[0], Xp, w, 0, 1)) / a
                 break
+            except RESIDUAL_RAISED_AT_ONCE:
+                raise
             except ValueError:  # the stand-in cannot resolve so many harmonics (too few cells): a rung lower
                 if len(proxies) == 1:
                     raise
@@ -346,6 +352,8 @@ def _element_one_dof(tight: HarmonicBalance, R: tuple, Jx: NDArray, xc: float, x
     try:
         Rt, _ = tight.balance(xc, xs, w)
         d = np.linalg.solve(Jx, np.subtract(Rt, R))
+    except RESIDUAL_RAISED_AT_ONCE:
+        raise
     except _FAILED:
         return _amplitude_change(Jx, xc, xs, dp, dq)
     da = abs(float(xc * d[0] + xs * d[1])) / a
@@ -542,6 +550,8 @@ def _harmonics_condensed(problem: HarmonicBalance, X: NDArray, omega: NDArray, r
                     out[j] = abs(_truncation_step(more, Xp, float(w), r, H)) / a
                 except ZeroDivisionError:  # on an undamped pole (Condensed._poles)
                     out[j] = math.inf
+        except RESIDUAL_RAISED_AT_ONCE:
+            raise
         except ValueError as e:  # an element that cannot resolve so many harmonics (too few cells): a rung lower
             if k < len(steps) - 1:
                 continue
@@ -618,6 +628,8 @@ def _element_condensed(tight: HarmonicBalance, R: NDArray, Jx: NDArray, x: NDArr
     try:
         Rt, _ = tight._condensed(x, w)
         da = abs(_amplitude_step(Jx, Rt - R, x, r, L)) / math.hypot(x[r, 1], x[r, 2])
+    except RESIDUAL_RAISED_AT_ONCE:
+        raise
     except _FAILED:
         return rtol
     return max(da, ROUNDING) if math.isfinite(da) else rtol
