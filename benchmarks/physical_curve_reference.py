@@ -23,6 +23,13 @@ ten times below the tolerance the curve is held to).
 
 Run: ``PYTHONPATH=. python3 benchmarks/physical_curve_reference.py [--out PATH]`` (about five minutes
 on one core).
+
+``--beside-peak`` writes ``tests/data/physical_curve_beside_peak.json`` instead: the curve beside its
+peak, where notches narrower than the curve's steps lie.  Two frequencies, one beside and one in the
+narrow notch at 38718.6 rad/s, carried up ``NOTCH_LADDER``; and a grid of 0.5 rad/s over
+38400..39100 rad/s on ``GRID_RUNG`` (the finest model the main job's curve takes there), each
+frequency's Newton iteration started from the last.  Both start from the single-mode balance's first
+harmonic (about one minute on one core).
 """
 
 from __future__ import annotations
@@ -41,12 +48,18 @@ from hbm.cli.cases import default_case
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "tests" / "data" / "physical_curve_reference.json"
+BESIDE_PEAK = ROOT / "tests" / "data" / "physical_curve_beside_peak.json"
 #: The ladder of (cells, bar harmonics, blade harmonics), the reference the last.
 LADDER = [(64, 31, 3), (128, 63, 15), (128, 127, 31), (256, 127, 31), (256, 127, 47)]
 #: Frequencies as fractions of the stuck resonance sqrt((k + k*)/m): across the microslip band
 #: and both flanks, denser near the peak (about 0.972 of it).
 FRACTIONS = [0.90, 0.94, 0.955, 0.96, 0.963, 0.966, 0.9685, 0.9695, 0.9705, 0.9715, 0.9725, 0.974,
              0.977, 0.982, 0.99, 1.02]
+#: Beside the peak: the ladder of the notch's two frequencies and the rung of the 0.5 rad/s grid.
+NOTCH_LADDER = [(64, 31, 3), (128, 63, 15), (128, 127, 31), (256, 127, 31)]
+NOTCH_OMEGAS = [38710.0, 38718.6]
+GRID_RUNG = (128, 31, 31)
+GRID = (38400.0, 39100.0, 0.5)
 
 
 def fixed_frequency(blade, element, Hb: int, omega: float, X0: np.ndarray) -> np.ndarray:
@@ -75,12 +88,47 @@ def up_the_ladder(blade, el, omega: float, X0: np.ndarray, ladder=LADDER) -> lis
     return amps
 
 
+def beside_peak(case) -> dict:
+    """The notch's two frequencies up ``NOTCH_LADDER`` and the grid on ``GRID_RUNG`` (module docstring)."""
+    blade, el = case.blade, case.element
+    single = hbm.frequency_response(blade, el, case.omega_range, harmonics=1, tol=1e-4)
+
+    def start(w):
+        i = int(np.argmin(np.abs(single.omega - w)))
+        return np.array([0.0, single.x_c[i], single.x_s[i]])
+
+    t0 = time.perf_counter()
+    notch = [{"omega": w, "ladder": up_the_ladder(blade, el, w, start(w), NOTCH_LADDER)} for w in NOTCH_OMEGAS]
+    for p in notch:
+        print(f"omega {p['omega']:.1f} ladder {p['ladder']} ({time.perf_counter() - t0:.0f} s)", flush=True)
+    n, H, Hb = GRID_RUNG
+    fine = AllModeMicroslip(el.bar, el.load, cells=n, harmonics=H)
+    lo, hi, step = GRID
+    omegas = np.arange(lo, hi + 1e-9, step)
+    X, amps = start(lo), []
+    for w in omegas:
+        X = fixed_frequency(blade, fine, Hb, float(w), X)
+        amps.append(float(np.hypot(X[1], X[2])))
+    print(f"grid of {omegas.size} frequencies ({time.perf_counter() - t0:.0f} s)", flush=True)
+    return {"generated_by": "benchmarks/physical_curve_reference.py --beside-peak", "case": case.description,
+            "notch_ladder": NOTCH_LADDER, "notch": notch, "grid_rung": GRID_RUNG,
+            "grid_omega": [float(w) for w in omegas], "grid_amplitude": amps,
+            "seconds": round(time.perf_counter() - t0, 1)}
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--out", type=Path, default=OUT)
+    parser.add_argument("--out", type=Path, default=None)
+    parser.add_argument("--beside-peak", action="store_true", help="write the reference beside the peak instead")
     args = parser.parse_args()
     warnings.simplefilter("ignore")
     case = default_case()
+    if args.beside_peak:
+        out = args.out or BESIDE_PEAK
+        out.write_text(json.dumps(beside_peak(case), indent=1) + "\n")
+        print(f"wrote {out}")
+        return
+    args.out = args.out or OUT
     blade, el = case.blade, case.element
     w_stuck = float(np.sqrt((blade.stiffness + el.stuck_stiffness(0.0)) / blade.mass))
     omegas = [f * w_stuck for f in FRACTIONS]

@@ -4,7 +4,9 @@ The reference (``tests/data/physical_curve_reference.json``, from ``benchmarks/p
 is the default blade with ``AllModeMicroslip`` on 256 cells and 127 harmonics, the blade balanced with 47
 harmonics, solved at 16 fixed frequencies by a plain Newton iteration written in that script (not the
 library's continuation or refinement), each frequency carried up a ladder of resolutions; its own error
-(the larger change from the rungs below in cells and in harmonics) is below 1e-4 everywhere.
+(the larger change from the rungs below in cells and in harmonics) is below 1e-4 everywhere. Beside the
+peak the same script (``--beside-peak``) solves the narrow notch and a 0.5 rad/s grid
+(``tests/data/physical_curve_beside_peak.json``).
 """
 
 import contextlib
@@ -21,6 +23,9 @@ from contact_models import AccuracyWarning
 from hbm.cli.main import main
 
 REFERENCE = json.loads((Path(__file__).parent / "data" / "physical_curve_reference.json").read_text())
+#: Beside the peak (``benchmarks/physical_curve_reference.py --beside-peak``): the narrow notch's two
+#: frequencies up a ladder, and a 0.5 rad/s grid on the finest model the job's curve takes there.
+BESIDE_PEAK = json.loads((Path(__file__).parent / "data" / "physical_curve_beside_peak.json").read_text())
 TOL = 1e-3
 
 
@@ -90,26 +95,18 @@ def test_the_main_job_s_curve_goes_down_into_the_narrow_notch_beside_its_peak(jo
     dips by 0.3 % within about 5 rad/s (38718.6 rad/s), narrower than the curve's steps on either side; a
     trace that steps over it is within tol at every point it keeps and 2e-3 off between them. The curve
     read there (the cubic through its four nearest points) against the reference solved at that frequency
-    (``benchmarks/physical_curve_reference.py``'s plain Newton up its ladder to 256 cells, 127 bar
-    harmonics and 31 blade harmonics), its own change from the rung below added."""
-    import sys
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
-    from physical_curve_reference import up_the_ladder
-
-    from hbm.cli.cases import default_case
-
+    (``BESIDE_PEAK``: the reference script's plain Newton up its ladder to 256 cells, 127 bar harmonics and
+    31 blade harmonics), its own change from the rung below added."""
     table, _, _ = job
-    case = default_case()
     w = np.array(table["omega_rad_s"], dtype=float)
     A = np.array(table["amplitude_m"], dtype=float)
     ref = {}
-    for target in (38710.0, 38718.6):
-        read = at(target, w, A)
-        amps = up_the_ladder(case.blade, case.element, target, np.array([0.0, 0.0, read]),
-                             [(64, 31, 3), (128, 63, 15), (128, 127, 31), (256, 127, 31)])
+    for p in BESIDE_PEAK["notch"]:
+        amps = p["ladder"]
+        read = at(p["omega"], w, A)
         doubt = abs(amps[-1] - amps[-2]) / amps[-1]
-        assert doubt < 1e-4 and abs(read / amps[-1] - 1.0) <= TOL - doubt, f"omega = {target}: {read:.6e}, {amps}"
-        ref[target] = amps[-1]
+        assert doubt < 1e-4 and abs(read / amps[-1] - 1.0) <= TOL - doubt, f"omega = {p['omega']}: {read:.6e}, {amps}"
+        ref[p["omega"]] = amps[-1]
     assert ref[38718.6] < (1.0 - 2.0 * TOL) * ref[38710.0]  # the notch is deeper than tol: missing it is an error
 
 
@@ -117,28 +114,17 @@ def test_the_main_job_s_curve_between_its_points_beside_the_peak(job):
     """Read between its points (the cubic through the four nearest), on a grid of 0.5 rad/s over 38400..39100
     rad/s where the curve's windows are traced on the bar of every mode: within tol of the finest model the
     curve takes there (128 cells, 31 bar harmonics, the blade at 31 harmonics) solved at each frequency by
-    the reference script's plain Newton, each from the last. The notches are narrower than the curve's
-    steps beside them; the worst reading is 9.2e-4 off, at 38598.5 rad/s (docs/validation.md)."""
-    import sys
-    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "benchmarks"))
-    from physical_curve_reference import fixed_frequency
-
-    from contact_models import AllModeMicroslip
-    from hbm.cli.cases import default_case
-
+    the reference script's plain Newton, each from the last (``BESIDE_PEAK``). The notches are narrower than
+    the curve's steps beside them; the worst reading is 9.2e-4 off, at 38598.5 rad/s (docs/validation.md)."""
     table, _, _ = job
-    case = default_case()
     w = np.array(table["omega_rad_s"], dtype=float)
     A = np.array(table["amplitude_m"], dtype=float)
-    el = AllModeMicroslip(case.element.bar, case.element.load, cells=128, harmonics=31)
-    i = int(np.argmin(np.abs(w - 38400.0)))
-    X = np.zeros(63)
-    X[1], X[2] = float(table["x_c_m"][i]), float(table["x_s_m"][i])
-    worst = (0.0, 0.0)
-    for omega in np.arange(38400.0, 39100.0 + 1e-9, 0.5):
-        X = fixed_frequency(case.blade, el, 31, float(omega), X)
-        worst = max(worst, (abs(at(omega, w, A) / float(np.hypot(X[1], X[2])) - 1.0), float(omega)))
+    assert BESIDE_PEAK["grid_rung"] == [128, 31, 31] and len(BESIDE_PEAK["grid_omega"]) == 1401
+    off = [(abs(at(omega, w, A) / ref - 1.0), omega)
+           for omega, ref in zip(BESIDE_PEAK["grid_omega"], BESIDE_PEAK["grid_amplitude"])]
+    worst = max(off)
     assert worst[0] <= TOL, f"read at omega = {worst[1]}: {worst[0]:.2e} off"
+
 
 @pytest.mark.slow
 def test_the_main_job_s_points_across_the_notches_are_within_twice_their_estimate(job):
