@@ -3,9 +3,10 @@
 ``QuasiStatic(element)``: the element without damper inertia.  It answers every question at
 omega = 0 whatever omega is asked: the quasi-static limit of the dynamic bar (Eq. 12 with
 alpha = 0, gamma = lambda), which holds while the excitation frequency is far below the bar's
-omega_c (``docs/scenes.md``, "Effects").  The wrapped element is never evaluated at another
-frequency, so its dynamic coefficients (alpha, gamma(omega), the dynamic stiffness K*(omega))
-are never computed; ``calls`` counts the evaluations passed on.  Because the microslip
+omega_c (``docs/scenes.md``, "Effects").  Its force is never evaluated at another frequency, so
+a sweep computes no dynamic coefficient (alpha, gamma(omega), the dynamic stiffness K*(omega));
+``calls`` counts the evaluations passed on.  Only ``model_error`` (the error estimate's model
+source) evaluates the wrapped element at omega: how far the quasi-static limit is from it there.  Because the microslip
 elements cache their loading path per frequency, a quasi-static sweep builds one path in all.
 
 ``StuckContact(element)``: the element held stuck, a linear spring of the element's stuck
@@ -26,10 +27,12 @@ between their region changes; about 1e-9 relative error).
 from __future__ import annotations
 
 import math
+import warnings
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from .accuracy import AccuracyWarning
 from .numerics.checks import finite_array, nonnegative
 from .base import ContactElement
 
@@ -149,9 +152,23 @@ class QuasiStatic(ContactElement):
         self.calls += 1
         return self.element._fourier(a, np.zeros_like(omega), rtol)
 
+    def _model_error(self, a, omega):
+        """``(e_s, e_c)`` against the physical contact, through the wrapped element (``_through``): the inertia
+        left out, ``|F(a, 0) - F(a, omega)|``, plus the wrapped element's own model error at omega.  Below slip
+        this is ``|K*(omega)/k* - 1|``, the criterion of a scene's inertia effect."""
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", AccuracyWarning)
+            return _through(self.element, a, omega, self.element.fourier(a, 0.0))
+
     def _fourier_derivatives(self, a, omega, rtol):
         self.calls += 1
         return self.element.fourier_derivatives_unchecked(a, np.zeros_like(omega), rtol)
+
+    def _refined_model(self):
+        """What the quasi-static limit stands for, its inertia on: the wrapped element's refined model where it
+        has one (a single-mode bar's: the bar with every mode, which has a time law as this one does), else the
+        wrapped element; ``model="auto"`` takes it where this one is off."""
+        return self.element.refined_model() or self.element
 
     @staticmethod
     def _check(omega):
@@ -191,6 +208,38 @@ class StuckContact(ContactElement):
         K = np.array([self._stuck_stiffness(float(w)) for w in omega]) if omega.size else np.empty(0)
         zero = np.zeros_like(a)
         return K * a, zero, K, zero.copy()
+
+    def _model_error(self, a, omega):
+        """``(e_s, e_c)`` against the physical contact, through the wrapped element (``_through``): 0 up to its
+        linear amplitude, where the stuck spring is its exact answer (a scene holds a damper stuck only where
+        the sweep stays there, and then evaluates nothing more); above, the slip the spring leaves out."""
+        el = self.element
+        e_s, e_c = np.zeros(a.shape), np.zeros(a.shape)
+        slips = np.array([ai > el.linear_amplitude(float(wi)) for ai, wi in zip(a, omega)], dtype=bool)
+        if slips.any():
+            a_s, w_s = a[slips], omega[slips]
+            K = np.array([self._stuck_stiffness(float(w)) for w in w_s])
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", AccuracyWarning)
+                e_s[slips], e_c[slips] = _through(el, a_s, w_s, (K * a_s, np.zeros(a_s.shape)))
+        return e_s, e_c
+
+
+def _through(el: ContactElement, a: NDArray, omega: NDArray, f: tuple) -> tuple[NDArray, NDArray]:
+    """``(e_s, e_c)`` of a wrapper whose answer is ``f = (f_s, f_c)`` against the physical contact the wrapped
+    ``el`` stands for, by the triangle inequality: ``|f - F_el(a, omega)| / scale + el.model_error``, each
+    relative to ``max(|F_el|, 0.01 k* a)`` of its component (``ContactElement.model_error``).  Where ``el`` has
+    no finite answer at omega (a resonance of the stuck bar) the error is unknown: inf."""
+    fs, fc = el.fourier(a, omega)
+    e_s, e_c = el.model_error(a, omega, parts=True)
+    floor = 0.01 * float(el.stuck_stiffness(0.0)) * a
+    out = []
+    with np.errstate(invalid="ignore", divide="ignore"):
+        for g, F, e in ((f[0], fs, e_s), (f[1], fc, e_c)):
+            scale = np.maximum(np.abs(F), floor)
+            rel = np.where(a > 0.0, np.abs(g - F) / np.where(scale > 0.0, scale, 1.0), 0.0) + e
+            out.append(np.where(np.isfinite(rel), rel, math.inf))
+    return out[0], out[1]
 
 
 __all__ = ["QuasiStatic", "StuckContact"]

@@ -20,6 +20,8 @@ SCENES = ROOT / "examples" / "scenes"
 #: strict xfails, so a scene made quiet (or honest about its error) must leave this list.
 WARN = {
     "contact_normal.toml": "estimated error 1.3 > tol 0.001 (sampling at H = 3)",
+    # the quasi-static damper, kept for the study's cost, moves this blade's resonance by about 1 %
+    "monte_carlo.toml": "estimated error 1.9 > tol 0.01 (model: the inertia left out; 21 % at the peak)",
 }
 #: Scenes about the single-mode bar where it is outside its range: each ModelRangeWarning's "off by
 #: about X%" is stated in the scene's own comments ("X %").

@@ -77,7 +77,9 @@ def test_quasi_static_element_evaluates_the_wrapped_element_at_omega_zero_only()
     assert spy.omegas and set(spy.omegas) == {0.0}
 
 
-def test_inertia_off_scene_gives_the_api_frf_and_never_evaluates_the_dynamic_path(tmp_path):
+def test_inertia_off_scene_gives_the_api_frf_and_traces_without_the_dynamic_path(tmp_path):
+    """The trace evaluates the damper at omega = 0 only (one loading path); the estimate alone evaluates the
+    dynamic bar, at the curve's own points, to state what the inertia left out costs."""
     scene = scene_from_dict(scene_dict(**{"effects.inertia": "off", "sweep.max_step": 0.1}), "off.toml")
     plan = plan_scene(scene)
     run = plan.runs[0]
@@ -86,8 +88,9 @@ def test_inertia_off_scene_gives_the_api_frf_and_never_evaluates_the_dynamic_pat
     spy = AlphaSpy(run.element.element.bar)  # from here on, every evaluation of the damper is recorded
     result = run_scene(scene, tmp_path, plan=plan)
     assert result.success
-    assert spy.omegas and set(spy.omegas) == {0.0}  # the dynamic coefficients were never evaluated
-    assert set(run.element.element._paths) == {0.0}  # one loading path, at omega = 0
+    points = set(result.runs[0].frf.omega.tolist())
+    assert 0.0 in spy.omegas and set(spy.omegas) - {0.0} <= points  # dynamic only where the estimate reads
+    assert set(run.element.element._paths) - {0.0} <= points  # the trace's one loading path, at omega = 0
     # the same FRF as the Python API with the quasi-static element
     api = frequency_response(plan.blade, QuasiStatic(TwoRegionMicroslip(Bar(**BAR), UniformLoad(N=100.0))),
                              omega_range=run.omega, harmonics=1, steps=Steps(max_step=0.1))
