@@ -531,3 +531,68 @@ def test_a_contract_error_while_the_peak_is_located_still_raises(case):
                                                    rf"{hook.split(' at ')[0]} must return f(_s)? "):
         frequency_response(system, contacts(el), omega_range=w, callback=el.arm_at(w[1]), **kw)
     assert el.armed
+
+
+# ---------------------------------------------------------------- a contract error where a start or its reason is sought
+#: The rigid slider (slip force 0.005) from DOF 1 of two unit masses to ground, the force 0.01 on DOF 0: at 0.7 rad/s
+#: only the describing functions' equivalent linear start finds the branch (tests/test_rigid_slider_stick.py).
+RIGID_PAIR = Structure(np.eye(2), 0.004 * np.eye(2), np.array([[2.0, -1.0], [-1.0, 2.0]]), force=[0.01, 0.0])
+
+
+class FarSlider(Macroslip):
+    """The rigid slider, failing above 100 m: amplitudes only the equivalent start's grid asks (the branch
+    stays below 0.5 m); ``wrong``: one value too few (a contract error), else an ordinary ValueError."""
+
+    def __init__(self, wrong):
+        super().__init__(math.inf, 0.005)
+        self.wrong = wrong
+
+    def __repr__(self):
+        return f"FarSlider(wrong={self.wrong})"
+
+    def _fourier_derivatives(self, a, omega, rtol):
+        out = super()._fourier_derivatives(a, omega, rtol)
+        if float(np.max(a, initial=0.0)) <= 100.0:
+            return out
+        if not self.wrong:
+            raise ValueError("no table that far")
+        return tuple(np.atleast_1d(v)[:-1] for v in out)
+
+
+def test_a_contract_error_in_the_equivalent_start_raises_at_once():
+    from contact_models.base import ElementContractError
+
+    with pytest.raises(ElementContractError, match=r"^element=FarSlider\(wrong=True\): FarSlider._fourier_derivatives"
+                                                   r"\(a, omega, rtol\) must return f_s with one value per amplitude "
+                                                   r"\(1\), got f_s of shape \(0,\)$"):
+        frequency_response(RIGID_PAIR, [Contact(FarSlider(wrong=True), dof=1)], omega_range=(0.7, 1.85), tol=1e-3)
+
+
+def test_an_ordinary_failure_in_the_equivalent_start_is_still_no_start():
+    with pytest.warns(AccuracyWarning):
+        frf = frequency_response(RIGID_PAIR, [Contact(FarSlider(wrong=False), dof=1)], omega_range=(0.7, 1.85),
+                                 tol=1e-3)
+    assert frf.status == Status.START_FAILED and len(frf) == 0
+    assert frf.message.startswith("Newton's method did not converge at the starting point")
+
+
+class OddRigid(Macroslip):
+    """The rigid slider whose linear coefficients are a string above 1.5 rad/s: asked only for the reason the
+    branch from 1 rad/s stops near 1.89 rad/s (where the slider starts to stick)."""
+
+    def __init__(self):
+        super().__init__(math.inf, 0.005)
+
+    def __repr__(self):
+        return "OddRigid()"
+
+    def _linear_coefficients(self, omega):
+        return ("rigid", 0.0) if omega > 1.5 else (math.inf, 0.0)
+
+
+def test_a_contract_error_where_the_stuck_reason_is_sought_raises_at_once():
+    from contact_models.base import ElementContractError
+
+    with pytest.raises(ElementContractError, match=r"^element=OddRigid\(\): OddRigid._linear_coefficients\(omega\) "
+                                                   r"must return a real number, got str 'rigid'"):
+        frequency_response(RIGID_PAIR, [Contact(OddRigid(), dof=1)], omega_range=(1.0, 2.0), tol=1e-3)
