@@ -88,7 +88,8 @@ class CyclicStructure(Structure):
     ------
     ValueError
         Naming the parameter: sectors not an integer in 2..``MAX_SECTORS``, engine_order not an integer, a matrix
-        of another size, or a disk whose mass is not positive definite at some nodal diameter.
+        of another size, or a disk whose mass is not positive definite, or damping or stiffness not positive
+        semi-definite, at some nodal diameter.
 
     Notes
     -----
@@ -131,13 +132,35 @@ class CyclicStructure(Structure):
         self.sector_angle = 2.0 * math.pi * self.engine_order / self.sectors
         #: The contacts of the last ``hbm.frequency_response`` of this sector (what :meth:`full` repeats by default).
         self.solved_contacts: list[Contact] = []
-        for k in range(self.sectors):  # the disk's M is positive definite iff every nodal diameter's is
-            Mk = self.nodal_matrices(k)[0]
+        self._check_disk()
+
+    def _check_disk(self) -> None:
+        """Refuse a disk whose mass is not positive definite, or damping or stiffness not positive semi-definite
+        (as :class:`hbm.Structure` refuses them): the disk's matrices are block-circulant, so their eigenvalues
+        are those of every nodal diameter's (:meth:`nodal_matrices`); a coupling of zero leaves the sector's own,
+        already checked."""
+        for k in range(self.sectors):
+            Mk, Ck, Kk = self.nodal_matrices(k)
             try:
                 np.linalg.cholesky(Mk)
             except np.linalg.LinAlgError:
                 raise ValueError(f"M, M_next must give a positive definite disk mass, got one not positive definite "
                                  f"at nodal diameter {k}") from None
+            for name, A1, Ak, what in (("C", self.C_next, Ck, "damping (no negative damping)"),
+                                       ("K", self.K_next, Kk, "stiffness (no negative stiffness: the disk would be "
+                                                              "statically unstable)")):
+                if not np.any(A1):
+                    continue
+                try:  # positive definite: the common case, cheaply
+                    np.linalg.cholesky(Ak)
+                    continue
+                except np.linalg.LinAlgError:
+                    lam = np.linalg.eigvalsh(Ak)
+                scale = float(np.max(np.abs(lam)))
+                if lam[0] < -NEGATIVE_EIGENVALUE_RTOL * scale:
+                    raise ValueError(f"{name}, {name}_next must give a positive semi-definite disk {what}, got one "
+                                     f"with a negative eigenvalue at nodal diameter {k} (smallest {float(lam[0]):.6g}, "
+                                     f"largest in magnitude {scale:.6g})")
 
     def __repr__(self) -> str:
         return (f"CyclicStructure(n={self.n} per sector, sectors={self.sectors}, engine_order={self.engine_order}, "

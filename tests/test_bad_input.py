@@ -197,6 +197,27 @@ def test_a_sparse_indefinite_stiffness_is_refused_and_zero_eigenvalues_within_ro
     assert s.natural_frequencies()[0] == 0.0
 
 
+@pytest.mark.parametrize("name, kw, smallest, largest", [
+    # K_0 = K + 2 K1 = K - 10 I: eigenvalues 2 -+ sqrt(2) - 10
+    ("K", dict(K_next=-5.0 * np.eye(2)), 2.0 - math.sqrt(2.0) - 10.0, 10.0 - 2.0 + math.sqrt(2.0)),
+    # C_0 = C + 2 C1 = (0.01 - 0.1) I
+    ("C", dict(C_next=-0.05 * np.eye(2)), -0.09, 0.09),
+])
+def test_a_disk_whose_coupling_makes_its_stiffness_or_damping_indefinite_is_refused_naming_the_nodal_diameter(
+        name, kw, smallest, largest):
+    """The sector's own K and C are positive definite and its nodal diameter 2 (the engine order's) is too, but at
+    nodal diameter 0 the disk cannot stand: refused when built, as a Structure refuses such K or C (a branch was
+    traced and its peak called converged)."""
+    from hbm import CyclicStructure
+
+    with pytest.raises(ValueError, match=rf"^{name}, {name}_next must give a positive semi-definite disk "
+                                         rf"(stiffness|damping) \(no negative .*\), got one with a negative eigenvalue "
+                                         rf"at nodal diameter 0 \(smallest {smallest:.6g}, largest in magnitude "
+                                         rf"{largest:.6g}\)$"):
+        CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=2,
+                        force=[0.0, 1.0], **kw)
+
+
 def _rounded_disk():
     """A ring of sectors whose rigid rotation (nodal diameter 0) has K's eigenvalue -2e-9 of the largest, 1."""
     from hbm import CyclicStructure
@@ -210,16 +231,21 @@ def test_every_negative_eigenvalue_check_reads_the_one_rounding_constant(monkeyp
     import hbm.structure
 
     assert hbm.structure.NEGATIVE_EIGENVALUE_RTOL == 1e-10
-    disk = _rounded_disk()
-    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -2e-09 at nodal diameter 0: the disk is "
-                                         r"unstable$"):
-        disk.natural_frequencies(0)
+    with pytest.raises(ValueError, match=r"^K, K_next must give a positive semi-definite disk stiffness .* at nodal "
+                                         r"diameter 0 \(smallest -2e-09, largest in magnitude 1\)$"):
+        _rounded_disk()
     with pytest.raises(ValueError, match=r"^K must be positive semi-definite for modal damping: \(K, M\) has "
                                          r"omega\^2 = -2e-09$"):
         Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
     for module in (hbm.structure, hbm.cyclic):  # a looser rounding: -2e-9 of the largest is a zero eigenvalue
         monkeypatch.setattr(module, "NEGATIVE_EIGENVALUE_RTOL", 1e-8)
+    disk = _rounded_disk()
     np.testing.assert_allclose(disk.natural_frequencies(0), [0.0, 1.0], atol=1e-15)
+    monkeypatch.setattr(hbm.cyclic, "NEGATIVE_EIGENVALUE_RTOL", 1e-10)  # the frequencies' own check reads it too
+    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -2e-09 at nodal diameter 0: the disk is "
+                                         r"unstable$"):
+        disk.natural_frequencies(0)
+    monkeypatch.setattr(hbm.cyclic, "NEGATIVE_EIGENVALUE_RTOL", 1e-8)
     s = Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
     np.testing.assert_allclose(s.C, np.diag([0.0, 0.1]), atol=1e-15)  # 2 zeta omega; the rigid mode undamped
 
