@@ -55,6 +55,14 @@ def _coupling(name: str, A: Any, n: int) -> NDArray[np.float64]:
     return raw
 
 
+def _integer(name: str, value: Any) -> int:
+    """``value`` as an int where it is an integer (not a bool), else a ValueError naming ``name``: a harmonic or
+    nodal diameter of 2.5 or "1" has no meaning (``int()`` would take it as 2 or 1)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{name} must be an integer, got {name}={value!r}")
+    return int(value)
+
+
 class CyclicStructure(Structure):
     """One sector of a tuned cyclic structure (a bladed disk) under engine-order excitation.
 
@@ -168,14 +176,14 @@ class CyclicStructure(Structure):
 
     # ------------------------------------------------------------ nodal diameters
     def nodal_diameter(self, h: int) -> int:
-        """The nodal diameter ``h EO mod N`` harmonic ``h`` of the travelling wave meets (0..N-1)."""
-        return (int(h) * self.engine_order) % self.sectors
+        """The nodal diameter ``h EO mod N`` harmonic ``h`` (an integer) of the travelling wave meets (0..N-1)."""
+        return (_integer("h", h) * self.engine_order) % self.sectors
 
     def nodal_matrices(self, k: int) -> tuple[NDArray, NDArray, NDArray]:
         """``(M_k, C_k, K_k)``, complex Hermitian n x n: ``A + A_next exp(-i 2 pi k / N) + A_next^T exp(+i 2 pi k / N)``,
         the sector's matrices for a motion whose next sector is its own times ``exp(-i 2 pi k / N)``
-        (nodal diameter k, 0..N-1)."""
-        e = np.exp(-2j * math.pi * (int(k) % self.sectors) / self.sectors)
+        (nodal diameter k, an integer taken mod N)."""
+        e = np.exp(-2j * math.pi * (_integer("k", k) % self.sectors) / self.sectors)
         return tuple(_dense(A) + A1 * e + A1.T * np.conj(e)
                      for A, A1 in ((self.M, self.M_next), (self.C, self.C_next), (self.K, self.K_next)))
 
@@ -191,10 +199,8 @@ class CyclicStructure(Structure):
         above it, the rounding of a zero (the disk's rigid rotation), frequency 0."""
         from scipy.linalg import eigh  # lazily: import hbm stays light
 
-        k = self.engine_order if nodal_diameter is None else nodal_diameter
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
-            raise ValueError(f"nodal_diameter must be an integer, got nodal_diameter={nodal_diameter!r}")
-        Mk, _, Kk = self.nodal_matrices(int(k))
+        k = self.engine_order if nodal_diameter is None else _integer("nodal_diameter", nodal_diameter)
+        Mk, _, Kk = self.nodal_matrices(k)
         lam = eigh(Kk, Mk, eigvals_only=True)
         if lam.size and lam[0] < -NEGATIVE_EIGENVALUE_RTOL * float(np.max(np.abs(lam))):
             raise ValueError(f"K has a negative eigenvalue {float(lam[0]):.3g} at nodal diameter {k}: the disk is unstable")

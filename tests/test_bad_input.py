@@ -218,6 +218,25 @@ def test_a_disk_whose_coupling_makes_its_stiffness_or_damping_indefinite_is_refu
                         force=[0.0, 1.0], **kw)
 
 
+@pytest.mark.parametrize("method, name", [("nodal_matrices", "k"), ("nodal_diameter", "h"),
+                                          ("harmonic_matrices", "h"), ("natural_frequencies", "nodal_diameter")])
+@pytest.mark.parametrize("value", [2.5, 2.0, "1", None, True])
+def test_a_harmonic_or_nodal_diameter_that_is_not_an_integer_is_refused_by_name(method, name, value):
+    """2.5 was read as 2 and "1" as 1 (int()), None raised a TypeError from inside; natural_frequencies(None) is
+    the engine order's nodal diameter."""
+    from hbm import CyclicStructure
+
+    disk = CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=2,
+                           force=[0.0, 1.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+    if value is None and method == "natural_frequencies":
+        np.testing.assert_array_equal(disk.natural_frequencies(None), disk.natural_frequencies(2))
+        return
+    with pytest.raises(ValueError, match=rf"^{name} must be an integer, got {name}={re.escape(repr(value))}$"):
+        getattr(disk, method)(value)
+    np.testing.assert_array_equal(np.array(getattr(disk, method)(np.int64(8))),
+                                  np.array(getattr(disk, method)(2)))  # an integer taken mod N
+
+
 def _rounded_disk():
     """A ring of sectors whose rigid rotation (nodal diameter 0) has K's eigenvalue -2e-9 of the largest, 1."""
     from hbm import CyclicStructure
