@@ -406,3 +406,30 @@ def test_a_nan_or_inf_on_a_grid_axis_reaches_the_element_which_refuses_it_by_nam
                                                           "ValueError: slip_force must be finite, got slip_force=inf"]
     assert result.records[0]["peak_amplitude_m"] == pytest.approx(_jenkins_run({"slip_force": 0.02}).peak().amplitude,
                                                                   rel=1e-12)
+
+
+# ---------------------------------------------------------------- the time-domain reference takes whole models only
+def test_the_periodic_reference_refuses_one_sector_of_a_disk_and_a_contact_to_the_next_sector():
+    """A CyclicStructure's M, C, K are one sector's: integrated alone they left out the couplings to its
+    neighbours (with a slider at DOF 0, at 1 rad/s: 2.05 m at DOF 1 against the whole disk's 0.135 m), and a
+    next_sector contact was integrated as
+    one between two DOFs of the same sector.  Both are refused by name; the whole disk is taken."""
+    from hbm import CyclicStructure, periodic_peak, periodic_response
+
+    disk = CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=0,
+                           force=[0.0, 1.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+    el = Macroslip(1.0, 0.1)
+    with pytest.raises(ValueError, match=r"^system must be the whole model: a cyclic structure is one sector .* "
+                                         r"disk.full\(contacts\), got system=CyclicStructure\(n=2 per sector, "
+                                         r"sectors=6"):
+        periodic_response(disk, [Contact(el, dof=0)], omega=1.0, harmonics=3, floquet=False)
+    with pytest.raises(ValueError, match=r"^system must be the whole model"):
+        periodic_peak(disk, [Contact(el, dof=0)], bracket=(0.9, 1.1), dof=1)
+    plain = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+    c = Contact(el, dofs=(0, 1), next_sector=True)
+    with pytest.raises(ValueError, match=r"^next_sector=True joins two sectors of a cyclic structure, .* got "
+                                         rf"next_sector=True in {re.escape(repr(c))}$"):
+        periodic_response(plain, [c], omega=1.0, harmonics=3, floquet=False)
+    full, contacts = disk.full([c])
+    r = periodic_response(full, contacts, omega=1.0, harmonics=3, floquet=False)
+    assert r.success and np.isfinite(r.amplitude(1))

@@ -288,9 +288,10 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     system : Structure, Blade or tuple
         Anything with attributes ``M, C, K, force`` (n x n arrays, dense or scipy.sparse, and the
         amplitudes of ``force cos(omega t)``), or ``mass, damping, stiffness, force`` (one DOF),
-        or a tuple ``(M, C, K, force)``.
+        or a tuple ``(M, C, K, force)``: the whole model (one sector of a ``CyclicStructure`` is refused:
+        give ``disk.full(contacts)``).
     contacts : sequence of Contact
-        Objects with ``.element`` and ``.dofs`` (1 or 2 DOFs; ``.dof`` also accepted).  The element
+        Objects with ``.element`` and ``.dofs`` (1 or 2 DOFs; ``.dof`` also accepted), none to the next sector.  The element
         is a Jenkins element (``.stiffness`` finite, ``.slip_force``; e.g. ``Macroslip``) or a cubic
         spring (``.k3``).
     omega : float
