@@ -433,3 +433,20 @@ def test_the_periodic_reference_refuses_one_sector_of_a_disk_and_a_contact_to_th
     full, contacts = disk.full([c])
     r = periodic_response(full, contacts, omega=1.0, harmonics=3, floquet=False)
     assert r.success and np.isfinite(r.amplitude(1))
+
+
+@pytest.mark.parametrize("tol", [1.0, 2.0, 1e300])
+def test_the_time_domain_references_refuse_a_relative_tolerance_of_one_or_more(tol):
+    """A tolerance relative to the state's scale (shooting) or to the peak (the transient run) of 1 or more
+    accepts any iterate: periodic_response answered the stuck guess as "converged in 0 Newton iterations" and
+    simulate_blade called the run steady at its second cycle after the ramp."""
+    from hbm import periodic_response, simulate_blade
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^tol must be < 1, got tol={re.escape(repr(tol))}$"):
+        periodic_response(s, contacts, omega=1.0, harmonics=3, floquet=False, tol=tol)
+    blade = Blade(mass=0.0877, stiffness=1.0e8, damping=0.3, force=8.0)
+    with pytest.raises(ValueError, match=rf"^steady_tol must be in \(0, 1\) \(a relative accuracy\), got "
+                                         rf"steady_tol={re.escape(repr(tol))}$"):
+        simulate_blade(blade, NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), cells=20), 3.0e4, steps_per_cycle=64,
+                       steady_tol=tol)
