@@ -450,3 +450,23 @@ def test_the_time_domain_references_refuse_a_relative_tolerance_of_one_or_more(t
                                          rf"steady_tol={re.escape(repr(tol))}$"):
         simulate_blade(blade, NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), cells=20), 3.0e4, steps_per_cycle=64,
                        steady_tol=tol)
+
+
+# ---------------------------------------------------------------- a point contact's constants in double precision
+@pytest.mark.parametrize("cls", [Contact2D, Contact3D])
+@pytest.mark.parametrize("kw, quantity", [
+    (dict(kt=1e-300, kn=0.0, mu=0.5, n0=1e300), "mu n0/kt"),  # the slip amplitude
+    (dict(kt=1e-200, kn=1e200, mu=1.0, n0=1.0), "mu kn/kt"),  # its slope in the normal displacement
+    (dict(kt=1.0, kn=0.0, mu=1e10, n0=1e300), "mu n0"),  # the slip force
+])
+def test_a_point_contact_whose_slip_amplitude_or_force_overflows_is_refused_when_built(cls, kw, quantity):
+    """Contact3D(kt=1e-300, ..., n0=1e300) was built, gave slip_amplitude() = inf and its periodic_force raised
+    RuntimeError("no covering centre of 1 samples within inf"), Contact2D's an ElementOutputError (a NaN force).
+    Refused by name when built."""
+    shown = ", ".join(f"{k}={v!r}" for k, v in kw.items())
+    with pytest.raises(ValueError, match=rf"^{cls.__name__}\({re.escape(shown)}\): the parameters give "
+                                         rf"{re.escape(quantity)} = inf, which must be finite; keep their ratios "
+                                         r"within about 1e150$"):
+        cls(**kw)
+    tiny = cls(kt=1e300, kn=0.0, mu=1e-300, n0=1e-300)  # underflow to a zero slip amplitude: still taken
+    assert tiny.slip_amplitude() == 0.0
