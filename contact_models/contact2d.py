@@ -47,7 +47,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from .base import ContactElement
 from .macroslip import jenkins_fourier
-from .numerics.checks import finite, finite_array, nonnegative, positive
+from .numerics.checks import derived, finite, finite_array, nonnegative, positive
 from .numerics.masing import masing_loop
 
 #: Periods of the period map tried before giving up on a fixed point (finite in theory: two suffice
@@ -102,6 +102,10 @@ class PointContactLaw(ContactElement):
         for name in ("kt", "kn", "mu"):
             if not math.isfinite(getattr(self, name)):
                 raise ValueError(f"{name} must be finite, got {name}={getattr(self, name)!r}")
+        load = max(self.n0, 0.0)  # what the time law divides by kt (the slip amplitude and its normal slope)
+        derived(type(self).__name__, dict(kt=kt, kn=kn, mu=mu, n0=n0),
+                lambda: {"mu n0": self.mu * load, "mu n0/kt": self.mu * load / self.kt, "mu kn": self.mu * self.kn,
+                         "mu kn/kt": self.mu * self.kn / self.kt})
 
     def __repr__(self) -> str:
         return f"{type(self).__name__}(kt={self.kt!r}, kn={self.kn!r}, mu={self.mu!r}, n0={self.n0!r})"
@@ -150,7 +154,8 @@ class Contact2D(PointContactLaw):
     Raises
     ------
     ValueError
-        For a parameter out of range, naming it and its value.
+        For a parameter out of range, naming it and its value, or parameters whose slip force ``mu n0``,
+        slip amplitude ``mu n0 / kt`` or their normal slopes overflow double precision.
 
     Notes
     -----

@@ -255,7 +255,8 @@ class Contact3D(PointContactLaw):
     Raises
     ------
     ValueError
-        For a parameter out of range, naming it and its value.
+        For a parameter out of range, naming it and its value, or parameters whose slip force ``mu n0``,
+        slip amplitude ``mu n0 / kt`` or their normal slopes overflow double precision.
 
     Notes
     -----

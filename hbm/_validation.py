@@ -3,7 +3,7 @@ parameter and its value), re-exported so ``hbm`` modules import them from one pl
 
 import numpy as np
 
-from contact_models.numerics.checks import count, finite, flag, nonnegative, number_array, positive, shown
+from contact_models.numerics.checks import count, finite, flag, nonnegative, number_array, positive, relative, shown
 
 number = finite
 
@@ -47,6 +47,7 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     return w0, w1
 
-__all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "shown",
+__all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "relative",
+           "shown",
            "omega_range_pair", "InputError",
            "relative_tolerance", "MIN_RELATIVE_TOL"]

@@ -582,7 +582,8 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
 
     Between the neighbours of the largest sampled point the branch is parametrised by its chord and
     the zero of ``d(a^2)/ds = 2 (x_c t_c + x_s t_s)`` (``t`` the tangent, with a fresh
-    omega-derivative) is found by Brent's method (``hbm.continuation.locate``); every trial point is
+    omega-derivative) is found by Brent's method (``hbm.continuation.locate``), or the next candidate of
+    ``_locate_on`` where that one lies below the sampled maximum; every trial point is
     a converged Newton point, so the located peak carries the Newton tolerance alone as its peak
     source.  A maximum at an end of the branch is kept as sampled and is not interior: at an end of
     ``omega_range`` the resonance may lie outside the range, and where a branch stopped early the
@@ -601,15 +602,12 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     located, raised = False, None
     site, j = frf._site(i)  # located with the balance of the segment holding the maximum
     if len(site) > 1 and (0 < j < len(site) - 1 or 0 < i < n - 1):  # (at a window's end: its last interval)
-        loc, nit, raised = _locate_on(site, j)
+        loc, nit, raised = _locate_on(site, j, frf._r, a * (1.0 - errors.PEAK_ACCEPT * frf.rtol))
         frf._peak_nit += nit
         if loc is not None:
-            X, w_loc = site._problem.to_physical(loc.y)
-            a_loc = float(math.hypot(X[frf._r, 1], X[frf._r, 2]))
-            if a_loc >= a * (1.0 - errors.PEAK_ACCEPT * frf.rtol):
-                w, a, located = float(w_loc), a_loc, True
-                frf.peak_refined = True
-                frf._located_peak_source(i)
+            (w, a), located = loc, True
+            frf.peak_refined = True
+            frf._located_peak_source(i)
     lo, hi = min(omega_range), max(omega_range)
     at_edge = i in (0, n - 1) and min(abs(w - lo), abs(w - hi)) <= 1e-9 * max(abs(lo), abs(hi))
     at_stop = not frf.success and i == n - 1
@@ -638,33 +636,41 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     return frf._peak
 
 
-def _locate_on(f: FrequencyResponse, i: int) -> tuple[cont.Located | None, int, str | None]:
-    """The zero of d(a^2)/ds near point ``i`` of the single-balance result ``f``, or where no sign change of it
-    is bracketed between the neighbours (structure finer than the points, a ripple between them:
-    ``hbm.continuation.maximise``) the largest a^2 between them; None where neither is found, the Newton
-    updates spent, and what an element's hook raised meanwhile (``hbm.continuation.described``; None where
-    nothing did: ``RESIDUAL_RAISED_AT_ONCE`` propagates)."""
+def _locate_on(f: FrequencyResponse, i: int, r: int, floor: float
+               ) -> tuple[tuple[float, float] | None, int, str | None]:
+    """``(omega, amplitude)`` of the peak near point ``i`` of the single-balance result ``f`` (``r`` the response
+    DOF's index): the first candidate whose amplitude is at least ``floor`` (below it, a candidate is no better
+    than the sampled maximum), the Newton updates spent, and what an element's hook raised meanwhile
+    (``hbm.continuation.described``; None where nothing did: ``RESIDUAL_RAISED_AT_ONCE`` propagates).
+
+    The candidates, in order: the zero of d(a^2)/ds bracketed between the neighbours, then between point ``i``
+    and either neighbour, then the largest a^2 between the neighbours (``hbm.continuation.maximise``: structure
+    finer than the points).  Each is tried in turn: a ripple of the branch between points (a sampled time law
+    at H > 1) can put one bracket's zero below the sampled maximum while another candidate holds the peak."""
     pr = f._problem
     pr.fresh_omega_derivative = True
     counter = cont._Count()
     y = f._run.y
     c, s_ = pr.response_components()
+    opts = dict(tol=f.newton_tol, scale=f._scale, xtol=PEAK_XTOL_FACTOR * math.sqrt(f.rtol), count=counter)
 
     def slope(u, t):  # proportional to d(a^2)/ds along the branch
         return u[c] * t[c] + u[s_] * t[s_]
 
-    try:
-        xtol = PEAK_XTOL_FACTOR * math.sqrt(f.rtol)
+    def candidates():
         for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
-            if ja < 0 or jb >= len(y):
-                continue
-            loc = cont.locate(pr, y[ja], y[jb], slope, tol=f.newton_tol, scale=f._scale, xtol=xtol, count=counter)
-            if loc is not None:
-                return loc, counter.nit, None
+            if ja >= 0 and jb < len(y):
+                yield cont.locate(pr, y[ja], y[jb], slope, **opts)
         if 0 < i < len(y) - 1:
-            loc = cont.maximise(pr, y[i - 1], y[i + 1], lambda u: u[c] * u[c] + u[s_] * u[s_], tol=f.newton_tol,
-                                scale=f._scale, xtol=xtol, count=counter)
-            return loc, counter.nit, None
+            yield cont.maximise(pr, y[i - 1], y[i + 1], lambda u: u[c] * u[c] + u[s_] * u[s_], **opts)
+
+    try:
+        for loc in candidates():
+            if loc is not None:
+                X, w = pr.to_physical(loc.y)
+                a = float(math.hypot(X[r, 1], X[r, 2]))
+                if a >= floor:
+                    return (float(w), a), counter.nit, None
         return None, counter.nit, None
     except RESIDUAL_RAISED_AT_ONCE:
         raise

@@ -55,6 +55,14 @@ def _coupling(name: str, A: Any, n: int) -> NDArray[np.float64]:
     return raw
 
 
+def _integer(name: str, value: Any) -> int:
+    """``value`` as an int where it is an integer (not a bool), else a ValueError naming ``name``: a harmonic or
+    nodal diameter of 2.5 or "1" has no meaning (``int()`` would take it as 2 or 1)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise ValueError(f"{name} must be an integer, got {name}={value!r}")
+    return int(value)
+
+
 class CyclicStructure(Structure):
     """One sector of a tuned cyclic structure (a bladed disk) under engine-order excitation.
 
@@ -88,7 +96,8 @@ class CyclicStructure(Structure):
     ------
     ValueError
         Naming the parameter: sectors not an integer in 2..``MAX_SECTORS``, engine_order not an integer, a matrix
-        of another size, or a disk whose mass is not positive definite at some nodal diameter.
+        of another size, or a disk whose mass is not positive definite, or damping or stiffness not positive
+        semi-definite, at some nodal diameter.
 
     Notes
     -----
@@ -131,13 +140,35 @@ class CyclicStructure(Structure):
         self.sector_angle = 2.0 * math.pi * self.engine_order / self.sectors
         #: The contacts of the last ``hbm.frequency_response`` of this sector (what :meth:`full` repeats by default).
         self.solved_contacts: list[Contact] = []
-        for k in range(self.sectors):  # the disk's M is positive definite iff every nodal diameter's is
-            Mk = self.nodal_matrices(k)[0]
+        self._check_disk()
+
+    def _check_disk(self) -> None:
+        """Refuse a disk whose mass is not positive definite, or damping or stiffness not positive semi-definite
+        (as :class:`hbm.Structure` refuses them): the disk's matrices are block-circulant, so their eigenvalues
+        are those of every nodal diameter's (:meth:`nodal_matrices`); a coupling of zero leaves the sector's own,
+        already checked."""
+        for k in range(self.sectors):
+            Mk, Ck, Kk = self.nodal_matrices(k)
             try:
                 np.linalg.cholesky(Mk)
             except np.linalg.LinAlgError:
                 raise ValueError(f"M, M_next must give a positive definite disk mass, got one not positive definite "
                                  f"at nodal diameter {k}") from None
+            for name, A1, Ak, what in (("C", self.C_next, Ck, "damping (no negative damping)"),
+                                       ("K", self.K_next, Kk, "stiffness (no negative stiffness: the disk would be "
+                                                              "statically unstable)")):
+                if not np.any(A1):
+                    continue
+                try:  # positive definite: the common case, cheaply
+                    np.linalg.cholesky(Ak)
+                    continue
+                except np.linalg.LinAlgError:
+                    lam = np.linalg.eigvalsh(Ak)
+                scale = float(np.max(np.abs(lam)))
+                if lam[0] < -NEGATIVE_EIGENVALUE_RTOL * scale:
+                    raise ValueError(f"{name}, {name}_next must give a positive semi-definite disk {what}, got one "
+                                     f"with a negative eigenvalue at nodal diameter {k} (smallest {float(lam[0]):.6g}, "
+                                     f"largest in magnitude {scale:.6g})")
 
     def __repr__(self) -> str:
         return (f"CyclicStructure(n={self.n} per sector, sectors={self.sectors}, engine_order={self.engine_order}, "
@@ -145,14 +176,14 @@ class CyclicStructure(Structure):
 
     # ------------------------------------------------------------ nodal diameters
     def nodal_diameter(self, h: int) -> int:
-        """The nodal diameter ``h EO mod N`` harmonic ``h`` of the travelling wave meets (0..N-1)."""
-        return (int(h) * self.engine_order) % self.sectors
+        """The nodal diameter ``h EO mod N`` harmonic ``h`` (an integer) of the travelling wave meets (0..N-1)."""
+        return (_integer("h", h) * self.engine_order) % self.sectors
 
     def nodal_matrices(self, k: int) -> tuple[NDArray, NDArray, NDArray]:
         """``(M_k, C_k, K_k)``, complex Hermitian n x n: ``A + A_next exp(-i 2 pi k / N) + A_next^T exp(+i 2 pi k / N)``,
         the sector's matrices for a motion whose next sector is its own times ``exp(-i 2 pi k / N)``
-        (nodal diameter k, 0..N-1)."""
-        e = np.exp(-2j * math.pi * (int(k) % self.sectors) / self.sectors)
+        (nodal diameter k, an integer taken mod N)."""
+        e = np.exp(-2j * math.pi * (_integer("k", k) % self.sectors) / self.sectors)
         return tuple(_dense(A) + A1 * e + A1.T * np.conj(e)
                      for A, A1 in ((self.M, self.M_next), (self.C, self.C_next), (self.K, self.K_next)))
 
@@ -168,10 +199,8 @@ class CyclicStructure(Structure):
         above it, the rounding of a zero (the disk's rigid rotation), frequency 0."""
         from scipy.linalg import eigh  # lazily: import hbm stays light
 
-        k = self.engine_order if nodal_diameter is None else nodal_diameter
-        if isinstance(k, bool) or not isinstance(k, (int, np.integer)):
-            raise ValueError(f"nodal_diameter must be an integer, got nodal_diameter={nodal_diameter!r}")
-        Mk, _, Kk = self.nodal_matrices(int(k))
+        k = self.engine_order if nodal_diameter is None else _integer("nodal_diameter", nodal_diameter)
+        Mk, _, Kk = self.nodal_matrices(k)
         lam = eigh(Kk, Mk, eigvals_only=True)
         if lam.size and lam[0] < -NEGATIVE_EIGENVALUE_RTOL * float(np.max(np.abs(lam))):
             raise ValueError(f"K has a negative eigenvalue {float(lam[0]):.3g} at nodal diameter {k}: the disk is unstable")

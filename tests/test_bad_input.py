@@ -197,6 +197,46 @@ def test_a_sparse_indefinite_stiffness_is_refused_and_zero_eigenvalues_within_ro
     assert s.natural_frequencies()[0] == 0.0
 
 
+@pytest.mark.parametrize("name, kw, smallest, largest", [
+    # K_0 = K + 2 K1 = K - 10 I: eigenvalues 2 -+ sqrt(2) - 10
+    ("K", dict(K_next=-5.0 * np.eye(2)), 2.0 - math.sqrt(2.0) - 10.0, 10.0 - 2.0 + math.sqrt(2.0)),
+    # C_0 = C + 2 C1 = (0.01 - 0.1) I
+    ("C", dict(C_next=-0.05 * np.eye(2)), -0.09, 0.09),
+])
+def test_a_disk_whose_coupling_makes_its_stiffness_or_damping_indefinite_is_refused_naming_the_nodal_diameter(
+        name, kw, smallest, largest):
+    """The sector's own K and C are positive definite and its nodal diameter 2 (the engine order's) is too, but at
+    nodal diameter 0 the disk cannot stand: refused when built, as a Structure refuses such K or C (a branch was
+    traced and its peak called converged)."""
+    from hbm import CyclicStructure
+
+    with pytest.raises(ValueError, match=rf"^{name}, {name}_next must give a positive semi-definite disk "
+                                         rf"(stiffness|damping) \(no negative .*\), got one with a negative eigenvalue "
+                                         rf"at nodal diameter 0 \(smallest {smallest:.6g}, largest in magnitude "
+                                         rf"{largest:.6g}\)$"):
+        CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=2,
+                        force=[0.0, 1.0], **kw)
+
+
+@pytest.mark.parametrize("method, name", [("nodal_matrices", "k"), ("nodal_diameter", "h"),
+                                          ("harmonic_matrices", "h"), ("natural_frequencies", "nodal_diameter")])
+@pytest.mark.parametrize("value", [2.5, 2.0, "1", None, True])
+def test_a_harmonic_or_nodal_diameter_that_is_not_an_integer_is_refused_by_name(method, name, value):
+    """2.5 was read as 2 and "1" as 1 (int()), None raised a TypeError from inside; natural_frequencies(None) is
+    the engine order's nodal diameter."""
+    from hbm import CyclicStructure
+
+    disk = CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=2,
+                           force=[0.0, 1.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+    if value is None and method == "natural_frequencies":
+        np.testing.assert_array_equal(disk.natural_frequencies(None), disk.natural_frequencies(2))
+        return
+    with pytest.raises(ValueError, match=rf"^{name} must be an integer, got {name}={re.escape(repr(value))}$"):
+        getattr(disk, method)(value)
+    np.testing.assert_array_equal(np.array(getattr(disk, method)(np.int64(8))),
+                                  np.array(getattr(disk, method)(2)))  # an integer taken mod N
+
+
 def _rounded_disk():
     """A ring of sectors whose rigid rotation (nodal diameter 0) has K's eigenvalue -2e-9 of the largest, 1."""
     from hbm import CyclicStructure
@@ -210,16 +250,21 @@ def test_every_negative_eigenvalue_check_reads_the_one_rounding_constant(monkeyp
     import hbm.structure
 
     assert hbm.structure.NEGATIVE_EIGENVALUE_RTOL == 1e-10
-    disk = _rounded_disk()
-    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -2e-09 at nodal diameter 0: the disk is "
-                                         r"unstable$"):
-        disk.natural_frequencies(0)
+    with pytest.raises(ValueError, match=r"^K, K_next must give a positive semi-definite disk stiffness .* at nodal "
+                                         r"diameter 0 \(smallest -2e-09, largest in magnitude 1\)$"):
+        _rounded_disk()
     with pytest.raises(ValueError, match=r"^K must be positive semi-definite for modal damping: \(K, M\) has "
                                          r"omega\^2 = -2e-09$"):
         Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
     for module in (hbm.structure, hbm.cyclic):  # a looser rounding: -2e-9 of the largest is a zero eigenvalue
         monkeypatch.setattr(module, "NEGATIVE_EIGENVALUE_RTOL", 1e-8)
+    disk = _rounded_disk()
     np.testing.assert_allclose(disk.natural_frequencies(0), [0.0, 1.0], atol=1e-15)
+    monkeypatch.setattr(hbm.cyclic, "NEGATIVE_EIGENVALUE_RTOL", 1e-10)  # the frequencies' own check reads it too
+    with pytest.raises(ValueError, match=r"^K has a negative eigenvalue -2e-09 at nodal diameter 0: the disk is "
+                                         r"unstable$"):
+        disk.natural_frequencies(0)
+    monkeypatch.setattr(hbm.cyclic, "NEGATIVE_EIGENVALUE_RTOL", 1e-8)
     s = Structure.with_modal_damping(np.eye(2), np.diag([-2e-9, 1.0]), ratios=0.05, force=[0.0, 1.0])
     np.testing.assert_allclose(s.C, np.diag([0.0, 0.1]), atol=1e-15)  # 2 zeta omega; the rigid mode undamped
 
@@ -361,3 +406,67 @@ def test_a_nan_or_inf_on_a_grid_axis_reaches_the_element_which_refuses_it_by_nam
                                                           "ValueError: slip_force must be finite, got slip_force=inf"]
     assert result.records[0]["peak_amplitude_m"] == pytest.approx(_jenkins_run({"slip_force": 0.02}).peak().amplitude,
                                                                   rel=1e-12)
+
+
+# ---------------------------------------------------------------- the time-domain reference takes whole models only
+def test_the_periodic_reference_refuses_one_sector_of_a_disk_and_a_contact_to_the_next_sector():
+    """A CyclicStructure's M, C, K are one sector's: integrated alone they left out the couplings to its
+    neighbours (with a slider at DOF 0, at 1 rad/s: 2.05 m at DOF 1 against the whole disk's 0.135 m), and a
+    next_sector contact was integrated as
+    one between two DOFs of the same sector.  Both are refused by name; the whole disk is taken."""
+    from hbm import CyclicStructure, periodic_peak, periodic_response
+
+    disk = CyclicStructure(np.eye(2), 0.01 * np.eye(2), [[3.0, -1.0], [-1.0, 1.0]], sectors=6, engine_order=0,
+                           force=[0.0, 1.0], K_next=[[-1.0, 0.0], [0.0, 0.0]])
+    el = Macroslip(1.0, 0.1)
+    with pytest.raises(ValueError, match=r"^system must be the whole model: a cyclic structure is one sector .* "
+                                         r"disk.full\(contacts\), got system=CyclicStructure\(n=2 per sector, "
+                                         r"sectors=6"):
+        periodic_response(disk, [Contact(el, dof=0)], omega=1.0, harmonics=3, floquet=False)
+    with pytest.raises(ValueError, match=r"^system must be the whole model"):
+        periodic_peak(disk, [Contact(el, dof=0)], bracket=(0.9, 1.1), dof=1)
+    plain = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+    c = Contact(el, dofs=(0, 1), next_sector=True)
+    with pytest.raises(ValueError, match=r"^next_sector=True joins two sectors of a cyclic structure, .* got "
+                                         rf"next_sector=True in {re.escape(repr(c))}$"):
+        periodic_response(plain, [c], omega=1.0, harmonics=3, floquet=False)
+    full, contacts = disk.full([c])
+    r = periodic_response(full, contacts, omega=1.0, harmonics=3, floquet=False)
+    assert r.success and np.isfinite(r.amplitude(1))
+
+
+@pytest.mark.parametrize("tol", [1.0, 2.0, 1e300])
+def test_the_time_domain_references_refuse_a_relative_tolerance_of_one_or_more(tol):
+    """A tolerance relative to the state's scale (shooting) or to the peak (the transient run) of 1 or more
+    accepts any iterate: periodic_response answered the stuck guess as "converged in 0 Newton iterations" and
+    simulate_blade called the run steady at its second cycle after the ramp."""
+    from hbm import periodic_response, simulate_blade
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^tol must be < 1, got tol={re.escape(repr(tol))}$"):
+        periodic_response(s, contacts, omega=1.0, harmonics=3, floquet=False, tol=tol)
+    blade = Blade(mass=0.0877, stiffness=1.0e8, damping=0.3, force=8.0)
+    with pytest.raises(ValueError, match=rf"^steady_tol must be in \(0, 1\) \(a relative accuracy\), got "
+                                         rf"steady_tol={re.escape(repr(tol))}$"):
+        simulate_blade(blade, NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), cells=20), 3.0e4, steps_per_cycle=64,
+                       steady_tol=tol)
+
+
+# ---------------------------------------------------------------- a point contact's constants in double precision
+@pytest.mark.parametrize("cls", [Contact2D, Contact3D])
+@pytest.mark.parametrize("kw, quantity", [
+    (dict(kt=1e-300, kn=0.0, mu=0.5, n0=1e300), "mu n0/kt"),  # the slip amplitude
+    (dict(kt=1e-200, kn=1e200, mu=1.0, n0=1.0), "mu kn/kt"),  # its slope in the normal displacement
+    (dict(kt=1.0, kn=0.0, mu=1e10, n0=1e300), "mu n0"),  # the slip force
+])
+def test_a_point_contact_whose_slip_amplitude_or_force_overflows_is_refused_when_built(cls, kw, quantity):
+    """Contact3D(kt=1e-300, ..., n0=1e300) was built, gave slip_amplitude() = inf and its periodic_force raised
+    RuntimeError("no covering centre of 1 samples within inf"), Contact2D's an ElementOutputError (a NaN force).
+    Refused by name when built."""
+    shown = ", ".join(f"{k}={v!r}" for k, v in kw.items())
+    with pytest.raises(ValueError, match=rf"^{cls.__name__}\({re.escape(shown)}\): the parameters give "
+                                         rf"{re.escape(quantity)} = inf, which must be finite; keep their ratios "
+                                         r"within about 1e150$"):
+        cls(**kw)
+    tiny = cls(kt=1e300, kn=0.0, mu=1e-300, n0=1e-300)  # underflow to a zero slip amplitude: still taken
+    assert tiny.slip_amplitude() == 0.0

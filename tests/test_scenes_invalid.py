@@ -229,3 +229,39 @@ def test_sweep_accuracy_warns_once_as_deprecated_naming_sweep_tol(tmp_path, caps
         assert main(["run", str(path), "--quiet", "--out", str(tmp_path / "out")]) == 0
     said = [str(w.message) for w in seen] + capsys.readouterr().err.splitlines()
     assert sum("deprecated" in m for m in said) == 1, said
+
+
+@pytest.mark.parametrize("value, shown", [("5", "sweep.accuracy = 5"), ('"fast-ish"', 'sweep.accuracy = "fast-ish"')])
+def test_a_sweep_accuracy_that_is_no_preset_is_a_scene_error_naming_the_key_value_and_presets(tmp_path, value, shown):
+    """The deprecated key's value is checked like any choice: a SceneError naming it and the preset names,
+    not a KeyError of the rule that reads the (refused) value."""
+    path = tmp_path / "acc.toml"
+    path.write_text(DEFAULT.replace("tolerance = 1e-6", f"accuracy = {value}"))
+    with pytest.raises(SceneError) as err:
+        load_scene(path)
+    assert err.value.problems == [f'{path}: {shown}: must be one of "fast", "default", "precise"'
+                                  + (' (did you mean "fast"?)' if "fast" in value else "")]
+
+
+def test_a_sweep_accuracy_that_is_no_preset_exits_2_with_the_scene_message_from_a_real_process(tmp_path):
+    scene = tmp_path / "acc.toml"
+    scene.write_text(DEFAULT.replace("tolerance = 1e-6", "accuracy = 5"))
+    proc = subprocess.run([sys.executable, "-m", "hbm", "run", str(scene), "--out", str(tmp_path / "o")],
+                          capture_output=True, text=True, timeout=60)
+    assert proc.returncode == 2 and proc.stdout == ""
+    assert proc.stderr.splitlines() == ["error: invalid scene (nothing computed, nothing written):",
+                                        f'{scene}: sweep.accuracy = 5: must be one of "fast", "default", "precise"']
+    assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.filterwarnings("ignore:.*sweep.tolerance is deprecated:FutureWarning")
+def test_a_sweep_accuracy_that_is_no_preset_beside_a_step_knob_reports_both(tmp_path):
+    """A key given with a refused value still counts as given: the rule against giving it with the knob
+    it sets is said too, so fixing what is reported gives a valid scene."""
+    path = tmp_path / "acc.toml"
+    path.write_text(DEFAULT.replace("tolerance = 1e-6", "tolerance = 1e-6\naccuracy = 5"))
+    with pytest.raises(SceneError) as err:
+        load_scene(path)
+    problems = err.value.problems
+    assert any("sweep.accuracy = 5: must be one of" in p for p in problems)
+    assert any("sweep.accuracy = \"(invalid)\": not allowed together with sweep.tolerance" in p for p in problems), problems

@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 from contact_models.numerics.roots import brentq
 
 from .. import continuation as cont
+from .._steps import RESIDUAL_RAISED_AT_ONCE
 from .condensation import stuck_matrix
 from .residual import HarmonicBalance
 
@@ -119,6 +120,8 @@ def equivalent_start(problem: HarmonicBalance, w0: float) -> NDArray | None:
         j = cross[-1]  # the largest amplitude that balances (the slipping one)
         amps = np.array([math.exp(brentq(gap, grid[j], grid[j + 1], xtol=1e-14, rtol=1e-14))])
         z = _equivalent_motion(problem, w0, amps)[0]
+    except RESIDUAL_RAISED_AT_ONCE:  # an element's answer of the wrong type or shape: a defect, not "no start"
+        raise
     except (ValueError, ArithmeticError, np.linalg.LinAlgError):
         return None
     if not np.all(np.isfinite(z)):
@@ -173,6 +176,8 @@ def stuck_reason(problem: HarmonicBalance, w: float) -> str | None:
         return None
     try:
         parts = _stuck_parts(problem, w)
+    except RESIDUAL_RAISED_AT_ONCE:  # a defect of the element's code, raised as during the trace
+        raise
     except (ValueError, ArithmeticError, np.linalg.LinAlgError):  # no reason found: the run's own message stands
         return None
     if not parts:

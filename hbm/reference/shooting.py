@@ -40,7 +40,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import count, flag, positive
+from .._validation import count, flag, positive, relative_tolerance
 from .newmark import NewmarkIntegrator
 from .piecewise import EventIntegrator, Model
 from .system import build_model
@@ -288,9 +288,10 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     system : Structure, Blade or tuple
         Anything with attributes ``M, C, K, force`` (n x n arrays, dense or scipy.sparse, and the
         amplitudes of ``force cos(omega t)``), or ``mass, damping, stiffness, force`` (one DOF),
-        or a tuple ``(M, C, K, force)``.
+        or a tuple ``(M, C, K, force)``: the whole model (one sector of a ``CyclicStructure`` is refused:
+        give ``disk.full(contacts)``).
     contacts : sequence of Contact
-        Objects with ``.element`` and ``.dofs`` (1 or 2 DOFs; ``.dof`` also accepted).  The element
+        Objects with ``.element`` and ``.dofs`` (1 or 2 DOFs; ``.dof`` also accepted), none to the next sector.  The element
         is a Jenkins element (``.stiffness`` finite, ``.slip_force``; e.g. ``Macroslip``) or a cubic
         spring (``.k3``).
     omega : float
@@ -309,7 +310,7 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
         return map).  Default: the response with every contact stuck; if Newton fails from
         there, it is retried after 60 periods of transient.
     tol : float, optional
-        Newton stops when ``max |Phi_T(y0) - y0|`` over the state's scale is below ``tol``.
+        Newton stops when ``max |Phi_T(y0) - y0|`` over the state's scale is below ``tol``, in (0, 1).
     max_iter : int, optional
         Newton iterations allowed.
     floquet : bool, optional
@@ -349,7 +350,8 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     omega = positive("omega", omega)
     if isinstance(harmonics, bool) or not isinstance(harmonics, (int, np.integer)) or harmonics < 1:
         raise ValueError(f"harmonics must be an integer >= 1, got harmonics={harmonics!r}")
-    tol, max_iter, floquet = positive("tol", tol), count("max_iter", max_iter, 0), flag("floquet", floquet)
+    tol, max_iter = relative_tolerance("tol", tol, 1.0), count("max_iter", max_iter, 0)
+    floquet = flag("floquet", floquet)
     m = build_model(system, contacts)
     I = _integrator(m, omega, integrator, steps)
     if I.steps < 2 * harmonics + 2:

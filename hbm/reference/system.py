@@ -35,6 +35,10 @@ def _matrix(name: str, A: Any, n: int | None) -> NDArray[np.float64]:
 def _system(system: Any) -> tuple[NDArray, NDArray, NDArray, NDArray]:
     """(M, C, K, force) of a Structure-like object (M, C, K, force), a Blade-like one (mass,
     damping, stiffness, force) or a sequence (M, C, K, force)."""
+    if getattr(system, "sector_angle", None) is not None:  # hbm.Structure's: None where it is the whole model
+        raise ValueError("system must be the whole model: a cyclic structure is one sector of a disk, whose couplings "
+                         "to its neighbours the time integration would leave out; give the whole disk, "
+                         f"disk.full(contacts), got system={system!r}")
     if all(hasattr(system, a) for a in ("M", "C", "K", "force")):
         parts = (system.M, system.C, system.K, system.force)
     elif all(hasattr(system, a) for a in ("mass", "damping", "stiffness", "force")):
@@ -66,6 +70,9 @@ def _contact_dofs(contact: Any, n: int) -> tuple[int, ...]:
         dofs = (contact.dof,)
     if dofs is None or not hasattr(contact, "element"):
         raise ValueError(f"contacts must hold objects with .element and .dofs (e.g. hbm.Contact), got {contact!r}")
+    if getattr(contact, "next_sector", False):  # hbm.Contact's: a DOF of the next sector, which is not modelled
+        raise ValueError("next_sector=True joins two sectors of a cyclic structure, which the time integration does "
+                         f"not model: give the whole disk, disk.full(contacts), got next_sector=True in {contact!r}")
     dofs = tuple(np.atleast_1d(dofs)) if dofs is not None else ()
     if len(dofs) not in (1, 2) or any(isinstance(d, bool) or not isinstance(d, (int, np.integer))
                                       or not 0 <= d < n for d in dofs) or len(set(dofs)) != len(dofs):

@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from contact_models.numerical import NEWTON_RTOL, GeneralizedAlpha, NumericalMicroslip, return_map, solve_step
 
-from .._validation import count, positive
+from .._validation import count, positive, relative
 from ..blade import Blade
 
 #: Default theta steps per cycle (a multiple of 4), steady tolerance, cycle budget and ramp.
@@ -156,7 +156,7 @@ def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, st
         Time steps per cycle, a multiple of 4, >= 8.  Default 256.
     steady_tol : float, optional
         The run stops at the first cycle whose blade displacement differs from the previous
-        cycle's by at most ``steady_tol`` times its peak.  Default 1e-6.
+        cycle's by at most ``steady_tol`` times its peak, in (0, 1).  Default 1e-6.
     max_cycles : int, optional
         Cycle budget, >= 2.  Default 1000.
     ramp_cycles : int, optional
@@ -211,7 +211,7 @@ def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, st
         steps = 1  # (not an integer >= 8: the one message below)
     if steps % 4:
         raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")
-    steady_tol = positive("steady_tol", steady_tol)
+    steady_tol = relative("steady_tol", steady_tol)  # as NumericalMicroslip's own steady_tol
     max_cycles, ramp_cycles = count("max_cycles", max_cycles, 2), count("ramp_cycles", ramp_cycles, 0)
     run = _Coupled(blade, damper, omega, steps, ramp_cycles)
     return run.to_steady_state(steady_tol, max_cycles)

@@ -485,10 +485,11 @@ class _Rules:
                           "(rtol), not the target error of the response; give sweep.tol, the one accuracy key (it "
                           "sets rtol = tol/100, at most 1e-6)", FutureWarning, stacklevel=2)
         if self.has("sweep", "accuracy"):  # read for one release: sweep.tol takes the same names
-            name = self.t["sweep"]["accuracy"]
-            warnings.warn(f"{self.where('sweep.accuracy')} is deprecated: it is a preset of an earlier release (the "
-                          "tolerance of its name with that release's element rtol and steps); give sweep.tol = "
-                          f"{show(name)}, which adapts as a number does", FutureWarning, stacklevel=2)
+            name = self.t["sweep"].get("accuracy")  # None: not a preset name, already reported with the names
+            if name is not None:
+                warnings.warn(f"{self.where('sweep.accuracy')} is deprecated: it is a preset of an earlier release "
+                              "(the tolerance of its name with that release's element rtol and steps); give "
+                              f"sweep.tol = {show(name)}, which adapts as a number does", FutureWarning, stacklevel=2)
             for key in knobs:
                 if self.has("sweep", key):
                     self.forbid("sweep", "accuracy", f"together with sweep.{key}, which it sets: give one of "
