@@ -2,6 +2,7 @@
 scenes run at their stated tolerance without an AccuracyWarning, or state their error themselves
 (and the warning says the same number)."""
 
+import json
 import re
 import warnings
 from pathlib import Path
@@ -128,3 +129,16 @@ def test_the_progress_example_of_the_guide_prints_its_lines(capsys, monkeypatch)
     frf = space["frf"]
     assert len(lines) == space["count"] == len(frf) > 100  # called once per accepted point, in order
     assert lines[-1].startswith(f"{len(frf)} points, omega = {frf.omega[-1]:.6g} rad/s")
+
+
+def test_the_summary_states_the_sweep_by_its_scene_keys(tmp_path):
+    """``summary.json``'s settings are the keys a user writes in [sweep] for this kind, as resolved: the
+    target error ``tol``, never the elements' rtol under the deprecated ``tolerance`` key or an amplitude
+    sweep's ``points`` on a frequency sweep."""
+    path = tmp_path / "scene.toml"
+    assert main(["new", str(path)]) == 0
+    result = run_scene(load_scene(path, overrides={"sweep.max_step": 0.05}), tmp_path / "out")
+    settings = json.loads((tmp_path / "out" / "summary.json").read_text())["settings"]
+    assert settings["tol"] == 0.15 and settings["max_step"] == 0.05 and settings["kind"] == "frequency"
+    assert not {"tolerance", "options", "points", "amplitude_unit"} & set(settings)
+    assert result.success

@@ -236,6 +236,25 @@ def scene_harmonics(scene: Scene) -> int:
     return int(scene.effects["harmonics"]) if scene.sweep["kind"] == "frequency" else 1
 
 
+
+#: What a resolved sweep table holds beside the scene's keys: the continuation's options and the elements'
+#: rtol under the deprecated key's name (both internal), and the amplitude sweep's defaults.
+_NOT_SETTINGS = ("options", "tolerance")
+_AMPLITUDE_KEYS = ("amplitude", "amplitude_unit", "points")
+_STEP_KEYS = ("max_step", "min_step", "max_steps")
+
+
+def sweep_settings(sweep: dict) -> dict:
+    """The sweep as ``summary.json`` states it: the scene's keys that apply to its kind, by their scene names
+    (``sweep.tol``, the step controls of a continuation), without the resolved internals (the elements' rtol,
+    the option dict) or another kind's defaults (a frequency sweep has no ``points``)."""
+    kind = sweep.get("kind")
+    out = {k: v for k, v in sweep.items() if v is not None and k not in _NOT_SETTINGS
+           and not (kind != "amplitude" and k in _AMPLITUDE_KEYS)}
+    if kind != "amplitude":
+        out.update({k: sweep["options"][k] for k in _STEP_KEYS if sweep.get("options", {}).get(k) is not None})
+    return out
+
 def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None = None,
               progress: Callable[[Progress], None] | None = None) -> SceneResult:
     """Run every computation of ``scene``, writing its outputs to ``out`` (default
@@ -341,7 +360,7 @@ def run_scene(scene: Scene, out: str | Path | None = None, *, plan: Plan | None 
         "status": "success" if success else "failed",
         "message": message,
         "kind": scene.sweep["kind"],
-        "settings": {k: v for k, v in scene.sweep.items() if v is not None},
+        "settings": sweep_settings(scene.sweep),
         **({"modes": scene.modes} if scene.modes is not None else {}),
         **({"optimum": scene.optimum} if scene.optimum is not None else {}),
         "tol": scene.sweep["tol"],
