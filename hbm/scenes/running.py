@@ -420,7 +420,8 @@ def peak_refined(scene: Scene, p: RunPlan) -> bool:
     half of tol, as ``damper.model = "auto"`` over the bulk of a sweep would trace the whole curve."""
     el = p.element  # a single-mode bar has a refined model; a discretised one (the all-mode bar) refines its rungs
     return (p.name == "auto" and scene.effects["phase_differences"] == "auto" and scene.structure is None
-            and p.harmonics in (None, 1) and not el.discretised and el.refined_model() is not None)
+            and p.harmonics in (None, 1) and not el.discretised and el.frequency_dependent  # (with inertia)
+            and el.refined_model() is not None)
 
 
 def accuracy_options(scene: Scene) -> dict:
