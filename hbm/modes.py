@@ -24,6 +24,7 @@ as NLvib's ``HB_residual`` with 'NMA'.  ``F_h`` are the contacts' force harmonic
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
@@ -253,8 +254,8 @@ class NonlinearModes:
 
 def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_range: Sequence[float] | None = None,
                     harmonics: int = 1, n_t: int | None = None, amplitudes: Sequence[float] | None = None,
-                    phase_dof: int | None = None, rtol: float = DEFAULT_RTOL, tol: float = 1e-10,
-                    max_step: float = 0.1, max_steps: int = 2000) -> NonlinearModes:
+                    phase_dof: int | None = None, rtol: float = DEFAULT_RTOL, newton_tol: float = 1e-10,
+                    max_step: float = 0.1, max_steps: int = 2000, tol: float | None = None) -> NonlinearModes:
     """Trace the nonlinear mode ``mode`` of a structure with contacts over its modal amplitude (EPMC).
 
     Parameters
@@ -277,10 +278,13 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
         DOF whose velocity is zero at t = 0; default the largest entry of the stuck mode.
     rtol : float
         Relative tolerance passed to the elements.
-    tol : float
+    newton_tol : float
         Newton tolerance on the scaled residual (relative to the mode's inertia force), in (0, 1).
     max_step, max_steps
         Continuation step (scaled units: log10 a, omega/omega_0, D, Psi/max|phi|) and budget.
+    tol : float, optional
+        The earlier name of ``newton_tol``, read for one release with a ``DeprecationWarning``: in
+        :func:`hbm.frequency_response` ``tol`` is the target error of the answer, which the modes do not take.
 
     Examples
     --------
@@ -294,7 +298,15 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     [1.1756, 1.0007]
     """
     mode = count("mode", mode, 0)
-    tol = relative_tolerance("tol", tol, 1.0)
+    if tol is not None:
+        if newton_tol != 1e-10:
+            raise ValueError(f"give newton_tol (the Newton tolerance) alone, got newton_tol={newton_tol!r} and "
+                             f"its earlier name tol={tol!r}")
+        warnings.warn("nonlinear_modes(tol=...) is deprecated: it is the Newton tolerance, now newton_tol= "
+                      "(frequency_response's tol is the answer's target error, which the modes do not take)",
+                      DeprecationWarning, stacklevel=2)
+        newton_tol = tol
+    tol = relative_tolerance("newton_tol", newton_tol, 1.0)
     max_step, max_steps = positive("max_step", max_step), count("max_steps", max_steps)
     a0, a1, targets = _amplitudes(amplitude_range, amplitudes)
     bal = ModeBalance(system, contacts, harmonics=harmonics, n_t=samples_within_bound(n_t), phase_dof=0, rtol=rtol)

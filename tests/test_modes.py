@@ -203,7 +203,7 @@ def test_bad_input_names_the_parameter():
 @pytest.mark.parametrize("kwargs, message", [
     # before, a tol of 2 was taken (a Newton residual twice the inertia force counted as converged), strings
     # among the amplitudes failed inside numpy, and a contact on a DOF past the structure raised an IndexError
-    (dict(tol=2.0), r"^tol must be < 1, got tol=2.0$"),
+    (dict(newton_tol=2.0), r"^newton_tol must be < 1, got newton_tol=2.0$"),
     (dict(amplitudes=["a"]), r"^amplitudes must be finite numbers > 0, got amplitudes=\['a'\]$"),
 ])
 def test_bad_input_names_the_value(kwargs, message):
@@ -272,3 +272,23 @@ def test_example_design_chart_from_modes(tmp_path):
     assert Path(out["path"]).stat().st_size > 10_000
     # the optimum of 50 FRFs over 30..90 N, their peaks through a cubic spline (benchmarks/bench_modes.py)
     assert out["optimal_load"] == pytest.approx(52.3637, rel=1e-4)
+
+
+def test_the_newton_tolerance_is_newton_tol_and_its_earlier_name_warns():
+    """``tol`` means the answer's target error in frequency_response; here it was the Newton tolerance, now
+    ``newton_tol``: the earlier name gives the same mode with a DeprecationWarning naming the new one."""
+    import warnings
+
+    from contact_models import Macroslip
+    from hbm import Contact, Structure, nonlinear_modes
+
+    s = Structure(np.eye(2), 0.01 * np.eye(2), [[2.0, -1.0], [-1.0, 2.0]], force=[1.0, 0.0])
+    c = [Contact(Macroslip(stiffness=1.0, slip_force=0.1), dof=0)]
+    new = nonlinear_modes(s, c, amplitudes=[0.01, 10.0], newton_tol=1e-9)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        old = nonlinear_modes(s, c, amplitudes=[0.01, 10.0], tol=1e-9)
+    assert np.array_equal(old.omega, new.omega)
+    assert [str(w.message) for w in caught if w.category is DeprecationWarning and "newton_tol" in str(w.message)]
+    with pytest.raises(ValueError, match="newton_tol"):
+        nonlinear_modes(s, c, amplitudes=[0.01, 10.0], tol=1e-8, newton_tol=1e-9)
