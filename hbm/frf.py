@@ -15,6 +15,8 @@ one frequency by Brent's method, for elements without derivatives.
 from __future__ import annotations
 
 import dataclasses
+import difflib
+import inspect
 import math
 import warnings
 from typing import Any, Callable, NamedTuple
@@ -422,10 +424,13 @@ def _deprecated(given: dict, tol: Any, steps: Any, callback: Any) -> tuple[Any, 
     """``(tol, steps, callback, rtol, fixed)`` with the keywords of earlier releases read into them, each
     with a ``DeprecationWarning`` naming what replaces it (``DEPRECATED``); ``fixed``: a structure's H and
     n_t where nothing is chosen (``FIXED_HARMONICS``, or an earlier release's preset's).  An unknown
-    keyword raises ``TypeError`` as Python would."""
+    keyword raises ``TypeError`` as Python would, naming the keyword it is closest to."""
     unknown = [k for k in given if k not in DEPRECATED]
     if unknown:
-        raise TypeError(f"frequency_response() got an unexpected keyword argument {unknown[0]!r}")
+        names = [*inspect.signature(frequency_response).parameters, *DEPRECATED]
+        near = difflib.get_close_matches(unknown[0], [n for n in names if n != "deprecated"], n=1)
+        raise TypeError(f"frequency_response() got an unexpected keyword argument {unknown[0]!r}"
+                        + (f" (did you mean {near[0]}?)" if near else ""))
     for k in given:
         warnings.warn(f"frequency_response({k}=...) is deprecated: use {DEPRECATED[k]}", DeprecationWarning,
                       stacklevel=3)

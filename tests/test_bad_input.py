@@ -470,3 +470,14 @@ def test_a_point_contact_whose_slip_amplitude_or_force_overflows_is_refused_when
         cls(**kw)
     tiny = cls(kt=1e300, kn=0.0, mu=1e-300, n0=1e-300)  # underflow to a zero slip amplitude: still taken
     assert tiny.slip_amplitude() == 0.0
+
+
+def test_a_misspelt_keyword_of_frequency_response_names_the_closest_one():
+    from contact_models import Macroslip
+    from hbm import Blade, frequency_response
+
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.01, force=0.1)
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'harmonic' \(did you mean harmonics\?\)$"):
+        frequency_response(blade, Macroslip(1.0, 0.05), (0.5, 1.5), harmonic=3)
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'zzz'$"):  # nothing close: as Python says it
+        frequency_response(blade, Macroslip(1.0, 0.05), (0.5, 1.5), zzz=3)
