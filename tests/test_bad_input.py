@@ -8,12 +8,13 @@ import warnings
 import numpy as np
 import pytest
 
-from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, Contact3D, Gap, Iwan,
+from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, Contact3D,
+                            ContactElement, Gap, Iwan,
                             Macroslip, NumericalMicroslip, PointContact,
                             UniformLoad)
 from contact_models.allmode.solve import MAX_MESH
 from contact_models.numerics.checks import count
-from hbm import Blade, Contact, Structure, frequency_response
+from hbm import Blade, Contact, Structure, frequency_response, nonlinear_modes
 from hbm.continuation import Status, continuation
 
 from conftest import BAR
@@ -470,3 +471,60 @@ def test_a_point_contact_whose_slip_amplitude_or_force_overflows_is_refused_when
         cls(**kw)
     tiny = cls(kt=1e300, kn=0.0, mu=1e-300, n0=1e-300)  # underflow to a zero slip amplitude: still taken
     assert tiny.slip_amplitude() == 0.0
+
+
+# ---------------------------------------------------------------- a first-harmonic element above H = 1
+class _FirstHarmonic(ContactElement):
+    """A user's element with a describing function only: no time law, no loading curve, no refined model."""
+
+    frequency_dependent = False
+
+    def __repr__(self):
+        return "_FirstHarmonic()"
+
+    def _fourier(self, a, omega):
+        return 1.0 * a, 0.0 * a
+
+    def _stuck_stiffness(self, omega):
+        return 1.0
+
+    def _slip_amplitude(self, omega):
+        return math.inf
+
+    def _hysteresis(self, a, omega, n):
+        x = a * np.sin(np.linspace(0.0, 2.0 * np.pi, n))
+        return x, 1.0 * x
+
+
+def test_harmonics_above_one_with_the_single_mode_bar_names_harmonics_and_the_ways_out(two):
+    # before: "element=TwoRegionMicroslip(Bar(...), UniformLoad(...)): TwoRegionMicroslip has no time-domain
+    # force law, so it works at harmonics=1 only, got harmonics=5" (element=, which the caller never passed)
+    blade = Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0)
+    with pytest.raises(ValueError) as err:
+        frequency_response(blade, two, (3.2e4, 4.4e4), harmonics=5)
+    message = str(err.value)
+    assert message.startswith("harmonics must be 1 with TwoRegionMicroslip, which has no time-domain force law")
+    assert "got harmonics=5;" in message and "element=" not in message
+    assert "harmonics=1 (its describing-function answer)" in message
+    assert ("leave harmonics out and give tol= with model='auto' (where tol asks for more harmonics the balance "
+            "takes TwoRegionMicroslip's refined model, contact_models.AllModeMicroslip, which has a time law)"
+            ) in message
+    assert "contact_models.QuasiStatic(element) in its place" in message
+    assert message.endswith(f"; the element: {two!r}")
+
+
+def test_harmonics_above_one_with_a_users_first_harmonic_element_offers_harmonics_one_only():
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    with pytest.raises(ValueError, match=r"^harmonics must be 1 with _FirstHarmonic, which has no time-domain force "
+                                         r"law \(a first-harmonic element\), got harmonics=3; use harmonics=1 \(its "
+                                         r"describing-function answer\); the element: _FirstHarmonic\(\)$"):
+        frequency_response(s, [Contact(_FirstHarmonic(), dof=0)], omega_range=(0.6, 1.8), harmonics=3)
+
+
+def test_the_modes_refuse_harmonics_above_one_without_offering_a_tol_they_do_not_take(two):
+    blade = Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0)
+    with pytest.raises(ValueError) as err:
+        nonlinear_modes(blade.as_structure(), [Contact(two, dof=0)], amplitude_range=(1e-9, 1e-6), harmonics=3)
+    message = str(err.value)
+    assert message.startswith("harmonics must be 1 with TwoRegionMicroslip") and "got harmonics=3;" in message
+    assert "model='auto'" not in message and "contact_models.QuasiStatic(element) in its place" in message
