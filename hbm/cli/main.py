@@ -447,8 +447,10 @@ def _model_argument(parser, suppress=True):
 
 
 def _run_arguments(parser):
-    _common(parser, suppress=True)
+    _common(parser, suppress=True, scene=True)
     parser.add_argument("scene", help="the scene file (TOML, docs/scenes.md)")
+    parser.add_argument("--tol", nargs="?", action=_SceneTol, dest="scene_tol", default=argparse.SUPPRESS,
+                        help=argparse.SUPPRESS)  # refused, naming --set sweep.tol
     parser.add_argument("--set", action="append", default=[], metavar="TABLE.KEY=VALUE",
                         help="override a key of the scene (VALUE in TOML syntax), e.g. --set sweep.max_step=0.1")
     parser.add_argument("--quiet", action="store_true", help="no progress line")
@@ -526,15 +528,31 @@ COMMANDS = {"default": ("run the built-in default case (the same as no subcomman
             "keys": ("list every key of a scene with its default and meaning", _keys)}
 
 
-def _common(parser, suppress=False):
+#: Where a scene's target error is set: ``run`` has no ``--tol`` (the default job's), and says this instead.
+SCENE_TOL = "a scene's target error is its sweep.tol: give --set sweep.tol={value}"
+
+
+def _common(parser, suppress=False, scene=False):
     """``--out`` and ``--rtol``: options of the default job, given before any subcommand or after
-    ``default`` or ``run`` (after it they override); the other subcommands refuse them."""
+    ``default`` or ``run`` (after it they override); the other subcommands refuse them.  ``scene``: run's
+    (its --rtol says what sets a scene's accuracy instead)."""
     default = (lambda v: argparse.SUPPRESS) if suppress else (lambda v: v)
     parser.add_argument("--out", default=default(None),
                         help="output folder (default: the current folder; for run, the scene's output.folder)")
+    instead = ("it overrides sweep.tolerance; use --set sweep.tol=VALUE instead, the target relative error, which "
+               "sets it" if scene else "use --tol instead (for run, --set sweep.tol=VALUE), the target relative "
+               "error, which sets it")
     parser.add_argument("--rtol", type=_relative("--rtol", MAX_RTOL), default=default(None),
-                        help="deprecated: the elements' relative accuracy, which --tol now sets (tol/100, at most "
-                             "1e-6); for run, overrides sweep.tolerance")
+                        help=f"deprecated: the elements' relative accuracy; {instead} (tol/100, at most 1e-6)")
+
+
+class _SceneTol(argparse.Action):
+    """``run ... --tol X``: refused in one line pointing to ``--set sweep.tol=X`` (argparse would report
+    "unrecognized arguments" and nothing more)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        value = values if isinstance(values, str) and values else "VALUE"
+        parser.error(f"--tol does not apply to run: {SCENE_TOL.format(value=value)}")
 
 
 def program_name(argv0: str | None = None) -> str:
@@ -577,7 +595,8 @@ def _parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
     for dest in ("out", "rtol", "model", "tol"):
         if getattr(args, dest) is not None and dest not in args.takes:
             where = "the default job" if dest in ("model", "tol") else "the default job and run"
-            parser.error(f"--{dest} does not apply to {args.command} (only to {where})")
+            scene = f"; {SCENE_TOL.format(value='VALUE')}" if (dest, args.command) == ("tol", "run") else ""
+            parser.error(f"--{dest} does not apply to {args.command} (only to {where}){scene}")
     return args
 
 
