@@ -232,7 +232,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         as it is accepted, or where the balance may solve a window again (``tol`` without
         ``harmonics``, ``model="auto"``) once the run ends, the final points in order (their
         harmonics zero-padded to the largest H).  An exception it raises ends the run at that point
-        (``success`` False, ``status`` ``hbm.continuation.Status.CALLBACK_RAISED``, the exception in
+        (``success`` False, ``status`` ``hbm.Status.CALLBACK_RAISED``, the exception in
         ``message`` and the warning); the points computed are kept.
     response_dof : int, optional
         The DOF whose response is reported.  Default the forced DOF.

@@ -184,8 +184,8 @@ class FrequencyResponse:
     success : bool
         Whether the branch reached the end of ``omega_range`` (and the callback, if any, took every point).
     status, message
-        How the continuation ended, as a code and in words; on failure the points computed
-        before are kept.
+        How the continuation ended, as an :class:`hbm.Status` (an int that prints as its name) and in
+        words; on failure the points computed before are kept.
     coarse, corners : ndarray of int
         With ``curve_tol``: indices ``i`` of the points whose interval ``(i - 1, i)`` is off by more
         than the tolerance at its mid-point after the check (``hbm.curve.refine``: an interval across

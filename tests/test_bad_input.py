@@ -53,6 +53,19 @@ def test_a_callback_that_raises_ends_the_run_and_keeps_its_points():
     assert math.isfinite(frf.peak().amplitude) and frf.peak().omega <= frf.omega[-1]
 
 
+def test_the_status_is_public_and_reads_as_its_name_while_comparing_as_its_code():
+    import hbm
+
+    s, contacts = _jenkins()
+    callback, _ = _raising_after(5)
+    with pytest.warns(AccuracyWarning):
+        frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None, callback=callback)
+    assert "Status" in hbm.__all__ and hbm.Status is Status  # before: only hbm.continuation.Status
+    assert type(frf.status) is hbm.Status and frf.status == -4 and frf.status == Status.CALLBACK_RAISED
+    assert str(frf.status) == "Status.CALLBACK_RAISED" and f"{frf.status}" == "Status.CALLBACK_RAISED"  # before: -4
+    assert int(frf.status) == -4 and str(hbm.Status.REACHED_END) == "Status.REACHED_END"
+
+
 def test_a_callback_that_raises_while_the_final_points_stream_keeps_every_point():
     s, contacts = _jenkins()  # tol without harmonics: the points are streamed once the run ends
     ref = frequency_response(s, contacts, omega_range=(0.6, 1.8))
