@@ -66,6 +66,21 @@ def test_the_status_is_public_and_reads_as_its_name_while_comparing_as_its_code(
     assert int(frf.status) == -4 and str(hbm.Status.REACHED_END) == "Status.REACHED_END"
 
 
+def test_a_peak_without_an_estimate_says_none_not_nan():
+    import pickle
+
+    from hbm import Peak
+
+    s, contacts = _jenkins()
+    frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None)
+    pk = frf.peak()  # before: Peak(..., converged=True, estimate=nan)
+    assert pk.estimate is None and "estimate=None" in repr(pk) and "nan" not in repr(pk)
+    assert pk.interior and pk.converged and pk.message == ""  # located, interior, the range traced: nothing estimated
+    assert pickle.loads(pickle.dumps(pk)).estimate is None
+    assert Peak(1.0, 2.0).estimate is None and Peak(1.0, 2.0, estimate=math.nan).estimate is None
+    assert frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=1e-2).peak().estimate > 0.0
+
+
 def test_a_callback_that_raises_while_the_final_points_stream_keeps_every_point():
     s, contacts = _jenkins()  # tol without harmonics: the points are streamed once the run ends
     ref = frequency_response(s, contacts, omega_range=(0.6, 1.8))

@@ -172,11 +172,12 @@ def accuracy_line(frf: Any, pk: Any, given: Any, model: str | None = None) -> st
     ``model`` is the job's ``--model``.  With "peak" the line names the model of the point the peak
     was located at (``frf.point_models``): the refined one where the peak's window was traced again,
     ``given``'s where its model source was within its share of tol there."""
-    err = pk.estimate if math.isfinite(pk.estimate) else float(frf.error_estimate[int(np.argmax(frf.amplitude))])
+    known = pk.estimate is not None and math.isfinite(pk.estimate)  # (None: nothing estimated at the peak)
+    err = pk.estimate if known else float(frf.error_estimate[int(np.argmax(frf.amplitude))])
     models = set(np.asarray(frf.point_models).tolist()) if frf.point_models is not None else set()
     if model == "peak":
         i = _peak_point(frf, pk)
-        err = pk.estimate if math.isfinite(pk.estimate) else float(frf.error_estimate[i])
+        err = pk.estimate if known else float(frf.error_estimate[i])
         at = str(frf.point_models[i]) if frf.point_models is not None else type(frf.element).__name__
         within = "within" if err <= frf.tol else "further than"
         if len(models) > 1:
