@@ -556,3 +556,47 @@ def test_the_modes_refuse_harmonics_above_one_without_offering_a_tol_they_do_not
     message = str(err.value)
     assert message.startswith("harmonics must be 1 with TwoRegionMicroslip") and "got harmonics=3;" in message
     assert "model='auto'" not in message and "contact_models.QuasiStatic(element) in its place" in message
+
+
+# ---------------------------------------------------------------- the references' budgets and tolerances
+@pytest.mark.parametrize("ramp, budget", [(3, 2), (10**9, 1000)])
+def test_a_ramp_longer_than_the_cycle_budget_is_refused_naming_both(ramp, budget):
+    """The budget counts the cycles after the ramp (``BladeSimulation.cycles``): a ramp of 10**9 cycles ran
+    without bound, and a ramp of 3 with a budget of 2 was taken."""
+    from hbm import simulate_blade
+
+    blade = Blade(mass=0.0877, stiffness=1.0e8, damping=0.3, force=8.0)
+    with pytest.raises(ValueError, match=rf"^ramp_cycles must be <= max_cycles \(.*\), got ramp_cycles={ramp}, "
+                                         rf"max_cycles={budget}$"):
+        simulate_blade(blade, NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), cells=20), 3.0e4, steps_per_cycle=64,
+                       max_cycles=budget, ramp_cycles=ramp)
+
+
+def test_a_ramp_as_long_as_the_budget_is_still_taken():
+    from hbm import simulate_blade
+
+    blade = Blade(mass=0.0877, stiffness=1.0e8, damping=0.3, force=8.0)
+    run = simulate_blade(blade, NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), cells=4), 3.0e4,
+                         steps_per_cycle=8, max_cycles=2, ramp_cycles=2)
+    assert run.cycles == 2 and math.isfinite(run.amplitude)
+
+
+def test_the_periodic_reference_refuses_no_newton_iteration_by_name():
+    # before: taken, and answered "Newton did not converge in 0 iterations"
+    from hbm import periodic_response
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=r"^max_iter must be an integer >= 1, got max_iter=0$"):
+        periodic_response(s, contacts, omega=1.0, harmonics=3, floquet=False, max_iter=0)
+
+
+@pytest.mark.parametrize("xtol", [0.0125, 10.0])
+def test_the_periodic_peak_refuses_a_frequency_tolerance_its_bracket_cannot_hold(xtol):
+    """xtol is absolute (rad/s) and a maximum counts as interior 10 xtol inside the bracket: at 10.0 over (0.9, 1.1)
+    the search stopped at once and said "no interior maximum"."""
+    from hbm import periodic_peak
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^xtol must be < \(bracket\[1\] - bracket\[0\]\) / 20 = 0.01 \(.*\), got "
+                                         rf"xtol={xtol!r} with bracket=\(0.9, 1.1\)$"):
+        periodic_peak(s, contacts, bracket=(0.9, 1.1), xtol=xtol, harmonics=3)
