@@ -135,8 +135,9 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
     Raises
     ------
     ValueError
-        Bad bounds or contacts_of; the response amplitude has no interior minimum on the traced
-        curve (the optimum lies at or beyond a bound: the message names the bound).
+        Bad bounds or contacts_of (a bound at which ``contacts_of`` raises ``ValueError`` names ``bounds``);
+        the response amplitude has no interior minimum on the traced curve (the optimum lies at or beyond a
+        bound: the message names the bound).
     """
     if not callable(contacts_of):
         raise ValueError(f"contacts_of must be a function parameter -> contacts, got contacts_of={contacts_of!r}")
@@ -149,7 +150,8 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
     # the peak curve's controls, before the mode is traced (that would fail first, and say something else)
     tol = relative_tolerance("tol", tol, 1.0)
     max_step, max_steps = positive("max_step", max_step), count("max_steps", max_steps)
-    modes = nonlinear_modes(system, contacts_of(p0), mode=mode, amplitude_range=amplitude_range,
+    first, _ = (_contacts_at(contacts_of, p, bounds) for p in (p0, p1))  # each bound builds its contacts
+    modes = nonlinear_modes(system, first, mode=mode, amplitude_range=amplitude_range,
                             harmonics=harmonics, n_t=n_t)
     bal0 = modes.balance
     f, dof = forcing(bal0, force, response_dof)
@@ -183,6 +185,17 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
     return DamperOptimum(parameter=p, peak=Peak(float(w), float(resp)), parameters=res.y[:, -1] * p_ref,
                          peaks=amps, peak_omega=omegas, success=bool(res.success), message=res.message,
                          nsteps=res.nsteps, nfev=modes.nfev + curve.nfev + loc.nfev)
+
+
+def _contacts_at(contacts_of: Callable[[float], Any], p: float, bounds: Any) -> Any:
+    """``contacts_of(p)`` at a bound; the ``ValueError`` of a value its elements refuse names ``bounds`` (the
+    element's message named its own parameter, e.g. ``N``, which the caller never passed here).  Any scalar is
+    a parameter (``log10 N`` may be negative): a bound is refused where its contacts are, not by its sign."""
+    try:
+        return contacts_of(p)
+    except ValueError as exc:
+        raise ValueError(f"bounds must lie where contacts_of builds contacts: contacts_of({p!r}) raised "
+                         f"{type(exc).__name__}: {exc}; got bounds={bounds!r}") from exc
 
 
 __all__ = ["damper_optimum", "DamperOptimum"]

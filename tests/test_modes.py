@@ -9,6 +9,7 @@ event integrator, and the full FRF (``hbm.frequency_response``).
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -272,6 +273,30 @@ def test_damper_optimum_checks_its_controls_first(kwargs, message):
     with pytest.raises(ValueError, match=message):
         damper_optimum(s, contacts_of, (1.0, 2.0), amplitude_range=(0.1, 1.0), **kwargs)
     assert traced == []
+
+
+@pytest.mark.parametrize("bounds, at, why", [
+    ((-10.0, 90.0), -10.0, "N must be >= 0, got N=-10.0"),  # before: that message alone, naming N, not bounds
+    ((0.05, 0.2), 0.2, "slip_force must be positive, got slip_force=-0.1"),
+])
+def test_damper_optimum_names_bounds_where_a_bound_gives_no_contacts(bounds, at, why):
+    """The element's own message names its parameter (N), which the caller never passed to damper_optimum: the
+    refusal names ``bounds`` and keeps it.  Any scalar parametrisation is taken (p = log10 N may be negative),
+    so the bounds are refused where ``contacts_of`` refuses them, not by their sign; nothing is traced."""
+    s, _ = ground()
+    traced = []
+
+    def contacts_of(p):
+        traced.append(p)
+        if bounds[0] < 0.0:
+            return [Contact(TwoRegionMicroslip(default_case().element.bar, UniformLoad(N=p)), dof=0)]
+        return [Contact(Macroslip(stiffness=1.0, slip_force=round(0.1 - p, 12)), dof=0)]
+
+    with pytest.raises(ValueError, match=rf"^bounds must lie where contacts_of builds contacts: contacts_of\({at}\) "
+                                         rf"raised ValueError: {re.escape(why)}; "
+                                         rf"got bounds={re.escape(repr(bounds))}$"):
+        damper_optimum(s, contacts_of, bounds, amplitude_range=(0.1, 1.0))
+    assert traced == list(bounds)[:list(bounds).index(at) + 1]  # each bound built once, nothing traced
 
 
 def _example(name):
