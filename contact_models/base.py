@@ -641,14 +641,15 @@ class ContactElement(ABC):
     @abstractmethod
     def _hysteresis(self, a: float, omega: float, n: int): ...
 
+    # the defaults below read another hook: its answer is checked as its public method checks it, naming it
     def _linear_amplitude(self, omega: float) -> float:
-        return float(self._slip_amplitude(omega))
+        return float(amount_checked(self, "_slip_amplitude", self._slip_amplitude(omega), omega, amplitude=True))
 
     def _linear_coefficients(self, omega: float) -> tuple[float, float]:
-        return float(self._stuck_stiffness(omega)), 0.0
+        return float(amount_checked(self, "_stuck_stiffness", self._stuck_stiffness(omega), omega)), 0.0
 
     def _reference_amplitude(self, omega: float) -> float:
-        return float(self._slip_amplitude(omega))
+        return float(amount_checked(self, "_slip_amplitude", self._slip_amplitude(omega), omega, amplitude=True))
 
     def _fourier_derivatives(self, a, omega, rtol):
         fs, fc = self._fourier(a, omega, rtol)

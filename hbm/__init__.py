@@ -16,6 +16,7 @@ from contact_models import __version__  # one version for both packages
 from contact_models.accuracy import AccuracyWarning  # the library's one accuracy category
 
 from . import continuation
+from .continuation import Status
 from .balance import HarmonicBalance
 from .blade import Blade
 from .frf import Point, frequency_response, response_at
@@ -37,4 +38,4 @@ __all__ = ["__version__", "Blade", "frequency_response", "FrequencyResponse", "P
 __all__ += ["periodic_response", "PeriodicResponse", "periodic_peak", "PeriodicPeak"]
 __all__ += ["Structure", "ReducedStructure", "CyclicStructure", "Contact", "MultiHarmonicResponse", "AccuracyWarning"]
 __all__ += ["nonlinear_modes", "NonlinearModes", "forced_response", "ModalFRF", "damper_optimum", "DamperOptimum"]
-__all__ += ["Segment"]
+__all__ += ["Segment", "Status"]

@@ -626,7 +626,11 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     elif not located:
         reasons.append("the maximum could not be located between points (the largest sampled point is given)")
     estimate = errors.peak_estimate(frf.error_estimate, i)
-    if frf.tol is not None and math.isinf(estimate):  # a source with no bound there (the call's warning says which)
+    if math.isnan(estimate):  # nothing estimated there (tol=None): the Peak says None
+        estimate = None
+        if frf.tol is not None:
+            reasons.append(f"its error was not estimated, so it is not known to be within tol {frf.tol:g}")
+    elif frf.tol is not None and math.isinf(estimate):  # a source with no bound there (the call's warning says which)
         reasons.append(f"its error cannot be estimated (a source of it has no bound there), so it is not known "
                        f"to be within tol {frf.tol:g}")
     elif frf.tol is not None and estimate > frf.tol:

@@ -93,7 +93,24 @@ Scale = Callable[[NDArray[np.float64]], NDArray[np.float64]]
 
 
 class Status(IntEnum):
-    """How a branch ended (``success`` is ``status == REACHED_END``)."""
+    """How a branch ended (``success`` is ``status == REACHED_END``): an int that prints as its name.
+
+    Examples
+    --------
+    >>> print(Status.CALLBACK_RAISED)
+    Status.CALLBACK_RAISED
+    >>> Status.CALLBACK_RAISED == -4, f"{Status.CALLBACK_RAISED:d}"
+    (True, '-4')
+    """
+
+    def __str__(self) -> str:  # (an IntEnum prints as its number)
+        return f"{type(self).__name__}.{self.name}"
+
+    def __format__(self, spec: str) -> str:
+        """As :meth:`__str__`, or as the int with a numeric format (``:d``)."""
+        if spec and spec[-1] in "bcdoxXneEfFgG%":
+            return format(int(self), spec)
+        return format(str(self), spec)
 
     REACHED_END = 0
     MAX_STEPS = 1

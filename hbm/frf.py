@@ -32,7 +32,7 @@ from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
 from ._validation import MIN_RELATIVE_TOL, nonnegative, omega_range_pair, positive, relative_tolerance
 from .balance.presets import DEFAULT_RTOL, MAX_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
-from .balance.residual import HarmonicBalance, as_contacts, as_structure, samples_within_bound
+from .balance.residual import HarmonicBalance, as_contacts, as_structure, first_harmonic_only, samples_within_bound
 from .blade import Blade
 from .result import PEAK_XTOL_FACTOR, FrequencyResponse, Peak, Response
 
@@ -234,7 +234,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         as it is accepted, or where the balance may solve a window again (``tol`` without
         ``harmonics``, ``model="auto"``) once the run ends, the final points in order (their
         harmonics zero-padded to the largest H).  An exception it raises ends the run at that point
-        (``success`` False, ``status`` ``hbm.continuation.Status.CALLBACK_RAISED``, the exception in
+        (``success`` False, ``status`` ``hbm.Status.CALLBACK_RAISED``, the exception in
         ``message`` and the warning); the points computed are kept.
     response_dof : int, optional
         The DOF whose response is reported.  Default the forced DOF.
@@ -345,6 +345,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     if not isinstance(stability, (bool, np.bool_)):
         raise ValueError(f"stability must be True or False, got stability={stability!r}")
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
+    first_harmonic_only(as_contacts(contacts, structure.n), harmonics, tol_remedy=True)  # H > 1 without a time law
     adapt = harmonics is None and tolerance is not None
     if harmonics is None:
         harmonics = structure.default_harmonics if structure.default_harmonics is not None else (

@@ -52,20 +52,23 @@ class Peak(tuple):
         outside the range) and not at the point where a branch that stopped early ends.
     converged : bool
         ``interior``, on a branch that reached the end of its range, located between points (the
-        zero of d(a^2)/ds), and with its error estimate within the tolerance asked for.
-    estimate : float
+        zero of d(a^2)/ds), and, where a tolerance was asked for, with its error estimate within it
+        (``tol=None`` asks for none: nothing is estimated, and ``converged`` says only the rest).
+    estimate : float or None
         The estimated relative error of ``amplitude`` at the peak: the largest point estimate within
-        two points of the sampled maximum (``hbm.balance.errors.peak_estimate``; NaN without an
-        estimate).
+        two points of the sampled maximum (``hbm.balance.errors.peak_estimate``); inf where a source
+        of it cannot be bounded; None where nothing was estimated (``tol=None``, a peak from a mode).
     message : str
         Why the peak is not converged ("" where it is).
     """
 
     def __new__(cls, omega: float, amplitude: float, *, interior: bool = True, converged: bool = True,
-                estimate: float = math.nan, message: str = "") -> "Peak":
+                estimate: float | None = None, message: str = "") -> "Peak":
         out = super().__new__(cls, (float(omega), float(amplitude)))
         out.interior, out.converged = bool(interior), bool(converged)
-        out.estimate, out.message = float(estimate), message
+        estimate = None if estimate is None else float(estimate)
+        out.estimate = None if estimate is None or math.isnan(estimate) else estimate  # (NaN: none made)
+        out.message = message
         return out
 
     @property
@@ -78,13 +81,14 @@ class Peak(tuple):
 
     def __repr__(self) -> str:
         return (f"Peak(omega={self.omega!r}, amplitude={self.amplitude!r}, interior={self.interior}, "
-                f"converged={self.converged}, estimate={self.estimate:.2g})")
+                f"converged={self.converged}, estimate={'None' if self.estimate is None else f'{self.estimate:.2g}'})")
 
     def __reduce__(self):
         return (_peak, (self.omega, self.amplitude, self.interior, self.converged, self.estimate, self.message))
 
 
-def _peak(omega: float, amplitude: float, interior: bool, converged: bool, estimate: float, message: str) -> Peak:
+def _peak(omega: float, amplitude: float, interior: bool, converged: bool, estimate: float | None,
+          message: str) -> Peak:
     """A :class:`Peak` from its fields (pickling)."""
     return Peak(omega, amplitude, interior=interior, converged=converged, estimate=estimate, message=message)
 
@@ -184,8 +188,8 @@ class FrequencyResponse:
     success : bool
         Whether the branch reached the end of ``omega_range`` (and the callback, if any, took every point).
     status, message
-        How the continuation ended, as a code and in words; on failure the points computed
-        before are kept.
+        How the continuation ended, as an :class:`hbm.Status` (an int that prints as its name) and in
+        words; on failure the points computed before are kept.
     coarse, corners : ndarray of int
         With ``curve_tol``: indices ``i`` of the points whose interval ``(i - 1, i)`` is off by more
         than the tolerance at its mid-point after the check (``hbm.curve.refine``: an interval across
@@ -507,7 +511,7 @@ class FrequencyResponse:
         Between the neighbours of the largest sampled point the solve found the zero of
         ``d(a^2)/ds`` on the branch; the :class:`Peak` says whether that maximum is interior (not at
         an end of the range or where a stopped branch ends) and converged (located, on a branch that
-        reached the end of its range, its estimate within ``tol``), and why not.
+        reached the end of its range, its estimate within ``tol`` where one was given), and why not.
 
         Returns
         -------

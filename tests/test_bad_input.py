@@ -8,12 +8,13 @@ import warnings
 import numpy as np
 import pytest
 
-from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, Contact3D, Gap, Iwan,
+from contact_models import (AccuracyWarning, AllModeMicroslip, AllModeMicroslip2D, Bar, Contact2D, Contact3D,
+                            ContactElement, Gap, Iwan,
                             Macroslip, NumericalMicroslip, PointContact,
                             UniformLoad)
 from contact_models.allmode.solve import MAX_MESH
 from contact_models.numerics.checks import count
-from hbm import Blade, Contact, Structure, frequency_response
+from hbm import Blade, Contact, Structure, frequency_response, nonlinear_modes
 from hbm.continuation import Status, continuation
 
 from conftest import BAR
@@ -50,6 +51,34 @@ def test_a_callback_that_raises_ends_the_run_and_keeps_its_points():
     assert "the callback raised an exception" in frf.message and "_Stop: enough points" in frf.message
     assert np.all(np.isfinite(frf.amplitude))
     assert math.isfinite(frf.peak().amplitude) and frf.peak().omega <= frf.omega[-1]
+
+
+def test_the_status_is_public_and_reads_as_its_name_while_comparing_as_its_code():
+    import hbm
+
+    s, contacts = _jenkins()
+    callback, _ = _raising_after(5)
+    with pytest.warns(AccuracyWarning):
+        frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None, callback=callback)
+    assert "Status" in hbm.__all__ and hbm.Status is Status  # before: only hbm.continuation.Status
+    assert type(frf.status) is hbm.Status and frf.status == -4 and frf.status == Status.CALLBACK_RAISED
+    assert str(frf.status) == "Status.CALLBACK_RAISED" and f"{frf.status}" == "Status.CALLBACK_RAISED"  # before: -4
+    assert int(frf.status) == -4 and str(hbm.Status.REACHED_END) == "Status.REACHED_END"
+
+
+def test_a_peak_without_an_estimate_says_none_not_nan():
+    import pickle
+
+    from hbm import Peak
+
+    s, contacts = _jenkins()
+    frf = frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=None)
+    pk = frf.peak()  # before: Peak(..., converged=True, estimate=nan)
+    assert pk.estimate is None and "estimate=None" in repr(pk) and "nan" not in repr(pk)
+    assert pk.interior and pk.converged and pk.message == ""  # located, interior, the range traced: nothing estimated
+    assert pickle.loads(pickle.dumps(pk)).estimate is None
+    assert Peak(1.0, 2.0).estimate is None and Peak(1.0, 2.0, estimate=math.nan).estimate is None
+    assert frequency_response(s, contacts, omega_range=(0.6, 1.8), harmonics=3, tol=1e-2).peak().estimate > 0.0
 
 
 def test_a_callback_that_raises_while_the_final_points_stream_keeps_every_point():
@@ -481,3 +510,104 @@ def test_a_misspelt_keyword_of_frequency_response_names_the_closest_one():
         frequency_response(blade, Macroslip(1.0, 0.05), (0.5, 1.5), harmonic=3)
     with pytest.raises(TypeError, match=r"unexpected keyword argument 'zzz'$"):  # nothing close: as Python says it
         frequency_response(blade, Macroslip(1.0, 0.05), (0.5, 1.5), zzz=3)
+
+
+# ---------------------------------------------------------------- a first-harmonic element above H = 1
+class _FirstHarmonic(ContactElement):
+    """A user's element with a describing function only: no time law, no loading curve, no refined model."""
+
+    frequency_dependent = False
+
+    def __repr__(self):
+        return "_FirstHarmonic()"
+
+    def _fourier(self, a, omega):
+        return 1.0 * a, 0.0 * a
+
+    def _stuck_stiffness(self, omega):
+        return 1.0
+
+    def _slip_amplitude(self, omega):
+        return math.inf
+
+    def _hysteresis(self, a, omega, n):
+        x = a * np.sin(np.linspace(0.0, 2.0 * np.pi, n))
+        return x, 1.0 * x
+
+
+def test_harmonics_above_one_with_the_single_mode_bar_names_harmonics_and_the_ways_out(two):
+    # before: "element=TwoRegionMicroslip(Bar(...), UniformLoad(...)): TwoRegionMicroslip has no time-domain
+    # force law, so it works at harmonics=1 only, got harmonics=5" (element=, which the caller never passed)
+    blade = Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0)
+    with pytest.raises(ValueError) as err:
+        frequency_response(blade, two, (3.2e4, 4.4e4), harmonics=5)
+    message = str(err.value)
+    assert message.startswith("harmonics must be 1 with TwoRegionMicroslip, which has no time-domain force law")
+    assert "got harmonics=5;" in message and "element=" not in message
+    assert "harmonics=1 (its describing-function answer)" in message
+    assert ("leave harmonics out and give tol= with model='auto' (where tol asks for more harmonics the balance "
+            "takes TwoRegionMicroslip's refined model, contact_models.AllModeMicroslip, which has a time law)"
+            ) in message
+    assert "contact_models.QuasiStatic(element) in its place" in message
+    assert message.endswith(f"; the element: {two!r}")
+
+
+def test_harmonics_above_one_with_a_users_first_harmonic_element_offers_harmonics_one_only():
+    s = Structure(np.eye(1), [[0.004]], np.eye(1), force=[0.01])
+    with pytest.raises(ValueError, match=r"^harmonics must be 1 with _FirstHarmonic, which has no time-domain force "
+                                         r"law \(a first-harmonic element\), got harmonics=3; use harmonics=1 \(its "
+                                         r"describing-function answer\); the element: _FirstHarmonic\(\)$"):
+        frequency_response(s, [Contact(_FirstHarmonic(), dof=0)], omega_range=(0.6, 1.8), harmonics=3)
+
+
+def test_the_modes_refuse_harmonics_above_one_without_offering_a_tol_they_do_not_take(two):
+    blade = Blade(mass=0.0877147, stiffness=1.0e8, damping=11.8467, force=8.0)
+    with pytest.raises(ValueError) as err:
+        nonlinear_modes(blade.as_structure(), [Contact(two, dof=0)], amplitude_range=(1e-9, 1e-6), harmonics=3)
+    message = str(err.value)
+    assert message.startswith("harmonics must be 1 with TwoRegionMicroslip") and "got harmonics=3;" in message
+    assert "model='auto'" not in message and "contact_models.QuasiStatic(element) in its place" in message
+
+
+# ---------------------------------------------------------------- the references' budgets and tolerances
+@pytest.mark.parametrize("ramp, budget", [(3, 2), (10**9, 1000)])
+def test_a_ramp_longer_than_the_cycle_budget_is_refused_naming_both(ramp, budget):
+    """The budget counts the cycles after the ramp (``BladeSimulation.cycles``): a ramp of 10**9 cycles ran
+    without bound, and a ramp of 3 with a budget of 2 was taken."""
+    from hbm import simulate_blade
+
+    blade = Blade(mass=0.0877, stiffness=1.0e8, damping=0.3, force=8.0)
+    with pytest.raises(ValueError, match=rf"^ramp_cycles must be <= max_cycles \(.*\), got ramp_cycles={ramp}, "
+                                         rf"max_cycles={budget}$"):
+        simulate_blade(blade, NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), cells=20), 3.0e4, steps_per_cycle=64,
+                       max_cycles=budget, ramp_cycles=ramp)
+
+
+def test_a_ramp_as_long_as_the_budget_is_still_taken():
+    from hbm import simulate_blade
+
+    blade = Blade(mass=0.0877, stiffness=1.0e8, damping=0.3, force=8.0)
+    run = simulate_blade(blade, NumericalMicroslip(Bar(**BAR), UniformLoad(N=100.0), cells=4), 3.0e4,
+                         steps_per_cycle=8, max_cycles=2, ramp_cycles=2)
+    assert run.cycles == 2 and math.isfinite(run.amplitude)
+
+
+def test_the_periodic_reference_refuses_no_newton_iteration_by_name():
+    # before: taken, and answered "Newton did not converge in 0 iterations"
+    from hbm import periodic_response
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=r"^max_iter must be an integer >= 1, got max_iter=0$"):
+        periodic_response(s, contacts, omega=1.0, harmonics=3, floquet=False, max_iter=0)
+
+
+@pytest.mark.parametrize("xtol", [0.0125, 10.0])
+def test_the_periodic_peak_refuses_a_frequency_tolerance_its_bracket_cannot_hold(xtol):
+    """xtol is absolute (rad/s) and a maximum counts as interior 10 xtol inside the bracket: at 10.0 over (0.9, 1.1)
+    the search stopped at once and said "no interior maximum"."""
+    from hbm import periodic_peak
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^xtol must be < \(bracket\[1\] - bracket\[0\]\) / 20 = 0.01 \(.*\), got "
+                                         rf"xtol={xtol!r} with bracket=\(0.9, 1.1\)$"):
+        periodic_peak(s, contacts, bracket=(0.9, 1.1), xtol=xtol, harmonics=3)

@@ -83,6 +83,36 @@ def test_unreachable_tol_is_bad_input_exit_2_naming_the_option_and_its_range(cap
     assert stop.value.code == 2
 
 
+def test_run_answers_tol_in_one_line_pointing_to_sweep_tol(capsys):
+    # before: "error: unrecognized arguments: --tol 1e-3", nothing about where a scene's tol is set
+    for argv, value in ((["run", str(DEFAULT), "--tol", "1e-3"], "1e-3"), (["run", str(DEFAULT), "--tol=fast"], "fast"),
+                        (["run", str(DEFAULT), "--tol"], "VALUE")):
+        with pytest.raises(SystemExit) as stop:
+            main(argv)
+        err = capsys.readouterr().err
+        assert stop.value.code == 2 and "Traceback" not in err and "unrecognized" not in err
+        assert err.strip().splitlines()[-1].endswith(
+            f" run: error: --tol does not apply to run: a scene's target error is its sweep.tol: give --set "
+            f"sweep.tol={value}")
+    with pytest.raises(SystemExit) as stop:  # given before run: the same pointer
+        main(["--tol", "1e-3", "run", str(DEFAULT)])
+    err = capsys.readouterr().err
+    assert stop.value.code == 2 and err.strip().splitlines()[-1].endswith(
+        "error: --tol does not apply to run (only to the default job); a scene's target error is its sweep.tol: "
+        "give --set sweep.tol=VALUE")
+
+
+def test_the_help_of_run_points_its_rtol_to_sweep_tol_not_to_a_tol_it_lacks(capsys):
+    # before: "--rtol ... deprecated: the elements' relative accuracy, which --tol now sets"; run has no --tol
+    with pytest.raises(SystemExit) as stop:
+        main(["run", "--help"])
+    out = " ".join(capsys.readouterr().out.split())
+    assert stop.value.code == 0
+    assert "which --tol now sets" not in out and "[--tol" not in out
+    assert ("--rtol RTOL deprecated: the elements' relative accuracy; it overrides sweep.tolerance; use --set "
+            "sweep.tol=VALUE instead, the target relative error, which sets it (tol/100, at most 1e-6)") in out
+
+
 def test_a_failure_inside_the_computation_exits_1_not_2(tmp_path, capsys, monkeypatch):
     import hbm.cli.main as cli
 

@@ -255,9 +255,28 @@ def test_a_nan_or_a_negative_scalar_answer_of_an_element_is_named_not_returned()
                                                    r"Stated._stuck_stiffness\(omega\) must return a real number, got "
                                                    r"str 'stiff'$"):
         Stated(k="stiff").stuck_stiffness()
-    with pytest.raises(ElementContractError, match=r"^element=Stated\(k=1.0, a_min=-1.0\): Stated._linear_amplitude"):
+    with pytest.raises(ElementContractError, match=r"^element=Stated\(k=1.0, a_min=-1.0\): Stated._slip_amplitude"):
         frequency_response(_blade(), Stated(a_min=-1.0), omega_range=(0.6, 1.8), harmonics=1, tol=None)
     assert Stated(a_min=math.inf).slip_amplitude() == math.inf and Stated(k=math.inf).stuck_stiffness() == math.inf
+
+
+@pytest.mark.parametrize("method, kw, hook, bad", [
+    ("linear_coefficients", {"k": "stiff"}, "_stuck_stiffness", "str 'stiff'"),
+    ("linear_amplitude", {"a_min": "small"}, "_slip_amplitude", "str 'small'"),
+    ("reference_amplitude", {"a_min": [0.02]}, "_slip_amplitude", "a list of 1"),
+])
+def test_the_defaults_built_on_a_scalar_hook_check_its_answer_as_the_hook_itself_is_checked(method, kw, hook, bad):
+    """The defaults of _linear_coefficients, _linear_amplitude and _reference_amplitude took float() of the user's
+    _stuck_stiffness or _slip_amplitude: a string raised numpy's 'could not convert string to float', not the
+    contract error that stuck_stiffness() and slip_amplitude() raise for it."""
+    from contact_models.base import ElementContractError
+
+    el = Stated(**kw)
+    with pytest.raises(ElementContractError, match=rf"^element={re.escape(repr(el))}: Stated.{hook}\(omega\) must "
+                                                   rf"return a real number, got {re.escape(bad)}$"):
+        getattr(el, method)(0.5)
+    with pytest.raises(ElementContractError, match=rf"Stated.{hook}\(omega\) must return a real number"):
+        frequency_response(_blade(), el, omega_range=(0.6, 1.8), harmonics=1, tol=None)
 
 
 # ---------------------------------------------------------------- an element that raises in the error estimate

@@ -9,6 +9,7 @@ event integrator, and the full FRF (``hbm.frequency_response``).
 from __future__ import annotations
 
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -177,6 +178,32 @@ def test_damper_optimum_is_the_frf_optimum():
     assert at.amplitude < frf_peak(1.005 * opt.parameter).amplitude
 
 
+def test_damper_optimum_is_the_optimum_of_a_dense_frf_scan_whatever_the_bracket():
+    """The optimum load by (30, 90) N was 52.3644 N and by (30, 1e6) N 52.3138 N: the Jacobian's p column left
+    out the peak condition's derivative in p, and its step was 1e-7 of the bracket's width (0.1 N for 1e6 N), so
+    the tangent the stationary amplitude is located with was off.  Checked against the minimum of the FRF's
+    peaks: a parabola through 7 of them over +-0.05 N (its own bias, from the asymmetry of the minimum, about
+    7e-7 relative against a quartic through 9 over +-0.3 N)."""
+    case = default_case()
+    bar, sm = case.element.bar, math.sqrt(case.blade.mass)
+
+    def contacts_of(N):
+        return [Contact(TwoRegionMicroslip(bar, UniformLoad(N=N)), dof=0)]
+
+    loads = 52.36 + 0.05 * np.linspace(-1.0, 1.0, 7)
+    peaks = np.array([frequency_response(case.blade, TwoRegionMicroslip(bar, UniformLoad(N=N)),
+                                         omega_range=case.omega_range).peak().amplitude for N in loads])
+    c2, c1, _ = np.polyfit(loads - 52.36, peaks / peaks[3], 2)
+    assert c2 > 0.0
+    scanned = 52.36 - c1 / (2.0 * c2)
+    found = [damper_optimum(case.blade.as_structure(), contacts_of, bounds, amplitude_range=(1e-8 * sm, 1e-5 * sm))
+             for bounds in ((30.0, 90.0), (30.0, 1e6))]
+    assert all(opt.success for opt in found)
+    for opt in found:
+        assert opt.parameter == pytest.approx(scanned, rel=5e-6)
+    assert found[1].parameter == pytest.approx(found[0].parameter, rel=1e-6)
+
+
 def test_bad_input_names_the_parameter():
     s, contacts = ground()
     for kwargs, name in [({"amplitude_range": (1.0, 0.5)}, "amplitude_range"),
@@ -246,6 +273,30 @@ def test_damper_optimum_checks_its_controls_first(kwargs, message):
     with pytest.raises(ValueError, match=message):
         damper_optimum(s, contacts_of, (1.0, 2.0), amplitude_range=(0.1, 1.0), **kwargs)
     assert traced == []
+
+
+@pytest.mark.parametrize("bounds, at, why", [
+    ((-10.0, 90.0), -10.0, "N must be >= 0, got N=-10.0"),  # before: that message alone, naming N, not bounds
+    ((0.05, 0.2), 0.2, "slip_force must be positive, got slip_force=-0.1"),
+])
+def test_damper_optimum_names_bounds_where_a_bound_gives_no_contacts(bounds, at, why):
+    """The element's own message names its parameter (N), which the caller never passed to damper_optimum: the
+    refusal names ``bounds`` and keeps it.  Any scalar parametrisation is taken (p = log10 N may be negative),
+    so the bounds are refused where ``contacts_of`` refuses them, not by their sign; nothing is traced."""
+    s, _ = ground()
+    traced = []
+
+    def contacts_of(p):
+        traced.append(p)
+        if bounds[0] < 0.0:
+            return [Contact(TwoRegionMicroslip(default_case().element.bar, UniformLoad(N=p)), dof=0)]
+        return [Contact(Macroslip(stiffness=1.0, slip_force=round(0.1 - p, 12)), dof=0)]
+
+    with pytest.raises(ValueError, match=rf"^bounds must lie where contacts_of builds contacts: contacts_of\({at}\) "
+                                         rf"raised ValueError: {re.escape(why)}; "
+                                         rf"got bounds={re.escape(repr(bounds))}$"):
+        damper_optimum(s, contacts_of, bounds, amplitude_range=(0.1, 1.0))
+    assert traced == list(bounds)[:list(bounds).index(at) + 1]  # each bound built once, nothing traced
 
 
 def _example(name):

@@ -98,8 +98,9 @@ def test_the_rigid_slider_with_tol_is_traced_at_one_harmonic_to_the_closed_form(
 @pytest.mark.parametrize("tol", [1e-3, None])
 @pytest.mark.parametrize("front", ["structure", "blade"])
 def test_the_rigid_slider_at_three_harmonics_is_refused_by_name(front, tol):
-    with pytest.raises(ValueError, match=rf"^element={re.escape(RIGID)}: Macroslip has no time-domain force law, "
-                                         r"so it works at harmonics=1 only, got harmonics=3$"):
+    with pytest.raises(ValueError, match=r"^harmonics must be 1 with Macroslip, which has no time-domain force law "
+                                         r"\(a first-harmonic element\), got harmonics=3; use harmonics=1 \(its "
+                                         rf"describing-function answer\); the element: {re.escape(RIGID)}$"):
         frequency_response(systems()[front], [Contact(Macroslip(math.inf, SLIP), dof=0)], omega_range=RANGE,
                            tol=tol, harmonics=3)
 

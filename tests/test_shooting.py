@@ -232,8 +232,8 @@ def test_bad_options_are_refused_by_name(kwargs, name):
     (dict(omega=1.0, tol=-1.0), r"^tol must be positive, got tol=-1.0$"),
     (dict(omega=1.0, tol=math.nan), r"^tol must be finite, got tol=nan$"),
     (dict(omega=1.0, tol="a"), r"^tol must be a number, got tol='a'$"),
-    (dict(omega=1.0, max_iter=-1), r"^max_iter must be an integer >= 0, got max_iter=-1$"),
-    (dict(omega=1.0, max_iter=1.5), r"^max_iter must be an integer >= 0, got max_iter=1.5$"),
+    (dict(omega=1.0, max_iter=-1), r"^max_iter must be an integer >= 1, got max_iter=-1$"),
+    (dict(omega=1.0, max_iter=1.5), r"^max_iter must be an integer >= 1, got max_iter=1.5$"),
     (dict(omega=1.0, floquet="no"), r"^floquet must be True or False, got floquet='no'$"),
     (dict(omega=1.0, initial="abc"), r"^initial must be a finite state of length 3, got initial='abc'$"),
 ])

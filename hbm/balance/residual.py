@@ -54,7 +54,7 @@ from typing import Any, Callable, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from contact_models import ContactElement
+from contact_models import ContactElement, QuasiStatic
 from contact_models.base import DEFAULT_RTOL, default_samples
 from contact_models.numerics.describing import stiffness_terms as describing_terms
 from contact_models.numerics.masing import to_time
@@ -131,6 +131,30 @@ def samples_within_bound(n_t: Any) -> Any:
     return n_t
 
 
+def first_harmonic_only(contacts: list[Contact], H: Any, tol_remedy: bool = False) -> None:
+    """Refuse ``harmonics=H`` > 1 with an element that has no time-domain force law, naming H, the element's type
+    and the ways out that exist for it: harmonics=1; with ``tol_remedy`` (``frequency_response``), a tol and
+    ``model="auto"`` where its refined model has a time law; ``QuasiStatic(element)`` where that has one.  An H
+    that is no integer is left to :func:`check_problem`, which names it."""
+    if isinstance(H, bool) or not isinstance(H, (int, np.integer)) or H <= 1:
+        return
+    for c in contacts:
+        el = c.element
+        if el.has_time_law:
+            continue
+        name, refined = type(el).__name__, el.refined_model()
+        ways = ["harmonics=1 (its describing-function answer)"]
+        if tol_remedy and refined is not None and refined.has_time_law:
+            ways.append(f"leave harmonics out and give tol= with model='auto' (where tol asks for more harmonics "
+                        f"the balance takes {name}'s refined model, contact_models.{type(refined).__name__}, "
+                        f"which has a time law)")
+        if el.frequency_dependent and QuasiStatic(el).has_time_law:
+            ways.append(f"contact_models.QuasiStatic(element) in its place (Masing's rules on {name}'s loading "
+                        f"curve at omega = 0: without the damper's inertia)")
+        raise ValueError(f"harmonics must be 1 with {name}, which has no time-domain force law (a first-harmonic "
+                         f"element), got harmonics={int(H)}; use {'; or '.join(ways)}; the element: {el!r}")
+
+
 def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any, n_t: Any,
                   response_dof: Any) -> tuple[int, int, int]:
     """Validate H, n_t, the contacts' sectors and the response DOF; returns ``(H, n_t, response_dof)``."""
@@ -143,11 +167,7 @@ def check_problem(structure: Structure, contacts: list[Contact], harmonics: Any,
         n_t = default_samples(H)
     if isinstance(n_t, bool) or not isinstance(n_t, (int, np.integer)) or n_t < 2 * H + 2:
         raise ValueError(f"n_t must be an integer >= 2H + 2 = {2 * H + 2} (aliasing), got n_t={n_t!r}")
-    if H > 1:
-        for c in contacts:
-            if not c.element.has_time_law:
-                raise ValueError(f"element={c.element!r}: {type(c.element).__name__} has no time-domain force law, "
-                                 f"so it works at harmonics=1 only, got harmonics={H}")
+    first_harmonic_only(contacts, H)
     nonzero_force(structure.force)
     return H, int(n_t), structure.response_dof(response_dof)
 
@@ -688,5 +708,5 @@ def _finite_or_zero(k: Any) -> float:
     return k if math.isfinite(k) else 0.0
 
 
-__all__ = ["HarmonicBalance", "as_structure", "as_contacts", "check_problem", "linear_response", "solved_as_one_dof",
-           "static_deflection"]
+__all__ = ["HarmonicBalance", "as_structure", "as_contacts", "check_problem", "first_harmonic_only", "linear_response",
+           "solved_as_one_dof", "static_deflection"]

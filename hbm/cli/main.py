@@ -172,11 +172,12 @@ def accuracy_line(frf: Any, pk: Any, given: Any, model: str | None = None) -> st
     ``model`` is the job's ``--model``.  With "peak" the line names the model of the point the peak
     was located at (``frf.point_models``): the refined one where the peak's window was traced again,
     ``given``'s where its model source was within its share of tol there."""
-    err = pk.estimate if math.isfinite(pk.estimate) else float(frf.error_estimate[int(np.argmax(frf.amplitude))])
+    known = pk.estimate is not None and math.isfinite(pk.estimate)  # (None: nothing estimated at the peak)
+    err = pk.estimate if known else float(frf.error_estimate[int(np.argmax(frf.amplitude))])
     models = set(np.asarray(frf.point_models).tolist()) if frf.point_models is not None else set()
     if model == "peak":
         i = _peak_point(frf, pk)
-        err = pk.estimate if math.isfinite(pk.estimate) else float(frf.error_estimate[i])
+        err = pk.estimate if known else float(frf.error_estimate[i])
         at = str(frf.point_models[i]) if frf.point_models is not None else type(frf.element).__name__
         within = "within" if err <= frf.tol else "further than"
         if len(models) > 1:
@@ -447,8 +448,10 @@ def _model_argument(parser, suppress=True):
 
 
 def _run_arguments(parser):
-    _common(parser, suppress=True)
+    _common(parser, suppress=True, scene=True)
     parser.add_argument("scene", help="the scene file (TOML, docs/scenes.md)")
+    parser.add_argument("--tol", nargs="?", action=_SceneTol, dest="scene_tol", default=argparse.SUPPRESS,
+                        help=argparse.SUPPRESS)  # refused, naming --set sweep.tol
     parser.add_argument("--set", action="append", default=[], metavar="TABLE.KEY=VALUE",
                         help="override a key of the scene (VALUE in TOML syntax), e.g. --set sweep.max_step=0.1")
     parser.add_argument("--quiet", action="store_true", help="no progress line")
@@ -526,15 +529,31 @@ COMMANDS = {"default": ("run the built-in default case (the same as no subcomman
             "keys": ("list every key of a scene with its default and meaning", _keys)}
 
 
-def _common(parser, suppress=False):
+#: Where a scene's target error is set: ``run`` has no ``--tol`` (the default job's), and says this instead.
+SCENE_TOL = "a scene's target error is its sweep.tol: give --set sweep.tol={value}"
+
+
+def _common(parser, suppress=False, scene=False):
     """``--out`` and ``--rtol``: options of the default job, given before any subcommand or after
-    ``default`` or ``run`` (after it they override); the other subcommands refuse them."""
+    ``default`` or ``run`` (after it they override); the other subcommands refuse them.  ``scene``: run's
+    (its --rtol says what sets a scene's accuracy instead)."""
     default = (lambda v: argparse.SUPPRESS) if suppress else (lambda v: v)
     parser.add_argument("--out", default=default(None),
                         help="output folder (default: the current folder; for run, the scene's output.folder)")
+    instead = ("it overrides sweep.tolerance; use --set sweep.tol=VALUE instead, the target relative error, which "
+               "sets it" if scene else "use --tol instead (for run, --set sweep.tol=VALUE), the target relative "
+               "error, which sets it")
     parser.add_argument("--rtol", type=_relative("--rtol", MAX_RTOL), default=default(None),
-                        help="deprecated: the elements' relative accuracy, which --tol now sets (tol/100, at most "
-                             "1e-6); for run, overrides sweep.tolerance")
+                        help=f"deprecated: the elements' relative accuracy; {instead} (tol/100, at most 1e-6)")
+
+
+class _SceneTol(argparse.Action):
+    """``run ... --tol X``: refused in one line pointing to ``--set sweep.tol=X`` (argparse would report
+    "unrecognized arguments" and nothing more)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        value = values if isinstance(values, str) and values else "VALUE"
+        parser.error(f"--tol does not apply to run: {SCENE_TOL.format(value=value)}")
 
 
 def program_name(argv0: str | None = None) -> str:
@@ -577,7 +596,8 @@ def _parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
     for dest in ("out", "rtol", "model", "tol"):
         if getattr(args, dest) is not None and dest not in args.takes:
             where = "the default job" if dest in ("model", "tol") else "the default job and run"
-            parser.error(f"--{dest} does not apply to {args.command} (only to {where})")
+            scene = f"; {SCENE_TOL.format(value='VALUE')}" if (dest, args.command) == ("tol", "run") else ""
+            parser.error(f"--{dest} does not apply to {args.command} (only to {where}){scene}")
     return args
 
 

@@ -312,7 +312,7 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     tol : float, optional
         Newton stops when ``max |Phi_T(y0) - y0|`` over the state's scale is below ``tol``, in (0, 1).
     max_iter : int, optional
-        Newton iterations allowed.
+        Newton iterations allowed, >= 1.
     floquet : bool, optional
         Compute the monodromy matrix and the Floquet multipliers (2 (2 n + n_c) more periods).
 
@@ -350,7 +350,7 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     omega = positive("omega", omega)
     if isinstance(harmonics, bool) or not isinstance(harmonics, (int, np.integer)) or harmonics < 1:
         raise ValueError(f"harmonics must be an integer >= 1, got harmonics={harmonics!r}")
-    tol, max_iter = relative_tolerance("tol", tol, 1.0), count("max_iter", max_iter, 0)
+    tol, max_iter = relative_tolerance("tol", tol, 1.0), count("max_iter", max_iter, 1)
     floquet = flag("floquet", floquet)
     m = build_model(system, contacts)
     I = _integrator(m, omega, integrator, steps)
@@ -456,7 +456,8 @@ def periodic_peak(system: Any, contacts: Sequence[Any] = (), *, bracket: tuple[f
     initial : PeriodicResponse, optional
         A response near the bracket to start from (selects the branch where several coexist).
     xtol : float, optional
-        Absolute tolerance on the frequency (default 1e-9).
+        Absolute tolerance on the frequency (rad/s), > 0 and below a twentieth of the bracket's width
+        (a maximum is interior 10 xtol inside the bracket); default 1e-9.
     **options
         Passed to ``periodic_response`` (e.g. ``steps``, ``harmonics``); ``floquet`` is False.
 
@@ -469,7 +470,8 @@ def periodic_peak(system: Any, contacts: Sequence[Any] = (), *, bracket: tuple[f
     Raises
     ------
     ValueError
-        For a bracket that is not two increasing positive frequencies or an unknown measure.
+        For a bracket that is not two increasing positive frequencies, an xtol it cannot hold or an
+        unknown measure.
 
     Notes
     -----
@@ -498,6 +500,10 @@ def periodic_peak(system: Any, contacts: Sequence[Any] = (), *, bracket: tuple[f
     if measure not in ("amplitude", "max"):
         raise ValueError(f"measure must be 'amplitude' or 'max', got measure={measure!r}")
     xtol = positive("xtol", xtol)
+    if not xtol < (hi - lo) / 20.0:
+        raise ValueError(f"xtol must be < (bracket[1] - bracket[0]) / 20 = {(hi - lo) / 20.0:g} (an absolute "
+                         f"tolerance in rad/s; a maximum is interior 10 xtol inside the bracket), got xtol={xtol!r} "
+                         f"with bracket={bracket!r}")
     if initial is not None and not isinstance(initial, PeriodicResponse):
         raise ValueError(f"initial must be a PeriodicResponse (from periodic_response) or None, got initial={initial!r}")
     options = {**options, "floquet": False}

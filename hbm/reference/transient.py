@@ -158,9 +158,10 @@ def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, st
         The run stops at the first cycle whose blade displacement differs from the previous
         cycle's by at most ``steady_tol`` times its peak, in (0, 1).  Default 1e-6.
     max_cycles : int, optional
-        Cycle budget, >= 2.  Default 1000.
+        Cycle budget after the ramp (``BladeSimulation.cycles``), >= 2.  Default 1000.
     ramp_cycles : int, optional
-        Cycles over which the force is raised from 0 (a quintic smooth step), >= 0.  Default 2.
+        Cycles over which the force is raised from 0 (a quintic smooth step), 0 to ``max_cycles``:
+        the ramp is not in the budget, so a longer one would bound the run by nothing.  Default 2.
 
     Returns
     -------
@@ -213,6 +214,9 @@ def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, st
         raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")
     steady_tol = relative("steady_tol", steady_tol)  # as NumericalMicroslip's own steady_tol
     max_cycles, ramp_cycles = count("max_cycles", max_cycles, 2), count("ramp_cycles", ramp_cycles, 0)
+    if ramp_cycles > max_cycles:
+        raise ValueError(f"ramp_cycles must be <= max_cycles (the ramp runs before the cycle budget, which counts "
+                         f"the cycles after it), got ramp_cycles={ramp_cycles!r}, max_cycles={max_cycles!r}")
     run = _Coupled(blade, damper, omega, steps, ramp_cycles)
     return run.to_steady_state(steady_tol, max_cycles)
 

@@ -82,7 +82,8 @@ def peak_accuracy(frf: Any) -> dict:
     ``hbm.balance.errors.peak_estimate``)."""
     j = peak_point(frf)
     source = max(frf.error_sources, key=lambda k: frf.error_sources[k][j])
-    return {"error_rel": float(frf.peak().estimate), "largest_source": source, "tol": frf.tol,
+    est = frf.peak().estimate  # (None: nothing estimated at the peak, written as null)
+    return {"error_rel": None if est is None else float(est), "largest_source": source, "tol": frf.tol,
             "model": str(frf.point_models[j]), "harmonics": int(frf.point_harmonics[j])}
 
 
