@@ -1,6 +1,9 @@
 """Input checks shared by ``hbm``: the library's one set (each failure a ValueError naming the
 parameter and its value), re-exported so ``hbm`` modules import them from one place."""
 
+import warnings
+from typing import Any
+
 import numpy as np
 
 from contact_models.numerics.checks import count, finite, flag, nonnegative, number_array, positive, relative, shown
@@ -51,3 +54,22 @@ __all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", 
            "shown",
            "omega_range_pair", "InputError",
            "relative_tolerance", "MIN_RELATIVE_TOL"]
+
+
+#: The Newton tolerance of the modes' continuations (``nonlinear_modes``, ``damper_optimum``) by default.
+NEWTON_TOL = 1e-10
+
+
+def newton_tolerance(function: str, newton_tol: Any, tol: Any) -> Any:
+    """``newton_tol``, or ``tol`` where only that earlier name is given (with a ``DeprecationWarning``: in
+    ``frequency_response`` ``tol`` is the answer's target error, which ``function`` does not take); both
+    given is a ValueError naming them."""
+    if tol is None:
+        return newton_tol
+    if newton_tol != NEWTON_TOL:
+        raise ValueError(f"give newton_tol (the Newton tolerance) alone, got newton_tol={newton_tol!r} and its "
+                         f"earlier name tol={tol!r}")
+    warnings.warn(f"{function}(tol=...) is deprecated: it is the Newton tolerance, now newton_tol= "
+                  "(frequency_response's tol is the answer's target error, which this function does not take)",
+                  DeprecationWarning, stacklevel=3)
+    return tol

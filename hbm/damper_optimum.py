@@ -24,7 +24,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont
-from ._validation import count, finite, positive, relative_tolerance
+from ._validation import NEWTON_TOL, count, finite, newton_tolerance, positive, relative_tolerance
 from .modes import ModeBalance, nonlinear_modes
 from .result import Peak
 from .single_mode import closest_minimum, coefficients, forced_response, forcing, frequency_term, peak_condition
@@ -110,7 +110,8 @@ class _PeakCurve:
 def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Sequence[float], *,
                    amplitude_range: Sequence[float], mode: int = 0, harmonics: int = 1, n_t: int | None = None,
                    force: Sequence[float] | None = None, response_dof: int | None = None,
-                   max_step: float = 0.05, max_steps: int = 500, tol: float = 1e-10) -> DamperOptimum:
+                   max_step: float = 0.05, max_steps: int = 500, newton_tol: float = NEWTON_TOL,
+                   tol: float | None = None) -> DamperOptimum:
     """The damper parameter in ``bounds`` that minimises the resonance peak of mode ``mode``.
 
     Parameters
@@ -127,10 +128,13 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
         As :func:`hbm.nonlinear_modes`.
     force, response_dof
         As :func:`hbm.single_mode.forced_response`.
-    max_step, max_steps, tol
-        Continuation of the peak in ``(Psi, omega, D, log10 a, p / (p1 - p0))``.  The optimum is located
-        to the accuracy of the curve's tangent (module docstring: about 2e-6 relative on the default
-        blade, whatever the bracket), not to ``tol``.
+    max_step, max_steps, newton_tol
+        Continuation of the peak in ``(Psi, omega, D, log10 a, p / (p1 - p0))``, its Newton tolerance.  The
+        optimum is located to the accuracy of the curve's tangent (module docstring: about 2e-6 relative on
+        the default blade, whatever the bracket), not to ``newton_tol``.
+    tol : float, optional
+        The earlier name of ``newton_tol``, read for one release with a ``DeprecationWarning`` (in
+        :func:`hbm.frequency_response` ``tol`` is the answer's target error).
 
     Raises
     ------
@@ -148,7 +152,7 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
     if not p0 < p1:
         raise ValueError(f"bounds must have p0 < p1, got bounds={bounds!r}")
     # the peak curve's controls, before the mode is traced (that would fail first, and say something else)
-    tol = relative_tolerance("tol", tol, 1.0)
+    tol = relative_tolerance("newton_tol", newton_tolerance("damper_optimum", newton_tol, tol), 1.0)
     max_step, max_steps = positive("max_step", max_step), count("max_steps", max_steps)
     first, _ = (_contacts_at(contacts_of, p, bounds) for p in (p0, p1))  # each bound builds its contacts
     modes = nonlinear_modes(system, first, mode=mode, amplitude_range=amplitude_range,

@@ -24,7 +24,6 @@ as NLvib's ``HB_residual`` with 'NMA'.  ``F_h`` are the contacts' force harmonic
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 from typing import Any, Sequence
 
@@ -34,7 +33,7 @@ from numpy.typing import NDArray
 from contact_models.base import DEFAULT_RTOL
 
 from . import continuation as cont
-from ._validation import count, positive, relative_tolerance
+from ._validation import NEWTON_TOL, count, newton_tolerance, positive, relative_tolerance
 from .balance.residual import HarmonicBalance, as_contacts, as_structure, samples_within_bound
 from .structure import Structure
 
@@ -254,7 +253,7 @@ class NonlinearModes:
 
 def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_range: Sequence[float] | None = None,
                     harmonics: int = 1, n_t: int | None = None, amplitudes: Sequence[float] | None = None,
-                    phase_dof: int | None = None, rtol: float = DEFAULT_RTOL, newton_tol: float = 1e-10,
+                    phase_dof: int | None = None, rtol: float = DEFAULT_RTOL, newton_tol: float = NEWTON_TOL,
                     max_step: float = 0.1, max_steps: int = 2000, tol: float | None = None) -> NonlinearModes:
     """Trace the nonlinear mode ``mode`` of a structure with contacts over its modal amplitude (EPMC).
 
@@ -298,15 +297,7 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     [1.1756, 1.0007]
     """
     mode = count("mode", mode, 0)
-    if tol is not None:
-        if newton_tol != 1e-10:
-            raise ValueError(f"give newton_tol (the Newton tolerance) alone, got newton_tol={newton_tol!r} and "
-                             f"its earlier name tol={tol!r}")
-        warnings.warn("nonlinear_modes(tol=...) is deprecated: it is the Newton tolerance, now newton_tol= "
-                      "(frequency_response's tol is the answer's target error, which the modes do not take)",
-                      DeprecationWarning, stacklevel=2)
-        newton_tol = tol
-    tol = relative_tolerance("newton_tol", newton_tol, 1.0)
+    tol = relative_tolerance("newton_tol", newton_tolerance("nonlinear_modes", newton_tol, tol), 1.0)
     max_step, max_steps = positive("max_step", max_step), count("max_steps", max_steps)
     a0, a1, targets = _amplitudes(amplitude_range, amplitudes)
     bal = ModeBalance(system, contacts, harmonics=harmonics, n_t=samples_within_bound(n_t), phase_dof=0, rtol=rtol)

@@ -260,8 +260,8 @@ def test_mode_coefficients_and_forced_response_name_bad_input():
     # does not reach the peak
     (dict(max_step=0.0), r"^max_step must be positive, got max_step=0.0$"),
     (dict(max_steps=0), r"^max_steps must be an integer >= 1, got max_steps=0$"),
-    (dict(tol=-1.0), r"^tol must be positive, got tol=-1.0$"),
-    (dict(tol=2.0), r"^tol must be < 1, got tol=2.0$"),
+    (dict(newton_tol=-1.0), r"^newton_tol must be positive, got newton_tol=-1.0$"),
+    (dict(newton_tol=2.0), r"^newton_tol must be < 1, got newton_tol=2.0$"),
 ])
 def test_damper_optimum_checks_its_controls_first(kwargs, message):
     s, contacts = ground()
