@@ -268,7 +268,7 @@ class NumericalMicroslip(ContactElement):
     max_cycles : int, optional
         Cycles before giving up, >= 2.  Default 8 quasi-static, 30 dynamic.
     ramp_cycles : float, optional
-        Cycles of dynamic start-up ramp, >= 0.  Default 2.
+        Cycles of dynamic start-up ramp, >= 0 and at most the dynamic budget ``max_cycles``.  Default 2.
     shooting : bool, optional
         Newton on the one-cycle map to reach the steady state.  Default True.
     rho_inf : float, optional
@@ -331,6 +331,10 @@ class NumericalMicroslip(ContactElement):
         self.steady_tol = relative("steady_tol", steady_tol)
         self.max_cycles = None if max_cycles is None else int(max_cycles)
         self.ramp_cycles = nonnegative("ramp_cycles", ramp_cycles)
+        budget = MAX_CYCLES_DYNAMIC if self.max_cycles is None else self.max_cycles
+        if self.ramp_cycles > budget:  # the ramp runs before the budget, which counts the cycles after it
+            raise ValueError(f"ramp_cycles must be <= max_cycles (the dynamic run's budget of cycles after the ramp, "
+                             f"default {MAX_CYCLES_DYNAMIC}), got ramp_cycles={ramp_cycles!r}, max_cycles={max_cycles!r}")
         if shooting not in (True, False):
             raise ValueError(f"shooting must be True or False, got shooting={shooting!r}")
         self.shooting = bool(shooting)

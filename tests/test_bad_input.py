@@ -611,3 +611,14 @@ def test_the_periodic_peak_refuses_a_frequency_tolerance_its_bracket_cannot_hold
     with pytest.raises(ValueError, match=rf"^xtol must be < \(bracket\[1\] - bracket\[0\]\) / 20 = 0.01 \(.*\), got "
                                          rf"xtol={xtol!r} with bracket=\(0.9, 1.1\)$"):
         periodic_peak(s, contacts, bracket=(0.9, 1.1), xtol=xtol, harmonics=3)
+
+
+@pytest.mark.parametrize("kwargs", [dict(ramp_cycles=1e9), dict(ramp_cycles=5.0, max_cycles=4)])
+def test_the_numerical_bar_refuses_a_ramp_longer_than_its_cycle_budget(kwargs):
+    """The ramp runs before the budget of cycles after it; a ramp of 1e9 cycles ran without bound."""
+    from contact_models import Bar, UniformLoad
+    from contact_models.numerical import NumericalMicroslip
+
+    with pytest.raises(ValueError, match=r"^ramp_cycles must be <= max_cycles .* got ramp_cycles="):
+        NumericalMicroslip(Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3),
+                           UniformLoad(N=100.0), **kwargs)
