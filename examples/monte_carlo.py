@@ -7,7 +7,8 @@ The scene ``examples/scenes/monte_carlo.toml``: 1000 samples (seed 2006) of the 
 coefficient mu (uniform 0.2 .. 0.4) and the normal load N (lognormal, median 60 N, sigma 0.3)
 of the two-region microslip damper on the blade of the default case; each run the FRF's peak.
 Cheap on purpose: the damper is quasi-static (``effects.inertia = "off"``) and the accuracy the
-"fast" preset: about 0.03 s of CPU per run, 32 s of CPU for the 1000 runs (``docs/studies.md``).
+"fast" preset, about 0.08 s of CPU per run; every run warns that the inertia left out moves this
+blade's resonance by about 1 % (its peak by 3 to 6 %; ``docs/studies.md``).
 The figure (drawn here by ``figure()``) shows the histogram of the peak amplitude in um with its
 5th, 50th and 95th percentiles, and the peak against mu coloured by N (in N).
 
