@@ -335,7 +335,8 @@ def phase_differences(run: Any) -> Effect | None:
     share, worst, how = off_share(run, micro, tol)
     wc = micro.bar.omega_c
     at = (f"the single-mode element is off by more than tol = {tol:g} over {share:.0%} of the sweep "
-          f"(its model error up to {worst:.2g}, {how}; within {TOLERANCE:.0%} at every amplitude up to "
+          f"(its model error of F_s, F_c up to {worst:.2g}, {how}; the response's estimate is in the "
+          f"summary; within {TOLERANCE:.0%} at every amplitude up to "
           f"{single_mode_frequency_limit(micro) / wc:.3g} omega_c, the sweep reaches {max(run.omega) / wc:.3g} omega_c)")
     bulk = share > BULK
     if setting == "on" or (setting == "auto" and bulk and run.spec.name == "auto"):
