@@ -5,9 +5,10 @@ omega = 0 whatever omega is asked: the quasi-static limit of the dynamic bar (Eq
 alpha = 0, gamma = lambda), which holds while the excitation frequency is far below the bar's
 omega_c (``docs/scenes.md``, "Effects").  Its force is never evaluated at another frequency, so
 a sweep computes no dynamic coefficient (alpha, gamma(omega), the dynamic stiffness K*(omega));
-``calls`` counts the evaluations passed on.  Only ``model_error`` (the error estimate's model
-source) evaluates the wrapped element at omega: how far the quasi-static limit is from it there.  Because the microslip
-elements cache their loading path per frequency, a quasi-static sweep builds one path in all.
+``calls`` counts the evaluations passed on.  Because the microslip elements cache their loading
+path per frequency, a quasi-static sweep builds one path in all.  Only ``model_error`` (the error
+estimate's model source) evaluates the wrapped element at omega: how far the quasi-static limit is
+from it there.
 
 ``StuckContact(element)``: the element held stuck, a linear spring of the element's stuck
 (dynamic) stiffness: ``f_s = K*(omega) a``, ``f_c = 0`` at every amplitude.  It is the

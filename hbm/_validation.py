@@ -50,11 +50,6 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
     return w0, w1
 
-__all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "relative",
-           "shown",
-           "omega_range_pair", "InputError",
-           "relative_tolerance", "MIN_RELATIVE_TOL"]
-
 
 #: The Newton tolerance of the modes' continuations (``nonlinear_modes``, ``damper_optimum``) by default.
 NEWTON_TOL = 1e-10
@@ -73,3 +68,8 @@ def newton_tolerance(function: str, newton_tol: Any, tol: Any) -> Any:
                   "(frequency_response's tol is the answer's target error, which this function does not take)",
                   DeprecationWarning, stacklevel=3)
     return tol
+
+
+__all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "relative",
+           "shown", "omega_range_pair", "InputError", "relative_tolerance", "MIN_RELATIVE_TOL", "NEWTON_TOL",
+           "newton_tolerance"]

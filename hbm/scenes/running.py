@@ -236,7 +236,6 @@ def scene_harmonics(scene: Scene) -> int:
     return int(scene.effects["harmonics"]) if scene.sweep["kind"] == "frequency" else 1
 
 
-
 #: What a resolved sweep table holds beside the scene's keys: the continuation's options and the elements'
 #: rtol under the deprecated key's name (both internal), and the amplitude sweep's defaults.
 _NOT_SETTINGS = ("options", "tolerance")
