@@ -26,7 +26,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from ._validation import count, number_array, shown
-from .structure import NEGATIVE_EIGENVALUE_RTOL, Contact, Structure, _check_matrix, _dense, contact_within
+from .structure import (NEGATIVE_EIGENVALUE_RTOL, Contact, Structure, _check_matrix, _dense, contact_within,
+                        negative_eigenvalue)
 
 #: The most sectors a cyclic structure takes: its constructor checks the disk's mass at every nodal diameter
 #: and :meth:`CyclicStructure.full` builds N n DOFs, so the cost grows with N (a bladed disk has tens to a
@@ -157,18 +158,11 @@ class CyclicStructure(Structure):
             for name, A1, Ak, what in (("C", self.C_next, Ck, "damping (no negative damping)"),
                                        ("K", self.K_next, Kk, "stiffness (no negative stiffness: the disk would be "
                                                               "statically unstable)")):
-                if not np.any(A1):
-                    continue
-                try:  # positive definite: the common case, cheaply
-                    np.linalg.cholesky(Ak)
-                    continue
-                except np.linalg.LinAlgError:
-                    lam = np.linalg.eigvalsh(Ak)
-                scale = float(np.max(np.abs(lam)))
-                if lam[0] < -NEGATIVE_EIGENVALUE_RTOL * scale:
+                found = negative_eigenvalue(Ak) if np.any(A1) else None
+                if found is not None:
                     raise ValueError(f"{name}, {name}_next must give a positive semi-definite disk {what}, got one "
-                                     f"with a negative eigenvalue at nodal diameter {k} (smallest {float(lam[0]):.6g}, "
-                                     f"largest in magnitude {scale:.6g})")
+                                     f"with a negative eigenvalue at nodal diameter {k} (smallest {found[0]:.6g}, "
+                                     f"largest in magnitude {found[1]:.6g})")
 
     def __repr__(self) -> str:
         return (f"CyclicStructure(n={self.n} per sector, sectors={self.sectors}, engine_order={self.engine_order}, "

@@ -97,21 +97,30 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
     return A.astype(float) if sparse else A
 
 
-def _semidefinite(name: str, A: Any, what: str) -> None:
-    """Refuse a symmetric ``A`` (one of C, K) that is not positive semi-definite: a ValueError naming ``name`` and
-    its smallest eigenvalue, below ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest in magnitude (above it, the
-    rounding of a zero eigenvalue: a free-free structure's rigid-body modes, an undamped DOF)."""
-    dense = _dense(A)
-    try:  # positive definite: the common case, cheaply
+def negative_eigenvalue(A: Any) -> tuple[float, float] | None:
+    """``(smallest eigenvalue, largest in magnitude)`` of a symmetric or Hermitian ``A`` where it has a negative
+    eigenvalue, below ``-NEGATIVE_EIGENVALUE_RTOL`` times the largest in magnitude (above it, the rounding of a
+    zero: a free-free structure's rigid-body modes, an undamped DOF), else None.  Cholesky first: a positive
+    definite matrix, the common case, needs no eigenvalues."""
+    dense = np.asarray(A.toarray() if hasattr(A, "toarray") else A)
+    dense = dense if np.iscomplexobj(dense) else dense.astype(float)  # (a disk's nodal matrices are complex)
+    try:
         np.linalg.cholesky(dense)
-        return
+        return None
     except np.linalg.LinAlgError:
         pass
     lam = np.linalg.eigvalsh(dense)
     scale = float(np.max(np.abs(lam))) if lam.size else 0.0
-    if lam.size and lam[0] < -NEGATIVE_EIGENVALUE_RTOL * scale:
+    return (float(lam[0]), scale) if lam.size and lam[0] < -NEGATIVE_EIGENVALUE_RTOL * scale else None
+
+
+def _semidefinite(name: str, A: Any, what: str) -> None:
+    """Refuse a symmetric ``A`` (one of C, K) that is not positive semi-definite (:func:`negative_eigenvalue`): a
+    ValueError naming ``name`` and its smallest eigenvalue."""
+    found = negative_eigenvalue(A)
+    if found is not None:
         raise ValueError(f"{name} must be positive semi-definite ({what}), got {name} with a negative eigenvalue "
-                         f"(smallest {float(lam[0]):.6g}, largest in magnitude {scale:.6g})")
+                         f"(smallest {found[0]:.6g}, largest in magnitude {found[1]:.6g})")
 
 
 class Structure:

@@ -17,7 +17,7 @@ from contact_models.numerics.checks import count
 from hbm import Blade, Contact, Structure, frequency_response, nonlinear_modes
 from hbm.continuation import Status, continuation
 
-from conftest import BAR
+from conftest import BAR, MACROSLIP_BLADE
 
 
 def _jenkins():
@@ -376,23 +376,7 @@ def test_every_scipy_sparse_format_is_taken_as_the_dense_matrix_with_the_same_pe
 
 # ---------------------------------------------------------------- a study's grid: NaN and inf refused downstream
 _STUDY_SCENE = """title = "a study with a non-finite value"
-[blade]
-mass = 0.08771473371579717
-stiffness = 1.0e8
-damping_ratio = 2.0e-3
-force = 8.0
-[damper]
-model = "macroslip"
-E = 2.0e11
-rho = 7850.0
-A = 1.0e-5
-L = 0.05
-k = 8.0e8
-beta = 4.0e7
-mu = 0.3
-[damper.load]
-N = 100.0
-[sweep]
+""" + MACROSLIP_BLADE + """[sweep]
 omega = [0.24, 0.33]
 unit = "omega_c"
 [study]
