@@ -88,8 +88,13 @@ class QuasiStatic(ContactElement):
 
     @property
     def has_time_law(self) -> bool:
-        """True when the wrapped element has a virgin loading curve (Masing with memory)."""
-        return callable(getattr(self.element, "loading_curve", None))
+        """True when the wrapped element's virgin loading curve at omega = 0 is a time law by Masing's rules with
+        memory: it has a loading curve of its own (a wrapped ``QuasiStatic`` only where it has a time law itself,
+        whatever methods it defines) and a finite stuck stiffness (the rigid slider's curve is a step)."""
+        el = self.element
+        if isinstance(el, QuasiStatic):
+            return el.has_time_law
+        return callable(getattr(el, "loading_curve", None)) and math.isfinite(float(el.stuck_stiffness(0.0)))
 
     def _loading_slope(self, x, omega):
         el = self.element

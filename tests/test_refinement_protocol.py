@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import contact_models
-from contact_models import AllModeMicroslip, Bar, ContactElement, Macroslip, QuasiStatic, TwoRegionMicroslip, UniformLoad
+from contact_models import AllModeMicroslip, Bar, ContactElement, CubicSpring, Macroslip, QuasiStatic, TwoRegionMicroslip, UniformLoad
 from hbm import Blade, frequency_response
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -62,6 +62,21 @@ def test_the_single_mode_bar_answers_with_its_quasi_static_bar_and_the_all_mode_
     assert law.fourier(a, 0.0) == two.fourier(a, 0.0)  # the same loop at omega = 0
     refined = two.refined_model()
     assert isinstance(refined, AllModeMicroslip) and refined.discretised and not two.discretised
+
+
+@pytest.mark.parametrize("inner", [Macroslip(stiffness=np.inf, slip_force=0.05), CubicSpring(k3=1.0)],
+                         ids=["rigid slider", "cubic spring"])
+def test_a_quasi_static_element_claims_a_time_law_only_where_its_loading_curve_is_one(inner):
+    """The rigid slider's loading curve is a step and a cubic spring has none: neither quasi-static element (nor one
+    wrapped twice) has a time law, so H > 1 is refused by name (a time law claimed for them gives NaN in the rigid
+    slider's Masing march and an AttributeError from the doubly wrapped cubic spring)."""
+    blade = Blade.from_modal(frequency=1.0, damping_ratio=1e-2, mass=1.0, force=0.1)
+    for el in (QuasiStatic(inner), QuasiStatic(QuasiStatic(inner))):
+        assert el.has_time_law is False
+        with pytest.raises(ValueError, match=r"harmonics must be 1 with QuasiStatic.*got harmonics=3"):
+            frequency_response(blade, el, omega_range=(0.5, 1.5), harmonics=3)
+    two = QuasiStatic(QuasiStatic(TwoRegionMicroslip(BAR, UniformLoad(N=100.0))))
+    assert two.has_time_law is True  # the quasi-static bar's loading curve is Masing's, however often wrapped
 
 
 def test_the_all_mode_bar_answers_with_its_rungs():
