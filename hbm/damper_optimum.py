@@ -8,7 +8,7 @@ by ``hbm.continuation`` from the peak at the first bound, and the optimum is the
 response amplitude ``a |Psi_1[dof]|`` is stationary along the curve (``hbm.continuation.locate``).
 The Jacobian's p-column, ``g``'s entry included, is a forward difference (the elements rebuilt at
 ``p + h``, ``h = FD_STEP max(|p|, s)``, ``s`` the magnitude of the bound nearer zero, at least 1e-6 of the
-bracket: a step by the bracket's width was 0.1 N for a bracket of 1e6 N); ``g``'s row is a forward
+bracket: a step by the bracket's width would be 0.1 N for a bracket of 1e6 N); ``g``'s row is a forward
 difference in the mode's unknowns with the contacts' frequency term held.  The stationary point is
 located with the tangent from this Jacobian: on the default blade the optimum load is within 2e-6 of
 the minimum of a dense scan of FRF peaks, by a bracket of (30, 90) N as by (30, 1e6) N.

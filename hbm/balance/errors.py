@@ -81,8 +81,8 @@ REACH_TOP = 31
 #: (``SAMPLING_SHIFTS n_t`` samples).  A law with a kink (a gap closing, a slider sticking) aliases by an
 #: error that falls like n_t^-2 on the whole but swings with where its kinks fall between the samples,
 #: from point to point along the branch and between the points: read at the points as the step to
-#: 2 n_t and interpolated between nodes it was 1/20 of the true error on a one-DOF gap at H = 31,
-#: n_t = 512.  The shifted grids read the swing's amplitude wherever the kinks fall.
+#: 2 n_t and interpolated between nodes it can be 1/20 of the true error (a one-DOF gap at H = 31,
+#: n_t = 512).  The shifted grids read the swing's amplitude wherever the kinks fall.
 SAMPLING_SHIFTS = 4
 #: Samples of the element's loop for its force harmonics (one-DOF form).
 LOOP_SAMPLES = 64
@@ -97,8 +97,8 @@ PEAK_SPREAD = 2
 #: the relative amplitude error a converged point may carry, the peak source away from the maximum.
 NEWTON_SHARE = 5e-3
 #: The peak source is this many times the parabola's rise above the sampled maximum: the parabola is exact
-#: to leading order in the spacing, and the next order (the peak's asymmetry) was measured at up to 22 % of
-#: it on the default case and 0.1 % on the bare blade (``docs/validation.md``, "Error estimates").
+#: to leading order in the spacing, and the next order (the peak's asymmetry) makes it under-read by up to
+#: 22 % on the default case and 0.1 % on the bare blade (``docs/error_estimates.md``, "peak").
 PEAK_SAFETY = 2.0
 #: The element source: the elements are evaluated again at this fraction of rtol; the change of the
 #: balance's residual is their error at rtol (to first order, for an error that falls at least
