@@ -496,7 +496,7 @@ REMEDY = {
                        "{elements} has no time-domain force law, so the balance cannot raise H above 1 with it, and "
                        "harmonics=1 is its describing-function answer{refined})"),
     "sampling": "more AFT samples (raise n_t=)",
-    "element": "a smaller tol= (the elements are evaluated to tol/100)",
+    "element": "a smaller tol= (the elements are evaluated to tol/100, at most 1e-6)",
     "model": "model='auto' (each element's refined model where the estimate asks for it: for a single-mode "
              "microslip bar, the bar with every mode, contact_models.AllModeMicroslip)",
     "peak": "a smaller tol=",

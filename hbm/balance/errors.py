@@ -81,7 +81,7 @@ REACH_TOP = 31
 #: (``SAMPLING_SHIFTS n_t`` samples).  A law with a kink (a gap closing, a slider sticking) aliases by an
 #: error that falls like n_t^-2 on the whole but swings with where its kinks fall between the samples,
 #: from point to point along the branch and between the points: read at the points as the step to
-#: 2 n_t and interpolated between nodes it can be 1/20 of the true error (a one-DOF gap at H = 31,
+#: 2 n_t and interpolated between nodes it can be 1/19 of the true error (a one-DOF gap at H = 31,
 #: n_t = 512).  The shifted grids read the swing's amplitude wherever the kinks fall.
 SAMPLING_SHIFTS = 4
 #: Samples of the element's loop for its force harmonics (one-DOF form).
