@@ -54,6 +54,12 @@ class _Units(dict):
         super().__init__(units)
         self.parameter = parameter
 
+    def __getitem__(self, name: object):
+        try:
+            return super().__getitem__(name)
+        except TypeError:  # an unhashable name (a list): refused as an unknown one, not "unhashable type"
+            return self.__missing__(name)
+
     def __missing__(self, name: object):
         raise ValueError(f"{self.parameter} must be one of {', '.join(map(repr, self))}, "
                          f"got {self.parameter}={name!r}")

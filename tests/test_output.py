@@ -132,6 +132,20 @@ def test_study_to_dataframe_is_its_table():
     assert list(frame.columns)[:3] == ["run", "id", "x"] and frame["peak_amplitude_m"].tolist() == [1.0, 4.0]
 
 
+def test_plot_refuses_a_unit_that_is_no_name_by_name():
+    """A list or an array for a unit failed as ``TypeError: unhashable type: 'list'``, naming nothing."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hbm import Blade, frequency_response
+
+    frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0), omega_range=(90.0, 110.0))
+    with pytest.raises(ValueError, match=r"^omega_unit must be one of 'rad/s', 'Hz', got omega_unit=\['Hz'\]$"):
+        frf.plot(omega_unit=["Hz"])
+    with pytest.raises(ValueError, match=r"^amplitude_unit must be one of 'm', 'um', got amplitude_unit=\[\]$"):
+        frf.plot(amplitude_unit=[])
+
+
 def test_plot_refuses_an_unknown_unit_and_an_ax_that_cannot_draw_by_name():
     import matplotlib
 
