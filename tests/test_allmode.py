@@ -673,3 +673,9 @@ def test_solve_and_for_balance_name_a_bad_flag_or_harmonic_count():
     for H in (0, "2", 2.5):
         with pytest.raises(ValueError, match=rf"^H must be an integer >= 1, got H={H!r}$"):
             el.for_balance(H)
+
+
+def test_linear_given_an_array_is_refused_by_name():
+    """``linear not in KINDS`` with an array was numpy's "truth value of an array is ambiguous", naming nothing."""
+    with pytest.raises(ValueError, match=r"^linear must be one of .*, got linear=array\(\['exact', 'lumped'\]"):
+        AllModeMicroslip(BAR, UniformLoad(N=100.0), linear=np.array(["exact", "lumped"]))

@@ -189,7 +189,7 @@ class AllModeMicroslip(ContactElement):
         self.tol = positive("tol", tol)
         if not self.tol < 1.0:
             raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
-        if linear not in LINEAR_KINDS:
+        if not isinstance(linear, str) or linear not in LINEAR_KINDS:  # (an array: numpy's ambiguous truth)
             raise ValueError(f"linear must be one of {', '.join(map(repr, LINEAR_KINDS))}, got linear={linear!r}")
         self.bar, self.linear = bar, linear
         self.load = bound_load(load, bar.L)
