@@ -452,13 +452,15 @@ class ReducedStructure(Structure):
         super().__init__(M, C, K, force=force)
         if not isinstance(full, Structure):
             raise ValueError(f"full must be the hbm.Structure reduced, got full={full!r}")
-        try:
-            T = np.asarray(T, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"T must be a {full.n} x {self.n} matrix of numbers, got T={T!r}") from None
+        try:  # numbers only (a boolean matrix was taken as ones and zeros)
+            T = number_array("T", T)
+        except ValueError:
+            raise ValueError(f"T must be a {full.n} x {self.n} matrix of numbers, got T={shown(T)}") from None
         if T.shape != (full.n, self.n) or not np.all(np.isfinite(T)):
             raise ValueError(f"T must be a finite {full.n} x {self.n} matrix (original x reduced DOFs), "
                              f"got T of shape {T.shape}")
+        if isinstance(kept, (str, bytes)) or not hasattr(kept, "__iter__"):  # (a number was "not iterable")
+            raise ValueError(f"kept must be a sequence of DOF indices of full, got kept={kept!r}")
         kept = tuple(full._dof("kept", d) for d in kept)
         if len(set(kept)) != len(kept) or len(kept) > self.n:
             raise ValueError(f"kept must be distinct DOFs of full, at most {self.n}, got kept={kept!r}")
