@@ -346,6 +346,20 @@ def test_damper_optimum_names_bounds_where_a_bound_gives_no_contacts(bounds, at,
     assert traced == list(bounds)[:list(bounds).index(at) + 1]  # each bound built once, nothing traced
 
 
+def test_damper_optimum_stopped_before_the_optimum_keeps_its_curve_and_says_why():
+    """A trace that used up max_steps at 30.8 N was reported as 'bounds must contain the optimum: the smallest peak
+    on the traced curve is at p1 (30.8352)': the bracket blamed, p1 named for a point short of it, the curve lost."""
+    case = default_case()
+    bar, sm = case.element.bar, math.sqrt(case.blade.mass)
+    opt = damper_optimum(case.blade.as_structure(), lambda N: [Contact(TwoRegionMicroslip(bar, UniformLoad(N=N)), dof=0)],
+                         (30.0, 90.0), amplitude_range=(1e-8 * sm, 1e-5 * sm), max_steps=2)
+    assert not opt.success and not opt.peak.interior and not opt.peak.converged
+    assert opt.parameter == opt.parameters[-1] < 52.0 and opt.peak.amplitude == opt.peaks[-1] == opt.peaks.min()
+    assert re.match(r"^the peak curve ended at p=30\.\d+ before the optimum \(the peak still falls there\), short of "
+                    r"bounds\[1\]=90\.0: the step budget \(max_steps\) was used up", opt.message)
+    assert opt.peak.message == opt.message and np.isfinite(opt.peak.omega)
+
+
 def _example(name):
     import importlib
     import sys
