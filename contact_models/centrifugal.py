@@ -22,7 +22,7 @@ from typing import Any, Callable
 import numpy as np
 from numpy.typing import NDArray
 
-from .numerics.checks import nonnegative, positive
+from .numerics.checks import nonnegative, positive, shown
 from .base import KIND_ATTRIBUTES, ContactElement
 
 #: Relative step of the forward difference of the force in the preload.
@@ -152,7 +152,18 @@ class RotatingPreload(ContactElement):
 
     def at(self, omega: float) -> ContactElement:
         """The element at the preload of ``omega`` (rad/s)."""
-        return self._at_load(float(self.load(nonnegative("omega", omega))))
+        return self._at_load(self._preload(nonnegative("omega", omega)))
+
+    def _preload(self, omega: float) -> float:
+        """``load(omega)`` as a float: a real number, else a ValueError naming ``load`` and what it returned (a
+        string, None or an array failed in ``float()``; a boolean was taken as 1 N)."""
+        N = self.load(omega)
+        if not isinstance(N, (bool, np.bool_, str, bytes)) and np.ndim(N) == 0 and not np.iscomplexobj(N):
+            try:
+                return float(N)
+            except (TypeError, ValueError):
+                pass
+        raise ValueError(f"load must return a preload (N), a real number, got load({omega!r}) = {shown(N)}")
 
     def _at_load(self, N: float) -> ContactElement:
         if N == 0.0 and self._built:  # at rest (omega = 0, the balance's static scale): the smallest preload
@@ -174,7 +185,7 @@ class RotatingPreload(ContactElement):
         if callable(d):
             return float(d(omega))
         h = 1e-6 * max(omega, self.omega_ref)
-        return (float(self.load(omega + h)) - float(self.load(max(omega - h, 0.0)))) / (omega + h - max(omega - h, 0.0))
+        return (self._preload(omega + h) - self._preload(max(omega - h, 0.0))) / (omega + h - max(omega - h, 0.0))
 
     # ------------------------------------------------------------------ hooks: the element at N0(omega)
     def _fourier_derivatives(self, a: NDArray, omega: NDArray, rtol: float):
@@ -186,7 +197,7 @@ class RotatingPreload(ContactElement):
         return tuple(out)
 
     def _harmonic_force(self, X: NDArray, omega: float, n_t: int, rtol: float, **kw: Any):
-        N = float(self.load(omega))
+        N = self._preload(omega)
         F, J, Fw = self._at_load(N).harmonic_force_unchecked(X, omega, n_t, rtol, **kw)
         dN = self._dload(omega)
         if dN != 0.0:  # it enters the Jacobian's omega column (the tangent), never the residual

@@ -19,7 +19,7 @@ from typing import Any, Self
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .numerics.checks import finite, nonnegative, positive
+from .numerics.checks import finite, nonnegative, number_array, positive, shown
 
 
 def bound_load(load: Any, L: float) -> "_Load":
@@ -282,7 +282,7 @@ class FunctionLoad(_Load):
 
     def _check(self) -> None:
         x = np.linspace(0.0, self._length(), 2001)
-        q = np.asarray(self.func(x), dtype=float)
+        q = self._values(x)
         if q.shape != x.shape or not np.all(np.isfinite(q)):
             raise ValueError(f"func must return finite values of the shape of x, got func={self.func!r}")
         if np.any(q < 0.0):
@@ -292,7 +292,17 @@ class FunctionLoad(_Load):
 
     def q(self, x: ArrayLike) -> NDArray[Any]:
         x = np.asarray(x, dtype=float)
-        return np.asarray(self.func(x), dtype=float) + 0.0 * x
+        return self._values(x) + 0.0 * x
+
+    def _values(self, x: NDArray) -> NDArray[np.float64]:
+        """``func(x)`` as real numbers: a string, a boolean or a complex value (whose imaginary part a float
+        conversion would drop with a ComplexWarning) is refused naming ``func``."""
+        out = self.func(x)
+        try:
+            return number_array("func(x)", out)
+        except ValueError:
+            raise ValueError(f"func must return real numbers (N/m), got func={self.func!r} returning "
+                             f"{shown(out)}") from None
 
     @property
     def N(self) -> float:
@@ -338,10 +348,10 @@ class SampledLoad(_Load):
     L: float | None = None
 
     def __post_init__(self) -> None:
-        try:
-            x = np.array(self.x, dtype=float)
-            v = np.array(self.values, dtype=float)
-        except (TypeError, ValueError):
+        try:  # numbers only: a string ("0.05") or a boolean, which a float conversion would read, is refused
+            x = np.array(number_array("x", self.x))
+            v = np.array(number_array("values", self.values))
+        except ValueError:
             raise ValueError(f"x and values must be arrays of numbers, got x={self.x!r}, values={self.values!r}") from None
         if x.ndim != 1 or x.size < 2 or v.shape != x.shape:
             raise ValueError(f"x and values must be 1-d of one length >= 2, got x={self.x!r}, values={self.values!r}")

@@ -78,7 +78,7 @@ from .numerics.fe_bar import NodalData, _Discretisation
 from .numerics.genalpha import GeneralizedAlpha
 from .numerics.stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tangent, return_map, solve_step
 from .loads import bound_load
-from .numerics.checks import count as _count, finite, nonnegative, relative
+from .numerics.checks import count as _count, finite, flag, nonnegative, relative
 from .bar import Bar
 from .base import ContactElement
 
@@ -319,7 +319,7 @@ class NumericalMicroslip(ContactElement):
         cells = _count("cells", cells, 2, MAX_CELLS, "contact_models.numerical.MAX_CELLS")
         if steps_per_cycle is not None and not _multiple_of_4(steps_per_cycle):
             raise ValueError(f"steps_per_cycle must be a multiple of 4 and >= 8, got steps_per_cycle={steps_per_cycle!r}")
-        if quasi_static not in (None, True, False):
+        if not (quasi_static is None or quasi_static is True or quasi_static is False or isinstance(quasi_static, np.bool_)):
             raise ValueError(f"quasi_static must be None, True or False, got quasi_static={quasi_static!r}")
         if max_cycles is not None:
             _count("max_cycles", max_cycles, 2)
@@ -327,7 +327,7 @@ class NumericalMicroslip(ContactElement):
         self.load = bound_load(load, bar.L)
         self.cells = int(cells)
         self.steps_per_cycle = None if steps_per_cycle is None else int(steps_per_cycle)
-        self.quasi_static = quasi_static
+        self.quasi_static = None if quasi_static is None else bool(quasi_static)
         self.steady_tol = relative("steady_tol", steady_tol)
         self.max_cycles = None if max_cycles is None else int(max_cycles)
         self.ramp_cycles = nonnegative("ramp_cycles", ramp_cycles)
@@ -335,9 +335,7 @@ class NumericalMicroslip(ContactElement):
         if self.ramp_cycles > budget:  # the ramp runs before the budget, which counts the cycles after it
             raise ValueError(f"ramp_cycles must be <= max_cycles (the dynamic run's budget of cycles after the ramp, "
                              f"default {MAX_CYCLES_DYNAMIC}), got ramp_cycles={ramp_cycles!r}, max_cycles={max_cycles!r}")
-        if shooting not in (True, False):
-            raise ValueError(f"shooting must be True or False, got shooting={shooting!r}")
-        self.shooting = bool(shooting)
+        self.shooting = flag("shooting", shooting)  # (an array's "in (True, False)" was numpy's ambiguous truth)
         self.rho_inf = finite("rho_inf", rho_inf)
         if not 0.0 <= self.rho_inf <= 1.0:
             raise ValueError(f"rho_inf must be in [0, 1], got rho_inf={rho_inf!r}")

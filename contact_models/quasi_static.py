@@ -41,6 +41,27 @@ from .base import ContactElement
 SLOPE_FD_STEP = 1e-6
 
 
+class _OfTheWrapped:
+    """A method of ``QuasiStatic`` that exists where the wrapped element has the method of that name: on one
+    without it (a Jenkins element has no ``slip_stiffness``) the attribute is absent, so ``hasattr`` and
+    ``getattr(..., None)`` say so (``PointContact.fit`` then names the missing method) instead of a call
+    failing inside on the wrapped element."""
+
+    def __init__(self, method):
+        self.method, self.__doc__ = method, method.__doc__
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, obj, owner=None):
+        if obj is None:
+            return self.method
+        if not callable(getattr(obj.element, self.name, None)):
+            raise AttributeError(f"{obj!r} has no {self.name}: the wrapped {type(obj.element).__name__} has none",
+                                 name=self.name, obj=obj)
+        return self.method.__get__(obj, owner)
+
+
 class QuasiStatic(ContactElement):
     """``element`` evaluated at omega = 0 for every omega (no damper inertia).
 
@@ -109,19 +130,22 @@ class QuasiStatic(ContactElement):
     def _masing_centre_stiffness(self, omega):
         return self.element._masing_centre_stiffness(0.0)
 
-    # ------------------------------------------------------------ extras of the wrapped element
+    # ------------------------------------------------------------ extras of the wrapped element (where it has them)
+    @_OfTheWrapped
     def slip_stiffness(self, omega: float = 0.0) -> float:
         """The wrapped element's fully slipping stiffness at omega = 0."""
         self._check(omega)
         self.calls += 1
         return self.element.slip_stiffness(0.0)
 
+    @_OfTheWrapped
     def gross_slip_amplitude(self, omega: float = 0.0) -> float:
         """The wrapped element's gross-slip amplitude at omega = 0."""
         self._check(omega)
         self.calls += 1
         return self.element.gross_slip_amplitude(0.0)
 
+    @_OfTheWrapped
     def loading_curve(self, x: ArrayLike, omega: float = 0.0) -> NDArray[np.float64]:
         """The wrapped element's virgin loading curve at omega = 0."""
         x = finite_array("x", x)

@@ -50,7 +50,7 @@ from typing import Callable
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from contact_models.numerics.checks import count as _whole, finite, flag, positive
+from contact_models.numerics.checks import ElementContractError, count as _whole, finite, flag, positive, shown
 from contact_models.numerics.roots import brentq  # scipy's algorithm without importing scipy.optimize
 from contact_models.numerics.small import lagrange
 
@@ -210,7 +210,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
         raise ValueError(f"bounds must have lo <= hi, got bounds={bounds!r}")
     if not lo <= y0[p] <= hi:
         raise ValueError(f"y0's parameter y0[{p}]={y0[p]!r} is outside bounds=({lo!r}, {hi!r})")
-    if isinstance(direction, bool) or direction not in (1, -1):
+    if isinstance(direction, bool) or not isinstance(direction, (int, np.integer, float)) or direction not in (1, -1):
         raise ValueError(f"direction must be +1 or -1, got direction={direction!r}")
     min_step, max_step = positive("min_step", min_step), positive("max_step", max_step)
     if not min_step <= max_step:
@@ -232,7 +232,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
             raise ValueError(f"{name} must be a function or None, got {name}={f!r}")
     scale = scale if scale is not None else (lambda y: np.ones(n))
     count = _Count()
-    trace = _Trace(_counted(residual, count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
+    trace = _Trace(_counted(_shaped(residual, n), count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
                    on_point if on_point is not None else (lambda y, rnorm: None), curve_tol,
                    np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int), stop)
     failed = trace.start(y0, direction, step)
@@ -249,6 +249,35 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
                    trace.corners, trace.coarse)
+
+
+class ResidualContractError(ElementContractError):
+    """The residual given to :func:`continuation` returned the wrong type or shape at its first call (a defect of
+    its code, raised at once, as an element's wrong answer is): a pair ``(R, J)`` of ``n - 1`` residuals and their
+    ``(n - 1, n)`` Jacobian for ``n`` unknowns."""
+
+
+def _shaped(residual: Residual, n: int) -> Residual:
+    """``residual``, its first answer checked: a pair ``(R, J)`` with ``R`` of shape ``(n - 1,)`` and ``J`` of
+    ``(n - 1, n)``; else ``ResidualContractError`` naming ``residual`` (a residual of wrong shape was traced,
+    its Jacobian's null space taken for the branch's tangent, and the curve returned as converged)."""
+    checked = False
+
+    def fun(y):
+        nonlocal checked
+        out = residual(y)
+        if not checked:
+            ok = isinstance(out, tuple) and len(out) == 2
+            shapes = (np.shape(out[0]), getattr(out[1], "shape", np.shape(out[1]))) if ok else None
+            if not ok or shapes != ((n - 1,), (n - 1, n)):
+                got = (f"R of shape {shapes[0]} and J of shape {shapes[1]}" if ok else
+                       f"{type(out).__name__} {shown(out)}")
+                raise ResidualContractError(f"residual(y) must return (R, J) with R of shape ({n - 1},) and J of "
+                                            f"shape ({n - 1}, {n}) for y0 of {n} components, got {got}")
+            checked = True
+        return out
+
+    return fun
 
 
 def _located_folds(trace: "_Trace", residual: Residual, tol: float, scale: Scale, xtol: float, max_iter: int,

@@ -239,9 +239,10 @@ class CyclicStructure(Structure):
         f = (phase[:, None] * self.force[None, :]).ravel()
         full = Structure(*blocks, force=f)
         out: list[Contact] = []
-        for c in self.solved_contacts if contacts is None else list(contacts):
-            if not isinstance(c, Contact):
-                raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
+        from .balance.residual import as_contacts  # (the balance imports this module's neighbours)
+
+        # one Contact or a sequence of them, as frequency_response takes them (a number was "not iterable")
+        for c in self.solved_contacts if contacts is None else as_contacts(contacts, n):
             contact_within(c, n)  # a DOF past the sector's would land on the next sector's
             for j in range(N):
                 out.append(self._placed(c, j))

@@ -136,6 +136,14 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
         The earlier name of ``newton_tol``, read for one release with a ``DeprecationWarning`` (in
         :func:`hbm.frequency_response` ``tol`` is the answer's target error).
 
+    Returns
+    -------
+    DamperOptimum
+        The optimum on the traced peak curve.  Where the trace stopped short of ``p1`` (its step budget
+        ``max_steps``, an element that raised) with the peak still falling, ``success`` is False and
+        ``parameter``, ``peak`` are the last traced point's (not interior, not converged), the curve traced so
+        far kept, ``message`` saying where and why it stopped.
+
     Raises
     ------
     ValueError
@@ -174,6 +182,16 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
                             max_step=max_step, max_steps=max_steps, locate_folds=False)
     amps = np.array([curve.amplitude(z, bal0)[0] for z in res.y])
     i = int(np.argmin(amps))
+    omegas = res.y[:, bal0.n * bal0.L] * bal0.uw[bal0.n * bal0.L]
+    if i == amps.size - 1 and not res.success:  # stopped before p1, the peak still falling: not the bracket's fault
+        bal, y, _, _, fw, p = curve.parts(res.y[i])
+        re, im, _, resp = coefficients(bal, y, fw, f, dof)
+        w = closest_minimum(re, im, float(y[bal.n * bal.L]))[0]
+        why = (f"the peak curve ended at p={p:.6g} before the optimum (the peak still falls there), short of "
+               f"bounds[1]={p1!r}: {res.message}")
+        return DamperOptimum(parameter=p, peak=Peak(float(w), float(resp), interior=False, converged=False, message=why),
+                             parameters=res.y[:, -1] * p_ref, peaks=amps, peak_omega=omegas, success=False,
+                             message=why, nsteps=res.nsteps, nfev=modes.nfev + curve.nfev)
     if i == 0 or i == amps.size - 1:
         where = "p0" if i == 0 else "p1"
         raise ValueError(f"bounds must contain the optimum: the smallest peak on the traced curve is at {where} "
@@ -185,7 +203,6 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
     bal, y, _, _, fw, p = curve.parts(loc.y)
     re, im, _, resp = coefficients(bal, y, fw, f, dof)
     w = closest_minimum(re, im, float(y[bal.n * bal.L]))[0]
-    omegas = res.y[:, bal0.n * bal0.L] * bal0.uw[bal0.n * bal0.L]
     return DamperOptimum(parameter=p, peak=Peak(float(w), float(resp)), parameters=res.y[:, -1] * p_ref,
                          peaks=amps, peak_omega=omegas, success=bool(res.success), message=res.message,
                          nsteps=res.nsteps, nfev=modes.nfev + curve.nfev + loc.nfev)

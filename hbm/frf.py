@@ -324,7 +324,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         structure.solved_contacts = as_contacts(contacts, structure.n)
     w0, w1 = omega_range_pair(omega_range)
     tolerance = tolerance_of(tol)
-    if model not in MODELS:
+    if not isinstance(model, str) or model not in MODELS:  # (an array: numpy's ambiguous truth)
         raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
     if model != "given" and tolerance is None:
         raise ValueError(f"model={model!r} chooses the model by the error estimate: it needs a tol, got tol=None")
@@ -344,6 +344,8 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         raise ValueError(f"callback must be callable, got callback={callback!r}")
     if not isinstance(stability, (bool, np.bool_)):
         raise ValueError(f"stability must be True or False, got stability={stability!r}")
+    if response_dof is not None:  # checked here, before it is counted among the balance's DOFs (a list: unhashable)
+        structure.response_dof(response_dof)
     # ---- pick: H and n_t (an explicit knob overrides only itself), the balance
     first_harmonic_only(as_contacts(contacts, structure.n), harmonics, tol_remedy=True)  # H > 1 without a time law
     adapt = harmonics is None and tolerance is not None

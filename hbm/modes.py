@@ -33,7 +33,7 @@ from numpy.typing import NDArray
 from contact_models.base import DEFAULT_RTOL
 
 from . import continuation as cont
-from ._validation import NEWTON_TOL, count, newton_tolerance, positive, relative_tolerance
+from ._validation import NEWTON_TOL, count, newton_tolerance, number_array, positive, relative_tolerance
 from .balance.residual import HarmonicBalance, as_contacts, as_structure, samples_within_bound
 from .structure import Structure
 
@@ -333,10 +333,10 @@ def _amplitudes(amplitude_range, amplitudes) -> tuple[float, float, NDArray | No
     """``(a0, a1, targets)`` from the two ways of asking (validated)."""
     targets = None
     if amplitudes is not None:
-        try:
-            targets = np.asarray(amplitudes, dtype=float).ravel()
-        except (TypeError, ValueError):
-            targets = np.full(1, np.nan)  # not numbers: refused below, naming amplitudes
+        try:  # numbers only: a bool (True read as 1.0 m) or a string is refused below, naming amplitudes
+            targets = number_array("amplitudes", amplitudes).ravel()
+        except ValueError:
+            targets = np.full(1, np.nan)
         if targets.size == 0 or not np.all(np.isfinite(targets)) or np.any(targets <= 0.0):
             raise ValueError(f"amplitudes must be finite numbers > 0, got amplitudes={amplitudes!r}")
     if amplitude_range is None:

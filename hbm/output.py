@@ -54,6 +54,12 @@ class _Units(dict):
         super().__init__(units)
         self.parameter = parameter
 
+    def __getitem__(self, name: object):
+        try:
+            return super().__getitem__(name)
+        except TypeError:  # an unhashable name (a list): refused as an unknown one, not "unhashable type"
+            return self.__missing__(name)
+
     def __missing__(self, name: object):
         raise ValueError(f"{self.parameter} must be one of {', '.join(map(repr, self))}, "
                          f"got {self.parameter}={name!r}")
@@ -249,6 +255,8 @@ class CsvStream:
         if not isinstance(path, (str, os.PathLike)):
             raise ValueError(f"path must be a file path (a str or pathlib.Path), got path={path!r}")
         self.path = Path(path)
+        if "\0" in str(self.path):  # (the file system's "embedded null byte", naming nothing)
+            raise ValueError(f"path must be a file path without a null character, got path={str(path)!r}")
         if self.path.is_dir():  # ("" is the current folder)
             raise ValueError(f"path must be a file path, not a folder, got path={str(path)!r}")
         if not self.path.parent.is_dir():  # before: a bare FileNotFoundError

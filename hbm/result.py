@@ -16,7 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont  # the module (hbm.continuation)
-from ._validation import flag
+from ._validation import flag, shown
 from .balance import errors
 from .balance.layout import to_complex
 from .balance.residual import HarmonicBalance
@@ -587,6 +587,12 @@ class FrequencyResponse:
         Path
             The file written.
 
+        Raises
+        ------
+        ValueError
+            Naming ``path``: not a str or Path, a folder, in a folder that does not exist, or a file that cannot
+            be written (no permission, a name too long: the operating system's reason in brackets).
+
         Examples
         --------
         >>> import tempfile, pathlib
@@ -605,7 +611,11 @@ class FrequencyResponse:
         >>> float(data[0, 0]), float(data[-1, 0])                # omega_range, rad/s
         (90.0, 110.0)
         """
-        return write_frf_csv(path, self, case=case)
+        try:
+            return write_frf_csv(path, self, case=case)
+        except OSError as exc:  # a folder one may not write in, a name too long: named, as a missing folder is
+            raise ValueError(f"path must be a file that can be written, got path={shown(str(path))} "
+                             f"({exc.strerror or exc})") from exc
 
     def to_dataframe(self, *, case: str | None = None) -> Any:
         """The points as a ``pandas.DataFrame`` with the columns of :meth:`to_csv` (units in the

@@ -19,6 +19,7 @@ equation is the forced balance itself.  The peak is the largest ``a`` that has a
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Sequence
 
@@ -26,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from . import continuation as cont
+from ._validation import number_array
 from .modes import ModeBalance, NonlinearModes
 from .result import Peak
 
@@ -71,8 +73,15 @@ def closest_minimum(re: NDArray, im: NDArray, omega: float) -> tuple[float, floa
 
 
 def peak_condition(re: NDArray, im: NDArray, r: float, omega: float) -> float:
-    """``min_Omega |A|^2 / r^2 - 1``: negative below the peak's modal amplitude, zero at it."""
-    return closest_minimum(re, im, omega)[1] / r ** 2 - 1.0
+    """``min_Omega |A|^2 / r^2 - 1``: negative below the peak's modal amplitude, zero at it.  Where ``r^2``
+    leaves double precision (a force of 1e-300 or 1e300 N) the ratio is formed as ``(sqrt(min |A|^2) / r)^2``:
+    inf for an ``r`` of zero (the point is above the peak), -1 for an infinite one (below it)."""
+    m = closest_minimum(re, im, omega)[1]
+    r2 = r * r
+    if 0.0 < r2 < math.inf:
+        return m / r2 - 1.0
+    q = math.sqrt(max(m, 0.0)) / r if r > 0.0 else math.inf
+    return q * q - 1.0
 
 
 @dataclass
@@ -117,6 +126,8 @@ def forced_response(modes: NonlinearModes, *, force: Sequence[float] | None = No
     for y in modes.points:
         re, im, r, resp = coefficients(bal, y, frequency_term(bal, y, bal(y)[1]), f, dof)
         g.append(peak_condition(re, im, r, float(y[N])))
+        if not 0.0 < r * r < math.inf:  # the forcing's r^2 out of double precision: no flank point here
+            continue
         rq = _squared(re, im)
         rq[-1] -= r * r
         roots = np.roots(rq)
@@ -126,8 +137,13 @@ def forced_response(modes: NonlinearModes, *, force: Sequence[float] | None = No
     g = np.array(g)
     above = np.flatnonzero((g[:-1] <= 0.0) & (g[1:] > 0.0))
     if above.size == 0:
+        where = ("below the branch's first amplitude (a smaller amplitude_range[0], or a larger force)"
+                 if g.size and g[0] > 0.0 else
+                 "beyond the branch's last amplitude (a larger amplitude_range[1], or a smaller force)")
         raise ValueError(f"modes must reach the peak's modal amplitude (the peak condition changes sign "
-                         f"nowhere on the branch), got amplitudes {modes.amplitude[0]:.4g}..{modes.amplitude[-1]:.4g}")
+                         f"nowhere on the branch: the peak lies {where}), got amplitudes "
+                         f"{modes.amplitude[0]:.4g}..{modes.amplitude[-1]:.4g} with a force of max |f| = {np.max(np.abs(f)):.4g} N"
+                         if len(modes) else "modes must reach the peak's modal amplitude, got a mode of no points")
     y_peak = locate_peak(bal, modes.points[above[0]], modes.points[above[0] + 1], f, dof)
     re, im, r, resp = coefficients(bal, y_peak, frequency_term(bal, y_peak, bal(y_peak)[1]), f, dof)
     w_peak = closest_minimum(re, im, float(y_peak[N]))[0]
@@ -158,10 +174,10 @@ def forcing(bal: ModeBalance, force, response_dof) -> tuple[NDArray, int]:
     if force is None and np.iscomplexobj(s.force):
         raise ValueError("force must be real for the single-mode forced response (a phase per DOF is not "
                          "provided here; hbm.frequency_response takes it), got a complex structure force")
-    try:
-        f = s.force if force is None else np.asarray(force, dtype=float).ravel()
-    except (TypeError, ValueError):
-        f = np.empty(0)  # not numbers: refused below, naming force
+    try:  # numbers only: a bool (True read as 1 N) or a string is refused below, naming force
+        f = s.force if force is None else number_array("force", force).ravel()
+    except ValueError:
+        f = np.empty(0)
     if f.size != s.n or not np.all(np.isfinite(f)) or not np.any(f):
         raise ValueError(f"force must be {s.n} finite numbers, not all zero, got force={force!r}")
     return f, s.response_dof(response_dof, f)

@@ -77,7 +77,7 @@ def _check_matrix(name: str, A: Any, n: int | None) -> Any:
             raise ValueError(f"{name} must be a square matrix of numbers, got {name}={A!r}") from None
         raw = _real(name, raw, "matrix")
         try:  # strings, booleans and None refused: numpy would read "2" as 2.0 and True as 1.0
-            A = number_array(name, raw)
+            A = number_array(name, A if isinstance(A, (list, tuple)) else raw)  # (a list: its booleans too)
         except ValueError:
             raise ValueError(f"{name} must be a square matrix of numbers, got {name}={shown(A)}") from None
     shape = A.shape
@@ -187,7 +187,8 @@ class Structure:
         if np.iscomplexobj(f) and not np.any(np.imag(f)):
             f = f.real  # a complex force with every phase 0 is the real force, bit for bit
         try:  # as the matrices: no strings, booleans or None read as numbers
-            f = (np.asarray(f, dtype=complex) if np.iscomplexobj(f) else number_array("force", f))
+            f = (np.asarray(f, dtype=complex) if np.iscomplexobj(f)
+                 else number_array("force", force if isinstance(force, (list, tuple)) else f))  # (a list: its booleans)
         except (TypeError, ValueError):
             raise ValueError(f"force must be a vector of {n} numbers, got force={shown(force)}") from None
         if f.ndim > 1 or (f.ndim == 0 and n != 1):  # a column or a table is not flattened (its layout is unknown)
@@ -452,13 +453,15 @@ class ReducedStructure(Structure):
         super().__init__(M, C, K, force=force)
         if not isinstance(full, Structure):
             raise ValueError(f"full must be the hbm.Structure reduced, got full={full!r}")
-        try:
-            T = np.asarray(T, dtype=float)
-        except (TypeError, ValueError):
-            raise ValueError(f"T must be a {full.n} x {self.n} matrix of numbers, got T={T!r}") from None
+        try:  # numbers only (a boolean matrix was taken as ones and zeros)
+            T = number_array("T", T)
+        except ValueError:
+            raise ValueError(f"T must be a {full.n} x {self.n} matrix of numbers, got T={shown(T)}") from None
         if T.shape != (full.n, self.n) or not np.all(np.isfinite(T)):
             raise ValueError(f"T must be a finite {full.n} x {self.n} matrix (original x reduced DOFs), "
                              f"got T of shape {T.shape}")
+        if isinstance(kept, (str, bytes)) or not hasattr(kept, "__iter__"):  # (a number was "not iterable")
+            raise ValueError(f"kept must be a sequence of DOF indices of full, got kept={kept!r}")
         kept = tuple(full._dof("kept", d) for d in kept)
         if len(set(kept)) != len(kept) or len(kept) > self.n:
             raise ValueError(f"kept must be distinct DOFs of full, at most {self.n}, got kept={kept!r}")

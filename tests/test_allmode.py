@@ -2,6 +2,7 @@
 integration, users' loads."""
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -673,3 +674,21 @@ def test_solve_and_for_balance_name_a_bad_flag_or_harmonic_count():
     for H in (0, "2", 2.5):
         with pytest.raises(ValueError, match=rf"^H must be an integer >= 1, got H={H!r}$"):
             el.for_balance(H)
+
+
+def test_linear_given_an_array_is_refused_by_name():
+    """``linear not in KINDS`` with an array was numpy's "truth value of an array is ambiguous", naming nothing."""
+    with pytest.raises(ValueError, match=r"^linear must be one of .*, got linear=array\(\['exact', 'lumped'\]"):
+        AllModeMicroslip(BAR, UniformLoad(N=100.0), linear=np.array(["exact", "lumped"]))
+
+
+@pytest.mark.parametrize("omega", [1e50, 1e160])
+def test_a_frequency_whose_stuck_bar_needs_more_cells_than_memory_holds_is_refused_naming_omega(omega):
+    """1e50 rad/s asked for a stuck bar of 1e45 cells (numpy's 'Maximum allowed size exceeded'); above about
+    1e154 rad/s (H omega)^2 overflowed in the cells' count (OverflowError: Numerical result out of range)."""
+    from contact_models.allmode.segments import UnresolvedWave
+
+    with pytest.raises(UnresolvedWave, match=rf"^omega={re.escape(repr(omega))} rad/s is too high for the bar with every mode: its stuck "
+                                              r"bar needs .* cells to hold the wavelength of harmonic 1, more than "
+                                              r"MAX_STUCK_CELLS = 4194304"):
+        AllModeMicroslip(BAR, UniformLoad(N=100.0)).fourier(1e-6, omega)

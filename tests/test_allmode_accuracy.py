@@ -317,3 +317,16 @@ def test_a_rung_of_7_harmonics_sees_the_13th_meet_a_mode_of_the_bar(monkeypatch)
     monkeypatch.setattr(acc, "CHECK_ABOVE_HARMONICS", 1)  # every rung read from below first: 1, 3, 7 jump at
     below, _ = estimate()                                  # 7 (not asymptotic), so 7 is read against 15 anyway
     assert true <= below
+
+
+def test_a_first_call_far_above_the_cut_off_climbs_the_harmonics_with_the_cells_they_need():
+    """At 2.25 omega_c a fresh element started on cells for 15 harmonics and climbed to 31 on them:
+    ``UnresolvedWave`` ('cells=27 are too few for harmonic 31 ... use at least 33 cells'), cells the caller never
+    gave, while the same element answered after a call at a lower frequency."""
+    from contact_models import AllModeMicroslip, Bar, UniformLoad
+
+    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    fresh = AllModeMicroslip(bar, UniformLoad(N=100.0)).fourier(1e-6, 3.0e5)
+    warm = AllModeMicroslip(bar, UniformLoad(N=100.0))
+    warm.fourier(1e-6, 3.0e4)
+    np.testing.assert_allclose(fresh, warm.fourier(1e-6, 3.0e5), rtol=1e-3)

@@ -606,3 +606,19 @@ def test_the_numerical_bar_refuses_a_ramp_longer_than_its_cycle_budget(kwargs):
     with pytest.raises(ValueError, match=r"^ramp_cycles must be <= max_cycles .* got ramp_cycles="):
         NumericalMicroslip(Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3),
                            UniformLoad(N=100.0), **kwargs)
+
+
+@pytest.mark.parametrize("kw, message", [
+    # before: TypeError "unhashable type: 'list'" while counting the balance's DOFs, and numpy's "truth value of an
+    # array is ambiguous" for the model
+    (dict(response_dof=[0]), r"^response_dof must be a DOF index in 0..0, got response_dof=\[0\]$"),
+    (dict(response_dof=np.zeros((2, 2))), r"^response_dof must be a DOF index in 0..0, got response_dof=array"),
+    (dict(model=np.array(["given", "peak"])), r"^model must be one of 'given', 'peak', 'auto', got model=array"),
+])
+def test_a_response_dof_or_model_that_is_an_array_is_refused_by_name(kw, message):
+    from contact_models import Macroslip
+    from hbm import Blade, frequency_response
+
+    with pytest.raises(ValueError, match=message):
+        frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0), Macroslip(1e3, 0.5),
+                           omega_range=(90.0, 110.0), **kw)

@@ -152,6 +152,32 @@ def test_a_function_load_negative_somewhere_is_refused_when_it_has_a_length():
         FunctionLoad(lambda x: -1.0 + 0.0 * x).on(0.05)
 
 
+@pytest.mark.parametrize("returned, shown", [
+    # before: numpy's "could not convert string to float: 'a'", a complex q taken as its real part with a
+    # ComplexWarning, and True taken as a load of 1 N/m
+    (lambda x: "a", "'a'"), (lambda x: (2000.0 + 1.0j) + 0.0 * x, "array([2000.+1.j"), (lambda x: x >= 0.0, "array([ True"),
+])
+def test_a_function_load_returning_no_real_numbers_is_refused_naming_func(returned, shown):
+    from contact_models import AllModeMicroslip, FunctionLoad
+
+    message = rf"^func must return real numbers \(N/m\), got func=.* returning {re.escape(shown)}"
+    with pytest.raises(ValueError, match=message):
+        FunctionLoad(returned, L=0.05)
+    with pytest.raises(ValueError, match=message):  # bound by the element's bar
+        AllModeMicroslip(Bar(**BAR), FunctionLoad(returned), cells=20, harmonics=1)
+
+
+@pytest.mark.parametrize("kw", [dict(x=["0", "0.05"], values=[1.0, 1.0]), dict(x=[0.0, 0.05], values=["1", "1"]),
+                                dict(x=[0.0, 0.05], values=[True, 1.0])])
+def test_a_sampled_load_of_strings_or_booleans_is_refused_naming_x_and_values(kw):
+    """Strings were read as numbers and True as 1 N/m (numpy's float conversion)."""
+    from contact_models import SampledLoad
+
+    with pytest.raises(ValueError, match=rf"^x and values must be arrays of numbers, got x={re.escape(repr(kw['x']))}, "
+                                         rf"values={re.escape(repr(kw['values']))}$"):
+        SampledLoad(**kw)
+
+
 @pytest.mark.parametrize("load", ["x", None, 100.0])
 def test_slip_onset_names_a_load_that_is_not_a_load(load):
     with pytest.raises(ValueError, match=r"^load must be a normal load \(UniformLoad, QuadraticLoad, FunctionLoad or "

@@ -7,6 +7,8 @@ element at its own omega; the omega-derivative against a difference of the force
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -166,3 +168,13 @@ def test_the_load_and_the_preloaded_element_name_a_bad_frequency(omega):
     for call in (load, load.derivative, load.speed, el.at):
         with pytest.raises(ValueError, match=r"^omega must be (>= 0|finite|a number), got omega="):
             call(omega)
+
+
+@pytest.mark.parametrize("returned", ["x", None, np.array([1.0, 2.0]), True, 1.0 + 0.0j])
+def test_a_load_that_returns_no_real_number_is_refused_naming_load(returned):
+    """A string, None or an array failed in float() (naming nothing), and True was taken as a preload of 1 N."""
+    from contact_models import Macroslip
+
+    with pytest.raises(ValueError, match=rf"^load must return a preload \(N\), a real number, got load\(1\.0\) = "
+                                         rf"{re.escape(repr(returned))}$"):
+        RotatingPreload(lambda N: Macroslip(1e6, N + 1.0), lambda omega: returned)

@@ -1,6 +1,7 @@
 """The continuation core on curves with known answers (it knows nothing of friction)."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -235,3 +236,25 @@ def test_bad_residual_and_start_named():
         continuation(3, [0.0, 0.0])
     with pytest.raises(ValueError, match=r"^y0 must be finite, got y0=array\(\[nan,  0.\]\)$"):
         continuation(sine, [math.nan, 0.0])
+
+
+@pytest.mark.parametrize("returned, got", [
+    # before: a residual of the wrong shape was traced (the null space of its Jacobian taken for the tangent) and
+    # returned as a converged branch; None was "cannot unpack non-iterable NoneType object"
+    ((np.zeros(3), np.zeros((3, 2))), "R of shape (3,) and J of shape (3, 2)"),
+    ((np.zeros(1), np.zeros((2, 2))), "R of shape (1,) and J of shape (2, 2)"),
+    (None, "NoneType None"),
+])
+def test_a_residual_of_the_wrong_shape_is_refused_at_its_first_call(returned, got):
+    from hbm.continuation import ResidualContractError
+
+    with pytest.raises(ResidualContractError, match=r"^residual\(y\) must return \(R, J\) with R of shape \(1,\) and J "
+                                                    rf"of shape \(1, 2\) for y0 of 2 components, got {re.escape(got)}$"):
+        continuation(lambda y: returned, [1.0, 0.0], bounds=(0.0, 0.9))
+
+
+def test_a_direction_that_is_an_array_is_refused_by_name():
+    """``direction not in (1, -1)`` with an array was numpy's "truth value of an array is ambiguous"."""
+    with pytest.raises(ValueError, match=r"^direction must be \+1 or -1, got direction=array"):
+        continuation(lambda y: (np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2 * y[0], 2 * y[1]]])),
+                     [1.0, 0.0], bounds=(0.0, 0.9), direction=np.ones((2, 2)))

@@ -356,3 +356,18 @@ def test_sector_jacobian_against_differences(name):
     fd = np.column_stack([(sb.physical(np.append(X + h * e, w))[0] - sb.physical(np.append(X - h * e, w))[0]) / (2 * h)
                           for e in np.eye(X.size)])
     assert np.allclose(J[:, :-1], fd, rtol=1e-4, atol=1e-4 * np.max(np.abs(fd)))
+
+
+@pytest.mark.parametrize("contacts, message", [
+    (3, r"^contacts must be a contact element or a sequence of hbm.Contact, got contacts=3$"),  # was: not iterable
+    ("x", r"^contacts must be a contact element \(a contact_models.ContactElement\), an hbm.Contact or a sequence "
+          r"of hbm.Contact, got contacts='x'$"),
+])
+def test_the_whole_disk_refuses_contacts_that_are_no_contacts_by_name(contacts, message):
+    K = np.array([[3.0, -1.0], [-1.0, 1.0]])
+    disk = hbm.CyclicStructure(np.eye(2), 0.01 * np.eye(2), K, sectors=6, engine_order=2, force=[0.0, 1.0],
+                               K_next=np.array([[-1.0, 0.0], [0.0, 0.0]]))
+    with pytest.raises(ValueError, match=message):
+        disk.full(contacts)
+    one = hbm.Contact(Macroslip(stiffness=1.0, slip_force=0.1), dof=0)  # one Contact, as frequency_response takes it
+    assert [c.dofs for c in disk.full(one)[1]] == [(2 * j,) for j in range(6)]

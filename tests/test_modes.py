@@ -239,6 +239,53 @@ def test_bad_input_names_the_value(kwargs, message):
         nonlinear_modes(s, contacts, **{"amplitudes": [0.01, 1.0], **kwargs})
 
 
+@pytest.mark.parametrize("amplitudes", [True, [True, 2.0]])
+def test_a_boolean_amplitude_is_refused_by_name(amplitudes):
+    """True was read as an amplitude of 1.0 (alone, or among numbers in a list, which numpy converts)."""
+    s, contacts = ground()
+    with pytest.raises(ValueError, match=rf"^amplitudes must be finite numbers > 0, got amplitudes={re.escape(repr(amplitudes))}$"):
+        nonlinear_modes(s, contacts, amplitudes=amplitudes)
+
+
+@pytest.mark.parametrize("force", [True, [True]])
+def test_the_forced_response_refuses_a_boolean_force_by_name(force):
+    """True was read as a force of 1 N (forced_response and damper_optimum share the check)."""
+    case = default_case()
+    sm = math.sqrt(case.blade.mass)
+    m = nonlinear_modes(case.blade.as_structure(), [Contact(case.element, dof=0)],
+                        amplitude_range=(1e-8 * sm, 1e-5 * sm))
+    with pytest.raises(ValueError, match=rf"^force must be 1 finite numbers, not all zero, got force={re.escape(repr(force))}$"):
+        forced_response(m, force=force)
+
+
+@pytest.mark.parametrize("force, where", [
+    # before: numpy.linalg.LinAlgError (r^2 = inf in the quartic's roots) and ZeroDivisionError (r^2 = 0)
+    (1e300, "beyond the branch's last amplitude"), (1e200, "beyond the branch's last amplitude"),
+    (1e-300, "below the branch's first amplitude"), (1e-200, "below the branch's first amplitude"),
+])
+def test_a_force_whose_square_leaves_double_precision_says_where_the_peak_lies(force, where):
+    case = default_case()
+    sm = math.sqrt(case.blade.mass)
+    m = nonlinear_modes(case.blade.as_structure(), [Contact(case.element, dof=0)],
+                        amplitude_range=(1e-8 * sm, 1e-5 * sm))
+    with pytest.raises(ValueError, match=rf"^modes must reach the peak's modal amplitude .*the peak lies {where}.* "
+                                         rf"max \|f\| = {re.escape(format(force, '.4g'))} N$"):
+        forced_response(m, force=[force])
+
+
+def test_the_forced_response_of_a_mode_without_points_is_refused_by_name():
+    """A mode of no points (none of the amplitudes asked for located): its first amplitude was an IndexError."""
+    from dataclasses import replace
+
+    s, contacts = ground()
+    m = nonlinear_modes(s, contacts, amplitudes=[0.01, 1.0])
+    m = replace(m, amplitude=m.amplitude[:0], omega=m.omega[:0], damping_ratio=m.damping_ratio[:0],
+                shapes=m.shapes[:0], points=m.points[:0], residual_norm=m.residual_norm[:0])
+    assert len(m) == 0
+    with pytest.raises(ValueError, match=r"^modes must reach the peak's modal amplitude, got a mode of no points$"):
+        forced_response(m)
+
+
 def test_a_contact_past_the_structure_is_refused_by_name():
     s, _ = ground()
     with pytest.raises(ValueError, match=r"^dof must be a DOF index in 0..1, got dof=5 in "):
@@ -297,6 +344,20 @@ def test_damper_optimum_names_bounds_where_a_bound_gives_no_contacts(bounds, at,
                                          rf"got bounds={re.escape(repr(bounds))}$"):
         damper_optimum(s, contacts_of, bounds, amplitude_range=(0.1, 1.0))
     assert traced == list(bounds)[:list(bounds).index(at) + 1]  # each bound built once, nothing traced
+
+
+def test_damper_optimum_stopped_before_the_optimum_keeps_its_curve_and_says_why():
+    """A trace that used up max_steps at 30.8 N was reported as 'bounds must contain the optimum: the smallest peak
+    on the traced curve is at p1 (30.8352)': the bracket blamed, p1 named for a point short of it, the curve lost."""
+    case = default_case()
+    bar, sm = case.element.bar, math.sqrt(case.blade.mass)
+    opt = damper_optimum(case.blade.as_structure(), lambda N: [Contact(TwoRegionMicroslip(bar, UniformLoad(N=N)), dof=0)],
+                         (30.0, 90.0), amplitude_range=(1e-8 * sm, 1e-5 * sm), max_steps=2)
+    assert not opt.success and not opt.peak.interior and not opt.peak.converged
+    assert opt.parameter == opt.parameters[-1] < 52.0 and opt.peak.amplitude == opt.peaks[-1] == opt.peaks.min()
+    assert re.match(r"^the peak curve ended at p=30\.\d+ before the optimum \(the peak still falls there\), short of "
+                    r"bounds\[1\]=90\.0: the step budget \(max_steps\) was used up", opt.message)
+    assert opt.peak.message == opt.message and np.isfinite(opt.peak.omega)
 
 
 def _example(name):

@@ -316,6 +316,15 @@ def test_bad_options(bar, kwargs, name):
         NumericalMicroslip(bar, UniformLoad(N=100.0), **kwargs)
 
 
+@pytest.mark.parametrize("name", ["quasi_static", "shooting"])
+def test_a_flag_given_an_array_or_a_number_is_refused_by_name(bar, name):
+    """An array failed in ``in (True, False)`` with numpy's "truth value of an array is ambiguous", naming
+    nothing; 0 was taken as False."""
+    for value in (np.ones((2, 2)), 0):
+        with pytest.raises(ValueError, match=rf"^{name} must be .*True or False, got {name}="):
+            NumericalMicroslip(bar, UniformLoad(N=100.0), **{name: value})
+
+
 def test_bad_inputs(bar):
     num = NumericalMicroslip(bar, UniformLoad(N=100.0), cells=20)
     with pytest.raises(ValueError, match="a"):

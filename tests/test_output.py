@@ -1,6 +1,7 @@
 """The one CSV layout and the one FRF figure (hbm.output)."""
 
 import csv
+import re
 import sys
 
 import matplotlib
@@ -132,6 +133,20 @@ def test_study_to_dataframe_is_its_table():
     assert list(frame.columns)[:3] == ["run", "id", "x"] and frame["peak_amplitude_m"].tolist() == [1.0, 4.0]
 
 
+def test_plot_refuses_a_unit_that_is_no_name_by_name():
+    """A list or an array for a unit failed as ``TypeError: unhashable type: 'list'``, naming nothing."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from hbm import Blade, frequency_response
+
+    frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0), omega_range=(90.0, 110.0))
+    with pytest.raises(ValueError, match=r"^omega_unit must be one of 'rad/s', 'Hz', got omega_unit=\['Hz'\]$"):
+        frf.plot(omega_unit=["Hz"])
+    with pytest.raises(ValueError, match=r"^amplitude_unit must be one of 'm', 'um', got amplitude_unit=\[\]$"):
+        frf.plot(amplitude_unit=[])
+
+
 def test_plot_refuses_an_unknown_unit_and_an_ax_that_cannot_draw_by_name():
     import matplotlib
 
@@ -146,3 +161,26 @@ def test_plot_refuses_an_unknown_unit_and_an_ax_that_cannot_draw_by_name():
     with pytest.raises(ValueError, match=r"^ax must be a matplotlib Axes or None, got ax=3$"):
         frf.plot(ax=3)
     assert frf.plot(omega_unit="Hz", amplitude_unit="um").get_xlabel() == "frequency (Hz)"
+
+
+def test_to_csv_names_a_path_that_cannot_be_written(tmp_path, monkeypatch):
+    """A folder one may not write in (PermissionError), a name too long (OSError) and a null character came out as
+    the operating system's bare errors, naming no parameter."""
+    import pathlib
+
+    from hbm import Blade, frequency_response
+
+    frf = frequency_response(Blade(mass=1.0, stiffness=1.0e4, damping=2.0, force=1.0), omega_range=(90.0, 110.0))
+    long = tmp_path / ("x" * 300 + ".csv")
+    with pytest.raises(ValueError, match=r"^path must be a file that can be written, got path='.*\.\.\. \(File name too long\)$"):
+        frf.to_csv(long)
+    with pytest.raises(ValueError, match=r"^path must be a file path without a null character, got path="):
+        frf.to_csv(str(tmp_path / "a\0b.csv"))
+
+    def refused(self, *args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(self))
+
+    monkeypatch.setattr(pathlib.Path, "open", refused)
+    with pytest.raises(ValueError, match=rf"^path must be a file that can be written, got path='{re.escape(str(tmp_path))}/"
+                                         r"frf\.csv' \(Permission denied\)$"):
+        frf.to_csv(tmp_path / "frf.csv")

@@ -103,3 +103,22 @@ def test_model_auto_puts_the_inertia_back_where_it_matters():
     peak = frf.peak()
     assert abs(peak.amplitude / PEAK["amplitude"] - 1.0) <= 1e-3 and peak.estimate <= 1e-3
     assert frf.error_estimate.max() <= 1e-3
+
+
+def test_the_wrapped_elements_extras_exist_only_where_it_has_them():
+    """QuasiStatic(Jenkins).slip_stiffness() was an AttributeError raised inside, on the Jenkins element, and
+    PointContact.fit took the wrapper for a microslip element (it has the three methods) until that call."""
+    from contact_models import PointContact
+
+    qs = QuasiStatic(Macroslip(stiffness=1e6, slip_force=1.0))
+    assert not hasattr(qs, "slip_stiffness") and not hasattr(qs, "gross_slip_amplitude")
+    assert hasattr(qs, "loading_curve") and qs.loading_curve([1e-6]).tolist() == [1.0]  # Jenkins has this one
+    with pytest.raises(AttributeError, match=r"^QuasiStatic\(Macroslip\(.*\)\) has no slip_stiffness: the wrapped "
+                                             r"Macroslip has none$"):
+        qs.slip_stiffness()
+    with pytest.raises(ValueError, match=r"^element must have stuck_stiffness, slip_stiffness and gross_slip_amplitude .*"
+                                         r"without slip_stiffness, gross_slip_amplitude$"):
+        PointContact.fit(qs)
+    two = TwoRegionMicroslip(default_case().element.bar, UniformLoad(N=100.0))
+    assert QuasiStatic(two).slip_stiffness(3e4) == two.slip_stiffness(0.0)
+    assert QuasiStatic(two).gross_slip_amplitude() == two.gross_slip_amplitude(0.0)

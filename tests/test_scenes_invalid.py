@@ -13,6 +13,7 @@ import pytest
 
 from hbm.cli.main import main
 from hbm.scenes import SceneError, all_keys, load_scene, schema
+from hbm.scenes.validation import parse_override
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 # the default scene with the elements' rtol given by the key of earlier releases (the cases below edit it)
@@ -129,6 +130,21 @@ def test_bad_override_on_the_command_line_exits_2(tmp_path, capsys):
     scene.write_text(DEFAULT)
     assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--set", "sweep.max_step=-1"]) == 2
     assert "sweep.max_step = -1" in capsys.readouterr().err and not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("override, message", [
+    # before: the override was dropped in silence (the run went on with blade.mass as in the file, exit code 0)
+    ("blade.mass.x=3", "blade.mass.x = 3: cannot be set: blade.mass is 0.08771473371579717, not a table"),
+    ("sweep.omega.lo=1", "sweep.omega.lo = 1: cannot be set: sweep.omega is [0.24, 0.33], not a table"),
+])
+def test_an_override_below_a_value_that_is_no_table_exits_2_naming_it(tmp_path, capsys, override, message):
+    scene = tmp_path / "s.toml"
+    scene.write_text(DEFAULT)
+    assert main(["run", str(scene), "--out", str(tmp_path / "o"), "--check", "--set", override]) == 2
+    err = capsys.readouterr().err
+    assert f"{scene}: {message}" in err and "Traceback" not in err and not (tmp_path / "o").exists()
+    with pytest.raises(SceneError, match=re.escape(message)):
+        load_scene(scene, overrides=dict([parse_override(override)]))
 
 
 def test_invalid_scene_exit_code_from_a_real_process(tmp_path):

@@ -65,6 +65,13 @@ def test_structure_scene_is_the_api_computation(files, H):
     assert frf.amplitude[0] == pytest.approx(abs(x[2]), rel=1e-8)
 
 
+@pytest.mark.parametrize("dofs", [[[0, 1]], [[0, 0]], [0, [1]]])
+def test_contact_dofs_holding_a_list_are_refused_naming_the_key(files, dofs):
+    """A list among the DOFs was a TypeError "unhashable type: 'list'" out of the validation (a traceback, exit code 1)."""
+    with pytest.raises(SceneError, match=r"structure.contact_dofs = \[.*\]: must be a list of one DOF index"):
+        scene_from_dict(scene(files, contact_dofs=dofs), files / "bad.toml")
+
+
 def test_structure_scene_errors_name_their_keys(files):
     with pytest.raises(SceneError) as err:
         scene_from_dict(scene(files, modal_damping=0.01, contact_dofs=[1, 1]), files / "bad.toml")

@@ -183,3 +183,25 @@ def test_modal_compliance_is_the_inverse_dynamic_stiffness(classical):
     lam, V, B = modal_compliance(M, C, K)
     for s in (0.0, 0.7j, 0.3 + 1.1j):
         np.testing.assert_allclose(V @ np.diag(1 / (s - lam)) @ B, np.linalg.inv(K + s * C + s * s * M), atol=1e-13)
+
+
+def test_a_reduced_structure_refuses_a_boolean_T_and_a_kept_that_is_no_sequence_by_name():
+    """T of booleans was taken as ones and zeros, and kept=3 was a TypeError 'not iterable'."""
+    from hbm import ReducedStructure
+
+    n = 6
+    K = 2 * np.eye(n) - np.eye(n, k=1) - np.eye(n, k=-1)
+    r = Structure(np.eye(n), 0.01 * np.eye(n), K, force=np.eye(n)[-1]).reduce([0, 5], modes=2)
+    with pytest.raises(ValueError, match=r"^T must be a 6 x 4 matrix of numbers, got T=array\(\[\[ True"):
+        ReducedStructure(r.M, r.C, r.K, force=r.force, T=np.ones(r.T.shape, dtype=bool), kept=r.kept, full=r.full)
+    with pytest.raises(ValueError, match=r"^kept must be a sequence of DOF indices of full, got kept=3$"):
+        ReducedStructure(r.M, r.C, r.K, force=r.force, T=r.T, kept=3, full=r.full)
+
+
+@pytest.mark.parametrize("kw, name", [(dict(force=[True, 1.0]), "force"), (dict(M=[[1.0, False], [False, 1.0]]), "M")])
+def test_a_boolean_among_the_numbers_of_a_list_is_refused_by_name(kw, name):
+    """numpy reads [True, 1.0] as [1.0, 1.0]: the booleans were taken among the numbers of a list."""
+    args = dict(M=np.eye(2), C=0.01 * np.eye(2), K=np.eye(2), force=[0.0, 1.0], **{})
+    args.update(kw)
+    with pytest.raises(ValueError, match=rf"^{name} must be a .*of .*numbers, got {name}=\["):
+        Structure(args.pop("M"), args.pop("C"), args.pop("K"), **args)

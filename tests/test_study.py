@@ -304,6 +304,17 @@ def test_cli_refuses_workers_without_a_study(tmp_path, capsys):
     assert "need a [study] table" in capsys.readouterr().err
 
 
+@pytest.mark.parametrize("workers", ["0", "-3", "x", "1.5"])
+def test_cli_refuses_workers_that_are_no_count_by_name_even_with_check(tmp_path, capsys, workers):
+    """--workers 0 passed --check (exit code 0) and failed a run as a computation; "x" named argparse's int."""
+    scene = tmp_path / "plain.toml"
+    scene.write_text(SCENE)
+    with pytest.raises(SystemExit) as stop:
+        main(["run", str(scene), "--check", "--workers", workers])
+    assert stop.value.code == 2
+    assert f"argument --workers: must be an integer >= 1 (processes), got --workers {workers}" in capsys.readouterr().err
+
+
 @pytest.mark.parametrize("module", ["hbm.study", "hbm.designs", "hbm.study.figures", "hbm.study.runs",
                                     "hbm.study.store", "hbm.scenes.validation"])
 def test_docstring_examples(module, tmp_path, monkeypatch):

@@ -67,7 +67,7 @@ from .compiled import kernels
 from .estimate import model_errors
 from .memo import EvenBlockLater, ForceMemo, truncated
 from .rungs import CURVE_MAX_CELLS, START_CELLS, START_HARMONICS, next_rung, probed_rung
-from .segments import KINDS as LINEAR_KINDS, UnresolvedWave
+from .segments import KINDS as LINEAR_KINDS, UnresolvedWave, cells_for_phase
 from .solve import (EVEN_ROUNDING, NEWTON_MAX_ITER, NEWTON_TOL, AllModeSolution, FixedBar, checked_mesh,
                     checked_samples, end_vector, is_odd, pad_harmonics, scaled_samples, transferred)
 
@@ -189,7 +189,7 @@ class AllModeMicroslip(ContactElement):
         self.tol = positive("tol", tol)
         if not self.tol < 1.0:
             raise ValueError(f"tol must be in (0, 1), got tol={tol!r}")
-        if linear not in LINEAR_KINDS:
+        if not isinstance(linear, str) or linear not in LINEAR_KINDS:  # (an array: numpy's ambiguous truth)
             raise ValueError(f"linear must be one of {', '.join(map(repr, LINEAR_KINDS))}, got linear={linear!r}")
         self.bar, self.linear = bar, linear
         self.load = bound_load(load, bar.L)
@@ -502,6 +502,8 @@ class AllModeMicroslip(ContactElement):
                 n = min(2 * n, MAX_CELLS)
             elif up:
                 H = up[0]
+                if self.cells is None:  # at least the fewest cells that hold its wavelength (the mesh chosen for
+                    n = min(MAX_CELLS, max(n, cells_for_phase(self.bar, omega, H)))  # the lower one: UnresolvedWave)
             else:
                 break
         self._last = (n, H, *(relative(parts[k], sol.F[1:3], floor) for k in ("cells", "harmonics")))

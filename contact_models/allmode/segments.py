@@ -48,6 +48,9 @@ SERIES_Z = 1e-3
 KINDS = ("exact", "lumped")
 #: The floor of the stuck stiffness's relative estimate, a share of k* (as the validity map's).
 FLOOR_SHARE = 0.01
+#: The most cells the stuck bar is built on to hold the wavelength of harmonic 1 (``exact_stuck``): a frequency
+#: that asks for more is refused by name (the bar's arrays would exhaust the memory: 1e50 rad/s asked 1e45).
+MAX_STUCK_CELLS = 2**22
 
 
 class UnresolvedWave(ValueError):
@@ -94,8 +97,12 @@ def segment_functions(z: Array) -> tuple[Array, Array, Array, Array]:
 
 def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
     """The fewest cells whose segments stay below ``MAX_SEGMENT_PHASE`` at harmonic H of omega."""
-    q = (bar.rho * bar.A * (H * omega) ** 2 - bar.k) / bar.EA
-    return max(1, int(math.floor(math.sqrt(max(q, 0.0)) * bar.L / MAX_SEGMENT_PHASE)) + 1)
+    try:
+        q = (bar.rho * bar.A * (H * omega) ** 2 - bar.k) / bar.EA
+    except OverflowError:  # (H omega)^2 beyond double precision (omega above about 1e154 rad/s)
+        q = math.inf
+    cells = math.sqrt(max(q, 0.0)) * bar.L / MAX_SEGMENT_PHASE
+    return max(1, int(math.floor(min(cells, 2.0**62))) + 1)
 
 
 class Segments:
@@ -178,6 +185,10 @@ def exact_stuck(bar: Bar, disc_of: Callable[[int], _Discretisation], omega: floa
     to 2n cells (rounding); a_min is the least of n cells' nodes and of ``fine`` cells' nodes, which sample
     the load q(x) finely (the nodes of a coarse mesh can miss a pocket of low load, where slip starts)."""
     n = max(n, cells_for_phase(bar, omega, 1))
+    if n > MAX_STUCK_CELLS:
+        raise UnresolvedWave(f"omega={omega!r} rad/s is too high for the bar with every mode: its stuck bar needs "
+                             f"{n:.3g} cells to hold the wavelength of harmonic 1, more than MAX_STUCK_CELLS = "
+                             f"{MAX_STUCK_CELLS} (contact_models.allmode.segments)")
     K, a_own = stuck_end(bar, disc_of(n), omega, "exact")
     K2, _ = stuck_end(bar, disc_of(2 * n), omega, "exact")
     a_fine = stuck_end(bar, disc_of(max(fine, n)), omega, "exact")[1]

@@ -88,9 +88,10 @@ def flag(name: str, value: object) -> bool:
 
 def number_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     """``value`` as a float array, refusing what ``numpy.asarray(value, dtype=float)`` would read or
-    convert silently: strings (``"1"``), booleans, None, complex numbers; finiteness is not checked."""
-    if value is None or isinstance(value, (str, bytes, bool, np.bool_)):
-        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={value!r}")
+    convert silently: strings (``"1"``), booleans (also among numbers in a list: ``[True, 2.0]``), None,
+    complex numbers; finiteness is not checked."""
+    if value is None or isinstance(value, (str, bytes, bool, np.bool_)) or _holds_bool(value):
+        raise ValueError(f"{name} must be a number or an array of numbers, got {name}={shown(value)}")
     try:
         arr = np.asarray(value)
         kind = arr.dtype.kind
@@ -102,6 +103,12 @@ def number_array(name: str, value: ArrayLike) -> NDArray[np.float64]:
     if kind not in "fiu":
         raise ValueError(f"{name} must be a number or an array of numbers, got {name}={shown(value)}")
     return arr.astype(float, copy=False)
+
+
+def _holds_bool(value: object) -> bool:
+    """Whether a list or tuple (nested) holds a boolean: ``numpy.asarray([True, 2.0])`` reads it as 1.0."""
+    return isinstance(value, (list, tuple)) and any(
+        isinstance(v, (bool, np.bool_)) or _holds_bool(v) for v in value)
 
 
 def finite_array(name: str, value: ArrayLike) -> NDArray[np.float64]:

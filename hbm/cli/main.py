@@ -411,6 +411,18 @@ def _seconds(text: str) -> float:
     return value
 
 
+def _workers(text: str) -> int:
+    """argparse's type of ``--workers``: an integer >= 1 (as ``study.workers``; ``run_study`` refused 0 only once
+    the study started, as a failed computation, and ``--check`` passed it)."""
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1 (processes), got --workers {text}")
+    return value
+
+
 def _relative(option: str, upper: float, names: dict | None = None) -> Callable[[str], float]:
     """argparse's type of a relative tolerance ``option``: a number in [MIN_RELATIVE_TOL, upper), or a name of
     ``names`` standing for its number (``--tol precise``, as ``frequency_response(tol="precise")``)."""
@@ -456,7 +468,7 @@ def _run_arguments(parser):
                         help="override a key of the scene (VALUE in TOML syntax), e.g. --set sweep.max_step=0.1")
     parser.add_argument("--quiet", action="store_true", help="no progress line")
     parser.add_argument("--check", action="store_true", help="validate and print the effects; compute nothing")
-    parser.add_argument("--workers", type=int, default=None, metavar="N",
+    parser.add_argument("--workers", type=_workers, default=None, metavar="N",
                         help="a study: processes (or Dask LocalCluster workers); default every core")
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="a study: run on the Dask scheduler at ADDRESS (tcp://host:8786)")

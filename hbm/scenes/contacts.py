@@ -49,8 +49,8 @@ ENTRY_KEYS = {"model": "the element: a registered model (python -m hbm models), 
 
 def dof_list(v: Any) -> tuple:
     """A list of one DOF index (to ground) or of two different ones (between them), as a tuple."""
-    if (not isinstance(v, list) or len(v) not in (1, 2) or len(set(v)) != len(v)
-            or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in v)):
+    if (not isinstance(v, list) or len(v) not in (1, 2)  # the entries checked before set() hashes them (a list)
+            or any(isinstance(x, bool) or not isinstance(x, int) or x < 0 for x in v) or len(set(v)) != len(v)):
         raise Invalid("must be a list of one DOF index (a contact to ground) or of two different ones "
                       "(a contact between them), each an integer >= 0")
     return tuple(v)

@@ -226,8 +226,8 @@ def scene_from_dict(data: dict, path: str | Path = "<scene>", *, overrides: Mapp
     (('macroslip',), 50)
     """
     path = Path(path)
-    data = apply_overrides(data, overrides or {})
     problems: list[str] = []
+    data = apply_overrides(data, overrides or {}, problems=problems, path=path)
     tables = schema()
     values, given, present = _check_keys(tables, data, path, problems)
     scene = _Rules(tables, values, given, present, path, problems).scene()
@@ -236,9 +236,12 @@ def scene_from_dict(data: dict, path: str | Path = "<scene>", *, overrides: Mapp
     return scene
 
 
-def apply_overrides(data: dict, overrides: Mapping[str, Any]) -> dict:
+def apply_overrides(data: dict, overrides: Mapping[str, Any], *, problems: list | None = None,
+                    path: str | Path = "<scene>") -> dict:
     """A copy of the parsed TOML ``data`` with each ``"table.key"`` of ``overrides`` set (tables
-    created as needed; a name whose table is not a table is left for validation to report).
+    created as needed).  A name below a key that holds a value, not a table (``blade.mass.x`` where
+    ``blade.mass`` is a number), cannot be set: a ``SceneError`` naming it (appended to ``problems``
+    where given, for validation to report with the rest), never an override dropped in silence.
 
     Examples
     --------
@@ -246,15 +249,23 @@ def apply_overrides(data: dict, overrides: Mapping[str, Any]) -> dict:
     {'damper': {'mu': 0.3, 'load': {'N': 50.0}}}
     """
     data = _copy(data)
+    found: list[str] = []
     for dotted, value in overrides.items():
         *tables, key = dotted.split(".")
         node = data
-        for t in tables:
-            node = node.setdefault(t, {})
-            if not isinstance(node, dict):
+        for i, t in enumerate(tables):
+            inner = node.setdefault(t, {})
+            if not isinstance(inner, dict):
+                found.append(f"{path}: {dotted} = {show(value)}: cannot be set: {'.'.join(tables[:i + 1])} is "
+                             f"{show(inner)}, not a table")
                 break
-        if isinstance(node, dict):
+            node = inner
+        else:
             node[key] = value
+    if found and problems is None:
+        raise SceneError(found)
+    if found:
+        problems.extend(found)
     return data
 
 
