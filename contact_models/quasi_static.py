@@ -110,11 +110,9 @@ class QuasiStatic(ContactElement):
     @property
     def has_time_law(self) -> bool:
         """True when the wrapped element's virgin loading curve at omega = 0 is a time law by Masing's rules with
-        memory: it has a loading curve of its own (a wrapped ``QuasiStatic`` only where it has a time law itself,
-        whatever methods it defines) and a finite stuck stiffness (the rigid slider's curve is a step)."""
+        memory: it has a loading curve (a wrapped ``QuasiStatic`` has one only where its own element has) and a
+        finite stuck stiffness (the rigid slider's curve is a step)."""
         el = self.element
-        if isinstance(el, QuasiStatic):
-            return el.has_time_law
         return callable(getattr(el, "loading_curve", None)) and math.isfinite(float(el.stuck_stiffness(0.0)))
 
     def _loading_slope(self, x, omega):
