@@ -1,0 +1,95 @@
+"""Hard cases through the front door at its default settings, ``frequency_response(s, cs,
+omega_range, tol=tol)`` (H chosen by the tolerance, default steps), against independent periodic
+responses, both directions, tol = 1e-3 and 1e-5.
+
+References: ``tests/data/hard_case_hunt.json``, written by ``benchmarks/hard_case_hunt.py``
+(shooting on event-driven exact stick/slip integration, ``hbm.periodic_response`` and
+``hbm.periodic_peak``; no balance).  Each case's parameters are stored with it and the structure
+is rebuilt from them (``build``).  The cases: internal resonances 2:1, 3:1, 5:1 (one at 1e-4
+damping), a contact between two masses, two contacts whose slip forces are 20 times apart, the
+slip onset at the stuck peak, damping 1e-4, slip forces 1e-3 and 100 times the stuck force, a
+contact 100 and 1000 times the structure's stiffness, ranges starting and ending on the peak.
+
+The contract asserted for every call:
+
+- every reference point within ``tol`` of the balance at the same omega, or an ``AccuracyWarning``;
+- where the true error exceeds tol/10, the estimate (the larger of the two bracketing points')
+  at least half of it;
+- the branch reaches the end of ``omega_range``, or a warning says it stopped;
+- ``peak()`` within ``tol`` of the true peak's amplitude, or a warning; a true peak at an end of
+  the range flagged (``interior`` False and a warning).
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hbm
+from contact_models import AccuracyWarning
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+hunt = __import__("hard_case_hunt")
+DATA = json.loads((ROOT / "tests" / "data" / "hard_case_hunt.json").read_text())["cases"]
+
+#: Calls that take more than about a second each with their comparisons (the stiff contact reaches
+#: H = 31 over the whole range; the three-mass chain and the two-contact cases at tol = 1e-5).
+SLOW = {("stiff_1000", 1e-3), ("stiff_1000", 1e-5), ("chain3_between", 1e-5), ("two_contacts", 1e-5),
+        ("two_contacts_onset", 1e-5), ("ir31_between", 1e-5)}
+
+
+def _trace(name, tol, reverse):
+    case = DATA[name]
+    s, cs = hunt.build(case["parameters"])
+    lo, hi = case["omega_range"]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        frf = hbm.frequency_response(s, cs, omega_range=(hi, lo) if reverse else (lo, hi), tol=tol)
+    said = [str(w.message) for w in caught if issubclass(w.category, AccuracyWarning)]
+    return frf, said
+
+
+def _params():
+    out = []
+    for name in sorted(DATA):
+        for tol in (1e-3, 1e-5):
+            for reverse in (False, True):
+                marks = [pytest.mark.slow] if (name, tol) in SLOW else []
+                out.append(pytest.param(name, tol, reverse, marks=marks,
+                                        id=f"{name}-{tol:.0e}-{'down' if reverse else 'up'}"))
+    return out
+
+
+@pytest.mark.parametrize("name, tol, reverse", _params())
+def test_within_tol_or_warned(name, tol, reverse):
+    case = DATA[name]
+    frf, said = _trace(name, tol, reverse)
+    assert len(said) <= 1, said  # one warning per call
+    warned = bool(said)
+    lo, hi = case["omega_range"]
+    # the end of the range, or a warning
+    end = lo if reverse else hi
+    reached = frf.success and abs(frf.omega[-1] - end) <= 1e-9 * end
+    assert reached or warned, frf.message
+    # every reference point: within tol or warned; the estimate reads the true error
+    compared = 0
+    for w, refs in case["points"]:
+        for i in hunt.crossings(frf, w) if refs else ():
+            a, est = hunt.at_omega(frf, i, w)
+            err = min(abs(a / ref - 1.0) for ref in refs)
+            assert err <= tol or warned, (w, err, est)
+            if err > tol / 10:
+                assert est >= err / 2, (w, err, est)
+            compared += 1
+    assert compared >= 0.8 * len(case["points"]) or not reached
+    # the peak: within tol or warned; at an end of the range, flagged
+    pk, ref = frf.peak(), case["peak"]
+    assert abs(pk.amplitude / ref["amplitude"] - 1.0) <= tol or warned, (pk, ref)
+    if min(abs(ref["omega"] - lo), abs(ref["omega"] - hi)) <= 1e-7 * hi:
+        assert not pk.interior and warned, pk
