@@ -395,10 +395,25 @@ class _Trace:
                 if self.rejected is not None and turn > CORNER_RATIO * self.rejected[0]:
                     self.corners.append(len(self.ys))
                     self.rejected = None
+                    t_new = self._oriented(new.J, t_new)
                 else:
                     ok, reason = False, f"tangent turned by {turn:.3g} rad"
                     self.rejected = (turn, self.h)
         return ok, reason, t_new, turn
+
+    def _oriented(self, J, t_new):
+        """``t_new`` (a unit null vector of ``J``, scaled at ``y``) oriented like the branch at a corner.
+
+        Past a corner the tangent has turned by more than ``REJECT_TURN``; near 90 degrees
+        ``t_new . t`` is close to zero and its sign says nothing about which way the branch goes on
+        (a branch whose tangent turned by 89 degrees in the scaled coordinates would be traced back
+        the way it came).  The sign of ``det [J diag(s); t]`` is kept along a branch, across the
+        kinks of a continuous piecewise-smooth residual too (Allgower & Georg ch. 2, 12), so
+        ``t_new`` is flipped where its sign differs from the last point's."""
+        if self.J is None:
+            return t_new
+        old, new = _orientation(self.J, self.s, self.t), _orientation(J, self.s, t_new)
+        return -t_new if old * new < 0.0 else t_new
 
     def _round_corner(self, new, y_pred) -> bool:
         """Step around a corner the failed corrector has shown; True if a point beyond it was accepted.

@@ -93,3 +93,22 @@ def test_within_tol_or_warned(name, tol, reverse):
     assert abs(pk.amplitude / ref["amplitude"] - 1.0) <= tol or warned, (pk, ref)
     if min(abs(ref["omega"] - lo), abs(ref["omega"] - hi)) <= 1e-7 * hi:
         assert not pk.interior and warned, pk
+
+
+def test_a_branch_whose_tangent_turns_by_90_degrees_is_not_traced_back():
+    """The 3:1 chain with the contact between the two masses: at omega = 0.9454 the slipping branch
+    rises steeply and its tangent (H = 15, scaled) turns by 89 degrees between two points.  That
+    turn is a corner (it does not shrink with the step), and the tangent there must keep the
+    branch's orientation: ``t . t_prev`` is 0.02 and says nothing, ``det [J; t]`` does.  Oriented by
+    the dot product the trace went back the way it came, reported a fold at 0.9454 and stopped at
+    w0 with the peak 9 % low; the true branch has no fold.  Against the periodic peak by shooting
+    (1.76066 at 0.96078)."""
+    frf, said = _trace("ir31_between", 1e-3, False)
+    ref = DATA["ir31_between"]["peak"]
+    assert frf.success and frf.omega[-1] == pytest.approx(1.3, abs=1e-12)
+    assert len(frf.fold_after) == 0
+    assert np.all(np.diff(frf.omega) > 0.0)
+    pk = frf.peak()
+    assert pk.amplitude == pytest.approx(ref["amplitude"], rel=1e-4)
+    assert pk.omega == pytest.approx(ref["omega"], rel=1e-4)
+    assert not said
