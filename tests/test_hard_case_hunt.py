@@ -113,3 +113,19 @@ def test_a_branch_whose_tangent_turns_by_90_degrees_is_not_traced_back():
     assert pk.omega == pytest.approx(ref["omega"], rel=1e-4)
     assert not said
 
+
+def test_a_descending_trace_past_a_sharp_peak_does_not_jump_to_the_other_flank():
+    """5:1 modes, 0.01 % damping, two contacts: going down in omega past the peak (40.16 at 1.0011)
+    the left flank is nearly vertical, and the corrector's hyperplane, normal to it, also crosses
+    the right flank.  At omega = 0.98996 the corrector landed there, 0.02 rad/s away (67 steps from
+    its predictor) with a tangent that had turned by 0.04 rad only; the trace then went back up to
+    w0, reporting a fold at 0.98996 that the branch does not have.  A corrector that moves farther
+    than the step from its predictor is a jump: the step is retried shorter."""
+    frf, said = _trace("sharp_peak_two", 1e-3, True)
+    ref = DATA["sharp_peak_two"]["peak"]
+    assert frf.success and frf.omega[-1] == pytest.approx(0.6, abs=1e-12)
+    assert len(frf.fold_after) == 0
+    assert np.all(np.diff(frf.omega) < 0.0)
+    assert frf.peak().amplitude == pytest.approx(ref["amplitude"], rel=1e-4)
+    assert not said
+
