@@ -129,3 +129,20 @@ def test_a_descending_trace_past_a_sharp_peak_does_not_jump_to_the_other_flank()
     assert frf.peak().amplitude == pytest.approx(ref["amplitude"], rel=1e-4)
     assert not said
 
+
+@pytest.mark.parametrize("name, tol, reverse", [("kink_peak_two", 1e-5, False), ("kink_peak", 1e-3, True)])
+def test_a_peak_on_a_corner_is_located(name, tol, reverse):
+    """Where a contact starts to slip at the maximum the response has a corner there, and Newton from
+    the chords between the sampled maximum's neighbours fails (the branch bends sharply in the higher
+    harmonics between them): the peak was the largest sampled point, 4.3e-4 below the true peak on
+    ``kink_peak_two`` (ascending, tol 1e-5; its estimate 9.4e-6) and 7.3e-4 on ``kink_peak``
+    (descending, tol 1e-3), with a warning.  The stretch between the neighbours is traced again at
+    finer steps and the peak located on the finer chords: within tol of the true peak, no warning."""
+    frf, said = _trace(name, tol, reverse)
+    ref = DATA[name]["peak"]
+    pk = frf.peak()
+    assert pk.converged and pk.interior, pk.message
+    assert pk.amplitude == pytest.approx(ref["amplitude"], rel=tol)
+    assert pk.omega == pytest.approx(ref["omega"], rel=10 * tol)
+    assert pk.estimate <= tol
+    assert not said
