@@ -2,7 +2,7 @@
 its default settings (H chosen by the tolerance, default steps), against independent periodic
 responses; the references are written to ``tests/data/hard_case_hunt.json``.
 
-Every case is a small structure with Jenkins contacts (``Macroslip``), its parameters stored with
+Every case is a small structure with Jenkins contacts (``Macroslip``; two with a cubic spring too), its parameters stored with
 its references so that ``tests/test_hard_case_hunt.py`` rebuilds exactly that system (``build``).
 What makes each hard is in ``CASES`` (``what``): internal resonances 2:1, 3:1, 5:1 reached by the
 contact's harmonics, a contact between two masses, two contacts with very different slip forces,
@@ -47,7 +47,7 @@ from pathlib import Path
 import numpy as np
 
 import hbm
-from contact_models import AccuracyWarning, Macroslip
+from contact_models import AccuracyWarning, CubicSpring, Macroslip
 from hbm import continuation
 
 OUT = Path(__file__).resolve().parents[1] / "tests" / "data" / "hard_case_hunt.json"
@@ -133,7 +133,14 @@ def build(p):
     for j in p["jenkins"]:
         at = {"dof": j["dof"]} if "dof" in j else {"dofs": tuple(j["dofs"])}
         cs.append(hbm.Contact(Macroslip(j["stiffness"], j["slip_force"]), **at))
+    for c in p.get("cubic", ()):
+        cs.append(hbm.Contact(CubicSpring(c["k3"]), dof=c["dof"]))
     return s, cs
+
+
+def with_cubic(p, dof, k3):
+    """The parameters ``p`` with a cubic spring ``k3 x_dof^3`` added (a hardening Duffing term for k3 > 0)."""
+    return {**p, "cubic": [*p.get("cubic", []), {"dof": dof, "k3": k3}]}
 
 
 #: name: (parameters, omega_range as traced ascending, what makes it hard, peak bracket).  A range
@@ -178,6 +185,10 @@ CASES = {
                       "the peak is a corner: the stronger of two contacts starts slipping at the maximum"),
     "kink_peak": (two_mode(1.5, 0.02, [((0, 1), 0.2, 1.5)], phi=0.4 * math.pi), (0.6, 1.3),
                   "2 % damping, slip onset just below the stuck peak: the maximum is a corner"),
+    "ir111_light": (two_mode(11.0, 1e-4, [(0, 0.5, 50.0)]), (0.6, 1.3),
+                    "11:1 internal resonance at 0.01 % damping: the 11th harmonic resonates with Q = 5000"),
+    "duffing_jenkins": (with_cubic(one_dof(0.005, 0.3, 3.0), 0, 1e-3), (0.8, 2.0),
+                        "hardening cubic spring with a Jenkins contact: two folds, three coexisting responses"),
     "start_on_peak": (one_dof(0.005, 0.3, 5.0), "peak-start", "range starting exactly on the true peak"),
     "end_on_peak": (one_dof(0.005, 0.3, 5.0), "peak-end", "range ending exactly on the true peak"),
     "end_on_peak_ir31": (two_mode(3.0, 0.005, [(0, 0.5, 20.0)]), "peak-end",
@@ -406,8 +417,8 @@ def main(argv):
             t = time.perf_counter()
             data[name] = compute(name)
             print(f"{name}: references in {time.perf_counter() - t:.1f} s", flush=True)
-        OUT.write_text(json.dumps({"reference": "hbm.periodic_response / hbm.periodic_peak (event-driven "
-                                   "exact stick/slip integration and shooting)", "cases": data}, indent=1) + "\n")
+            OUT.write_text(json.dumps({"reference": "hbm.periodic_response / hbm.periodic_peak (event-driven "
+                                       "exact stick/slip integration and shooting)", "cases": data}, indent=1) + "\n")
     silent = table(data, names)
     print(f"{len(silent)} silent failures")
     return silent

@@ -5,10 +5,12 @@ responses, both directions, tol = 1e-3 and 1e-5.
 References: ``tests/data/hard_case_hunt.json``, written by ``benchmarks/hard_case_hunt.py``
 (shooting on event-driven exact stick/slip integration, ``hbm.periodic_response`` and
 ``hbm.periodic_peak``; no balance).  Each case's parameters are stored with it and the structure
-is rebuilt from them (``build``).  The cases: internal resonances 2:1, 3:1, 5:1 (one at 1e-4
+is rebuilt from them (``build``).  The cases: internal resonances 2:1, 3:1, 5:1, 11:1 (two at 1e-4
 damping), a contact between two masses, two contacts whose slip forces are 20 times apart, the
-slip onset at the stuck peak, damping 1e-4, slip forces 1e-3 and 100 times the stuck force, a
-contact 100 and 1000 times the structure's stiffness, ranges starting and ending on the peak.
+slip onset at the stuck peak and peaks on a slip-onset corner, damping 1e-4, slip forces 1e-3 and
+100 times the stuck force, a contact 100 and 1000 times the structure's stiffness, a sharp peak
+whose flanks a corrector's hyperplane crosses both, a hardening cubic spring with a contact (two
+folds), ranges starting and ending on the peak.
 
 The contract asserted for every call:
 
@@ -39,9 +41,10 @@ hunt = __import__("hard_case_hunt")
 DATA = json.loads((ROOT / "tests" / "data" / "hard_case_hunt.json").read_text())["cases"]
 
 #: Calls that take more than about a second each with their comparisons (the stiff contact reaches
-#: H = 31 over the whole range; the three-mass chain and the two-contact cases at tol = 1e-5).
+#: H = 31 over the whole range; the three-mass chain, the cubic spring and the two-contact cases at
+#: tol = 1e-5).
 SLOW = {("stiff_1000", 1e-3), ("stiff_1000", 1e-5), ("chain3_between", 1e-5), ("two_contacts", 1e-5),
-        ("two_contacts_onset", 1e-5), ("ir31_between", 1e-5), ("kink_peak", 1e-5)}
+        ("two_contacts_onset", 1e-5), ("ir31_between", 1e-5), ("kink_peak", 1e-5), ("duffing_jenkins", 1e-5)}
 
 
 def _trace(name, tol, reverse):
