@@ -194,7 +194,7 @@ CASES = {
     "end_on_peak_ir31": (two_mode(3.0, 0.005, [(0, 0.5, 20.0)]), "peak-end",
                          "3:1 chain, range ending exactly on the true peak"),
     "end_on_ir_peak": (two_mode(3.0, 0.005, [(0, 0.5, 20.0)]), "peak-end",
-                       "3:1 chain, range ending on the internal resonance's local maximum (the peak interior)"),
+                       "3:1 chain, range ending on the internal resonance's local maximum (the range's largest response)"),
 }
 #: Where to look for each case's true peak when the range is built from it.
 PEAK_SEARCH = {"start_on_peak": (0.8, 1.4), "end_on_peak": (0.8, 1.4), "end_on_peak_ir31": (0.85, 0.95),
