@@ -2,12 +2,14 @@
 its default settings (H chosen by the tolerance, default steps), against independent periodic
 responses; the references are written to ``tests/data/hard_case_hunt.json``.
 
-Every case is a small structure with Jenkins contacts (``Macroslip``; two with a cubic spring too), its parameters stored with
-its references so that ``tests/test_hard_case_hunt.py`` rebuilds exactly that system (``build``).
-What makes each hard is in ``CASES`` (``what``): internal resonances 2:1, 3:1, 5:1 reached by the
-contact's harmonics, a contact between two masses, two contacts with very different slip forces,
-a slip onset at the peak, damping down to 1e-4, slip forces tiny and huge against the force, a
-stiff contact whose stuck and slipped resonances are far apart, ranges that start or end on the
+Every case is a small structure with Jenkins contacts (``Macroslip``; one with a cubic spring too),
+its parameters stored with its references so that ``tests/test_hard_case_hunt.py`` rebuilds
+exactly that system (``build``).
+What makes each hard is in ``CASES`` (``what``): internal resonances 2:1, 3:1, 5:1, 11:1 reached
+by the contact's harmonics, a contact between two masses, two contacts with very different slip
+forces, a slip onset at the peak and peaks on a slip-onset corner, a sharp peak, damping down to
+1e-4, slip forces tiny and huge against the force, a stiff contact whose stuck and slipped
+resonances are far apart, a hardening cubic spring (folds), ranges that start or end on the
 resonance, and every case traced in both directions.
 
 References: ``hbm.periodic_response`` / ``hbm.periodic_peak`` (``hbm.reference.shooting``:
@@ -194,7 +196,8 @@ CASES = {
     "end_on_peak_ir31": (two_mode(3.0, 0.005, [(0, 0.5, 20.0)]), "peak-end",
                          "3:1 chain, range ending exactly on the true peak"),
     "end_on_ir_peak": (two_mode(3.0, 0.005, [(0, 0.5, 20.0)]), "peak-end",
-                       "3:1 chain, range ending on the internal resonance's local maximum (the range's largest response)"),
+                       "3:1 chain, range ending on the internal resonance's local maximum (the range's "
+                       "largest response)"),
 }
 #: Where to look for each case's true peak when the range is built from it.
 PEAK_SEARCH = {"start_on_peak": (0.8, 1.4), "end_on_peak": (0.8, 1.4), "end_on_peak_ir31": (0.85, 0.95),

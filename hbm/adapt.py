@@ -683,11 +683,12 @@ def _locate_on(f: FrequencyResponse, i: int, r: int, floor: float
     The candidates, in order: the zero of d(a^2)/ds bracketed between the neighbours, then between point ``i``
     and either neighbour, then the largest a^2 between the neighbours (``hbm.continuation.maximise``: structure
     finer than the points), then the same three on the stretch between the neighbours traced again by the
-    continuation at ``REFINE_STEPS`` times finer steps (``_retraced``), and so on ``REFINE_LEVELS`` times.  Each is tried in turn: a ripple of the
-    branch between points (a sampled time law at H > 1) can put one bracket's zero below the sampled maximum
-    while another candidate holds the peak; and where a contact starts to slip at the maximum the branch has a
-    corner between the points, where Newton from the chord's points (far off a branch that bends sharply in
-    the higher harmonics) fails, while the points of a finer trace lie close enough to their chords."""
+    continuation at ``REFINE_STEPS`` times finer steps (``_retraced``), and so on ``REFINE_LEVELS`` times.
+    Each is tried in turn: a ripple of the branch between points (a sampled time law at H > 1) can put one
+    bracket's zero below the sampled maximum while another candidate holds the peak; and where a contact
+    starts to slip at the maximum the branch has a corner between the points, where Newton from the chord's
+    points (far off a branch that bends sharply in the higher harmonics) fails, while the points of a finer
+    trace lie close enough to their chords."""
     pr = f._problem
     pr.fresh_omega_derivative = True
     counter = cont._Count()
