@@ -640,6 +640,39 @@ def locate_peak(frf: FrequencyResponse, omega_range: tuple[float, float], among:
     return frf._peak
 
 
+#: The stretch between the sampled maximum's neighbours, where locating the peak on their chords failed, is
+#: traced again at steps this many times shorter than the chord (``_retraced``).
+REFINE_STEPS = 16
+#: Retraces in turn, each between the neighbours of the last one's largest point (a corner sharp enough to defeat
+#: the chords of one retrace is 16 times shorter on the next).
+REFINE_LEVELS = 2
+
+
+def _retraced(f: FrequencyResponse, y: np.ndarray, i: int, counter: Any) -> np.ndarray | None:
+    """The branch of ``f`` between the neighbours of point ``i`` of its points ``y`` (scaled unknowns) traced
+    again by the continuation, from point ``i - 1`` to the frequency of point ``i + 1`` at steps of
+    ``1 / REFINE_STEPS`` of their chord (one row per point); None where the neighbours do not bracket ``i`` in
+    the frequency (a fold) or the trace does not reach point ``i + 1``'s frequency."""
+    if not 0 < i < len(y) - 1:
+        return None
+    pr, p = f._problem, f._problem.unknowns - 1
+    ya, yb = y[i - 1], y[i + 1]
+    if not (ya[p] - y[i][p]) * (yb[p] - y[i][p]) < 0.0:
+        return None
+    length = float(np.linalg.norm((yb - ya) / f._scale(ya)))
+    if not length > 0.0:
+        return None
+    run = cont.continuation(pr, ya, parameter=p, bounds=(min(ya[p], yb[p]), max(ya[p], yb[p])),
+                            direction=1 if yb[p] > ya[p] else -1, tol=f.newton_tol, scale=f._scale,
+                            step=length / REFINE_STEPS, max_step=length / REFINE_STEPS,
+                            min_step=length * 1e-6, max_steps=20 * REFINE_STEPS, locate_folds=False)
+    counter.nfev += run.nfev
+    counter.nit += run.nit
+    if not run.success or len(run.y) < 3:
+        return None
+    return np.asarray(run.y)
+
+
 def _locate_on(f: FrequencyResponse, i: int, r: int, floor: float
                ) -> tuple[tuple[float, float] | None, int, str | None]:
     """``(omega, amplitude)`` of the peak near point ``i`` of the single-balance result ``f`` (``r`` the response
@@ -649,8 +682,13 @@ def _locate_on(f: FrequencyResponse, i: int, r: int, floor: float
 
     The candidates, in order: the zero of d(a^2)/ds bracketed between the neighbours, then between point ``i``
     and either neighbour, then the largest a^2 between the neighbours (``hbm.continuation.maximise``: structure
-    finer than the points).  Each is tried in turn: a ripple of the branch between points (a sampled time law
-    at H > 1) can put one bracket's zero below the sampled maximum while another candidate holds the peak."""
+    finer than the points), then the same three on the stretch between the neighbours traced again by the
+    continuation at ``REFINE_STEPS`` times finer steps (``_retraced``), and so on ``REFINE_LEVELS`` times.
+    Each is tried in turn: a ripple of the branch between points (a sampled time law at H > 1) can put one
+    bracket's zero below the sampled maximum while another candidate holds the peak; and where a contact
+    starts to slip at the maximum the branch has a corner between the points, where Newton from the chord's
+    points (far off a branch that bends sharply in the higher harmonics) fails, while the points of a finer
+    trace lie close enough to their chords."""
     pr = f._problem
     pr.fresh_omega_derivative = True
     counter = cont._Count()
@@ -661,12 +699,22 @@ def _locate_on(f: FrequencyResponse, i: int, r: int, floor: float
     def slope(u, t):  # proportional to d(a^2)/ds along the branch
         return u[c] * t[c] + u[s_] * t[s_]
 
-    def candidates():
+    def on(y, i):
         for ja, jb in ((i - 1, i + 1), (i - 1, i), (i, i + 1)):
             if ja >= 0 and jb < len(y):
                 yield cont.locate(pr, y[ja], y[jb], slope, **opts)
         if 0 < i < len(y) - 1:
             yield cont.maximise(pr, y[i - 1], y[i + 1], lambda u: u[c] * u[c] + u[s_] * u[s_], **opts)
+
+    def candidates():
+        yc, ic = y, i
+        yield from on(yc, ic)
+        for _ in range(REFINE_LEVELS):
+            yc = _retraced(f, yc, ic, counter)
+            if yc is None:
+                return
+            ic = int(np.argmax(yc[:, c] ** 2 + yc[:, s_] ** 2))
+            yield from on(yc, ic)
 
     try:
         for loc in candidates():

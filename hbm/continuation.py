@@ -67,6 +67,9 @@ MAX_TURN = 0.12
 #: A large turn that shrinks by less than this factor when the step is halved is a corner of a
 #: piecewise-smooth branch (e.g. the onset of slip), not a jump: the step is then accepted.
 CORNER_RATIO = 0.8
+#: A corrected point farther than this many steps from its predictor, the tangent turning by at most
+#: ``REJECT_TURN``, is a jump to another branch (``_Trace._judge``); the step is retried shorter.
+JUMP_RATIO = 1.0
 #: Failed correctors in a row at one point before a corner is rounded (a shorter step resolves
 #: most failures; those that persist are the corners a shorter step only creeps towards).
 CORNER_AFTER = 3
@@ -370,7 +373,7 @@ class _Trace:
         y_pred = y + h * s * (self.t + h * (self.c2 + h * self.c3))
         w = self.normal / s  # the constraint normal . (u - u_p) = 0 in physical coordinates
         new = _newton(self.fun, y_pred, w, float(w @ y_pred), self.tol, self.max_iter, self.count)
-        ok, reason, t_new, turn = self._judge(new)
+        ok, reason, t_new, turn = self._judge(new, y_pred)
         if not ok:
             if new.outside and not self.lo <= y_pred[p] <= self.hi and self._end_from(y_pred):
                 return
@@ -408,9 +411,16 @@ class _Trace:
         self.retries = 0
         return f
 
-    def _judge(self, new):
+    def _judge(self, new, y_pred):
         """``(ok, reason, t_new, turn)`` of a corrected point: converged, with a tangent, and a turn
-        of the tangent that is either small or a corner (a second, larger turn after a rejection)."""
+        of the tangent that is either small or a corner (a second, larger turn after a rejection).
+
+        A small turn with the corrector ending more than ``JUMP_RATIO`` steps from the predictor is a
+        jump to another branch, not a step along this one: along a smooth branch whose tangent turns
+        by ``turn`` over the step ``h`` the corrector moves about ``h turn / 2`` (below ``h / 4`` for
+        any turn accepted as smooth), while the hyperplane ahead of a sharp peak also crosses the
+        other flank, where the corrector may land a whole peak's width away with a tangent that
+        hardly turned.  Such a step is rejected and retried shorter."""
         ok, reason, t_new, turn = new.converged, new.reason, None, None
         if ok:
             try:
@@ -420,14 +430,33 @@ class _Trace:
                 ok, reason = False, "the Jacobian has no one-dimensional null space"
         if ok:
             turn = math.acos(min(1.0, abs(float(t_new @ self.t))))
-            if turn > REJECT_TURN:
+            moved = float(np.linalg.norm((new.y - y_pred) / self.s))
+            if turn <= REJECT_TURN and moved > JUMP_RATIO * self.h:
+                ok, reason = False, (f"the corrector moved {moved / self.h:.3g} steps from the predictor "
+                                     f"(a jump to another branch)")
+            elif turn > REJECT_TURN:
                 if self.rejected is not None and turn > CORNER_RATIO * self.rejected[0]:
                     self.corners.append(len(self.ys))
                     self.rejected = None
+                    t_new = self._oriented(new.J, t_new)
                 else:
                     ok, reason = False, f"tangent turned by {turn:.3g} rad"
                     self.rejected = (turn, self.h)
         return ok, reason, t_new, turn
+
+    def _oriented(self, J, t_new):
+        """``t_new`` (a unit null vector of ``J``, scaled at ``y``) oriented like the branch at a corner.
+
+        Past a corner the tangent has turned by more than ``REJECT_TURN``; near 90 degrees
+        ``t_new . t`` is close to zero and its sign says nothing about which way the branch goes on
+        (a branch whose tangent turned by 89 degrees in the scaled coordinates would be traced back
+        the way it came).  The sign of ``det [J diag(s); t]`` is kept along a branch, across the
+        kinks of a continuous piecewise-smooth residual too (Allgower & Georg ch. 2, 12), so
+        ``t_new`` is flipped where its sign differs from the last point's."""
+        if self.J is None:
+            return t_new
+        old, new = _orientation(self.J, self.s, self.t), _orientation(J, self.s, t_new)
+        return -t_new if old * new < 0.0 else t_new
 
     def _round_corner(self, new, y_pred) -> bool:
         """Step around a corner the failed corrector has shown; True if a point beyond it was accepted.
