@@ -70,6 +70,9 @@ CORNER_RATIO = 0.8
 #: A corrected point farther than this many steps from its predictor, the tangent turning by at most
 #: ``REJECT_TURN``, is a jump to another branch (``_Trace._judge``); the step is retried shorter.
 JUMP_RATIO = 1.0
+#: At a corner whose tangent turned by less than 60 degrees (``|t_new . t|`` at least this) the new tangent points
+#: forward along the old one; nearer 90 degrees the determinant's orientation decides (``_Trace._oriented``).
+ORIENT_DOT = 0.5
 #: Failed correctors in a row at one point before a corner is rounded (a shorter step resolves
 #: most failures; those that persist are the corners a shorter step only creeps towards).
 CORNER_AFTER = 3
@@ -447,14 +450,17 @@ class _Trace:
     def _oriented(self, J, t_new):
         """``t_new`` (a unit null vector of ``J``, scaled at ``y``) oriented like the branch at a corner.
 
-        Past a corner the tangent has turned by more than ``REJECT_TURN``; near 90 degrees
-        ``t_new . t`` is close to zero and its sign says nothing about which way the branch goes on
-        (a branch whose tangent turned by 89 degrees in the scaled coordinates would be traced back
-        the way it came).  The sign of ``det [J diag(s); t]`` is kept along a branch, across the
-        kinks of a continuous piecewise-smooth residual too (Allgower & Georg ch. 2, 12), so
-        ``t_new`` is flipped where its sign differs from the last point's."""
-        if self.J is None:
-            return t_new
+        Past a corner the tangent has turned by more than ``REJECT_TURN``.  Where it turned by less
+        than 60 degrees (``|t_new . t| >= ORIENT_DOT``) the branch goes on forward, ``t_new . t > 0``.
+        Near 90 degrees ``t_new . t`` is close to zero and its sign says nothing about which way the
+        branch goes on (a branch whose tangent turned by 89 degrees in the scaled coordinates would
+        be traced back the way it came); there ``t_new`` takes the sign of ``det [J diag(s); t]`` of
+        the last point, which is kept along a smooth branch (Allgower & Georg, ch. 2).  Across a kink
+        the two one-sided Jacobians may orient it differently (a chain's nonlinear mode turns by 37
+        degrees at a slip onset with the determinant's sign flipped), so it decides only where the
+        turn leaves the product no sign to go by."""
+        if self.J is None or abs(float(t_new @ self.t)) >= ORIENT_DOT:
+            return t_new if float(t_new @ self.t) >= 0.0 else -t_new
         old, new = _orientation(self.J, self.s, self.t), _orientation(J, self.s, t_new)
         return -t_new if old * new < 0.0 else t_new
 
