@@ -39,6 +39,8 @@ evaluates the front door against the stored references (no shooting) and prints 
 
 from __future__ import annotations
 
+import argparse
+
 import json
 import math
 import sys
@@ -394,11 +396,12 @@ def compute(name):
 def table(data, names):
     print(f"{'case':20s} {'tol':>6s} {'dir':>4s} {'true max':>9s} {'est max':>9s} {'est@worst':>9s} "
           f"{'peak err':>9s} {'warned':>6s} {'end':>4s} {'H':>3s} {'time':>6s}")
-    silent = []
+    silent, rows = [], []
     for name in names:
         for tol in TOLS:
             for reverse in (False, True):
                 r = evaluate(data[name], tol, reverse)
+                rows.append((name, tol, r))
                 print(f"{name:20s} {tol:6.0e} {'down' if reverse else 'up':>4s} {r['true_max']:9.2e} "
                       f"{r['estimate_max']:9.2e} {r['estimate_at_worst']:9.2e} {r['peak_error']:9.2e} "
                       f"{str(r['warned']):>6s} {str(r['reached'])[0]:>4s} {r['H']:3d} {r['time']:6.2f}")
@@ -408,12 +411,36 @@ def table(data, names):
                     print("    SILENT:", f)
                     silent.append((name, tol, reverse, f))
                 sys.stdout.flush()
+    markdown(rows)
     return silent
 
 
+def markdown(rows):
+    """The table of ``docs/error_estimates.md`` ("Hard cases through the front door"): one row per case and
+    tol, the two directions joined (the worse true error, its estimate, the largest ratio of the two)."""
+    print("\n| case | tol | largest true error | estimate there | largest true/estimate | peak error | warned (up, down) "
+          "| reached the end (up, down) | time (s, up + down) |")
+    print("|---|---|---|---|---|---|---|---|---|")
+    for k in range(0, len(rows), 2):
+        (name, tol, up), (_, _, down) = rows[k], rows[k + 1]
+        worst = max((up, down), key=lambda r: r["true_max"])
+        ratio = max(r["true_max"] / r["estimate_at_worst"] if r["estimate_at_worst"] > 0 else math.inf
+                    for r in (up, down))
+        yn = lambda v: "yes" if v else "no"  # noqa: E731
+        print(f"| {name} | {tol:.0e} | {worst['true_max']:.2g} | {worst['estimate_at_worst']:.2g} | {ratio:.2f} "
+              f"| {max(up['peak_error'], down['peak_error']):.2g} | {yn(up['warned'])}, {yn(down['warned'])} "
+              f"| {yn(up['reached'])}, {yn(down['reached'])} | {up['time'] + down['time']:.2f} |")
+
+
 def main(argv):
-    check = "--check" in argv
-    names = [a for a in argv if not a.startswith("--")] or list(CASES)
+    parser = argparse.ArgumentParser(description="Hard cases through the front door against shooting references.")
+    parser.add_argument("cases", nargs="*", metavar="case", help=f"cases to recompute (default: all): {', '.join(CASES)}")
+    parser.add_argument("--check", action="store_true", help="evaluate against the stored references only")
+    args = parser.parse_args(argv)
+    unknown = [c for c in args.cases if c not in CASES]
+    if unknown:
+        parser.error(f"unknown case(s) {', '.join(unknown)}; the cases: {', '.join(CASES)}")
+    check, names = args.check, args.cases or list(CASES)
     data = json.loads(OUT.read_text())["cases"] if OUT.exists() else {}
     if not check:
         for name in names:
