@@ -43,6 +43,7 @@ from __future__ import annotations
 import contextlib
 import os
 import subprocess
+import threading
 import sys
 import time
 from pathlib import Path
@@ -155,7 +156,8 @@ def cache_ready(numba: object) -> bool:
 
 def cached_groups(numba: object) -> tuple[str, ...]:
     """The groups of :data:`GROUPS` whose kernels numba's cache holds: all where :func:`cache_ready`, else
-    those the warm-up under way has listed in its progress file (for this numba and this source)."""
+    those the warm-up under way has listed in its progress file (for this numba and this source), in order up
+    to the first it has not listed."""
     if cache_ready(numba):
         return tuple(GROUPS)
     folder = _cache_folder()
@@ -166,7 +168,12 @@ def cached_groups(numba: object) -> tuple[str, ...]:
     if stamp != _stamp(numba):
         return ()
     done = {g.strip() for g in done}
-    return tuple(g for g in GROUPS if g in done)
+    out: list[str] = []
+    for g in GROUPS:  # the groups in order up to the first not listed (a group's kernels call earlier groups')
+        if g not in done:
+            break
+        out.append(g)
+    return tuple(out)
 
 
 def _start_warming() -> None:
@@ -224,9 +231,15 @@ def mark_group(group: str) -> None:
         stamp, done = "", []
     if stamp != _stamp(numba):
         done = []
-    tmp = folder / (PROGRESS + ".tmp")
-    tmp.write_text(_stamp(numba) + "".join(done) + group + "\n")
-    os.replace(tmp, folder / PROGRESS)  # whole, for a process reading it now
+    # one temporary file per process and thread (two processes warming one cache at once, as pytest's workers
+    # on a clean clone do, would otherwise move each other's file away), replaced whole for a process reading
+    # it now; a mark lost to a write at the same moment only makes a process load that group at mark_warm
+    tmp = folder / f"{PROGRESS}.{os.getpid()}.{threading.get_ident()}.tmp"
+    try:
+        tmp.write_text(_stamp(numba) + "".join(done) + group + "\n")
+        os.replace(tmp, folder / PROGRESS)
+    except OSError:
+        tmp.unlink(missing_ok=True)
 
 
 def mark_warm() -> None:
