@@ -94,3 +94,21 @@ def test_absurd_frequency_is_refused_by_name(make):
 def test_absurd_frequency_simulate_refused_by_name():
     with pytest.raises(ValueError, match=r"omega=1e\+160"):
         NumericalMicroslip(Bar(**BAR), LOAD).simulate(1e-6, 1e160)
+
+
+@pytest.mark.parametrize("a", [1e-9, 1.5e-6])
+@pytest.mark.parametrize("omega", [1e50, 1e160])
+def test_single_mode_bar_refuses_a_frequency_whose_phase_has_no_digit(a, omega):
+    """sqrt(rho/E) omega L is 9.9e45 rad at 1e50 rad/s: past 1/eps = 4.5e15 cos and sin of it are rounding noise.
+    A ValueError names omega, and no numpy RuntimeWarning leaks (float scalar path and array path)."""
+    from contact_models import ThreeRegionMicroslip, TwoRegionMicroslip
+
+    bar = Bar(**BAR)
+    for el in (TwoRegionMicroslip(bar, LOAD), ThreeRegionMicroslip(bar, LOAD)):
+        for x in (a, np.array([a, 2 * a])):
+            with warnings.catch_warnings():
+                warnings.simplefilter("error", RuntimeWarning)
+                with pytest.raises(ValueError, match=r"omega=1e\+(50|160) rad/s is too high for the bar"):
+                    el.fourier(x, omega)
+    limit = 1.0 / np.finfo(float).eps / (math.sqrt(BAR["rho"] / BAR["E"]) * BAR["L"])
+    assert TwoRegionMicroslip(bar, LOAD).fourier(1e-9, 0.5 * limit)[1] == 0.0  # below it: answered (stuck)

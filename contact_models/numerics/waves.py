@@ -33,3 +33,18 @@ def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
         q = math.inf
     cells = math.sqrt(max(q, 0.0)) * bar.L / MAX_SEGMENT_PHASE
     return max(1, int(math.floor(min(cells, 2.0**62))) + 1)
+
+
+#: The largest phase sqrt(rho / E) omega L of the whole bar (rad) at which its cos and sin still carry a digit:
+#: past 1/eps the spacing of doubles there exceeds 2 pi.
+MAX_BAR_PHASE = 1.0 / 2.220446049250313e-16
+
+
+def check_phase(bar: Bar, omega: float) -> None:
+    """ValueError naming omega where the bar's phase sqrt(rho / E) omega L exceeds ``MAX_BAR_PHASE``: its
+    cos and sin are then rounding noise, so no answer at omega means anything (and omega**2 may overflow)."""
+    phase = math.sqrt(bar.rho / bar.E) * omega * bar.L
+    if not phase <= MAX_BAR_PHASE:
+        raise ValueError(f"omega={omega!r} rad/s is too high for the bar: its phase sqrt(rho/E) omega L = {phase:.3g} "
+                         f"rad exceeds 1/eps = {MAX_BAR_PHASE:.3g}, where cos and sin carry no digit; omega must be "
+                         f"below {MAX_BAR_PHASE / (math.sqrt(bar.rho / bar.E) * bar.L):.3g} rad/s")
