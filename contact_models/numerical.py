@@ -42,7 +42,10 @@ the previous, uninterrupted cycle by less than ``steady_tol`` relative to its pe
 
     max_theta |f_j(theta) - f_{j-1}(theta)| <= steady_tol * max_theta |f_j(theta)|,
 
-or after ``max_cycles`` cycles (then ``converged`` is False and ``message`` says so).  The
+or after ``max_cycles`` cycles (then ``converged`` is False and ``message`` says so, and ``fourier``
+warns ``AccuracyWarning`` with the last change).  A dynamic run judges no cycle before a wave front
+(speed sqrt(E/rho)) has crossed the bar and back (``first_judged_cycle``): until then the tip force
+is the outgoing wave's and periodic whatever the rest of the bar does.  The
 quasi-static bar follows the Masing rule and is periodic after the first reversal, so it stops
 after 2 cycles.  The dynamic bar, with only friction to damp it, settles slowly; with
 ``shooting`` (default) some cycles also carry the exact derivative of the one-cycle map
