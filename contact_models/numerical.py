@@ -631,11 +631,21 @@ class NumericalMicroslip(ContactElement):
                     if not r.converged:
                         unsteady.append(r)
         if unsteady:  # the last cycle is not the steady state: its change is the error it states
-            r = max(unsteady, key=lambda r: r.change)
+            def last(r):  # the last change between uninterrupted cycles (a shooting jump's is inf)
+                h = np.asarray(r.history, dtype=float)
+                h = h[np.isfinite(h)]
+                return float(h[-1]) if h.size else math.inf
+
+            r = max(unsteady, key=last)
+            change = (f"the last two uninterrupted cycles' forces differed by {last(r):.3g} of the peak"
+                      if math.isfinite(last(r)) else "no two uninterrupted cycles were compared")
+            first = self.first_judged_cycle(r.omega)
+            if r.cycles <= first:
+                change = (f"a wave front needs {first} cycles after the ramp to cross the bar and back, and no cycle "
+                          f"before that can be judged steady")
             warnings.warn(f"NumericalMicroslip: not steady at omega={r.omega:.6g} rad/s, a={r.a:.4g} m after "
-                          f"{r.cycles} cycles (max_cycles): the last cycle's force still changed by {r.change:.3g} of "
-                          f"its peak (steady_tol {self.steady_tol:g}); {len(unsteady)} point(s) of this call; raise "
-                          f"max_cycles", AccuracyWarning, stacklevel=3)
+                          f"{r.cycles} cycles (max_cycles): {change} (steady_tol {self.steady_tol:g}); "
+                          f"{len(unsteady)} point(s) of this call; raise max_cycles", AccuracyWarning, stacklevel=3)
         return fs, fc
 
     def _hysteresis(self, a, omega, n):
