@@ -41,6 +41,7 @@ from .loads import QuadraticLoad, UniformLoad
 from .model_range import check_single_mode, single_mode_error
 from .numerics.checks import count, finite_array, nonnegative
 from .quasi_static import QuasiStatic
+from .numerics.waves import check_phase
 
 
 class _MicroslipBar(ContactElement):
@@ -91,6 +92,7 @@ class _MicroslipBar(ContactElement):
         key = float(omega)
         hit = self._paths.get(key)
         if hit is None:
+            check_phase(self.bar, key)
             hit = self._build_path(key)
             if len(self._paths) > 256:
                 self._paths.clear()
@@ -224,6 +226,7 @@ class _MicroslipBar(ContactElement):
         """
         hit = self._onsets.get(omega)
         if hit is None:
+            check_phase(self.bar, omega)  # once per frequency (cached): nothing on the hot path
             hit = self._stuck_onset(omega) if self.bar.mu * self.load.N > 0.0 else (self.bar.L, 0.0)
             if len(self._onsets) > 256:
                 self._onsets.clear()

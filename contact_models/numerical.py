@@ -42,7 +42,10 @@ the previous, uninterrupted cycle by less than ``steady_tol`` relative to its pe
 
     max_theta |f_j(theta) - f_{j-1}(theta)| <= steady_tol * max_theta |f_j(theta)|,
 
-or after ``max_cycles`` cycles (then ``converged`` is False and ``message`` says so).  The
+or after ``max_cycles`` cycles (then ``converged`` is False and ``message`` says so, and ``fourier``
+warns ``AccuracyWarning`` with the last change).  A dynamic run judges no cycle before a wave front
+(speed sqrt(E/rho)) has crossed the bar and back (``first_judged_cycle``): until then the tip force
+is the outgoing wave's and periodic whatever the rest of the bar does.  The
 quasi-static bar follows the Masing rule and is periodic after the first reversal, so it stops
 after 2 cycles.  The dynamic bar, with only friction to damp it, settles slowly; with
 ``shooting`` (default) some cycles also carry the exact derivative of the one-cycle map
@@ -67,6 +70,7 @@ result.  The names ``hbm.reference.transient`` uses are re-exported here.
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -79,6 +83,7 @@ from .numerics.genalpha import GeneralizedAlpha
 from .numerics.stepping import NEWTON_MAX, NEWTON_PLAIN, NEWTON_RTOL, _Batch, _unit_tangent, return_map, solve_step
 from .loads import bound_load
 from .numerics.checks import count as _count, finite, flag, nonnegative, relative
+from .accuracy import AccuracyWarning
 from .bar import Bar
 from .base import ContactElement
 
@@ -106,6 +111,9 @@ RAMP_CYCLES = 2
 #: The most cells the bar takes: a cycle's cost grows with cells times steps and its memory with
 #: cells (10**9 cells grew by 400 MB/s until killed); raise it here to go further.
 MAX_CELLS = 10_000
+#: The relative error of the stuck stiffness (against the continuous bar's closed form, relative to
+#: max(|K|, 0.01 k*)) above which ``fourier`` warns (``AccuracyWarning``) that the cells do not resolve omega.
+WAVE_TOL = 1e-3
 #: Shooting skips its Newton step when the one-cycle map moves the state by less than this
 #: fraction of steady_tol (scaled, see ``_run_dynamic``).
 SHOOT_SKIP = 1e-2
@@ -392,6 +400,8 @@ class NumericalMicroslip(ContactElement):
         a = nonnegative("a", a)
         omega = nonnegative("omega", omega)
         qs = self._check_mode(omega)
+        if not qs:
+            self._disc.check_wave(omega)
         tol = self.steady_tol if steady_tol is None else relative("steady_tol", steady_tol)
         return self._run(np.array([a]), np.array([omega]), qs, tol)[0]
 
@@ -402,6 +412,29 @@ class NumericalMicroslip(ContactElement):
             raise ValueError(f"x must be a finite 1-d array, got x with shape {x.shape}")
         batch = _Batch(self._disc, np.ones(1), np.zeros(1), True, 4, 0.0)
         return np.array([batch.step(np.array([xi]))[0] for xi in x])
+
+    def first_judged_cycle(self, omega: float) -> int:
+        """The first cycle after the ramp (0-based) a dynamic run at omega may call steady: the one whose
+        previous cycle starts after a wave front from the start of the run has travelled to x = 0 and back,
+        2 L / c with c = sqrt(E / rho) (no signal is faster in the bar).  Before that the tip force is the
+        outgoing wave's alone (about rho c A times the tip velocity far above the cut-off), periodic cycle to
+        cycle whatever the rest of the bar does."""
+        trip = 2.0 * self.bar.L * omega / (2.0 * math.pi * math.sqrt(self.bar.E / self.bar.rho))  # in cycles
+        return max(0, int(math.ceil(trip)) - int(math.ceil(self.ramp_cycles)) + 1)
+
+    def _resolution_warnings(self, omegas) -> None:
+        """One AccuracyWarning for the dynamic frequencies of a call where the mesh's stuck stiffness is further
+        than ``WAVE_TOL`` from the continuous bar's (``numerics.fe_bar``'s ``stuck_error``): the cells do not
+        resolve the wave there, and the answer carries at least that error."""
+        errs = [(self._disc.stuck_error(w), w) for w in omegas if w > 0.0]
+        worst = max(errs, default=(0.0, 0.0))
+        if worst[0] > WAVE_TOL:
+            rel, w = worst
+            need = min(MAX_CELLS, int(math.ceil(self.cells * math.sqrt(rel / WAVE_TOL))) if math.isfinite(rel) else MAX_CELLS)
+            warnings.warn(f"NumericalMicroslip: cells={self.cells} do not resolve the wave at omega={w:.6g} rad/s: "
+                          f"the stuck bar's stiffness is off the continuous bar's by {rel:.3g} (relative to "
+                          f"max(|K|, 0.01 k*)), and the answer by at least as much; the error falls as cells^-2, so "
+                          f"about {need} cells bring it below {WAVE_TOL:g}", AccuracyWarning, stacklevel=4)
 
     # ------------------------------------------------------------ the run
     def _settings(self, qs: bool):
@@ -488,6 +521,10 @@ class NumericalMicroslip(ContactElement):
         def jump(s):
             batch.set_state(s[None, :n], s[None, n:2 * n], s[None, 2 * n:3 * n], s[None, 3 * n:])
 
+        # the tip cannot hear the far end before a wave front (speed c = sqrt(E/rho)) has gone there and back:
+        # until then consecutive cycles of the tip force agree while the bar is far from steady, so no cycle
+        # starting before that is judged steady (far above the cut-off this is many cycles)
+        judge_from = self.first_judged_cycle(omega)
         history: list = []
         prev = None  # force of the previous cycle if the run continued from it uninterrupted
         zset = None  # sliders carried as unknowns (those that slipped in an earlier cycle)
@@ -500,7 +537,7 @@ class NumericalMicroslip(ContactElement):
             f, L1, L2, ever, T = self._cycle(batch, steps, tangent)
             change = float(_change(f, prev)[0])
             history.append(change)
-            if change <= tol:
+            if change <= tol and cycle >= judge_from:
                 break
             prev = f
             if T is None:  # a plain cycle
@@ -547,7 +584,7 @@ class NumericalMicroslip(ContactElement):
             norm = float(np.max(np.abs(delta)))
             jump(s0 + step * min(1.0, radius / norm if norm > 0 else 1.0))
             prev = None
-        return self._result(batch, 0, f[0], L1[0], L2[0], cycle + 1, change <= tol, history)
+        return self._result(batch, 0, f[0], L1[0], L2[0], cycle + 1, change <= tol and cycle >= judge_from, history)
 
     def _result(self, batch, j, f, L1, L2, cycles, converged, history):
         a, omega = float(batch.a[j]), float(batch.omega[j])
@@ -584,11 +621,31 @@ class NumericalMicroslip(ContactElement):
             stuck = a[sel] <= self._slip_amplitude(w_eff)
             fs[sel[stuck]] = self._stuck_stiffness(w_eff) * a[sel[stuck]]  # the exact linear steady state
             run[qs].extend(sel[~stuck])
+        self._resolution_warnings([float(w) for w in np.unique(omega) if not self._check_mode(float(w))])
+        unsteady = []
         for qs, idx in run.items():
             if idx:
                 idx = np.array(idx)
                 for i, r in zip(idx, self._run(a[idx], omega[idx], qs, min(self.steady_tol, rtol))):
                     fs[i], fc[i] = r.f_s, r.f_c
+                    if not r.converged:
+                        unsteady.append(r)
+        if unsteady:  # the last cycle is not the steady state: its change is the error it states
+            def last(r):  # the last change between uninterrupted cycles (a shooting jump's is inf)
+                h = np.asarray(r.history, dtype=float)
+                h = h[np.isfinite(h)]
+                return float(h[-1]) if h.size else math.inf
+
+            r = max(unsteady, key=last)
+            change = (f"the last two uninterrupted cycles' forces differed by {last(r):.3g} of the peak"
+                      if math.isfinite(last(r)) else "no two uninterrupted cycles were compared")
+            first = self.first_judged_cycle(r.omega)
+            if r.cycles <= first:
+                change = (f"a wave front needs {first} cycles after the ramp to cross the bar and back, and no cycle "
+                          f"before that can be judged steady")
+            warnings.warn(f"NumericalMicroslip: not steady at omega={r.omega:.6g} rad/s, a={r.a:.4g} m after "
+                          f"{r.cycles} cycles (max_cycles): {change} (steady_tol {self.steady_tol:g}); "
+                          f"{len(unsteady)} point(s) of this call; raise max_cycles", AccuracyWarning, stacklevel=3)
         return fs, fc
 
     def _hysteresis(self, a, omega, n):

@@ -260,10 +260,16 @@ def stuck_data(bar: Bar, disc_of: Callable, omega: float, n: int, fixed: bool, t
 
     if linear == "exact":
         return exact_stuck(bar, disc_of, omega, n, max_cells)
+    from ..numerics.waves import cells_for_phase
+
     floor = FLOOR * bar.k_star
+    need = cells_for_phase(bar, omega, 1)
     while True:
-        rungs = [c for c in (n // 4, n // 2, n) if c >= 2]
-        vals = np.array([stuck_end(bar, disc_of(c), omega, linear) for c in rungs])
+        # a rung that cannot hold the wave is left out (the lumped bar refuses it: ``numerics.waves``); where
+        # n itself cannot, the estimate is inf and n doubles (given cells: n is solved and refused by name)
+        rungs = [c for c in (n // 4, n // 2) if c >= max(2, need)] + [n]
+        vals = np.array([stuck_end(bar, disc_of(c), omega, linear) for c in rungs]) if n >= need or fixed \
+            or 2 * n > max_cells else np.full((1, 2), math.inf)
         if len(rungs) == 3:
             e = richardson(tuple(rungs), vals)[0]
         else:

@@ -34,15 +34,14 @@ from typing import TYPE_CHECKING, Callable, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from ..numerics.waves import MAX_SEGMENT_PHASE, UnresolvedWave, cells_for_phase
+
 if TYPE_CHECKING:
     from ..bar import Bar
     from ..numerics.fe_bar import _Discretisation
 
 Array = NDArray[np.float64]
 
-#: The largest phase sqrt(z) of a segment accepted (a fraction of pi: a cell at most 0.9 of half the
-#: wavelength of the highest harmonic).
-MAX_SEGMENT_PHASE = 0.9 * math.pi
 #: Below this |z| the series of A, B and their derivatives are used (their omitted terms are below 1e-13).
 SERIES_Z = 1e-3
 KINDS = ("exact", "lumped")
@@ -51,11 +50,6 @@ FLOOR_SHARE = 0.01
 #: The most cells the stuck bar is built on to hold the wavelength of harmonic 1 (``exact_stuck``): a frequency
 #: that asks for more is refused by name (the bar's arrays would exhaust the memory: 1e50 rad/s asked 1e45).
 MAX_STUCK_CELLS = 2**22
-
-
-class UnresolvedWave(ValueError):
-    """Exact cells longer than ``MAX_SEGMENT_PHASE`` / pi of the highest harmonic's half wavelength (a rung of
-    the element's estimate that is so is left out, ``accuracy.cells_error``)."""
 
 
 class LinearPart(NamedTuple):
@@ -93,16 +87,6 @@ def segment_functions(z: Array) -> tuple[Array, Array, Array, Array]:
     half = 0.5 / s
     out = np.where(small, series, np.array([A, B, (cot - B * csc) * half, (1.0 - A) * csc * half]).real)
     return out[0], out[1], out[2], out[3]
-
-
-def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
-    """The fewest cells whose segments stay below ``MAX_SEGMENT_PHASE`` at harmonic H of omega."""
-    try:
-        q = (bar.rho * bar.A * (H * omega) ** 2 - bar.k) / bar.EA
-    except OverflowError:  # (H omega)^2 beyond double precision (omega above about 1e154 rad/s)
-        q = math.inf
-    cells = math.sqrt(max(q, 0.0)) * bar.L / MAX_SEGMENT_PHASE
-    return max(1, int(math.floor(min(cells, 2.0**62))) + 1)
 
 
 class Segments:

@@ -14,6 +14,8 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from .waves import UnresolvedWave, cells_for_phase
+
 if TYPE_CHECKING:
     from ..bar import Bar
     from ..loads import QuadraticLoad, UniformLoad
@@ -41,6 +43,7 @@ class _Discretisation:
 
     def __init__(self, bar: Bar, load: UniformLoad | QuadraticLoad, n: int) -> None:
         self.n = n
+        self.bar = bar
         self.h = bar.L / n
         self.x = np.linspace(0.0, bar.L, n + 1)
         c = np.full(n + 1, self.h)
@@ -55,8 +58,30 @@ class _Discretisation:
         kd[-1] = bar.EA / self.h
         self.kdiag = kd
 
+    def check_wave(self, omega: float) -> None:
+        """UnresolvedWave (a ValueError) naming omega and the cells it needs where a cell carries more than
+        ``waves.MAX_SEGMENT_PHASE`` of the wave at omega: the mesh cannot represent it at all (and omega**2
+        past about 1e154 rad/s would overflow)."""
+        need = cells_for_phase(self.bar, omega, 1)
+        if need > self.n:
+            raise UnresolvedWave(f"cells={self.n} are too few for omega={omega!r} rad/s: a cell is more than 0.9 of "
+                                 f"half the wavelength of the stuck bar; it needs at least {need:.4g} cells")
+
+    def stuck_error(self, omega: float, K: float | None = None) -> float:
+        """Relative error of this mesh's stuck stiffness against the continuous bar's closed form
+        (``Bar.stuck_stiffness``), relative to max(|K|, 0.01 k*) as in the validity map: the error of the
+        linear part alone, which the mesh's dispersion sets (the lumped bar's wave number is off by about
+        (g h)^2 / 24, so the error falls as cells^-2).  ``K``: this mesh's stiffness, if known."""
+        K_h = self.stuck_solution(omega)[1] if K is None else K
+        K = float(self.bar.stuck_stiffness(omega))
+        if not np.isfinite(K):  # at a resonance of the bar held at x = L
+            return float("inf")
+        return abs(K_h - K) / max(abs(K), 0.01 * self.bar.k_star)
+
     def stuck_solution(self, omega: float) -> tuple[NDArray[np.float64], float]:
-        """Free nodal displacements of the stuck bar for u_n = 1, and the tip reaction."""
+        """Free nodal displacements of the stuck bar for u_n = 1, and the tip reaction (UnresolvedWave where
+        the cells cannot hold the wave at omega, ``check_wave``)."""
+        self.check_wave(omega)
         n = self.n
         d = self.kdiag + self.kc - omega**2 * self.m
         ab = np.zeros((3, n))
