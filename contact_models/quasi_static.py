@@ -27,6 +27,7 @@ between their region changes; about 1e-9 relative error).
 
 from __future__ import annotations
 
+import functools
 import math
 import warnings
 
@@ -107,11 +108,12 @@ class QuasiStatic(ContactElement):
     def __repr__(self) -> str:
         return f"QuasiStatic({self.element!r})"
 
-    @property
+    @functools.cached_property
     def has_time_law(self) -> bool:
         """True when the wrapped element's virgin loading curve at omega = 0 is a time law by Masing's rules with
         memory: it has a loading curve (a wrapped ``QuasiStatic`` has one only where its own element has) and a
-        finite stuck stiffness (the rigid slider's curve is a step)."""
+        finite stuck stiffness (the rigid slider's curve is a step).  Read once: every evaluation at H = 1 asks it
+        (``exact_describing_function``)."""
         el = self.element
         return callable(getattr(el, "loading_curve", None)) and math.isfinite(float(el.stuck_stiffness(0.0)))
 
