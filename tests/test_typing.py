@@ -9,6 +9,7 @@ and ``hbm`` except the command line script ``hbm.__main__``.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import inspect
 
@@ -62,6 +63,8 @@ def _public_callables():
                     continue
                 if isinstance(member, property):
                     add(f"{name}.{attr}", member.fget)
+                elif isinstance(member, functools.cached_property):
+                    add(f"{name}.{attr}", member.func)
                 elif isinstance(member, (staticmethod, classmethod)):
                     add(f"{name}.{attr}", member.__func__)
                 elif inspect.isfunction(member):
