@@ -98,7 +98,7 @@ def test_run_answers_tol_in_one_line_pointing_to_sweep_tol(capsys):
         main(["--tol", "1e-3", "run", str(DEFAULT)])
     err = capsys.readouterr().err
     assert stop.value.code == 2 and err.strip().splitlines()[-1].endswith(
-        "error: --tol does not apply to run (only to the default job); a scene's target error is its sweep.tol: "
+        "error: --tol does not apply to run (only to the main job); a scene's target error is its sweep.tol: "
         "give --set sweep.tol=VALUE")
 
 
