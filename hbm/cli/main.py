@@ -271,13 +271,30 @@ def _one_line(message, category, filename, lineno, line=None) -> str:
     return warning_line(message, category) + "\n"
 
 
+#: The arguments of ``frequency_response`` a warning's advice names, and the scene keys that set them.
+SCENE_KEYS = (("model='auto'", 'damper.model = "auto"'),
+              ("harmonics=", "effects.harmonics, which a scene fixes (default 1; above 1 only for a damper with a "
+                             "time-domain law)"),
+              ("AllModeMicroslip: cells", "the all-mode bar's cells are damper.cells"),
+              ("n_t=", "effects.samples"),
+              ("tol=", "sweep.tol"))
+
+
+def in_scene_terms(message: str) -> str:
+    """``message`` with the scene keys of the ``frequency_response`` arguments its advice names (a scene
+    user sets keys, not arguments); unchanged where it names none."""
+    said = [key if " are " in key else f"{argument} is {key}" for argument, key in SCENE_KEYS if argument in message]
+    return f"{message} (in a scene: {'; '.join(said)})" if said else message
+
+
 def _say_after(caught: list, quiet: bool) -> None:
     """The accuracy warnings ``caught`` during a scene or study, each said once after its summary
-    (on stdout with it: stderr carries the progress line; ``summary.json`` records them too);
-    any other warning shown as it would have been (one line on stderr)."""
+    (on stdout with it: stderr carries the progress line; ``summary.json`` records them too), with
+    the scene keys of the arguments their advice names; any other warning shown as it would have been
+    (one line on stderr)."""
     for w in {str(w.message): w for w in caught if issubclass(w.category, AccuracyWarning)}.values():
         if not quiet:
-            print(warning_line(w.message, w.category))
+            print(warning_line(in_scene_terms(str(w.message)), w.category))
     for w in caught:
         if not issubclass(w.category, AccuracyWarning):
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)

@@ -437,7 +437,9 @@ def harmonics(run: Any) -> Effect:
         raise SceneError([f"{run.where('effects.harmonics')} = {H}: harmonics = {H} needs an element with a "
                           f"time-domain force law, but the {run.label} element {type(element).__name__} has none "
                           "(with damper inertia the single-mode bar is a first-harmonic element); use "
-                          "harmonics = 1 or effects.inertia = \"off\""])
+                          "harmonics = 1" + (", damper.model = \"all-mode\" (the bar with every mode has one)"
+                                             if run.spec.microslip is not None else "")
+                          + " or effects.inertia = \"off\""])
 
     n_t = samples or harmonic_samples(H)
     return Effect("higher harmonics", True, f"effects.harmonics = {H}: multi-harmonic balance with AFT, "
