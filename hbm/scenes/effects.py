@@ -227,7 +227,7 @@ def inertia(run: Any) -> Effect:
         info = ""
     if setting == "auto":
         simulated = change > tol
-        reason = f"auto: {at}, {'above' if simulated else 'not above'} the tolerance {tol:g}"
+        reason = f"auto: {at}, {'above' if simulated else 'not above'} effects.tolerance = {tol:g}"
     else:
         simulated = setting == "on"
         reason = f"effects.inertia = {show(setting)} ({at})"
