@@ -4,7 +4,7 @@
 The damper design chart: resonant amplitude of the blade against the damper's normal load,
 for the microslip, point-contact and macroslip models.
 
-Blade: the default case of ``python -m hbm`` (stuck resonance at 0.3 omega_c, zeta = 2e-3,
+Blade: the default case of ``python3 -m hbm`` (stuck resonance at 0.3 omega_c, zeta = 2e-3,
 F = 8 N).  Dampers at normal load N:
 
 - microslip: ``TwoRegionMicroslip(bar, UniformLoad(N))``, the paper's dynamic bar;
@@ -21,7 +21,7 @@ to the gross-slip amplitude while the microslip bar already dissipates: the lowe
 the ratio of the predictions, whose smallest value above the optimum load is printed (the
 paper's introduction cites ~50 %); at the heaviest loads every damper is stuck and all agree.
 
-Run ``python examples/design_chart.py``; writes ``docs/figures/design_chart.png``.
+Run ``python3 examples/design_chart.py``; writes ``docs/figures/design_chart.png``.
 """
 
 from __future__ import annotations

@@ -11,7 +11,7 @@ Every figure uses the same bar, the same two elements and the same normalisation
 
 Each ``figNN_*.py`` script in this folder has ``main(outdir=..., small=False)`` that writes
 ``figNN.png`` and returns a few key numbers; ``main()`` here runs them all.  Run from the
-repository root with ``python examples/paper_figures.py`` (or one script alone).
+repository root with ``python3 examples/paper_figures.py`` (or one script alone).
 """
 
 from __future__ import annotations
@@ -151,7 +151,7 @@ def beyond_the_single_mode_range():
 
 # ------------------------------------------------------------------------------ the default blade
 class DefaultCase(NamedTuple):
-    """The blade of ``python -m hbm``, its damper and its sweep (rad/s)."""
+    """The blade of ``python3 -m hbm``, its damper and its sweep (rad/s)."""
 
     blade: Blade
     element: TwoRegionMicroslip
@@ -159,7 +159,7 @@ class DefaultCase(NamedTuple):
 
 
 def default_case() -> DefaultCase:
-    """The default case of ``python -m hbm``, built with the public API: the reference bar as a
+    """The default case of ``python3 -m hbm``, built with the public API: the reference bar as a
     two-region microslip damper under a uniform load of 100 N, on a blade of stiffness 1e8 N/m whose
     stuck resonance sqrt((k + k*)/m) is 0.3 omega_c, damping ratio 2e-3, force 8 N, swept over 0.8
     to 1.1 times the stuck resonance (the same numbers, operation for operation, as the command

@@ -1,4 +1,4 @@
-"""Command line: ``python -m hbm`` (or ``frictiondamp``) runs the default case.
+"""Command line: ``python3 -m hbm`` (or ``frictiondamp``) runs the default case.
 
 With no arguments it computes the frequency response of the built-in default case
 (``hbm.cli.cases.default_case``) and writes ``frf.csv`` and ``frf.png`` to the current folder
@@ -587,10 +587,10 @@ class _SceneTol(argparse.Action):
 
 
 def program_name(argv0: str | None = None) -> str:
-    """How the user called us: ``python -m hbm`` or the console script's name."""
+    """How the user called us: ``python3 -m hbm`` or the console script's name."""
     argv0 = sys.argv[0] if argv0 is None else argv0
     name = os.path.basename(argv0)
-    return "python -m hbm" if name in ("__main__.py", "-m", "") else name
+    return "python3 -m hbm" if name in ("__main__.py", "-m", "") else name
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
@@ -638,7 +638,7 @@ def _parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
+    """Entry point of ``python3 -m hbm`` and the ``frictiondamp`` console script."""
     args = _parse(build_parser(), argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
     shown = warnings.formatwarning

@@ -1,4 +1,4 @@
-"""The command line's progress line for a running scene or study (``python -m hbm run``).
+"""The command line's progress line for a running scene or study (``python3 -m hbm run``).
 
 On a terminal, one line rewritten in place (carriage return), once the run has taken longer than
 ``SHOW_AFTER`` seconds and at most every ``INTERVAL`` seconds.  Off a terminal (stderr piped into a

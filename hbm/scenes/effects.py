@@ -56,7 +56,7 @@ class Effect:
     simulated : bool
         Whether the run simulates the effect.
     reason : str
-        Why, in words (shown by ``python -m hbm run`` and written to ``summary.json``).
+        Why, in words (shown by ``python3 -m hbm run`` and written to ``summary.json``).
     decided : dict, optional
         The run settings decided, name -> value (``hbm.scenes.planning.DECISIONS``: ``"bar"``,
         ``"inertia"``, ``"topology"``, ``"element"``, ``"stuck"``, ``"model"``, ``"harmonics"``,

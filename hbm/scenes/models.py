@@ -128,7 +128,7 @@ class ModelSpec:
         ``run.load``, ``run.N``, ``run.micro`` (the single-mode microslip element of the decided
         topology, for a spec with ``microslip``), ``run.inertia``, ``run.blade``, ``run.omega``).
     doc : str
-        One line for ``python -m hbm models`` and the docs.
+        One line for ``python3 -m hbm models`` and the docs.
     keys : mapping
         ``[damper]`` keys the model owns: name -> :class:`hbm.scenes.Key`.
     needs : callable
@@ -194,7 +194,7 @@ def register_model(name: str, build: Callable[[Any], Any], *, keys: Mapping[str,
         ``unit(run) -> (metres, name)``, the amplitude unit of amplitude sweeps; default None
         (the element's reference amplitude).
     doc : str, optional
-        One line for ``python -m hbm models`` and the docs.
+        One line for ``python3 -m hbm models`` and the docs.
     example : callable or None, optional
         ``example() -> element``, a representative element for the property tests.
     validate : callable or None, optional
