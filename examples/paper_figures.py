@@ -219,11 +219,22 @@ def _shown(value) -> str:
     return str(value)
 
 
+#: Symbols of the paper that keep their underscore when a key is printed (``F_s_at_1``: ``F_s at 1``).
+SYMBOLS = ("F_s", "F_c", "a_min", "a_g")
+
+
+def _key_name(key: str) -> str:
+    """``key`` as words: its underscores as spaces, but for the paper's symbols (:data:`SYMBOLS`)."""
+    for symbol in SYMBOLS:
+        key = key.replace(symbol, symbol.replace("_", "\0"))
+    return key.replace("_", " ").replace("\0", "_")
+
+
 def show(out: dict) -> None:
     """Print what an example's ``main()`` returned, one readable line per entry (``path`` first,
     relative to the repository; numbers to 6 digits; a dict of numbers as ``key: value`` pairs)."""
     for key in sorted(out, key=lambda k: k != "path"):
-        name = "wrote" if key == "path" else key.replace("_", " ")
+        name = "wrote" if key == "path" else _key_name(key)
         print(f"{name}: {_shown(out[key])}")
 
 
