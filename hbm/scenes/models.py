@@ -557,7 +557,7 @@ def _register_builtins():
                    doc="Segalman's four-parameter Iwan element: parallel Jenkins elements, slip at any amplitude",
                    example=_example_iwan, validate=_macroslip_pair)
     register_model("all-mode", _build_all_mode, keys={"cells": CELLS_KEY}, needs=bar_and_load, unit=_bar_a_min,
-                   doc="the microslip bar with all its modes (AllModeMicroslip: phase differences along it)",
+                   doc="the microslip bar with every mode (AllModeMicroslip: phase differences along it)",
                    example=_example_all_mode)
 
 
