@@ -17,7 +17,7 @@ The whole-curve rule (H = 3, 7, 15, 31 in turn over the whole range until the es
 half the tolerance everywhere) costs the sum of the whole-curve times up to the H it ends at.
 
 Medians of the rounds; the peaks against the chain's true peak (``benchmarks/chain_peak_reference.py``:
-0.5212270 rad/s, 0.1592898 m).  ``--blade``: once, the default blade of ``python -m hbm`` with
+0.5212270 rad/s, 0.1592898 m).  ``--blade``: once, the default blade of ``python3 -m hbm`` with
 ``model="auto"`` at ``tol=1e-2`` (the all-mode bar in a window near the peak) against the whole curve
 with ``AllModeMicroslip`` (what ``model="auto"`` solved before) and the single-mode curve.
 

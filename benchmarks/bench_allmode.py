@@ -25,7 +25,7 @@ pass (each continuation and each curve estimate timed), the first FRF in the pro
 ``repeats`` (docs/performance.md, "The all-mode FRF: where its time goes by pass").
 
 ``python benchmarks/bench_allmode.py --peak [repeats]``: the default case's FRF refined where it holds the peak
-(``frequency_response(..., model="peak")``) against the single-mode FRF, and the whole job (``python -m hbm`` in a
+(``frequency_response(..., model="peak")``) against the single-mode FRF, and the whole job (``python3 -m hbm`` in a
 new process) with ``--model given`` and by default, round-robin, wall and CPU medians (docs/performance.md, "The
 all-mode FRF").  ``--peak-study``: 50 normal loads from 40 to 300 N on two processes, each the single-mode FRF
 and the FRF refined where it holds the peak.

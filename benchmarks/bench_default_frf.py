@@ -1,4 +1,4 @@
-"""The default FRF (``python -m hbm``'s solve and peak) timed in-process, with a fingerprint of its bits.
+"""The default FRF (``python3 -m hbm``'s solve and peak) timed in-process, with a fingerprint of its bits.
 
 Prints the median wall time of ``REPEATS`` solves, the number of points, the peak (repr, all
 digits) and a SHA-256 prefix of the points' omega, amplitude and residual arrays, so two trees can

@@ -4,7 +4,7 @@ Each case: ``frequency_response(...)`` then ``.peak()``, timed ``REPEATS`` times
 and process CPU time), median reported, with the point count, the counters and the peak's
 relative error against an independent reference:
 
-- default case (``python -m hbm``): the same FRF at rtol = 1e-9;
+- default case (``python3 -m hbm``): the same FRF at rtol = 1e-9;
 - blade + Macroslip(1, 1), m = k = 1, F = 0.5, zeta = 1e-2 and 1e-4: the quartic check (for
   each amplitude the balance is a quartic in omega; the peak is the largest amplitude at which
   it has a real root).

@@ -1,4 +1,4 @@
-"""Speed: the microslip FRF, a scalar ``fourier`` call, ``import`` and ``python -m hbm``,
+"""Speed: the microslip FRF, a scalar ``fourier`` call, ``import`` and ``python3 -m hbm``,
 measured against the code of an earlier commit in the same run.
 
 The earlier code (``--baseline``, default 7c28cd0, main at the start of the speed work) is
@@ -27,7 +27,7 @@ Measured:
   dictionary recorded in a first run: the cost of the harmonic balance and continuation alone,
   i.e. the most any faster element (numba, C) could leave;
 - ``import``: ``python -X importtime -c "import PKG"``, the package's cumulative microseconds;
-- ``python -m hbm``: the whole default job (FRF, CSV, PNG) in a child process, its user + system
+- ``python3 -m hbm``: the whole default job (FRF, CSV, PNG) in a child process, its user + system
   CPU time (``resource.getrusage(RUSAGE_CHILDREN)``).
 
 ``--profile`` adds where the time of the current code's default FRF goes (cProfile, inclusive
@@ -467,7 +467,7 @@ def report(res, prof=None):
              row("`import contact_models` (-X importtime, wall clock)", "import_contact_models"),
              row("`import hbm`, process CPU", "import_cpu_hbm"),
              row("`import contact_models`, process CPU", "import_cpu_contact_models"),
-             row("`python -m hbm`, whole job (user + system CPU)", "main_job")]
+             row("`python3 -m hbm`, whole job (user + system CPU)", "main_job")]
     c = res["checks"]
     for case, label in (("default", "default"), ("three", "three-region")):
         k = c[case]

@@ -5,7 +5,7 @@ FRF of the default blade with the all-mode damper (AllModeMicroslip), against th
 FRF, the time integration of blade + bar, and the converged H = 1 amplitude
 (``hbm.reference.amplitude.amplitude_at`` on 1024 cells at H = 63).
 
-The default case of ``python -m hbm`` (``paper_figures.default_case``): blade k = 1e8 N/m, zeta = 2e-3,
+The default case of ``python3 -m hbm`` (``paper_figures.default_case``): blade k = 1e8 N/m, zeta = 2e-3,
 F = 8 N, uniform 100 N load on the reference bar (``paper_figures.BAR_PARAMETERS``).  The time-integration numbers are the ones
 stored in docs/validation.md ("The blade in time against the FRF": ``hbm.simulate_blade``,
 160 cells, 1024 steps per cycle, a 345 s run), not re-run here.  Writes

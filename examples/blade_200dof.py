@@ -13,7 +13,7 @@ DOFs and 18 fixed-interface modes) gives the same curve (compared at the peak an
 frequencies), and both times are reported side by side.  Check: the first natural frequency of
 the FE model against the Euler-Bernoulli value ``1.87510^2 sqrt(EI/(rho A L^4))``.
 
-Run ``python examples/blade_200dof.py``; writes ``docs/figures/blade_200dof.png``.
+Run ``python3 examples/blade_200dof.py``; writes ``docs/figures/blade_200dof.png``.
 
 .. note::
    Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.

@@ -11,7 +11,7 @@ sector at one EO; and one mistuned disk (blade stiffnesses scattered by 3 %) sol
 ``disk.full()``, its blades' responses beside the tuned sector's.  Check: the tuned whole disk
 (the same ``disk.full()`` unperturbed) has the sector's peak.
 
-Run ``python examples/bladed_disk.py``; writes ``docs/figures/bladed_disk_eo.png``,
+Run ``python3 examples/bladed_disk.py``; writes ``docs/figures/bladed_disk_eo.png``,
 ``docs/figures/bladed_disk_chart.png`` and ``docs/figures/bladed_disk_mistuned.png``.
 
 .. note::

@@ -11,7 +11,7 @@ FRF of every DOF (unstable stretches dashed) and the harmonic content of DOF 2. 
 stuck range the response is the closed-form linear response of the chain with both contacts as
 springs.
 
-Run ``python examples/chain_3dof.py``; writes ``docs/figures/chain_3dof_frf.png`` and
+Run ``python3 examples/chain_3dof.py``; writes ``docs/figures/chain_3dof_frf.png`` and
 ``docs/figures/chain_3dof_harmonics.png``.
 
 .. note::

@@ -16,9 +16,9 @@ about 1.6 rad/s, the normal motion opens the contact over part of each cycle: th
 tangential force vanishes.  The share of the period during which the contact is open is computed
 from the normal DOF's harmonics, ``N(t)`` sampled by ``Contact2D.normal_force``, and marked
 on the FRF.  The same scene runs from the command line as
-``python -m hbm run examples/scenes/contact_normal.toml``.
+``python3 -m hbm run examples/scenes/contact_normal.toml``.
 
-Run ``python examples/contact_normal_scene.py``; writes ``docs/figures/contact_normal_scene.png``.
+Run ``python3 examples/contact_normal_scene.py``; writes ``docs/figures/contact_normal_scene.png``.
 """
 
 from __future__ import annotations

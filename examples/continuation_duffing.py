@@ -11,7 +11,7 @@ both folds and locates them.  Checks: every point satisfies the frequency-amplit
 ``a^2 [(k - m w^2 + 3/4 k3 a^2)^2 + (c w)^2] = F^2``, and the located folds solve that
 relation together with its vertical-tangent condition (scipy's fsolve, independently).
 
-Run ``python examples/continuation_duffing.py``; writes ``docs/figures/continuation_duffing.png``.
+Run ``python3 examples/continuation_duffing.py``; writes ``docs/figures/continuation_duffing.png``.
 """
 
 from __future__ import annotations

@@ -8,9 +8,9 @@ locates the load where the peak is smallest.  The dots are the peaks of full FRF
 (``hbm.frequency_response``) at a few loads: for one DOF at H = 1 the mode's peak is the FRF's
 (the forced balance projected on the mode is the forced balance itself).
 
-Run ``python examples/design_chart_from_modes.py``; writes
+Run ``python3 examples/design_chart_from_modes.py``; writes
 ``docs/figures/design_chart_from_modes.png``.  The optimum alone from a scene file (30 N to 90 N):
-``python -m hbm run examples/scenes/damper_optimum.toml`` (an ``[optimum]`` table, ``docs/scenes.md``).
+``python3 -m hbm run examples/scenes/damper_optimum.toml`` (an ``[optimum]`` table, ``docs/scenes.md``).
 
 .. note::
    Not run when the site is built: the figure is the one a committed run wrote; running this

@@ -10,7 +10,7 @@ starred), computed from the scene ``examples/scenes/design_chart_study.toml``: i
 (``executor="dask"`` or a ``scheduler`` address for a Dask cluster).  The runs are written to
 ``design_chart_study/`` as they finish; a rerun computes only what is missing.
 
-Run ``python examples/design_chart_study.py``; writes ``docs/figures/design_chart_study.png``.
+Run ``python3 examples/design_chart_study.py``; writes ``docs/figures/design_chart_study.png``.
 
 .. note::
    Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.

@@ -67,7 +67,7 @@ def main(outdir=DEFAULT_OUTDIR, small=False):
     pc, micro, point, gaps = compare(two, s.k_star, s.a_min, a_over)
     marks = (1.0, a_g / s.a_min)
     paths = []
-    for number, i, what in ((17, 0, "F_s"), (18, 1, "F_c")):
+    for number, i, what in ((17, 0, "$F_s$"), (18, 1, "$F_c$")):
         fig, ax = new_figure(number, f"{what}: two-region microslip bar and its point contact")
         draw(ax, a_over, micro, point, i, marks)
         paths.append(str(save(fig, outdir, number)))

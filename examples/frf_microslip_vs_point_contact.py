@@ -4,7 +4,7 @@
 FRFs of the blade with a two-region microslip damper and with its fitted point contact,
 at several normal loads, on one figure.
 
-The blade is the default case of ``python -m hbm`` (``paper_figures.default_case``: stuck resonance
+The blade is the default case of ``python3 -m hbm`` (``paper_figures.default_case``: stuck resonance
 at 0.3 omega_c, zeta = 2e-3, F = 8 N); the damper is ``TwoRegionMicroslip(bar,
 UniformLoad(N))`` and ``PointContact.fit(two, omega_fit)``: equal stuck stiffness,
 fully-slipping stiffness and gross-slip amplitude (Section 3.4), fitted at the blade's stuck
@@ -12,7 +12,7 @@ resonance ``omega_fit`` rather than at 0, because the microslip bar's stiffness 
 below k* and a fit at 0 would shift the point contact's resonance by that much.  Solid:
 microslip; dashed: point contact; dotted grey: the damper stuck (linear closed form).
 
-Run ``python examples/frf_microslip_vs_point_contact.py``; writes
+Run ``python3 examples/frf_microslip_vs_point_contact.py``; writes
 ``docs/figures/frf_microslip_vs_point_contact.png``.
 """
 

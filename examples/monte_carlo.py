@@ -12,7 +12,7 @@ blade's resonance by about 1 % (its peak by 3 to 6 %; ``docs/studies.md``).
 The figure (drawn here by ``figure()``) shows the histogram of the peak amplitude in um with its
 5th, 50th and 95th percentiles, and the peak against mu coloured by N (in N).
 
-Run ``python examples/monte_carlo.py``; writes ``docs/figures/monte_carlo.png``.
+Run ``python3 examples/monte_carlo.py``; writes ``docs/figures/monte_carlo.png``.
 
 .. note::
    Not run when the site is built (it takes from several seconds to minutes): the figure is the one a committed run wrote; running this script regenerates it.

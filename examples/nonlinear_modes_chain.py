@@ -12,9 +12,9 @@ sliders' dissipation grows more slowly than the mode's energy.  Check: the stuck
 the lowest undamped eigenfrequency of K with both contacts as springs, to 1.5e-7 (C = 0.004 K is
 not proportional to the stuck stiffness, which moves the damped mode's frequency a little).
 
-Run ``python examples/nonlinear_modes_chain.py``; writes ``docs/figures/nonlinear_modes_chain.png``.
+Run ``python3 examples/nonlinear_modes_chain.py``; writes ``docs/figures/nonlinear_modes_chain.png``.
 The same kind of mode from a scene file (the chain with its ground contact only, H = 5):
-``python -m hbm run examples/scenes/nonlinear_modes_chain.toml`` (a ``[modes]`` table, ``docs/scenes.md``).
+``python3 -m hbm run examples/scenes/nonlinear_modes_chain.toml`` (a ``[modes]`` table, ``docs/scenes.md``).
 
 .. note::
    Not run when the site is built: the figure is the one a committed run wrote; running this

@@ -11,7 +11,7 @@ Every figure uses the same bar, the same two elements and the same normalisation
 
 Each ``figNN_*.py`` script in this folder has ``main(outdir=..., small=False)`` that writes
 ``figNN.png`` and returns a few key numbers; ``main()`` here runs them all.  Run from the
-repository root with ``python examples/paper_figures.py`` (or one script alone).
+repository root with ``python3 examples/paper_figures.py`` (or one script alone).
 """
 
 from __future__ import annotations
@@ -151,7 +151,7 @@ def beyond_the_single_mode_range():
 
 # ------------------------------------------------------------------------------ the default blade
 class DefaultCase(NamedTuple):
-    """The blade of ``python -m hbm``, its damper and its sweep (rad/s)."""
+    """The blade of ``python3 -m hbm``, its damper and its sweep (rad/s)."""
 
     blade: Blade
     element: TwoRegionMicroslip
@@ -159,7 +159,7 @@ class DefaultCase(NamedTuple):
 
 
 def default_case() -> DefaultCase:
-    """The default case of ``python -m hbm``, built with the public API: the reference bar as a
+    """The default case of ``python3 -m hbm``, built with the public API: the reference bar as a
     two-region microslip damper under a uniform load of 100 N, on a blade of stiffness 1e8 N/m whose
     stuck resonance sqrt((k + k*)/m) is 0.3 omega_c, damping ratio 2e-3, force 8 N, swept over 0.8
     to 1.1 times the stuck resonance (the same numbers, operation for operation, as the command
@@ -219,11 +219,22 @@ def _shown(value) -> str:
     return str(value)
 
 
+#: Symbols of the paper that keep their underscore when a key is printed (``F_s_at_1``: ``F_s at 1``).
+SYMBOLS = ("F_s", "F_c", "a_min", "a_g")
+
+
+def _key_name(key: str) -> str:
+    """``key`` as words: its underscores as spaces, but for the paper's symbols (:data:`SYMBOLS`)."""
+    for symbol in SYMBOLS:
+        key = key.replace(symbol, symbol.replace("_", "\0"))
+    return key.replace("_", " ").replace("\0", "_")
+
+
 def show(out: dict) -> None:
     """Print what an example's ``main()`` returned, one readable line per entry (``path`` first,
     relative to the repository; numbers to 6 digits; a dict of numbers as ``key: value`` pairs)."""
     for key in sorted(out, key=lambda k: k != "path"):
-        name = "wrote" if key == "path" else key.replace("_", " ")
+        name = "wrote" if key == "path" else _key_name(key)
         print(f"{name}: {_shown(out[key])}")
 
 

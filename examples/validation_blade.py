@@ -4,7 +4,7 @@
 The blade and the discretised bar integrated in time against the
 harmonic-balance FRF, at three frequencies around resonance.
 
-The default case of ``python -m hbm`` (blade k = 1e8 N/m, zeta = 2e-3, F = 8 N; the reference
+The default case of ``python3 -m hbm`` (blade k = 1e8 N/m, zeta = 2e-3, F = 8 N; the reference
 bar under a uniform 100 N load as the damper).  At each frequency:
 
 - HBM, analytic element: ``response_at(blade, TwoRegionMicroslip, omega)``, the FRF's value;
@@ -20,7 +20,7 @@ bar under a uniform 100 N load as the damper).  At each frequency:
 So time integration vs HBM-numerical measures what the single harmonic leaves out, and
 HBM-numerical vs HBM-analytic what the single mode leaves out.  Writes ``validation_blade.png``
 (the FRF with the three time-integration points; the damper's steady loops) and returns the
-rows; ``python examples/validation_blade.py`` prints the markdown table (about 6 min).
+rows; ``python3 examples/validation_blade.py`` prints the markdown table (about 6 min).
 
 .. note::
    Not run when the site is built (about 6 min): the figure is the one a committed run wrote,

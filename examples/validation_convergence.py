@@ -9,7 +9,7 @@ for 256 ... 4096 steps at n = 400.  Dynamic (omega = 0.3 omega_c): successive di
 F_s, F_c as n doubles at 1024 steps per cycle, and as the steps per cycle double at n = 100.
 Observed rates are log2 of successive ratios.  Writes ``validation_convergence.png``::
 
-    python examples/validation_convergence.py          # the full study (a few minutes)
+    python3 examples/validation_convergence.py          # the full study (a few minutes)
 
 .. note::
    Not run when the site is built (a few minutes): the figure is the one a committed run wrote,

@@ -9,10 +9,10 @@ The numerical values are computed at (cells, steps_per_cycle) and again at half 
 change is quoted as the numerical solution's error bar (conservative: with second-order
 convergence the finer run's own error is about a third of it).  Writes
 ``validation_dynamic.png`` (F_s, F_c against a/a_min: analytic lines, numerical points) and
-returns the rows; ``python examples/validation_dynamic.py`` prints the markdown table::
+returns the rows; ``python3 examples/validation_dynamic.py`` prints the markdown table::
 
-    python examples/validation_dynamic.py                     # cells 200, 1024 steps (~15 min)
-    python examples/validation_dynamic.py --cells 100 --steps 512
+    python3 examples/validation_dynamic.py                     # cells 200, 1024 steps (~15 min)
+    python3 examples/validation_dynamic.py --cells 100 --steps 512
 
 .. note::
    Not run when the site is built (about 15 min): the figure is the one a committed run wrote,

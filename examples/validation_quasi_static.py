@@ -11,8 +11,8 @@ discretisation error of the numerical bar plus the analytic elements' rtol (1e-6
 prints the table, aligned as text (``--markdown``: as the Markdown table of
 docs/validation.md)::
 
-    python examples/validation_quasi_static.py            # n = 400, the table of docs/validation.md
-    python examples/validation_quasi_static.py --cells 100
+    python3 examples/validation_quasi_static.py            # n = 400, the table of docs/validation.md
+    python3 examples/validation_quasi_static.py --cells 100
 """
 
 from __future__ import annotations

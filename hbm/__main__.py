@@ -1,4 +1,4 @@
-"""``python -m hbm``: the command line (``hbm.cli.main``)."""
+"""``python3 -m hbm``: the command line (``hbm.cli.main``)."""
 
 import gc
 
@@ -6,7 +6,7 @@ from .cli.main import main as _main
 
 
 def main(argv: "list[str] | None" = None) -> int:
-    """The command line's entry point (``python -m hbm`` and the ``frictiondamp`` console script):
+    """The command line's entry point (``python3 -m hbm`` and the ``frictiondamp`` console script):
     ``hbm.cli.main.main``, then the process's objects frozen out of the garbage collector's reach."""
     code = _main(argv)
     # Every file is written and closed: what remains is the interpreter's exit, whose garbage

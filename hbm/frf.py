@@ -296,7 +296,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     >>> pk.interior, pk.converged
     (True, True)
 
-    With the two-region microslip damper (the single-mode bar of ``python -m hbm``):
+    With the two-region microslip damper (the single-mode bar of ``python3 -m hbm``):
 
     >>> from contact_models import Bar, UniformLoad, TwoRegionMicroslip
     >>> bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
@@ -641,7 +641,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     --------
     >>> from hbm import response_at
     >>> from hbm.cli.cases import default_case
-    >>> case = default_case()                          # the blade and damper of python -m hbm
+    >>> case = default_case()                          # the blade and damper of python3 -m hbm
     >>> r = response_at(case.blade, case.element, 38000.0, (1.0e-7, 1.0e-5))
     >>> round(r.amplitude, 10), round(r.phase, 3)      # m, rad
     (7.371e-07, 0.041)

@@ -1,6 +1,6 @@
 """The one CSV layout and the one FRF figure of the library.
 
-Every FRF table (``FrequencyResponse.to_csv``, ``python -m hbm``, a scene's ``frf.csv``) has the
+Every FRF table (``FrequencyResponse.to_csv``, ``python3 -m hbm``, a scene's ``frf.csv``) has the
 columns :data:`FRF_COLUMNS`, units in the names, with a scene's run columns :data:`RUN_COLUMNS`
 in front, the column names followed by ``# key: value`` lines (case, model, tol, version) that
 ``numpy.loadtxt(..., skiprows=1)`` and ``pandas.read_csv(comment="#")`` skip (:func:`csv_lines`
@@ -442,7 +442,7 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     """Draw on ``ax`` what the damper's linear range says of a blade's FRF: the response with the
     damper stuck (a linear spring of stiffness ``element.stuck_stiffness(omega)``), dashed grey,
     and the amplitude ``a_min`` at which slip begins, a dotted horizontal line (left out when
-    ``a_min`` is None, 0 or not finite).  The one drawing of both for ``python -m hbm``'s figure
+    ``a_min`` is None, 0 or not finite).  The one drawing of both for ``python3 -m hbm``'s figure
     and a scene's; returns ``ax``.  ``label`` False draws them without legend entries (a second
     run's references); ``stiffness(omega array) -> array`` replaces ``element.stuck_stiffness``
     (a scene's quasi-static damper, whose own evaluations are counted as the run's); ``a_min_color``

@@ -526,7 +526,7 @@ class FrequencyResponse:
 
         Examples
         --------
-        The default case of ``python -m hbm``: the damper is in microslip at resonance, the
+        The default case of ``python3 -m hbm``: the damper is in microslip at resonance, the
         peak at about twice its slip amplitude a_min = 7.5e-7 m.
 
         >>> from hbm import frequency_response

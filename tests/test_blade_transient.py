@@ -2,7 +2,7 @@
 balance, and the one-frequency balance ``response_at``.
 
 CI runs a coarse discretisation (20 cells, 128 steps per cycle); the converged study is
-``python examples/validation_blade.py`` (docs/validation.md), its small form marked slow.
+``python3 examples/validation_blade.py`` (docs/validation.md), its small form marked slow.
 """
 
 import importlib

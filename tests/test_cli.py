@@ -28,12 +28,12 @@ def test_help_is_plain_text_with_examples_and_the_typed_program_name():
     assert "``" not in text and ":func:" not in text
     assert "examples:" in text and "frictiondamp run study.toml" in text
     assert program_name("/usr/bin/frictiondamp") == "frictiondamp"
-    assert program_name("/x/hbm/__main__.py") == "python -m hbm"
+    assert program_name("/x/hbm/__main__.py") == "python3 -m hbm"
 
 
 def test_help_from_a_real_process_names_python_dash_m_hbm():
     proc = subprocess.run([sys.executable, "-m", "hbm", "--help"], capture_output=True, text=True, timeout=60)
-    assert proc.returncode == 0 and proc.stdout.startswith("usage: python -m hbm")
+    assert proc.returncode == 0 and proc.stdout.startswith("usage: python3 -m hbm")
 
 
 def test_new_writes_a_template_that_runs_as_written(tmp_path, capsys):
@@ -98,7 +98,7 @@ def test_run_answers_tol_in_one_line_pointing_to_sweep_tol(capsys):
         main(["--tol", "1e-3", "run", str(DEFAULT)])
     err = capsys.readouterr().err
     assert stop.value.code == 2 and err.strip().splitlines()[-1].endswith(
-        "error: --tol does not apply to run (only to the default job); a scene's target error is its sweep.tol: "
+        "error: --tol does not apply to run (only to the main job); a scene's target error is its sweep.tol: "
         "give --set sweep.tol=VALUE")
 
 

@@ -1,4 +1,4 @@
-"""The default job with ``--model peak``: the peak of the curve whose windows that hold it are traced again
+"""The main job with ``--model peak``: the peak of the curve whose windows that hold it are traced again
 with the bar of every mode, on the job's last line, against the converged reference."""
 
 import csv

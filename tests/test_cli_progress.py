@@ -73,7 +73,7 @@ def test_plain_progress_is_silent_when_disabled_by_quiet():
 
 
 def _cli(tmp_path, *extra):
-    """``python -m hbm run`` of a 3-run study, stderr a pipe, with PLAIN_INTERVAL = 0 (a line per run)."""
+    """``python3 -m hbm run`` of a 3-run study, stderr a pipe, with PLAIN_INTERVAL = 0 (a line per run)."""
     path = tmp_path / "study.toml"
     path.write_text(SCENE)
     code = textwrap.dedent(f"""

@@ -281,7 +281,7 @@ def test_gallery_headers_show_command_lines_as_literal_blocks():
     executed, shown = fd.gallery_examples(ROOT / "examples")
     for name in executed + shown:
         header = fd.example_header(ROOT / "examples" / name)
-        commands = [line.strip() for line in header.splitlines() if line.strip().startswith("python ")]
+        commands = [line.strip() for line in header.splitlines() if line.strip().startswith(("python ", "python3 "))]
         tree = publish_doctree(header, settings_overrides={"report_level": 5})
         literal = "\n".join(node.astext() for node in tree.findall(literal_block))
         for command in commands:

@@ -142,7 +142,7 @@ def test_fig15_stiffness_curves_cross_and_merge(tmp_path, s):
 
 def test_the_examples_default_case_is_the_command_lines():
     """``paper_figures.default_case`` (the public API) builds the blade, damper and sweep of
-    ``python -m hbm`` to the last bit, and ``stuck_response`` is the blade's closed-form response."""
+    ``python3 -m hbm`` to the last bit, and ``stuck_response`` is the blade's closed-form response."""
     from hbm.cli.cases import default_case
 
     mine, cli = paper_figures.default_case(), default_case()

@@ -10,7 +10,7 @@ EXAMPLES = Path(__file__).resolve().parent.parent / "examples"
 if str(EXAMPLES) not in sys.path:
     sys.path.insert(0, str(EXAMPLES))
 
-#: Default-case peak (python -m hbm, rtol 1e-6; converged to 1e-12 against rtol 1e-9).
+#: Default-case peak (python3 -m hbm, rtol 1e-6; converged to 1e-12 against rtol 1e-9).
 DEFAULT_PEAK = 1.5119614110e-06
 
 

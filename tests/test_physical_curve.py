@@ -38,7 +38,7 @@ def at(omega, w, values):
 
 @pytest.fixture(scope="module")
 def job(tmp_path_factory):
-    """The main job as a user runs it (``python -m hbm``): its CSV, its warnings."""
+    """The main job as a user runs it (``python3 -m hbm``): its CSV, its warnings."""
     out = tmp_path_factory.mktemp("job")
     printed = io.StringIO()
     with warnings.catch_warnings(record=True) as caught, contextlib.redirect_stdout(printed):

@@ -32,7 +32,7 @@ SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
 ROOT = SCENES.parent.parent
 DEFAULT = SCENES / "default_microslip_frf.toml"
 LOW = SCENES / "quasi_static_low_frequency.toml"
-#: Default-case peak (python -m hbm; tests/test_hbm_examples.py).
+#: Default-case peak (python3 -m hbm; tests/test_hbm_examples.py).
 DEFAULT_PEAK = 1.5119614110e-06
 
 

@@ -2,7 +2,7 @@
 
 The example scene (``examples/scenes/allmode_normal.toml``) against the same problem built directly
 with ``hbm.frequency_response`` (point for point), its normal DOF against the closed-form linear
-response (the platform never separates from the bar there), its keys in ``python -m hbm keys`` and
+response (the platform never separates from the bar there), its keys in ``python3 -m hbm keys`` and
 ``docs/scenes.md``, and bad input naming its key.
 """
 

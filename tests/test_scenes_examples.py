@@ -12,7 +12,7 @@ from hbm.scenes import load_scene, plan_scene, run_scene
 from hbm.output import csv_lines
 
 SCENES = Path(__file__).resolve().parent.parent / "examples" / "scenes"
-#: Default-case peak (python -m hbm; tests/test_hbm_examples.py).
+#: Default-case peak (python3 -m hbm; tests/test_hbm_examples.py).
 DEFAULT_PEAK = 1.5119614110e-06
 
 

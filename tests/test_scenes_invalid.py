@@ -1,7 +1,7 @@
 """Malformed scenes: exit code 2, a message naming the file and the key, and no output at all.
 
 Each case edits the default scene's text (``examples/scenes/default_microslip_frf.toml``) and runs
-``python -m hbm run`` in-process (one case also as a real subprocess).
+``python3 -m hbm run`` in-process (one case also as a real subprocess).
 """
 
 import re

@@ -3,7 +3,7 @@
 The two example scenes (``examples/scenes/nlvib_ex07.toml``, ``examples/scenes/contact_normal.toml``)
 against the same problems built directly with ``hbm.frequency_response`` (point for point), the
 point contact's separation and its stuck start against the closed-form linear response, the new
-keys in ``python -m hbm keys`` and ``docs/scenes.md``, and bad input naming its key.
+keys in ``python3 -m hbm keys`` and ``docs/scenes.md``, and bad input naming its key.
 """
 
 import csv

@@ -198,7 +198,7 @@ def test_new_writes_where_it_is_told_and_nothing_else(tmp_path):
 def test_help_lists_every_option_of_run():
     from hbm.cli.main import build_parser
 
-    text = " ".join(build_parser("python -m hbm").format_help().split())
+    text = " ".join(build_parser("python3 -m hbm").format_help().split())
     run = text[text.index("run run a scene file"):text.index("new write")]
     for option in ("--out DIR", "--set TABLE.KEY=VALUE", "--rtol X", "--quiet", "--check", "--workers N",
                    "--scheduler ADDRESS", "--executor NAME"):

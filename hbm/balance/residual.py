@@ -75,7 +75,7 @@ AMP_REFRESH = 3e-2
 #: keeps to make one whole (``ContactElement.harmonic_force_deferred``; the oldest dropped first).  The all-mode
 #: bar keeps its odd solution's nodes, cells x (H + 1) floats (32 KiB at 128 cells and 31 harmonics, as much as
 #: a Jacobian of 31 harmonics), at every evaluation of a trace, whose corrector evaluates several times a point:
-#: the default job's longest all-mode trace needs about 9 MiB to hold all its points.
+#: the main job's longest all-mode trace needs about 9 MiB to hold all its points.
 JACOBIAN_KEEP_BYTES = 16 * 2**20
 #: The most harmonics a balance takes (its unknowns grow as 2H + 1 per contact DOF, a step's cost as their cube).
 MAX_BALANCE_HARMONICS = 256

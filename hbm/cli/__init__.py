@@ -1,4 +1,4 @@
-"""The command line: ``python -m hbm`` and the ``frictiondamp`` console script.
+"""The command line: ``python3 -m hbm`` and the ``frictiondamp`` console script.
 
 - :mod:`~hbm.cli.main`: the parser, the subcommands (``default``, ``run``, ``new``, ``models``,
   ``keys``) and ``main``, the entry point;

@@ -1,4 +1,4 @@
-"""Built-in cases: the default job of ``python -m hbm``.
+"""Built-in cases: the main job of ``python3 -m hbm``.
 
 The default case: the reference bar of the documentation (``Bar(E=2e11, rho=7850, A=1e-5, L=0.05, k=8e8, beta=4e7,
 mu=0.3)``, omega_c = 1.332e5 rad/s) as a two-region microslip damper under a uniform normal

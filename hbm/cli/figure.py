@@ -51,7 +51,7 @@ def base_figure(frf: Any, case: Any, *, given: Any = None) -> tuple[Any, Any]:
         plot_frfs([(frf, "microslip damper (harmonic balance)", "microslip", None)], ax)
     else:
         ax.plot(given.omega, given.amplitude, "-", color="0.45", lw=0.9,
-                label=f"single-mode bar (error to {100.0 * float(max(given.error_estimate)):.2g} %)")
+                label=f"single-mode bar (estimated error up to {100.0 * float(max(given.error_estimate)):.2g} %)")
         plot_frfs([(frf, f"bar with every mode (tol {frf.tol:g})", "microslip", None)], ax)
     if given is not None:
         _peak_inset(ax, frf, given)
@@ -62,20 +62,22 @@ def base_figure(frf: Any, case: Any, *, given: Any = None) -> tuple[Any, Any]:
 
 
 def _peak_inset(ax: Any, frf: Any, given: Any) -> None:
-    """An inset of the peak (where the physical curve is above 80 % of its peak), linear axes: the
-    single-mode curve's offset and the physical curve's error band, too small to see on the whole curve."""
+    """An inset of the peak (where the physical curve is above 80 % of its peak), linear axes in
+    micrometres (no offset text): the single-mode curve's offset and the physical curve's error band,
+    too small to see on the whole curve."""
     A = frf.amplitude
     near = A >= 0.8 * float(max(A))
     w0, w1 = float(min(frf.omega[near])), float(max(frf.omega[near]))
     inset = ax.inset_axes([0.07, 0.52, 0.36, 0.42])
     for f, style in ((given, dict(color="0.45", lw=0.9)), (frf, dict(color="C0", lw=1.2))):
         keep = (f.omega >= w0) & (f.omega <= w1)
-        inset.plot(f.omega[keep], f.amplitude[keep], "-", **style)
+        inset.plot(f.omega[keep], 1e6 * f.amplitude[keep], "-", **style)
     keep = (frf.omega >= w0) & (frf.omega <= w1)
     e = frf.error_estimate[keep]
-    inset.fill_between(frf.omega[keep], A[keep] * (1.0 - e), A[keep] * (1.0 + e), color="C0", alpha=0.3, lw=0)
+    um = 1e6 * A[keep]
+    inset.fill_between(frf.omega[keep], um * (1.0 - e), um * (1.0 + e), color="C0", alpha=0.3, lw=0)
     inset.tick_params(labelsize=6)
-    inset.set_title("near the peak", fontsize=7)
+    inset.set_title("near the peak (µm, rad/s)", fontsize=7)
 
 
 def save_figure(fig: Any, path: Path) -> Path:

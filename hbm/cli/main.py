@@ -1,4 +1,4 @@
-"""Command line: ``python -m hbm`` (or ``frictiondamp``) runs the default case.
+"""Command line: ``python3 -m hbm`` (or ``frictiondamp``) runs the default case.
 
 With no arguments it computes the frequency response of the built-in default case
 (``hbm.cli.cases.default_case``) and writes ``frf.csv`` and ``frf.png`` to the current folder
@@ -40,19 +40,20 @@ __all__ = ["main", "build_parser", "program_name", "study_lines", "accuracy_line
            "DESCRIPTION", "EXAMPLES",
            "Terminated"]
 
-#: The default job's ``--model``: the physical curve, the bar with every mode wherever the single-mode bar
+#: The main job's ``--model``: the physical curve, the bar with every mode wherever the single-mode bar
 #: is further than its share of tol from it.
 DEFAULT_MODEL = "auto"
 #: The first line of ``--help``.
-DESCRIPTION = "Forced response of a blade with a friction damper (harmonic balance, continuation)."
+DESCRIPTION = ("Forced response of friction-damped structures (harmonic balance, continuation): with no "
+               "command the main job, a blade with a microslip damper; run SCENE.toml for your own.")
 #: Examples shown at the end of ``--help``.
 EXAMPLES = """examples:
-  {prog}                                   the default case: frf.csv and frf.png here
+  {prog}                                   the main job (the default case): frf.csv and frf.png here
   {prog} --out results                     the same, written to results/
   {prog} run study.toml                    run a scene (a study described in a TOML file)
   {prog} run study.toml --check            validate it and print its effects; compute nothing
   {prog} run study.toml --set sweep.tol=fast --out quick
-  {prog} run chart.toml --workers 2                a scene with [study]: its runs on 2 processes
+  {prog} run chart.toml --workers 2        a scene with [study]: its runs on 2 processes
   {prog} run chart.toml --scheduler tcp://host:8786   ... on a running Dask cluster
   {prog} new study.toml                    write an annotated template scene that runs as written
   {prog} models                            the damper models a scene can name
@@ -71,13 +72,13 @@ def _default(args: argparse.Namespace) -> int:
     from .progress import ProgressLine, ticking  # lazily, as in _run
 
     line = ProgressLine(sys.stderr, enabled=True, plain=not sys.stderr.isatty())
-    what = f"the default job (--model {getattr(args, 'model', None) or DEFAULT_MODEL})"
+    what = f"the main job (--model {getattr(args, 'model', None) or DEFAULT_MODEL})"
     return _compute(line, lambda: ticking(line, what, lambda state: _default_job(args, out, written, state)), kept,
                     lambda job: job[1], code=lambda job: job[0])
 
 
 def _default_job(args: argparse.Namespace, out: Path, written: list, state: Any = None) -> tuple[int, list]:
-    """The default job: ``(exit code, lines to print)``; ``written`` collects the files as they are written,
+    """The main job: ``(exit code, lines to print)``; ``written`` collects the files as they are written,
     ``state`` (``hbm.cli.progress.Elapsed``) the points as the solve accepts them."""
     case = default_case()
     t0 = time.perf_counter()
@@ -215,7 +216,7 @@ def _peak_point(frf: Any, pk: Any) -> int:
 
 
 def _run(args) -> int:
-    # lazily, here and in the other subcommands: the default job reads no scene (40 ms of its start)
+    # lazily, here and in the other subcommands: the main job reads no scene (40 ms of its start)
     from ..scenes import (SceneError, effect_lines, load_scene, output_names, parse_override, plan_scene,
                           run_scene, summary_lines)
     from .progress import ProgressLine
@@ -270,13 +271,30 @@ def _one_line(message, category, filename, lineno, line=None) -> str:
     return warning_line(message, category) + "\n"
 
 
+#: The arguments of ``frequency_response`` a warning's advice names, and the scene keys that set them.
+SCENE_KEYS = (("model='auto'", 'damper.model = "auto"'),
+              ("harmonics=", "effects.harmonics, which a scene fixes (default 1; above 1 only for a damper with a "
+                             "time-domain law)"),
+              ("AllModeMicroslip: cells", "the all-mode bar's cells are damper.cells"),
+              ("n_t=", "effects.samples"),
+              ("tol=", "sweep.tol"))
+
+
+def in_scene_terms(message: str) -> str:
+    """``message`` with the scene keys of the ``frequency_response`` arguments its advice names (a scene
+    user sets keys, not arguments); unchanged where it names none."""
+    said = [key if " are " in key else f"{argument} is {key}" for argument, key in SCENE_KEYS if argument in message]
+    return f"{message} (in a scene: {'; '.join(said)})" if said else message
+
+
 def _say_after(caught: list, quiet: bool) -> None:
     """The accuracy warnings ``caught`` during a scene or study, each said once after its summary
-    (on stdout with it: stderr carries the progress line; ``summary.json`` records them too);
-    any other warning shown as it would have been (one line on stderr)."""
+    (on stdout with it: stderr carries the progress line; ``summary.json`` records them too), with
+    the scene keys of the arguments their advice names; any other warning shown as it would have been
+    (one line on stderr)."""
     for w in {str(w.message): w for w in caught if issubclass(w.category, AccuracyWarning)}.values():
         if not quiet:
-            print(warning_line(w.message, w.category))
+            print(warning_line(in_scene_terms(str(w.message)), w.category))
     for w in caught:
         if not issubclass(w.category, AccuracyWarning):
             warnings.showwarning(w.message, w.category, w.filename, w.lineno)
@@ -395,7 +413,7 @@ def _default_arguments(parser):
 
 
 def _tol(args: argparse.Namespace) -> float:
-    """``--tol`` of the default job (``frequency_response``'s default, ``hbm.frf.DEFAULT_TOL``, where not given)."""
+    """``--tol`` of the main job (``frequency_response``'s default, ``hbm.frf.DEFAULT_TOL``, where not given)."""
     tol = getattr(args, "tol", None)
     return DEFAULT_TOL if tol is None else tol
 
@@ -445,12 +463,12 @@ def _relative(option: str, upper: float, names: dict | None = None) -> Callable[
 
 
 def _model_argument(parser, suppress=True):
-    """``--model`` and ``--tol``: the default job's damper model and target relative error."""
+    """``--model`` and ``--tol``: the main job's damper model and target relative error."""
     parser.add_argument("--tol", type=_relative("--tol", 1.0, PRESETS), default=argparse.SUPPRESS if suppress else None,
-                        help=f"the default job's target relative error of every point (default {DEFAULT_TOL:g}): a "
+                        help=f"the main job's target relative error of every point (default {DEFAULT_TOL:g}): a "
                              "number, or fast, default, precise as frequency_response's tol")
     parser.add_argument("--model", choices=MODELS, default=argparse.SUPPRESS if suppress else None,
-                        help="where the default job uses the damper's refined model, the bar with every mode "
+                        help="where the main job uses the damper's refined model, the bar with every mode "
                              "(frequency_response's model=): 'auto' (default: in every window of the curve where "
                              "the single-mode bar is further than its share of tol from it, the physical curve; "
                              "about 9 s), 'peak' (in those of the windows that hold the peak, the single-mode bar "
@@ -529,7 +547,7 @@ def _keys(args) -> int:
 #: Subcommands: name -> (help, handler[, add_arguments]).  Each subcommand takes only the options
 #: its ``add_arguments`` declares (``--out`` and ``--rtol`` only ``default`` and ``run``).  No
 #: subcommand runs ``default``.
-COMMANDS = {"default": ("run the built-in default case (the same as no subcommand): default [--out DIR] [--rtol X] "
+COMMANDS = {"default": ("run the main job, the built-in default case (the same as no subcommand): default [--out DIR] [--rtol X] "
                         "[--model M] [--tol X]",
                         _default, _default_arguments),
             "run": ("run a scene file: run SCENE.toml [--out DIR] [--set TABLE.KEY=VALUE] [--rtol X] [--quiet] "
@@ -541,12 +559,12 @@ COMMANDS = {"default": ("run the built-in default case (the same as no subcomman
             "keys": ("list every key of a scene with its default and meaning", _keys)}
 
 
-#: Where a scene's target error is set: ``run`` has no ``--tol`` (the default job's), and says this instead.
+#: Where a scene's target error is set: ``run`` has no ``--tol`` (the main job's), and says this instead.
 SCENE_TOL = "a scene's target error is its sweep.tol: give --set sweep.tol={value}"
 
 
 def _common(parser, suppress=False, scene=False):
-    """``--out`` and ``--rtol``: options of the default job, given before any subcommand or after
+    """``--out`` and ``--rtol``: options of the main job, given before any subcommand or after
     ``default`` or ``run`` (after it they override); the other subcommands refuse them.  ``scene``: run's
     (its --rtol says what sets a scene's accuracy instead)."""
     default = (lambda v: argparse.SUPPRESS) if suppress else (lambda v: v)
@@ -569,10 +587,10 @@ class _SceneTol(argparse.Action):
 
 
 def program_name(argv0: str | None = None) -> str:
-    """How the user called us: ``python -m hbm`` or the console script's name."""
+    """How the user called us: ``python3 -m hbm`` or the console script's name."""
     argv0 = sys.argv[0] if argv0 is None else argv0
     name = os.path.basename(argv0)
-    return "python -m hbm" if name in ("__main__.py", "-m", "") else name
+    return "python3 -m hbm" if name in ("__main__.py", "-m", "") else name
 
 
 def build_parser(prog: str | None = None) -> argparse.ArgumentParser:
@@ -607,7 +625,7 @@ def _parse(parser: argparse.ArgumentParser, argv: list[str] | None) -> argparse.
     args = parser.parse_args(argv)
     for dest in ("out", "rtol", "model", "tol"):
         if getattr(args, dest) is not None and dest not in args.takes:
-            where = "the default job" if dest in ("model", "tol") else "the default job and run"
+            where = "the main job" if dest in ("model", "tol") else "the main job and run"
             scene = f"; {SCENE_TOL.format(value='VALUE')}" if (dest, args.command) == ("tol", "run") else ""
             parser.error(f"--{dest} does not apply to {args.command} (only to {where}){scene}")
     return args
@@ -620,7 +638,7 @@ def _parsers(parser: argparse.ArgumentParser) -> list[argparse.ArgumentParser]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of ``python -m hbm`` and the ``frictiondamp`` console script."""
+    """Entry point of ``python3 -m hbm`` and the ``frictiondamp`` console script."""
     args = _parse(build_parser(), argv)
     previous = signal.signal(signal.SIGTERM, _terminate)
     shown = warnings.formatwarning

@@ -1,4 +1,4 @@
-"""The command line's progress line for a running scene or study (``python -m hbm run``).
+"""The command line's progress line for a running scene or study (``python3 -m hbm run``).
 
 On a terminal, one line rewritten in place (carriage return), once the run has taken longer than
 ``SHOW_AFTER`` seconds and at most every ``INTERVAL`` seconds.  Off a terminal (stderr piped into a
@@ -7,7 +7,7 @@ most every ``PLAIN_INTERVAL`` seconds and first after that long, so a log shows 
 without filling up.  Nothing at all when disabled (``--quiet``).  It is a callback for ``hbm.scenes.run_scene(progress=...)`` and
 ``hbm.study.run_study(progress=...)``: it draws ``p.line()`` (a ``hbm.scenes.Progress`` or a
 ``hbm.study.StudyProgress``) and counts ``p.points``.  A computation that reports no progress of
-its own for seconds (the default job's solve, ``--model auto``'s refined windows) runs under
+its own for seconds (the main job's solve, ``--model auto``'s refined windows) runs under
 :func:`ticking`, which draws :class:`Elapsed` (what runs, the points so far, the time) from a
 timer thread.
 """
@@ -19,7 +19,7 @@ import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, Callable, TextIO
 
-if TYPE_CHECKING:  # only named in annotations: the default job draws its line without importing scenes or studies
+if TYPE_CHECKING:  # only named in annotations: the main job draws its line without importing scenes or studies
     from ..scenes.running import Progress
     from ..study import StudyProgress
 
@@ -29,7 +29,7 @@ __all__ = ["ProgressLine", "Elapsed", "ticking", "duration", "SHOW_AFTER", "INTE
 def __getattr__(name: str) -> Any:
     """``duration`` (``hbm.scenes.running.duration``, named here as before), imported when it is asked for."""
     if name == "duration":
-        from ..scenes.running import duration  # lazily: the default job imports no scene module
+        from ..scenes.running import duration  # lazily: the main job imports no scene module
 
         return duration
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
@@ -110,10 +110,10 @@ class Elapsed:
 
     Examples
     --------
-    >>> Elapsed("the default job (--model auto)", 7.2, points=120, omega=38000.0).line()
-    'the default job (--model auto): 120 points, omega = 38000 rad/s, 7 s'
-    >>> Elapsed("the default job (--model auto)", 2.6).line()
-    'the default job (--model auto): 3 s'
+    >>> Elapsed("the main job (--model auto)", 7.2, points=120, omega=38000.0).line()
+    'the main job (--model auto): 120 points, omega = 38000 rad/s, 7 s'
+    >>> Elapsed("the main job (--model auto)", 2.6).line()
+    'the main job (--model auto): 3 s'
     """
 
     what: str

@@ -1,7 +1,7 @@
 """Scenes: a study described once in a TOML file, validated, planned and run.
 
 A scene names the blade, the damper (model, bar, normal load), the physical effects in play, the
-sweep and the outputs (``docs/scenes.md``; ``python -m hbm keys`` lists every key).  Three steps,
+sweep and the outputs (``docs/scenes.md``; ``python3 -m hbm keys`` lists every key).  Three steps,
 each usable alone, each in its own module:
 
 - :func:`load_scene` (``validation``) reads the file and checks it against :func:`schema`

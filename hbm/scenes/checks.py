@@ -70,7 +70,7 @@ class Key(NamedTuple):
     default : object
         The value taken when the key is left out, ``REQUIRED`` or ``OPTIONAL``.
     doc : str
-        One line on the key's meaning and units, for messages, ``python -m hbm keys`` and the docs.
+        One line on the key's meaning and units, for messages, ``python3 -m hbm keys`` and the docs.
 
     Examples
     --------

@@ -10,7 +10,7 @@ normal at ``structure.normal_dofs``; for one of three (two tangential directions
     [[structure.contacts]]
     model = "gap"            # any registered model complete in its own keys
     dofs = [2]               # [i]: DOF i to ground; [i, j]: on x_i - x_j (force +f on i, -f on j)
-    gap_stiffness = 1.0      # the model's own keys, as in [damper] (python -m hbm keys)
+    gap_stiffness = 1.0      # the model's own keys, as in [damper] (python3 -m hbm keys)
     gap = 0.25
 
 ``normal_dofs`` attaches the normal of a two- or three-component entry, ``second_dofs`` the second
@@ -37,7 +37,7 @@ from .checks import GIVEN_INVALID, Invalid, OPTIONAL, REQUIRED, SceneError, bool
 from .models import MODELS, Built
 
 #: The keys of a ``[[structure.contacts]]`` entry besides its model's own.
-ENTRY_KEYS = {"model": "the element: a registered model (python -m hbm models), complete in its own keys",
+ENTRY_KEYS = {"model": "the element: a registered model (python3 -m hbm models), complete in its own keys",
               "dofs": "[i] (DOF i to ground) or [i, j] (on x_i - x_j)",
               "second_dofs": "three-component models (contact3d) only, required for them: the second tangential "
                              "displacement, [k] or [k, l]",

@@ -56,7 +56,7 @@ class Effect:
     simulated : bool
         Whether the run simulates the effect.
     reason : str
-        Why, in words (shown by ``python -m hbm run`` and written to ``summary.json``).
+        Why, in words (shown by ``python3 -m hbm run`` and written to ``summary.json``).
     decided : dict, optional
         The run settings decided, name -> value (``hbm.scenes.planning.DECISIONS``: ``"bar"``,
         ``"inertia"``, ``"topology"``, ``"element"``, ``"stuck"``, ``"model"``, ``"harmonics"``,
@@ -227,7 +227,7 @@ def inertia(run: Any) -> Effect:
         info = ""
     if setting == "auto":
         simulated = change > tol
-        reason = f"auto: {at}, {'above' if simulated else 'not above'} the tolerance {tol:g}"
+        reason = f"auto: {at}, {'above' if simulated else 'not above'} effects.tolerance = {tol:g}"
     else:
         simulated = setting == "on"
         reason = f"effects.inertia = {show(setting)} ({at})"
@@ -260,14 +260,19 @@ def topology(run: Any) -> Effect | None:
     bar, load = run.bar, run.load
     onsets = [(w, bar.slip_onset(load, w)[0] / bar.L) for w in run.probe_frequencies()]
     interior = [w for w, x in onsets if x < 1.0 - ONSET_AT_END]
-    where = ", ".join(f"x*/L = {x:.4g} at {w:.6g} rad/s" for w, x in onsets)
+    shown = {f"{x:.4g}" for _, x in onsets}
+    if len(shown) == 1 and len(onsets) > 1:  # one onset at every frequency: said once
+        ws = [f"{w:.6g}" for w, _ in onsets]
+        where = f"x*/L = {shown.pop()} at {', '.join(ws[:-1])} and {ws[-1]} rad/s"
+    else:
+        where = ", ".join(f"x*/L = {x:.4g} at {w:.6g} rad/s" for w, x in onsets)
     if asked == "auto":
         name = "three-region" if interior else "two-region"
         why = (f"auto: slip starts inside the bar ({where}): three regions" if interior else
                f"auto: slip starts at the excited end ({where}): two regions")
     else:
         name = asked
-        why = f"{run.micro_key} = {show(asked)} ({where})"
+        why = f"{run.micro_key} = {show(asked)} (slip starts at {where}; x*/L = 1 is the excited end)"
         if name == "three-region" and not interior:
             why += "; slip starts at the excited end, so the element follows its two-region path"
     return Effect("interior slip onset (three regions)", name == "three-region", f"{why}; {run.load_text}",
@@ -437,7 +442,9 @@ def harmonics(run: Any) -> Effect:
         raise SceneError([f"{run.where('effects.harmonics')} = {H}: harmonics = {H} needs an element with a "
                           f"time-domain force law, but the {run.label} element {type(element).__name__} has none "
                           "(with damper inertia the single-mode bar is a first-harmonic element); use "
-                          "harmonics = 1 or effects.inertia = \"off\""])
+                          "harmonics = 1" + (", damper.model = \"all-mode\" (the bar with every mode has one)"
+                                             if run.spec.microslip is not None else "")
+                          + " or effects.inertia = \"off\""])
 
     n_t = samples or harmonic_samples(H)
     return Effect("higher harmonics", True, f"effects.harmonics = {H}: multi-harmonic balance with AFT, "

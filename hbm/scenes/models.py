@@ -128,7 +128,7 @@ class ModelSpec:
         ``run.load``, ``run.N``, ``run.micro`` (the single-mode microslip element of the decided
         topology, for a spec with ``microslip``), ``run.inertia``, ``run.blade``, ``run.omega``).
     doc : str
-        One line for ``python -m hbm models`` and the docs.
+        One line for ``python3 -m hbm models`` and the docs.
     keys : mapping
         ``[damper]`` keys the model owns: name -> :class:`hbm.scenes.Key`.
     needs : callable
@@ -194,7 +194,7 @@ def register_model(name: str, build: Callable[[Any], Any], *, keys: Mapping[str,
         ``unit(run) -> (metres, name)``, the amplitude unit of amplitude sweeps; default None
         (the element's reference amplitude).
     doc : str, optional
-        One line for ``python -m hbm models`` and the docs.
+        One line for ``python3 -m hbm models`` and the docs.
     example : callable or None, optional
         ``example() -> element``, a representative element for the property tests.
     validate : callable or None, optional
@@ -557,7 +557,7 @@ def _register_builtins():
                    doc="Segalman's four-parameter Iwan element: parallel Jenkins elements, slip at any amplitude",
                    example=_example_iwan, validate=_macroslip_pair)
     register_model("all-mode", _build_all_mode, keys={"cells": CELLS_KEY}, needs=bar_and_load, unit=_bar_a_min,
-                   doc="the microslip bar with all its modes (AllModeMicroslip: phase differences along it)",
+                   doc="the microslip bar with every mode (AllModeMicroslip: phase differences along it)",
                    example=_example_all_mode)
 
 

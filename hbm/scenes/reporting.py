@@ -126,9 +126,9 @@ def figure(scene: Any, results: list, path: str | Path, *, blade: Any = None) ->
     """The scene's figure: FRFs (and peaks against the load for several loads), or F_s, F_c tables.
 
     Frequencies in Hz when the scene gives them in Hz, else rad/s; amplitudes in metres, as the CSV
-    and ``python -m hbm``'s figure give them (one convention: SI); for a ``blade`` (``Plan.blade``) with up to
+    and ``python3 -m hbm``'s figure give them (one convention: SI); for a ``blade`` (``Plan.blade``) with up to
     ``hbm.output.LEGEND_LIMIT`` runs, each run's stuck (linear) response and its a_min line, as
-    ``python -m hbm`` draws them.
+    ``python3 -m hbm`` draws them.
     """
     import matplotlib  # heavy (0.1-0.5 s), lazily: only when the figure is drawn
 
@@ -180,7 +180,7 @@ def figure(scene: Any, results: list, path: str | Path, *, blade: Any = None) ->
 
 def _linear_references(ax: Any, blade: Any, results: list, omega_unit: str, amplitude_unit: str) -> None:
     """The stuck (linear) response and the a_min line of each run of a blade with its damper
-    (``hbm.output.plot_linear_reference``, as ``python -m hbm`` draws them), each distinct curve
+    (``hbm.output.plot_linear_reference``, as ``python3 -m hbm`` draws them), each distinct curve
     and level once, a_min in the run's colour when there are several runs; none for a structure
     from matrices (its stuck response is not a blade's)."""
     drawn_stuck, drawn_levels = [], []

@@ -25,7 +25,7 @@ _FIXED_TABLES = ("study", "output")
 
 def _scene_key(name: Any, known: Collection[str]) -> str:
     if not isinstance(name, str) or name.split(".")[0] in _FIXED_TABLES or name not in known:
-        raise Invalid(f"{show(name)} is not a scene key a study can vary (python -m hbm keys lists them; "
+        raise Invalid(f"{show(name)} is not a scene key a study can vary (python3 -m hbm keys lists them; "
                       "write it in quotes with its table: \"damper.mu\")")
     return name
 

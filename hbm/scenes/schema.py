@@ -4,7 +4,7 @@
 ``damper``).  The ``[damper]`` table holds the bar's keys plus every registered model's own keys
 (``hbm.scenes.models``, which also holds the keys every model shares, ``BASE_DAMPER_KEYS``); the
 ``[effects]`` table the keys of the registered effects
-(``hbm.scenes.effects``) plus ``tolerance``.  ``python -m hbm keys`` prints it.
+(``hbm.scenes.effects``) plus ``tolerance``.  ``python3 -m hbm keys`` prints it.
 """
 
 from __future__ import annotations

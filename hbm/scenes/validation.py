@@ -95,7 +95,7 @@ def load_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) 
     """Read and validate the scene file ``path``.
 
     ``overrides`` maps ``"table.key"`` to a value that replaces the file's (as
-    ``python -m hbm run --set table.key=value``).  Raises :class:`SceneError` listing every problem.
+    ``python3 -m hbm run --set table.key=value``).  Raises :class:`SceneError` listing every problem.
 
     Parameters
     ----------
@@ -159,7 +159,7 @@ def parse_override(text: str) -> tuple[str, Any]:
     Parameters
     ----------
     text : str
-        One override as given to ``python -m hbm run --set``, e.g. ``"sweep.max_step=0.1"``.
+        One override as given to ``python3 -m hbm run --set``, e.g. ``"sweep.max_step=0.1"``.
 
     Returns
     -------

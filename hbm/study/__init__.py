@@ -160,7 +160,7 @@ def _refuse(problems: list) -> None:
 
 
 def check_scene(path: str | Path, *, overrides: Mapping[str, Any] | None = None) -> list[str]:
-    """Validate a study scene without making its runs: what ``python -m hbm run SCENE --check``
+    """Validate a study scene without making its runs: what ``python3 -m hbm run SCENE --check``
     prints for a scene with ``[study]``.
 
     It checks the scene, its ``[study]`` table, the number of runs (at most :data:`MAX_RUNS`)

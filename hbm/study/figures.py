@@ -91,7 +91,8 @@ def figure(result: Any, path: str | Path, *, title: str = "", samples: dict | No
         if cval is not None:
             fig.colorbar(sc, ax=bx).set_label(key_label(other[0]))
         bx.set_xlabel(key_label(name))
-        bx.set_ylabel("peak amplitude (m); bars: estimated error")
+        bx.set_ylabel("peak amplitude (m)")
+        bx.set_title("peaks; bars: estimated error", fontsize=8)
     else:
         _grid(ax, bx, recs, params)
     fig.suptitle(title or "study", fontsize=10)
@@ -140,7 +141,8 @@ def _grid(ax: Any, bx: Any, recs: list, params: tuple) -> None:
         bx.set_xscale("log")
     bx.set_yscale("log")
     bx.set_xlabel(key_label(x))
-    bx.set_ylabel("peak amplitude (m); stars: smallest; bars: estimated error")
+    bx.set_ylabel("peak amplitude (m)")
+    bx.set_title("peaks; stars: the smallest; bars: estimated error", fontsize=8)
     if len(by) > 1:
         bx.legend(fontsize=7)
 
