@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import hbm
-from hbm.cli.main import build_parser, main, program_name
+from hbm.cli.main import build_parser, in_scene_terms, main, program_name
 from hbm.scenes import MODELS, all_keys, load_scene, plan_scene, run_scene, scene_from_dict
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -214,6 +214,16 @@ def test_a_scene_says_its_warning_once_after_the_summary(tmp_path, capsys):
     assert lines[-1].startswith("warning: frequency_response: estimated error ")
     assert lines[-1].endswith(" (AccuracyWarning)")
     assert sum(line.startswith("warning:") for line in lines) == 1
+    # its advice in the scene's own keys: the bar with every mode is effects.phase_differences, the target sweep.tol
+    assert "model='auto'" in lines[-1]
+    assert "(in a scene: model='auto' is effects.phase_differences = \"on\"" in lines[-1]
+
+
+def test_scene_terms_name_the_keys_of_the_arguments_the_advice_gives_and_leave_other_text_alone():
+    said = in_scene_terms("use more harmonics (leave harmonics= out) or a smaller tol=")
+    assert said.endswith("(in a scene: harmonics= is effects.harmonics, which a scene fixes (default 1; above 1 only "
+                         "for a damper with a time-domain law); tol= is sweep.tol)")
+    assert in_scene_terms("the branch stopped at omega = 3.9e4 rad/s") == "the branch stopped at omega = 3.9e4 rad/s"
 
 
 @pytest.mark.parametrize("argv", [["--harmonics", "3"], ["run", "--harmonics", "3", "scene.toml"]])

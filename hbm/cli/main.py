@@ -272,7 +272,7 @@ def _one_line(message, category, filename, lineno, line=None) -> str:
 
 
 #: The arguments of ``frequency_response`` a warning's advice names, and the scene keys that set them.
-SCENE_KEYS = (("model='auto'", 'damper.model = "auto"'),
+SCENE_KEYS = (("model='auto'", 'effects.phase_differences = "on" (the bar with every mode over the whole curve)'),
               ("harmonics=", "effects.harmonics, which a scene fixes (default 1; above 1 only for a damper with a "
                              "time-domain law)"),
               ("AllModeMicroslip: cells", "the all-mode bar's cells are damper.cells"),
