@@ -37,7 +37,9 @@ Optional scaling: ``scale(y)`` returns positive weights ``s``; the geometry of s
 
 A failure (step below ``min_step``, the first point not converging, an exception raised by
 ``on_point``, or by the residual after the first point) ends the branch with a ``message`` and every
-point computed so far; reaching the end of the parameter range puts the last point exactly on the bound.
+point computed so far; reaching the end of the parameter range puts the last point exactly on the bound.  A run
+that starts on a bound (``from_bound``) and leaves the range through that same bound turned back
+(``Status.TURNED_BACK``): the range beyond the turn was never traced, which is not success.
 """
 
 from __future__ import annotations
@@ -122,8 +124,8 @@ class Status(IntEnum):
     MAX_STEPS = 1
     STEP_TOO_SMALL = -1
     START_FAILED = -2
-    #: set by a caller whose range has a start (``hbm.frequency_response``): the branch left the range
-    #: through the bound it started from, never reaching the other
+    #: a run started on a bound (``from_bound``: a frequency response, a nonlinear mode, a damper optimum) left
+    #: the range through that bound, never reaching the other: the range beyond the turn was not traced
     TURNED_BACK = -3
     #: ``on_point`` raised at the last point: the run ends there, keeping every point before it and that one
     CALLBACK_RAISED = -4
@@ -175,7 +177,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
                  scale: Scale | None = None, locate_folds: bool = True, fold_xtol: float = 1e-10,
                  on_point: Callable[[NDArray[np.float64], float], object] | None = None,
                  curve_tol: float | None = None, curve_components: ArrayLike | None = None,
-                 stop: Callable[[NDArray[np.float64]], bool] | None = None) -> ContinuationResult:
+                 stop: Callable[[NDArray[np.float64]], bool] | None = None,
+                 from_bound: bool = False) -> ContinuationResult:
     """Trace the branch of ``residual(y) = 0`` through ``y0`` in the direction of ``parameter``.
 
     ``residual(y) -> (R, J)``; ``y0`` is corrected with the parameter held fixed first.  The
@@ -188,6 +191,10 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.
     ``curve_tol``: the step's error control (see module); None: off.
     ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
+    ``from_bound``: the range starts at ``y0``, on the bound behind ``direction`` (``lo`` for +1): a branch
+    that turns back and leaves the range through that bound, never reaching the other, ends with
+    ``Status.TURNED_BACK`` (its points kept, the last on the start bound), the message saying where the
+    parameter turned; without it such a run reached an end of the range (``REACHED_END``).
     An arithmetic error of ``residual`` is a failed step; any other ``Exception`` it raises propagates
     at the start, and after it ends the run with ``Status.RESIDUAL_RAISED``, the points kept (an
     element's answer of the wrong type or shape, or a warning an ``"error"`` filter raises, propagates at once:
@@ -226,6 +233,10 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     max_steps, max_iter = _whole("max_steps", max_steps), _whole("max_iter", max_iter)
     tol, fold_xtol = positive("tol", tol), positive("fold_xtol", fold_xtol)
     locate_folds = flag("locate_folds", locate_folds)
+    if flag("from_bound", from_bound) and y0[p] != (lo if direction > 0 else hi):
+        raise ValueError(f"from_bound=True needs y0 on the bound the range starts from, y0[{p}] == "
+                         f"{'lo' if direction > 0 else 'hi'}={lo if direction > 0 else hi!r} for direction={direction!r}, "
+                         f"got y0[{p}]={float(y0[p])!r}")
     if curve_tol is not None and not 0.0 < _finite_or_nan(curve_tol) < 1.0:
         raise ValueError(f"curve_tol must be in (0, 1) or None, got curve_tol={curve_tol!r}")
     if curve_components is not None:
@@ -240,7 +251,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     count = _Count()
     trace = _Trace(_counted(_shaped(residual, n), count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
                    on_point if on_point is not None else (lambda y, rnorm: None), curve_tol,
-                   np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int), stop)
+                   np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int), stop,
+                   ("lower" if direction > 0 else "upper") if from_bound else None)
     failed = trace.start(y0, direction, step)
     if failed is not None:
         return failed
@@ -252,6 +264,10 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
         except Exception as exc:  # noqa: BLE001 - a residual of the caller's (an element's hook): the points stay
             trace.raised(exc)
     folds = _located_folds(trace, residual, tol, scale, fold_xtol, max_iter, count) if locate_folds else []
+    if trace.status == Status.TURNED_BACK:
+        far = (max if direction > 0 else min)([y[p] for y in trace.ys] + [f[p] for f in folds])
+        trace.detail = (f" (it turned at y[{p}] = {far:.8g} and left through its start bound {(lo, hi)[direction < 0]!r} "
+                        f"before reaching {(hi, lo)[direction < 0]!r}){trace.detail}")
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
                    trace.corners, trace.coarse)
@@ -324,8 +340,9 @@ class _Trace:
     the bound at the end of the parameter range) and the step control."""
 
     def __init__(self, fun, p, lo, hi, tol, max_iter, scale, min_step, max_step, count, report, curve_tol=None,
-                 curve_components=None, stop=None):
+                 curve_components=None, stop=None, start_side=None):
         self.fun, self.p, self.lo, self.hi, self.stop = fun, p, lo, hi, stop
+        self.start_side = start_side  # "lower"/"upper": the bound the range starts from (from_bound); None: neither
         self.target = None if curve_tol is None else PREDICTOR_SHARE * curve_tol  # e*
         self.retries, self.coarse, self.curve_components = 0, [], curve_components
         self.tol, self.max_iter, self.scale, self.count, self.report = tol, max_iter, scale, count, report
@@ -579,6 +596,7 @@ class _Trace:
         ``(the Newton result, the bound)``."""
         p = self.p
         bound = self.hi if outside[p] > self.hi else self.lo
+        self.side = "upper" if outside[p] > self.hi else "lower"
         guess = inside + (bound - inside[p]) / (outside[p] - inside[p]) * (outside - inside)
         return _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count), bound
 
@@ -589,9 +607,14 @@ class _Trace:
         self.ts.append(_tangent(end.J, s_end, _rescale(self.t, self.s, s_end)))
         self.rn.append(end.rnorm)
         self.its.append(end.iterations)
-        self.detail = f" (at its {'upper' if bound == self.hi else 'lower'} end)"
-        self.status = Status.REACHED_END
+        self.status = self._ended()
+        self.detail = f" (at its {self.side} end)" if self.status == Status.REACHED_END else ""
         self._reported(end.y, end.rnorm)
+
+    def _ended(self) -> Status:
+        """How a run that left the range (through ``self.side``) ended: ``TURNED_BACK`` through the bound it
+        started from (``from_bound``), else ``REACHED_END``."""
+        return Status.TURNED_BACK if self.side == self.start_side else Status.REACHED_END
 
     def _reported(self, y, rnorm) -> bool:
         """``on_point(y, rnorm)`` for the point just kept; False if it raised, which ends the run there
@@ -621,7 +644,7 @@ class _Trace:
                        "inside)")
         if self.fold_after and self.fold_after[-1] == len(self.ys) - 1:
             self.fold_after.pop()
-        self.status = Status.REACHED_END
+        self.status = self._ended()
 
 
 @dataclass
