@@ -21,7 +21,8 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
    turn above ``REJECT_TURN`` (a likely
    jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
    the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
-   tangent at a failed predictor has turned that much (after ``CORNER_AFTER`` failures in a row),
+   tangent at a failed predictor has turned that much (after ``CORNER_AFTER`` failures in a row, or as
+   many showing the corner while shorter steps creep towards it),
    the corrector tries again from the
    same predictor on the hyperplane normal to the bisector of the old tangent and the new piece's
    (it crosses both pieces), the new piece's tangent oriented by the sign of ``det [J; t]``, which
@@ -76,7 +77,9 @@ JUMP_RATIO = 1.0
 #: forward along the old one; nearer 90 degrees the determinant's orientation decides (``_Trace._oriented``).
 ORIENT_DOT = 0.5
 #: Failed correctors in a row at one point before a corner is rounded (a shorter step resolves
-#: most failures; those that persist are the corners a shorter step only creeps towards).
+#: most failures; those that persist are the corners a shorter step only creeps towards).  Where the
+#: shorter steps converge, each a little nearer a corner the failed predictors' Jacobians show, the
+#: failures count on until a step as long as the longest of those is accepted (``_Trace.creep``).
 CORNER_AFTER = 3
 #: Two candidate tangents of a corner with ``|t1 . t2|`` above this are the same direction.
 CORNER_SAME = 0.999
@@ -379,7 +382,8 @@ class _Trace:
         self.nsteps = self.nrejected = 0
         self.corners = []
         self.rejected = None  # (turn, step) of the last step rejected for turning
-        self.failures = 0  # failed correctors in a row at this point
+        self.failures = 0  # failed correctors in a row at this point, or since the trace began creeping towards a corner
+        self.creep = 0.0  # the longest step whose failed predictor showed a corner, while shorter ones are accepted
         self._reported(y, start.rnorm)
         return None
 
@@ -402,6 +406,8 @@ class _Trace:
                 return
             self.failures += 1
             self._reject(new, reason)
+            if self.normal is not self.t:  # the predictor's Jacobian shows a corner within the step
+                self.creep = max(self.creep, h)
             return
         f_curve = self._curve_factor(new.y, y_pred, s, turn)
         if f_curve is not None and f_curve < 0.0:  # above REJECT_CURVE e*: shorter, unless at a corner
@@ -547,7 +553,8 @@ class _Trace:
     def _accept(self, new, t_new, turn, f_curve=None) -> None:
         p, ys, ts = self.p, self.ys, self.ts
         self.nsteps += 1
-        self.failures = 0
+        if self.h >= self.creep:  # a step as long as the last that showed a corner: not creeping towards one
+            self.failures, self.creep = 0, 0.0
         if self.rejected is not None and self.h >= self.rejected[1]:
             self.rejected = None  # back at the step that turned too much: not approaching a corner
         y_prev = self.y

@@ -133,6 +133,33 @@ def test_a_descending_trace_past_a_sharp_peak_does_not_jump_to_the_other_flank()
     assert not said
 
 
+def test_an_11_1_internal_resonance_at_0_01_percent_damping_is_traced_to_the_end():
+    """Going up at tol = 1e-3 (H = 15), the branch of ``ir111_light`` has a corner at omega = 0.99962159 where
+    a contact's stick phase changes: its scaled tangent turns back by 149 degrees there (omega still rising),
+    so a corrector's hyperplane normal to the incoming tangent just past it meets no point of the branch.
+    The trace crept towards the corner, each failed step followed by a shorter one that converged, its failures
+    never three in a row, so the corner was never rounded: the step fell below min_step at 0.9996216 with a
+    warning, Newton's last iterates 5.6e-9 against the tolerance 5e-9 (the residual's floor there is 3e-16).
+    Counted since the trace began creeping towards a corner its predictors showed, the failures round it:
+    the branch reaches 1.3, every point within tol of the periodic responses by shooting, the peak too."""
+    case = DATA["ir111_light"]
+    for reverse in (False, True):
+        frf, said = _trace("ir111_light", 1e-3, reverse)
+        assert frf.success and not said, (frf.message, said)
+        assert frf.omega[-1] == pytest.approx(0.6 if reverse else 1.3, abs=1e-12)
+        compared = 0
+        for w, refs in case["points"]:
+            for i in hunt.crossings(frf, w):
+                a, est = hunt.at_omega(frf, i, w)
+                err = min(abs(a / ref - 1.0) for ref in refs)
+                assert err <= 1e-5, (w, err, est)  # measured: at most 5.7e-6
+                compared += 1
+        assert compared == len(case["points"])
+        pk, ref = frf.peak(), case["peak"]
+        assert pk.interior and pk.converged
+        assert abs(pk.amplitude / ref["amplitude"] - 1.0) <= 1e-5  # measured: 2.5e-6
+        assert pk.omega == pytest.approx(ref["omega"], rel=1e-5)
+
 @pytest.mark.parametrize("name, tol, reverse", [("kink_peak_two", 1e-5, False), ("kink_peak", 1e-3, True)])
 def test_a_peak_on_a_corner_is_located(name, tol, reverse):
     """Where a contact starts to slip at the maximum the response has a corner there, and Newton from
