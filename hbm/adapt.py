@@ -162,7 +162,7 @@ def estimated(problem: HarmonicBalance, out: FrequencyResponse, rtol: float) -> 
     hook and the omega (the call's warning says it).  ``RESIDUAL_RAISED_AT_ONCE`` (a defect of the element's
     code, a warning the caller made an error) propagates at once, as during the trace."""
     try:
-        return errors.estimate(problem, out._X, out.omega, rtol)
+        return errors.estimate(problem, out._X, out.omega, rtol, out._newton_steps)
     except RESIDUAL_RAISED_AT_ONCE:
         raise
     except Exception as exc:  # noqa: BLE001 - an element's hook of the caller's: the curve stays
@@ -254,7 +254,10 @@ def window(setup: Setup, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
         y[-1], tg[-1] = loc.y, t / np.linalg.norm(t)
         rn = r.residual_norm.copy()
         rn[-1] = loc.residual_norm
-        return dataclasses.replace(r, y=y, tangent=tg, residual_norm=rn, nfev=r.nfev + loc.nfev)
+        steps = None if r.newton_step is None else r.newton_step.copy()
+        if steps is not None:
+            steps[-1] = np.nan  # (the located point's residual is not kept)
+        return dataclasses.replace(r, y=y, tangent=tg, residual_norm=rn, nfev=r.nfev + loc.nfev, newton_step=steps)
 
     X0, w_start = frf._X[i0], float(frf.omega[i0])
     t0 = float(run.tangent[i0][-1])

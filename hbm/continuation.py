@@ -59,7 +59,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, OutsideDomain,  # noqa: F401
                      _corner_normal, _Count, _counted, _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
-from ._steps import RESIDUAL_RAISED_AT_ONCE, _told
+from ._steps import RESIDUAL_RAISED_AT_ONCE, _fixed_step, _told
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -167,6 +167,9 @@ class ContinuationResult:
     nfev: int = 0  #: residual evaluations in total
     last_step: float = 0.0  #: step length at the end (scaled units)
     coarse: np.ndarray = None  #: indices of points accepted with a predictor error above REJECT_CURVE e*
+    #: (npoints, n) per point the Newton step with the parameter held that its converged residual still asks
+    #: (``J dy = -R``, the parameter's component 0): its distance from the curve at its parameter; NaN where unknown
+    newton_step: np.ndarray = None
 
     @property
     def success(self) -> bool:
@@ -273,7 +276,7 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
                         f"before reaching {(hi, lo)[direction < 0]!r}){trace.detail}")
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
-                   trace.corners, trace.coarse)
+                   trace.corners, trace.coarse, trace.steps)
 
 
 class ResidualContractError(ElementContractError):
@@ -374,6 +377,7 @@ class _Trace:
             t = -t
         self.y, self.s, self.t, self.J = y, s, t, start.J
         self.ys, self.ts, self.rn, self.its = [y], [t], [start.rnorm], [start.iterations]
+        self.steps = [_fixed_step(start.R, start.J, p)]
         self.fold_after = []
         self.h = min(max(step if step is not None else FIRST_STEP * self.max_step, self.min_step), self.max_step)
         self.zero = np.zeros(n)
@@ -570,6 +574,7 @@ class _Trace:
         ys.append(y)
         ts.append(t)
         self.rn.append(new.rnorm)
+        self.steps.append(_fixed_step(new.R, new.J, p))
         self.its.append(new.iterations)
         if not self._reported(y, new.rnorm):
             return
@@ -611,6 +616,7 @@ class _Trace:
         """The converged point ``end`` on ``bound``: the last point of a run that reached the end."""
         s_end = _scale(self.scale, end.y)
         self.ys.append(end.y)
+        self.steps.append(_fixed_step(end.R, end.J, self.p))
         self.ts.append(_tangent(end.J, s_end, _rescale(self.t, self.s, s_end)))
         self.rn.append(end.rnorm)
         self.its.append(end.iterations)
@@ -772,7 +778,7 @@ class _LocateFailed(Exception):
 
 
 def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nrejected, count, h, corners=(),
-            coarse=()):
+            coarse=(), steps=None):
     n = len(ys[0]) if ys else 0
     return ContinuationResult(
         y=np.array(ys, dtype=float).reshape(-1, n) if ys else np.empty((0, 0)),
@@ -784,4 +790,5 @@ def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nreject
         folds=np.array(folds, dtype=float).reshape(-1, n) if folds else np.empty((0, n)),
         status=status, message=message, nsteps=nsteps, nrejected=nrejected,
         nit=count.nit, nfev=count.nfev, last_step=h,
+        newton_step=np.array(steps, dtype=float).reshape(-1, n) if steps else np.full((len(ys), n), np.nan),
     )
