@@ -201,6 +201,20 @@ def _newton(fun, y, w, c, tol, max_iter, count) -> _Newton:
     return _Newton(y, R, J, rnorm, max_iter, False, f"no convergence in {max_iter} Newton iterations", J0)
 
 
+def _fixed_step(R, J, p) -> np.ndarray:
+    """The Newton step ``dy`` from a converged point with its component ``p`` held (``J dy = -R``, ``dy[p] = 0``):
+    the point's remaining distance from the solution at its parameter, to second order in it; NaN where ``J``
+    without its column ``p`` is singular."""
+    n = J.shape[1]
+    keep = np.arange(n) != p % n
+    dy = np.zeros(n)
+    try:
+        dy[keep] = np.linalg.solve(J[:, keep], -np.asarray(R, dtype=float))
+    except np.linalg.LinAlgError:
+        dy[:] = math.nan
+    return dy
+
+
 def _norm(R) -> float:
     """Euclidean norm of a short residual vector."""
     return math.sqrt(sum(v * v for v in R.tolist()))

@@ -112,7 +112,7 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
                                  bounds=(min(w0, w1) / w_ref, max(w0, w1) / w_ref),
                                  direction=direction or (1 if w1 > w0 else -1), tol=tol, scale=scale,
                                  fold_xtol=PEAK_XTOL_FACTOR * math.sqrt(setup.rtol), on_point=report,
-                                 curve_components=components, stop=stop, **steps)
+                                 curve_components=components, stop=stop, from_bound=start is None, **steps)
 
     try:
         u0 = problem.stuck_start(w0) if start is None else start(problem)
@@ -137,10 +137,9 @@ def trace(problem: HarmonicBalance, setup: Setup, *, reporter: Callable | None =
         why = stuck_reason(problem, w_end * (1.0 + BEYOND_END * (direction or (1 if w1 > w0 else -1))))
         if why is not None:
             run = dataclasses.replace(run, message=f"{run.message}; just beyond its last point, {why}")
-    elif start is None and run.status == cont.Status.REACHED_END and len(run.y) > 1 and (
-            run.y[-1, -1] == w0 / w_ref):  # back on the bound it started from: the range was not traced
+    elif run.status == cont.Status.TURNED_BACK:  # back on the bound it started from: the range was not traced
         far = float((max if w1 > w0 else min)(run.y[:, -1])) * w_ref
-        run = dataclasses.replace(run, status=cont.Status.TURNED_BACK, message=(
+        run = dataclasses.replace(run, message=(
             f"{cont.MESSAGES[cont.Status.TURNED_BACK]}: it turned at omega = {far:.6g} rad/s and came back to "
             f"w0 = {w0:.6g} rad/s before reaching w1 = {w1:.6g} rad/s: the branch through w0 leaves the range there "
             "(a fold whose other branch lies beyond w0: start the range outside the folds; or a response below what "
@@ -163,7 +162,7 @@ def estimated(problem: HarmonicBalance, out: FrequencyResponse, rtol: float) -> 
     hook and the omega (the call's warning says it).  ``RESIDUAL_RAISED_AT_ONCE`` (a defect of the element's
     code, a warning the caller made an error) propagates at once, as during the trace."""
     try:
-        return errors.estimate(problem, out._X, out.omega, rtol)
+        return errors.estimate(problem, out._X, out.omega, rtol, out._newton_steps)
     except RESIDUAL_RAISED_AT_ONCE:
         raise
     except Exception as exc:  # noqa: BLE001 - an element's hook of the caller's: the curve stays
@@ -255,7 +254,10 @@ def window(setup: Setup, frf: FrequencyResponse, i0: int, i1: int, contacts: Any
         y[-1], tg[-1] = loc.y, t / np.linalg.norm(t)
         rn = r.residual_norm.copy()
         rn[-1] = loc.residual_norm
-        return dataclasses.replace(r, y=y, tangent=tg, residual_norm=rn, nfev=r.nfev + loc.nfev)
+        steps = None if r.newton_step is None else r.newton_step.copy()
+        if steps is not None:
+            steps[-1] = np.nan  # (the located point's residual is not kept)
+        return dataclasses.replace(r, y=y, tangent=tg, residual_norm=rn, nfev=r.nfev + loc.nfev, newton_step=steps)
 
     X0, w_start = frf._X[i0], float(frf.omega[i0])
     t0 = float(run.tangent[i0][-1])
@@ -665,7 +667,7 @@ def _retraced(f: FrequencyResponse, y: np.ndarray, i: int, counter: Any) -> np.n
     run = cont.continuation(pr, ya, parameter=p, bounds=(min(ya[p], yb[p]), max(ya[p], yb[p])),
                             direction=1 if yb[p] > ya[p] else -1, tol=f.newton_tol, scale=f._scale,
                             step=length / REFINE_STEPS, max_step=length / REFINE_STEPS,
-                            min_step=length * 1e-6, max_steps=20 * REFINE_STEPS, locate_folds=False)
+                            min_step=length * 1e-6, max_steps=20 * REFINE_STEPS, locate_folds=False, from_bound=True)
     counter.nfev += run.nfev
     counter.nit += run.nit
     if not run.success or len(run.y) < 3:

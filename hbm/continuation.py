@@ -21,7 +21,8 @@ Allgower & K. Georg, *Introduction to Numerical Continuation Methods*, SIAM 2003
    turn above ``REJECT_TURN`` (a likely
    jump to another branch), retries with ``h * FAIL_FACTOR``; a turn that does not shrink with
    the step is a corner (the branch of a piecewise-smooth residual) and is accepted; when the
-   tangent at a failed predictor has turned that much (after ``CORNER_AFTER`` failures in a row),
+   tangent at a failed predictor has turned that much (after ``CORNER_AFTER`` failures in a row, or as
+   many showing the corner while shorter steps creep towards it),
    the corrector tries again from the
    same predictor on the hyperplane normal to the bisector of the old tangent and the new piece's
    (it crosses both pieces), the new piece's tangent oriented by the sign of ``det [J; t]``, which
@@ -37,7 +38,9 @@ Optional scaling: ``scale(y)`` returns positive weights ``s``; the geometry of s
 
 A failure (step below ``min_step``, the first point not converging, an exception raised by
 ``on_point``, or by the residual after the first point) ends the branch with a ``message`` and every
-point computed so far; reaching the end of the parameter range puts the last point exactly on the bound.
+point computed so far; reaching the end of the parameter range puts the last point exactly on the bound.  A run
+that starts on a bound (``from_bound``) and leaves the range through that same bound turned back
+(``Status.TURNED_BACK``): the range beyond the turn was never traced, which is not success.
 """
 
 from __future__ import annotations
@@ -56,7 +59,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, OutsideDomain,  # noqa: F401
                      _corner_normal, _Count, _counted, _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
-from ._steps import RESIDUAL_RAISED_AT_ONCE, _told
+from ._steps import RESIDUAL_RAISED_AT_ONCE, _fixed_step, _told
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -74,7 +77,9 @@ JUMP_RATIO = 1.0
 #: forward along the old one; nearer 90 degrees the determinant's orientation decides (``_Trace._oriented``).
 ORIENT_DOT = 0.5
 #: Failed correctors in a row at one point before a corner is rounded (a shorter step resolves
-#: most failures; those that persist are the corners a shorter step only creeps towards).
+#: most failures; those that persist are the corners a shorter step only creeps towards).  Where the
+#: shorter steps converge, each a little nearer a corner the failed predictors' Jacobians show, the
+#: failures count on until a step as long as the longest of those is accepted (``_Trace.creep``).
 CORNER_AFTER = 3
 #: Two candidate tangents of a corner with ``|t1 . t2|`` above this are the same direction.
 CORNER_SAME = 0.999
@@ -122,8 +127,8 @@ class Status(IntEnum):
     MAX_STEPS = 1
     STEP_TOO_SMALL = -1
     START_FAILED = -2
-    #: set by a caller whose range has a start (``hbm.frequency_response``): the branch left the range
-    #: through the bound it started from, never reaching the other
+    #: a run started on a bound (``from_bound``: a frequency response, a nonlinear mode, a damper optimum) left
+    #: the range through that bound, never reaching the other: the range beyond the turn was not traced
     TURNED_BACK = -3
     #: ``on_point`` raised at the last point: the run ends there, keeping every point before it and that one
     CALLBACK_RAISED = -4
@@ -162,6 +167,9 @@ class ContinuationResult:
     nfev: int = 0  #: residual evaluations in total
     last_step: float = 0.0  #: step length at the end (scaled units)
     coarse: np.ndarray = None  #: indices of points accepted with a predictor error above REJECT_CURVE e*
+    #: (npoints, n) per point the Newton step with the parameter held that its converged residual still asks
+    #: (``J dy = -R``, the parameter's component 0): its distance from the curve at its parameter; NaN where unknown
+    newton_step: np.ndarray = None
 
     @property
     def success(self) -> bool:
@@ -175,7 +183,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
                  scale: Scale | None = None, locate_folds: bool = True, fold_xtol: float = 1e-10,
                  on_point: Callable[[NDArray[np.float64], float], object] | None = None,
                  curve_tol: float | None = None, curve_components: ArrayLike | None = None,
-                 stop: Callable[[NDArray[np.float64]], bool] | None = None) -> ContinuationResult:
+                 stop: Callable[[NDArray[np.float64]], bool] | None = None,
+                 from_bound: bool = False) -> ContinuationResult:
     """Trace the branch of ``residual(y) = 0`` through ``y0`` in the direction of ``parameter``.
 
     ``residual(y) -> (R, J)``; ``y0`` is corrected with the parameter held fixed first.  The
@@ -188,6 +197,10 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.
     ``curve_tol``: the step's error control (see module); None: off.
     ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
+    ``from_bound``: the range starts at ``y0``, on the bound behind ``direction`` (``lo`` for +1): a branch
+    that turns back and leaves the range through that bound, never reaching the other, ends with
+    ``Status.TURNED_BACK`` (its points kept, the last on the start bound), the message saying where the
+    parameter turned; without it such a run reached an end of the range (``REACHED_END``).
     An arithmetic error of ``residual`` is a failed step; any other ``Exception`` it raises propagates
     at the start, and after it ends the run with ``Status.RESIDUAL_RAISED``, the points kept (an
     element's answer of the wrong type or shape, or a warning an ``"error"`` filter raises, propagates at once:
@@ -226,6 +239,10 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     max_steps, max_iter = _whole("max_steps", max_steps), _whole("max_iter", max_iter)
     tol, fold_xtol = positive("tol", tol), positive("fold_xtol", fold_xtol)
     locate_folds = flag("locate_folds", locate_folds)
+    if flag("from_bound", from_bound) and y0[p] != (lo if direction > 0 else hi):
+        raise ValueError(f"from_bound=True needs y0 on the bound the range starts from, y0[{p}] == "
+                         f"{'lo' if direction > 0 else 'hi'}={lo if direction > 0 else hi!r} for direction={direction!r}, "
+                         f"got y0[{p}]={float(y0[p])!r}")
     if curve_tol is not None and not 0.0 < _finite_or_nan(curve_tol) < 1.0:
         raise ValueError(f"curve_tol must be in (0, 1) or None, got curve_tol={curve_tol!r}")
     if curve_components is not None:
@@ -240,7 +257,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     count = _Count()
     trace = _Trace(_counted(_shaped(residual, n), count), p, lo, hi, tol, max_iter, scale, min_step, max_step, count,
                    on_point if on_point is not None else (lambda y, rnorm: None), curve_tol,
-                   np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int), stop)
+                   np.arange(n) if curve_components is None else np.asarray(curve_components, dtype=int), stop,
+                   ("lower" if direction > 0 else "upper") if from_bound else None)
     failed = trace.start(y0, direction, step)
     if failed is not None:
         return failed
@@ -252,9 +270,13 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
         except Exception as exc:  # noqa: BLE001 - a residual of the caller's (an element's hook): the points stay
             trace.raised(exc)
     folds = _located_folds(trace, residual, tol, scale, fold_xtol, max_iter, count) if locate_folds else []
+    if trace.status == Status.TURNED_BACK:
+        far = (max if direction > 0 else min)([y[p] for y in trace.ys] + [f[p] for f in folds])
+        trace.detail = (f" (it turned at y[{p}] = {far:.8g} and left through its start bound {(lo, hi)[direction < 0]!r} "
+                        f"before reaching {(hi, lo)[direction < 0]!r}){trace.detail}")
     return _result(trace.ys, trace.ts, trace.rn, trace.its, trace.fold_after, folds, trace.status,
                    MESSAGES[trace.status] + trace.detail, trace.nsteps, trace.nrejected, count, trace.h,
-                   trace.corners, trace.coarse)
+                   trace.corners, trace.coarse, trace.steps)
 
 
 class ResidualContractError(ElementContractError):
@@ -324,8 +346,9 @@ class _Trace:
     the bound at the end of the parameter range) and the step control."""
 
     def __init__(self, fun, p, lo, hi, tol, max_iter, scale, min_step, max_step, count, report, curve_tol=None,
-                 curve_components=None, stop=None):
+                 curve_components=None, stop=None, start_side=None):
         self.fun, self.p, self.lo, self.hi, self.stop = fun, p, lo, hi, stop
+        self.start_side = start_side  # "lower"/"upper": the bound the range starts from (from_bound); None: neither
         self.target = None if curve_tol is None else PREDICTOR_SHARE * curve_tol  # e*
         self.retries, self.coarse, self.curve_components = 0, [], curve_components
         self.tol, self.max_iter, self.scale, self.count, self.report = tol, max_iter, scale, count, report
@@ -354,6 +377,7 @@ class _Trace:
             t = -t
         self.y, self.s, self.t, self.J = y, s, t, start.J
         self.ys, self.ts, self.rn, self.its = [y], [t], [start.rnorm], [start.iterations]
+        self.steps = [_fixed_step(start.R, start.J, p)]
         self.fold_after = []
         self.h = min(max(step if step is not None else FIRST_STEP * self.max_step, self.min_step), self.max_step)
         self.zero = np.zeros(n)
@@ -362,7 +386,8 @@ class _Trace:
         self.nsteps = self.nrejected = 0
         self.corners = []
         self.rejected = None  # (turn, step) of the last step rejected for turning
-        self.failures = 0  # failed correctors in a row at this point
+        self.failures = 0  # failed correctors in a row at this point, or since the trace began creeping towards a corner
+        self.creep = 0.0  # the longest step whose failed predictor showed a corner, while shorter ones are accepted
         self._reported(y, start.rnorm)
         return None
 
@@ -385,6 +410,8 @@ class _Trace:
                 return
             self.failures += 1
             self._reject(new, reason)
+            if self.normal is not self.t:  # the predictor's Jacobian shows a corner within the step
+                self.creep = max(self.creep, h)
             return
         f_curve = self._curve_factor(new.y, y_pred, s, turn)
         if f_curve is not None and f_curve < 0.0:  # above REJECT_CURVE e*: shorter, unless at a corner
@@ -530,7 +557,8 @@ class _Trace:
     def _accept(self, new, t_new, turn, f_curve=None) -> None:
         p, ys, ts = self.p, self.ys, self.ts
         self.nsteps += 1
-        self.failures = 0
+        if self.h >= self.creep:  # a step as long as the last that showed a corner: not creeping towards one
+            self.failures, self.creep = 0, 0.0
         if self.rejected is not None and self.h >= self.rejected[1]:
             self.rejected = None  # back at the step that turned too much: not approaching a corner
         y_prev = self.y
@@ -546,6 +574,7 @@ class _Trace:
         ys.append(y)
         ts.append(t)
         self.rn.append(new.rnorm)
+        self.steps.append(_fixed_step(new.R, new.J, p))
         self.its.append(new.iterations)
         if not self._reported(y, new.rnorm):
             return
@@ -579,6 +608,7 @@ class _Trace:
         ``(the Newton result, the bound)``."""
         p = self.p
         bound = self.hi if outside[p] > self.hi else self.lo
+        self.side = "upper" if outside[p] > self.hi else "lower"
         guess = inside + (bound - inside[p]) / (outside[p] - inside[p]) * (outside - inside)
         return _newton(self.fun, guess, self.e_p, bound, self.tol, self.max_iter, self.count), bound
 
@@ -586,12 +616,18 @@ class _Trace:
         """The converged point ``end`` on ``bound``: the last point of a run that reached the end."""
         s_end = _scale(self.scale, end.y)
         self.ys.append(end.y)
+        self.steps.append(_fixed_step(end.R, end.J, self.p))
         self.ts.append(_tangent(end.J, s_end, _rescale(self.t, self.s, s_end)))
         self.rn.append(end.rnorm)
         self.its.append(end.iterations)
-        self.detail = f" (at its {'upper' if bound == self.hi else 'lower'} end)"
-        self.status = Status.REACHED_END
+        self.status = self._ended()
+        self.detail = f" (at its {self.side} end)" if self.status == Status.REACHED_END else ""
         self._reported(end.y, end.rnorm)
+
+    def _ended(self) -> Status:
+        """How a run that left the range (through ``self.side``) ended: ``TURNED_BACK`` through the bound it
+        started from (``from_bound``), else ``REACHED_END``."""
+        return Status.TURNED_BACK if self.side == self.start_side else Status.REACHED_END
 
     def _reported(self, y, rnorm) -> bool:
         """``on_point(y, rnorm)`` for the point just kept; False if it raised, which ends the run there
@@ -621,7 +657,7 @@ class _Trace:
                        "inside)")
         if self.fold_after and self.fold_after[-1] == len(self.ys) - 1:
             self.fold_after.pop()
-        self.status = Status.REACHED_END
+        self.status = self._ended()
 
 
 @dataclass
@@ -742,7 +778,7 @@ class _LocateFailed(Exception):
 
 
 def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nrejected, count, h, corners=(),
-            coarse=()):
+            coarse=(), steps=None):
     n = len(ys[0]) if ys else 0
     return ContinuationResult(
         y=np.array(ys, dtype=float).reshape(-1, n) if ys else np.empty((0, 0)),
@@ -754,4 +790,5 @@ def _result(ys, ts, rn, its, fold_after, folds, status, message, nsteps, nreject
         folds=np.array(folds, dtype=float).reshape(-1, n) if folds else np.empty((0, n)),
         status=status, message=message, nsteps=nsteps, nrejected=nrejected,
         nit=count.nit, nfev=count.nfev, last_step=h,
+        newton_step=np.array(steps, dtype=float).reshape(-1, n) if steps else np.full((len(ys), n), np.nan),
     )

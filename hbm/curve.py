@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike, NDArray
 from contact_models.numerics.small import chords, lagrange
 
 from . import continuation as cont
+from ._steps import _fixed_step
 from .continuation import Residual, Scale
 
 
@@ -230,6 +231,7 @@ def refine(residual: Residual, run: cont.ContinuationResult, scale: Scale, compo
     k = np.asarray(components, dtype=int)
     y, t = list(run.y), list(run.tangent)
     rn, its = list(run.residual_norm), list(run.iterations)
+    steps = list(run.newton_step) if run.newton_step is not None and len(run.newton_step) == len(y) else None
     corners = [int(c) for c in run.corners]
     fold_after = [int(f) for f in run.fold_after]
     count = cont._Count()
@@ -260,6 +262,8 @@ def refine(residual: Residual, run: cont.ContinuationResult, scale: Scale, compo
             t.insert(i + 1, tm)
             rn.insert(i + 1, sol.rnorm)
             its.insert(i + 1, sol.iterations)
+            if steps is not None:
+                steps.insert(i + 1, _fixed_step(sol.R, sol.J, parameter))
             corners = [c + 1 if c > i else c for c in corners]
             coarse = {c + 1 if c > i else c for c in coarse}
             fold_after = [f if f < i else f + 1 if f > i else (f if t[i][parameter] * tm[parameter] < 0.0 else f + 1)
@@ -269,6 +273,7 @@ def refine(residual: Residual, run: cont.ContinuationResult, scale: Scale, compo
             at = i + j  # index of interval (i, mid) after the earlier insertions
             check.update(range(max(at - 2, 0), min(at + 4, len(y) - 1)))
     return dataclasses.replace(run, y=np.array(y), tangent=np.array(t), residual_norm=np.array(rn),
+                               newton_step=None if steps is None else np.array(steps),
                                iterations=np.array(its, dtype=int), fold_after=np.array(fold_after, dtype=int),
                                corners=np.array(corners, dtype=int), coarse=np.array(sorted(coarse), dtype=int),
                                nit=run.nit + count.nit, nfev=run.nfev + count.nfev)

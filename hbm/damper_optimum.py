@@ -179,7 +179,7 @@ def damper_optimum(system: Any, contacts_of: Callable[[float], Any], bounds: Seq
     curve = _PeakCurve(make, bal0.uw, bal0.rw, p_ref, f, dof, max(min(abs(p0), abs(p1)), 1e-6 * p_ref))
     z0 = np.concatenate([y_peak / bal0.uw, [p0 / p_ref]])
     res = cont.continuation(curve, z0, parameter=-1, bounds=(p0 / p_ref, p1 / p_ref), tol=tol,
-                            max_step=max_step, max_steps=max_steps, locate_folds=False)
+                            max_step=max_step, max_steps=max_steps, locate_folds=False, from_bound=True)
     amps = np.array([curve.amplitude(z, bal0)[0] for z in res.y])
     i = int(np.argmin(amps))
     omegas = res.y[:, bal0.n * bal0.L] * bal0.uw[bal0.n * bal0.L]

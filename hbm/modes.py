@@ -312,7 +312,7 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     scaled = bal.scaled
 
     res = cont.continuation(scaled, y0 / bal.uw, parameter=-1, bounds=(math.log10(a0), math.log10(a1)),
-                            tol=tol, max_step=max_step, max_steps=max_steps, locate_folds=False)
+                            tol=tol, max_step=max_step, max_steps=max_steps, locate_folds=False, from_bound=True)
     ys, rn, nit, nfev = res.y, res.residual_norm, res.nit, res.nfev
     if targets is not None:
         ys, rn, extra = _locate_amplitudes(scaled, res, np.log10(targets), tol)
@@ -320,6 +320,10 @@ def nonlinear_modes(system: Any, contacts: Any, *, mode: int = 0, amplitude_rang
     ys = ys * bal.uw
     N = bal.n * bal.L
     message = res.message
+    if res.status == cont.Status.TURNED_BACK:  # in the mode's own terms: the amplitude where it turned
+        message = (f"{cont.MESSAGES[res.status]}: it turned at amplitude a = {10.0 ** float(res.y[:, -1].max()):.6g} "
+                   f"and came back to a0 = {a0:.6g} before reaching a1 = {a1:.6g} (the mode folds in its amplitude: "
+                   "start amplitude_range at an a0 below the amplitude the branch comes back down to)")
     if targets is not None and len(ys) < len(targets):
         message += f"; {len(targets) - len(ys)} of the {len(targets)} amplitudes asked for were not reached or located"
     return NonlinearModes(amplitude=10.0 ** ys[:, -1], omega=ys[:, N], damping_ratio=ys[:, N + 1],

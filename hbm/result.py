@@ -251,6 +251,7 @@ class FrequencyResponse:
         self._X, self.omega = X, w
         self.x_c, self.x_s = X[:, self._r, 1], X[:, self._r, 2]
         self.amplitude = np.hypot(self.x_c, self.x_s)
+        self._newton_steps = _newton_steps(problem, run, self.amplitude)
         self.phase = np.arctan2(self.x_s, self.x_c)
         self.residual_norm = run.residual_norm
         self.fold_after = run.fold_after
@@ -315,6 +316,7 @@ class FrequencyResponse:
             setattr(out, name, cat(name))
         out.error_sources = {k: np.concatenate([f.error_sources[k][lo:hi] for f, lo, hi in segments_of])
                              for k in segments_of[0][0].error_sources}
+        out._newton_steps = np.concatenate([f._newton_steps[lo:hi] for f, lo, hi in segments_of])
         if "peak" in out.error_sources:  # the peak's location is a property of the whole curve, not of each segment's
             newton = np.concatenate([f._newton_part(slice(lo, hi)) for f, lo, hi in segments_of])
             out.error_sources["peak"] = errors.peak_location(out.amplitude, out.omega, newton)
@@ -563,7 +565,9 @@ class FrequencyResponse:
         n = len(self.omega[at])
         if self._problem is None or self._X is None:
             return np.full(n, errors.NEWTON_SHARE * self.rtol)
-        return errors.newton_part(self._problem, self._X[at], self.rtol)
+        others = (np.sum([self.error_sources[s][at] for s in errors.SOURCES if s != "peak"], axis=0)
+                  if all(s in self.error_sources for s in errors.SOURCES) else None)
+        return errors.newton_part(self._problem, self._X[at], self.rtol, self._newton_steps[at], others)
 
     # ------------------------------------------------------------------ output
     def to_csv(self, path: str | Path, *, case: str | None = None) -> Path:
@@ -710,3 +714,16 @@ class FrequencyResponse:
 
 
 __all__ = ["FrequencyResponse", "Peak", "Response", "Segment", "model_label", "PEAK_XTOL_FACTOR"]
+
+
+def _newton_steps(problem: HarmonicBalance, run: cont.ContinuationResult, amplitude: NDArray) -> NDArray:
+    """Per point the relative change of the response DOF's amplitude that the Newton step its converged residual
+    still asks makes (``ContinuationResult.newton_step``: ``hbm.balance.errors.newton_part`` takes it where it
+    exceeds the tolerance's part); NaN where it is not known."""
+    step = run.newton_step
+    if step is None or len(step) != len(run.y) or not len(run.y):
+        return np.full(len(run.y), np.nan)
+    X = problem.to_physical(run.y + step)[0]
+    r = list(problem.dofs).index(problem.response_dof)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.abs(np.hypot(X[:, r, 1], X[:, r, 2]) - amplitude) / amplitude

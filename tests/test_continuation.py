@@ -130,6 +130,43 @@ def test_corner_fold_is_passed(a):
     assert np.all(np.abs(r.y[:, 1] + a * np.abs(r.y[:, 0]) + 0.1 * r.y[:, 0] ** 2) <= TOL)
 
 
+
+@pytest.mark.parametrize("direction", [1, -1])
+def test_a_run_from_a_bound_that_comes_back_through_it_turned_back(direction):
+    """The circle x^2 + (lam - c)^2 = 0.3^2 entered from the bound behind ``direction`` (lam = 0 going up,
+    or 1 going down, c = 0.2 or 0.8): the branch turns at lam = c + 0.3 (or c - 0.3), comes back and
+    leaves through the bound it started from, never reaching the other.  Without ``from_bound`` that run
+    reached an end of the range; from a bound, it turned back, and says where."""
+    start, c = (0.0, 0.2) if direction > 0 else (1.0, 0.8)
+
+    def shifted(y):
+        x, lam = y
+        return np.array([x * x + (lam - c) ** 2 - 0.09]), np.array([[2.0 * x, 2.0 * (lam - c)]])
+
+    y0 = [-math.sqrt(0.09 - (start - c) ** 2), start]
+    plain = continuation(shifted, y0, parameter=1, bounds=(0.0, 1.0), direction=direction, max_step=0.05, tol=TOL)
+    assert plain.status == Status.REACHED_END and plain.y[-1, 1] == start  # the old answer: success, nothing traced
+    r = continuation(shifted, y0, parameter=1, bounds=(0.0, 1.0), direction=direction, max_step=0.05, tol=TOL,
+                     from_bound=True)
+    assert r.status == Status.TURNED_BACK and not r.success
+    assert r.y[-1, 1] == start and r.y[-1, 0] == pytest.approx(-y0[0], abs=1e-10)  # out where it came in
+    turn = c + 0.3 * direction
+    assert len(r.folds) == 1 and r.folds[0, 1] == pytest.approx(turn, abs=1e-9)
+    other = 1.0 - start
+    assert r.message == (f"the branch turned back and left the parameter range where it started (it turned at "
+                         f"y[1] = {turn:.8g} and left through its start bound {start!r} before reaching {other!r})")
+    through = continuation(shifted, y0, parameter=1, bounds=(0.0, 1.0), direction=direction, max_step=0.05, tol=TOL, from_bound=True, locate_folds=False)
+    assert through.status == Status.TURNED_BACK  # the farthest point when folds are not located
+    assert f"it turned at y[1] = {float((max if direction > 0 else min)(through.y[:, 1])):.8g}" in through.message
+
+
+def test_a_run_from_a_bound_that_reaches_the_other_succeeds_and_from_bound_needs_y0_on_the_start_bound():
+    r = continuation(sine, [0.0, 0.0], parameter=1, bounds=(0.0, 0.5), max_step=0.1, tol=TOL, from_bound=True)
+    assert r.status == Status.REACHED_END and r.y[-1, 1] == 0.5
+    with pytest.raises(ValueError, match=r"^from_bound=True needs y0 on the bound the range starts from, y0\[1\] == "
+                                         r"lo=-1\.0 for direction=1, got y0\[1\]=0\.0$"):
+        continuation(sine, [0.0, 0.0], parameter=1, bounds=(-1.0, 1.0), from_bound=True)
+
 def test_failure_keeps_points_and_says_why():
     def breaks(y):
         if y[1] > 0.5:

@@ -133,6 +133,61 @@ def test_a_descending_trace_past_a_sharp_peak_does_not_jump_to_the_other_flank()
     assert not said
 
 
+def test_an_11_1_internal_resonance_at_0_01_percent_damping_is_traced_to_the_end():
+    """Going up at tol = 1e-3 (H = 15), the branch of ``ir111_light`` has a corner at omega = 0.99962159 where
+    a contact's stick phase changes: its scaled tangent turns back by 149 degrees there (omega still rising),
+    so a corrector's hyperplane normal to the incoming tangent just past it meets no point of the branch.
+    The trace crept towards the corner, each failed step followed by a shorter one that converged, its failures
+    never three in a row, so the corner was never rounded: the step fell below min_step at 0.9996216 with a
+    warning, Newton's last iterates 5.6e-9 against the tolerance 5e-9 (the residual's floor there is 3e-16).
+    Counted since the trace began creeping towards a corner its predictors showed, the failures round it:
+    the branch reaches 1.3, every point within tol of the periodic responses by shooting, the peak too."""
+    case = DATA["ir111_light"]
+    for reverse in (False, True):
+        frf, said = _trace("ir111_light", 1e-3, reverse)
+        assert frf.success and not said, (frf.message, said)
+        assert frf.omega[-1] == pytest.approx(0.6 if reverse else 1.3, abs=1e-12)
+        compared = 0
+        for w, refs in case["points"]:
+            for i in hunt.crossings(frf, w):
+                a, est = hunt.at_omega(frf, i, w)
+                err = min(abs(a / ref - 1.0) for ref in refs)
+                assert err <= 1e-5, (w, err, est)  # measured: at most 5.7e-6
+                compared += 1
+        assert compared == len(case["points"])
+        pk, ref = frf.peak(), case["peak"]
+        assert pk.interior and pk.converged
+        assert abs(pk.amplitude / ref["amplitude"] - 1.0) <= 1e-5  # measured: 2.5e-6
+        assert pk.omega == pytest.approx(ref["omega"], rel=1e-5)
+
+def test_the_newton_part_reads_a_lightly_damped_points_distance_from_the_balance():
+    """0.01 % damping, the slip onset 1 % below the stuck peak (``light_1e4_onset``, tol 1e-3 upwards): just past
+    the onset the balance's Jacobian is far from the identity, and points whose residual is within the Newton
+    tolerance lie farther from the balance's solution than it says.  Against the periodic response by shooting
+    at each point's own omega, three points within five of the peak were off by 4.96e-7, 7.7e-8 and 2.57e-6
+    while their estimates read 5.0e-9 (the Newton tolerance's part alone: 100 to 500 times under).  The Newton
+    step each point's residual still asks (solved with its own Jacobian) measures the distance: every point's
+    estimate is now at least half its true error."""
+    case = DATA["light_1e4_onset"]
+    frf, said = _trace("light_1e4_onset", 1e-3, False)
+    assert frf.success and not said
+    s, cs = hunt.build(case["parameters"])
+    X1 = hunt.first_harmonics(frf)
+    i = int(np.argmax(frf.amplitude))
+    worst = 0.0
+    for k in range(i - 8, i + 9):
+        w = float(frf.omega[k])
+        for opts in hunt.SHOOTING:
+            ref = hbm.periodic_response(s, cs, omega=w, initial=X1[k], floquet=False, **opts)
+            if ref.success:
+                break
+        assert ref.success, ref.message
+        err = abs(frf.amplitude[k] / ref.amplitude(frf.response_dof) - 1.0)
+        worst = max(worst, err)
+        if err > 1e-8:  # (the shooting's own accuracy is far below)
+            assert frf.error_estimate[k] >= err / 2, (k, w, err, frf.error_estimate[k])
+    assert worst > 1e-7  # measured: 2.57e-6 (read 5.0e-9 before)
+
 @pytest.mark.parametrize("name, tol, reverse", [("kink_peak_two", 1e-5, False), ("kink_peak", 1e-3, True)])
 def test_a_peak_on_a_corner_is_located(name, tol, reverse):
     """Where a contact starts to slip at the maximum the response has a corner there, and Newton from

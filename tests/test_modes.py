@@ -204,6 +204,53 @@ def test_damper_optimum_is_the_optimum_of_a_dense_frf_scan_whatever_the_bracket(
     assert found[1].parameter == pytest.approx(found[0].parameter, rel=1e-6)
 
 
+
+def _jenkins_mode_amplitude(A, k=300.0, F=1.0):
+    """The first mode's amplitude ``a`` (``a^2 = Q^H M Q``) of ``folded()`` at H = 1 where the contact's
+    amplitude is ``A``, by hand: the Jenkins element's describing function (in phase ``k/pi (phi - sin(2 phi)/2)``,
+    ``cos phi = 1 - 2 F/(k A)``; in quadrature ``4 F (A - F/k)/(pi A^2)``, its energy per cycle) in the stiffness,
+    the complex eigenvector ``v`` of the lowest mode (M = I; C = c I only shifts the eigenvalues), ``a = A/|v_0|``."""
+    xs = F / k
+    phi = math.acos(1.0 - 2.0 * xs / A) if A > xs else math.pi
+    kc = complex(k / math.pi * (phi - 0.5 * math.sin(2.0 * phi)), 4.0 * F * max(A - xs, 0.0) / (math.pi * A * A))
+    lam, V = np.linalg.eig(K2 + np.diag([kc, 0.0]))
+    v = V[:, int(np.argmin(lam.real))]
+    return A * np.linalg.norm(v) / abs(v[0])
+
+
+def folded():
+    """A stiff Jenkins contact (300 times the chain's spring) on DOF 0 of the 2-DOF chain: as it slips, its
+    DOF's share of the first mode grows faster than the contact's amplitude, and the mode folds in ``a``."""
+    return (Structure(np.eye(2), 0.001 * np.eye(2), K2, force=[1.0, 0.0]),
+            [Contact(Macroslip(stiffness=300.0, slip_force=1.0), dof=0)])
+
+
+def test_a_mode_that_folds_back_through_its_start_amplitude_turned_back_and_says_where():
+    """The mode of ``folded()`` rises to a = 1.26556 (A = 0.0891), turns back down to a = 1.07130 (A = 0.649) and
+    rises again (``_jenkins_mode_amplitude``, independent of the balance).  Started at a0 = 1.1, between the two
+    turns, its branch comes back through a0 without reaching a1 = 10: it reported success, "reached the end of the
+    parameter range (at its lower end)".  Now it turned back and says at which amplitude; from a0 = 1.0, below the
+    lower turn, the branch passes both folds and reaches a1."""
+    grid = np.geomspace(1.0 / 300.0, 1.0, 20001)
+    a = np.array([_jenkins_mode_amplitude(A) for A in grid])
+    i = int(np.argmax(a[:-1] > a[1:]))  # the first turn
+    j = i + int(np.argmax(a[i + 1:-1] < a[i + 2:]))  # the second
+    a_turn, a_back = float(a[i]), float(a[j + 1])
+    assert a_turn == pytest.approx(1.26556, rel=1e-5) and a_back == pytest.approx(1.07130, rel=1e-5)
+    s, cs = folded()
+    m = nonlinear_modes(s, cs, amplitude_range=(1.1, 10.0), harmonics=1)
+    assert not m.success and m.amplitude[-1] == pytest.approx(1.1, rel=1e-14) and m.amplitude.max() < 1.3
+    turned = float(re.search(r"it turned at amplitude a = (\S+) and came back to a0 = 1\.1 before reaching a1 = 10 ",
+                             m.message).group(1))
+    assert m.message.startswith("the branch turned back and left the parameter range where it started: ")
+    assert turned == pytest.approx(a_turn, rel=1e-3)
+    # the traced points are on the mode: each amplitude is the closed form's at the contact's amplitude
+    A = m.amplitude * np.hypot(m.shapes[:, 0, 1], m.shapes[:, 0, 2])
+    assert np.allclose([_jenkins_mode_amplitude(x) for x in A], m.amplitude, rtol=1e-6)
+    whole = nonlinear_modes(s, cs, amplitude_range=(1.0, 10.0), harmonics=1)
+    assert whole.success and whole.amplitude[-1] == pytest.approx(10.0, rel=1e-14)
+    assert whole.amplitude.max() == pytest.approx(10.0, rel=1e-14) and np.any(np.diff(whole.amplitude) < 0.0)
+
 def test_bad_input_names_the_parameter():
     s, contacts = ground()
     for kwargs, name in [({"amplitude_range": (1.0, 0.5)}, "amplitude_range"),

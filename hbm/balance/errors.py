@@ -96,6 +96,10 @@ PEAK_SPREAD = 2
 #: Every point solves the balance to this fraction of rtol in its scaled residual (``hbm.frf.NEWTON_TOL_FACTOR``):
 #: the relative amplitude error a converged point may carry, the peak source away from the maximum.
 NEWTON_SHARE = 5e-3
+#: The Newton part is the amplitude change of the Newton step a point's residual still asks where that exceeds the
+#: tolerance's part and the point's other sources by more than this factor (the estimate is held to under-read by at
+#: most 2x: ``newton_part``).
+NEWTON_SLACK = 2.0
 #: The peak source is this many times the parabola's rise above the sampled maximum: the parabola is exact
 #: to leading order in the spacing, and the next order (the peak's asymmetry) makes it under-read by up to
 #: 22 % on the default case and 0.1 % on the bare blade (``docs/error_estimates.md``, "peak").
@@ -185,16 +189,16 @@ def onsets(problem: HarmonicBalance, X: NDArray, omega: NDArray, idx: NDArray) -
     return np.unique(np.asarray(out, dtype=np.intp))
 
 
-def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) -> dict[str, NDArray]:
+def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float,
+             steps: NDArray | None = None) -> dict[str, NDArray]:
     """``{source: relative error per point}`` for the converged points ``X`` (points, n_a, 2H+1),
-    ``omega`` (points,) of ``problem``'s balance."""
+    ``omega`` (points,) of ``problem``'s balance; ``steps`` as :func:`newton_part` takes them."""
     n = len(omega)
     out = {s: np.zeros(n) for s in SOURCES}
     if n == 0:
         return out
     amplitude = np.hypot(X[:, problem.dofs.index(problem.response_dof), 1],
                          X[:, problem.dofs.index(problem.response_dof), 2])
-    out["peak"] = peak_location(amplitude, omega, newton_part(problem, X, rtol))
     idx = nodes(amplitude)
     idx = np.union1d(idx, onsets(problem, X, omega, idx))
     at = _one_dof if problem.one_dof else _condensed
@@ -208,6 +212,8 @@ def estimate(problem: HarmonicBalance, X: NDArray, omega: NDArray, rtol: float) 
         out["harmonics"] = _harmonics_condensed(problem, X, omega, rtol)
     if not problem.one_dof and not all(el.exact_harmonics for el, _ in problem._attach):
         out["sampling"] = _sampling_condensed(problem, X, omega, rtol)  # at every point, not interpolated
+    others = np.sum([out[s] for s in SOURCES if s != "peak"], axis=0)
+    out["peak"] = peak_location(amplitude, omega, newton_part(problem, X, rtol, steps, others))
     return out
 
 
@@ -230,8 +236,13 @@ def peak_estimate(estimate: NDArray, i: int) -> float:
     return float(np.max(near)) if len(near) and not math.isnan(estimate[i]) else float(estimate[i])
 
 
-def newton_part(problem: HarmonicBalance, X: NDArray, rtol: float) -> NDArray:
-    """The Newton tolerance's part of each point's error, relative to the response DOF's amplitude ``a``.
+def newton_part(problem: HarmonicBalance, X: NDArray, rtol: float, steps: NDArray | None = None,
+                others: NDArray | None = None) -> NDArray:
+    """The Newton tolerance's part of each point's error, relative to the response DOF's amplitude ``a``: the
+    tolerance's, below, or ``steps`` (per point the change of ``a`` that the Newton step its converged residual
+    still asks would make, ``hbm.continuation.ContinuationResult.newton_step``) where that is more than
+    ``NEWTON_SLACK`` times the tolerance's part and the point's ``others`` sources together (the estimate would
+    under-read the point's error by more than that factor).
 
     The corrector stops at ``|R| <= NEWTON_SHARE rtol`` in the balance's scaled residual, which is the
     condensed residual over ``max(x_ref, |X_1|)`` (``HarmonicBalance.__call__``: the static deflection, or the
@@ -239,7 +250,12 @@ def newton_part(problem: HarmonicBalance, X: NDArray, rtol: float) -> NDArray:
     identity in those units, a point is off by that tolerance times ``max(x_ref, |X_1|) / a``: the tolerance
     itself where the response is at least that scale, more where it is far below it (a tail far above
     resonance, a DOF that barely moves), inf where it is zero.  The one-DOF form's residual is a force
-    relative to the load, of the response's own size: ``NEWTON_SHARE rtol`` at every point."""
+    relative to the load, of the response's own size: ``NEWTON_SHARE rtol`` at every point.
+
+    Near a lightly damped resonance the Jacobian is far from the identity: a residual within the tolerance may
+    leave the point up to ``|J^-1|`` times farther (about 1 / (2 zeta) at a damping ratio zeta).  The Newton
+    step with the point's own Jacobian measures how far (its error after that step is of second order): at
+    0.01 % damping, just past the slip onset at the peak, a point 5.0e-7 off read 5.0e-9 without it."""
     base = NEWTON_SHARE * rtol
     if problem.one_dof or len(X) == 0:
         return np.full(len(X), base)
@@ -247,7 +263,12 @@ def newton_part(problem: HarmonicBalance, X: NDArray, rtol: float) -> NDArray:
     a = np.hypot(X[:, r, 1], X[:, r, 2])
     scale = np.maximum(problem.x_ref, np.sqrt(np.sum(X[:, :, 1:3] ** 2, axis=(1, 2))))
     with np.errstate(divide="ignore"):
-        return base * np.maximum(1.0, scale / a)
+        part = base * np.maximum(1.0, scale / a)
+    if steps is None:
+        return part
+    bar = NEWTON_SLACK * (part if others is None else part + others)
+    with np.errstate(invalid="ignore"):
+        return np.where(steps > bar, steps, part)  # (NaN, a step not known: the tolerance's)
 
 
 def peak_location(amplitude: NDArray, omega: NDArray, newton: Any) -> NDArray:

@@ -62,7 +62,7 @@ def force_homotopy(problem: HarmonicBalance, w0: float, tol: float, scale: Calla
         return out
 
     run = cont.continuation(residual, np.zeros(n + 1), parameter=-1, bounds=(0.0, 1.0), max_step=0.1,
-                            min_step=1e-9, max_steps=2000, tol=tol, scale=hscale, locate_folds=False)
+                            min_step=1e-9, max_steps=2000, tol=tol, scale=hscale, locate_folds=False, from_bound=True)
     if not run.success or abs(run.y[-1, -1] - 1.0) > 1e-12:
         return None
     return np.append(run.y[-1, :-1], w0 / wr)
