@@ -187,7 +187,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     in order (streaming); an exception it raises (an ``Exception``: not ``KeyboardInterrupt``) ends the
     run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.
     ``curve_tol``: the step's error control (see module); None: off.
-    ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
+    ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range; an
+    exception it raises ends it there with ``Status.CALLBACK_RAISED``, as one of ``on_point``.
     An arithmetic error of ``residual`` is a failed step; any other ``Exception`` it raises propagates
     at the start, and after it ends the run with ``Status.RESIDUAL_RAISED``, the points kept (an
     element's answer of the wrong type or shape, or a warning an ``"error"`` filter raises, propagates at once:
@@ -549,8 +550,7 @@ class _Trace:
         self.its.append(new.iterations)
         if not self._reported(y, new.rnorm):
             return
-        if self.stop is not None and self.stop(y):
-            self.status, self.detail = Status.REACHED_END, " (where the caller's stop(y) ended it)"
+        if self.stop is not None and self._stopped(y):
             return
         self.normal = t
         at_corner = bool(self.corners) and self.corners[-1] == len(ys) - 1
@@ -602,6 +602,19 @@ class _Trace:
             self.status = Status.CALLBACK_RAISED
             self.detail = f" ({type(exc).__name__}: {exc}; the last point is the one it was called with)"
             return False
+        return True
+
+    def _stopped(self, y) -> bool:
+        """``stop(y)`` for the point just kept; True ends the run there: as at the end of the range where it
+        says so, with ``Status.CALLBACK_RAISED`` where it raised (the caller's code, not the residual's)."""
+        try:
+            if not self.stop(y):
+                return False
+        except Exception as exc:  # noqa: BLE001 - the caller's code: any Exception ends the run, none is lost
+            self.status = Status.CALLBACK_RAISED
+            self.detail = f" (stop(y) raised {type(exc).__name__}: {exc}; the last point is the one it was asked at)"
+            return True
+        self.status, self.detail = Status.REACHED_END, " (where the caller's stop(y) ended it)"
         return True
 
     def raised(self, exc: Exception) -> None:

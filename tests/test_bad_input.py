@@ -124,6 +124,27 @@ def test_the_continuation_core_keeps_the_points_when_on_point_raises():
     assert first.status == Status.CALLBACK_RAISED and len(first.y) == 1 and "ZeroDivisionError" in first.message
 
 
+def test_the_continuation_core_says_the_callers_stop_raised_not_the_residual():
+    """A ``stop(y)`` that raises ends the run at the point it was asked at with ``Status.CALLBACK_RAISED`` and
+    names it (it was "the residual raised an exception beyond the last point", ``Status.RESIDUAL_RAISED``)."""
+    def circle(y):
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    asked = []
+
+    def stop(y):
+        asked.append(y.copy())
+        if len(asked) == 3:
+            raise ValueError("stop broke")
+        return False
+
+    run = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9), stop=stop)
+    assert run.status == Status.CALLBACK_RAISED and not run.success
+    assert "stop(y) raised ValueError: stop broke" in run.message and "residual" not in run.message
+    assert len(run.y) == 4  # the start and the three points stop was asked at
+    np.testing.assert_array_equal(run.y[-1], asked[-1])
+
+
 # ---------------------------------------------------------------- the options, refused by name
 @pytest.mark.parametrize("tol", [1e-11, 1e-300, 5e-324])
 def test_a_tol_below_what_double_precision_meets_is_refused_as_the_command_line_refuses_it(tol):
