@@ -40,6 +40,11 @@ def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
 MAX_BAR_PHASE = 1.0 / 2.220446049250313e-16
 
 
+def max_omega(bar: Bar) -> float:
+    """The highest frequency (rad/s) whose phase sqrt(rho / E) omega L is within ``MAX_BAR_PHASE``."""
+    return MAX_BAR_PHASE / (math.sqrt(bar.rho / bar.E) * bar.L)
+
+
 def check_phase(bar: Bar, omega: float) -> None:
     """ValueError naming omega where the bar's phase sqrt(rho / E) omega L exceeds ``MAX_BAR_PHASE``: its
     cos and sin are then rounding noise, so no answer at omega means anything (and omega**2 may overflow)."""
@@ -47,4 +52,4 @@ def check_phase(bar: Bar, omega: float) -> None:
     if not phase <= MAX_BAR_PHASE:
         raise ValueError(f"omega={omega!r} rad/s is too high for the bar: its phase sqrt(rho/E) omega L = {phase:.3g} "
                          f"rad exceeds 1/eps = {MAX_BAR_PHASE:.3g}, where cos and sin carry no digit; omega must be "
-                         f"below {MAX_BAR_PHASE / (math.sqrt(bar.rho / bar.E) * bar.L):.3g} rad/s")
+                         f"below {max_omega(bar):.3g} rad/s")
