@@ -36,8 +36,15 @@ def nonzero_force(force: object) -> None:
                          f"force={np.asarray(force, dtype=float).tolist()!r}")
 
 
+#: The narrowest ``omega_range`` taken, relative to its upper end: double precision resolves omega to 2.2e-16 of
+#: it, and a range a few roundings wide is no range to step along (at 5 roundings the trace stopped at once, its
+#: corrector "moved 9.94e+11 steps from the predictor").
+MIN_RELATIVE_WIDTH = 1e-12
+
+
 def omega_range_pair(omega_range: object) -> tuple[float, float]:
-    """``(w0, w1)`` from ``omega_range``: a pair of finite numbers >= 0 with w0 != w1."""
+    """``(w0, w1)`` from ``omega_range``: a pair of finite numbers >= 0 with w0 != w1, at least
+    ``MIN_RELATIVE_WIDTH`` of the larger apart."""
     if omega_range is None:
         raise ValueError("omega_range must be given as (w0, w1), got omega_range=None")
     try:
@@ -48,6 +55,10 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
     w1 = nonnegative("omega_range[1]", w1)
     if w0 == w1:
         raise ValueError(f"omega_range must have w0 != w1, got omega_range={omega_range!r}")
+    if abs(w1 - w0) < MIN_RELATIVE_WIDTH * max(w0, w1):
+        raise ValueError(f"omega_range must be at least {MIN_RELATIVE_WIDTH:g} of its upper end wide (double precision "
+                         f"resolves omega to 2.2e-16 of it), got omega_range={omega_range!r}, "
+                         f"{abs(w1 - w0) / max(w0, w1):.3g} of it")
     return w0, w1
 
 
@@ -71,5 +82,5 @@ def newton_tolerance(function: str, newton_tol: Any, tol: Any) -> Any:
 
 
 __all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "relative",
-           "shown", "omega_range_pair", "InputError", "relative_tolerance", "MIN_RELATIVE_TOL", "NEWTON_TOL",
+           "shown", "omega_range_pair", "MIN_RELATIVE_WIDTH", "InputError", "relative_tolerance", "MIN_RELATIVE_TOL", "NEWTON_TOL",
            "newton_tolerance"]

@@ -324,6 +324,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         structure.solved_contacts = as_contacts(contacts, structure.n)
     w0, w1 = omega_range_pair(omega_range)
     tolerance = tolerance_of(tol)
+    _within_precision(structure, omega_range, max(w0, w1), harmonics, tolerance)
     if not isinstance(model, str) or model not in MODELS:  # (an array: numpy's ambiguous truth)
         raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
     if model != "given" and tolerance is None:
@@ -395,6 +396,31 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     heard += said  # the elements' warnings outside a trace (while locating and refining the peak)
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes, (w0, w1))
     return frf
+
+
+#: The largest (H omega)^2 max|M| (and H omega max|C|) the balance takes, N/m: its dynamic stiffness, and sums of
+#: such terms, stay within double precision (above it the residual overflowed to NaN: "SVD did not converge").
+MAX_DYNAMIC_STIFFNESS = 1e300
+
+
+def _within_precision(structure: Any, omega_range: Any, w_top: float, harmonics: Any, tolerance: Any) -> None:
+    """Refuse, naming ``omega_range``, a range whose top frequency at the highest harmonic the call may take (the
+    given ``harmonics``; with a ``tol`` ``MAX_HARMONICS``; else the structure's own or ``FIXED_HARMONICS``) makes the
+    structure's inertia or damping leave double precision: checked once here, not met as a non-finite residual."""
+    if isinstance(harmonics, (int, np.integer)) and not isinstance(harmonics, bool) and harmonics >= 1:
+        H = int(harmonics)
+    else:  # (a harmonics that is no count is refused further on)
+        H = MAX_HARMONICS if tolerance is not None else structure.default_harmonics or FIXED_HARMONICS
+    m, c = (float(abs(A).max()) if A.shape[0] else 0.0 for A in (structure.M, structure.C))
+    h = float(H) * w_top
+    with np.errstate(over="ignore"):
+        if h * h * m <= MAX_DYNAMIC_STIFFNESS and h * c <= MAX_DYNAMIC_STIFFNESS:
+            return
+    top = min(math.sqrt(MAX_DYNAMIC_STIFFNESS / m) if m > 0.0 else math.inf,
+              MAX_DYNAMIC_STIFFNESS / c if c > 0.0 else math.inf) / H
+    raise ValueError(f"omega_range={omega_range!r} reaches too high for the structure: at harmonic {H} of "
+                     f"omega={w_top!r} rad/s its (H omega)^2 M or H omega C leaves double precision (above "
+                     f"{MAX_DYNAMIC_STIFFNESS:.0e} N/m); omega_range must stay below {top:.3g} rad/s at {H} harmonics")
 
 
 def tolerance_of(tol: Any) -> float | None:

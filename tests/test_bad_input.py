@@ -146,6 +146,35 @@ def test_the_continuation_core_says_the_callers_stop_raised_not_the_residual():
 
 
 # ---------------------------------------------------------------- the options, refused by name
+@pytest.mark.parametrize("omega_range, at", [((1e300, 1.7e308), "harmonic 3 of omega=1.7e+308"),
+                                             ((1e155, 1e156), "harmonic 3 of omega=1e+156")])
+def test_a_frequency_range_past_double_precision_is_refused_by_name(omega_range, at):
+    """(H omega)^2 M overflows: refused naming omega_range and the highest frequency taken (the start failed with
+    "SVD did not converge" after numpy's "invalid value encountered in multiply", or a "non-finite residual")."""
+    s, contacts = _jenkins()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(ValueError, match=rf"^omega_range={re.escape(repr(omega_range))} reaches too high for the "
+                                             rf"structure: at {re.escape(at)} rad/s .* omega_range must stay below "
+                                             r"3\.33e\+149 rad/s at 3 harmonics"):
+            frequency_response(s, contacts, omega_range=omega_range, harmonics=3, tol=None)
+    with pytest.raises(ValueError, match=r"at harmonic 31 of omega=1e\+156 rad/s"):  # a tol may climb to H = 31
+        frequency_response(s, contacts, omega_range=(1e155, 1e156))
+    with pytest.raises(ValueError, match=r"at harmonic 1 of omega=1e\+156 rad/s"):  # a blade's own H = 1
+        frequency_response(Blade(1.0, 1.0, 0.01, 1.0), Macroslip(1.0, 0.02), omega_range=(1e155, 1e156), tol=None)
+
+
+@pytest.mark.parametrize("omega_range", [(1.0, 1.0 + 1e-15), (2.0 + 1e-14, 2.0)])
+def test_a_frequency_range_a_few_roundings_wide_is_refused_by_name(omega_range):
+    """A range a few roundings of omega wide stopped at once, its corrector "moved 9.94e+11 steps from the
+    predictor"; 1e-13 of omega wide is still traced to its end."""
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^omega_range must be at least 1e-12 of its upper end wide .*got "
+                                         rf"omega_range={re.escape(repr(omega_range))}"):
+        frequency_response(s, contacts, omega_range=omega_range, harmonics=3, tol=None)
+    assert frequency_response(s, contacts, omega_range=(1.0, 1.0 + 1e-11), harmonics=3, tol=None).success
+
+
 @pytest.mark.parametrize("tol", [1e-11, 1e-300, 5e-324])
 def test_a_tol_below_what_double_precision_meets_is_refused_as_the_command_line_refuses_it(tol):
     s, contacts = _jenkins()
