@@ -42,3 +42,26 @@ def test_a_message_states_the_size_of_a_subnormal_x():
 
     assert _norm(np.array([0.0, 3e-320, 4e-320])) == pytest.approx(5e-320, rel=1e-3)
     assert _norm(np.array([3e300, 4e300])) == pytest.approx(5e300) and _norm(np.array([])) == 0.0
+
+
+def test_an_a_min_decades_away_from_the_response_leaves_the_figure_drawable(tmp_path):
+    """A normal load of 1e300 N puts a_min at 7.5e291 m beside a response of 1e-7 m: its line is left out, and the
+    figure is written (matplotlib's logarithmic ticks overflowed: "cannot convert float infinity to integer", and
+    the command line said "the computation failed" after the curve was computed)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hbm import Blade
+    from hbm.output import plot_linear_reference
+
+    blade = Blade(mass=0.0877, stiffness=1e8, damping=11.8, force=8.0)
+    for a_min, lines in ((7.5e291, 1), (1e-6, 2)):
+        fig, ax = plt.subplots()
+        ax.set_yscale("log")
+        ax.plot([3.2e4, 4.4e4], [1e-7, 2e-7])
+        plot_linear_reference(ax, blade, Macroslip(4e7, 30.0), (3.2e4, 4.4e4), a_min=a_min, stiffness=lambda w: 4e7 + 0 * w)
+        assert len(ax.get_lines()) == 1 + lines
+        fig.savefig(tmp_path / "f.png")
+        plt.close(fig)
