@@ -65,3 +65,34 @@ def test_an_a_min_decades_away_from_the_response_leaves_the_figure_drawable(tmp_
         assert len(ax.get_lines()) == 1 + lines
         fig.savefig(tmp_path / "f.png")
         plt.close(fig)
+
+
+@pytest.mark.parametrize("kind", ["TwoRegionMicroslip", "ThreeRegionMicroslip"])
+def test_the_single_mode_bar_far_past_gross_slip_slides_not_nan(kind):
+    """Far past gross slip f_s is K_slip a and f_c the sliding line's friction force 4 F_fric/pi: the Stieltjes
+    integrals, of order K a^2, overflowed from about 1e150 m and f_s was NaN (a force of 1e300 N on the default
+    blade failed at its start with "returned f_s = nan"); the float and the array paths agree, and the values run
+    on continuously through FAR a_gross."""
+    import contact_models
+    from contact_models import Bar, ModelRangeWarning, UniformLoad
+    from contact_models._path_integrals import FAR
+
+    bar = Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3)
+    el = getattr(contact_models, kind)(bar, UniformLoad(N=100.0))
+    w = 3e4
+    K_slip, a_g = el.slip_stiffness(w), el.gross_slip_amplitude(w)
+    F_fric = float(el.loading_curve(np.array([2.0 * a_g]), w)[0]) - K_slip * 2.0 * a_g
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", ModelRangeWarning)
+        warnings.simplefilter("error", RuntimeWarning)
+        for a in (1e155, 1e200, 1e292):
+            fs, fc, dfs, dfc = el.fourier_derivatives(a, w)
+            assert fs == pytest.approx(K_slip * a, rel=1e-14) and fc == pytest.approx(4 * F_fric / math.pi, rel=1e-9)
+            assert dfs == pytest.approx(K_slip, rel=1e-14) and abs(dfc) < 1e-100
+            arrays = el.fourier_derivatives(np.array([1e-6, a]), w)
+            assert [float(v[1]) for v in arrays] == [fs, fc, dfs, dfc]
+        below, above = (el.fourier_derivatives(FAR * a_g * f, w) for f in (1 - 1e-9, 1 + 1e-9))
+        for u, v in zip(below[:3], above[:3]):
+            assert v == pytest.approx(u, rel=1e-8)
+        with pytest.raises(ElementOutputError, match=r"returned f_s = inf"):  # K_slip a itself leaves double precision
+            el.fourier(1e307, w)
