@@ -1,6 +1,7 @@
 """Input checks shared by ``hbm``: the library's one set (each failure a ValueError naming the
 parameter and its value), re-exported so ``hbm`` modules import them from one place."""
 
+import math
 import warnings
 from typing import Any
 
@@ -62,6 +63,27 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
     return w0, w1
 
 
+#: The largest (H omega)^2 max|M| (and H omega max|C|) taken, N/m: a dynamic stiffness, and sums of such terms,
+#: stay within double precision (above it a balance's residual overflowed to NaN: "SVD did not converge").
+MAX_DYNAMIC_STIFFNESS = 1e300
+
+
+def within_precision(name: str, value: object, omega: float, H: int, M: Any, C: Any) -> None:
+    """Refuse, naming ``name=value``, a top frequency ``omega`` (rad/s) whose harmonic H makes the inertia
+    (H omega)^2 max|M| or the damping H omega max|C| of a structure (dense or sparse M, C) leave double precision,
+    stating the highest frequency taken."""
+    m, c = (float(abs(A).max()) if A.shape[0] else 0.0 for A in (M, C))
+    h = float(H) * omega
+    with np.errstate(over="ignore"):
+        if h * h * m <= MAX_DYNAMIC_STIFFNESS and h * c <= MAX_DYNAMIC_STIFFNESS:
+            return
+    top = min(math.sqrt(MAX_DYNAMIC_STIFFNESS / m) if m > 0.0 else math.inf,
+              MAX_DYNAMIC_STIFFNESS / c if c > 0.0 else math.inf) / H
+    raise ValueError(f"{name}={value!r} reaches too high for the structure: at harmonic {H} of omega={omega!r} rad/s "
+                     f"its (H omega)^2 M or H omega C leaves double precision (above {MAX_DYNAMIC_STIFFNESS:.0e} N/m); "
+                     f"{name} must stay below {top:.3g} rad/s at {H} harmonics")
+
+
 #: The Newton tolerance of the modes' continuations (``nonlinear_modes``, ``damper_optimum``) by default.
 NEWTON_TOL = 1e-10
 
@@ -83,4 +105,4 @@ def newton_tolerance(function: str, newton_tol: Any, tol: Any) -> Any:
 
 __all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "relative",
            "shown", "omega_range_pair", "MIN_RELATIVE_WIDTH", "InputError", "relative_tolerance", "MIN_RELATIVE_TOL", "NEWTON_TOL",
-           "newton_tolerance"]
+           "newton_tolerance", "within_precision", "MAX_DYNAMIC_STIFFNESS"]

@@ -30,7 +30,8 @@ from . import adapt as along  # the module (hbm.adapt); frequency_response's ada
 from .continuation import Status
 from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
-from ._validation import MIN_RELATIVE_TOL, nonnegative, omega_range_pair, positive, relative_tolerance
+from ._validation import (MIN_RELATIVE_TOL, nonnegative, omega_range_pair, positive, relative_tolerance,
+                          within_precision)
 from .balance.presets import DEFAULT_RTOL, MAX_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
 from .balance.residual import HarmonicBalance, as_contacts, as_structure, first_harmonic_only, samples_within_bound
 from .blade import Blade
@@ -398,29 +399,16 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     return frf
 
 
-#: The largest (H omega)^2 max|M| (and H omega max|C|) the balance takes, N/m: its dynamic stiffness, and sums of
-#: such terms, stay within double precision (above it the residual overflowed to NaN: "SVD did not converge").
-MAX_DYNAMIC_STIFFNESS = 1e300
-
-
 def _within_precision(structure: Any, omega_range: Any, w_top: float, harmonics: Any, tolerance: Any) -> None:
     """Refuse, naming ``omega_range``, a range whose top frequency at the highest harmonic the call may take (the
     given ``harmonics``; with a ``tol`` ``MAX_HARMONICS``; else the structure's own or ``FIXED_HARMONICS``) makes the
-    structure's inertia or damping leave double precision: checked once here, not met as a non-finite residual."""
+    structure's inertia or damping leave double precision (``hbm._validation.within_precision``): checked once
+    here, not met as a non-finite residual."""
     if isinstance(harmonics, (int, np.integer)) and not isinstance(harmonics, bool) and harmonics >= 1:
         H = int(harmonics)
     else:  # (a harmonics that is no count is refused further on)
         H = MAX_HARMONICS if tolerance is not None else structure.default_harmonics or FIXED_HARMONICS
-    m, c = (float(abs(A).max()) if A.shape[0] else 0.0 for A in (structure.M, structure.C))
-    h = float(H) * w_top
-    with np.errstate(over="ignore"):
-        if h * h * m <= MAX_DYNAMIC_STIFFNESS and h * c <= MAX_DYNAMIC_STIFFNESS:
-            return
-    top = min(math.sqrt(MAX_DYNAMIC_STIFFNESS / m) if m > 0.0 else math.inf,
-              MAX_DYNAMIC_STIFFNESS / c if c > 0.0 else math.inf) / H
-    raise ValueError(f"omega_range={omega_range!r} reaches too high for the structure: at harmonic {H} of "
-                     f"omega={w_top!r} rad/s its (H omega)^2 M or H omega C leaves double precision (above "
-                     f"{MAX_DYNAMIC_STIFFNESS:.0e} N/m); omega_range must stay below {top:.3g} rad/s at {H} harmonics")
+    within_precision("omega_range", omega_range, w_top, H, structure.M, structure.C)
 
 
 def tolerance_of(tol: Any) -> float | None:

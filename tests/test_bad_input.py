@@ -164,6 +164,19 @@ def test_a_frequency_range_past_double_precision_is_refused_by_name(omega_range,
         frequency_response(Blade(1.0, 1.0, 0.01, 1.0), Macroslip(1.0, 0.02), omega_range=(1e155, 1e156), tol=None)
 
 
+@pytest.mark.parametrize("omega", [1e160, 1e300])
+def test_the_periodic_reference_refuses_a_frequency_past_double_precision_by_name(omega):
+    """The same check as frequency_response's, at the shooting's one frequency: omega^2 M overflowed in its stuck
+    start, a bare OverflowError (34, 'Numerical result out of range'); 1e140 rad/s is still solved."""
+    from hbm import periodic_response
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^omega={re.escape(repr(omega))} reaches too high for the structure: at "
+                                         r"harmonic 1 .*omega must stay below 1e\+150 rad/s"):
+        periodic_response(s, contacts, omega=omega)
+    assert periodic_response(s, contacts, omega=1e140).amplitude(0) == pytest.approx(0.01 / 1e280, rel=1e-9)
+
+
 @pytest.mark.parametrize("omega_range", [(1.0, 1.0 + 1e-15), (2.0 + 1e-14, 2.0)])
 def test_a_frequency_range_a_few_roundings_wide_is_refused_by_name(omega_range):
     """A range a few roundings of omega wide stopped at once, its corrector "moved 9.94e+11 steps from the
