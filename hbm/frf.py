@@ -665,6 +665,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     if element is None or not callable(getattr(element, "fourier", None)):
         raise ValueError(f"element must be a contact element (with fourier(a, omega)), got element={element!r}")
     omega = nonnegative("omega", omega)
+    within_precision("omega", omega, omega, 1, np.array([[blade.mass]]), np.array([[blade.damping]]))
     rtol = relative_tolerance("rtol", rtol, MAX_RTOL)
     try:
         lo, hi = (positive("amplitude_bracket", v) for v in amplitude_bracket)

@@ -3,6 +3,7 @@ inside an element is named by the contract's checks (no numpy RuntimeWarning pas
 kept."""
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -96,3 +97,24 @@ def test_the_single_mode_bar_far_past_gross_slip_slides_not_nan(kind):
             assert v == pytest.approx(u, rel=1e-8)
         with pytest.raises(ElementOutputError, match=r"returned f_s = inf"):  # K_slip a itself leaves double precision
             el.fourier(1e307, w)
+
+
+def test_the_blade_references_refuse_a_frequency_past_double_precision_by_name():
+    """simulate_blade at 1e200 rad/s raised a bare ZeroDivisionError, and response_at blamed its amplitude_bracket
+    ("does not bracket a solution ... inf N"): both now name omega, by the structures' check; simulate_blade also
+    refuses, naming omega and the cells, a frequency whose wave the bar's cells cannot hold (UnresolvedWave)."""
+    from contact_models import Bar, NumericalMicroslip, UniformLoad
+    from contact_models.numerics.waves import UnresolvedWave
+    from hbm import Blade, response_at, simulate_blade
+
+    blade = Blade(mass=1.0, stiffness=1.0, damping=0.004, force=0.01)
+    damper = NumericalMicroslip(Bar(E=2.0e11, rho=7850.0, A=1.0e-5, L=0.05, k=8.0e8, beta=4.0e7, mu=0.3),
+                                UniformLoad(N=100.0))
+    for omega in (1e200, 1e300):
+        with pytest.raises(ValueError, match=rf"^omega={re.escape(repr(omega))} reaches too high for the structure"):
+            simulate_blade(blade, damper, omega)
+        with pytest.raises(ValueError, match=rf"^omega={re.escape(repr(omega))} reaches too high for the structure"):
+            response_at(blade, Macroslip(1.0, 0.02), omega, (1e-300, 10.0))
+    with pytest.raises(UnresolvedWave, match=r"^cells=200 are too few for omega=100000000\.0 rad/s"):
+        simulate_blade(blade, damper, 1e8)
+    assert response_at(blade, Macroslip(1.0, 0.02), 1e140, (1e-300, 10.0)).amplitude == pytest.approx(1e-282)
