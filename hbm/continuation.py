@@ -56,7 +56,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, OutsideDomain,  # noqa: F401
                      _corner_normal, _Count, _counted, _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
-from ._steps import RESIDUAL_RAISED_AT_ONCE, _told
+from ._steps import RAISED_BY, RESIDUAL_RAISED_AT_ONCE, _told
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -619,9 +619,15 @@ class _Trace:
 
     def raised(self, exc: Exception) -> None:
         """The residual raised ``exc`` during a step: the run ends with ``Status.RESIDUAL_RAISED``, the
-        points accepted before kept (a fold marked after the last of them dropped)."""
-        self.status = Status.RESIDUAL_RAISED
+        points accepted before kept (a fold marked after the last of them dropped); where the caller's
+        ``scale(y)`` raised it, with ``Status.CALLBACK_RAISED`` naming it."""
         self.fold_after = [i for i in self.fold_after if i + 1 < len(self.ys)]
+        caller = getattr(exc, RAISED_BY, None)
+        if caller is not None:
+            self.status = Status.CALLBACK_RAISED
+            self.detail = f" ({caller} raised {described(exc)})"
+            return
+        self.status = Status.RESIDUAL_RAISED
         self.detail = f" ({described(exc)})"
 
     def _end_on_bound(self, y_prev) -> None:

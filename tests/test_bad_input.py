@@ -145,6 +145,21 @@ def test_the_continuation_core_says_the_callers_stop_raised_not_the_residual():
     np.testing.assert_array_equal(run.y[-1], asked[-1])
 
 
+@pytest.mark.parametrize("bad, said", [(lambda: 1 / 0, "scale(y) raised ZeroDivisionError: division by zero"),
+                                       (lambda: -np.ones(2), "scale(y) raised ValueError: scale(y) must return finite "
+                                                             "positive weights")])
+def test_the_continuation_core_says_the_callers_scale_raised_not_the_residual(bad, said):
+    """The caller's ``scale(y)`` raising (or answering wrong) after the start ends the run with
+    ``Status.CALLBACK_RAISED`` naming it, the points before kept (it was "the residual raised an exception")."""
+    def circle(y):
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    run = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9),
+                       scale=lambda y: np.ones(2) if y[1] < 0.3 else bad())
+    assert run.status == Status.CALLBACK_RAISED and said in run.message and "residual" not in run.message
+    assert len(run.y) >= 2 and np.all(run.y[:, 1] < 0.3)
+
+
 # ---------------------------------------------------------------- the options, refused by name
 @pytest.mark.parametrize("omega_range, at", [((1e300, 1.7e308), "harmonic 3 of omega=1.7e+308"),
                                              ((1e155, 1e156), "harmonic 3 of omega=1e+156")])
