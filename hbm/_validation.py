@@ -48,6 +48,9 @@ def omega_range_pair(omega_range: object) -> tuple[float, float]:
     ``MIN_RELATIVE_WIDTH`` of the larger apart."""
     if omega_range is None:
         raise ValueError("omega_range must be given as (w0, w1), got omega_range=None")
+    if isinstance(omega_range, (set, frozenset, dict)):  # no order: which end is w0 would be the hash's choice
+        raise ValueError(f"omega_range must be a pair (w0, w1) in order (a tuple or a list), got "
+                         f"omega_range={omega_range!r}")
     try:
         w0, w1 = omega_range  # type: ignore[misc]
     except (TypeError, ValueError):

@@ -192,6 +192,26 @@ def test_the_periodic_reference_refuses_a_frequency_past_double_precision_by_nam
     assert periodic_response(s, contacts, omega=1e140).amplitude(0) == pytest.approx(0.01 / 1e280, rel=1e-9)
 
 
+def test_contacts_from_an_iterator_are_refused_not_read_once():
+    """A generator of contacts was read by the first of the solve's checks and the curve traced without them (the
+    contact-free structure's 747 points, success True): refused, naming contacts; a tuple is taken."""
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=r"^contacts must be a sequence of hbm\.Contact \(a list or a tuple\), not "
+                                         r"an iterator"):
+        frequency_response(s, (c for c in contacts), omega_range=(0.6, 1.8), harmonics=3, tol=None)
+    with pytest.raises(ValueError, match=r"not an iterator"):
+        nonlinear_modes(s, iter(contacts), amplitudes=[0.01, 0.1])
+    assert frequency_response(s, tuple(contacts), omega_range=(0.6, 1.8), harmonics=3, tol=None).success
+
+
+@pytest.mark.parametrize("omega_range", [{0.6, 1.8}, {0.6: 0, 1.8: 1}])
+def test_an_omega_range_without_an_order_is_refused_by_name(omega_range):
+    """A set's order is its hashes': which end was w0 was not the caller's choice."""
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=r"^omega_range must be a pair \(w0, w1\) in order"):
+        frequency_response(s, contacts, omega_range=omega_range, harmonics=3, tol=None)
+
+
 @pytest.mark.parametrize("omega_range", [(1.0, 1.0 + 1e-15), (2.0 + 1e-14, 2.0)])
 def test_a_frequency_range_a_few_roundings_wide_is_refused_by_name(omega_range):
     """A range a few roundings of omega wide stopped at once, its corrector "moved 9.94e+11 steps from the

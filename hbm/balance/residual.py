@@ -111,10 +111,15 @@ def as_contacts(contacts: Any, n: int, physical: int | None = None) -> list[Cont
         raise ValueError(f"contacts must be a contact element (a contact_models.ContactElement), an hbm.Contact or a "
                          f"sequence of hbm.Contact, got contacts={shown(contacts)}")
     try:
+        once = iter(contacts) is contacts  # an iterator (a generator): it can be read only once
         contacts = list(contacts)
     except TypeError:
         raise ValueError(f"contacts must be a contact element or a sequence of hbm.Contact, "
                          f"got contacts={contacts!r}") from None
+    if once:  # a solve reads its contacts more than once: after the first the iterator is empty (no contacts)
+        raise ValueError(f"contacts must be a sequence of hbm.Contact (a list or a tuple), not an iterator, which is "
+                         f"read once: the solve reads the contacts more than once and would solve the rest without "
+                         f"them; got contacts={shown(contacts)} from an iterator (give list(...))")
     for c in contacts:
         if not isinstance(c, Contact):
             raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
