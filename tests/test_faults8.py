@@ -118,3 +118,25 @@ def test_the_blade_references_refuse_a_frequency_past_double_precision_by_name()
     with pytest.raises(UnresolvedWave, match=r"^cells=200 are too few for omega=100000000\.0 rad/s"):
         simulate_blade(blade, damper, 1e8)
     assert response_at(blade, Macroslip(1.0, 0.02), 1e140, (1e-300, 10.0)).amplitude == pytest.approx(1e-282)
+
+
+@pytest.mark.parametrize("F", [1e160, 1e300])
+def test_a_structure_forced_past_1e154_is_traced_as_the_scaled_problem(F):
+    """The structure, forces and slip force scaled by F give the unit problem's curve times F: the first harmonic's
+    sum of squares overflowed in the residual's scale (inf: the scaled residual was 0 at every point, and the
+    2-DOF chain's curve was 36 points of a line, success True, peak/F 0.49 for 121.8) and, in the error estimate,
+    leaked numpy's "overflow encountered in square" and gave the peak no estimate."""
+    from hbm import Contact, Structure, frequency_response
+
+    def solve(f, **kw):
+        s = Structure(np.eye(2), 0.004 * np.eye(2), np.array([[2.0, -1.0], [-1.0, 2.0]]), force=[f, 0.0])
+        return frequency_response(s, [Contact(Macroslip(1.0, 0.02 * f), dof=0)], omega_range=(0.6, 1.8), **kw)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        for kw in (dict(harmonics=3, tol=None), dict(tol=1e-3)):
+            ref, big = solve(1.0, **kw), solve(F, **kw)
+            assert big.success and len(big) == len(ref)
+            assert big.peak().amplitude / F == pytest.approx(ref.peak().amplitude, rel=1e-9)
+            if "tol" in kw and kw["tol"] is not None:
+                assert np.nanmax(big.error_estimate) == pytest.approx(np.nanmax(ref.error_estimate), rel=1e-6)
