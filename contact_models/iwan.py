@@ -213,7 +213,8 @@ class Iwan(ContactElement):
         x = np.where(A <= self.phi_max, 1.0, m / A)
         q = R / (chi + 1.0)
         mp = m ** (chi + 1.0)
-        fs = 8.0 / math.pi * m * (K * _beta_scaled(x, 1.5, 1.5, 1.0) - q * mp * _beta_scaled(x, chi + 2.5, 1.5, chi + 2.0))
+        fs = 8.0 / math.pi * m * (K * _beta_scaled(x, 1.5, 1.5, 1.0)
+                                  - q * mp * _beta_scaled(x, chi + 2.5, 1.5, chi + 2.0))
         Jd_a = 0.5 * (K * _beta_inc(x, 1.5, 0.5) - q * mp * _beta_scaled(x, chi + 2.5, 0.5, chi + 1.0))  # J_d / a
         below = A <= self.phi_max
         # below macroslip K_T (a m - m^2) vanishes: J_c in the form without cancellation

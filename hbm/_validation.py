@@ -107,5 +107,6 @@ def newton_tolerance(function: str, newton_tol: Any, tol: Any) -> Any:
 
 
 __all__ = ["count", "finite", "flag", "nonnegative", "nonzero_force", "number", "number_array", "positive", "relative",
-           "shown", "omega_range_pair", "MIN_RELATIVE_WIDTH", "InputError", "relative_tolerance", "MIN_RELATIVE_TOL", "NEWTON_TOL",
+           "shown", "omega_range_pair", "MIN_RELATIVE_WIDTH", "InputError", "relative_tolerance", "MIN_RELATIVE_TOL",
+           "NEWTON_TOL",
            "newton_tolerance", "within_precision", "MAX_DYNAMIC_STIFFNESS"]

@@ -446,8 +446,8 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     """Draw on ``ax`` what the damper's linear range says of a blade's FRF: the response with the
     damper stuck (a linear spring of stiffness ``element.stuck_stiffness(omega)``), dashed grey,
     and the amplitude ``a_min`` at which slip begins, a dotted horizontal line (left out when
-    ``a_min`` is None, 0 or not finite, or more than ``LEVEL_RANGE`` from the stuck response).  The one drawing of both for ``python -m hbm``'s figure
-    and a scene's; returns ``ax``.  ``label`` False draws them without legend entries (a second
+    ``a_min`` is None, 0 or not finite, or more than ``LEVEL_RANGE`` from the stuck response).  The one
+    drawing of both for ``python -m hbm``'s figure and a scene's; returns ``ax``.  ``label`` False draws them without legend entries (a second
     run's references); ``stiffness(omega array) -> array`` replaces ``element.stuck_stiffness``
     (a scene's quasi-static damper, whose own evaluations are counted as the run's); ``a_min_color``
     colours the a_min line (a scene of several runs: the run's colour).  ``omega_range`` is checked as

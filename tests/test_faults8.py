@@ -62,7 +62,8 @@ def test_an_a_min_decades_away_from_the_response_leaves_the_figure_drawable(tmp_
         fig, ax = plt.subplots()
         ax.set_yscale("log")
         ax.plot([3.2e4, 4.4e4], [1e-7, 2e-7])
-        plot_linear_reference(ax, blade, Macroslip(4e7, 30.0), (3.2e4, 4.4e4), a_min=a_min, stiffness=lambda w: 4e7 + 0 * w)
+        plot_linear_reference(ax, blade, Macroslip(4e7, 30.0), (3.2e4, 4.4e4), a_min=a_min,
+                              stiffness=lambda w: 4e7 + 0 * w)
         assert len(ax.get_lines()) == 1 + lines
         fig.savefig(tmp_path / "f.png")
         plt.close(fig)
