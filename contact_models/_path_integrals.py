@@ -33,7 +33,37 @@ GRADE_CELLS = 14
 
 
 _EPS = float(np.finfo(float).eps)
+#: Past ``FAR`` times the gross-slip amplitude f_s, f_c and their slopes follow their expansions past gross slip
+#: (``_beyond``): there the closed forms still hold to about eps FAR (their differences of terms of order a lose
+#: a_gross to rounding: from 1e11 a_gross f_c read the stuck stretch's 70 N for the sliding line's 28.6 N, and K a^2
+#: overflowed from about 1e150 m, f_s NaN), and the terms the expansions leave out are (1/FAR)^2 of f_c.
+FAR = 1e6
+#: The largest K a^2 the closed forms are taken at (a far amplitude's values start from there).
+_MAX_SQUARE = 1e300
 _TINY = float(np.finfo(float).tiny)
+
+
+def _far(path) -> float:
+    """The amplitude (m) from which ``_fourier_one`` and ``_fourier_one_omega`` answer by the expansions past
+    gross slip: ``FAR`` times a_gross, inf where the whole path is not built, there is no friction (a_gross 0: a
+    linear bar) or K a^2 would leave double precision before it."""
+    a_g, K_slip, K = path[2], path[4], path[5]
+    top = FAR * a_g
+    if not 0.0 < top < math.inf or not top * top * max(abs(K), abs(K_slip)) < _MAX_SQUARE:
+        return math.inf
+    return top
+
+
+def _beyond(path, at_top, top, a):
+    """f_s, f_c, df_s/da, df_c/da at amplitudes ``a`` > ``top`` past gross slip from their values ``at_top`` at
+    ``top``: on the sliding line F = F_fric + K_slip s, f_s = K_slip a + O(a^-1/2), f_c = 4 F_fric/pi + O(1/a),
+    df_s/da = K_slip + O(a^-3/2), df_c/da = O(a^-2), each correction scaled from its value at ``top``."""
+    a_g, F_g, K_slip = path[2], path[3], path[4]
+    fs, fc, dfs, dfc = at_top
+    fc_inf = 4.0 / math.pi * (F_g - K_slip * a_g)
+    r = top / a
+    return (K_slip * a + (fs - K_slip * top) * r**0.5, fc_inf + (fc - fc_inf) * r, K_slip + (dfs - K_slip) * r**1.5,
+            dfc * r * r)
 
 
 @lru_cache(maxsize=None)
@@ -72,6 +102,15 @@ def _fourier_one_omega(path, a, rtol):
     """f_s, f_c, df_s/da, df_c/da for amplitudes ``a`` at one frequency (see module docstring)."""
     a_min, pieces, a_g, F_g, K_slip, K = path
     a = np.asarray(a, dtype=float)
+    top = _far(path)
+    if top < math.inf and np.any(a > top):  # (rare: an amplitude 1e6 times the gross-slip one)
+        out = [np.empty_like(a) for _ in range(4)]
+        far = a > top
+        near = _fourier_one_omega(path, a[~far], rtol)
+        there = _beyond(path, _fourier_one(path, top, rtol), top, a[far])
+        for o, v, w in zip(out, near, there):
+            o[~far], o[far] = v, w
+        return tuple(out)
     slip = a > a_min
     if not np.any(slip):
         return K * a, np.zeros_like(a), np.full_like(a, K), np.zeros_like(a)
@@ -150,6 +189,10 @@ def _fourier_one(path, a: float, rtol):
     a_min, pieces, a_g, F_g, K_slip, K = path
     if not a > a_min:
         return K * a, 0.0, K, 0.0
+    if a > a_g * FAR:  # (one comparison on the common path: a_g is inf where the path is not built that far)
+        top = _far(path)
+        if a > top:
+            return tuple(float(v) for v in _beyond(path, _fourier_one(path, top, rtol), top, a))
     Js, Jc, Jd = _stretch(a, K, 0.0, a_min, _FLOATS)
     Fa = dFa = 0.0
     if pieces:  # the onset fold's point mass (see _fourier_one_omega)

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 from .numerics.roots import brentq
 from .loads import bound_load
 from .numerics.checks import count, finite, finite_array, nonnegative, number_array, positive
+from .numerics.waves import check_phase, max_omega
 
 if TYPE_CHECKING:
     from .loads import QuadraticLoad, UniformLoad
@@ -195,8 +196,22 @@ class Bar:
         return math.sqrt(self.k / self.EA)
 
     def alpha2(self, omega: ArrayLike) -> NDArray[np.float64] | float:
-        """alpha^2 = rho omega^2 / E (Eq. 12)."""
-        return self.rho * np.asarray(omega, dtype=float) ** 2 / self.E
+        """alpha^2 = rho omega^2 / E (Eq. 12).  Every frequency of the stuck bar passes here, so here the bar
+        refuses, naming omega, a frequency whose phase sqrt(rho/E) omega L leaves cos and sin no digit
+        (``numerics.waves.check_phase``): its stiffness there would be rounding noise, and omega**2 overflows."""
+        w = np.asarray(omega, dtype=float)
+        top = float(w) if w.ndim == 0 else float(np.max(w, initial=0.0))
+        if top > self._max_omega:  # (one comparison on the float path; NaN passes to the formula)
+            check_phase(self, top)
+        return self.rho * w**2 / self.E
+
+    @property
+    def _max_omega(self) -> float:
+        """The highest omega ``check_phase`` takes for this bar (rad/s), computed once."""
+        top = self.__dict__.get("_top")
+        if top is None:
+            top = self._top = max_omega(self)
+        return top
 
     def gamma2(self, omega: ArrayLike) -> NDArray[np.float64] | float:
         """gamma^2 = k/EA - rho omega^2/E (Eq. 12); negative above sqrt(k/(rho A))."""

@@ -294,7 +294,9 @@ class ContactElement(ABC):
         a = nonnegative("a", a)
         omega = nonnegative("omega", omega)
         n = count("n", n, 5)
-        return loop_checked(self, self._hysteresis(a, omega, n), a, omega)
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):  # the loop is checked finite
+            loop = self._hysteresis(a, omega, n)
+        return loop_checked(self, loop, a, omega)
 
     # ------------------------------------------------------------ time domain
     def periodic_force(self, x: ArrayLike, omega: float = 0.0) -> tuple[NDArray, NDArray]:
@@ -342,7 +344,7 @@ class ContactElement(ABC):
             at = ", ".join(map(str, bad))
             raise ValueError(f"x must be finite, got x[{at}]={float(x[bad])!r}")
         omega = nonnegative("omega", omega)
-        return self._periodic_force(x, omega) if self._is_masing() else time_law_checked(self, x, omega)
+        return time_law_checked(self, x, omega)
 
     def harmonic_force(self, X: ArrayLike, omega: float, *, n_t: int | None = None,
                        rtol: float = DEFAULT_RTOL) -> tuple[NDArray, NDArray, NDArray]:

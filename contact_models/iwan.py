@@ -72,6 +72,19 @@ def _beta_inc(x: NDArray, p: float, q: float) -> NDArray:
     return beta(p, q) * betainc(p, q, x)
 
 
+#: Below this ratio x = phi_max / a the incomplete Beta function is its series' first term, x**p / p (the
+#: next is x times smaller): a huge amplitude's x**p underflows, and the scaled forms below divide by a power of x.
+_SERIES_X = 1e-50
+
+
+def _beta_scaled(x: NDArray, p: float, q: float, k: float) -> NDArray:
+    """``_beta_inc(x, p, q) / x**k`` (k <= p) for x in (0, 1], without underflow or 0/0 where x is tiny (a huge
+    amplitude past macroslip): there it is x**(p - k) / p to double precision."""
+    small = x < _SERIES_X
+    xs = np.where(small, 1.0, x)  # (no division by an underflowed power)
+    return np.where(small, x ** (p - k) / p, _beta_inc(xs, p, q) / xs**k)
+
+
 class Iwan(ContactElement):
     """Segalman's four-parameter Iwan element: parallel Jenkins elements with a power-law density.
 
@@ -189,25 +202,29 @@ class Iwan(ContactElement):
         return masing_loop(self.loading_curve, a, n)
 
     def _fourier_derivatives(self, a, omega, rtol):
+        # f_s, f_c and their slopes as 8 J_s/(pi a), 4 J_c/(pi a) ... with the division by a done first, in powers
+        # of m = min(a, phi_max) and x = m/a <= 1: nothing overflows at a huge amplitude (a**2 did from 1e154 m,
+        # giving NaN) nor underflows at a tiny one (a**2 at 1e-300 m gave f_s = 0 for K_T a)
         a = np.asarray(a, dtype=float)
         K, R, chi = self.stiffness, self.R, self.chi
         pos = a > 0.0
         A = np.where(pos, a, 1.0)  # a = 0: the limits below, no division by zero
         m = np.minimum(A, self.phi_max)
-        x = m / A
+        x = np.where(A <= self.phi_max, 1.0, m / A)
         q = R / (chi + 1.0)
-        Js = K * A * A * _beta_inc(x, 1.5, 1.5) - q * A ** (chi + 3.0) * _beta_inc(x, chi + 2.5, 1.5)
-        Jd = 0.5 * (K * A * _beta_inc(x, 1.5, 0.5) - q * A ** (chi + 2.0) * _beta_inc(x, chi + 2.5, 0.5))
+        mp = m ** (chi + 1.0)
+        fs = 8.0 / math.pi * m * (K * _beta_scaled(x, 1.5, 1.5, 1.0)
+                                  - q * mp * _beta_scaled(x, chi + 2.5, 1.5, chi + 2.0))
+        Jd_a = 0.5 * (K * _beta_inc(x, 1.5, 0.5) - q * mp * _beta_scaled(x, chi + 2.5, 0.5, chi + 1.0))  # J_d / a
         below = A <= self.phi_max
         # below macroslip K_T (a m - m^2) vanishes: J_c in the form without cancellation
-        Jc = np.where(below, R * A ** (chi + 3.0) / ((chi + 2.0) * (chi + 3.0)),
-                      K * (A * m - m * m) - q * (A * m ** (chi + 2.0) / (chi + 2.0) - 2.0 * m ** (chi + 3.0) / (chi + 3.0)))
-        fs = 8.0 * Js / (math.pi * A)
-        fc = 4.0 * Jc / (math.pi * A)
-        Fm = self.loading_curve(m)
-        slope = np.where(A < self.phi_max, self._loading_slope(A), 0.0)
-        dfs = -fs / A + 8.0 * Jd / (math.pi * A)
-        dfc = -fc / A + 4.0 * (Fm - A * slope) / (math.pi * A)
+        Jc_a = np.where(below, R * A ** (chi + 2.0) / ((chi + 2.0) * (chi + 3.0)),
+                        K * m * (1.0 - x) - q * mp * m * (1.0 / (chi + 2.0) - 2.0 * x / (chi + 3.0)))  # J_c / a
+        fc = 4.0 / math.pi * Jc_a
+        dfs = -fs / A + 8.0 / math.pi * Jd_a
+        # -f_c/a + 4 (F(m)/a - F'(a))/pi cancels: below macroslip to 4 R a^(chi+1)/((chi+3) pi) (it lost every digit
+        # at a tiny a), from it on to 4 x^2 (K_T - 2 q m^(chi+1)/(chi+3))/pi (1e-8 of it at a = 1e8 phi_max): taken so
+        dfc = 4.0 / math.pi * np.where(A < self.phi_max, R * mp / (chi + 3.0), x * x * (K - 2.0 * q * mp / (chi + 3.0)))
         # a = 0: f_s = f_c = 0, df_s/da = K_T, df_c/da = 0 (f_c ~ a**(chi+2), chi > -1)
         return (np.where(pos, fs, 0.0), np.where(pos, fc, 0.0), np.where(pos, dfs, K), np.where(pos, dfc, 0.0))
 

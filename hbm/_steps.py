@@ -74,10 +74,23 @@ def _counted(residual, count):
     return fun
 
 
+#: The attribute by which an exception is marked as raised by the caller's ``scale(y)`` (not the residual): the
+#: continuation ends a run it ends with ``Status.CALLBACK_RAISED`` naming it.
+RAISED_BY = "_raised_by_caller"
+
+
 def _scale(scale, y):
-    s = np.asarray(scale(y), dtype=float)
-    if s.shape != y.shape or not (s.size == 0 or 0.0 < float(s.min()) and float(s.max()) < math.inf):  # nan: False
-        raise ValueError(f"scale(y) must return finite positive weights of shape {y.shape}, got {s!r}")
+    """The caller's weights ``scale(y)``, checked; what it raises, or a wrong answer, is marked ``RAISED_BY``."""
+    try:
+        s = np.asarray(scale(y), dtype=float)
+        if s.shape != y.shape or not (s.size == 0 or 0.0 < float(s.min()) and float(s.max()) < math.inf):  # nan
+            raise ValueError(f"scale(y) must return finite positive weights of shape {y.shape}, got {s!r}")
+    except Exception as exc:
+        try:
+            setattr(exc, RAISED_BY, "scale(y)")
+        except AttributeError:  # (an exception type without a __dict__: said as the residual's)
+            pass
+        raise
     return s
 
 

@@ -59,7 +59,7 @@ from contact_models.numerics.small import lagrange
 
 from ._steps import (MAX_BEND, MAX_CONTRACTION, REJECT_TURN, RESIDUAL_ERRORS, OutsideDomain,  # noqa: F401
                      _corner_normal, _Count, _counted, _hermite, _Newton, _newton, _norm, _orientation, _rescale, _scale, _tangent)
-from ._steps import RESIDUAL_RAISED_AT_ONCE, _fixed_step, _told
+from ._steps import RAISED_BY, RESIDUAL_RAISED_AT_ONCE, _fixed_step, _told
 
 #: Newton iterations (updates) per corrector before the step counts as failed.
 NEWTON_MAX_ITER = 8
@@ -196,7 +196,8 @@ def continuation(residual: Residual, y0: ArrayLike, *, parameter: int = -1,
     in order (streaming); an exception it raises (an ``Exception``: not ``KeyboardInterrupt``) ends the
     run at that point with ``Status.CALLBACK_RAISED``, the exception in the message, the points kept.
     ``curve_tol``: the step's error control (see module); None: off.
-    ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range.
+    ``stop(y)``: asked at each accepted point; True ends the run there as if at the end of the range; an
+    exception it raises ends it there with ``Status.CALLBACK_RAISED``, as one of ``on_point``.
     ``from_bound``: the range starts at ``y0``, on the bound behind ``direction`` (``lo`` for +1): a branch
     that turns back and leaves the range through that bound, never reaching the other, ends with
     ``Status.TURNED_BACK`` (its points kept, the last on the start bound), the message saying where the
@@ -578,8 +579,7 @@ class _Trace:
         self.its.append(new.iterations)
         if not self._reported(y, new.rnorm):
             return
-        if self.stop is not None and self.stop(y):
-            self.status, self.detail = Status.REACHED_END, " (where the caller's stop(y) ended it)"
+        if self.stop is not None and self._stopped(y):
             return
         self.normal = t
         at_corner = bool(self.corners) and self.corners[-1] == len(ys) - 1
@@ -640,11 +640,30 @@ class _Trace:
             return False
         return True
 
+    def _stopped(self, y) -> bool:
+        """``stop(y)`` for the point just kept; True ends the run there: as at the end of the range where it
+        says so, with ``Status.CALLBACK_RAISED`` where it raised (the caller's code, not the residual's)."""
+        try:
+            if not self.stop(y):
+                return False
+        except Exception as exc:  # noqa: BLE001 - the caller's code: any Exception ends the run, none is lost
+            self.status = Status.CALLBACK_RAISED
+            self.detail = f" (stop(y) raised {type(exc).__name__}: {exc}; the last point is the one it was asked at)"
+            return True
+        self.status, self.detail = Status.REACHED_END, " (where the caller's stop(y) ended it)"
+        return True
+
     def raised(self, exc: Exception) -> None:
         """The residual raised ``exc`` during a step: the run ends with ``Status.RESIDUAL_RAISED``, the
-        points accepted before kept (a fold marked after the last of them dropped)."""
-        self.status = Status.RESIDUAL_RAISED
+        points accepted before kept (a fold marked after the last of them dropped); where the caller's
+        ``scale(y)`` raised it, with ``Status.CALLBACK_RAISED`` naming it."""
         self.fold_after = [i for i in self.fold_after if i + 1 < len(self.ys)]
+        caller = getattr(exc, RAISED_BY, None)
+        if caller is not None:
+            self.status = Status.CALLBACK_RAISED
+            self.detail = f" ({caller} raised {described(exc)})"
+            return
+        self.status = Status.RESIDUAL_RAISED
         self.detail = f" ({described(exc)})"
 
     def _end_on_bound(self, y_prev) -> None:

@@ -30,7 +30,8 @@ from . import adapt as along  # the module (hbm.adapt); frequency_response's ada
 from .continuation import Status
 from .balance import errors
 from ._threads import SMALL_SYSTEM, one_blas_thread
-from ._validation import MIN_RELATIVE_TOL, nonnegative, omega_range_pair, positive, relative_tolerance
+from ._validation import (MIN_RELATIVE_TOL, nonnegative, omega_range_pair, positive, relative_tolerance,
+                          within_precision)
 from .balance.presets import DEFAULT_RTOL, MAX_RTOL, TOLERANCE, Steps, apply, harmonic_knobs, samples_for
 from .balance.residual import HarmonicBalance, as_contacts, as_structure, first_harmonic_only, samples_within_bound
 from .blade import Blade
@@ -324,6 +325,7 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
         structure.solved_contacts = as_contacts(contacts, structure.n)
     w0, w1 = omega_range_pair(omega_range)
     tolerance = tolerance_of(tol)
+    _within_precision(structure, omega_range, max(w0, w1), harmonics, tolerance)
     if not isinstance(model, str) or model not in MODELS:  # (an array: numpy's ambiguous truth)
         raise ValueError(f"model must be one of {', '.join(map(repr, MODELS))}, got model={model!r}")
     if model != "given" and tolerance is None:
@@ -395,6 +397,18 @@ def frequency_response(system: Any, contacts: Any = None, omega_range: tuple[flo
     heard += said  # the elements' warnings outside a trace (while locating and refining the peak)
     frf.accuracy_warning = _warn_once(frf, tolerance, heard, notes, (w0, w1))
     return frf
+
+
+def _within_precision(structure: Any, omega_range: Any, w_top: float, harmonics: Any, tolerance: Any) -> None:
+    """Refuse, naming ``omega_range``, a range whose top frequency at the highest harmonic the call may take (the
+    given ``harmonics``; with a ``tol`` ``MAX_HARMONICS``; else the structure's own or ``FIXED_HARMONICS``) makes the
+    structure's inertia or damping leave double precision (``hbm._validation.within_precision``): checked once
+    here, not met as a non-finite residual."""
+    if isinstance(harmonics, (int, np.integer)) and not isinstance(harmonics, bool) and harmonics >= 1:
+        H = int(harmonics)
+    else:  # (a harmonics that is no count is refused further on)
+        H = MAX_HARMONICS if tolerance is not None else structure.default_harmonics or FIXED_HARMONICS
+    within_precision("omega_range", omega_range, w_top, H, structure.M, structure.C)
 
 
 def tolerance_of(tol: Any) -> float | None:
@@ -651,6 +665,7 @@ def response_at(blade: Blade, element: ContactElement, omega: float,
     if element is None or not callable(getattr(element, "fourier", None)):
         raise ValueError(f"element must be a contact element (with fourier(a, omega)), got element={element!r}")
     omega = nonnegative("omega", omega)
+    within_precision("omega", omega, omega, 1, np.array([[blade.mass]]), np.array([[blade.damping]]))
     rtol = relative_tolerance("rtol", rtol, MAX_RTOL)
     try:
         lo, hi = (positive("amplitude_bracket", v) for v in amplitude_bracket)

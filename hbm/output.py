@@ -435,6 +435,10 @@ def plot_frfs(curves: Iterable[tuple[Any, str | None, str | None, float | None]]
     return ax
 
 
+#: The a_min line is drawn where it lies within this factor of the stuck response's range (else left out).
+LEVEL_RANGE = 1e10
+
+
 def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[float, float], *,
                           a_min: float | None = None, omega_unit: str = "rad/s", amplitude_unit: str = "m",
                           points: int = 600, label: bool = True, stiffness: Any = None,
@@ -442,8 +446,9 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     """Draw on ``ax`` what the damper's linear range says of a blade's FRF: the response with the
     damper stuck (a linear spring of stiffness ``element.stuck_stiffness(omega)``), dashed grey,
     and the amplitude ``a_min`` at which slip begins, a dotted horizontal line (left out when
-    ``a_min`` is None, 0 or not finite).  The one drawing of both for ``python3 -m hbm``'s figure
-    and a scene's; returns ``ax``.  ``label`` False draws them without legend entries (a second
+    ``a_min`` is None, 0 or not finite, or more than ``LEVEL_RANGE`` from the stuck response).  The one
+    drawing of both for ``python3 -m hbm``'s figure and a scene's; returns ``ax``.  ``label`` False draws
+    them without legend entries (a second
     run's references); ``stiffness(omega array) -> array`` replaces ``element.stuck_stiffness``
     (a scene's quasi-static damper, whose own evaluations are counted as the run's); ``a_min_color``
     colours the a_min line (a scene of several runs: the run's colour).  ``omega_range`` is checked as
@@ -455,9 +460,15 @@ def plot_linear_reference(ax: Any, blade: Any, element: Any, omega_range: tuple[
     if stiffness is None:
         stiffness = lambda om: np.array([element.stuck_stiffness(x) for x in om])  # noqa: E731
     stuck = np.abs(linear_response(blade, w, stiffness))
-    if np.all(np.isfinite(stuck)):
+    shown = np.all(np.isfinite(stuck))
+    if shown:
         ax.plot(w * w_scale, stuck * a_scale, "--", color="0.6", lw=1,
                 label="damper stuck (linear)" if label else None)
+    positive = stuck[stuck > 0.0] if shown else stuck[:0]
+    if positive.size and a_min is not None and not (float(np.min(positive)) / LEVEL_RANGE <= a_min
+                                                    <= float(np.max(positive)) * LEVEL_RANGE):
+        a_min = None  # decades away from the response: a line there squashes the curve (and past about 1e280
+        # matplotlib's logarithmic ticks overflow: "cannot convert float infinity to integer")
     if a_min is not None and math.isfinite(a_min) and a_min > 0.0:
         ax.axhline(a_min * a_scale, color=a_min_color, lw=0.8, ls=":", label=r"$a_{min}$ (slip begins)" if label else None)
     return ax

@@ -124,7 +124,105 @@ def test_the_continuation_core_keeps_the_points_when_on_point_raises():
     assert first.status == Status.CALLBACK_RAISED and len(first.y) == 1 and "ZeroDivisionError" in first.message
 
 
+def test_the_continuation_core_says_the_callers_stop_raised_not_the_residual():
+    """A ``stop(y)`` that raises ends the run at the point it was asked at with ``Status.CALLBACK_RAISED`` and
+    names it (it was "the residual raised an exception beyond the last point", ``Status.RESIDUAL_RAISED``)."""
+    def circle(y):
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    asked = []
+
+    def stop(y):
+        asked.append(y.copy())
+        if len(asked) == 3:
+            raise ValueError("stop broke")
+        return False
+
+    run = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9), stop=stop)
+    assert run.status == Status.CALLBACK_RAISED and not run.success
+    assert "stop(y) raised ValueError: stop broke" in run.message and "residual" not in run.message
+    assert len(run.y) == 4  # the start and the three points stop was asked at
+    np.testing.assert_array_equal(run.y[-1], asked[-1])
+
+
+@pytest.mark.parametrize("bad, said", [(lambda: 1 / 0, "scale(y) raised ZeroDivisionError: division by zero"),
+                                       (lambda: -np.ones(2), "scale(y) raised ValueError: scale(y) must return finite "
+                                                             "positive weights")])
+def test_the_continuation_core_says_the_callers_scale_raised_not_the_residual(bad, said):
+    """The caller's ``scale(y)`` raising (or answering wrong) after the start ends the run with
+    ``Status.CALLBACK_RAISED`` naming it, the points before kept (it was "the residual raised an exception")."""
+    def circle(y):
+        return np.array([y[0] ** 2 + y[1] ** 2 - 1.0]), np.array([[2.0 * y[0], 2.0 * y[1]]])
+
+    run = continuation(circle, [1.0, 0.0], parameter=1, bounds=(-0.9, 0.9),
+                       scale=lambda y: np.ones(2) if y[1] < 0.3 else bad())
+    assert run.status == Status.CALLBACK_RAISED and said in run.message and "residual" not in run.message
+    assert len(run.y) >= 2 and np.all(run.y[:, 1] < 0.3)
+
+
 # ---------------------------------------------------------------- the options, refused by name
+@pytest.mark.parametrize("omega_range, at", [((1e300, 1.7e308), "harmonic 3 of omega=1.7e+308"),
+                                             ((1e155, 1e156), "harmonic 3 of omega=1e+156")])
+def test_a_frequency_range_past_double_precision_is_refused_by_name(omega_range, at):
+    """(H omega)^2 M overflows: refused naming omega_range and the highest frequency taken (the start failed with
+    "SVD did not converge" after numpy's "invalid value encountered in multiply", or a "non-finite residual")."""
+    s, contacts = _jenkins()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(ValueError, match=rf"^omega_range={re.escape(repr(omega_range))} reaches too high for the "
+                                             rf"structure: at {re.escape(at)} rad/s .* omega_range must stay below "
+                                             r"3\.33e\+149 rad/s at 3 harmonics"):
+            frequency_response(s, contacts, omega_range=omega_range, harmonics=3, tol=None)
+    with pytest.raises(ValueError, match=r"at harmonic 31 of omega=1e\+156 rad/s"):  # a tol may climb to H = 31
+        frequency_response(s, contacts, omega_range=(1e155, 1e156))
+    with pytest.raises(ValueError, match=r"at harmonic 1 of omega=1e\+156 rad/s"):  # a blade's own H = 1
+        frequency_response(Blade(1.0, 1.0, 0.01, 1.0), Macroslip(1.0, 0.02), omega_range=(1e155, 1e156), tol=None)
+
+
+@pytest.mark.parametrize("omega", [1e160, 1e300])
+def test_the_periodic_reference_refuses_a_frequency_past_double_precision_by_name(omega):
+    """The same check as frequency_response's, at the shooting's one frequency: omega^2 M overflowed in its stuck
+    start, a bare OverflowError (34, 'Numerical result out of range'); 1e140 rad/s is still solved."""
+    from hbm import periodic_response
+
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^omega={re.escape(repr(omega))} reaches too high for the structure: at "
+                                         r"harmonic 1 .*omega must stay below 1e\+150 rad/s"):
+        periodic_response(s, contacts, omega=omega)
+    assert periodic_response(s, contacts, omega=1e140).amplitude(0) == pytest.approx(0.01 / 1e280, rel=1e-9)
+
+
+def test_contacts_from_an_iterator_are_refused_not_read_once():
+    """A generator of contacts was read by the first of the solve's checks and the curve traced without them (the
+    contact-free structure's 747 points, success True): refused, naming contacts; a tuple is taken."""
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=r"^contacts must be a sequence of hbm\.Contact \(a list or a tuple\), not "
+                                         r"an iterator"):
+        frequency_response(s, (c for c in contacts), omega_range=(0.6, 1.8), harmonics=3, tol=None)
+    with pytest.raises(ValueError, match=r"not an iterator"):
+        nonlinear_modes(s, iter(contacts), amplitudes=[0.01, 0.1])
+    assert frequency_response(s, tuple(contacts), omega_range=(0.6, 1.8), harmonics=3, tol=None).success
+
+
+@pytest.mark.parametrize("omega_range", [{0.6, 1.8}, {0.6: 0, 1.8: 1}])
+def test_an_omega_range_without_an_order_is_refused_by_name(omega_range):
+    """A set's order is its hashes': which end was w0 was not the caller's choice."""
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=r"^omega_range must be a pair \(w0, w1\) in order"):
+        frequency_response(s, contacts, omega_range=omega_range, harmonics=3, tol=None)
+
+
+@pytest.mark.parametrize("omega_range", [(1.0, 1.0 + 1e-15), (2.0 + 1e-14, 2.0)])
+def test_a_frequency_range_a_few_roundings_wide_is_refused_by_name(omega_range):
+    """A range a few roundings of omega wide stopped at once, its corrector "moved 9.94e+11 steps from the
+    predictor"; 1e-13 of omega wide is still traced to its end."""
+    s, contacts = _jenkins()
+    with pytest.raises(ValueError, match=rf"^omega_range must be at least 1e-12 of its upper end wide .*got "
+                                         rf"omega_range={re.escape(repr(omega_range))}"):
+        frequency_response(s, contacts, omega_range=omega_range, harmonics=3, tol=None)
+    assert frequency_response(s, contacts, omega_range=(1.0, 1.0 + 1e-11), harmonics=3, tol=None).success
+
+
 @pytest.mark.parametrize("tol", [1e-11, 1e-300, 5e-324])
 def test_a_tol_below_what_double_precision_meets_is_refused_as_the_command_line_refuses_it(tol):
     s, contacts = _jenkins()

@@ -168,6 +168,18 @@ def test_run_refuses_an_output_folder_that_is_a_file(tmp_path, capsys):
     assert "is a file, not a folder" in capsys.readouterr().err
 
 
+def test_an_output_folder_whose_name_is_too_long_exits_2_before_computing(tmp_path, capsys):
+    """A folder name of 300 characters passed the checks, the scene was computed, and writing failed after it:
+    "error: cannot write: [Errno 36] File name too long", exit 1, nothing kept.  Now refused before computing."""
+    long = tmp_path / ("a" * 300)
+    for argv in (["run", str(DEFAULT), "--out", str(long)], ["--out", str(long)]):
+        assert main(argv) == 2
+        err = capsys.readouterr().err
+        assert f"--out = {long}: " in err and "cannot be a file name here (File name too long)" in err
+        assert "nothing computed, nothing written" in err
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_new_into_a_missing_folder_or_onto_a_folder_exits_2_with_one_line(tmp_path, capsys):
     assert main(["new", str(tmp_path / "missing" / "s.toml")]) == 2
     err = capsys.readouterr().err

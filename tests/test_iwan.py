@@ -177,3 +177,41 @@ def test_the_loading_curve_refuses_a_negative_or_non_finite_displacement_and_a_n
         iwan.loading_curve([0.5, math.nan])
     with pytest.raises(ValueError, match=r"^omega must be >= 0, got omega=-1.0$"):
         iwan.loading_curve(0.5, -1.0)
+
+
+@pytest.mark.parametrize("a", [1e160, 1e300, 1e308])
+def test_a_huge_amplitude_gives_macroslip_not_nan(iwan, a):
+    """Far past macroslip f_c is 4 F_S/pi and f_s, the slopes vanish: a**2 overflowed from about 1e154 m, and f_s
+    was NaN (an ElementOutputError; before the output checks the NaN itself)."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        fs, fc, dfs, dfc = iwan.fourier_derivatives(a)
+        fa, fca = iwan.fourier(np.array([a]))
+    assert fc == pytest.approx(4.0 * F_S / math.pi, rel=1e-12) and fca[0] == fc
+    assert 0.0 <= fs < 1e-50 * F_S and fa[0] == fs
+    assert all(math.isfinite(v) and abs(v) < 1e-100 for v in (dfs, dfc))
+
+
+@pytest.mark.parametrize("a", [1e-300, 1e-250])
+def test_a_tiny_amplitude_keeps_the_stuck_stiffness(iwan, a):
+    """f_s = K_T a to first order (a**2 underflowed at 1e-300 m: f_s was 0)."""
+    fs, fc, dfs, dfc = iwan.fourier_derivatives(a)
+    assert fs == pytest.approx(K_T * a, rel=1e-9) and dfs == pytest.approx(K_T, rel=1e-9)
+    assert 0.0 <= fc <= 1e-9 * fs and dfc >= 0.0
+
+
+def test_slopes_past_macroslip_without_cancellation(iwan):
+    """df_c/da past macroslip is 4 x^2 (K_T - 2 R phi^(chi+1)/((chi+1)(chi+3)))/pi, x = phi_max/a, to rounding (it
+    came from -f_c/a + 4 F_S/(pi a), which lost 1e-8 of it at a = 1e8 phi_max), and meets a difference quotient."""
+    chi, R, p = iwan.chi, iwan.R, iwan.phi_max
+    for ratio in (2.0, 1e4, 1e8):
+        a = ratio * p
+        x = p / a
+        dfc = iwan.fourier_derivatives(a)[3]
+        assert dfc == pytest.approx(4 / math.pi * x * x * (K_T - 2 * R * p ** (chi + 1) / ((chi + 1) * (chi + 3))),
+                                    rel=1e-13)
+    a, h = 3.0 * p, 1e-6 * p
+    fd = (iwan.fourier(a + h)[1] - iwan.fourier(a - h)[1]) / (2 * h)
+    assert iwan.fourier_derivatives(a)[3] == pytest.approx(fd, rel=1e-6)

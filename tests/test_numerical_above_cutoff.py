@@ -11,6 +11,7 @@ so f_s = K a and f_c = 0 exactly, for a below the slip amplitude mu q(L) / (k |p
 """
 
 import math
+import re
 import warnings
 
 import numpy as np
@@ -112,3 +113,27 @@ def test_single_mode_bar_refuses_a_frequency_whose_phase_has_no_digit(a, omega):
                     el.fourier(x, omega)
     limit = 1.0 / np.finfo(float).eps / (math.sqrt(BAR["rho"] / BAR["E"]) * BAR["L"])
     assert TwoRegionMicroslip(bar, LOAD).fourier(1e-9, 0.5 * limit)[1] == 0.0  # below it: answered (stuck)
+
+
+@pytest.mark.parametrize("omega", [1e25, 1e155, 1e300])
+def test_the_bar_refuses_a_frequency_whose_phase_has_no_digit_in_every_method(omega):
+    """The bar's own frequency methods and the single-mode elements' stuck stiffness refuse omega by name where
+    sqrt(rho/E) omega L exceeds 1/eps (at 1e25 rad/s they answered rounding noise, from about 1e154 with numpy's
+    "overflow encountered in square"): the one guard is where every frequency of the bar passes, Bar.alpha2."""
+    from contact_models import ThreeRegionMicroslip, TwoRegionMicroslip
+
+    bar = Bar(**BAR)
+    calls = [lambda: bar.stuck_stiffness(omega), lambda: bar.stuck_stiffness([0.0, omega]),
+             lambda: bar.stuck_shape([0.01], omega), lambda: bar.slip_onset(LOAD, omega),
+             lambda: bar.contact_force([0.01], omega, tip_displacement=1e-6), lambda: bar.gamma2(omega),
+             lambda: bar.alpha2(np.array([omega]))]
+    for cls in (TwoRegionMicroslip, ThreeRegionMicroslip):
+        el = cls(bar, LOAD)
+        calls += [lambda el=el: el.stuck_stiffness(omega), lambda el=el: el.linear_coefficients(omega)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        for call in calls:
+            with pytest.raises(ValueError, match=rf"^omega={re.escape(repr(omega))} rad/s is too high for the bar: "):
+                call()
+    limit = 1.0 / np.finfo(float).eps / (math.sqrt(BAR["rho"] / BAR["E"]) * BAR["L"])
+    assert math.isfinite(bar.stuck_stiffness(0.5 * limit)) and bar.alpha2(np.array([])).size == 0

@@ -55,6 +55,12 @@ CASES = [
     ("misspelt tol name", "tolerance = 1e-6", 'tol = "fats"',
      ['sweep.tol = "fats"', 'or one of "fast" (0.01), "default" (0.001), "precise" (1e-05)', 'did you mean "fast"?']),
     ("empty range", "omega = [0.24, 0.33]", "omega = [0.3, 0.3]", ["sweep.omega = [0.3, 0.3]", "different"]),
+    # a range a few roundings wide: the run failed, naming frequency_response's omega_range, not the key
+    ("range of rounding width", "omega = [0.24, 0.33]", "omega = [0.3, 0.30000000000000004]",
+     ["sweep.omega = [0.3, 0.30000000000000004]", "at least 1e-12 of the larger apart"]),
+    # the bar's phase without a digit where the inertia is decided: a ValueError naming no key
+    ("frequency past the bar's phase", 'omega = [0.24, 0.33]', 'omega = [1e15, 1e16]',
+     ["sweep.omega = [", "1e+16]: deciding the damper inertia there: omega=", "is too high for the bar"]),
     ("two ways to give stiffness", "stiffness = 1.0e8", "stiffness = 1.0e8\nfrequency = 3.0e4",
      ["blade.frequency = 30000.0", "together with blade.stiffness"]),
     ("tolerance and accuracy", "tolerance = 1e-6", 'tolerance = 1e-6\naccuracy = "precise"',

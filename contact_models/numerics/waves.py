@@ -10,10 +10,20 @@ wave (the stop band of its dispersion) already at phase 2.  A mesh whose cells c
 from __future__ import annotations
 
 import math
-from typing import TYPE_CHECKING
+from typing import Protocol
 
-if TYPE_CHECKING:
-    from ..bar import Bar
+
+class _Bar(Protocol):
+    """What the guards read of a ``contact_models.Bar`` (a protocol: the bar itself imports this module)."""
+
+    E: float
+    rho: float
+    A: float
+    L: float
+    k: float
+
+    @property
+    def EA(self) -> float: ...
 
 #: The largest phase sqrt(z) of a segment accepted (a fraction of pi: a cell at most 0.9 of half the
 #: wavelength of the highest harmonic).
@@ -25,7 +35,7 @@ class UnresolvedWave(ValueError):
     the all-mode element's estimate that is so is left out, ``allmode.accuracy.cells_error``)."""
 
 
-def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
+def cells_for_phase(bar: _Bar, omega: float, H: int) -> int:
     """The fewest cells whose segments stay below ``MAX_SEGMENT_PHASE`` at harmonic H of omega."""
     try:
         q = (bar.rho * bar.A * (H * omega) ** 2 - bar.k) / bar.EA
@@ -40,11 +50,16 @@ def cells_for_phase(bar: Bar, omega: float, H: int) -> int:
 MAX_BAR_PHASE = 1.0 / 2.220446049250313e-16
 
 
-def check_phase(bar: Bar, omega: float) -> None:
+def max_omega(bar: _Bar) -> float:
+    """The highest frequency (rad/s) whose phase sqrt(rho / E) omega L is within ``MAX_BAR_PHASE``."""
+    return MAX_BAR_PHASE / (math.sqrt(bar.rho / bar.E) * bar.L)
+
+
+def check_phase(bar: _Bar, omega: float) -> None:
     """ValueError naming omega where the bar's phase sqrt(rho / E) omega L exceeds ``MAX_BAR_PHASE``: its
     cos and sin are then rounding noise, so no answer at omega means anything (and omega**2 may overflow)."""
     phase = math.sqrt(bar.rho / bar.E) * omega * bar.L
     if not phase <= MAX_BAR_PHASE:
         raise ValueError(f"omega={omega!r} rad/s is too high for the bar: its phase sqrt(rho/E) omega L = {phase:.3g} "
                          f"rad exceeds 1/eps = {MAX_BAR_PHASE:.3g}, where cos and sin carry no digit; omega must be "
-                         f"below {MAX_BAR_PHASE / (math.sqrt(bar.rho / bar.E) * bar.L):.3g} rad/s")
+                         f"below {max_omega(bar):.3g} rad/s")

@@ -58,7 +58,7 @@ from contact_models.base import ContactElement, default_samples
 
 from .._steps import RESIDUAL_RAISED_AT_ONCE
 from ..structure import Contact
-from .residual import HarmonicBalance
+from .residual import HarmonicBalance, first_harmonic_sizes
 
 #: The sources of error, in the order of ``FrequencyResponse.error_sources``.
 SOURCES = ("harmonics", "sampling", "element", "model", "peak")
@@ -261,7 +261,7 @@ def newton_part(problem: HarmonicBalance, X: NDArray, rtol: float, steps: NDArra
         return np.full(len(X), base)
     r = problem.dofs.index(problem.response_dof)
     a = np.hypot(X[:, r, 1], X[:, r, 2])
-    scale = np.maximum(problem.x_ref, np.sqrt(np.sum(X[:, :, 1:3] ** 2, axis=(1, 2))))
+    scale = np.maximum(problem.x_ref, first_harmonic_sizes(X))
     with np.errstate(divide="ignore"):
         part = base * np.maximum(1.0, scale / a)
     if steps is None:

@@ -111,15 +111,44 @@ def as_contacts(contacts: Any, n: int, physical: int | None = None) -> list[Cont
         raise ValueError(f"contacts must be a contact element (a contact_models.ContactElement), an hbm.Contact or a "
                          f"sequence of hbm.Contact, got contacts={shown(contacts)}")
     try:
+        once = iter(contacts) is contacts  # an iterator (a generator): it can be read only once
         contacts = list(contacts)
     except TypeError:
         raise ValueError(f"contacts must be a contact element or a sequence of hbm.Contact, "
                          f"got contacts={contacts!r}") from None
+    if once:  # a solve reads its contacts more than once: after the first the iterator is empty (no contacts)
+        raise ValueError(f"contacts must be a sequence of hbm.Contact (a list or a tuple), not an iterator, which is "
+                         f"read once: the solve reads the contacts more than once and would solve the rest without "
+                         f"them; got contacts={shown(contacts)} from an iterator (give list(...))")
     for c in contacts:
         if not isinstance(c, Contact):
             raise ValueError(f"contacts must hold hbm.Contact objects, got {c!r}")
         contact_within(c, n, physical)
     return contacts
+
+
+def first_harmonic_size(X: NDArray) -> float:
+    """sqrt of the sum of the squares of the first harmonic's coefficients ``X[:, 1:3]`` (m): the residual's
+    scale.  Past about 1e154 m the squares overflow (the scale was inf, the scaled residual 0 at every point, and
+    a curve of 1e160 m was traced as any line through the range): there it is taken scaled by its largest entry."""
+    with np.errstate(over="ignore"):
+        s2 = float(np.sum(X[:, 1:3] ** 2))
+    if s2 < math.inf:
+        return math.sqrt(s2)
+    return float(first_harmonic_sizes(X[None])[0])
+
+
+def first_harmonic_sizes(X: NDArray) -> NDArray[np.float64]:
+    """:func:`first_harmonic_size` of each point of a stack ``X`` (points, DOFs, coefficients)."""
+    with np.errstate(over="ignore"):
+        s2 = np.sum(X[:, :, 1:3] ** 2, axis=(1, 2))
+    out = np.sqrt(s2)
+    big = ~(s2 < math.inf)
+    if np.any(big):  # (past 1e154 m only)
+        Y = X[big][:, :, 1:3]
+        top = np.max(np.abs(Y), axis=(1, 2))
+        out[big] = top * np.sqrt(np.sum((Y / top[:, None, None]) ** 2, axis=(1, 2)))
+    return out
 
 
 def samples_within_bound(n_t: Any) -> Any:
@@ -319,12 +348,13 @@ class HarmonicBalance:
             self.ncalls += 1
             R, J = self._condensed_one(x, float(u[-1]) * wr)
             xc, xs = float(x[1]), float(x[2])
-            sigma = max(1.0, math.sqrt(xc * xc + xs * xs) / xr)
+            s2 = xc * xc + xs * xs
+            sigma = max(1.0, (math.sqrt(s2) if s2 < math.inf else math.hypot(xc, xs)) / xr)
         else:
             X = (u[:-1] * xr).reshape(self.na, self.L)
             R, J = self._condensed(X, float(u[-1]) * wr)
             # sigma's own derivative multiplies R and vanishes on the branch: left out of J
-            sigma = max(1.0, math.sqrt(float(np.sum(X[:, 1:3] ** 2))) / xr)
+            sigma = max(1.0, first_harmonic_size(X) / xr)
         J[:, -1] *= wr / xr
         J /= sigma  # J is the balance's own new array
         return R / (xr * sigma), J
@@ -602,7 +632,7 @@ class HarmonicBalance:
         if self.one_dof:
             return np.array([-1.0, 0.0])
         X = (u[:-1] * self.x_ref).reshape(self.na, self.L)
-        sigma = max(1.0, math.sqrt(float(np.sum(X[:, 1:3] ** 2))) / self.x_ref)
+        sigma = max(1.0, first_harmonic_size(X) / self.x_ref)
         xl = self.cond.at(float(u[-1]) * self.omega_ref)[2]
         lin = np.zeros((self.na, self.L))
         lin[:, 1], lin[:, 2] = -xl.real, xl.imag

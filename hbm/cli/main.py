@@ -13,6 +13,7 @@ from the registries and the schema).
 from __future__ import annotations
 
 import argparse
+import errno
 import math
 import os
 import signal
@@ -143,8 +144,17 @@ class ComputationFailed(RuntimeError):
 
 
 def _check_folder(folder: Path, names: Any, what: str) -> None:
-    """Refuse, before anything is computed, an output ``folder`` that is a file or holds a folder
-    where one of the output files ``names`` goes (``UsageError``)."""
+    """Refuse, before anything is computed, an output ``folder`` that is a file, holds a folder
+    where one of the output files ``names`` goes, or whose name no file system takes (``UsageError``)."""
+    for path in [folder] + [folder / name for name in names]:
+        try:
+            os.stat(path)
+        except OSError as exc:  # a name too long: the outputs could not be written after the run (the rest below)
+            if exc.errno == errno.ENAMETOOLONG:
+                raise UsageError(f"{what} = {folder}: {path} cannot be a file name here ({exc.strerror}) "
+                                 "(nothing computed, nothing written)") from None
+        except ValueError as exc:
+            raise UsageError(f"{what} = {folder!r}: {exc} (nothing computed, nothing written)") from None
     if folder.exists() and not folder.is_dir():
         raise UsageError(f"{what} = {folder}: is a file, not a folder; give a folder for the outputs "
                          "(nothing computed, nothing written)")

@@ -40,7 +40,7 @@ from typing import Any, Sequence
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from .._validation import count, flag, positive, relative_tolerance
+from .._validation import count, flag, positive, relative_tolerance, within_precision
 from .newmark import NewmarkIntegrator
 from .piecewise import EventIntegrator, Model
 from .system import build_model
@@ -353,6 +353,7 @@ def periodic_response(system: Any, contacts: Sequence[Any] = (), *, omega: float
     tol, max_iter = relative_tolerance("tol", tol, 1.0), count("max_iter", max_iter, 1)
     floquet = flag("floquet", floquet)
     m = build_model(system, contacts)
+    within_precision("omega", omega, omega, 1, m.M, m.C)  # the stuck start, the period map: omega^2 M
     I = _integrator(m, omega, integrator, steps)
     if I.steps < 2 * harmonics + 2:
         raise ValueError(f"steps must be >= 2 harmonics + 2 = {2 * harmonics + 2}, got steps={I.steps!r}")

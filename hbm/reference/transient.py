@@ -45,7 +45,7 @@ from numpy.typing import NDArray
 
 from contact_models.numerical import NEWTON_RTOL, GeneralizedAlpha, NumericalMicroslip, return_map, solve_step
 
-from .._validation import count, positive, relative
+from .._validation import count, positive, relative, within_precision
 from ..blade import Blade
 
 #: Default theta steps per cycle (a multiple of 4), steady tolerance, cycle budget and ramp.
@@ -206,6 +206,8 @@ def simulate_blade(blade: Blade, damper: NumericalMicroslip, omega: float, *, st
         raise ValueError("damper must be a contact_models.NumericalMicroslip (an element with a state to "
                          f"integrate), got damper={damper!r}")
     omega = positive("omega", omega)
+    within_precision("omega", omega, omega, 1, np.array([[blade.mass]]), np.array([[blade.damping]]))
+    damper.stuck_stiffness(omega)  # refuses an omega whose wave the bar's cells cannot hold (UnresolvedWave)
     try:
         steps = count("steps_per_cycle", steps_per_cycle, 8)
     except ValueError:

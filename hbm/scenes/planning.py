@@ -568,7 +568,13 @@ def _sector(st: dict, s: Structure, matrices: dict) -> CyclicStructure:
 def _decide(ctx: RunContext, with_load: bool) -> RunPlan:
     """Pass the run through the deciders, apply each decision, then make the plan's element."""
     for effect in EFFECTS:
-        decision = effect.decide(ctx)
+        try:
+            decision = effect.decide(ctx)
+        except SceneError:
+            raise
+        except ValueError as exc:  # a library check on the values it was decided at: said with the scene's keys
+            raise SceneError([f"{ctx.where('sweep.omega')} = {show(list(ctx.scene.sweep['omega']))}: deciding the "
+                              f"{effect.name} there: {exc}"]) from None
         if decision is not None:
             if not isinstance(decision, Effect):
                 raise SceneError([f"effect {effect.name!r}: its decider returned {decision!r}, not an Effect"])

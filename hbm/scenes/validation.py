@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any, Mapping
 
 from ..balance import presets
+from .._validation import MIN_RELATIVE_WIDTH
 from ..frf import DEFAULT_TOL
 from .checks import (GIVEN_INVALID, TOO_DEEP, Invalid, REQUIRED, OPTIONAL, SceneError, dot, number, number_list,
                      refuse_nesting, show)
@@ -477,6 +478,9 @@ class _Rules:
                     pair = number_list(item, length=2)(omega)
                     if pair[0] == pair[1]:
                         raise Invalid("must be a list of 2 different numbers [w0, w1] (w0 > w1 sweeps down)")
+                    if abs(pair[1] - pair[0]) < MIN_RELATIVE_WIDTH * max(pair):  # as frequency_response refuses it
+                        raise Invalid(f"must be [w0, w1] at least {MIN_RELATIVE_WIDTH:g} of the larger apart (double "
+                                      f"precision resolves omega to 2.2e-16 of it)")
                     sweep["omega"] = pair
                 elif kind in ("modes", "optimum"):
                     pair = number_list(item, length=2)(omega)
