@@ -18,6 +18,7 @@ microslip elements differentiate along the loading curve by complex step.
 
 from __future__ import annotations
 
+import functools
 import math
 from typing import TYPE_CHECKING, Any
 
@@ -205,13 +206,10 @@ class Bar:
             check_phase(self, top)
         return self.rho * w**2 / self.E
 
-    @property
+    @functools.cached_property
     def _max_omega(self) -> float:
         """The highest omega ``check_phase`` takes for this bar (rad/s), computed once."""
-        top = self.__dict__.get("_top")
-        if top is None:
-            top = self._top = max_omega(self)
-        return top
+        return max_omega(self)
 
     def gamma2(self, omega: ArrayLike) -> NDArray[np.float64] | float:
         """gamma^2 = k/EA - rho omega^2/E (Eq. 12); negative above sqrt(k/(rho A))."""
